@@ -1,0 +1,21 @@
+/* Files that appear whole or not at all: written under a temporary name in
+   the target's directory, then renamed over the target. */
+#ifndef LIMN_ATOMIC_FILE_H
+#define LIMN_ATOMIC_FILE_H
+
+#include "limn.h"
+#include <stdio.h>
+
+typedef struct atomic_file {
+    FILE *f;
+    char *path;
+    char *tmp_path;
+} atomic_file;
+
+limn_status atomic_file_open(limn_context *ctx, const char *path, atomic_file *af);
+/* Flushes, syncs, closes and renames; on failure removes the temporary file. */
+limn_status atomic_file_commit(limn_context *ctx, atomic_file *af);
+/* Closes and removes the temporary file; the target is untouched. */
+void atomic_file_abort(atomic_file *af);
+
+#endif

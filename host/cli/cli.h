@@ -1,0 +1,49 @@
+/* The limn command line: one file per subcommand, glue over the library. */
+#ifndef LIMN_CLI_H
+#define LIMN_CLI_H
+
+#include "limn.h"
+#include <stdio.h>
+
+enum { EXIT_USAGE = 2, EXIT_FAILURE_RUN = 1 };
+
+int cli_interpolate(int argc, char **argv);
+int cli_info(int argc, char **argv);
+int cli_devices(int argc, char **argv);
+
+/* Strict number parsing for options; print a usage error naming the option. */
+int cli_parse_double(const char *opt, const char *text, double *out);
+int cli_parse_int(const char *opt, const char *text, int *out);
+/* "--opt value": returns the value or prints an error when it is missing. */
+const char *cli_value(int argc, char **argv, int *i);
+int cli_usage_error(const char *cmd, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+/* Prints "limn CMD: <message>" for a failed library call; returns exit status. */
+int cli_fail(const char *cmd, limn_context *ctx, limn_status st);
+void cli_print_warnings(const char *cmd, limn_context *ctx);
+
+/* Progress on a terminal (stderr is a tty and not quiet); silent otherwise. */
+void cli_progress_enable(limn_context *ctx, int quiet);
+void cli_progress_done(void);
+
+/* Monotonic wall clock in seconds. */
+double cli_now(void);
+
+/* Do two paths name the same existing file? */
+int cli_same_file(const char *a, const char *b);
+
+/* JSON report writer: keys in the order they are added. */
+typedef struct json_out json_out;
+json_out *json_begin(void);
+void json_string(json_out *j, const char *key, const char *value);
+void json_number(json_out *j, const char *key, double value);
+void json_integer(json_out *j, const char *key, long long value);
+void json_object_begin(json_out *j, const char *key);
+void json_object_end(json_out *j);
+/* Writes the document atomically; frees j in any case. */
+limn_status json_commit(limn_context *ctx, json_out *j, const char *path);
+
+#endif

@@ -1,0 +1,260 @@
+/* Shared CLI pieces: option values, errors, progress, JSON reports. */
+#include "cli.h"
+#include "atomic_file.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+int cli_usage_error(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "limn %s: ", cmd);
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, " (see 'limn %s --help')\n", cmd);
+    va_end(ap);
+    return EXIT_USAGE;
+}
+
+const char *cli_value(int argc, char **argv, int *i)
+{
+    if (*i + 1 >= argc)
+        return NULL;
+    return argv[++*i];
+}
+
+int cli_parse_double(const char *opt, const char *text, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (end == text || *end || errno == ERANGE || !isfinite(v)) {
+        fprintf(stderr, "limn: %s expects a number, got '%s'\n", opt, text);
+        return 0;
+    }
+    *out = v;
+    return 1;
+}
+
+int cli_parse_int(const char *opt, const char *text, int *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (end == text || *end || errno == ERANGE || v < INT_MIN || v > INT_MAX) {
+        fprintf(stderr, "limn: %s expects an integer, got '%s'\n", opt, text);
+        return 0;
+    }
+    *out = (int)v;
+    return 1;
+}
+
+int cli_fail(const char *cmd, limn_context *ctx, limn_status st)
+{
+    fprintf(stderr, "limn %s: error: %s\n", cmd, limn_context_message(ctx));
+    return st == LIMN_ERR_ARGUMENT ? EXIT_USAGE : EXIT_FAILURE_RUN;
+}
+
+void cli_print_warnings(const char *cmd, limn_context *ctx)
+{
+    const char *w = limn_context_warnings(ctx);
+    while (*w) {
+        const char *nl = strchr(w, '\n');
+        int len = nl ? (int)(nl - w) : (int)strlen(w);
+        fprintf(stderr, "limn %s: warning: %.*s\n", cmd, len, w);
+        w += len + (nl != NULL);
+    }
+}
+
+static int progress_shown;
+
+static void show_progress(void *user, const char *stage, double fraction)
+{
+    (void)user;
+    if (fraction < 0)
+        fraction = 0;
+    if (fraction > 1)
+        fraction = 1;
+    fprintf(stderr, "\r  %-10s %3d%%", stage, (int)(100 * fraction + 0.5));
+    fflush(stderr);
+    progress_shown = 1;
+}
+
+void cli_progress_enable(limn_context *ctx, int quiet)
+{
+    if (!quiet && isatty(STDERR_FILENO))
+        limn_context_set_progress(ctx, show_progress, NULL);
+}
+
+void cli_progress_done(void)
+{
+    if (progress_shown) {
+        fprintf(stderr, "\r%30s\r", "");
+        progress_shown = 0;
+    }
+}
+
+int cli_same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) != 0 || stat(b, &sb) != 0)
+        return 0;
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+/* ------------------------------------------------------------------- JSON */
+
+struct json_out {
+    char *text;
+    size_t len, cap;
+    int depth;
+    int need_comma;
+    int failed;
+};
+
+static void put(json_out *j, const char *s, size_t n)
+{
+    if (j->failed)
+        return;
+    if (j->len + n + 1 > j->cap) {
+        size_t cap = (j->cap ? j->cap * 2 : 1024) + n;
+        char *t = realloc(j->text, cap);
+        if (!t) {
+            j->failed = 1;
+            return;
+        }
+        j->text = t;
+        j->cap = cap;
+    }
+    memcpy(j->text + j->len, s, n);
+    j->len += n;
+    j->text[j->len] = '\0';
+}
+
+static void puts_(json_out *j, const char *s) { put(j, s, strlen(s)); }
+
+static void key(json_out *j, const char *k)
+{
+    if (j->need_comma)
+        puts_(j, ",");
+    puts_(j, "\n");
+    for (int i = 0; i < j->depth; i++)
+        puts_(j, "  ");
+    puts_(j, "\"");
+    puts_(j, k);
+    puts_(j, "\": ");
+    j->need_comma = 1;
+}
+
+json_out *json_begin(void)
+{
+    json_out *j = calloc(1, sizeof *j);
+    if (j) {
+        puts_(j, "{");
+        j->depth = 1;
+    }
+    return j;
+}
+
+void json_string(json_out *j, const char *k, const char *v)
+{
+    key(j, k);
+    puts_(j, "\"");
+    for (const unsigned char *p = (const unsigned char *)v; *p; p++) {
+        char esc[8];
+        if (*p == '"' || *p == '\\') {
+            esc[0] = '\\';
+            esc[1] = (char)*p;
+            put(j, esc, 2);
+        } else if (*p < 0x20) {
+            snprintf(esc, sizeof esc, "\\u%04x", *p);
+            puts_(j, esc);
+        } else {
+            put(j, (const char *)p, 1);
+        }
+    }
+    puts_(j, "\"");
+}
+
+void json_number(json_out *j, const char *k, double v)
+{
+    char buf[64];
+    key(j, k);
+    if (isfinite(v)) {
+        /* shortest form that reads back to the same double */
+        snprintf(buf, sizeof buf, "%.15g", v);
+        if (strtod(buf, NULL) != v)
+            snprintf(buf, sizeof buf, "%.17g", v);
+    }
+    else
+        snprintf(buf, sizeof buf, "null");
+    puts_(j, buf);
+}
+
+void json_integer(json_out *j, const char *k, long long v)
+{
+    char buf[32];
+    key(j, k);
+    snprintf(buf, sizeof buf, "%lld", v);
+    puts_(j, buf);
+}
+
+void json_object_begin(json_out *j, const char *k)
+{
+    key(j, k);
+    puts_(j, "{");
+    j->depth++;
+    j->need_comma = 0;
+}
+
+void json_object_end(json_out *j)
+{
+    j->depth--;
+    puts_(j, "\n");
+    for (int i = 0; i < j->depth; i++)
+        puts_(j, "  ");
+    puts_(j, "}");
+    j->need_comma = 1;
+}
+
+limn_status json_commit(limn_context *ctx, json_out *j, const char *path)
+{
+    (void)ctx;
+    limn_status st = LIMN_OK;
+    while (j->depth > 0)
+        json_object_end(j);
+    puts_(j, "\n");
+    if (j->failed) {
+        fprintf(stderr, "limn: out of memory writing the report\n");
+        st = LIMN_ERR_MEMORY;
+    } else {
+        atomic_file af;
+        st = atomic_file_open(ctx, path, &af);
+        if (!st) {
+            if (fwrite(j->text, 1, j->len, af.f) != j->len) {
+                atomic_file_abort(&af);
+                fprintf(stderr, "limn: %s: write failed\n", path);
+                st = LIMN_ERR_IO;
+            } else {
+                st = atomic_file_commit(ctx, &af);
+            }
+        }
+    }
+    free(j->text);
+    free(j);
+    return st;
+}
+
+double cli_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}

@@ -1,0 +1,33 @@
+/* limn devices: the OpenCL devices and how to pick one. */
+#include "cli.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+int cli_devices(int argc, char **argv)
+{
+    if (argc > 1 && (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0)) {
+        puts("usage: limn devices\n\nLists OpenCL devices as P.D (platform.device); pick one "
+             "with --device opencl:P.D,\n--device opencl:NAME, or LIMN_PLATFORM / LIMN_DEVICE / "
+             "LIMN_DEVICE_TYPE.");
+        return 0;
+    }
+    if (argc > 1)
+        return cli_usage_error("devices", "unexpected argument '%s'", argv[1]);
+    limn_context *ctx = limn_context_create();
+    if (!ctx)
+        return EXIT_FAILURE_RUN;
+    size_t size = 1 << 16;
+    char *buf = malloc(size);
+    limn_status st = buf ? limn_list_devices(ctx, buf, size) : LIMN_ERR_MEMORY;
+    int rc = 0;
+    if (st) {
+        rc = cli_fail("devices", ctx, st);
+    } else {
+        fputs(buf, stdout);
+        puts("reference  plain C backend (--device reference)");
+    }
+    free(buf);
+    limn_context_destroy(ctx);
+    return rc;
+}

@@ -1,0 +1,227 @@
+/* limn interpolate: solve for the control mesh, write it and a report. */
+#include "cli.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const help =
+    "usage: limn interpolate INPUT -o OUTPUT [options]\n"
+    "\n"
+    "Computes the control mesh P whose subdivision limit surface passes through\n"
+    "every vertex of INPUT (same faces, same vertex order) and writes it.\n"
+    "\n"
+    "  -o, --output FILE      control mesh to write (.obj, .ply binary, .off)\n"
+    "  --scheme S             auto (Loop for triangle meshes, else Catmull-Clark),\n"
+    "                         loop or catmark                        [auto]\n"
+    "  --alpha A              Catmull-Clark alpha in [0, 1]; 0 is the standard\n"
+    "                         surface (OpenSubdiv's), 0.5 avoids the singular\n"
+    "                         valence-3 case                          [0]\n"
+    "  --tol T                stop when max |M - A P| <= T * bbox diagonal [1e-6]\n"
+    "  --max-iter N           iteration cap                            [1000]\n"
+    "  --report FILE.json     also write the report as JSON\n"
+    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    "                         (default: LIMN_DEVICE etc., then the first device)\n"
+    "  --format F             output format: obj, ply, ply-ascii, ply-be, off\n"
+    "  --input-format F       input format, when the extension does not say\n"
+    "  --overwrite-input      allow OUTPUT to be the INPUT file\n"
+    "  -q, --quiet            no summary and no progress on stderr\n"
+    "\n"
+    "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
+
+typedef struct args {
+    const char *input, *output, *report, *device;
+    limn_format in_format, out_format;
+    limn_interpolate_options opt;
+    int quiet, overwrite_input;
+} args;
+
+static int parse(int argc, char **argv, args *a)
+{
+    limn_interpolate_options_default(&a->opt);
+    for (int i = 1; i < argc; i++) {
+        const char *s = argv[i];
+        const char *v = NULL;
+#define VALUE()                                                                                \
+    do {                                                                                       \
+        if (!(v = cli_value(argc, argv, &i)))                                                  \
+            return cli_usage_error("interpolate", "%s needs a value", s);                      \
+    } while (0)
+        if (strcmp(s, "-h") == 0 || strcmp(s, "--help") == 0) {
+            fputs(help, stdout);
+            return -1;
+        } else if (strcmp(s, "-o") == 0 || strcmp(s, "--output") == 0) {
+            VALUE();
+            a->output = v;
+        } else if (strcmp(s, "--scheme") == 0) {
+            VALUE();
+            if (strcmp(v, "auto") == 0)
+                a->opt.scheme = LIMN_SCHEME_AUTO;
+            else if (strcmp(v, "loop") == 0)
+                a->opt.scheme = LIMN_SCHEME_LOOP;
+            else if (strcmp(v, "catmark") == 0 || strcmp(v, "catmull-clark") == 0)
+                a->opt.scheme = LIMN_SCHEME_CATMARK;
+            else
+                return cli_usage_error("interpolate",
+                                       "--scheme '%s' is not one of auto, loop, catmark", v);
+        } else if (strcmp(s, "--alpha") == 0) {
+            VALUE();
+            if (!cli_parse_double(s, v, &a->opt.alpha))
+                return EXIT_USAGE;
+            if (!(a->opt.alpha >= 0 && a->opt.alpha <= 1))
+                return cli_usage_error("interpolate", "--alpha %s is outside [0, 1]", v);
+        } else if (strcmp(s, "--tol") == 0) {
+            VALUE();
+            if (!cli_parse_double(s, v, &a->opt.tolerance))
+                return EXIT_USAGE;
+            if (!(a->opt.tolerance > 0))
+                return cli_usage_error("interpolate", "--tol %s must be positive", v);
+        } else if (strcmp(s, "--max-iter") == 0) {
+            VALUE();
+            if (!cli_parse_int(s, v, &a->opt.max_iterations))
+                return EXIT_USAGE;
+            if (a->opt.max_iterations < 1)
+                return cli_usage_error("interpolate", "--max-iter %s must be at least 1", v);
+        } else if (strcmp(s, "--report") == 0) {
+            VALUE();
+            a->report = v;
+        } else if (strcmp(s, "--device") == 0) {
+            VALUE();
+            a->device = v;
+        } else if (strcmp(s, "--format") == 0 || strcmp(s, "--input-format") == 0) {
+            VALUE();
+            limn_format f;
+            if (!limn_format_from_name(v, &f))
+                return cli_usage_error("interpolate",
+                                       "%s '%s' is not one of obj, ply, ply-ascii, ply-be, off", s,
+                                       v);
+            if (s[2] == 'f')
+                a->out_format = f;
+            else
+                a->in_format = f;
+        } else if (strcmp(s, "--overwrite-input") == 0) {
+            a->overwrite_input = 1;
+        } else if (strcmp(s, "-q") == 0 || strcmp(s, "--quiet") == 0) {
+            a->quiet = 1;
+        } else if (s[0] == '-' && s[1]) {
+            return cli_usage_error("interpolate", "unknown option '%s'", s);
+        } else if (!a->input) {
+            a->input = s;
+        } else {
+            return cli_usage_error("interpolate", "unexpected argument '%s'", s);
+        }
+#undef VALUE
+    }
+    if (!a->input)
+        return cli_usage_error("interpolate", "no INPUT mesh given");
+    if (!a->output)
+        return cli_usage_error("interpolate", "no output given (-o OUTPUT)");
+    limn_format f;
+    if (a->out_format == LIMN_FORMAT_AUTO && !limn_format_from_path(a->output, &f))
+        return cli_usage_error("interpolate",
+                               "cannot tell the format of '%s' from its extension: use .obj, "
+                               ".ply or .off, or --format",
+                               a->output);
+    if (a->report && !a->overwrite_input && cli_same_file(a->report, a->input))
+        return cli_usage_error("interpolate", "--report '%s' is the input file", a->report);
+    if (!a->overwrite_input && cli_same_file(a->input, a->output))
+        return cli_usage_error("interpolate",
+                               "output '%s' is the input file; refusing to overwrite it "
+                               "(use --overwrite-input if you mean it)",
+                               a->output);
+    return 0;
+}
+
+static void print_summary(const args *a, const limn_report *r, const double sec[3])
+{
+    fprintf(stderr,
+            "limn interpolate: %s -> %s\n"
+            "  vertices %zu, faces %zu, scheme %s, alpha %g, method %s\n"
+            "  iterations %d, max error %.3g, mean error %.3g (relative to the bbox diagonal "
+            "%.6g)\n"
+            "  device: %s\n"
+            "  seconds: load %.3f, topology %.3f, stencil %.3f, solve %.3f (%.3g per "
+            "iteration), write %.3f\n",
+            a->input, a->output, r->vertices, r->faces, limn_scheme_name(r->scheme), r->alpha,
+            r->method, r->iterations, r->max_rel_error, r->mean_rel_error, r->bbox_diagonal,
+            r->device, sec[0], r->seconds_topology, r->seconds_stencil, r->seconds_solve,
+            r->seconds_solve / (r->iterations + 1), sec[1]);
+}
+
+static limn_status write_report(limn_context *ctx, const args *a, const limn_report *r,
+                                const double sec[3])
+{
+    json_out *j = json_begin();
+    if (!j)
+        return LIMN_ERR_MEMORY;
+    json_string(j, "command", "interpolate");
+    json_string(j, "input", a->input);
+    json_string(j, "output", a->output);
+    json_integer(j, "vertices", (long long)r->vertices);
+    json_integer(j, "faces", (long long)r->faces);
+    json_string(j, "scheme", limn_scheme_name(r->scheme));
+    json_number(j, "alpha", r->alpha);
+    json_string(j, "method", r->method);
+    json_integer(j, "iterations", r->iterations);
+    json_number(j, "tolerance", a->opt.tolerance);
+    json_number(j, "max_rel_error", r->max_rel_error);
+    json_number(j, "mean_rel_error", r->mean_rel_error);
+    json_number(j, "max_abs_error", r->max_abs_error);
+    json_number(j, "mean_abs_error", r->mean_abs_error);
+    json_number(j, "bbox_diagonal", r->bbox_diagonal);
+    json_integer(j, "stencil_nonzeros", (long long)r->stencil_nonzeros);
+    json_string(j, "device", r->device);
+    json_object_begin(j, "seconds");
+    json_number(j, "load", sec[0]);
+    json_number(j, "topology", r->seconds_topology);
+    json_number(j, "stencil", r->seconds_stencil);
+    json_number(j, "solve", r->seconds_solve);
+    json_number(j, "write", sec[1]);
+    json_number(j, "total", sec[2]);
+    json_object_end(j);
+    return json_commit(ctx, j, a->report);
+}
+
+
+
+int cli_interpolate(int argc, char **argv)
+{
+    args a = {0};
+    int rc = parse(argc, argv, &a);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    limn_context *ctx = limn_context_create();
+    if (!ctx) {
+        fprintf(stderr, "limn interpolate: out of memory\n");
+        return EXIT_FAILURE_RUN;
+    }
+    limn_mesh *mesh = NULL, *control = NULL;
+    limn_report r;
+    double sec[3] = {0, 0, 0}, t0 = cli_now();
+    limn_status st = limn_context_set_device(ctx, a.device);
+    if (!st)
+        st = limn_mesh_read(ctx, a.input, a.in_format, &mesh);
+    cli_print_warnings("interpolate", ctx);
+    sec[0] = cli_now() - t0;
+    if (!st) {
+        cli_progress_enable(ctx, a.quiet);
+        st = limn_interpolate(ctx, mesh, &a.opt, &control, &r);
+        cli_progress_done();
+        cli_print_warnings("interpolate", ctx);
+    }
+    if (!st) {
+        double t1 = cli_now();
+        st = limn_mesh_write(ctx, control, a.output, a.out_format);
+        sec[1] = cli_now() - t1;
+        sec[2] = cli_now() - t0;
+    }
+    if (!st && a.report)
+        st = write_report(ctx, &a, &r, sec);
+    if (st)
+        rc = cli_fail("interpolate", ctx, st);
+    else if (!a.quiet)
+        print_summary(&a, &r, sec);
+    limn_mesh_destroy(mesh);
+    limn_mesh_destroy(control);
+    limn_context_destroy(ctx);
+    return rc;
+}

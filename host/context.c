@@ -1,0 +1,110 @@
+/* Context life cycle, error messages and warnings. */
+#include "context.h"
+#include "device.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+limn_context *limn_context_create(void)
+{
+    limn_context *ctx = calloc(1, sizeof *ctx);
+    return ctx;
+}
+
+void limn_context_destroy(limn_context *ctx)
+{
+    if (!ctx)
+        return;
+    device_close(ctx->device);
+    free(ctx->warnings);
+    free(ctx);
+}
+
+const char *limn_context_message(const limn_context *ctx)
+{
+    return ctx ? ctx->message : "no context";
+}
+
+const char *limn_context_warnings(const limn_context *ctx)
+{
+    return ctx && ctx->warnings ? ctx->warnings : "";
+}
+
+void limn_context_set_progress(limn_context *ctx, limn_progress_fn fn, void *user)
+{
+    if (!ctx)
+        return;
+    ctx->progress = fn;
+    ctx->progress_user = user;
+}
+
+const char *limn_context_device_name(const limn_context *ctx)
+{
+    return ctx ? ctx->device_name : "";
+}
+
+limn_status limn_fail(limn_context *ctx, limn_status status, const char *fmt, ...)
+{
+    if (ctx) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(ctx->message, sizeof ctx->message, fmt, ap);
+        va_end(ap);
+    }
+    return status;
+}
+
+void limn_warn(limn_context *ctx, const char *fmt, ...)
+{
+    if (!ctx)
+        return;
+    char line[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    if (n < 0)
+        return;
+    size_t len = strlen(line);
+    char *grown = realloc(ctx->warnings, ctx->warnings_len + len + 2);
+    if (!grown)
+        return; /* a lost warning is better than a failed operation */
+    memcpy(grown + ctx->warnings_len, line, len);
+    grown[ctx->warnings_len + len] = '\n';
+    grown[ctx->warnings_len + len + 1] = '\0';
+    ctx->warnings = grown;
+    ctx->warnings_len += len + 1;
+}
+
+void limn_clear(limn_context *ctx)
+{
+    if (!ctx)
+        return;
+    ctx->message[0] = '\0';
+    free(ctx->warnings);
+    ctx->warnings = NULL;
+    ctx->warnings_len = 0;
+}
+
+void limn_progress(limn_context *ctx, const char *stage, double fraction)
+{
+    if (ctx && ctx->progress)
+        ctx->progress(ctx->progress_user, stage, fraction);
+}
+
+const char *limn_status_name(limn_status status)
+{
+    switch (status) {
+    case LIMN_OK: return "LIMN_OK";
+    case LIMN_ERR_ARGUMENT: return "LIMN_ERR_ARGUMENT";
+    case LIMN_ERR_IO: return "LIMN_ERR_IO";
+    case LIMN_ERR_FORMAT: return "LIMN_ERR_FORMAT";
+    case LIMN_ERR_TOPOLOGY: return "LIMN_ERR_TOPOLOGY";
+    case LIMN_ERR_MEMORY: return "LIMN_ERR_MEMORY";
+    case LIMN_ERR_DEVICE: return "LIMN_ERR_DEVICE";
+    case LIMN_ERR_NO_CONVERGENCE: return "LIMN_ERR_NO_CONVERGENCE";
+    case LIMN_ERR_SINGULAR: return "LIMN_ERR_SINGULAR";
+    }
+    return "LIMN_ERR_UNKNOWN";
+}

@@ -1,0 +1,37 @@
+/* The per-caller context: error message, warnings, device choice. */
+#ifndef LIMN_CONTEXT_H
+#define LIMN_CONTEXT_H
+
+#include "limn.h"
+#include <stdarg.h>
+
+struct limn_device;
+
+struct limn_context {
+    char message[2048];
+    char *warnings;           /* heap, grows; NULL when empty */
+    size_t warnings_len;
+    limn_progress_fn progress;
+    void *progress_user;
+    char device_spec[256];    /* "" = from the environment */
+    struct limn_device *device; /* opened lazily */
+    char device_name[256];
+};
+
+/* Records a failure message and returns status (for `return limn_fail(...)`). */
+limn_status limn_fail(limn_context *ctx, limn_status status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+/* Appends one warning line. */
+void limn_warn(limn_context *ctx, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+/* Clears message and warnings at the start of a public call. */
+void limn_clear(limn_context *ctx);
+void limn_progress(limn_context *ctx, const char *stage, double fraction);
+
+#endif

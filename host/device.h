@@ -1,0 +1,80 @@
+/*
+ * The compute backend: a small table of operations over device buffers.
+ * Two implementations: OpenCL (device_opencl.c) and plain C (device_ref.c).
+ * Vectors are stored as 4 doubles per vertex (x, y, z, unused) because a
+ * 32-byte record per row streams faster than three separate arrays.
+ * Reductions are split into fixed chunks of rows (DEVICE_ROWS_PER_ITEM);
+ * each chunk's partial result is finished on the host in chunk order, so the
+ * result does not depend on the number of threads.
+ */
+#ifndef LIMN_DEVICE_H
+#define LIMN_DEVICE_H
+
+#include "limn.h"
+#include "stencil.h"
+
+#define DEVICE_ROWS_PER_ITEM 256
+#define DEVICE_WORKGROUP 8
+
+typedef struct device_buffer device_buffer;
+struct limn_device;
+
+/* A CSR table resident on the device. */
+typedef struct device_csr {
+    size_t rows;
+    size_t nonzeros;
+    device_buffer *row_offsets;  /* uint32, rows + 1 */
+    device_buffer *columns;      /* uint32, nonzeros */
+    device_buffer *weights;      /* double, nonzeros */
+} device_csr;
+
+/* Per-chunk partial norms of a residual r (per vertex Euclidean length). */
+typedef struct device_norms {
+    double max;       /* max |r_i| */
+    double sum;       /* sum |r_i| */
+    double sum_sq;    /* sum |r_i|^2 */
+} device_norms;
+
+typedef struct device_ops {
+    const char *kind;   /* "opencl" or "reference" */
+    limn_status (*buffer_create)(struct limn_device *dev, size_t bytes, const void *init,
+                                 device_buffer **out);
+    limn_status (*buffer_write)(struct limn_device *dev, device_buffer *buf, size_t bytes,
+                                const void *src);
+    limn_status (*buffer_read)(struct limn_device *dev, device_buffer *buf, size_t bytes,
+                               void *dst);
+    void (*buffer_release)(struct limn_device *dev, device_buffer *buf);
+    /* y = A x */
+    limn_status (*spmv)(struct limn_device *dev, const device_csr *a, device_buffer *x,
+                        device_buffer *y);
+    /* r = m - A p; p_next = p + r; norms of r (over all rows). */
+    limn_status (*interp_step)(struct limn_device *dev, const device_csr *a,
+                               device_buffer *m, device_buffer *p, device_buffer *p_next,
+                               device_norms *norms);
+    void (*close)(struct limn_device *dev);
+} device_ops;
+
+struct limn_device {
+    const device_ops *ops;
+    limn_context *ctx;        /* for error messages */
+    char name[256];
+    void *impl;
+};
+
+/* Opens the device named by ctx->device_spec (or the environment). */
+limn_status device_open(limn_context *ctx, struct limn_device **out);
+/* The context's device, opened on first use. */
+limn_status device_get(limn_context *ctx, struct limn_device **out);
+void device_close(struct limn_device *dev);
+
+limn_status device_open_reference(limn_context *ctx, struct limn_device **out);
+limn_status device_open_opencl(limn_context *ctx, const char *spec, struct limn_device **out);
+
+/* Uploads a host CSR table; releases it with device_csr_release. */
+limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, device_csr *out);
+void device_csr_release(struct limn_device *dev, device_csr *csr);
+
+/* Finishes per-chunk partial norms in chunk order. */
+void device_norms_finish(const double *partials, size_t chunks, device_norms *out);
+
+#endif

@@ -1,0 +1,306 @@
+/* The OpenCL backend: context, queue, the stencil program and its kernels. */
+#include "context.h"
+#include "device.h"
+#include "opencl_errors.h"
+#include "opencl_select.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+extern const unsigned char limn_kernel_stencil[];
+extern const size_t limn_kernel_stencil_size;
+
+struct device_buffer {
+    cl_mem mem;
+    size_t bytes;
+};
+
+typedef struct opencl_impl {
+    cl_context context;
+    cl_command_queue queue;
+    cl_program program;
+    cl_kernel spmv;
+    cl_kernel interp_step;
+    cl_ulong max_alloc;
+    cl_mem partials;          /* 3 doubles per work-item, grown on demand */
+    size_t partials_items;
+    double *host_partials;
+} opencl_impl;
+
+#define CHECK(call, what)                                                                      \
+    do {                                                                                       \
+        cl_int err_ = (call);                                                                  \
+        if (err_ != CL_SUCCESS)                                                                \
+            return limn_fail(dev->ctx, LIMN_ERR_DEVICE, "%s failed: %s (%d)", what,            \
+                             opencl_error_name(err_), err_);                                   \
+    } while (0)
+
+static opencl_impl *impl_of(struct limn_device *dev) { return dev->impl; }
+
+static limn_status cl_buffer_create(struct limn_device *dev, size_t bytes, const void *init,
+                                    device_buffer **out)
+{
+    opencl_impl *im = impl_of(dev);
+    if (bytes > im->max_alloc)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY,
+                         "a %.1f MiB buffer exceeds the device's limit of %.1f MiB per buffer "
+                         "(CL_DEVICE_MAX_MEM_ALLOC_SIZE; for PoCL raise POCL_MEMORY_LIMIT) — "
+                         "the mesh is too large for this device",
+                         (double)bytes / (1 << 20), (double)im->max_alloc / (1 << 20));
+    device_buffer *b = calloc(1, sizeof *b);
+    if (!b)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of host memory");
+    cl_int err;
+    size_t n = bytes ? bytes : 16;
+    b->mem = clCreateBuffer(im->context, CL_MEM_READ_WRITE | (init ? CL_MEM_COPY_HOST_PTR : 0),
+                            n, init && bytes ? (void *)init : NULL, &err);
+    if (err == CL_SUCCESS && !init) {
+        /* PoCL does not zero new buffers; start from a defined state. */
+        static const unsigned char zero = 0;
+        err = clEnqueueFillBuffer(im->queue, b->mem, &zero, 1, 0, n, 0, NULL, NULL);
+    }
+    if (err != CL_SUCCESS) {
+        if (b->mem)
+            clReleaseMemObject(b->mem);
+        free(b);
+        return limn_fail(dev->ctx,
+                         err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ||
+                                 err == CL_OUT_OF_HOST_MEMORY
+                             ? LIMN_ERR_MEMORY
+                             : LIMN_ERR_DEVICE,
+                         "clCreateBuffer of %zu bytes failed: %s", bytes, opencl_error_name(err));
+    }
+    b->bytes = bytes;
+    *out = b;
+    return LIMN_OK;
+}
+
+static limn_status cl_buffer_write(struct limn_device *dev, device_buffer *buf, size_t bytes,
+                                   const void *src)
+{
+    if (bytes > buf->bytes)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+    CHECK(clEnqueueWriteBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, 0, bytes, src, 0, NULL,
+                               NULL),
+          "clEnqueueWriteBuffer");
+    return LIMN_OK;
+}
+
+static limn_status cl_buffer_read(struct limn_device *dev, device_buffer *buf, size_t bytes,
+                                  void *dst)
+{
+    if (bytes > buf->bytes)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+    CHECK(clEnqueueReadBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, 0, bytes, dst, 0, NULL,
+                              NULL),
+          "clEnqueueReadBuffer");
+    return LIMN_OK;
+}
+
+static void cl_buffer_release(struct limn_device *dev, device_buffer *buf)
+{
+    (void)dev;
+    if (buf) {
+        clReleaseMemObject(buf->mem);
+        free(buf);
+    }
+}
+
+static size_t work_items(size_t rows)
+{
+    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    return (chunks + DEVICE_WORKGROUP - 1) / DEVICE_WORKGROUP * DEVICE_WORKGROUP;
+}
+
+static limn_status set_csr_args(struct limn_device *dev, cl_kernel k, const device_csr *a)
+{
+    cl_uint rows = (cl_uint)a->rows;
+    CHECK(clSetKernelArg(k, 0, sizeof rows, &rows), "clSetKernelArg(rows)");
+    CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &a->row_offsets->mem), "clSetKernelArg(offsets)");
+    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &a->columns->mem), "clSetKernelArg(columns)");
+    CHECK(clSetKernelArg(k, 3, sizeof(cl_mem), &a->weights->mem), "clSetKernelArg(weights)");
+    return LIMN_OK;
+}
+
+static limn_status launch(struct limn_device *dev, cl_kernel k, size_t rows, const char *name)
+{
+    if (rows == 0)
+        return LIMN_OK;
+    size_t global = work_items(rows), local = DEVICE_WORKGROUP;
+    cl_int err = clEnqueueNDRangeKernel(impl_of(dev)->queue, k, 1, NULL, &global, &local, 0,
+                                        NULL, NULL);
+    if (err != CL_SUCCESS)
+        return limn_fail(dev->ctx, LIMN_ERR_DEVICE, "launching kernel %s failed: %s (%d)", name,
+                         opencl_error_name(err), err);
+    return LIMN_OK;
+}
+
+static limn_status cl_spmv(struct limn_device *dev, const device_csr *a, device_buffer *x,
+                           device_buffer *y)
+{
+    cl_kernel k = impl_of(dev)->spmv;
+    limn_status st = set_csr_args(dev, k, a);
+    if (st)
+        return st;
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
+    return launch(dev, k, a->rows, "spmv");
+}
+
+static limn_status ensure_partials(struct limn_device *dev, size_t items)
+{
+    opencl_impl *im = impl_of(dev);
+    if (items <= im->partials_items)
+        return LIMN_OK;
+    if (im->partials)
+        clReleaseMemObject(im->partials);
+    im->partials = NULL;
+    free(im->host_partials);
+    im->partials_items = 0;
+    im->host_partials = malloc(items * 3 * sizeof(double));
+    if (!im->host_partials)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+    cl_int err;
+    im->partials = clCreateBuffer(im->context, CL_MEM_READ_WRITE, items * 3 * sizeof(double),
+                                  NULL, &err);
+    CHECK(err, "clCreateBuffer(partials)");
+    im->partials_items = items;
+    return LIMN_OK;
+}
+
+static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
+                                  device_buffer *m, device_buffer *p, device_buffer *p_next,
+                                  device_norms *norms)
+{
+    opencl_impl *im = impl_of(dev);
+    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    limn_status st = ensure_partials(dev, work_items(a->rows) ? work_items(a->rows) : 1);
+    if (!st)
+        st = set_csr_args(dev, im->interp_step, a);
+    if (st)
+        return st;
+    cl_kernel k = im->interp_step;
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &m->mem), "clSetKernelArg(m)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
+    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &p_next->mem), "clSetKernelArg(p_next)");
+    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    st = launch(dev, k, a->rows, "interp_step");
+    if (st)
+        return st;
+    if (chunks)
+        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE, 0, chunks * 3 * sizeof(double),
+                                  im->host_partials, 0, NULL, NULL),
+              "reading the reduction partials");
+    device_norms_finish(im->host_partials, chunks, norms);
+    return LIMN_OK;
+}
+
+static void cl_close(struct limn_device *dev)
+{
+    opencl_impl *im = impl_of(dev);
+    if (im) {
+        if (im->partials)
+            clReleaseMemObject(im->partials);
+        free(im->host_partials);
+        if (im->spmv)
+            clReleaseKernel(im->spmv);
+        if (im->interp_step)
+            clReleaseKernel(im->interp_step);
+        if (im->program)
+            clReleaseProgram(im->program);
+        if (im->queue)
+            clReleaseCommandQueue(im->queue);
+        if (im->context)
+            clReleaseContext(im->context);
+        free(im);
+    }
+    free(dev);
+}
+
+static const device_ops opencl_ops = {
+    .kind = "opencl",
+    .buffer_create = cl_buffer_create,
+    .buffer_write = cl_buffer_write,
+    .buffer_read = cl_buffer_read,
+    .buffer_release = cl_buffer_release,
+    .spmv = cl_spmv,
+    .interp_step = cl_interp_step,
+    .close = cl_close,
+};
+
+/* Builds the stencil program; on failure the message carries the build log. */
+static limn_status build_program(struct limn_device *dev, cl_device_id device)
+{
+    opencl_impl *im = impl_of(dev);
+    const char *src = (const char *)limn_kernel_stencil;
+    size_t len = limn_kernel_stencil_size;
+    cl_int err;
+    im->program = clCreateProgramWithSource(im->context, 1, &src, &len, &err);
+    CHECK(err, "clCreateProgramWithSource");
+    char options[128];
+    snprintf(options, sizeof options, "-D ROWS_PER_ITEM=%d", DEVICE_ROWS_PER_ITEM);
+    err = clBuildProgram(im->program, 1, &device, options, NULL, NULL);
+    if (err != CL_SUCCESS) {
+        char log[1500] = "";
+        clGetProgramBuildInfo(im->program, device, CL_PROGRAM_BUILD_LOG, sizeof log - 1, log, NULL);
+        log[sizeof log - 1] = '\0';
+        return limn_fail(dev->ctx, LIMN_ERR_DEVICE,
+                         "building the OpenCL kernels for %s failed: %s\nbuild log:\n%s",
+                         dev->name, opencl_error_name(err), log);
+    }
+    im->spmv = clCreateKernel(im->program, "spmv", &err);
+    CHECK(err, "clCreateKernel(spmv)");
+    im->interp_step = clCreateKernel(im->program, "interp_step", &err);
+    CHECK(err, "clCreateKernel(interp_step)");
+    return LIMN_OK;
+}
+
+static limn_status open_device(struct limn_device *dev, const char *spec)
+{
+    opencl_choice choice;
+    limn_status st = opencl_select_device(dev->ctx, spec, &choice);
+    if (st)
+        return st;
+    snprintf(dev->name, sizeof dev->name, "%s", choice.name);
+    cl_device_fp_config fp64 = 0;
+    clGetDeviceInfo(choice.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, NULL);
+    if (!fp64)
+        return limn_fail(dev->ctx, LIMN_ERR_DEVICE,
+                         "OpenCL device %s has no double precision, which limn needs; choose "
+                         "another with --device (see 'limn devices') or use --device reference",
+                         dev->name);
+    opencl_impl *im = impl_of(dev);
+    CHECK(clGetDeviceInfo(choice.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof im->max_alloc,
+                          &im->max_alloc, NULL),
+          "clGetDeviceInfo(CL_DEVICE_MAX_MEM_ALLOC_SIZE)");
+    cl_int err;
+    cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)choice.platform,
+                                     0};
+    im->context = clCreateContext(props, 1, &choice.device, NULL, NULL, &err);
+    CHECK(err, "clCreateContext");
+    im->queue = clCreateCommandQueue(im->context, choice.device, 0, &err);
+    CHECK(err, "clCreateCommandQueue");
+    return build_program(dev, choice.device);
+}
+
+limn_status device_open_opencl(limn_context *ctx, const char *spec, struct limn_device **out)
+{
+    struct limn_device *dev = calloc(1, sizeof *dev);
+    opencl_impl *im = calloc(1, sizeof *im);
+    if (!dev || !im) {
+        free(dev);
+        free(im);
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory opening OpenCL");
+    }
+    dev->ops = &opencl_ops;
+    dev->ctx = ctx;
+    dev->impl = im;
+    limn_status st = open_device(dev, spec);
+    if (st) {
+        cl_close(dev);
+        return st;
+    }
+    *out = dev;
+    return LIMN_OK;
+}

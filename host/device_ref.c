@@ -1,0 +1,159 @@
+/*
+ * The plain C reference backend. It does the same arithmetic in the same
+ * order as kernels/stencil.cl (built with -ffp-contract=off, and the kernels
+ * with FP_CONTRACT OFF), so it is the oracle for the OpenCL path.
+ */
+#include "context.h"
+#include "device.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct device_buffer {
+    size_t bytes;
+    void *data;
+};
+
+static limn_status ref_buffer_create(struct limn_device *dev, size_t bytes, const void *init,
+                                     device_buffer **out)
+{
+    device_buffer *b = calloc(1, sizeof *b);
+    void *data = malloc(bytes ? bytes : 1);
+    if (!b || !data) {
+        free(b);
+        free(data);
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for a %zu-byte buffer",
+                         bytes);
+    }
+    if (init)
+        memcpy(data, init, bytes);
+    else
+        memset(data, 0, bytes ? bytes : 1);
+    b->bytes = bytes;
+    b->data = data;
+    *out = b;
+    return LIMN_OK;
+}
+
+static limn_status ref_buffer_write(struct limn_device *dev, device_buffer *buf, size_t bytes,
+                                    const void *src)
+{
+    if (bytes > buf->bytes)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+    memcpy(buf->data, src, bytes);
+    return LIMN_OK;
+}
+
+static limn_status ref_buffer_read(struct limn_device *dev, device_buffer *buf, size_t bytes,
+                                   void *dst)
+{
+    if (bytes > buf->bytes)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+    memcpy(dst, buf->data, bytes);
+    return LIMN_OK;
+}
+
+static void ref_buffer_release(struct limn_device *dev, device_buffer *buf)
+{
+    (void)dev;
+    if (buf) {
+        free(buf->data);
+        free(buf);
+    }
+}
+
+/* acc = sum_k w_k x_{col_k}, component by component, in row order. */
+static inline void row_product(const device_csr *a, size_t i, const double *x, double acc[4])
+{
+    const uint32_t *ro = a->row_offsets->data;
+    const uint32_t *col = a->columns->data;
+    const double *w = a->weights->data;
+    acc[0] = acc[1] = acc[2] = acc[3] = 0.0;
+    for (uint32_t k = ro[i]; k < ro[i + 1]; k++) {
+        const double *p = x + 4 * (size_t)col[k];
+        double wk = w[k];
+        acc[0] += wk * p[0];
+        acc[1] += wk * p[1];
+        acc[2] += wk * p[2];
+        acc[3] += wk * p[3];
+    }
+}
+
+static limn_status ref_spmv(struct limn_device *dev, const device_csr *a, device_buffer *x,
+                            device_buffer *y)
+{
+    (void)dev;
+    const double *xs = x->data;
+    double *ys = y->data;
+    for (size_t i = 0; i < a->rows; i++)
+        row_product(a, i, xs, ys + 4 * i);
+    return LIMN_OK;
+}
+
+static limn_status ref_interp_step(struct limn_device *dev, const device_csr *a,
+                                   device_buffer *m, device_buffer *p, device_buffer *p_next,
+                                   device_norms *norms)
+{
+    const double *ms = m->data, *ps = p->data;
+    double *pn = p_next->data;
+    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
+    if (!partials)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+    for (size_t g = 0; g < chunks; g++) {
+        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > a->rows)
+            end = a->rows;
+        double mx = 0.0, sum = 0.0, sq = 0.0;
+        for (size_t i = begin; i < end; i++) {
+            double acc[4];
+            row_product(a, i, ps, acc);
+            double r0 = ms[4 * i] - acc[0], r1 = ms[4 * i + 1] - acc[1],
+                   r2 = ms[4 * i + 2] - acc[2];
+            pn[4 * i] = ps[4 * i] + r0;
+            pn[4 * i + 1] = ps[4 * i + 1] + r1;
+            pn[4 * i + 2] = ps[4 * i + 2] + r2;
+            pn[4 * i + 3] = 0.0;
+            double r2sum = r0 * r0 + r1 * r1 + r2 * r2;
+            double len = sqrt(r2sum);
+            mx = len > mx ? len : mx;
+            sum += len;
+            sq += r2sum;
+        }
+        partials[3 * g] = mx;
+        partials[3 * g + 1] = sum;
+        partials[3 * g + 2] = sq;
+    }
+    device_norms_finish(partials, chunks, norms);
+    free(partials);
+    return LIMN_OK;
+}
+
+static void ref_close(struct limn_device *dev)
+{
+    free(dev);
+}
+
+static const device_ops reference_ops = {
+    .kind = "reference",
+    .buffer_create = ref_buffer_create,
+    .buffer_write = ref_buffer_write,
+    .buffer_read = ref_buffer_read,
+    .buffer_release = ref_buffer_release,
+    .spmv = ref_spmv,
+    .interp_step = ref_interp_step,
+    .close = ref_close,
+};
+
+limn_status device_open_reference(limn_context *ctx, struct limn_device **out)
+{
+    struct limn_device *dev = calloc(1, sizeof *dev);
+    if (!dev)
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory opening the reference backend");
+    dev->ops = &reference_ops;
+    dev->ctx = ctx;
+    strcpy(dev->name, "reference (plain C, 1 thread)");
+    *out = dev;
+    return LIMN_OK;
+}

@@ -1,0 +1,41 @@
+/* limn_mesh_info_compute: counts for `limn info` and for callers. */
+#include "context.h"
+#include "mesh.h"
+#include "operator.h"
+#include "topology.h"
+
+#include <string.h>
+
+limn_status limn_mesh_info_compute(limn_context *ctx, const limn_mesh *mesh, limn_mesh_info *info)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (!mesh || !info)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_info_compute: NULL argument");
+    topology t;
+    limn_status st = topology_build(ctx, mesh, &t);
+    if (st)
+        return st;
+    memset(info, 0, sizeof *info);
+    info->vertices = mesh->vertex_count;
+    info->faces = mesh->face_count;
+    info->edges = t.edge_count;
+    info->referenced_vertices = t.referenced_vertices;
+    info->boundary_edges = t.boundary_edges;
+    info->boundary_loops = t.boundary_loops;
+    info->nonmanifold_edges = t.nonmanifold_edges;
+    info->nonmanifold_vertices = t.nonmanifold_vertices;
+    info->inconsistent_edges = t.inconsistent_edges;
+    info->components = t.components;
+    info->triangles = t.triangles;
+    info->quads = t.quads;
+    info->other_faces = t.other_faces;
+    info->max_face_size = t.max_face_size;
+    info->max_valence = t.max_valence;
+    info->euler_characteristic =
+        (long)t.referenced_vertices - (long)t.edge_count + (long)mesh->face_count;
+    info->bbox_diagonal = mesh_bbox_diagonal(mesh, info->bbox_min, info->bbox_max);
+    topology_free(&t);
+    return LIMN_OK;
+}

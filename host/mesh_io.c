@@ -1,0 +1,507 @@
+/*
+ * Mesh files: the public read/write entry points, format detection, the
+ * atomic write (temporary file + fsync + rename) and the buffered reader and
+ * number parsing shared by the formats.
+ */
+#include "mesh_io.h"
+#include "context.h"
+#include "mesh.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define MIO_BUFFER (1u << 20)
+
+/* ------------------------------------------------------------ buffered reader */
+
+int mio_init(mio_reader *r, limn_context *ctx, const char *path, FILE *f)
+{
+    memset(r, 0, sizeof *r);
+    r->ctx = ctx;
+    r->path = path;
+    r->f = f;
+    r->next_line = 1;
+    r->cap = MIO_BUFFER;
+    r->buf = malloc(r->cap);
+    if (!r->buf) {
+        limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for a read buffer", path);
+        return 0;
+    }
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+        long pos = ftell(f);
+        r->buf_offset = pos > 0 ? (uint64_t)pos : 0;
+        r->file_size = (uint64_t)st.st_size;
+    }
+    return 1;
+}
+
+void mio_free(mio_reader *r)
+{
+    free(r->buf);
+    r->buf = NULL;
+}
+
+uint64_t mio_remaining(const mio_reader *r)
+{
+    if (!r->file_size)
+        return UINT64_MAX;
+    uint64_t off = mio_offset(r);
+    return off < r->file_size ? r->file_size - off : 0;
+}
+
+/* Reads more data, moving the unread part to the front and growing the buffer
+   when it is full. Returns the number of bytes added (0 at EOF or error). */
+static size_t mio_fill(mio_reader *r)
+{
+    if (r->eof || r->error)
+        return 0;
+    if (r->start > 0) {
+        memmove(r->buf, r->buf + r->start, r->end - r->start);
+        r->buf_offset += r->start;
+        r->end -= r->start;
+        r->start = 0;
+    }
+    if (r->end + 1 >= r->cap) {
+        if (r->cap > SIZE_MAX / 2) {
+            r->error = ENOMEM;
+            return 0;
+        }
+        char *p = realloc(r->buf, r->cap * 2);
+        if (!p) {
+            r->error = ENOMEM;
+            return 0;
+        }
+        r->buf = p;
+        r->cap *= 2;
+    }
+    size_t n = fread(r->buf + r->end, 1, r->cap - 1 - r->end, r->f);
+    if (n == 0) {
+        if (ferror(r->f))
+            r->error = errno ? errno : -1;
+        else
+            r->eof = 1;
+    }
+    r->end += n;
+    if (n && r->file_size)
+        limn_progress(r->ctx, "read", (double)(r->buf_offset + r->end) / (double)r->file_size);
+    return n;
+}
+
+char *mio_line(mio_reader *r, size_t *len)
+{
+    size_t scan = 0; /* relative to r->start: bytes already searched */
+    unsigned long lines = 0;
+    for (;;) {
+        char *base = r->buf + r->start;
+        size_t avail = r->end - r->start;
+        char *nl = memchr(base + scan, '\n', avail - scan);
+        size_t e;      /* end of the line's content, relative to start */
+        size_t next;   /* where the following line starts, relative to start */
+        if (nl) {
+            next = (size_t)(nl - base) + 1;
+            e = next - 1;
+        } else if (r->error) {
+            return NULL;
+        } else if (r->eof) {
+            if (avail == 0)
+                return NULL;
+            next = e = avail;
+        } else {
+            scan = avail;
+            mio_fill(r);
+            continue;
+        }
+        lines++;
+        if (e > 0 && base[e - 1] == '\r')
+            e--;
+        if (r->continuation && e > 0 && base[e - 1] == '\\' && next > e) {
+            memset(base + e - 1, ' ', next - (e - 1));
+            scan = next;
+            continue;
+        }
+        if (e > 0 && base[e - 1] == '\\' && r->continuation)
+            e--; /* a continuation at the very end of the file */
+        base[e] = '\0';
+        *len = e;
+        r->start += next;
+        r->line = r->next_line;
+        r->next_line += lines;
+        return base;
+    }
+}
+
+const unsigned char *mio_bytes(mio_reader *r, size_t n)
+{
+    while (r->end - r->start < n) {
+        if (r->error || r->eof)
+            return NULL;
+        if (n >= r->cap - 1 && r->start == 0) {
+            /* grow to hold n bytes at once (callers bound n by the file size) */
+            size_t cap = r->cap;
+            while (cap - 1 <= n) {
+                if (cap > SIZE_MAX / 2) {
+                    r->error = ENOMEM;
+                    return NULL;
+                }
+                cap *= 2;
+            }
+            char *p = realloc(r->buf, cap);
+            if (!p) {
+                r->error = ENOMEM;
+                return NULL;
+            }
+            r->buf = p;
+            r->cap = cap;
+        }
+        mio_fill(r);
+    }
+    const unsigned char *p = (const unsigned char *)r->buf + r->start;
+    r->start += n;
+    return p;
+}
+
+int mio_skip(mio_reader *r, uint64_t n)
+{
+    while (n) {
+        size_t avail = r->end - r->start;
+        if (avail == 0) {
+            if (!mio_fill(r))
+                return 0;
+            continue;
+        }
+        size_t take = avail < n ? avail : (size_t)n;
+        r->start += take;
+        n -= take;
+    }
+    return 1;
+}
+
+limn_status mio_read_failed(mio_reader *r)
+{
+    if (r->error == ENOMEM)
+        return limn_fail(r->ctx, LIMN_ERR_MEMORY, "%s: out of memory while reading", r->path);
+    return limn_fail(r->ctx, LIMN_ERR_IO, "%s: read error: %s", r->path,
+                     r->error > 0 ? strerror(r->error) : "unknown error");
+}
+
+/* ----------------------------------------------------------------- numbers */
+
+int mio_parse_double(char **s, double *out)
+{
+    char *p = *s, *end;
+    if (!*p || mio_space(*p))
+        return 0;
+    double v = strtod(p, &end);
+    if (end == p || (*end && !mio_space(*end)))
+        return 0;
+    if (!isfinite(v))
+        return 2;
+    *out = v;
+    *s = end;
+    return 1;
+}
+
+int mio_parse_ll(char **s, long long *out, char stop)
+{
+    char *p = *s, *end;
+    if (!((*p >= '0' && *p <= '9') || *p == '-' || *p == '+'))
+        return 0;
+    errno = 0;
+    long long v = strtoll(p, &end, 10);
+    if (end == p || errno == ERANGE)
+        return 0;
+    if (*end && !mio_space(*end) && !(stop && *end == stop))
+        return 0;
+    *out = v;
+    *s = end;
+    return 1;
+}
+
+const char *mio_token(const char *s, char buf[64])
+{
+    size_t n = 0;
+    buf[n++] = '\'';
+    while (*s && !mio_space(*s) && n < 41) {
+        unsigned char c = (unsigned char)*s++;
+        buf[n++] = (c >= 32 && c < 127) ? (char)c : '?';
+    }
+    if (*s && !mio_space(*s)) {
+        memcpy(buf + n, "...", 3);
+        n += 3;
+    }
+    buf[n++] = '\'';
+    buf[n] = '\0';
+    return buf;
+}
+
+/* -------------------------------------------------------------- mesh build */
+
+limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, growbuf *indices,
+                          growbuf *colors, limn_mesh **out)
+{
+    size_t nv = pos->len / (3 * sizeof(double));
+    size_t nf = offsets->len / sizeof(uint32_t) - 1;
+    size_t ni = indices->len / sizeof(uint32_t);
+    limn_mesh *m;
+    limn_status st = mesh_alloc(ctx, 0, 0, 0, &m);
+    if (st)
+        return st;
+    free(m->positions);
+    free(m->face_offsets);
+    free(m->face_indices);
+    m->positions = growbuf_take(pos);
+    m->face_offsets = growbuf_take(offsets);
+    m->face_indices = growbuf_take(indices);
+    m->colors = colors->len ? growbuf_take(colors) : NULL;
+    m->vertex_count = nv;
+    m->face_count = nf;
+    (void)ni;
+    if (!m->positions || !m->face_offsets || !m->face_indices) {
+        limn_mesh_destroy(m);
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a mesh");
+    }
+    *out = m;
+    return LIMN_OK;
+}
+
+limn_status mio_write_failed(limn_context *ctx, const char *path)
+{
+    int e = errno;
+    return limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path,
+                     e ? strerror(e) : "write error");
+}
+
+/* ----------------------------------------------------------------- formats */
+
+int limn_format_from_name(const char *name, limn_format *out)
+{
+    static const struct { const char *name; limn_format format; } names[] = {
+        {"obj", LIMN_FORMAT_OBJ},          {"ply", LIMN_FORMAT_PLY},
+        {"ply-le", LIMN_FORMAT_PLY},       {"ply-ascii", LIMN_FORMAT_PLY_ASCII},
+        {"ply-be", LIMN_FORMAT_PLY_BINARY_BE}, {"off", LIMN_FORMAT_OFF},
+    };
+    if (!name)
+        return 0;
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (strcasecmp(name, names[i].name) == 0) {
+            if (out)
+                *out = names[i].format;
+            return 1;
+        }
+    return 0;
+}
+
+static limn_status format_from_path(limn_context *ctx, const char *path, limn_format *out)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    const char *dot = strrchr(base, '.');
+    if (dot && dot != base) {
+        if (strcasecmp(dot, ".obj") == 0) {
+            *out = LIMN_FORMAT_OBJ;
+            return LIMN_OK;
+        }
+        if (strcasecmp(dot, ".ply") == 0) {
+            *out = LIMN_FORMAT_PLY;
+            return LIMN_OK;
+        }
+        if (strcasecmp(dot, ".off") == 0) {
+            *out = LIMN_FORMAT_OFF;
+            return LIMN_OK;
+        }
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "%s: unknown mesh file extension '%.20s' (accepted: .obj, .ply, .off)",
+                         path, dot);
+    }
+    return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                     "%s: no file extension to tell the mesh format (accepted: .obj, .ply, .off)",
+                     path);
+}
+
+limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format format,
+                           limn_mesh **out)
+{
+    limn_clear(ctx);
+    if (!out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: out is NULL");
+    *out = NULL;
+    if (!path || !*path)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: no file name");
+    limn_status st;
+    if (format == LIMN_FORMAT_AUTO && (st = format_from_path(ctx, path, &format)))
+        return st;
+    if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_OFF)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: unknown format %d",
+                         (int)format);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return limn_fail(ctx, LIMN_ERR_IO, "cannot open %s: %s", path, strerror(errno));
+    struct stat sb;
+    if (fstat(fileno(f), &sb) != 0) {
+        st = limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: %s", path, strerror(errno));
+    } else if (S_ISDIR(sb.st_mode)) {
+        st = limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: it is a directory", path);
+    } else if (S_ISREG(sb.st_mode) && sb.st_size == 0) {
+        st = limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file is empty", path);
+    } else if (format == LIMN_FORMAT_OBJ) {
+        st = obj_read(ctx, path, f, out);
+    } else if (format == LIMN_FORMAT_OFF) {
+        st = off_read(ctx, path, f, out);
+    } else {
+        st = ply_read(ctx, path, f, out);
+    }
+    fclose(f);
+    if (st == LIMN_OK && (*out)->vertex_count == 0) {
+        limn_mesh_destroy(*out);
+        *out = NULL;
+        st = limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
+    }
+    if (st != LIMN_OK && *out) {
+        limn_mesh_destroy(*out);
+        *out = NULL;
+    }
+    return st;
+}
+
+/* --------------------------------------------------------------- atomic write */
+
+/* The process umask without changing it (umask() would race with other
+   threads): Linux reports it in /proc/self/status. */
+static mode_t current_umask(void)
+{
+    mode_t mask = 022;
+    FILE *f = fopen("/proc/self/status", "r");
+    if (!f)
+        return mask;
+    char line[256];
+    while (fgets(line, sizeof line, f)) {
+        if (strncmp(line, "Umask:", 6) == 0) {
+            char *end;
+            long v = strtol(line + 6, &end, 8);
+            if (end != line + 6 && v >= 0 && v <= 0777)
+                mask = (mode_t)v;
+            break;
+        }
+    }
+    fclose(f);
+    return mask;
+}
+
+limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh, const char *path,
+                            limn_format format)
+{
+    limn_clear(ctx);
+    if (!mesh || !path || !*path)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: %s is NULL or empty",
+                         !mesh ? "mesh" : "path");
+    limn_status st;
+    if (format == LIMN_FORMAT_AUTO && (st = format_from_path(ctx, path, &format)))
+        return st;
+    if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_OFF)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: unknown format %d",
+                         (int)format);
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    if (!*base || strcmp(base, ".") == 0 || strcmp(base, "..") == 0)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "cannot write %s: it names a directory", path);
+    size_t dirlen = slash ? (size_t)(slash - path) + 1 : 0; /* keeps the '/' */
+    size_t baselen = strlen(base);
+    const char suffix[] = ".tmp.XXXXXX";
+    char *tmp = malloc(dirlen + 1 + baselen + sizeof suffix);
+    if (!tmp)
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
+    memcpy(tmp, path, dirlen);
+    tmp[dirlen] = '.';
+    memcpy(tmp + dirlen + 1, base, baselen);
+    memcpy(tmp + dirlen + 1 + baselen, suffix, sizeof suffix);
+
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        int e = errno;
+        free(tmp);
+        if (dirlen)
+            return limn_fail(ctx, LIMN_ERR_IO,
+                             "cannot write %s: cannot create a temporary file in %.*s: %s", path,
+                             (int)dirlen, path, strerror(e));
+        return limn_fail(ctx, LIMN_ERR_IO,
+                         "cannot write %s: cannot create a temporary file in the current "
+                         "directory: %s", path, strerror(e));
+    }
+    char *iobuf = NULL;
+    FILE *f = NULL;
+    if (fchmod(fd, 0644 & ~current_umask()) != 0 || !(f = fdopen(fd, "wb"))) {
+        st = mio_write_failed(ctx, path);
+        if (!f)
+            close(fd);
+        f = NULL;
+        goto fail;
+    }
+    iobuf = malloc(MIO_BUFFER);
+    if (iobuf)
+        setvbuf(f, iobuf, _IOFBF, MIO_BUFFER);
+    if (format == LIMN_FORMAT_OBJ)
+        st = obj_write(ctx, mesh, path, f);
+    else if (format == LIMN_FORMAT_OFF)
+        st = off_write(ctx, mesh, path, f);
+    else
+        st = ply_write(ctx, mesh, path, f, format);
+    if (st)
+        goto fail;
+    if (fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0) {
+        st = mio_write_failed(ctx, path);
+        goto fail;
+    }
+    FILE *closing = f;
+    f = NULL;
+    if (fclose(closing) != 0) {
+        st = mio_write_failed(ctx, path);
+        goto fail;
+    }
+    if (rename(tmp, path) != 0) {
+        st = limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot rename %s over it: %s", path,
+                       tmp, strerror(errno));
+        goto fail;
+    }
+    /* make the rename durable; a failure here does not undo the write */
+    char *dir = malloc(dirlen + 2);
+    if (dir) {
+        memcpy(dir, path, dirlen);
+        if (dirlen == 0)
+            dir[dirlen++] = '.';
+        dir[dirlen] = '\0';
+        int dfd = open(dir, O_RDONLY);
+        if (dfd >= 0) {
+            (void)fsync(dfd);
+            close(dfd);
+        }
+        free(dir);
+    }
+    free(iobuf);
+    free(tmp);
+    return LIMN_OK;
+
+fail:
+    if (f)
+        fclose(f);
+    unlink(tmp);
+    free(iobuf);
+    free(tmp);
+    return st;
+}
+
+int limn_format_from_path(const char *path, limn_format *out)
+{
+    limn_format f;
+    if (!path || format_from_path(NULL, path, &f) != LIMN_OK)
+        return 0;
+    if (out)
+        *out = f;
+    return 1;
+}

@@ -1,0 +1,97 @@
+/*
+ * Internals shared by the mesh file formats (mesh_obj.c, mesh_ply.c,
+ * mesh_off.c; the public entry points are in mesh_io.c).
+ *
+ * Readers get an open FILE* positioned at the start and the path (for
+ * messages only). They return LIMN_OK and a new mesh, or a status with a
+ * message "PATH:LINE: ..." (text) / "PATH: byte N: ..." (binary).
+ * Writers get an open FILE* and the target path (for messages); every
+ * stdio return value is checked.
+ */
+#ifndef LIMN_MESH_IO_H
+#define LIMN_MESH_IO_H
+
+#include "limn.h"
+#include "growbuf.h"
+
+#include <stdint.h>
+#include <stdio.h>
+
+limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out);
+limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out);
+limn_status off_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out);
+
+limn_status obj_write(limn_context *ctx, const limn_mesh *mesh, const char *path, FILE *f);
+/* format: LIMN_FORMAT_PLY (binary little endian), _PLY_ASCII or _PLY_BINARY_BE. */
+limn_status ply_write(limn_context *ctx, const limn_mesh *mesh, const char *path, FILE *f,
+                      limn_format format);
+limn_status off_write(limn_context *ctx, const limn_mesh *mesh, const char *path, FILE *f);
+
+/* ------------------------------------------------------------ buffered reader
+ * One buffer serves both text lines and binary bytes, so a PLY header can be
+ * read as lines and the data after it as bytes. */
+typedef struct mio_reader {
+    limn_context *ctx;
+    const char *path;
+    FILE *f;
+    char *buf;
+    size_t cap, start, end;   /* unread data is buf[start, end); buf[end] is writable */
+    uint64_t buf_offset;      /* file offset of buf[0] */
+    uint64_t file_size;       /* 0 when unknown (not a regular file) */
+    int eof;                  /* fread reached the end of the file */
+    int error;                /* errno of a failed read, or -1 for an unknown error */
+    int continuation;         /* join lines ending in '\' (OBJ) */
+    unsigned long line;       /* number of the line last returned by mio_line */
+    unsigned long next_line;  /* number of the next line */
+} mio_reader;
+
+/* Returns 0 (with a message) when memory is exhausted. */
+int mio_init(mio_reader *r, limn_context *ctx, const char *path, FILE *f);
+void mio_free(mio_reader *r);
+/* The next line without its '\n' (and a '\r' before it), NUL-terminated and
+   writable; NULL at the end of the file or on a read error (check r->error)
+   or when out of memory (r->error = ENOMEM). *len gets its length. */
+char *mio_line(mio_reader *r, size_t *len);
+/* Pointer to the next n bytes (consumed), or NULL when fewer remain (or a read
+   error, see r->error). */
+const unsigned char *mio_bytes(mio_reader *r, size_t n);
+/* Consumes n bytes without keeping them; 0 when fewer remain (or an error). */
+int mio_skip(mio_reader *r, uint64_t n);
+/* File offset of the next unread byte. */
+static inline uint64_t mio_offset(const mio_reader *r) { return r->buf_offset + r->start; }
+/* Bytes left in the file after the current position (UINT64_MAX if unknown). */
+uint64_t mio_remaining(const mio_reader *r);
+/* Sets the message for a read error (r->error) and returns LIMN_ERR_IO. */
+limn_status mio_read_failed(mio_reader *r);
+
+/* ----------------------------------------------------------------- tokens */
+static inline int mio_space(char c)
+{
+    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+static inline char *mio_skip_space(char *s)
+{
+    while (mio_space(*s))
+        s++;
+    return s;
+}
+/* Parses a finite double ending at whitespace or the end of the string.
+   Returns 1 and advances *s; 0 when not a number, 2 when NaN/Inf/overflow. */
+int mio_parse_double(char **s, double *out);
+/* Parses a decimal integer ending at whitespace, end of string or `stop`
+   (0 for none). Returns 1 and advances *s; 0 when not an integer or out of
+   range of long long. */
+int mio_parse_ll(char **s, long long *out, char stop);
+/* Copies a token for a message: at most 40 characters, quoted. */
+const char *mio_token(const char *s, char buf[64]);
+
+/* Builds a mesh from reader buffers, taking their memory (they are left empty):
+   pos: 3 doubles per vertex; offsets: face_count + 1 uint32 starting with 0;
+   indices: uint32; colors: 3 bytes per vertex or an empty buffer. */
+limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, growbuf *indices,
+                          growbuf *colors, limn_mesh **out);
+
+/* Message for a failed write (errno) to the target path; returns LIMN_ERR_IO. */
+limn_status mio_write_failed(limn_context *ctx, const char *path);
+
+#endif

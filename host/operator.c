@@ -1,0 +1,140 @@
+/* Building the limit operator of a mesh on the context's device. */
+#include "operator.h"
+#include "context.h"
+#include "mesh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+double limn_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+double mesh_bbox_diagonal(const limn_mesh *mesh, double lo[3], double hi[3])
+{
+    for (int c = 0; c < 3; c++) {
+        lo[c] = mesh->vertex_count ? mesh->positions[c] : 0.0;
+        hi[c] = lo[c];
+    }
+    for (size_t i = 0; i < mesh->vertex_count; i++)
+        for (int c = 0; c < 3; c++) {
+            double x = mesh->positions[3 * i + c];
+            lo[c] = x < lo[c] ? x : lo[c];
+            hi[c] = x > hi[c] ? x : hi[c];
+        }
+    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+const char *limn_scheme_name(limn_scheme s)
+{
+    switch (s) {
+    case LIMN_SCHEME_LOOP: return "loop";
+    case LIMN_SCHEME_CATMARK: return "catmark";
+    case LIMN_SCHEME_AUTO: return "auto";
+    }
+    return "unknown";
+}
+
+limn_status operator_resolve_scheme(limn_context *ctx, const limn_mesh *mesh, limn_scheme want,
+                                    limn_scheme *out)
+{
+    size_t first_other = SIZE_MAX;
+    for (size_t f = 0; f < mesh->face_count && first_other == SIZE_MAX; f++)
+        if (mesh->face_offsets[f + 1] - mesh->face_offsets[f] != 3)
+            first_other = f;
+    if (want == LIMN_SCHEME_AUTO)
+        want = first_other == SIZE_MAX && mesh->face_count > 0 ? LIMN_SCHEME_LOOP
+                                                                : LIMN_SCHEME_CATMARK;
+    if (want == LIMN_SCHEME_LOOP && first_other != SIZE_MAX)
+        return limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+                         "face %zu has %u vertices but Loop subdivision needs triangles only: "
+                         "use --scheme catmark (or auto), or triangulate the mesh",
+                         first_other,
+                         mesh->face_offsets[first_other + 1] - mesh->face_offsets[first_other]);
+    *out = want;
+    return LIMN_OK;
+}
+
+limn_status operator_build(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
+                           double alpha, limn_operator *op)
+{
+    memset(op, 0, sizeof *op);
+    limn_status st = operator_resolve_scheme(ctx, mesh, scheme, &op->scheme);
+    if (st)
+        return st;
+    op->alpha = op->scheme == LIMN_SCHEME_CATMARK ? alpha : 0.0;
+    op->vertex_count = mesh->vertex_count;
+    double lo[3], hi[3];
+    op->bbox_diagonal = mesh_bbox_diagonal(mesh, lo, hi);
+
+    double t0 = limn_seconds();
+    st = topology_build(ctx, mesh, &op->topo);
+    if (st)
+        return st;
+    double t1 = limn_seconds();
+    op->seconds_topology = t1 - t0;
+    st = stencil_limit_build(ctx, &op->topo, op->scheme, op->alpha, &op->host);
+    op->seconds_stencil = limn_seconds() - t1;
+    if (!st)
+        st = device_get(ctx, &op->dev);
+    if (!st)
+        st = device_csr_upload(op->dev, &op->host, &op->device);
+    if (st)
+        operator_free(op);
+    return st;
+}
+
+void operator_free(limn_operator *op)
+{
+    if (op->dev)
+        device_csr_release(op->dev, &op->device);
+    stencil_free(&op->host);
+    topology_free(&op->topo);
+    memset(op, 0, sizeof *op);
+}
+
+limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
+                                 double alpha, double *out)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (!mesh || !out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_limit_positions: NULL argument");
+    if (!(alpha >= 0.0 && alpha <= 1.0))
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "alpha is %g; it must lie in [0, 1]", alpha);
+    limn_operator op;
+    limn_status st = operator_build(ctx, mesh, scheme, alpha, &op);
+    if (st)
+        return st;
+    size_t n = mesh->vertex_count;
+    double *buf = calloc(n ? 4 * n : 4, sizeof *buf);
+    device_buffer *x = NULL, *y = NULL;
+    if (!buf)
+        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+    for (size_t i = 0; !st && i < n; i++)
+        memcpy(buf + 4 * i, mesh->positions + 3 * i, 3 * sizeof(double));
+    if (!st)
+        st = op.dev->ops->buffer_create(op.dev, 4 * n * sizeof(double), buf, &x);
+    if (!st)
+        st = op.dev->ops->buffer_create(op.dev, 4 * n * sizeof(double), NULL, &y);
+    if (!st)
+        st = op.dev->ops->spmv(op.dev, &op.device, x, y);
+    if (!st)
+        st = op.dev->ops->buffer_read(op.dev, y, 4 * n * sizeof(double), buf);
+    for (size_t i = 0; !st && i < n; i++)
+        memcpy(out + 3 * i, buf + 4 * i, 3 * sizeof(double));
+    if (x)
+        op.dev->ops->buffer_release(op.dev, x);
+    if (y)
+        op.dev->ops->buffer_release(op.dev, y);
+    free(buf);
+    operator_free(&op);
+    return st;
+}

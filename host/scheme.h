@@ -1,0 +1,26 @@
+/*
+ * Subdivision rules as weights over a vertex's neighbourhood: pure functions
+ * of the topology, no I/O, no device. The masks are the closed forms of
+ * DESIGN.md §1 (Loop; general Catmull-Clark with alpha; B-spline crease and
+ * boundary curves; pinned corners).
+ */
+#ifndef LIMN_SCHEME_H
+#define LIMN_SCHEME_H
+
+#include "topology.h"
+
+/* Upper bound on the entries scheme_limit_mask writes for vertex v. */
+size_t scheme_limit_mask_bound(const topology *t, uint32_t v);
+
+/*
+ * Writes the limit mask of vertex v as (column, weight) pairs into cols and
+ * weights (room for scheme_limit_mask_bound entries); a column may appear
+ * more than once. Returns the number of entries. scheme is LOOP or CATMARK.
+ */
+size_t scheme_limit_mask(const topology *t, limn_scheme scheme, double alpha, uint32_t v,
+                         uint32_t *cols, double *weights);
+
+/* Loop's beta_n of the limit mask: 3 / (11 - 8 (3/8 + (3/8 + cos(2 pi/n)/4)^2)). */
+double scheme_loop_limit_beta(uint32_t valence);
+
+#endif

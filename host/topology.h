@@ -1,0 +1,88 @@
+/*
+ * Mesh topology: edges, vertex-face and vertex-edge incidence (ordered
+ * around manifold vertices), boundary / non-manifold classification and the
+ * subdivision rule of every vertex. Built once, in O(n), from the face lists.
+ *
+ * Classification follows OpenSubdiv (Far::TopologyRefinerFactory with
+ * VTX_BOUNDARY_EDGE_AND_CORNER): boundary edges and non-manifold edges are
+ * infinitely sharp; a topological corner (one face, two edges) and a
+ * non-manifold vertex are pinned, except a vertex on an interior non-manifold
+ * crease (exactly two non-manifold edges, no boundary edge, more faces than
+ * edges); otherwise the rule follows the number of sharp edges:
+ * 0 or 1 smooth, 2 crease, more corner.
+ */
+#ifndef LIMN_TOPOLOGY_H
+#define LIMN_TOPOLOGY_H
+
+#include "limn.h"
+
+enum {
+    EDGE_BOUNDARY = 1,       /* one incident face */
+    EDGE_NONMANIFOLD = 2,    /* more than two faces, or two that disagree on direction */
+    EDGE_INCONSISTENT = 4    /* two faces traverse it in the same direction */
+};
+
+enum {
+    VERTEX_NONMANIFOLD = 1,  /* on a non-manifold edge, or faces form several fans */
+    VERTEX_BOUNDARY = 2      /* on a boundary edge */
+};
+
+typedef enum vertex_rule {
+    RULE_ISOLATED = 0,       /* no incident face: stays put */
+    RULE_SMOOTH = 1,
+    RULE_CREASE = 2,         /* exactly two sharp edges: B-spline curve rule */
+    RULE_CORNER = 3          /* pinned */
+} vertex_rule;
+
+typedef struct topology {
+    size_t vertex_count, face_count, edge_count, corner_count;
+    const uint32_t *face_offsets;   /* borrowed from the mesh */
+    const uint32_t *face_indices;
+    uint32_t *corner_face;          /* face of each corner */
+    uint32_t *corner_edge;          /* edge from corner k to corner k+1 of its face */
+    uint32_t *edge_vertices;        /* 2 per edge, lower index first */
+    uint32_t *edge_corner_offsets;  /* edge_count + 1 */
+    uint32_t *edge_corners;         /* corners whose outgoing edge is this edge */
+    uint32_t *vertex_corner_offsets;/* vertex_count + 1 */
+    uint32_t *vertex_corners;       /* corners at the vertex, in fan order if manifold */
+    uint32_t *vertex_edge_offsets;  /* vertex_count + 1 */
+    uint32_t *vertex_edges;
+    uint8_t *edge_flags;
+    uint8_t *vertex_flags;
+    uint8_t *vertex_rule;
+    uint32_t *crease_neighbors;     /* 2 per vertex, valid where rule is CREASE */
+    /* statistics */
+    size_t boundary_edges, nonmanifold_edges, inconsistent_edges, nonmanifold_vertices;
+    size_t referenced_vertices, components, boundary_loops;
+    size_t max_face_size, max_valence;
+    size_t triangles, quads, other_faces;
+} topology;
+
+/*
+ * Builds the topology of mesh (which must outlive it). Refuses, naming the
+ * face, a face that uses one vertex twice.
+ */
+limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *out);
+void topology_free(topology *topo);
+
+static inline uint32_t topology_face_size(const topology *t, uint32_t f)
+{
+    return t->face_offsets[f + 1] - t->face_offsets[f];
+}
+/* The vertex at corner c of its face, and the corners before/after it. */
+static inline uint32_t topology_corner_next(const topology *t, uint32_t c)
+{
+    uint32_t f = t->corner_face[c];
+    return c + 1 < t->face_offsets[f + 1] ? c + 1 : t->face_offsets[f];
+}
+static inline uint32_t topology_corner_prev(const topology *t, uint32_t c)
+{
+    uint32_t f = t->corner_face[c];
+    return c > t->face_offsets[f] ? c - 1 : t->face_offsets[f + 1] - 1;
+}
+static inline uint32_t topology_edge_other(const topology *t, uint32_t e, uint32_t v)
+{
+    return t->edge_vertices[2 * e] == v ? t->edge_vertices[2 * e + 1] : t->edge_vertices[2 * e];
+}
+
+#endif

@@ -1,0 +1,206 @@
+/*
+ * limn — interpolating subdivision surfaces and mesh series on OpenCL.
+ *
+ * Conventions of this API:
+ *  - every object is an opaque handle created and destroyed by the caller;
+ *  - every call that can fail returns a limn_status and leaves a readable
+ *    message in its limn_context (limn_context_message);
+ *  - there is no global state: two contexts never share anything;
+ *  - ownership: buffers passed in are copied unless the call says otherwise;
+ *    pointers returned by *_positions() etc. belong to the handle and stay
+ *    valid until it is destroyed.
+ */
+#ifndef LIMN_H
+#define LIMN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LIMN_VERSION_MAJOR 0
+#define LIMN_VERSION_MINOR 1
+#define LIMN_VERSION_PATCH 0
+
+typedef enum limn_status {
+    LIMN_OK = 0,
+    LIMN_ERR_ARGUMENT = 1,     /* a bad argument or option */
+    LIMN_ERR_IO = 2,           /* a file could not be opened, read or written */
+    LIMN_ERR_FORMAT = 3,       /* a file is malformed */
+    LIMN_ERR_TOPOLOGY = 4,     /* the mesh is not usable by the scheme */
+    LIMN_ERR_MEMORY = 5,       /* an allocation failed or would exceed a limit */
+    LIMN_ERR_DEVICE = 6,       /* an OpenCL failure */
+    LIMN_ERR_NO_CONVERGENCE = 7, /* an iteration hit its cap */
+    LIMN_ERR_SINGULAR = 8      /* the limit operator is singular (e.g. alpha=0 cube) */
+} limn_status;
+
+/* A short constant name for a status ("LIMN_ERR_FORMAT"). */
+const char *limn_status_name(limn_status status);
+
+/* ------------------------------------------------------------------ context */
+
+typedef struct limn_context limn_context;
+
+/* Creates a context. Returns NULL only when memory is exhausted. */
+limn_context *limn_context_create(void);
+void limn_context_destroy(limn_context *ctx);
+
+/* The message of the last failed call on this context ("" after success). */
+const char *limn_context_message(const limn_context *ctx);
+
+/* Warnings accumulated by the last call (repairs made, etc.); "" if none. */
+const char *limn_context_warnings(const limn_context *ctx);
+
+/* Progress callback for long work: fraction in [0,1], a stage name. */
+typedef void (*limn_progress_fn)(void *user, const char *stage, double fraction);
+void limn_context_set_progress(limn_context *ctx, limn_progress_fn fn, void *user);
+
+/* ------------------------------------------------------------------ devices */
+
+typedef enum limn_backend {
+    LIMN_BACKEND_OPENCL = 0,    /* default */
+    LIMN_BACKEND_REFERENCE = 1  /* plain C, the oracle for the OpenCL path */
+} limn_backend;
+
+/*
+ * Chooses the compute device. spec may be NULL (then the environment:
+ * LIMN_PLATFORM, LIMN_DEVICE, LIMN_DEVICE_TYPE, then the first OpenCL device).
+ * Forms of spec:
+ *   "reference"             the C reference backend
+ *   "opencl"                OpenCL, device from the environment or the first
+ *   "opencl:P.D"            OpenCL platform index P, device index D
+ *   "opencl:TEXT"           first OpenCL device whose name contains TEXT
+ * The device is opened lazily by the first operation that needs it.
+ */
+limn_status limn_context_set_device(limn_context *ctx, const char *spec);
+
+/* Fills buf with one line per OpenCL device ("P.D  name  (platform)  type"). */
+limn_status limn_list_devices(limn_context *ctx, char *buf, size_t buf_size);
+
+/* The device that ran the last operation, in words ("" before any). */
+const char *limn_context_device_name(const limn_context *ctx);
+
+/* --------------------------------------------------------------------- mesh */
+
+typedef struct limn_mesh limn_mesh;
+
+/*
+ * Makes a mesh from caller arrays (copied). positions: 3 doubles per vertex.
+ * face_offsets: face_count + 1 entries, face_offsets[0] = 0; face f uses
+ * face_indices[face_offsets[f] .. face_offsets[f+1]). Indices are 0-based.
+ */
+limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
+                             const double *positions, size_t face_count,
+                             const uint32_t *face_offsets,
+                             const uint32_t *face_indices, limn_mesh **out);
+limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh **out);
+void limn_mesh_destroy(limn_mesh *mesh);
+
+size_t limn_mesh_vertex_count(const limn_mesh *mesh);
+size_t limn_mesh_face_count(const limn_mesh *mesh);
+const double *limn_mesh_positions(const limn_mesh *mesh);     /* 3 per vertex */
+double *limn_mesh_positions_mutable(limn_mesh *mesh);
+const uint32_t *limn_mesh_face_offsets(const limn_mesh *mesh);
+const uint32_t *limn_mesh_face_indices(const limn_mesh *mesh);
+/* Per-vertex RGB colours (3 bytes per vertex), or NULL when the mesh has none. */
+const uint8_t *limn_mesh_colors(const limn_mesh *mesh);
+limn_status limn_mesh_set_colors(limn_context *ctx, limn_mesh *mesh, const uint8_t *rgb);
+
+typedef enum limn_format {
+    LIMN_FORMAT_AUTO = 0,        /* from the file name's extension */
+    LIMN_FORMAT_OBJ,
+    LIMN_FORMAT_PLY,             /* reading: any PLY; writing: binary little endian */
+    LIMN_FORMAT_PLY_ASCII,
+    LIMN_FORMAT_PLY_BINARY_BE,
+    LIMN_FORMAT_OFF
+} limn_format;
+
+/* "obj", "ply", "ply-ascii", "ply-be", "off" -> format; returns 0 if unknown. */
+int limn_format_from_name(const char *name, limn_format *out);
+
+/* Format from a file name's extension (.obj .ply .off, any case); 0 if none. */
+int limn_format_from_path(const char *path, limn_format *out);
+
+/* Reads OBJ, PLY (ascii, binary LE/BE, faces or tristrips) or OFF. */
+limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format format,
+                           limn_mesh **out);
+/*
+ * Writes the mesh. The file appears whole or not at all: data goes to a
+ * temporary file in the same directory which is then renamed over path.
+ */
+limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh,
+                            const char *path, limn_format format);
+
+/* ----------------------------------------------------------------- topology */
+
+typedef struct limn_mesh_info {
+    size_t vertices, faces, edges;
+    size_t referenced_vertices;   /* used by at least one face */
+    size_t boundary_edges, boundary_loops;
+    size_t nonmanifold_edges, nonmanifold_vertices;
+    size_t inconsistent_edges;    /* two faces disagree on orientation */
+    size_t components;            /* of the faces (sharing a vertex) */
+    size_t triangles, quads, other_faces;
+    size_t max_face_size, max_valence;
+    long euler_characteristic;    /* referenced V - E + F */
+    double bbox_min[3], bbox_max[3];
+    double bbox_diagonal;
+} limn_mesh_info;
+
+limn_status limn_mesh_info_compute(limn_context *ctx, const limn_mesh *mesh,
+                                   limn_mesh_info *info);
+
+/* -------------------------------------------------------------- interpolate */
+
+typedef enum limn_scheme {
+    LIMN_SCHEME_AUTO = 0,      /* Loop for all-triangle meshes, else Catmull-Clark */
+    LIMN_SCHEME_LOOP = 1,
+    LIMN_SCHEME_CATMARK = 2
+} limn_scheme;
+
+const char *limn_scheme_name(limn_scheme scheme);  /* "loop", "catmark", "auto" */
+
+typedef struct limn_interpolate_options {
+    limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
+    double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
+    double tolerance;         /* max |M - A P| / bbox diagonal; default 1e-6 */
+    int max_iterations;       /* default 1000 */
+} limn_interpolate_options;
+
+void limn_interpolate_options_default(limn_interpolate_options *options);
+
+typedef struct limn_report {
+    size_t vertices, faces;
+    limn_scheme scheme;       /* the scheme that ran (never AUTO) */
+    double alpha;
+    const char *method;       /* "paper" */
+    int iterations;           /* updates applied to P */
+    double max_abs_error, mean_abs_error;   /* of the returned P: |M - A P| */
+    double max_rel_error, mean_rel_error;   /* the same over the bbox diagonal */
+    double bbox_diagonal;
+    char device[256];
+    size_t stencil_nonzeros;
+    double seconds_topology, seconds_stencil, seconds_solve;
+} limn_report;
+
+/*
+ * Solves A P = M for the control mesh P whose limit surface passes through
+ * every vertex of M (same topology as M). On success *control is a new mesh.
+ * Fails with LIMN_ERR_SINGULAR or LIMN_ERR_NO_CONVERGENCE (and no mesh) when
+ * the tolerance cannot be reached; the message says what to do.
+ * report may be NULL.
+ */
+limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
+                             const limn_interpolate_options *options,
+                             limn_mesh **control, limn_report *report);
+
+/* Limit positions A P of every vertex of P (written to out, 3 per vertex). */
+limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *mesh,
+                                 limn_scheme scheme, double alpha, double *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

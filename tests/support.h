@@ -1,0 +1,36 @@
+/* Shared helpers for limn's tests: mesh locations, generated meshes,
+   conversions to the oracles' face arrays. */
+#ifndef LIMN_TEST_SUPPORT_H
+#define LIMN_TEST_SUPPORT_H
+
+#include "limn.h"
+#include <stddef.h>
+
+/* Directory of the shared real meshes ($LIMN_SHARED_MESHES, else
+   ../shared/meshes beside the source tree), or NULL when absent. */
+const char *test_shared_meshes(void);
+/* Joins the shared directory and a relative path into a static buffer. */
+const char *test_shared_path(const char *rel);
+
+/* Lists mesh files (.obj .ply .off) of a shared subdirectory, sorted; returns
+   the count (at most max); names are "sub/file" in static storage. */
+size_t test_list_meshes(const char *sub, const char **names, size_t max);
+
+/* Generated meshes (deterministic). */
+limn_mesh *test_mesh_grid(limn_context *ctx, int nx, int ny, int triangulate);
+limn_mesh *test_mesh_cube(limn_context *ctx);
+limn_mesh *test_mesh_icosahedron(limn_context *ctx);
+limn_mesh *test_mesh_pyramid(limn_context *ctx);
+/* Moves every vertex by a deterministic pseudo-random offset in [-amp, amp]^3. */
+void test_perturb(limn_mesh *mesh, double amp, unsigned seed);
+
+/* Face arrays as ints for the oracles; caller frees both. */
+void test_oracle_faces(const limn_mesh *mesh, int **sizes, int **indices);
+int test_all_triangles(const limn_mesh *mesh);
+double test_bbox_diagonal(const limn_mesh *mesh);
+
+/* Writes a file with the given text; returns 0 on success. */
+int test_write_text(const char *path, const char *text);
+int test_file_exists(const char *path);
+
+#endif
