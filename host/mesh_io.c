@@ -3,6 +3,9 @@
  * atomic write (temporary file + fsync + rename) and the buffered reader and
  * number parsing shared by the formats.
  */
+#ifndef _POSIX_C_SOURCE
+#define _POSIX_C_SOURCE 200809L /* mkstemp, fdopen, fileno, fchmod, fsync */
+#endif
 #include "mesh_io.h"
 #include "context.h"
 #include "mesh.h"

@@ -197,3 +197,37 @@ int test_file_exists(const char *path)
     struct stat st;
     return stat(path, &st) == 0;
 }
+
+limn_mesh *test_mesh_fan(limn_context *ctx, int n, int triangles)
+{
+    /* centre 0, inner ring 1..n, outer ring n+1..2n (quads only) */
+    size_t nv = triangles ? (size_t)n + 1 : 2 * (size_t)n + 1;
+    double *pos = malloc(nv * 3 * sizeof *pos);
+    uint32_t *off = malloc(((size_t)n + 1) * sizeof *off), *idx = malloc((size_t)n * 4 * sizeof *idx);
+    const double pi = 3.14159265358979323846;
+    pos[0] = 0, pos[1] = 0, pos[2] = 0.3;
+    for (int k = 0; k < n; k++) {
+        double a = 2 * pi * k / n, b = a + pi / n;
+        double *p = pos + 3 * (1 + k);
+        p[0] = cos(a), p[1] = sin(a), p[2] = 0.1 * (k % 2);
+        if (!triangles) {
+            double *q = pos + 3 * (1 + n + k);
+            q[0] = 1.6 * cos(b), q[1] = 1.6 * sin(b), q[2] = -0.1;
+        }
+    }
+    size_t k = 0;
+    off[0] = 0;
+    for (int f = 0; f < n; f++) {
+        uint32_t v = 1 + (uint32_t)f, w = 1 + (uint32_t)((f + 1) % n);
+        idx[k++] = 0, idx[k++] = v;
+        if (!triangles)
+            idx[k++] = 1 + (uint32_t)n + (uint32_t)f;
+        idx[k++] = w;
+        off[f + 1] = (uint32_t)k;
+    }
+    limn_mesh *m = make(ctx, nv, pos, (size_t)n, off, idx);
+    free(pos);
+    free(off);
+    free(idx);
+    return m;
+}

@@ -21,6 +21,8 @@ limn_mesh *test_mesh_grid(limn_context *ctx, int nx, int ny, int triangulate);
 limn_mesh *test_mesh_cube(limn_context *ctx);
 limn_mesh *test_mesh_icosahedron(limn_context *ctx);
 limn_mesh *test_mesh_pyramid(limn_context *ctx);
+/* n faces around one interior vertex of valence n (triangles or quads). */
+limn_mesh *test_mesh_fan(limn_context *ctx, int n, int triangles);
 /* Moves every vertex by a deterministic pseudo-random offset in [-amp, amp]^3. */
 void test_perturb(limn_mesh *mesh, double amp, unsigned seed);
 
