@@ -463,7 +463,7 @@ static void test_bad_ply(void **s)
     expect_fail(write_bytes("huge.ply", b, n), LIMN_ERR_FORMAT,
                 "huge.ply: the header declares 1000000000000000000 'face' records");
     assert_true((double)(clock() - t0) / CLOCKS_PER_SEC < 0.5);
-    n = sprintf((char *)b, "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n"
+    n = sprintf((char *)b, "ply\nformat ascii 1.0\nelement vertex 5000000000\nproperty float x\n"
                            "property float y\nproperty float z\nend_header\n0 0 0\n");
     expect_fail(write_bytes("hugev.ply", b, n), LIMN_ERR_FORMAT, "hugev.ply: too many vertices");
 
