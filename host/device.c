@@ -32,6 +32,9 @@ limn_status limn_context_set_device(limn_context *ctx, const char *spec)
 limn_status device_open(limn_context *ctx, struct limn_device **out)
 {
     const char *spec = ctx->device_spec;
+    const char *env = getenv("LIMN_DEVICE");
+    if (!spec[0] && env && (strcmp(env, "reference") == 0 || strcmp(env, "ref") == 0))
+        spec = "reference";
     if (strcmp(spec, "reference") == 0 || strcmp(spec, "ref") == 0)
         return device_open_reference(ctx, out);
     if (strncmp(spec, "opencl:", 7) == 0)

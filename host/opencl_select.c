@@ -98,12 +98,14 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
     const char *env_device = getenv("LIMN_DEVICE");
     const char *env_type = getenv("LIMN_DEVICE_TYPE");
     const char *name_filter = NULL, *platform_filter = NULL, *source = "the first device";
+    const char *value = "";
     unsigned want_p = 0, want_d = 0;
     int by_index = 0, type_ok;
     cl_device_type type = CL_DEVICE_TYPE_ALL;
 
     if (spec && *spec) {
         source = "--device";
+        value = spec;
         if (parse_index_pair(spec, &want_p, &want_d))
             by_index = 1;
         else
@@ -112,9 +114,11 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
         if (env_platform && *env_platform) {
             platform_filter = env_platform;
             source = "LIMN_PLATFORM";
+            value = env_platform;
         }
         if (env_device && *env_device) {
             source = "LIMN_DEVICE";
+            value = env_device;
             if (parse_index_pair(env_device, &want_p, &want_d))
                 by_index = 1;
             else
@@ -125,8 +129,10 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
             return limn_fail(ctx, LIMN_ERR_ARGUMENT,
                              "LIMN_DEVICE_TYPE='%s' is not one of cpu, gpu, accelerator, all",
                              env_type);
-        if (env_type && *env_type && strcmp(source, "the first device") == 0)
+        if (env_type && *env_type && strcmp(source, "the first device") == 0) {
             source = "LIMN_DEVICE_TYPE";
+            value = env_type;
+        }
     }
 
     for (cl_uint p = 0; p < np; p++) {
@@ -172,8 +178,7 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
     return limn_fail(ctx, LIMN_ERR_DEVICE,
                      "no OpenCL device matches %s%s%s%s: run 'limn devices' to list them, or use "
                      "--device reference",
-                     source, spec && *spec ? " '" : "", spec && *spec ? spec : "",
-                     spec && *spec ? "'" : "");
+                     source, *value ? "='" : "", value, *value ? "'" : "");
 }
 
 limn_status limn_list_devices(limn_context *ctx, char *buf, size_t size)

@@ -1,0 +1,157 @@
+/*
+ * The OpenCL backend against the C reference backend (the oracle for every
+ * kernel): limit positions and interpolated control meshes agree — both do
+ * the same operations in the same order with contraction off, so they are
+ * expected to be bit-identical, and are asserted to 1e-12 of the scale — and
+ * the iteration counts are equal. Two runs of the CLI give identical bytes,
+ * also with PoCL on 1 and on 2 threads.
+ */
+#include "support.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+static void compare_arrays(const char *what, const double *a, const double *b, size_t n,
+                           size_t *identical)
+{
+    double scale = 1.0;
+    for (size_t i = 0; i < n; i++)
+        scale = fmax(scale, fabs(a[i]));
+    for (size_t i = 0; i < n; i++) {
+        if (fabs(a[i] - b[i]) > 1e-12 * scale)
+            fail_msg("%s: entry %zu differs: opencl %.17g reference %.17g", what, i, a[i], b[i]);
+        *identical += a[i] == b[i];
+    }
+}
+
+static void agree_on(const char *name, limn_mesh *m, limn_scheme scheme, double alpha)
+{
+    limn_context *cl = limn_context_create(), *ref = limn_context_create();
+    assert_int_equal(limn_context_set_device(cl, "opencl"), LIMN_OK);
+    assert_int_equal(limn_context_set_device(ref, "reference"), LIMN_OK);
+    size_t n = limn_mesh_vertex_count(m), same = 0;
+    double *a = malloc(3 * n * sizeof *a), *b = malloc(3 * n * sizeof *b);
+    if (limn_limit_positions(cl, m, scheme, alpha, a) != LIMN_OK)
+        fail_msg("%s: %s", name, limn_context_message(cl));
+    assert_int_equal(limn_limit_positions(ref, m, scheme, alpha, b), LIMN_OK);
+    compare_arrays(name, a, b, 3 * n, &same);
+    limn_interpolate_options o;
+    limn_interpolate_options_default(&o);
+    o.scheme = scheme;
+    o.alpha = alpha;
+    limn_mesh *pa = NULL, *pb = NULL;
+    limn_report ra, rb;
+    assert_int_equal(limn_interpolate(cl, m, &o, &pa, &ra), LIMN_OK);
+    assert_int_equal(limn_interpolate(ref, m, &o, &pb, &rb), LIMN_OK);
+    assert_int_equal(ra.iterations, rb.iterations);
+    compare_arrays(name, limn_mesh_positions(pa), limn_mesh_positions(pb), 3 * n, &same);
+    printf("  %-34s %-7s: %zu of %zu values bit-identical, %d iterations each\n", name,
+           limn_scheme_name(scheme), same, 6 * n, ra.iterations);
+    assert_true(strstr(limn_context_device_name(ref), "reference") != NULL);
+    limn_mesh_destroy(pa);
+    limn_mesh_destroy(pb);
+    free(a);
+    free(b);
+    limn_context_destroy(cl);
+    limn_context_destroy(ref);
+}
+
+static void generated(void **s)
+{
+    (void)s;
+    limn_context *ctx = limn_context_create();
+    /* 40 x 40 grids: more rows than one work-item's chunk, and a ragged last chunk */
+    limn_mesh *g = test_mesh_grid(ctx, 40, 37, 0), *gt = test_mesh_grid(ctx, 40, 37, 1);
+    limn_mesh *cube = test_mesh_cube(ctx);
+    agree_on("quad grid 40x37", g, LIMN_SCHEME_CATMARK, 0.0);
+    agree_on("quad grid 40x37", g, LIMN_SCHEME_CATMARK, 0.5);
+    agree_on("triangle grid 40x37", gt, LIMN_SCHEME_LOOP, 0.0);
+    agree_on("cube", cube, LIMN_SCHEME_CATMARK, 0.5);
+    limn_mesh_destroy(g);
+    limn_mesh_destroy(gt);
+    limn_mesh_destroy(cube);
+    limn_context_destroy(ctx);
+}
+
+static void shared(void **s)
+{
+    (void)s;
+    if (!test_shared_meshes())
+        skip();
+    static const char *files[] = {"medium/bob_quad.obj", "medium/horse.ply", "small/cow.obj",
+                                  "medium/beast.obj", "opensubdiv/catmark_car.obj"};
+    limn_context *ctx = limn_context_create();
+    for (size_t i = 0; i < sizeof files / sizeof *files; i++) {
+        limn_mesh *m = NULL;
+        assert_int_equal(limn_mesh_read(ctx, test_shared_path(files[i]), LIMN_FORMAT_AUTO, &m),
+                         LIMN_OK);
+        agree_on(files[i], m, LIMN_SCHEME_CATMARK, 0.0);
+        if (test_all_triangles(m))
+            agree_on(files[i], m, LIMN_SCHEME_LOOP, 0.0);
+        limn_mesh_destroy(m);
+    }
+    limn_context_destroy(ctx);
+}
+
+static int run_cli(const char *env, const char *input, const char *output)
+{
+    char cmd[16384];
+    snprintf(cmd, sizeof cmd, "%s '%s' interpolate '%s' -o '%s' -q", env, getenv("LIMN_BIN"),
+             input, output);
+    return system(cmd);
+}
+
+static int same_bytes(const char *a, const char *b)
+{
+    char cmd[16384];
+    snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", a, b);
+    return system(cmd) == 0;
+}
+
+/* Same input, same bytes: two runs, 1 and 2 PoCL threads, both backends. */
+static void deterministic_output(void **s)
+{
+    (void)s;
+    char dir[] = "/tmp/limn_det_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char in[4096], o1[4096], o2[4096], o3[4096], o4[4096];
+    if (test_shared_meshes())
+        snprintf(in, sizeof in, "%.4000s", test_shared_path("medium/bunny_closed.off"));
+    else
+        snprintf(in, sizeof in, "%.4000s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
+    snprintf(o1, sizeof o1, "%.4000s/a.ply", dir);
+    snprintf(o2, sizeof o2, "%.4000s/b.ply", dir);
+    snprintf(o3, sizeof o3, "%.4000s/c.ply", dir);
+    snprintf(o4, sizeof o4, "%.4000s/d.ply", dir);
+    assert_int_equal(run_cli("POCL_MAX_PTHREAD_COUNT=2", in, o1), 0);
+    assert_int_equal(run_cli("POCL_MAX_PTHREAD_COUNT=2", in, o2), 0);
+    assert_int_equal(run_cli("POCL_MAX_PTHREAD_COUNT=1", in, o3), 0);
+    assert_int_equal(run_cli("LIMN_DEVICE=reference", in, o4), 0);
+    assert_true(same_bytes(o1, o2));
+    assert_true(same_bytes(o1, o3));
+    char cmd[16384];
+    snprintf(cmd, sizeof cmd, "'%s' interpolate '%s' -o '%s' -q --device reference",
+             getenv("LIMN_BIN"), in, o4);
+    assert_int_equal(system(cmd), 0);
+    assert_true(same_bytes(o1, o4));
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(generated),
+        cmocka_unit_test(shared),
+        cmocka_unit_test(deterministic_output),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,246 @@
+/*
+ * The limn command line as a user meets it: every class of bad input and bad
+ * option gives its exit status and a message naming the file, line or element,
+ * and writes nothing (an existing output file is left as it was). A good run
+ * writes the mesh and a JSON report with the documented keys.
+ */
+#include "support.h"
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+static char dir[64];
+static char out_path[256];
+static char text[1 << 16];
+
+static int setup(void **s)
+{
+    (void)s;
+    strcpy(dir, "/tmp/limn_cli_XXXXXX");
+    if (!mkdtemp(dir))
+        return -1;
+    snprintf(out_path, sizeof out_path, "%s/out.ply", dir);
+    return 0;
+}
+
+static int teardown(void **s)
+{
+    (void)s;
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+/* Runs `limn ARGS` and captures stdout+stderr into text; returns the exit status. */
+static int limn(const char *args)
+{
+    char cmd[8192];
+    snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", getenv("LIMN_BIN"), args);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t n = fread(text, 1, sizeof text - 1, p);
+    text[n] = '\0';
+    int st = pclose(p);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static const char *in_dir(const char *name)
+{
+    static char path[4][256];
+    static int k;
+    k = (k + 1) % 4;
+    snprintf(path[k], sizeof path[k], "%s/%s", dir, name);
+    return path[k];
+}
+
+static void no_output_left(void)
+{
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "ls -A '%s' | grep -v '^in_' | grep -q .", dir);
+    if (system(cmd) == 0) {
+        snprintf(cmd, sizeof cmd, "ls -la '%s' >&2", dir);
+        (void)system(cmd);
+        fail_msg("a failed run left files behind");
+    }
+}
+
+static void expect_failure(const char *name, const char *content, int status, const char *message)
+{
+    const char *path = in_dir(name);
+    assert_int_equal(test_write_text(path, content), 0);
+    char args[1024];
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s'", path, out_path);
+    int rc = limn(args);
+    if (rc != status || !strstr(text, message))
+        fail_msg("%s: exit %d (want %d), output:\n%s\nwanted: %s", name, rc, status, text, message);
+    no_output_left();
+    unlink(path);
+}
+
+static void malformed_inputs(void **s)
+{
+    (void)s;
+    expect_failure("in_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", 1,
+                   "in_index.obj:4: face references vertex 9");
+    expect_failure("in_neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n", 1, "in_neg.obj:4:");
+    expect_failure("in_short.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", 1, "in_short.obj:3:");
+    expect_failure("in_word.obj", "v 0 zero 0\n", 1, "in_word.obj:1:");
+    expect_failure("in_nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 1, "in_nan.obj:2:");
+    expect_failure("in_empty.obj", "", 1, "in_empty.obj");
+    expect_failure("in_degenerate.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 2\n", 1,
+                   "face 1 uses vertex 1 twice");
+    expect_failure("in_header.ply",
+                   "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+                   "property float x\nproperty float y\nproperty float z\nend_header\n",
+                   1, "in_header.ply");
+    expect_failure("in_trunc.ply",
+                   "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                   "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                   "end_header\n0 0 0\n1 0 0\n",
+                   1, "in_trunc.ply");
+    expect_failure("in_format.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n", 1,
+                   "in_format.ply");
+    expect_failure("in_counts.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n", 1, "in_counts.off");
+    expect_failure("in_unknown.stlx", "solid x\n", 2, "in_unknown.stlx");
+}
+
+static void bad_usage(void **s)
+{
+    (void)s;
+    const char *spot_env = getenv("LIMN_TEST_DATA");
+    char spot[512], args[2048];
+    snprintf(spot, sizeof spot, "%s/spot_control_mesh.obj", spot_env);
+    struct {
+        const char *opts;
+        const char *message;
+    } cases[] = {
+        {"--alpha 2", "--alpha 2 is outside [0, 1]"},
+        {"--alpha x", "--alpha expects a number"},
+        {"--tol -1", "--tol -1 must be positive"},
+        {"--max-iter 0", "--max-iter 0 must be at least 1"},
+        {"--scheme butterfly", "--scheme 'butterfly' is not one of"},
+        {"--frobnicate", "unknown option '--frobnicate'"},
+        {"--format gltf", "--format 'gltf' is not one of"},
+        {"--device cuda", "unknown device 'cuda'"},
+        {"--device opencl:no-such-device", "no OpenCL device matches --device='no-such-device'"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+        snprintf(args, sizeof args, "interpolate '%s' -o '%s' %s", spot, out_path, cases[i].opts);
+        int rc = limn(args);
+        if (rc == 0 || !strstr(text, cases[i].message))
+            fail_msg("%s: exit %d, output:\n%s\nwanted: %s", cases[i].opts, rc, text,
+                     cases[i].message);
+        no_output_left();
+    }
+    snprintf(args, sizeof args, "interpolate '%s'", spot);
+    assert_int_equal(limn(args), 2);
+    assert_non_null(strstr(text, "no output given"));
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s/out.xyz'", spot, dir);
+    assert_int_equal(limn(args), 2);
+    assert_non_null(strstr(text, "cannot tell the format"));
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s/missing/dir/out.ply'", spot, dir);
+    assert_int_equal(limn(args), 1);
+    assert_non_null(strstr(text, "missing/dir/out.ply"));
+    /* Loop on a mesh with quads */
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --scheme loop", spot, out_path);
+    assert_int_equal(limn(args), 1);
+    assert_non_null(strstr(text, "Loop subdivision needs triangles"));
+    no_output_left();
+    assert_int_equal(limn("frobnicate"), 2);
+    assert_int_equal(limn(""), 2);
+    /* output = input is refused */
+    const char *copy = in_dir("in_copy.obj");
+    snprintf(args, sizeof args, "cp '%s' '%s'", spot, copy);
+    assert_int_equal(system(args), 0);
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s'", copy, copy);
+    assert_int_equal(limn(args), 2);
+    assert_non_null(strstr(text, "is the input file"));
+    unlink(copy);
+}
+
+/* A perturbed cube with alpha = 0 is singular: clear message, nothing written,
+   and an existing output file is left exactly as it was. */
+static void singular_keeps_existing_output(void **s)
+{
+    (void)s;
+    const char *cube = in_dir("in_cube.obj");
+    assert_int_equal(test_write_text(cube, "v -1 -1 -1\nv 1 -1 -1.1\nv 1 1 -1\nv -1 1 -1\n"
+                                           "v -1 -1 1\nv 1.2 -1 1\nv 1 1 1\nv -1 1 1\n"
+                                           "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\n"
+                                           "f 3 4 8 7\nf 4 1 5 8\n"),
+                     0);
+    assert_int_equal(test_write_text(out_path, "KEEP"), 0);
+    char args[1024];
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s'", cube, out_path);
+    assert_int_equal(limn(args), 1);
+    assert_non_null(strstr(text, "--alpha 0.5"));
+    FILE *f = fopen(out_path, "rb");
+    char buf[8] = "";
+    assert_non_null(f);
+    assert_int_equal(fread(buf, 1, sizeof buf, f), 4);
+    fclose(f);
+    assert_memory_equal(buf, "KEEP", 4);
+    unlink(out_path);
+    no_output_left();
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --alpha 0.5 -q", cube, out_path);
+    assert_int_equal(limn(args), 0);
+    assert_true(test_file_exists(out_path));
+    unlink(out_path);
+    unlink(cube);
+}
+
+static void good_run_and_report(void **s)
+{
+    (void)s;
+    char spot[512], args[2048], report[300];
+    snprintf(spot, sizeof spot, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
+    snprintf(report, sizeof report, "%s/report.json", dir);
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' --tol 1e-7", spot,
+             out_path, report);
+    assert_int_equal(limn(args), 0);
+    assert_non_null(strstr(text, "iterations"));
+    assert_true(test_file_exists(out_path));
+    FILE *f = fopen(report, "r");
+    assert_non_null(f);
+    char json[8192];
+    size_t n = fread(json, 1, sizeof json - 1, f);
+    json[n] = '\0';
+    fclose(f);
+    static const char *keys[] = {"\"vertices\": 188", "\"faces\": 180", "\"scheme\": \"catmark\"",
+                                 "\"alpha\": 0", "\"method\": \"paper\"", "\"iterations\": ",
+                                 "\"max_rel_error\": ", "\"mean_rel_error\": ", "\"device\": ",
+                                 "\"seconds\": {", "\"load\": ", "\"topology\": ",
+                                 "\"stencil\": ", "\"solve\": ", "\"write\": "};
+    for (size_t i = 0; i < sizeof keys / sizeof *keys; i++)
+        if (!strstr(json, keys[i]))
+            fail_msg("report lacks %s:\n%s", keys[i], json);
+    double rel = strtod(strstr(json, "\"max_rel_error\": ") + 17, NULL);
+    assert_true(rel <= 1e-7);
+    /* the written control mesh reads back with the input's counts */
+    snprintf(args, sizeof args, "info '%s' --json", out_path);
+    assert_int_equal(limn(args), 0);
+    assert_non_null(strstr(text, "\"vertices\": 188, \"faces\": 180"));
+    unlink(report);
+    unlink(out_path);
+    assert_int_equal(limn("devices"), 0);
+    assert_non_null(strstr(text, "reference"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(malformed_inputs),
+        cmocka_unit_test(bad_usage),
+        cmocka_unit_test(singular_keeps_existing_output),
+        cmocka_unit_test(good_run_and_report),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
