@@ -1,4 +1,4 @@
-/* Atomic file replacement with mkstemp + fsync + rename. */
+/* Atomic file replacement: mkstemp + fsync + rename (+ fsync of the directory). */
 #include "atomic_file.h"
 #include "context.h"
 
@@ -9,11 +9,33 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static mode_t process_umask(void)
+#define ATOMIC_FILE_BUFFER (1 << 20)
+
+/* The process umask without changing it (umask() would race with other
+   threads): Linux reports it in /proc/self/status. */
+static mode_t current_umask(void)
 {
-    mode_t m = umask(022);
-    umask(m);
-    return m;
+    mode_t mask = 022;
+    FILE *f = fopen("/proc/self/status", "r");
+    if (!f)
+        return mask;
+    char line[256];
+    while (fgets(line, sizeof line, f)) {
+        if (strncmp(line, "Umask:", 6) == 0) {
+            char *end;
+            long v = strtol(line + 6, &end, 8);
+            if (end != line + 6 && v >= 0 && v <= 0777)
+                mask = (mode_t)v;
+            break;
+        }
+    }
+    fclose(f);
+    return mask;
+}
+
+static limn_status write_failed(limn_context *ctx, const char *path, int e)
+{
+    return limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path, e ? strerror(e) : "write error");
 }
 
 limn_status atomic_file_open(limn_context *ctx, const char *path, atomic_file *af)
@@ -21,63 +43,81 @@ limn_status atomic_file_open(limn_context *ctx, const char *path, atomic_file *a
     memset(af, 0, sizeof *af);
     if (!path || !*path)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "empty output file name");
-    size_t len = strlen(path);
     const char *slash = strrchr(path, '/');
-    size_t dir_len = slash ? (size_t)(slash - path + 1) : 0;
-    af->path = malloc(len + 1);
-    af->tmp_path = malloc(len + 32);
+    const char *base = slash ? slash + 1 : path;
+    if (!*base || strcmp(base, ".") == 0 || strcmp(base, "..") == 0)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "cannot write %s: it names a directory", path);
+    size_t dirlen = slash ? (size_t)(slash - path) + 1 : 0; /* keeps the '/' */
+    size_t baselen = strlen(base);
+    if (baselen > 200)
+        baselen = 200; /* keep the temporary name within NAME_MAX */
+    const char suffix[] = ".tmp.XXXXXX";
+    af->path = strdup(path);
+    af->tmp_path = malloc(dirlen + 1 + baselen + sizeof suffix);
     if (!af->path || !af->tmp_path) {
         atomic_file_abort(af);
         return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
     }
-    memcpy(af->path, path, len + 1);
-    memcpy(af->tmp_path, path, dir_len);
-    strcpy(af->tmp_path + dir_len, ".");
-    strcat(af->tmp_path, path + dir_len);
-    strcat(af->tmp_path, ".tmp.XXXXXX");
+    memcpy(af->tmp_path, path, dirlen);
+    af->tmp_path[dirlen] = '.';
+    memcpy(af->tmp_path + dirlen + 1, base, baselen);
+    memcpy(af->tmp_path + dirlen + 1 + baselen, suffix, sizeof suffix);
     int fd = mkstemp(af->tmp_path);
     if (fd < 0) {
         int e = errno;
         free(af->tmp_path);
-        af->tmp_path = NULL;
+        af->tmp_path = NULL; /* nothing to remove */
         atomic_file_abort(af);
-        return limn_fail(ctx, LIMN_ERR_IO, "%s: cannot create the output file: %s", path,
-                         strerror(e));
+        if (dirlen)
+            return limn_fail(ctx, LIMN_ERR_IO,
+                             "cannot write %s: cannot create a temporary file in %.*s: %s", path,
+                             (int)dirlen, path, strerror(e));
+        return limn_fail(ctx, LIMN_ERR_IO,
+                         "cannot write %s: cannot create a temporary file in the current "
+                         "directory: %s",
+                         path, strerror(e));
     }
-    fchmod(fd, 0666 & ~process_umask());
-    af->f = fdopen(fd, "wb");
-    if (!af->f) {
+    if (fchmod(fd, 0666 & ~current_umask()) != 0 || !(af->f = fdopen(fd, "wb"))) {
         int e = errno;
-        close(fd);
+        if (!af->f)
+            close(fd);
         atomic_file_abort(af);
-        return limn_fail(ctx, LIMN_ERR_IO, "%s: cannot open the output file: %s", path,
-                         strerror(e));
+        return write_failed(ctx, path, e);
     }
+    af->iobuf = malloc(ATOMIC_FILE_BUFFER);
+    if (af->iobuf)
+        setvbuf(af->f, af->iobuf, _IOFBF, ATOMIC_FILE_BUFFER);
     return LIMN_OK;
 }
 
 limn_status atomic_file_commit(limn_context *ctx, atomic_file *af)
 {
-    int failed = ferror(af->f) || fflush(af->f) != 0 || fsync(fileno(af->f)) != 0;
-    int e = errno;
-    if (fclose(af->f) != 0 && !failed) {
-        failed = 1;
-        e = errno;
-    }
+    limn_status st = LIMN_OK;
+    if (fflush(af->f) != 0 || ferror(af->f) || fsync(fileno(af->f)) != 0)
+        st = write_failed(ctx, af->path, errno);
+    FILE *closing = af->f;
     af->f = NULL;
-    if (!failed && rename(af->tmp_path, af->path) != 0) {
-        failed = 1;
-        e = errno;
-    }
-    if (failed) {
-        limn_status st = limn_fail(ctx, LIMN_ERR_IO, "%s: writing failed: %s; nothing was written",
-                                   af->path, strerror(e ? e : EIO));
+    if (fclose(closing) != 0 && !st)
+        st = write_failed(ctx, af->path, errno);
+    if (!st && rename(af->tmp_path, af->path) != 0)
+        st = limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot rename %s over it: %s",
+                       af->path, af->tmp_path, strerror(errno));
+    if (st) {
         atomic_file_abort(af);
         return st;
     }
-    free(af->path);
+    /* make the rename durable; a failure here does not undo the write */
+    const char *slash = strrchr(af->path, '/');
+    if (slash)
+        af->path[slash - af->path + 1] = '\0';
+    int dfd = open(slash ? af->path : ".", O_RDONLY);
+    if (dfd >= 0) {
+        (void)fsync(dfd);
+        close(dfd);
+    }
     free(af->tmp_path);
-    af->path = af->tmp_path = NULL;
+    af->tmp_path = NULL; /* renamed: nothing to remove */
+    atomic_file_abort(af);
     return LIMN_OK;
 }
 
@@ -87,6 +127,7 @@ void atomic_file_abort(atomic_file *af)
         fclose(af->f);
     if (af->tmp_path)
         unlink(af->tmp_path);
+    free(af->iobuf);
     free(af->path);
     free(af->tmp_path);
     memset(af, 0, sizeof *af);

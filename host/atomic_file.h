@@ -1,5 +1,7 @@
 /* Files that appear whole or not at all: written under a temporary name in
-   the target's directory, then renamed over the target. */
+   the target's directory (".NAME.tmp.XXXXXX"), synced, then renamed over the
+   target; on any failure the temporary file is removed and the target is
+   untouched. Used for every output limn writes (meshes, reports). */
 #ifndef LIMN_ATOMIC_FILE_H
 #define LIMN_ATOMIC_FILE_H
 
@@ -10,6 +12,7 @@ typedef struct atomic_file {
     FILE *f;
     char *path;
     char *tmp_path;
+    char *iobuf;
 } atomic_file;
 
 limn_status atomic_file_open(limn_context *ctx, const char *path, atomic_file *af);

@@ -68,9 +68,11 @@ limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
     limn_status st = mesh_alloc(ctx, vertex_count, face_count, index_count, &m);
     if (st)
         return st;
-    memcpy(m->positions, positions, vertex_count * 3 * sizeof(double));
+    if (vertex_count)
+        memcpy(m->positions, positions, vertex_count * 3 * sizeof(double));
     memcpy(m->face_offsets, face_offsets, (face_count + 1) * sizeof(uint32_t));
-    memcpy(m->face_indices, face_indices, index_count * sizeof(uint32_t));
+    if (index_count)
+        memcpy(m->face_indices, face_indices, index_count * sizeof(uint32_t));
     *out = m;
     return LIMN_OK;
 }

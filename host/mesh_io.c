@@ -7,6 +7,7 @@
 #define _POSIX_C_SOURCE 200809L /* mkstemp, fdopen, fileno, fchmod, fsync */
 #endif
 #include "mesh_io.h"
+#include "atomic_file.h"
 #include "context.h"
 #include "mesh.h"
 
@@ -251,7 +252,6 @@ limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, gro
 {
     size_t nv = pos->len / (3 * sizeof(double));
     size_t nf = offsets->len / sizeof(uint32_t) - 1;
-    size_t ni = indices->len / sizeof(uint32_t);
     limn_mesh *m;
     limn_status st = mesh_alloc(ctx, 0, 0, 0, &m);
     if (st)
@@ -265,7 +265,6 @@ limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, gro
     m->colors = colors->len ? growbuf_take(colors) : NULL;
     m->vertex_count = nv;
     m->face_count = nf;
-    (void)ni;
     if (!m->positions || !m->face_offsets || !m->face_indices) {
         limn_mesh_destroy(m);
         return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a mesh");
@@ -373,29 +372,7 @@ limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format form
     return st;
 }
 
-/* --------------------------------------------------------------- atomic write */
-
-/* The process umask without changing it (umask() would race with other
-   threads): Linux reports it in /proc/self/status. */
-static mode_t current_umask(void)
-{
-    mode_t mask = 022;
-    FILE *f = fopen("/proc/self/status", "r");
-    if (!f)
-        return mask;
-    char line[256];
-    while (fgets(line, sizeof line, f)) {
-        if (strncmp(line, "Umask:", 6) == 0) {
-            char *end;
-            long v = strtol(line + 6, &end, 8);
-            if (end != line + 6 && v >= 0 && v <= 0777)
-                mask = (mode_t)v;
-            break;
-        }
-    }
-    fclose(f);
-    return mask;
-}
+/* ------------------------------------------------------------------ write */
 
 limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh, const char *path,
                             limn_format format)
@@ -410,98 +387,26 @@ limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh, const char
     if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_OFF)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: unknown format %d",
                          (int)format);
-    const char *slash = strrchr(path, '/');
-    const char *base = slash ? slash + 1 : path;
-    if (!*base || strcmp(base, ".") == 0 || strcmp(base, "..") == 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "cannot write %s: it names a directory", path);
-    size_t dirlen = slash ? (size_t)(slash - path) + 1 : 0; /* keeps the '/' */
-    size_t baselen = strlen(base);
-    const char suffix[] = ".tmp.XXXXXX";
-    char *tmp = malloc(dirlen + 1 + baselen + sizeof suffix);
-    if (!tmp)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
-    memcpy(tmp, path, dirlen);
-    tmp[dirlen] = '.';
-    memcpy(tmp + dirlen + 1, base, baselen);
-    memcpy(tmp + dirlen + 1 + baselen, suffix, sizeof suffix);
-
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        int e = errno;
-        free(tmp);
-        if (dirlen)
-            return limn_fail(ctx, LIMN_ERR_IO,
-                             "cannot write %s: cannot create a temporary file in %.*s: %s", path,
-                             (int)dirlen, path, strerror(e));
-        return limn_fail(ctx, LIMN_ERR_IO,
-                         "cannot write %s: cannot create a temporary file in the current "
-                         "directory: %s", path, strerror(e));
-    }
-    char *iobuf = NULL;
-    FILE *f = NULL;
-    if (fchmod(fd, 0644 & ~current_umask()) != 0 || !(f = fdopen(fd, "wb"))) {
-        st = mio_write_failed(ctx, path);
-        if (!f)
-            close(fd);
-        f = NULL;
-        goto fail;
-    }
-    iobuf = malloc(MIO_BUFFER);
-    if (iobuf)
-        setvbuf(f, iobuf, _IOFBF, MIO_BUFFER);
-    if (format == LIMN_FORMAT_OBJ)
-        st = obj_write(ctx, mesh, path, f);
-    else if (format == LIMN_FORMAT_OFF)
-        st = off_write(ctx, mesh, path, f);
-    else
-        st = ply_write(ctx, mesh, path, f, format);
+    atomic_file af;
+    st = atomic_file_open(ctx, path, &af);
     if (st)
-        goto fail;
-    if (fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0) {
-        st = mio_write_failed(ctx, path);
-        goto fail;
+        return st;
+    if (format == LIMN_FORMAT_OBJ)
+        st = obj_write(ctx, mesh, path, af.f);
+    else if (format == LIMN_FORMAT_OFF)
+        st = off_write(ctx, mesh, path, af.f);
+    else
+        st = ply_write(ctx, mesh, path, af.f, format);
+    if (st) {
+        atomic_file_abort(&af);
+        return st;
     }
-    FILE *closing = f;
-    f = NULL;
-    if (fclose(closing) != 0) {
-        st = mio_write_failed(ctx, path);
-        goto fail;
-    }
-    if (rename(tmp, path) != 0) {
-        st = limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot rename %s over it: %s", path,
-                       tmp, strerror(errno));
-        goto fail;
-    }
-    /* make the rename durable; a failure here does not undo the write */
-    char *dir = malloc(dirlen + 2);
-    if (dir) {
-        memcpy(dir, path, dirlen);
-        if (dirlen == 0)
-            dir[dirlen++] = '.';
-        dir[dirlen] = '\0';
-        int dfd = open(dir, O_RDONLY);
-        if (dfd >= 0) {
-            (void)fsync(dfd);
-            close(dfd);
-        }
-        free(dir);
-    }
-    free(iobuf);
-    free(tmp);
-    return LIMN_OK;
-
-fail:
-    if (f)
-        fclose(f);
-    unlink(tmp);
-    free(iobuf);
-    free(tmp);
-    return st;
+    return atomic_file_commit(ctx, &af);
 }
 
 int limn_format_from_path(const char *path, limn_format *out)
 {
-    limn_format f;
+    limn_format f = LIMN_FORMAT_AUTO;
     if (!path || format_from_path(NULL, path, &f) != LIMN_OK)
         return 0;
     if (out)

@@ -4,6 +4,7 @@
 #include "stencil.h"
 #include "context.h"
 #include "scheme.h"
+#include "topology.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -46,22 +47,19 @@ static size_t sort_merge(uint32_t *cols, double *w, size_t n)
     return m;
 }
 
-limn_status stencil_limit_build(limn_context *ctx, const topology *t, limn_scheme scheme,
-                                double alpha, stencil_csr *out)
+limn_status stencil_build(limn_context *ctx, size_t rows, size_t cols, stencil_row_bound bound,
+                          stencil_row_fill fill, const void *user, stencil_csr *out)
 {
     memset(out, 0, sizeof *out);
-    size_t nv = t->vertex_count, max_row = 1, total = 0;
-    for (uint32_t v = 0; v < nv; v++) {
-        size_t b = scheme_limit_mask_bound(t, v);
-        if (b > max_row)
-            max_row = b;
-        total += b;
-    }
+    size_t total = 0;
+    for (size_t r = 0; r < rows; r++)
+        total += bound(user, r);
     if (total > UINT32_MAX)
         return limn_fail(ctx, LIMN_ERR_MEMORY,
-                         "the limit stencil table would hold more than 2^32 entries");
-    out->rows = out->cols = nv;
-    out->row_offsets = malloc((nv + 1) * sizeof *out->row_offsets);
+                         "a stencil table would hold %zu entries, more than 2^32", total);
+    out->rows = rows;
+    out->cols = cols;
+    out->row_offsets = malloc((rows + 1) * sizeof *out->row_offsets);
     out->columns = malloc((total ? total : 1) * sizeof *out->columns);
     out->weights = malloc((total ? total : 1) * sizeof *out->weights);
     if (!out->row_offsets || !out->columns || !out->weights) {
@@ -71,22 +69,46 @@ limn_status stencil_limit_build(limn_context *ctx, const topology *t, limn_schem
     }
     size_t k = 0;
     out->row_offsets[0] = 0;
-    for (uint32_t v = 0; v < nv; v++) {
-        size_t n = scheme_limit_mask(t, scheme, alpha, v, out->columns + k, out->weights + k);
+    for (size_t r = 0; r < rows; r++) {
+        size_t n = fill(user, r, out->columns + k, out->weights + k);
         k += sort_merge(out->columns + k, out->weights + k, n);
-        out->row_offsets[v + 1] = (uint32_t)k;
-        if ((v & 0xFFFFF) == 0)
-            limn_progress(ctx, "stencil", (double)v / (double)nv);
+        out->row_offsets[r + 1] = (uint32_t)k;
+        if ((r & 0xFFFFF) == 0xFFFFF)
+            limn_progress(ctx, "stencil", (double)r / (double)rows);
     }
-    /* Shrink to the merged size (never fails to keep the old block). */
+    /* Shrink to the merged size (keeps the old block if realloc fails). */
     uint32_t *c = realloc(out->columns, (k ? k : 1) * sizeof *c);
     if (c)
         out->columns = c;
     double *w = realloc(out->weights, (k ? k : 1) * sizeof *w);
     if (w)
         out->weights = w;
-    (void)max_row;
     return LIMN_OK;
+}
+
+typedef struct limit_rows {
+    const topology *t;
+    limn_scheme scheme;
+    double alpha;
+} limit_rows;
+
+static size_t limit_bound(const void *user, size_t r)
+{
+    const limit_rows *lr = user;
+    return scheme_limit_mask_bound(lr->t, (uint32_t)r);
+}
+
+static size_t limit_fill(const void *user, size_t r, uint32_t *cols, double *w)
+{
+    const limit_rows *lr = user;
+    return scheme_limit_mask(lr->t, lr->scheme, lr->alpha, (uint32_t)r, cols, w);
+}
+
+limn_status stencil_limit_build(limn_context *ctx, const topology *t, limn_scheme scheme,
+                                double alpha, stencil_csr *out)
+{
+    limit_rows lr = {t, scheme, alpha};
+    return stencil_build(ctx, t->vertex_count, t->vertex_count, limit_bound, limit_fill, &lr, out);
 }
 
 void stencil_apply3(const stencil_csr *a, const double *x, double *y)

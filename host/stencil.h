@@ -15,6 +15,14 @@ typedef struct stencil_csr {
 
 struct topology;
 
+/* Row callbacks for stencil_build: an upper bound on a row's entries, and the
+   entries themselves (columns may repeat; they are merged and sorted). */
+typedef size_t (*stencil_row_bound)(const void *user, size_t row);
+typedef size_t (*stencil_row_fill)(const void *user, size_t row, uint32_t *cols, double *weights);
+
+limn_status stencil_build(limn_context *ctx, size_t rows, size_t cols, stencil_row_bound bound,
+                          stencil_row_fill fill, const void *user, stencil_csr *out);
+
 limn_status stencil_limit_build(limn_context *ctx, const struct topology *topo,
                                 limn_scheme scheme, double alpha, stencil_csr *out);
 void stencil_free(stencil_csr *csr);

@@ -196,6 +196,43 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
                              const limn_interpolate_options *options,
                              limn_mesh **control, limn_report *report);
 
+/* -------------------------------------------------------------- subdivide */
+
+typedef struct limn_subdivide_options {
+    limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
+    double alpha;             /* Catmull-Clark alpha of the first step; default 0 */
+    int levels;               /* uniform refinement levels, 0..16; default 1 */
+    int limit;                /* move the finest vertices to their limit points */
+    size_t max_memory;        /* bytes; 0 = three quarters of physical memory */
+} limn_subdivide_options;
+
+void limn_subdivide_options_default(limn_subdivide_options *options);
+
+typedef struct limn_subdivide_report {
+    size_t input_vertices, input_faces;
+    size_t vertices, faces;   /* of the surface written */
+    limn_scheme scheme;
+    double alpha;
+    int levels, limit;
+    size_t estimated_bytes;   /* predicted peak, checked against max_memory */
+    size_t stencil_nonzeros;  /* of all step tables */
+    char device[256];
+    double seconds_plan, seconds_apply, seconds_limit;
+} limn_subdivide_report;
+
+/*
+ * Refines mesh uniformly `levels` times (Catmull-Clark: quads after the first
+ * step; Loop: triangles). Vertex i of the input is vertex i of the result;
+ * then (Catmull-Clark) one vertex per face of each level, then one per edge.
+ * With alpha > 0 the alpha vertex rule is used on the first step only, so the
+ * surface is the one whose limit points limn_interpolate matched. Refuses with
+ * LIMN_ERR_MEMORY, before allocating, when the predicted peak exceeds
+ * max_memory. report may be NULL.
+ */
+limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
+                           const limn_subdivide_options *options, limn_mesh **surface,
+                           limn_subdivide_report *report);
+
 /* Limit positions A P of every vertex of P (written to out, 3 per vertex). */
 limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *mesh,
                                  limn_scheme scheme, double alpha, double *out);

@@ -333,6 +333,12 @@ static void test_format_names(void **s)
     assert_true(limn_format_from_name("off", &f) && f == LIMN_FORMAT_OFF);
     assert_false(limn_format_from_name("stl", &f));
     assert_false(limn_format_from_name(NULL, &f));
+    assert_true(limn_format_from_path("a/b.c/Mesh.PLY", &f) && f == LIMN_FORMAT_PLY);
+    assert_true(limn_format_from_path("x.Obj", &f) && f == LIMN_FORMAT_OBJ);
+    assert_true(limn_format_from_path("x.off", &f) && f == LIMN_FORMAT_OFF);
+    assert_false(limn_format_from_path("a.ply/mesh", &f));
+    assert_false(limn_format_from_path(".obj", &f));
+    assert_false(limn_format_from_path("x.stl", &f));
 }
 
 /* ----------------------------------------------------------- OBJ features */

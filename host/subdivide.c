@@ -1,0 +1,117 @@
+/* limn_subdivide: refine the control mesh into the surface, on the device. */
+#include "context.h"
+#include "device.h"
+#include "mesh.h"
+#include "operator.h"
+#include "refine.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+void limn_subdivide_options_default(limn_subdivide_options *o)
+{
+    o->scheme = LIMN_SCHEME_AUTO;
+    o->alpha = 0.0;
+    o->levels = 1;
+    o->limit = 0;
+    o->max_memory = 0;
+}
+
+static size_t physical_memory(void)
+{
+    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && size > 0 ? (size_t)pages * (size_t)size : (size_t)8 << 30;
+}
+
+static limn_status check_budget(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
+                                const limn_subdivide_options *o, limn_subdivide_report *r)
+{
+    size_t v, f, idx, peak;
+    refine_estimate(mesh, scheme, o->levels, &v, &f, &idx, &peak);
+    r->estimated_bytes = peak;
+    size_t budget = o->max_memory ? o->max_memory : physical_memory() / 4 * 3;
+    if (peak > budget)
+        return limn_fail(ctx, LIMN_ERR_MEMORY,
+                         "refining %zu vertices to level %d makes %zu vertices and %zu faces and "
+                         "needs about %.2f GiB, over the limit of %.2f GiB: lower --levels or "
+                         "raise --max-memory; nothing was written",
+                         mesh->vertex_count, o->levels, v, f, (double)peak / (1 << 30),
+                         (double)budget / (1 << 30));
+    return LIMN_OK;
+}
+
+limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
+                           const limn_subdivide_options *options, limn_mesh **surface,
+                           limn_subdivide_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (!mesh || !surface)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide: mesh or surface is NULL");
+    *surface = NULL;
+    limn_subdivide_options defaults;
+    limn_subdivide_options_default(&defaults);
+    const limn_subdivide_options *o = options ? options : &defaults;
+    if (o->levels < 0 || o->levels > 16)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "levels is %d; it must lie in 0..16", o->levels);
+    if (!(o->alpha >= 0.0 && o->alpha <= 1.0))
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "alpha is %g; it must lie in [0, 1]", o->alpha);
+    limn_subdivide_report local;
+    limn_subdivide_report *r = report ? report : &local;
+    memset(r, 0, sizeof *r);
+    r->input_vertices = mesh->vertex_count;
+    r->input_faces = mesh->face_count;
+    r->levels = o->levels;
+    r->limit = o->limit;
+    limn_scheme scheme;
+    limn_status st = operator_resolve_scheme(ctx, mesh, o->scheme, &scheme);
+    if (st)
+        return st;
+    r->scheme = scheme;
+    r->alpha = scheme == LIMN_SCHEME_CATMARK ? o->alpha : 0.0;
+    st = check_budget(ctx, mesh, scheme, o, r);
+    if (st)
+        return st;
+    struct limn_device *dev;
+    st = device_get(ctx, &dev);
+    if (st)
+        return st;
+    snprintf(r->device, sizeof r->device, "%s", dev->name);
+
+    double t0 = limn_seconds();
+    refine_plan plan;
+    st = refine_plan_build(ctx, mesh, scheme, r->alpha, o->levels, &plan);
+    if (st)
+        return st;
+    double t1 = limn_seconds();
+    r->seconds_plan = t1 - t0;
+    for (int k = 0; k < plan.levels; k++)
+        r->stencil_nonzeros += plan.steps[k].row_offsets[plan.steps[k].rows];
+    limn_mesh *out = plan.meshes[plan.levels];
+    st = refine_plan_apply(ctx, &plan, 0, 3, mesh->positions, out->positions);
+    double t2 = limn_seconds();
+    r->seconds_apply = t2 - t1;
+    if (!st && o->limit) {
+        double *lim = malloc((out->vertex_count ? out->vertex_count : 1) * 3 * sizeof *lim);
+        if (!lim)
+            st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for limit positions");
+        /* alpha acts on the first step only: past level 0 the limit is standard */
+        if (!st)
+            st = limn_limit_positions(ctx, out, scheme, plan.levels == 0 ? r->alpha : 0.0, lim);
+        if (!st)
+            memcpy(out->positions, lim, out->vertex_count * 3 * sizeof *lim);
+        free(lim);
+        r->seconds_limit = limn_seconds() - t2;
+    }
+    if (!st) {
+        plan.meshes[plan.levels] = NULL; /* the caller owns it now */
+        r->vertices = out->vertex_count;
+        r->faces = out->face_count;
+        *surface = out;
+    }
+    refine_plan_free(&plan);
+    return st;
+}
