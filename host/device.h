@@ -51,8 +51,32 @@ typedef struct device_ops {
     limn_status (*interp_step)(struct limn_device *dev, const device_csr *a,
                                device_buffer *m, device_buffer *p, device_buffer *p_next,
                                device_norms *norms);
+    /* One term of the series (seed 000 eq. 6; kernels/series.cl): ax = A x and
+       x_next = x - ax = (E - A) x; ax is stored when flags has SERIES_STORE_AX,
+       x_next when SERIES_STORE_NEXT (unused buffers may be NULL); acc is
+       updated by acc_mode (SERIES_ACC_*; acc may be NULL with ACC_NONE).
+       norms: of ax (max, sum of lengths, sum of squares over x, y, z). */
+    limn_status (*series_step)(struct limn_device *dev, const device_csr *a, device_buffer *x,
+                               device_buffer *x_next, device_buffer *ax, device_buffer *acc,
+                               int flags, int acc_mode, device_norms *norms);
+    /* out = a x + b y over `rows` 4-vectors ((a x) + (b y), all four
+       components); out may be x or y. */
+    limn_status (*axpby)(struct limn_device *dev, size_t rows, double a, device_buffer *x,
+                         double b, device_buffer *y, device_buffer *out);
+    /* Norms of x (x, y, z of each of `rows` vectors), finished in chunk order. */
+    limn_status (*norms)(struct limn_device *dev, size_t rows, device_buffer *x,
+                         device_norms *out);
     void (*close)(struct limn_device *dev);
 } device_ops;
+
+/* series_step flags and accumulation modes. */
+enum { SERIES_STORE_AX = 1, SERIES_STORE_NEXT = 2 };
+enum {
+    SERIES_ACC_NONE = 0,    /* acc untouched */
+    SERIES_ACC_SET_AX = 1,  /* acc = ax */
+    SERIES_ACC_ADD_AX = 2,  /* acc = acc + ax */
+    SERIES_ACC_ADD_X = 3    /* acc = acc + x */
+};
 
 struct limn_device {
     const device_ops *ops;

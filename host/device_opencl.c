@@ -10,6 +10,8 @@
 
 extern const unsigned char limn_kernel_stencil[];
 extern const size_t limn_kernel_stencil_size;
+extern const unsigned char limn_kernel_series[];
+extern const size_t limn_kernel_series_size;
 
 struct device_buffer {
     cl_mem mem;
@@ -22,6 +24,7 @@ typedef struct opencl_impl {
     cl_program program;
     cl_kernel spmv;
     cl_kernel interp_step;
+    cl_kernel series_step, axpby, norms;
     cl_ulong max_alloc;
     cl_mem partials;          /* 3 doubles per work-item, grown on demand */
     size_t partials_items;
@@ -196,6 +199,80 @@ static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
     return LIMN_OK;
 }
 
+static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
+                                  device_buffer *x, device_buffer *x_next, device_buffer *ax,
+                                  device_buffer *acc, int flags, int acc_mode,
+                                  device_norms *norms)
+{
+    opencl_impl *im = impl_of(dev);
+    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    limn_status st = ensure_partials(dev, work_items(a->rows) ? work_items(a->rows) : 1);
+    if (!st)
+        st = set_csr_args(dev, im->series_step, a);
+    if (st)
+        return st;
+    cl_kernel k = im->series_step;
+    /* buffers this launch does not use are bound to x and never touched */
+    cl_mem xn = (flags & SERIES_STORE_NEXT) ? x_next->mem : x->mem;
+    cl_mem axm = (flags & SERIES_STORE_AX) ? ax->mem : x->mem;
+    cl_mem accm = acc_mode != SERIES_ACC_NONE ? acc->mem : x->mem;
+    cl_int fl = flags, mode = acc_mode;
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &xn), "clSetKernelArg(x_next)");
+    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &axm), "clSetKernelArg(ax)");
+    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &accm), "clSetKernelArg(acc)");
+    CHECK(clSetKernelArg(k, 8, sizeof fl, &fl), "clSetKernelArg(flags)");
+    CHECK(clSetKernelArg(k, 9, sizeof mode, &mode), "clSetKernelArg(acc_mode)");
+    CHECK(clSetKernelArg(k, 10, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    st = launch(dev, k, a->rows, "series_step");
+    if (st)
+        return st;
+    if (chunks)
+        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE, 0, chunks * 3 * sizeof(double),
+                                  im->host_partials, 0, NULL, NULL),
+              "reading the reduction partials");
+    device_norms_finish(im->host_partials, chunks, norms);
+    return LIMN_OK;
+}
+
+static limn_status cl_axpby(struct limn_device *dev, size_t rows, double a, device_buffer *x,
+                            double b, device_buffer *y, device_buffer *out)
+{
+    cl_kernel k = impl_of(dev)->axpby;
+    cl_uint r = (cl_uint)rows;
+    CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
+    CHECK(clSetKernelArg(k, 1, sizeof a, &a), "clSetKernelArg(a)");
+    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 3, sizeof b, &b), "clSetKernelArg(b)");
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &out->mem), "clSetKernelArg(out)");
+    return launch(dev, k, rows, "axpby");
+}
+
+static limn_status cl_norms(struct limn_device *dev, size_t rows, device_buffer *x,
+                            device_norms *out)
+{
+    opencl_impl *im = impl_of(dev);
+    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    limn_status st = ensure_partials(dev, work_items(rows) ? work_items(rows) : 1);
+    if (st)
+        return st;
+    cl_kernel k = im->norms;
+    cl_uint r = (cl_uint)rows;
+    CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
+    CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    st = launch(dev, k, rows, "norms");
+    if (st)
+        return st;
+    if (chunks)
+        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE, 0, chunks * 3 * sizeof(double),
+                                  im->host_partials, 0, NULL, NULL),
+              "reading the reduction partials");
+    device_norms_finish(im->host_partials, chunks, out);
+    return LIMN_OK;
+}
+
 static void cl_close(struct limn_device *dev)
 {
     opencl_impl *im = impl_of(dev);
@@ -207,6 +284,12 @@ static void cl_close(struct limn_device *dev)
             clReleaseKernel(im->spmv);
         if (im->interp_step)
             clReleaseKernel(im->interp_step);
+        if (im->series_step)
+            clReleaseKernel(im->series_step);
+        if (im->axpby)
+            clReleaseKernel(im->axpby);
+        if (im->norms)
+            clReleaseKernel(im->norms);
         if (im->program)
             clReleaseProgram(im->program);
         if (im->queue)
@@ -226,6 +309,9 @@ static const device_ops opencl_ops = {
     .buffer_release = cl_buffer_release,
     .spmv = cl_spmv,
     .interp_step = cl_interp_step,
+    .series_step = cl_series_step,
+    .axpby = cl_axpby,
+    .norms = cl_norms,
     .close = cl_close,
 };
 
@@ -233,10 +319,11 @@ static const device_ops opencl_ops = {
 static limn_status build_program(struct limn_device *dev, cl_device_id device)
 {
     opencl_impl *im = impl_of(dev);
-    const char *src = (const char *)limn_kernel_stencil;
-    size_t len = limn_kernel_stencil_size;
+    /* one program: stencil.cl, then series.cl (which uses its row_product) */
+    const char *src[2] = {(const char *)limn_kernel_stencil, (const char *)limn_kernel_series};
+    size_t len[2] = {limn_kernel_stencil_size, limn_kernel_series_size};
     cl_int err;
-    im->program = clCreateProgramWithSource(im->context, 1, &src, &len, &err);
+    im->program = clCreateProgramWithSource(im->context, 2, src, len, &err);
     CHECK(err, "clCreateProgramWithSource");
     char options[128];
     snprintf(options, sizeof options, "-D ROWS_PER_ITEM=%d", DEVICE_ROWS_PER_ITEM);
@@ -253,6 +340,12 @@ static limn_status build_program(struct limn_device *dev, cl_device_id device)
     CHECK(err, "clCreateKernel(spmv)");
     im->interp_step = clCreateKernel(im->program, "interp_step", &err);
     CHECK(err, "clCreateKernel(interp_step)");
+    im->series_step = clCreateKernel(im->program, "series_step", &err);
+    CHECK(err, "clCreateKernel(series_step)");
+    im->axpby = clCreateKernel(im->program, "axpby", &err);
+    CHECK(err, "clCreateKernel(axpby)");
+    im->norms = clCreateKernel(im->program, "norms", &err);
+    CHECK(err, "clCreateKernel(norms)");
     return LIMN_OK;
 }
 

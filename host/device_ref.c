@@ -130,6 +130,99 @@ static limn_status ref_interp_step(struct limn_device *dev, const device_csr *a,
     return LIMN_OK;
 }
 
+/* Same order as kernels/series.cl: series_step. */
+static limn_status ref_series_step(struct limn_device *dev, const device_csr *a,
+                                   device_buffer *x, device_buffer *x_next, device_buffer *ax,
+                                   device_buffer *acc, int flags, int acc_mode,
+                                   device_norms *norms)
+{
+    const double *xs = x->data;
+    double *xn = x_next ? x_next->data : NULL, *axs = ax ? ax->data : NULL;
+    double *as = acc ? acc->data : NULL;
+    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
+    if (!partials)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+    for (size_t g = 0; g < chunks; g++) {
+        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > a->rows)
+            end = a->rows;
+        double mx = 0.0, sum = 0.0, sq = 0.0;
+        for (size_t i = begin; i < end; i++) {
+            double v[4];
+            row_product(a, i, xs, v);
+            const double *xi = xs + 4 * i;
+            if (flags & SERIES_STORE_AX)
+                for (int c = 0; c < 4; c++)
+                    axs[4 * i + c] = v[c];
+            if (flags & SERIES_STORE_NEXT)
+                for (int c = 0; c < 4; c++)
+                    xn[4 * i + c] = xi[c] - v[c];
+            if (acc_mode == SERIES_ACC_SET_AX)
+                for (int c = 0; c < 4; c++)
+                    as[4 * i + c] = v[c];
+            else if (acc_mode == SERIES_ACC_ADD_AX)
+                for (int c = 0; c < 4; c++)
+                    as[4 * i + c] = as[4 * i + c] + v[c];
+            else if (acc_mode == SERIES_ACC_ADD_X)
+                for (int c = 0; c < 4; c++)
+                    as[4 * i + c] = as[4 * i + c] + xi[c];
+            double s2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            double len = sqrt(s2);
+            mx = len > mx ? len : mx;
+            sum += len;
+            sq += s2;
+        }
+        partials[3 * g] = mx;
+        partials[3 * g + 1] = sum;
+        partials[3 * g + 2] = sq;
+    }
+    device_norms_finish(partials, chunks, norms);
+    free(partials);
+    return LIMN_OK;
+}
+
+static limn_status ref_axpby(struct limn_device *dev, size_t rows, double a, device_buffer *x,
+                             double b, device_buffer *y, device_buffer *out)
+{
+    (void)dev;
+    const double *xs = x->data, *ys = y->data;
+    double *os = out->data;
+    for (size_t i = 0; i < 4 * rows; i++)
+        os[i] = a * xs[i] + b * ys[i];
+    return LIMN_OK;
+}
+
+static limn_status ref_norms(struct limn_device *dev, size_t rows, device_buffer *x,
+                             device_norms *out)
+{
+    const double *xs = x->data;
+    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
+    if (!partials)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+    for (size_t g = 0; g < chunks; g++) {
+        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > rows)
+            end = rows;
+        double mx = 0.0, sum = 0.0, sq = 0.0;
+        for (size_t i = begin; i < end; i++) {
+            const double *v = xs + 4 * i;
+            double s2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            double len = sqrt(s2);
+            mx = len > mx ? len : mx;
+            sum += len;
+            sq += s2;
+        }
+        partials[3 * g] = mx;
+        partials[3 * g + 1] = sum;
+        partials[3 * g + 2] = sq;
+    }
+    device_norms_finish(partials, chunks, out);
+    free(partials);
+    return LIMN_OK;
+}
+
 static void ref_close(struct limn_device *dev)
 {
     free(dev);
@@ -143,6 +236,9 @@ static const device_ops reference_ops = {
     .buffer_release = ref_buffer_release,
     .spmv = ref_spmv,
     .interp_step = ref_interp_step,
+    .series_step = ref_series_step,
+    .axpby = ref_axpby,
+    .norms = ref_norms,
     .close = ref_close,
 };
 

@@ -26,11 +26,14 @@ static size_t physical_memory(void)
 }
 
 static limn_status check_budget(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
-                                const limn_subdivide_options *o, limn_subdivide_report *r)
+                                const limn_subdivide_options *o, size_t *vertices, size_t *faces,
+                                size_t *peak_bytes)
 {
     size_t v, f, idx, peak;
     refine_estimate(mesh, scheme, o->levels, &v, &f, &idx, &peak);
-    r->estimated_bytes = peak;
+    *vertices = v;
+    *faces = f;
+    *peak_bytes = peak;
     size_t budget = o->max_memory ? o->max_memory : physical_memory() / 4 * 3;
     if (peak > budget)
         return limn_fail(ctx, LIMN_ERR_MEMORY,
@@ -40,6 +43,25 @@ static limn_status check_budget(limn_context *ctx, const limn_mesh *mesh, limn_s
                          mesh->vertex_count, o->levels, v, f, (double)peak / (1 << 30),
                          (double)budget / (1 << 30));
     return LIMN_OK;
+}
+
+limn_status limn_subdivide_estimate(limn_context *ctx, const limn_mesh *mesh,
+                                    const limn_subdivide_options *options, size_t *vertices,
+                                    size_t *faces, size_t *peak_bytes)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (!mesh || !options || !vertices || !faces || !peak_bytes)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide_estimate: NULL argument");
+    if (options->levels < 0 || options->levels > 16)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "levels is %d; it must lie in 0..16",
+                         options->levels);
+    limn_scheme scheme;
+    limn_status st = operator_resolve_scheme(ctx, mesh, options->scheme, &scheme);
+    if (st)
+        return st;
+    return check_budget(ctx, mesh, scheme, options, vertices, faces, peak_bytes);
 }
 
 limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
@@ -72,7 +94,8 @@ limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
         return st;
     r->scheme = scheme;
     r->alpha = scheme == LIMN_SCHEME_CATMARK ? o->alpha : 0.0;
-    st = check_budget(ctx, mesh, scheme, o, r);
+    size_t est_v, est_f;
+    st = check_budget(ctx, mesh, scheme, o, &est_v, &est_f, &r->estimated_bytes);
     if (st)
         return st;
     struct limn_device *dev;

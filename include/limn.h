@@ -233,9 +233,191 @@ limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
                            const limn_subdivide_options *options, limn_mesh **surface,
                            limn_subdivide_report *report);
 
+/*
+ * Predicts what limn_subdivide would make: vertex and face counts and the
+ * peak memory in bytes. Returns LIMN_ERR_MEMORY (with the message) when the
+ * peak exceeds options->max_memory, so callers can refuse before any work.
+ */
+limn_status limn_subdivide_estimate(limn_context *ctx, const limn_mesh *mesh,
+                                    const limn_subdivide_options *options, size_t *vertices,
+                                    size_t *faces, size_t *peak_bytes);
+
 /* Limit positions A P of every vertex of P (written to out, 3 per vertex). */
 limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *mesh,
                                  limn_scheme scheme, double alpha, double *out);
+
+/* ------------------------------------------------------------------- series */
+/*
+ * A mesh as a series (seed 000 §3, DESIGN.md §1): M = sum_i (E - A)^i A M,
+ * A the limit operator of the scheme on M's topology, E the identity.
+ * Band i = (E - A)^i A M: band 0 (the limit points) carries the overall
+ * shape, higher bands finer detail. Each function below builds A once and
+ * applies it on the context's device; "products" counts applications of A.
+ */
+typedef struct limn_series_options {
+    limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
+    double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
+} limn_series_options;
+
+void limn_series_options_default(limn_series_options *options);
+
+typedef struct limn_series_report {
+    size_t vertices, faces;
+    limn_scheme scheme;       /* the scheme that ran (never AUTO) */
+    double alpha;
+    char device[256];
+    size_t stencil_nonzeros;
+    double bbox_diagonal;
+    long long products;       /* stencil products A x applied */
+    double seconds_topology, seconds_stencil, seconds_compute;
+} limn_series_report;
+
+/*
+ * Bands 0..count-1 and the remainder (E - A)^count M; they sum to M.
+ * bands (may be NULL): (count + 1) * 3 * vertices doubles, band i at
+ * i * 3 * vertices, the remainder last. energy (may be NULL): count + 1
+ * values, sum over vertices of |band_i|^2 (the remainder's last).
+ * report may be NULL (here and below).
+ */
+limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh,
+                       const limn_series_options *options, int count, double *bands,
+                       double *energy, limn_series_report *report);
+
+/* Partial sum of the first `terms` bands, = (E - (E - A)^terms) M: a new mesh. */
+limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
+                        const limn_series_options *options, int terms, limn_mesh **out,
+                        limn_series_report *report);
+
+/*
+ * Seed 000 eq. 8: T_0 = M, T_{k+1} = sum_{i=0..m} (E - A)^i A T_k, `steps`
+ * times ((m + 1) * steps products). With keep_volume the result is scaled
+ * about the mean of its vertices to the input's volume (closed meshes only:
+ * LIMN_ERR_TOPOLOGY otherwise).
+ */
+limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
+                         const limn_series_options *options, int m, int steps, int keep_volume,
+                         limn_mesh **out, limn_series_report *report);
+
+/* Seed 000: T_{k+1} = T_k + sum_{i=from..to} (E - A)^i T_k, `steps` times
+   (to * steps products); 0 <= from <= to. */
+limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
+                         const limn_series_options *options, int from, int to, int steps,
+                         limn_mesh **out, limn_series_report *report);
+
+typedef struct limn_morph_options {
+    limn_series_options series;
+    int frames;               /* frames written, FROM first; >= 2; default 30 */
+    int m;                    /* terms of eq. 9 minus one; default 2 */
+    double p;                 /* speed, 0 < p < 1 (smaller is faster); default 0.8 */
+    int linear;               /* 1: the linear blend (1 - t) FROM + t TO, t = k / (frames - 1) */
+} limn_morph_options;
+
+void limn_morph_options_default(limn_morph_options *options);
+
+typedef struct limn_morph_frame {
+    int index;                /* 0 .. frames - 1 */
+    const double *positions;  /* 3 per vertex; valid during the callback only */
+    double volume;            /* signed volume; NaN when the mesh is not closed */
+    double area;
+    size_t flipped_faces;     /* face normals turned more than 90 degrees from FROM's */
+    double mean_distance_to_target; /* mean |Q_k - TO| over vertices / bbox diagonal of TO */
+} limn_morph_frame;
+
+/* Called once per frame, in order; a status other than LIMN_OK stops the morph
+   and is returned (the callback sets the context's message). */
+typedef limn_status (*limn_morph_frame_fn)(void *user, const limn_morph_frame *frame);
+
+/*
+ * Morphs FROM into TO (same topology: LIMN_ERR_TOPOLOGY naming the first
+ * differing face otherwise) by seed 000 eq. 9: Q_0 = FROM,
+ * Q_{k+1} = TO + p sum_{i=0..m} (E - A)^i A (Q_k - TO), computed with stencil
+ * products only ((m + 1) per frame), A the operator of the shared topology.
+ * Frame 0 is FROM exactly; frames approach TO geometrically (not exactly).
+ */
+limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                       const limn_morph_options *options, limn_morph_frame_fn fn, void *user,
+                       limn_series_report *report);
+
+/* ----------------------------------------------------------------- measures */
+
+typedef struct limn_mesh_measures {
+    int closed;               /* every edge has two faces of agreeing orientation */
+    double volume;            /* signed volume (divergence theorem); NaN when not closed */
+    double area;              /* faces fan-triangulated from their first vertex */
+    double centroid[3];       /* mean of the vertices */
+} limn_mesh_measures;
+
+limn_status limn_mesh_measure(limn_context *ctx, const limn_mesh *mesh, limn_mesh_measures *out);
+
+/* LIMN_OK when a and b have the same vertex count and faces; otherwise
+   LIMN_ERR_TOPOLOGY with a message naming the first difference. */
+limn_status limn_mesh_same_topology(limn_context *ctx, const limn_mesh *a, const limn_mesh *b);
+
+typedef struct limn_mesh_comparison {
+    double mean_distance, max_distance;   /* |a_i - b_i| over vertices */
+    double mean_normal_angle;             /* degrees, between face normals (Newell) */
+    size_t flipped_faces;                 /* faces whose normals differ by > 90 degrees */
+} limn_mesh_comparison;
+
+/* Compares two meshes of one topology vertex by vertex and face by face. */
+limn_status limn_mesh_compare(limn_context *ctx, const limn_mesh *a, const limn_mesh *b,
+                              limn_mesh_comparison *out);
+
+/* ------------------------------------------------------------------ texture */
+
+typedef struct limn_texture_options {
+    limn_series_options series;
+    int levels;               /* refinement levels G_1..G_levels; default 3 */
+    const uint8_t *colors;    /* RGB triples, interpolated in order; required */
+    size_t color_count;       /* >= 1 */
+    uint64_t seed;            /* shuffles the noise's permutation; default 1 */
+    double frequency;         /* noise cells across the bbox diagonal on G_0; default 4 */
+    double tolerance;         /* of each level's scalar interpolation; default 1e-6 */
+} limn_texture_options;
+
+void limn_texture_options_default(limn_texture_options *options);
+
+/*
+ * Procedural texture (seed 000 §5): improved Perlin noise f(2^i p)/2^i on the
+ * vertices of each level G_i of the refinement, interpolated per level (the
+ * scalar interpolation), carried to the finest level and summed there, taken
+ * at the limit points, normalised to [0, 1] and mapped through the uniform
+ * cubic B-spline that interpolates the colours (clamped to their per-channel
+ * range). *out: level `levels`, positions on the limit surface, with colours.
+ */
+limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
+                         const limn_texture_options *options, limn_mesh **out,
+                         limn_series_report *report);
+
+/* Improved Perlin noise (Perlin 2002) with a permutation shuffled from seed. */
+typedef struct limn_noise {
+    uint8_t perm[512];
+} limn_noise;
+void limn_noise_init(limn_noise *noise, uint64_t seed);
+double limn_noise_eval(const limn_noise *noise, double x, double y, double z);
+
+/* ------------------------------------------------------------------- render */
+
+typedef struct limn_render_options {
+    int width, height;        /* pixels; default 400 x 300 */
+    double azimuth, elevation;/* view direction in degrees; default 30, 20 */
+    int up_axis;              /* 0 = x, 1 = y, 2 = z up; default 1 */
+    int flat;                 /* 1: flat shading with face normals; default 0 (smooth) */
+    int supersample;          /* samples per pixel side (anti-aliasing); default 2 */
+    uint8_t background[3];    /* default white */
+    uint8_t color[3];         /* surface colour when the mesh has none */
+} limn_render_options;
+
+void limn_render_options_default(limn_render_options *options);
+
+/* Headless z-buffer rendering, orthographic, Lambert shading with vertex
+   colours when present; rgb: width * height * 3 bytes, rows top first. */
+limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
+                        const limn_render_options *options, uint8_t *rgb);
+
+/* Writes an 8-bit RGB PNG (own deflate encoder, no dependency), atomically. */
+limn_status limn_png_write(limn_context *ctx, const char *path, int width, int height,
+                           const uint8_t *rgb);
 
 #ifdef __cplusplus
 }

@@ -10,10 +10,21 @@ enum { EXIT_USAGE = 2, EXIT_FAILURE_RUN = 1 };
 int cli_interpolate(int argc, char **argv);
 int cli_info(int argc, char **argv);
 int cli_devices(int argc, char **argv);
+int cli_subdivide(int argc, char **argv);
 
 /* Strict number parsing for options; print a usage error naming the option. */
 int cli_parse_double(const char *opt, const char *text, double *out);
 int cli_parse_int(const char *opt, const char *text, int *out);
+/* "auto" | "loop" | "catmark"; prints a usage error otherwise. */
+int cli_parse_scheme(const char *cmd, const char *text, limn_scheme *out);
+/* Bytes with an optional K, M, G or T suffix (powers of 1024). */
+int cli_parse_size(const char *opt, const char *text, size_t *out);
+/* Checks an output path before any work: its format is known (from format
+   or the extension) and it is not the input file. Returns 0 or an exit status. */
+int cli_check_output(const char *cmd, const char *input, const char *output, limn_format format,
+                     int overwrite_input);
+/* Peak resident memory of this process so far, in bytes. */
+size_t cli_peak_rss(void);
 /* "--opt value": returns the value or prints an error when it is missing. */
 const char *cli_value(int argc, char **argv, int *i);
 int cli_usage_error(const char *cmd, const char *fmt, ...)

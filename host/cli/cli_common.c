@@ -8,6 +8,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -257,4 +258,67 @@ double cli_now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int cli_parse_scheme(const char *cmd, const char *text, limn_scheme *out)
+{
+    if (strcmp(text, "auto") == 0)
+        *out = LIMN_SCHEME_AUTO;
+    else if (strcmp(text, "loop") == 0)
+        *out = LIMN_SCHEME_LOOP;
+    else if (strcmp(text, "catmark") == 0 || strcmp(text, "catmull-clark") == 0)
+        *out = LIMN_SCHEME_CATMARK;
+    else {
+        cli_usage_error(cmd, "--scheme '%s' is not one of auto, loop, catmark", text);
+        return 0;
+    }
+    return 1;
+}
+
+int cli_parse_size(const char *opt, const char *text, size_t *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(text, &end);
+    double unit = 1;
+    if (end != text && *end && !end[1]) {
+        switch (*end) {
+        case 'k': case 'K': unit = 1024.0; end++; break;
+        case 'm': case 'M': unit = 1024.0 * 1024; end++; break;
+        case 'g': case 'G': unit = 1024.0 * 1024 * 1024; end++; break;
+        case 't': case 'T': unit = 1024.0 * 1024 * 1024 * 1024; end++; break;
+        default: break;
+        }
+    }
+    if (end == text || *end || errno == ERANGE || !(v > 0) || v * unit >= 1.8e19) {
+        fprintf(stderr, "limn: %s expects a size such as 512M or 4G, got '%s'\n", opt, text);
+        return 0;
+    }
+    *out = (size_t)(v * unit);
+    return 1;
+}
+
+int cli_check_output(const char *cmd, const char *input, const char *output, limn_format format,
+                     int overwrite_input)
+{
+    limn_format f;
+    if (format == LIMN_FORMAT_AUTO && !limn_format_from_path(output, &f))
+        return cli_usage_error(cmd,
+                               "cannot tell the format of '%s' from its extension: use .obj, "
+                               ".ply or .off, or --format",
+                               output);
+    if (!overwrite_input && cli_same_file(input, output))
+        return cli_usage_error(cmd,
+                               "output '%s' is the input file; refusing to overwrite it (use "
+                               "--overwrite-input if you mean it)",
+                               output);
+    return 0;
+}
+
+size_t cli_peak_rss(void)
+{
+    struct rusage ru;
+    if (getrusage(RUSAGE_SELF, &ru) != 0)
+        return 0;
+    return (size_t)ru.ru_maxrss * 1024;
 }

@@ -23,21 +23,29 @@ static const char *const help =
     "                         (default: LIMN_DEVICE etc., then the first device)\n"
     "  --format F             output format: obj, ply, ply-ascii, ply-be, off\n"
     "  --input-format F       input format, when the extension does not say\n"
+    "  --surface FILE         also refine P and write its subdivision surface\n"
+    "  --levels K             refinement levels of the surface, 0..16    [2]\n"
+    "  --limit                put the surface's finest vertices on the limit\n"
+    "                         surface: vertex i of it is then M_i to --tol\n"
+    "  --max-memory SIZE      refuse a surface whose predicted peak exceeds SIZE\n"
     "  --overwrite-input      allow OUTPUT to be the INPUT file\n"
     "  -q, --quiet            no summary and no progress on stderr\n"
     "\n"
     "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
 
 typedef struct args {
-    const char *input, *output, *report, *device;
+    const char *input, *output, *report, *device, *surface;
     limn_format in_format, out_format;
     limn_interpolate_options opt;
-    int quiet, overwrite_input;
+    limn_subdivide_options sub;
+    int quiet, overwrite_input, levels_given;
 } args;
 
 static int parse(int argc, char **argv, args *a)
 {
     limn_interpolate_options_default(&a->opt);
+    limn_subdivide_options_default(&a->sub);
+    a->sub.levels = 2;
     for (int i = 1; i < argc; i++) {
         const char *s = argv[i];
         const char *v = NULL;
@@ -54,15 +62,8 @@ static int parse(int argc, char **argv, args *a)
             a->output = v;
         } else if (strcmp(s, "--scheme") == 0) {
             VALUE();
-            if (strcmp(v, "auto") == 0)
-                a->opt.scheme = LIMN_SCHEME_AUTO;
-            else if (strcmp(v, "loop") == 0)
-                a->opt.scheme = LIMN_SCHEME_LOOP;
-            else if (strcmp(v, "catmark") == 0 || strcmp(v, "catmull-clark") == 0)
-                a->opt.scheme = LIMN_SCHEME_CATMARK;
-            else
-                return cli_usage_error("interpolate",
-                                       "--scheme '%s' is not one of auto, loop, catmark", v);
+            if (!cli_parse_scheme("interpolate", v, &a->opt.scheme))
+                return EXIT_USAGE;
         } else if (strcmp(s, "--alpha") == 0) {
             VALUE();
             if (!cli_parse_double(s, v, &a->opt.alpha))
@@ -98,6 +99,22 @@ static int parse(int argc, char **argv, args *a)
                 a->out_format = f;
             else
                 a->in_format = f;
+        } else if (strcmp(s, "--surface") == 0) {
+            VALUE();
+            a->surface = v;
+        } else if (strcmp(s, "--levels") == 0) {
+            VALUE();
+            if (!cli_parse_int(s, v, &a->sub.levels))
+                return EXIT_USAGE;
+            if (a->sub.levels < 0 || a->sub.levels > 16)
+                return cli_usage_error("interpolate", "--levels %s is outside 0..16", v);
+            a->levels_given = 1;
+        } else if (strcmp(s, "--limit") == 0) {
+            a->sub.limit = 1;
+        } else if (strcmp(s, "--max-memory") == 0) {
+            VALUE();
+            if (!cli_parse_size(s, v, &a->sub.max_memory))
+                return EXIT_USAGE;
         } else if (strcmp(s, "--overwrite-input") == 0) {
             a->overwrite_input = 1;
         } else if (strcmp(s, "-q") == 0 || strcmp(s, "--quiet") == 0) {
@@ -115,19 +132,18 @@ static int parse(int argc, char **argv, args *a)
         return cli_usage_error("interpolate", "no INPUT mesh given");
     if (!a->output)
         return cli_usage_error("interpolate", "no output given (-o OUTPUT)");
-    limn_format f;
-    if (a->out_format == LIMN_FORMAT_AUTO && !limn_format_from_path(a->output, &f))
-        return cli_usage_error("interpolate",
-                               "cannot tell the format of '%s' from its extension: use .obj, "
-                               ".ply or .off, or --format",
-                               a->output);
-    if (a->report && !a->overwrite_input && cli_same_file(a->report, a->input))
-        return cli_usage_error("interpolate", "--report '%s' is the input file", a->report);
-    if (!a->overwrite_input && cli_same_file(a->input, a->output))
-        return cli_usage_error("interpolate",
-                               "output '%s' is the input file; refusing to overwrite it "
-                               "(use --overwrite-input if you mean it)",
-                               a->output);
+    if ((a->levels_given || a->sub.limit) && !a->surface)
+        return cli_usage_error("interpolate", "--levels and --limit need --surface FILE");
+    int rc = cli_check_output("interpolate", a->input, a->output, a->out_format,
+                              a->overwrite_input);
+    if (!rc && a->surface)
+        rc = cli_check_output("interpolate", a->input, a->surface, a->out_format,
+                              a->overwrite_input);
+    if (!rc && a->report)
+        rc = cli_check_output("interpolate", a->input, a->report, LIMN_FORMAT_OBJ,
+                              a->overwrite_input);
+    if (rc)
+        return rc;
     return 0;
 }
 
@@ -148,7 +164,7 @@ static void print_summary(const args *a, const limn_report *r, const double sec[
 }
 
 static limn_status write_report(limn_context *ctx, const args *a, const limn_report *r,
-                                const double sec[3])
+                                const limn_subdivide_report *sr, const double sec[3])
 {
     json_out *j = json_begin();
     if (!j)
@@ -170,11 +186,21 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_number(j, "bbox_diagonal", r->bbox_diagonal);
     json_integer(j, "stencil_nonzeros", (long long)r->stencil_nonzeros);
     json_string(j, "device", r->device);
+    if (sr) {
+        json_string(j, "surface", a->surface);
+        json_integer(j, "surface_vertices", (long long)sr->vertices);
+        json_integer(j, "surface_faces", (long long)sr->faces);
+        json_integer(j, "levels", sr->levels);
+        json_string(j, "limit", sr->limit ? "yes" : "no");
+    }
+    json_integer(j, "peak_rss_bytes", (long long)cli_peak_rss());
     json_object_begin(j, "seconds");
     json_number(j, "load", sec[0]);
     json_number(j, "topology", r->seconds_topology);
     json_number(j, "stencil", r->seconds_stencil);
     json_number(j, "solve", r->seconds_solve);
+    if (sr)
+        json_number(j, "surface", sr->seconds_plan + sr->seconds_apply + sr->seconds_limit);
     json_number(j, "write", sec[1]);
     json_number(j, "total", sec[2]);
     json_object_end(j);
@@ -194,32 +220,57 @@ int cli_interpolate(int argc, char **argv)
         fprintf(stderr, "limn interpolate: out of memory\n");
         return EXIT_FAILURE_RUN;
     }
-    limn_mesh *mesh = NULL, *control = NULL;
+    limn_mesh *mesh = NULL, *control = NULL, *surface = NULL;
     limn_report r;
+    limn_subdivide_report sr;
+    memset(&sr, 0, sizeof sr);
     double sec[3] = {0, 0, 0}, t0 = cli_now();
     limn_status st = limn_context_set_device(ctx, a.device);
     if (!st)
         st = limn_mesh_read(ctx, a.input, a.in_format, &mesh);
     cli_print_warnings("interpolate", ctx);
     sec[0] = cli_now() - t0;
+    if (!st && a.surface) {
+        /* refuse an oversize surface before solving */
+        size_t v, f, bytes;
+        a.sub.scheme = a.opt.scheme;
+        a.sub.alpha = a.opt.alpha;
+        st = limn_subdivide_estimate(ctx, mesh, &a.sub, &v, &f, &bytes);
+    }
     if (!st) {
         cli_progress_enable(ctx, a.quiet);
         st = limn_interpolate(ctx, mesh, &a.opt, &control, &r);
         cli_progress_done();
         cli_print_warnings("interpolate", ctx);
     }
+    if (!st && a.surface) {
+        a.sub.scheme = r.scheme;
+        cli_progress_enable(ctx, a.quiet);
+        st = limn_subdivide(ctx, control, &a.sub, &surface, &sr);
+        cli_progress_done();
+    }
     if (!st) {
+        /* both results exist before either file is written */
         double t1 = cli_now();
         st = limn_mesh_write(ctx, control, a.output, a.out_format);
+        if (!st && a.surface)
+            st = limn_mesh_write(ctx, surface, a.surface, a.out_format);
         sec[1] = cli_now() - t1;
         sec[2] = cli_now() - t0;
     }
     if (!st && a.report)
-        st = write_report(ctx, &a, &r, sec);
+        st = write_report(ctx, &a, &r, a.surface ? &sr : NULL, sec);
     if (st)
         rc = cli_fail("interpolate", ctx, st);
-    else if (!a.quiet)
+    else if (!a.quiet) {
         print_summary(&a, &r, sec);
+        if (a.surface)
+            fprintf(stderr, "  surface: %s, %zu vertices, %zu faces (%d levels%s), %.3f s\n",
+                    a.surface, sr.vertices, sr.faces, sr.levels,
+                    sr.limit ? ", limit positions" : "",
+                    sr.seconds_plan + sr.seconds_apply + sr.seconds_limit);
+    }
+    limn_mesh_destroy(surface);
     limn_mesh_destroy(mesh);
     limn_mesh_destroy(control);
     limn_context_destroy(ctx);

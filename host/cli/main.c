@@ -13,6 +13,9 @@ static void usage(FILE *out)
             "  interpolate INPUT -o OUTPUT [--scheme auto|loop|catmark] [--alpha A] [--tol T]\n"
             "              [--max-iter N] [--report FILE.json] [--device SPEC] [-q]\n"
             "      control mesh whose limit surface passes through every vertex of INPUT\n"
+            "  subdivide INPUT -o OUTPUT --levels K [--limit] [--scheme S] [--alpha A]\n"
+            "              [--max-memory SIZE] [--report FILE.json] [--device SPEC] [-q]\n"
+            "      refine a control mesh into its subdivision surface\n"
             "  info INPUT [--json]       counts, boundaries, non-manifold elements, bbox\n"
             "  devices                   the OpenCL devices limn can use\n"
             "\n"
@@ -32,6 +35,8 @@ int main(int argc, char **argv)
         return cli_info(argc - 1, argv + 1);
     if (strcmp(cmd, "devices") == 0)
         return cli_devices(argc - 1, argv + 1);
+    if (strcmp(cmd, "subdivide") == 0)
+        return cli_subdivide(argc - 1, argv + 1);
     if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
         usage(stdout);
         return 0;
