@@ -195,8 +195,8 @@ limn_status refine_plan_apply(limn_context *ctx, const refine_plan *plan, int fr
     return st;
 }
 
-void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, size_t *vertices,
-                     size_t *faces, size_t *indices, size_t *peak_bytes)
+void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, int limit,
+                     size_t *vertices, size_t *faces, size_t *indices, size_t *peak_bytes)
 {
     /* Counts follow exactly from V, F, E and the corners of the base. */
     double v = (double)base->vertex_count, f = (double)base->face_count;
@@ -226,9 +226,9 @@ void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, size
     *vertices = (size_t)v;
     *faces = (size_t)f;
     *indices = (size_t)idx;
-    /* Measured peaks (README "Subdivision surfaces") are about 330 bytes per
-       output vertex for Loop and 360 for Catmull-Clark at level 3; keep a
-       margin for --limit (the limit operator of the finest level). */
-    double per_vertex = scheme == LIMN_SCHEME_LOOP ? 450.0 : 500.0;
-    *peak_bytes = (size_t)(per_vertex * v + 4.0 * idx);
+    /* Measured peaks (README "Subdivision surfaces"): 262-342 bytes per output
+       vertex without --limit, 645-700 with it (the finest level's topology and
+       limit table), plus ~100-150 MB for the OpenCL runtime; 20% margin. */
+    double per_vertex = limit ? 840.0 : 420.0;
+    *peak_bytes = (size_t)(per_vertex * v) + ((size_t)192 << 20);
 }

@@ -39,8 +39,9 @@ limn_status refine_plan_apply(limn_context *ctx, const refine_plan *plan, int fr
                               int channels, const double *in, double *out);
 
 /* Predicted vertex, face and index counts of level `levels`, and the peak
-   bytes refine_plan_build + apply will need, without building anything. */
-void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, size_t *vertices,
-                     size_t *faces, size_t *indices, size_t *peak_bytes);
+   bytes of a whole subdivide run (plan, apply, the limit operator of the
+   finest level when `limit`, the OpenCL runtime), without building anything. */
+void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, int limit,
+                     size_t *vertices, size_t *faces, size_t *indices, size_t *peak_bytes);
 
 #endif

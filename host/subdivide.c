@@ -30,7 +30,7 @@ static limn_status check_budget(limn_context *ctx, const limn_mesh *mesh, limn_s
                                 size_t *peak_bytes)
 {
     size_t v, f, idx, peak;
-    refine_estimate(mesh, scheme, o->levels, &v, &f, &idx, &peak);
+    refine_estimate(mesh, scheme, o->levels, o->limit, &v, &f, &idx, &peak);
     *vertices = v;
     *faces = f;
     *peak_bytes = peak;

@@ -234,6 +234,65 @@ static void good_run_and_report(void **s)
     assert_non_null(strstr(text, "reference"));
 }
 
+static void subdivide_and_surface(void **s)
+{
+    (void)s;
+    char spot[512], args[4096], report[300], ctrl[300], surf[300];
+    snprintf(spot, sizeof spot, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
+    snprintf(report, sizeof report, "%s/sub.json", dir);
+    snprintf(ctrl, sizeof ctrl, "%s/ctrl.ply", dir);
+    snprintf(surf, sizeof surf, "%s/surf.obj", dir);
+    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --levels 2 --report '%s'", spot, out_path,
+             report);
+    assert_int_equal(limn(args), 0);
+    assert_non_null(strstr(text, "2930 vertices, 2928 faces"));
+    FILE *f = fopen(report, "r");
+    assert_non_null(f);
+    char json[8192];
+    size_t n = fread(json, 1, sizeof json - 1, f);
+    json[n] = '\0';
+    fclose(f);
+    assert_non_null(strstr(json, "\"output_vertices\": 2930"));
+    assert_non_null(strstr(json, "\"levels\": 2"));
+    assert_non_null(strstr(json, "\"peak_rss_bytes\": "));
+    unlink(report);
+    unlink(out_path);
+    /* bad usage and refusals write nothing */
+    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --levels 17", spot, out_path);
+    assert_int_equal(limn(args), 2);
+    assert_non_null(strstr(text, "--levels 17 is outside 0..16"));
+    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --levels 7 --max-memory 64M", spot,
+             out_path);
+    assert_int_equal(limn(args), 1);
+    assert_non_null(strstr(text, "raise --max-memory"));
+    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --max-memory lots", spot, out_path);
+    assert_int_equal(limn(args), 2);
+    assert_non_null(strstr(text, "--max-memory expects a size"));
+    no_output_left();
+    /* interpolate + surface in one run; the refusal comes before solving */
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --levels 2", spot, ctrl);
+    assert_int_equal(limn(args), 2);
+    assert_non_null(strstr(text, "need --surface"));
+    snprintf(args, sizeof args,
+             "interpolate '%s' -o '%s' --surface '%s' --levels 7 --max-memory 64M", spot, ctrl,
+             surf);
+    assert_int_equal(limn(args), 1);
+    assert_non_null(strstr(text, "raise --max-memory"));
+    no_output_left();
+    snprintf(args, sizeof args,
+             "interpolate '%s' -o '%s' --surface '%s' --levels 2 --limit --alpha 0.5", spot, ctrl,
+             surf);
+    assert_int_equal(limn(args), 0);
+    assert_non_null(strstr(text, "surface: "));
+    assert_true(test_file_exists(ctrl));
+    assert_true(test_file_exists(surf));
+    snprintf(args, sizeof args, "info '%s' --json", surf);
+    assert_int_equal(limn(args), 0);
+    assert_non_null(strstr(text, "\"vertices\": 2930, \"faces\": 2928"));
+    unlink(ctrl);
+    unlink(surf);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -241,6 +300,7 @@ int main(void)
         cmocka_unit_test(bad_usage),
         cmocka_unit_test(singular_keeps_existing_output),
         cmocka_unit_test(good_run_and_report),
+        cmocka_unit_test(subdivide_and_surface),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -11,6 +11,13 @@ int cli_interpolate(int argc, char **argv);
 int cli_info(int argc, char **argv);
 int cli_devices(int argc, char **argv);
 int cli_subdivide(int argc, char **argv);
+int cli_bands(int argc, char **argv);
+int cli_smooth(int argc, char **argv);
+int cli_denoise(int argc, char **argv);
+int cli_sharpen(int argc, char **argv);
+int cli_morph(int argc, char **argv);
+int cli_texture(int argc, char **argv);
+int cli_render(int argc, char **argv);
 
 /* Strict number parsing for options; print a usage error naming the option. */
 int cli_parse_double(const char *opt, const char *text, double *out);
@@ -54,6 +61,12 @@ void json_number(json_out *j, const char *key, double value);
 void json_integer(json_out *j, const char *key, long long value);
 void json_object_begin(json_out *j, const char *key);
 void json_object_end(json_out *j);
+/* Arrays: json_array_begin, elements, json_array_end. An object element is
+   json_element_object_begin ... json_object_end. Non-finite numbers: null. */
+void json_array_begin(json_out *j, const char *key);
+void json_array_end(json_out *j);
+void json_element_number(json_out *j, double value);
+void json_element_object_begin(json_out *j);
 /* Writes the document atomically; frees j in any case. */
 limn_status json_commit(limn_context *ctx, json_out *j, const char *path);
 

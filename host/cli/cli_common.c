@@ -225,6 +225,57 @@ void json_object_end(json_out *j)
     j->need_comma = 1;
 }
 
+/* An array element: comma, new line and indentation, no key. */
+static void element(json_out *j)
+{
+    if (j->need_comma)
+        puts_(j, ",");
+    puts_(j, "\n");
+    for (int i = 0; i < j->depth; i++)
+        puts_(j, "  ");
+    j->need_comma = 1;
+}
+
+void json_array_begin(json_out *j, const char *k)
+{
+    key(j, k);
+    puts_(j, "[");
+    j->depth++;
+    j->need_comma = 0;
+}
+
+void json_array_end(json_out *j)
+{
+    j->depth--;
+    puts_(j, "\n");
+    for (int i = 0; i < j->depth; i++)
+        puts_(j, "  ");
+    puts_(j, "]");
+    j->need_comma = 1;
+}
+
+void json_element_number(json_out *j, double v)
+{
+    char buf[64];
+    element(j);
+    if (isfinite(v)) {
+        snprintf(buf, sizeof buf, "%.15g", v);
+        if (strtod(buf, NULL) != v)
+            snprintf(buf, sizeof buf, "%.17g", v);
+    } else {
+        snprintf(buf, sizeof buf, "null");
+    }
+    puts_(j, buf);
+}
+
+void json_element_object_begin(json_out *j)
+{
+    element(j);
+    puts_(j, "{");
+    j->depth++;
+    j->need_comma = 0;
+}
+
 limn_status json_commit(limn_context *ctx, json_out *j, const char *path)
 {
     (void)ctx;
