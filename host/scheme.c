@@ -95,3 +95,20 @@ size_t scheme_limit_mask(const topology *t, limn_scheme scheme, double alpha, ui
         return loop_smooth(t, v, cols, w);
     return catmark_smooth(t, alpha, v, cols, w);
 }
+
+double scheme_limit_row_scale(const topology *t, limn_scheme scheme, uint32_t v)
+{
+    switch ((vertex_rule)t->vertex_rule[v]) {
+    case RULE_ISOLATED:
+    case RULE_CORNER:
+        return 1.0;
+    case RULE_CREASE:
+        return 1.0 / 6.0;
+    case RULE_SMOOTH:
+        break;
+    }
+    uint32_t n = t->vertex_edge_offsets[v + 1] - t->vertex_edge_offsets[v];
+    if (scheme == LIMN_SCHEME_LOOP)
+        return (1.0 - scheme_loop_limit_beta(n)) / (double)n;
+    return 1.0 / ((double)n * ((double)n + 5.0));
+}
