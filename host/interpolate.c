@@ -24,6 +24,7 @@ void limn_interpolate_options_default(limn_interpolate_options *o)
     o->alpha = 0.0;
     o->tolerance = 1e-6;
     o->max_iterations = 1000;
+    o->reorder = 1;
 }
 
 static limn_status check_options(limn_context *ctx, const limn_interpolate_options *o)
@@ -43,16 +44,6 @@ static limn_status check_options(limn_context *ctx, const limn_interpolate_optio
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "max iterations is %d; it must be at least 1",
                          o->max_iterations);
     return LIMN_OK;
-}
-
-/* Copies 3-vectors into the device layout of 4 doubles per vertex. */
-static double *pack4(const double *xyz, size_t n)
-{
-    double *v = calloc(n ? 4 * n : 4, sizeof *v);
-    if (v)
-        for (size_t i = 0; i < n; i++)
-            memcpy(v + 4 * i, xyz + 3 * i, 3 * sizeof(double));
-    return v;
 }
 
 typedef struct solve_state {
@@ -152,24 +143,27 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     r->method = "paper";
 
     limn_operator op;
-    st = operator_build(ctx, mesh, o->scheme, o->alpha, &op);
+    st = operator_build_ex(ctx, mesh, o->scheme, o->alpha, o->reorder ? OPERATOR_REORDER : 0, &op);
     if (st)
         return st;
     r->scheme = op.scheme;
     r->alpha = op.alpha;
     r->seconds_topology = op.seconds_topology;
-    r->seconds_stencil = op.seconds_stencil;
+    r->seconds_stencil = op.seconds_stencil + op.seconds_reorder;
     r->stencil_nonzeros = op.host.row_offsets[op.host.rows];
+    r->reordered = op.order != NULL;
     snprintf(r->device, sizeof r->device, "%s", op.dev->name);
 
     double diag = op.bbox_diagonal;
     r->bbox_diagonal = diag;
     size_t n = mesh->vertex_count;
     solve_state s = {.dev = op.dev};
-    double *buf = pack4(mesh->positions, n);
+    double *buf = calloc(n ? 4 * n : 4, sizeof *buf);
     double t0 = limn_seconds();
     if (!buf)
         st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+    else
+        operator_pack(&op, mesh->positions, buf);
     if (!st)
         st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), buf, &s.m);
     if (!st)
@@ -185,8 +179,7 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     if (!st)
         st = limn_mesh_copy(ctx, mesh, &out);
     if (!st)
-        for (size_t i = 0; i < n; i++)
-            memcpy(out->positions + 3 * i, buf + 4 * i, 3 * sizeof(double));
+        operator_unpack(&op, buf, out->positions);
     r->seconds_solve = limn_seconds() - t0;
     r->max_rel_error = diag > 0 ? r->max_abs_error / diag : r->max_abs_error;
     r->mean_rel_error = diag > 0 ? r->mean_abs_error / diag : r->mean_abs_error;

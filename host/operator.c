@@ -2,6 +2,7 @@
 #include "operator.h"
 #include "context.h"
 #include "mesh.h"
+#include "reorder.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -64,6 +65,31 @@ limn_status operator_resolve_scheme(limn_context *ctx, const limn_mesh *mesh, li
 limn_status operator_build(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
                            double alpha, limn_operator *op)
 {
+    return operator_build_ex(ctx, mesh, scheme, alpha, 0, op);
+}
+
+void operator_pack(const limn_operator *op, const double *xyz, double *rows4)
+{
+    for (size_t k = 0; k < op->vertex_count; k++) {
+        const double *src = xyz + 3 * (size_t)(op->order ? op->order[k] : k);
+        double *dst = rows4 + 4 * k;
+        dst[0] = src[0];
+        dst[1] = src[1];
+        dst[2] = src[2];
+        dst[3] = 0.0;
+    }
+}
+
+void operator_unpack(const limn_operator *op, const double *rows4, double *xyz)
+{
+    for (size_t k = 0; k < op->vertex_count; k++)
+        memcpy(xyz + 3 * (size_t)(op->order ? op->order[k] : k), rows4 + 4 * k,
+               3 * sizeof(double));
+}
+
+limn_status operator_build_ex(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
+                              double alpha, int flags, limn_operator *op)
+{
     memset(op, 0, sizeof *op);
     limn_status st = operator_resolve_scheme(ctx, mesh, scheme, &op->scheme);
     if (st)
@@ -80,7 +106,22 @@ limn_status operator_build(limn_context *ctx, const limn_mesh *mesh, limn_scheme
     double t1 = limn_seconds();
     op->seconds_topology = t1 - t0;
     st = stencil_limit_build(ctx, &op->topo, op->scheme, op->alpha, &op->host);
-    op->seconds_stencil = limn_seconds() - t1;
+    double t2 = limn_seconds();
+    op->seconds_stencil = t2 - t1;
+    /* Renumber only when rows hop around memory: a mean jump of the first
+       column above 256 rows (8 KiB of vertex records) per row. Refined meshes
+       and most scans stream already (README "Locality"). */
+    if (!st && (flags & OPERATOR_REORDER) && stencil_mean_row_jump(&op->host) > 256.0) {
+        stencil_csr permuted;
+        st = reorder_rcm(ctx, &op->topo, &op->order, &op->rank);
+        if (!st)
+            st = stencil_permute(ctx, &op->host, op->order, op->rank, &permuted);
+        if (!st) {
+            stencil_free(&op->host);
+            op->host = permuted;
+        }
+        op->seconds_reorder = limn_seconds() - t2;
+    }
     if (!st)
         st = device_get(ctx, &op->dev);
     if (!st)
@@ -96,6 +137,8 @@ void operator_free(limn_operator *op)
         device_csr_release(op->dev, &op->device);
     stencil_free(&op->host);
     topology_free(&op->topo);
+    free(op->order);
+    free(op->rank);
     memset(op, 0, sizeof *op);
 }
 

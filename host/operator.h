@@ -19,8 +19,21 @@ typedef struct limn_operator {
     device_csr device;
     struct limn_device *dev;
     double bbox_diagonal;
-    double seconds_topology, seconds_stencil;
+    double seconds_topology, seconds_stencil, seconds_reorder;
+    /* Locality order (OPERATOR_REORDER): device row k is input vertex
+       order[k]; rank is the inverse. NULL when rows are in input order. */
+    uint32_t *order, *rank;
 } limn_operator;
+
+enum { OPERATOR_REORDER = 1 };
+
+/* operator_build with flags (OPERATOR_REORDER: renumber rows for locality;
+   then use operator_pack / operator_unpack for every vector). */
+limn_status operator_build_ex(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
+                              double alpha, int flags, limn_operator *out);
+/* 3 doubles per input vertex -> 4 per row in the operator's order, and back. */
+void operator_pack(const limn_operator *op, const double *xyz, double *rows4);
+void operator_unpack(const limn_operator *op, const double *rows4, double *xyz);
 
 /* Chooses the scheme (AUTO: Loop for all-triangle meshes, else Catmull-Clark)
    and refuses a mesh the scheme cannot take, naming the face. */

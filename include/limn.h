@@ -167,6 +167,8 @@ typedef struct limn_interpolate_options {
     double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
     double tolerance;         /* max |M - A P| / bbox diagonal; default 1e-6 */
     int max_iterations;       /* default 1000 */
+    int reorder;              /* renumber vertices for locality (RCM) inside the
+                                 solve; results stay in input order; default 1 */
 } limn_interpolate_options;
 
 void limn_interpolate_options_default(limn_interpolate_options *options);
@@ -182,6 +184,7 @@ typedef struct limn_report {
     double bbox_diagonal;
     char device[256];
     size_t stencil_nonzeros;
+    int reordered;            /* 1 when the solve ran in RCM order */
     double seconds_topology, seconds_stencil, seconds_solve;
 } limn_report;
 
