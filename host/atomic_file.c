@@ -90,8 +90,10 @@ limn_status atomic_file_open(limn_context *ctx, const char *path, atomic_file *a
     return LIMN_OK;
 }
 
-limn_status atomic_file_commit(limn_context *ctx, atomic_file *af)
+limn_status atomic_file_finish(limn_context *ctx, atomic_file *af)
 {
+    if (!af->f)
+        return LIMN_OK;
     limn_status st = LIMN_OK;
     if (fflush(af->f) != 0 || ferror(af->f) || fsync(fileno(af->f)) != 0)
         st = write_failed(ctx, af->path, errno);
@@ -99,7 +101,17 @@ limn_status atomic_file_commit(limn_context *ctx, atomic_file *af)
     af->f = NULL;
     if (fclose(closing) != 0 && !st)
         st = write_failed(ctx, af->path, errno);
-    if (!st && rename(af->tmp_path, af->path) != 0)
+    if (st)
+        atomic_file_abort(af);
+    return st;
+}
+
+limn_status atomic_file_commit(limn_context *ctx, atomic_file *af)
+{
+    limn_status st = atomic_file_finish(ctx, af);
+    if (st)
+        return st;
+    if (rename(af->tmp_path, af->path) != 0)
         st = limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot rename %s over it: %s",
                        af->path, af->tmp_path, strerror(errno));
     if (st) {

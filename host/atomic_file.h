@@ -16,7 +16,12 @@ typedef struct atomic_file {
 } atomic_file;
 
 limn_status atomic_file_open(limn_context *ctx, const char *path, atomic_file *af);
-/* Flushes, syncs, closes and renames; on failure removes the temporary file. */
+/* Flushes, syncs and closes the temporary file but does not rename it, so
+   that several outputs of one run can all be complete before any appears
+   (then atomic_file_commit each); on failure removes the temporary file. */
+limn_status atomic_file_finish(limn_context *ctx, atomic_file *af);
+/* Flushes, syncs, closes (unless finished) and renames; on failure removes
+   the temporary file. */
 limn_status atomic_file_commit(limn_context *ctx, atomic_file *af);
 /* Closes and removes the temporary file; the target is untouched. */
 void atomic_file_abort(atomic_file *af);

@@ -82,6 +82,7 @@ void limn_clear(limn_context *ctx)
     if (!ctx)
         return;
     ctx->message[0] = '\0';
+    ctx->device_failed = 0;
     free(ctx->warnings);
     ctx->warnings = NULL;
     ctx->warnings_len = 0;

@@ -16,6 +16,8 @@ struct limn_context {
     char device_spec[256];    /* "" = from the environment */
     struct limn_device *device; /* opened lazily */
     char device_name[256];
+    int fallback;             /* 0: from LIMN_FALLBACK; 1: none; 2: the reference backend */
+    int device_failed;        /* the last LIMN_ERR_MEMORY came from the OpenCL device */
 };
 
 /* Records a failure message and returns status (for `return limn_fail(...)`). */

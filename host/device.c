@@ -42,10 +42,73 @@ limn_status device_open(limn_context *ctx, struct limn_device **out)
     return device_open_opencl(ctx, NULL, out);
 }
 
+int device_test_fault(const char *name)
+{
+    const char *env = getenv("LIMN_TEST_FAULT");
+    size_t n = strlen(name);
+    for (const char *p = env; p && *p;) {
+        const char *end = strchr(p, ',');
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        if (len == n && strncmp(p, name, n) == 0)
+            return 1;
+        p = end ? end + 1 : NULL;
+    }
+    return 0;
+}
+
+int device_fallback_allowed(const limn_context *ctx)
+{
+    if (ctx->fallback)
+        return ctx->fallback == 2;
+    const char *env = getenv("LIMN_FALLBACK");
+    return env && (strcmp(env, "reference") == 0 || strcmp(env, "ref") == 0);
+}
+
+limn_status limn_context_set_fallback(limn_context *ctx, const char *backend)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (!backend || strcmp(backend, "none") == 0)
+        ctx->fallback = 1;
+    else if (strcmp(backend, "reference") == 0 || strcmp(backend, "ref") == 0)
+        ctx->fallback = 2;
+    else
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "unknown fallback '%s': use 'reference' or 'none'", backend);
+    return LIMN_OK;
+}
+
+limn_status limn_context_fall_back(limn_context *ctx, limn_status status)
+{
+    if (!ctx || !device_fallback_allowed(ctx) || !ctx->device ||
+        strcmp(ctx->device->ops->kind, "reference") == 0 ||
+        !(status == LIMN_ERR_DEVICE || (status == LIMN_ERR_MEMORY && ctx->device_failed)))
+        return status;
+    char why[sizeof ctx->message];
+    snprintf(why, sizeof why, "%s", ctx->message);
+    device_close(ctx->device);
+    ctx->device = NULL;
+    strcpy(ctx->device_spec, "reference");
+    ctx->device_name[0] = '\0';
+    ctx->device_failed = 0;
+    limn_warn(ctx, "the OpenCL device failed (%.900s); running again on the reference backend "
+                   "(the fallback was allowed)",
+              why);
+    return LIMN_OK;
+}
+
 limn_status device_get(limn_context *ctx, struct limn_device **out)
 {
     if (!ctx->device) {
         limn_status st = device_open(ctx, &ctx->device);
+        if (st == LIMN_ERR_DEVICE && device_fallback_allowed(ctx)) {
+            limn_warn(ctx, "%.900s; using the reference backend instead (the fallback was "
+                           "allowed)",
+                      ctx->message);
+            ctx->message[0] = '\0';
+            st = device_open_reference(ctx, &ctx->device);
+        }
         if (st)
             return st;
         snprintf(ctx->device_name, sizeof ctx->device_name, "%s", ctx->device->name);

@@ -47,10 +47,19 @@ typedef struct device_ops {
     /* y = A x */
     limn_status (*spmv)(struct limn_device *dev, const device_csr *a, device_buffer *x,
                         device_buffer *y);
-    /* r = m - A p; p_next = p + r; norms of r (over all rows). */
+    /* r = m - A p; p_next = p + omega r; norms of r (over all rows).
+       omega = 1 is the seeds' iteration, bit for bit. */
     limn_status (*interp_step)(struct limn_device *dev, const device_csr *a,
                                device_buffer *m, device_buffer *p, device_buffer *p_next,
-                               device_norms *norms);
+                               double omega, device_norms *norms);
+    /* y = A x and dot = sum_i dinv_i (x_i . y_i) (kernels/solve.cl). */
+    limn_status (*spmv_dot)(struct limn_device *dev, const device_csr *a, device_buffer *x,
+                            device_buffer *y, device_buffer *dinv, double *dot);
+    /* x += alpha p; z -= alpha q; norms->max = max |z_i|, norms->sum =
+       sum dinv_i |z_i|^2, norms->sum_sq = sum |z_i|^2. */
+    limn_status (*pcg_update)(struct limn_device *dev, size_t rows, double alpha,
+                              device_buffer *p, device_buffer *q, device_buffer *x,
+                              device_buffer *z, device_buffer *dinv, device_norms *norms);
     /* One term of the series (seed 000 eq. 6; kernels/series.cl): ax = A x and
        x_next = x - ax = (E - A) x; ax is stored when flags has SERIES_STORE_AX,
        x_next when SERIES_STORE_NEXT (unused buffers may be NULL); acc is
@@ -85,7 +94,21 @@ struct limn_device {
     void *impl;
 };
 
-/* Opens the device named by ctx->device_spec (or the environment). */
+/*
+ * Test-only fault injection (tests/test_faults.c): LIMN_TEST_FAULT holds a
+ * comma-separated list of no-platform, no-device, build, alloc, enqueue; the
+ * OpenCL backend then fails as if clGetPlatformIDs found no ICD, no device
+ * matched, the program did not build, clCreateBuffer ran out of device
+ * memory, or a kernel launch failed. Compiled in always, inert unless set.
+ */
+int device_test_fault(const char *name);
+/* Whether the context allows the reference fallback (API, else LIMN_FALLBACK). */
+int device_fallback_allowed(const limn_context *ctx);
+
+/* Opens the device named by ctx->device_spec (or the environment). With a
+   fallback allowed (limn_context_set_fallback, LIMN_FALLBACK=reference), an
+   OpenCL device that cannot be opened gives way to the reference backend,
+   with a warning. */
 limn_status device_open(limn_context *ctx, struct limn_device **out);
 /* The context's device, opened on first use. */
 limn_status device_get(limn_context *ctx, struct limn_device **out);

@@ -12,6 +12,8 @@ extern const unsigned char limn_kernel_stencil[];
 extern const size_t limn_kernel_stencil_size;
 extern const unsigned char limn_kernel_series[];
 extern const size_t limn_kernel_series_size;
+extern const unsigned char limn_kernel_solve[];
+extern const size_t limn_kernel_solve_size;
 
 struct device_buffer {
     cl_mem mem;
@@ -25,6 +27,7 @@ typedef struct opencl_impl {
     cl_kernel spmv;
     cl_kernel interp_step;
     cl_kernel series_step, axpby, norms;
+    cl_kernel spmv_dot, pcg_update;
     cl_ulong max_alloc;
     cl_mem partials;          /* 3 doubles per work-item, grown on demand */
     size_t partials_items;
@@ -45,6 +48,7 @@ static limn_status cl_buffer_create(struct limn_device *dev, size_t bytes, const
                                     device_buffer **out)
 {
     opencl_impl *im = impl_of(dev);
+    dev->ctx->device_failed = 1; /* cleared again on success */
     if (bytes > im->max_alloc)
         return limn_fail(dev->ctx, LIMN_ERR_MEMORY,
                          "a %.1f MiB buffer exceeds the device's limit of %.1f MiB per buffer "
@@ -56,24 +60,30 @@ static limn_status cl_buffer_create(struct limn_device *dev, size_t bytes, const
         return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of host memory");
     cl_int err;
     size_t n = bytes ? bytes : 16;
-    b->mem = clCreateBuffer(im->context, CL_MEM_READ_WRITE | (init ? CL_MEM_COPY_HOST_PTR : 0),
-                            n, init && bytes ? (void *)init : NULL, &err);
+    cl_mem_flags flags = CL_MEM_READ_WRITE | (init && bytes ? CL_MEM_COPY_HOST_PTR : 0);
+    b->mem = clCreateBuffer(im->context, flags, n, init && bytes ? (void *)init : NULL, &err);
     if (err == CL_SUCCESS && !init) {
         /* PoCL does not zero new buffers; start from a defined state. */
         static const unsigned char zero = 0;
         err = clEnqueueFillBuffer(im->queue, b->mem, &zero, 1, 0, n, 0, NULL, NULL);
     }
+    if (err == CL_SUCCESS && device_test_fault("alloc"))
+        err = CL_MEM_OBJECT_ALLOCATION_FAILURE; /* test-only (device.h) */
     if (err != CL_SUCCESS) {
         if (b->mem)
             clReleaseMemObject(b->mem);
         free(b);
-        return limn_fail(dev->ctx,
-                         err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ||
-                                 err == CL_OUT_OF_HOST_MEMORY
-                             ? LIMN_ERR_MEMORY
-                             : LIMN_ERR_DEVICE,
-                         "clCreateBuffer of %zu bytes failed: %s", bytes, opencl_error_name(err));
+        int memory = err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ||
+                     err == CL_OUT_OF_HOST_MEMORY;
+        return limn_fail(dev->ctx, memory ? LIMN_ERR_MEMORY : LIMN_ERR_DEVICE,
+                         "clCreateBuffer of %zu bytes on %s failed: %s%s", bytes, dev->name,
+                         opencl_error_name(err),
+                         memory ? ": the device is out of memory; use a device with more "
+                                  "(--device, see 'limn devices'), a smaller mesh, or --device "
+                                  "reference (or allow --fallback reference)"
+                                : "");
     }
+    dev->ctx->device_failed = 0;
     b->bytes = bytes;
     *out = b;
     return LIMN_OK;
@@ -133,9 +143,14 @@ static limn_status launch(struct limn_device *dev, cl_kernel k, size_t rows, con
     size_t global = work_items(rows), local = DEVICE_WORKGROUP;
     cl_int err = clEnqueueNDRangeKernel(impl_of(dev)->queue, k, 1, NULL, &global, &local, 0,
                                         NULL, NULL);
+    if (err == CL_SUCCESS && device_test_fault("enqueue"))
+        err = CL_OUT_OF_RESOURCES; /* test-only (device.h) */
     if (err != CL_SUCCESS)
-        return limn_fail(dev->ctx, LIMN_ERR_DEVICE, "launching kernel %s failed: %s (%d)", name,
-                         opencl_error_name(err), err);
+        return limn_fail(dev->ctx, LIMN_ERR_DEVICE,
+                         "launching kernel %s on %s failed: %s (%d): the device could not run "
+                         "it; try another device (--device, see 'limn devices') or --device "
+                         "reference (or allow --fallback reference)",
+                         name, dev->name, opencl_error_name(err), err);
     return LIMN_OK;
 }
 
@@ -174,7 +189,7 @@ static limn_status ensure_partials(struct limn_device *dev, size_t items)
 
 static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
                                   device_buffer *m, device_buffer *p, device_buffer *p_next,
-                                  device_norms *norms)
+                                  double omega, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
     size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
@@ -188,6 +203,7 @@ static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
     CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &p_next->mem), "clSetKernelArg(p_next)");
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    CHECK(clSetKernelArg(k, 8, sizeof omega, &omega), "clSetKernelArg(omega)");
     st = launch(dev, k, a->rows, "interp_step");
     if (st)
         return st;
@@ -273,6 +289,66 @@ static limn_status cl_norms(struct limn_device *dev, size_t rows, device_buffer 
     return LIMN_OK;
 }
 
+/* Reads the first `items` partial triples and finishes them in order. */
+static limn_status finish_partials(struct limn_device *dev, size_t rows, device_norms *out)
+{
+    opencl_impl *im = impl_of(dev);
+    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    if (chunks)
+        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE, 0, chunks * 3 * sizeof(double),
+                                  im->host_partials, 0, NULL, NULL),
+              "reading the reduction partials");
+    device_norms_finish(im->host_partials, chunks, out);
+    return LIMN_OK;
+}
+
+static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, device_buffer *x,
+                               device_buffer *y, device_buffer *dinv, double *dot)
+{
+    opencl_impl *im = impl_of(dev);
+    limn_status st = ensure_partials(dev, work_items(a->rows) ? work_items(a->rows) : 1);
+    if (!st)
+        st = set_csr_args(dev, im->spmv_dot, a);
+    if (st)
+        return st;
+    cl_kernel k = im->spmv_dot;
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
+    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
+    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    st = launch(dev, k, a->rows, "spmv_dot");
+    device_norms n;
+    if (!st)
+        st = finish_partials(dev, a->rows, &n);
+    if (!st)
+        *dot = n.sum;
+    return st;
+}
+
+static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double alpha,
+                                 device_buffer *p, device_buffer *q, device_buffer *x,
+                                 device_buffer *z, device_buffer *dinv, device_norms *norms)
+{
+    opencl_impl *im = impl_of(dev);
+    limn_status st = ensure_partials(dev, work_items(rows) ? work_items(rows) : 1);
+    if (st)
+        return st;
+    cl_kernel k = im->pcg_update;
+    cl_uint r = (cl_uint)rows;
+    CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
+    CHECK(clSetKernelArg(k, 1, sizeof alpha, &alpha), "clSetKernelArg(alpha)");
+    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
+    CHECK(clSetKernelArg(k, 3, sizeof(cl_mem), &q->mem), "clSetKernelArg(q)");
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &z->mem), "clSetKernelArg(z)");
+    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
+    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    st = launch(dev, k, rows, "pcg_update");
+    if (!st)
+        st = finish_partials(dev, rows, norms);
+    return st;
+}
+
 static void cl_close(struct limn_device *dev)
 {
     opencl_impl *im = impl_of(dev);
@@ -290,6 +366,10 @@ static void cl_close(struct limn_device *dev)
             clReleaseKernel(im->axpby);
         if (im->norms)
             clReleaseKernel(im->norms);
+        if (im->spmv_dot)
+            clReleaseKernel(im->spmv_dot);
+        if (im->pcg_update)
+            clReleaseKernel(im->pcg_update);
         if (im->program)
             clReleaseProgram(im->program);
         if (im->queue)
@@ -309,6 +389,8 @@ static const device_ops opencl_ops = {
     .buffer_release = cl_buffer_release,
     .spmv = cl_spmv,
     .interp_step = cl_interp_step,
+    .spmv_dot = cl_spmv_dot,
+    .pcg_update = cl_pcg_update,
     .series_step = cl_series_step,
     .axpby = cl_axpby,
     .norms = cl_norms,
@@ -319,21 +401,32 @@ static const device_ops opencl_ops = {
 static limn_status build_program(struct limn_device *dev, cl_device_id device)
 {
     opencl_impl *im = impl_of(dev);
-    /* one program: stencil.cl, then series.cl (which uses its row_product) */
-    const char *src[2] = {(const char *)limn_kernel_stencil, (const char *)limn_kernel_series};
-    size_t len[2] = {limn_kernel_stencil_size, limn_kernel_series_size};
+    /* one program: stencil.cl, then series.cl and solve.cl (which use its
+       row_product) */
+    const char *src[3] = {(const char *)limn_kernel_stencil, (const char *)limn_kernel_series,
+                          (const char *)limn_kernel_solve};
+    size_t len[3] = {limn_kernel_stencil_size, limn_kernel_series_size, limn_kernel_solve_size};
     cl_int err;
-    im->program = clCreateProgramWithSource(im->context, 2, src, len, &err);
+    im->program = clCreateProgramWithSource(im->context, 3, src, len, &err);
     CHECK(err, "clCreateProgramWithSource");
     char options[128];
     snprintf(options, sizeof options, "-D ROWS_PER_ITEM=%d", DEVICE_ROWS_PER_ITEM);
+    if (device_test_fault("build")) /* test-only (device.h): a genuine compile error */
+        snprintf(options, sizeof options, "-D ROWS_PER_ITEM=limn_test_fault_build");
     err = clBuildProgram(im->program, 1, &device, options, NULL, NULL);
     if (err != CL_SUCCESS) {
         char log[1500] = "";
         clGetProgramBuildInfo(im->program, device, CL_PROGRAM_BUILD_LOG, sizeof log - 1, log, NULL);
         log[sizeof log - 1] = '\0';
+        if (!log[0])
+            snprintf(log, sizeof log, "(empty: the driver gave none; PoCL prints its compiler's "
+                                      "errors on stderr)");
         return limn_fail(dev->ctx, LIMN_ERR_DEVICE,
-                         "building the OpenCL kernels for %s failed: %s\nbuild log:\n%s",
+                         "building the OpenCL kernels for %s failed: %s: the device's OpenCL "
+                         "compiler rejected them; choose another device with --device (see "
+                         "'limn devices') or use --device reference (or allow --fallback "
+                         "reference); for PoCL, check that its kernel cache (POCL_CACHE_DIR, "
+                         "default ~/.cache/pocl) is writable\nbuild log:\n%s",
                          dev->name, opencl_error_name(err), log);
     }
     im->spmv = clCreateKernel(im->program, "spmv", &err);
@@ -346,6 +439,10 @@ static limn_status build_program(struct limn_device *dev, cl_device_id device)
     CHECK(err, "clCreateKernel(axpby)");
     im->norms = clCreateKernel(im->program, "norms", &err);
     CHECK(err, "clCreateKernel(norms)");
+    im->spmv_dot = clCreateKernel(im->program, "spmv_dot", &err);
+    CHECK(err, "clCreateKernel(spmv_dot)");
+    im->pcg_update = clCreateKernel(im->program, "pcg_update", &err);
+    CHECK(err, "clCreateKernel(pcg_update)");
     return LIMN_OK;
 }
 

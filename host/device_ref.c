@@ -93,7 +93,7 @@ static limn_status ref_spmv(struct limn_device *dev, const device_csr *a, device
 
 static limn_status ref_interp_step(struct limn_device *dev, const device_csr *a,
                                    device_buffer *m, device_buffer *p, device_buffer *p_next,
-                                   device_norms *norms)
+                                   double omega, device_norms *norms)
 {
     const double *ms = m->data, *ps = p->data;
     double *pn = p_next->data;
@@ -111,9 +111,9 @@ static limn_status ref_interp_step(struct limn_device *dev, const device_csr *a,
             row_product(a, i, ps, acc);
             double r0 = ms[4 * i] - acc[0], r1 = ms[4 * i + 1] - acc[1],
                    r2 = ms[4 * i + 2] - acc[2];
-            pn[4 * i] = ps[4 * i] + r0;
-            pn[4 * i + 1] = ps[4 * i + 1] + r1;
-            pn[4 * i + 2] = ps[4 * i + 2] + r2;
+            pn[4 * i] = ps[4 * i] + omega * r0;
+            pn[4 * i + 1] = ps[4 * i + 1] + omega * r1;
+            pn[4 * i + 2] = ps[4 * i + 2] + omega * r2;
             pn[4 * i + 3] = 0.0;
             double r2sum = r0 * r0 + r1 * r1 + r2 * r2;
             double len = sqrt(r2sum);
@@ -223,6 +223,66 @@ static limn_status ref_norms(struct limn_device *dev, size_t rows, device_buffer
     return LIMN_OK;
 }
 
+static limn_status ref_spmv_dot(struct limn_device *dev, const device_csr *a, device_buffer *x,
+                                device_buffer *y, device_buffer *dinv, double *dot)
+{
+    const double *xs = x->data, *dv = dinv->data;
+    double *ys = y->data;
+    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    double total = 0.0;
+    for (size_t g = 0; g < chunks; g++) {
+        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > a->rows)
+            end = a->rows;
+        double sum = 0.0;
+        for (size_t i = begin; i < end; i++) {
+            double *acc = ys + 4 * i;
+            row_product(a, i, xs, acc);
+            const double *xi = xs + 4 * i;
+            double d = xi[0] * acc[0] + xi[1] * acc[1] + xi[2] * acc[2];
+            sum += dv[i] * d;
+        }
+        total += sum;
+    }
+    (void)dev;
+    *dot = total;
+    return LIMN_OK;
+}
+
+static limn_status ref_pcg_update(struct limn_device *dev, size_t rows, double alpha,
+                                  device_buffer *p, device_buffer *q, device_buffer *x,
+                                  device_buffer *z, device_buffer *dinv, device_norms *norms)
+{
+    const double *ps = p->data, *qs = q->data, *dv = dinv->data;
+    double *xs = x->data, *zs = z->data;
+    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    norms->max = norms->sum = norms->sum_sq = 0.0;
+    for (size_t g = 0; g < chunks; g++) {
+        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > rows)
+            end = rows;
+        double mx = 0.0, rz = 0.0, sq = 0.0;
+        for (size_t i = begin; i < end; i++) {
+            for (int c = 0; c < 3; c++) {
+                xs[4 * i + c] = xs[4 * i + c] + alpha * ps[4 * i + c];
+                zs[4 * i + c] = zs[4 * i + c] - alpha * qs[4 * i + c];
+            }
+            xs[4 * i + 3] = zs[4 * i + 3] = 0.0;
+            const double *zi = zs + 4 * i;
+            double s = zi[0] * zi[0] + zi[1] * zi[1] + zi[2] * zi[2];
+            double len = sqrt(s);
+            mx = len > mx ? len : mx;
+            rz += dv[i] * s;
+            sq += s;
+        }
+        norms->max = mx > norms->max ? mx : norms->max;
+        norms->sum += rz;
+        norms->sum_sq += sq;
+    }
+    (void)dev;
+    return LIMN_OK;
+}
+
 static void ref_close(struct limn_device *dev)
 {
     free(dev);
@@ -236,6 +296,8 @@ static const device_ops reference_ops = {
     .buffer_release = ref_buffer_release,
     .spmv = ref_spmv,
     .interp_step = ref_interp_step,
+    .spmv_dot = ref_spmv_dot,
+    .pcg_update = ref_pcg_update,
     .series_step = ref_series_step,
     .axpby = ref_axpby,
     .norms = ref_norms,

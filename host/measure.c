@@ -90,6 +90,11 @@ limn_status limn_mesh_measure(limn_context *ctx, const limn_mesh *mesh, limn_mes
     return LIMN_OK;
 }
 
+void limn_mesh_volume_area(const limn_mesh *mesh, double *volume, double *area)
+{
+    measure_volume_area(mesh, mesh->positions, volume, area);
+}
+
 limn_status measure_same_topology(limn_context *ctx, const limn_mesh *a, const limn_mesh *b,
                                   const char *name_a, const char *name_b)
 {

@@ -20,7 +20,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define MIO_BUFFER (1u << 20)
+#define MIO_BUFFER (1u << 16)
 
 /* ------------------------------------------------------------ buffered reader */
 
@@ -117,6 +117,7 @@ char *mio_line(mio_reader *r, size_t *len)
             if (avail == 0)
                 return NULL;
             next = e = avail;
+            r->unterminated = 1;
         } else {
             scan = avail;
             mio_fill(r);
@@ -139,6 +140,14 @@ char *mio_line(mio_reader *r, size_t *len)
         r->next_line += lines;
         return base;
     }
+}
+
+const unsigned char *mio_peek(mio_reader *r, size_t n, size_t *avail)
+{
+    while (r->end - r->start < n && mio_fill(r))
+        ;
+    *avail = r->end - r->start < n ? r->end - r->start : n;
+    return (const unsigned char *)r->buf + r->start;
 }
 
 const unsigned char *mio_bytes(mio_reader *r, size_t n)
@@ -288,6 +297,7 @@ int limn_format_from_name(const char *name, limn_format *out)
         {"obj", LIMN_FORMAT_OBJ},          {"ply", LIMN_FORMAT_PLY},
         {"ply-le", LIMN_FORMAT_PLY},       {"ply-ascii", LIMN_FORMAT_PLY_ASCII},
         {"ply-be", LIMN_FORMAT_PLY_BINARY_BE}, {"off", LIMN_FORMAT_OFF},
+        {"stl", LIMN_FORMAT_STL},
     };
     if (!name)
         return 0;
@@ -318,12 +328,18 @@ static limn_status format_from_path(limn_context *ctx, const char *path, limn_fo
             *out = LIMN_FORMAT_OFF;
             return LIMN_OK;
         }
+        if (strcasecmp(dot, ".stl") == 0) {
+            *out = LIMN_FORMAT_STL;
+            return LIMN_OK;
+        }
         return limn_fail(ctx, LIMN_ERR_ARGUMENT,
-                         "%s: unknown mesh file extension '%.20s' (accepted: .obj, .ply, .off)",
+                         "%s: unknown mesh file extension '%.20s' (accepted: .obj, .ply, .off, "
+                         ".stl)",
                          path, dot);
     }
     return limn_fail(ctx, LIMN_ERR_ARGUMENT,
-                     "%s: no file extension to tell the mesh format (accepted: .obj, .ply, .off)",
+                     "%s: no file extension to tell the mesh format (accepted: .obj, .ply, .off, "
+                     ".stl)",
                      path);
 }
 
@@ -339,7 +355,7 @@ limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format form
     limn_status st;
     if (format == LIMN_FORMAT_AUTO && (st = format_from_path(ctx, path, &format)))
         return st;
-    if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_OFF)
+    if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: unknown format %d",
                          (int)format);
     FILE *f = fopen(path, "rb");
@@ -356,6 +372,8 @@ limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format form
         st = obj_read(ctx, path, f, out);
     } else if (format == LIMN_FORMAT_OFF) {
         st = off_read(ctx, path, f, out);
+    } else if (format == LIMN_FORMAT_STL) {
+        st = stl_read(ctx, path, f, out);
     } else {
         st = ply_read(ctx, path, f, out);
     }
@@ -374,34 +392,44 @@ limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format form
 
 /* ------------------------------------------------------------------ write */
 
-limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh, const char *path,
-                            limn_format format)
+limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const char *path,
+                              limn_format format, atomic_file *af)
 {
-    limn_clear(ctx);
+    memset(af, 0, sizeof *af);
     if (!mesh || !path || !*path)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: %s is NULL or empty",
                          !mesh ? "mesh" : "path");
     limn_status st;
     if (format == LIMN_FORMAT_AUTO && (st = format_from_path(ctx, path, &format)))
         return st;
-    if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_OFF)
+    if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: unknown format %d",
                          (int)format);
-    atomic_file af;
-    st = atomic_file_open(ctx, path, &af);
+    st = atomic_file_open(ctx, path, af);
     if (st)
         return st;
     if (format == LIMN_FORMAT_OBJ)
-        st = obj_write(ctx, mesh, path, af.f);
+        st = obj_write(ctx, mesh, path, af->f);
     else if (format == LIMN_FORMAT_OFF)
-        st = off_write(ctx, mesh, path, af.f);
+        st = off_write(ctx, mesh, path, af->f);
+    else if (format == LIMN_FORMAT_STL)
+        st = stl_write(ctx, mesh, path, af->f);
     else
-        st = ply_write(ctx, mesh, path, af.f, format);
+        st = ply_write(ctx, mesh, path, af->f, format);
     if (st) {
-        atomic_file_abort(&af);
+        atomic_file_abort(af);
         return st;
     }
-    return atomic_file_commit(ctx, &af);
+    return atomic_file_finish(ctx, af);
+}
+
+limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh, const char *path,
+                            limn_format format)
+{
+    limn_clear(ctx);
+    atomic_file af;
+    limn_status st = mesh_write_staged(ctx, mesh, path, format, &af);
+    return st ? st : atomic_file_commit(ctx, &af);
 }
 
 int limn_format_from_path(const char *path, limn_format *out)

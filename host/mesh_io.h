@@ -1,6 +1,6 @@
 /*
  * Internals shared by the mesh file formats (mesh_obj.c, mesh_ply.c,
- * mesh_off.c; the public entry points are in mesh_io.c).
+ * mesh_off.c, mesh_stl.c; the public entry points are in mesh_io.c).
  *
  * Readers get an open FILE* positioned at the start and the path (for
  * messages only). They return LIMN_OK and a new mesh, or a status with a
@@ -20,12 +20,15 @@
 limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out);
 limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out);
 limn_status off_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out);
+limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out);
 
 limn_status obj_write(limn_context *ctx, const limn_mesh *mesh, const char *path, FILE *f);
 /* format: LIMN_FORMAT_PLY (binary little endian), _PLY_ASCII or _PLY_BINARY_BE. */
 limn_status ply_write(limn_context *ctx, const limn_mesh *mesh, const char *path, FILE *f,
                       limn_format format);
 limn_status off_write(limn_context *ctx, const limn_mesh *mesh, const char *path, FILE *f);
+/* Binary STL: faces fan-triangulated, coordinates rounded to float. */
+limn_status stl_write(limn_context *ctx, const limn_mesh *mesh, const char *path, FILE *f);
 
 /* ------------------------------------------------------------ buffered reader
  * One buffer serves both text lines and binary bytes, so a PLY header can be
@@ -43,6 +46,7 @@ typedef struct mio_reader {
     int continuation;         /* join lines ending in '\' (OBJ) */
     unsigned long line;       /* number of the line last returned by mio_line */
     unsigned long next_line;  /* number of the next line */
+    int unterminated;         /* the last line returned ended the file without '\n' */
 } mio_reader;
 
 /* Returns 0 (with a message) when memory is exhausted. */
@@ -55,6 +59,9 @@ char *mio_line(mio_reader *r, size_t *len);
 /* Pointer to the next n bytes (consumed), or NULL when fewer remain (or a read
    error, see r->error). */
 const unsigned char *mio_bytes(mio_reader *r, size_t n);
+/* Up to n bytes ahead without consuming them (*avail gets how many: fewer only
+   at the end of the file, on an error, or when n exceeds the buffer). */
+const unsigned char *mio_peek(mio_reader *r, size_t n, size_t *avail);
 /* Consumes n bytes without keeping them; 0 when fewer remain (or an error). */
 int mio_skip(mio_reader *r, uint64_t n);
 /* File offset of the next unread byte. */
@@ -90,6 +97,13 @@ const char *mio_token(const char *s, char buf[64]);
    indices: uint32; colors: 3 bytes per vertex or an empty buffer. */
 limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, growbuf *indices,
                           growbuf *colors, limn_mesh **out);
+
+/* limn_mesh_write without the final rename: the mesh is complete and synced
+   in af's temporary file; atomic_file_commit makes it appear, _abort drops
+   it. Lets a command finish all its outputs before any of them appears. */
+struct atomic_file;
+limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const char *path,
+                              limn_format format, struct atomic_file *af);
 
 /* Message for a failed write (errno) to the target path; returns LIMN_ERR_IO. */
 limn_status mio_write_failed(limn_context *ctx, const char *path);

@@ -172,6 +172,10 @@ limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     }
     if (unknown > 1)
         limn_warn(ctx, "%s: %zu unknown OBJ records ignored in all", path, unknown);
+    if (r->unterminated)
+        limn_warn(ctx, "%s:%lu: the last line does not end with a new line: the file may be "
+                       "truncated (OBJ has no counts to check)",
+                  path, r->line);
     if (o.max_ref > 0 && (unsigned long long)o.max_ref > o.vertices) {
         st = limn_fail(ctx, LIMN_ERR_FORMAT,
                        "%s:%lu: face references vertex %lld but only %zu vertices are defined",

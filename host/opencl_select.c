@@ -6,6 +6,7 @@
  */
 #include "opencl_select.h"
 #include "context.h"
+#include "device.h"
 #include "opencl_errors.h"
 
 #include <ctype.h>
@@ -29,13 +30,15 @@ static const char *type_name(cl_device_type t)
 
 static limn_status platforms(limn_context *ctx, cl_platform_id *ids, cl_uint *count)
 {
-    cl_int err = clGetPlatformIDs(MAX_PLATFORMS, ids, count);
+    cl_int err = device_test_fault("no-platform") ? -1001
+                                                  : clGetPlatformIDs(MAX_PLATFORMS, ids, count);
     if (err == -1001 || (err == CL_SUCCESS && *count == 0))
         return limn_fail(ctx, LIMN_ERR_DEVICE,
                          "no OpenCL platform found (clGetPlatformIDs: %s): install an OpenCL "
-                         "driver, e.g. 'apt-get install pocl-opencl-icd', or run with "
-                         "--device reference",
-                         opencl_error_name(err));
+                         "driver, e.g. 'apt-get install pocl-opencl-icd' (the ICD loader finds "
+                         "drivers through /etc/OpenCL/vendors or OCL_ICD_VENDORS), or run with "
+                         "--device reference, or allow --fallback reference",
+                         err == -1001 ? opencl_error_name(err) : "no platforms");
     if (err != CL_SUCCESS)
         return limn_fail(ctx, LIMN_ERR_DEVICE, "clGetPlatformIDs failed: %s",
                          opencl_error_name(err));
@@ -150,7 +153,7 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
         cl_device_id devs[MAX_DEVICES];
         cl_uint nd = 0;
         cl_int err = clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, MAX_DEVICES, devs, &nd);
-        if (err == CL_DEVICE_NOT_FOUND)
+        if (err == CL_DEVICE_NOT_FOUND || device_test_fault("no-device"))
             continue;
         if (err != CL_SUCCESS)
             return limn_fail(ctx, LIMN_ERR_DEVICE, "clGetDeviceIDs on platform %u (%s) failed: %s",
@@ -175,6 +178,12 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
             return LIMN_OK;
         }
     }
+    if (!*value)
+        return limn_fail(ctx, LIMN_ERR_DEVICE,
+                         "no OpenCL device found (%u platform%s, no device): check the driver "
+                         "with 'limn devices' or clinfo, or use --device reference, or allow "
+                         "--fallback reference",
+                         np, np == 1 ? "" : "s");
     return limn_fail(ctx, LIMN_ERR_DEVICE,
                      "no OpenCL device matches %s%s%s%s: run 'limn devices' to list them, or use "
                      "--device reference",

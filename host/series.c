@@ -497,6 +497,7 @@ limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh
         }
         if (!st)
             st = emit_frame(from, to, closed, diag, k, q, fn, user);
+        limn_progress(ctx, "morph", (double)k / (double)(o.frames - 1));
     }
     r->seconds_compute = limn_seconds() - s.t0;
     series_close(&s);

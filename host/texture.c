@@ -181,7 +181,7 @@ static limn_status solve_scalar(limn_context *ctx, series_run *s, double tol, in
     for (int k = 0; !st; k++) {
         device_norms nr;
         st = s->dev->ops->interp_step(s->dev, &s->op.device, s->buf[0], p[k & 1],
-                                      p[(k + 1) & 1], &nr);
+                                      p[(k + 1) & 1], 1.0, &nr);
         ++*products;
         if (st)
             break;
@@ -282,6 +282,19 @@ limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
         return limn_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
                          mesh->vertex_count ? "faces" : "vertices");
 
+    /* refuse before any work when the levels would not fit in memory (the
+       estimate of `limn subdivide --limit`: the plan plus the finest operator) */
+    limn_subdivide_options so;
+    limn_subdivide_options_default(&so);
+    so.scheme = o->series.scheme;
+    so.alpha = o->series.alpha;
+    so.levels = o->levels;
+    so.limit = 1;
+    so.max_memory = o->max_memory;
+    size_t est_v, est_f, est_peak;
+    st = limn_subdivide_estimate(ctx, mesh, &so, &est_v, &est_f, &est_peak);
+    if (st)
+        return st;
     int levels = o->levels;
     refine_plan plan;
     double t0 = limn_seconds();
@@ -404,6 +417,7 @@ limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
     }
     r->vertices = mesh->vertex_count;
     r->faces = mesh->face_count;
+    r->alpha = plan.alpha; /* the user's alpha (used on the first refinement step) */
     series_close(&s);
     refine_plan_free(&plan);
     free(sum);

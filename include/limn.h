@@ -82,6 +82,24 @@ limn_status limn_list_devices(limn_context *ctx, char *buf, size_t buf_size);
 /* The device that ran the last operation, in words ("" before any). */
 const char *limn_context_device_name(const limn_context *ctx);
 
+/*
+ * Whether the C reference backend may stand in when the OpenCL device cannot
+ * be used: backend "reference" allows it, "none" (or NULL) forbids it.
+ * Default: the environment LIMN_FALLBACK=reference, else none. When allowed,
+ * an OpenCL device that cannot be opened (no platform, no matching device, a
+ * kernel build failure) gives way to the reference backend with a warning.
+ */
+limn_status limn_context_set_fallback(limn_context *ctx, const char *backend);
+
+/*
+ * After an operation failed with `status`: when the failure came from the
+ * OpenCL device (LIMN_ERR_DEVICE, or device memory exhausted) and the
+ * fallback is allowed, switches the context to the reference backend, adds a
+ * warning saying so and returns LIMN_OK: run the operation again. Otherwise
+ * returns status unchanged.
+ */
+limn_status limn_context_fall_back(limn_context *ctx, limn_status status);
+
 /* --------------------------------------------------------------------- mesh */
 
 typedef struct limn_mesh limn_mesh;
@@ -114,16 +132,24 @@ typedef enum limn_format {
     LIMN_FORMAT_PLY,             /* reading: any PLY; writing: binary little endian */
     LIMN_FORMAT_PLY_ASCII,
     LIMN_FORMAT_PLY_BINARY_BE,
-    LIMN_FORMAT_OFF
+    LIMN_FORMAT_OFF,
+    LIMN_FORMAT_STL              /* reading: ascii or binary; writing: binary */
 } limn_format;
 
-/* "obj", "ply", "ply-ascii", "ply-be", "off" -> format; returns 0 if unknown. */
+/* "obj", "ply", "ply-ascii", "ply-be", "off", "stl" -> format; 0 if unknown. */
 int limn_format_from_name(const char *name, limn_format *out);
 
-/* Format from a file name's extension (.obj .ply .off, any case); 0 if none. */
+/* Format from a file name's extension (.obj .ply .off .stl, any case); 0 if none. */
 int limn_format_from_path(const char *path, limn_format *out);
 
-/* Reads OBJ, PLY (ascii, binary LE/BE, faces or tristrips) or OFF. */
+/*
+ * Reads OBJ, PLY (ascii, binary LE/BE, faces or tristrips), OFF or STL
+ * (ascii or binary, told apart by content; corners with exactly equal
+ * coordinates are welded into one vertex, with a warning giving the counts).
+ * Malformed files are refused with a message "PATH:LINE: ..." (text) or
+ * "PATH: byte N: ..." (binary); counts in a header are checked against the
+ * file size before anything is allocated.
+ */
 limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format format,
                            limn_mesh **out);
 /*
@@ -132,6 +158,49 @@ limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format form
  */
 limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh,
                             const char *path, limn_format format);
+
+/* ------------------------------------------------------------------- repair */
+/*
+ * The repair step for meshes from scans and unknown tools, run by the CLI
+ * after reading (README "Meshes limn accepts"). Every change is reported as
+ * a warning (limn_context_warnings) saying what was changed; the defaults
+ * let real scans through.
+ */
+typedef struct limn_repair_options {
+    int repeated_vertices;    /* faces using a vertex twice: 1 repair (default), 0 refuse */
+    int duplicate_faces;      /* faces with an earlier face's vertices: 0 keep (default), 1 remove */
+} limn_repair_options;
+
+void limn_repair_options_default(limn_repair_options *options);
+
+typedef struct limn_repair_report {
+    size_t faces_before, faces_after;
+    size_t repeat_faces;      /* faces that used a vertex more than once, of which: */
+    size_t repeats_removed;   /*   lost a repeated corner (a a -> a) */
+    size_t faces_split;       /*   were split where a vertex came back */
+    size_t degenerate_removed;/*   had fewer than 3 distinct vertices: removed */
+    size_t first_repeat_face; /* input numbering; valid when repeat_faces > 0 */
+    uint32_t first_repeat_vertex;
+    size_t duplicate_faces;   /* faces with the vertex set of an earlier face */
+    size_t duplicates_removed;
+    size_t first_duplicate_face, first_duplicate_of; /* valid when duplicate_faces > 0 */
+    /* found and kept (processed by OpenSubdiv's rules) */
+    size_t nonmanifold_edges; /* with more than two faces */
+    size_t nonmanifold_vertices, inconsistent_edges, unreferenced_vertices;
+    size_t components, boundary_loops;
+} limn_repair_report;
+
+/*
+ * Repairs mesh in place: faces that use a vertex more than once lose their
+ * consecutive repeats, are split where a vertex comes back, and are removed
+ * when fewer than 3 distinct vertices are left (orientation is kept); with
+ * options->duplicate_faces, later copies of a face are removed. Non-manifold
+ * edges and vertices, inconsistent orientation and unreferenced vertices are
+ * kept and reported. With repeated_vertices = 0 a face using a vertex twice
+ * is refused (LIMN_ERR_TOPOLOGY, naming it). options and report may be NULL.
+ */
+limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh,
+                             const limn_repair_options *options, limn_repair_report *report);
 
 /* ----------------------------------------------------------------- topology */
 
@@ -162,6 +231,15 @@ typedef enum limn_scheme {
 
 const char *limn_scheme_name(limn_scheme scheme);  /* "loop", "catmark", "auto" */
 
+typedef enum limn_method {
+    LIMN_METHOD_AUTO = 0,      /* the default: the fastest as measured (README "Solvers") */
+    LIMN_METHOD_PAPER = 1,     /* the seeds' iteration P += M - A P, the reference */
+    LIMN_METHOD_WEIGHTED = 2,  /* P += w (M - A P), w = 2 / (lambda_min + 1) estimated */
+    LIMN_METHOD_CG = 3         /* tiered, D-preconditioned conjugate gradients */
+} limn_method;
+
+const char *limn_method_name(limn_method method); /* "paper", "weighted", "cg", "auto" */
+
 typedef struct limn_interpolate_options {
     limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
     double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
@@ -169,6 +247,7 @@ typedef struct limn_interpolate_options {
     int max_iterations;       /* default 1000 */
     int reorder;              /* renumber vertices for locality (RCM) inside the
                                  solve; results stay in input order; default 1 */
+    limn_method method;       /* default LIMN_METHOD_AUTO */
 } limn_interpolate_options;
 
 void limn_interpolate_options_default(limn_interpolate_options *options);
@@ -177,7 +256,10 @@ typedef struct limn_report {
     size_t vertices, faces;
     limn_scheme scheme;       /* the scheme that ran (never AUTO) */
     double alpha;
-    const char *method;       /* "paper" */
+    const char *method;       /* the method that ran: "paper", "weighted", "cg" */
+    const char *method_reason; /* why that one, in words */
+    double products;          /* stencil products, in units of one full A P */
+    double omega;             /* the weight of the weighted iteration (1 for paper) */
     int iterations;           /* updates applied to P */
     double max_abs_error, mean_abs_error;   /* of the returned P: |M - A P| */
     double max_rel_error, mean_rel_error;   /* the same over the bbox diagonal */
@@ -198,6 +280,16 @@ typedef struct limn_report {
 limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
                              const limn_interpolate_options *options,
                              limn_mesh **control, limn_report *report);
+
+/*
+ * Predicts the peak memory of limn_interpolate on mesh (bytes, host and
+ * device together: measured per vertex and per face corner, plus the OpenCL
+ * runtime) and refuses with LIMN_ERR_MEMORY, naming the sizes, when it exceeds
+ * max_memory (0 = three quarters of physical memory). peak_bytes may be NULL.
+ */
+limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
+                                      const limn_interpolate_options *options,
+                                      size_t max_memory, size_t *peak_bytes);
 
 /* -------------------------------------------------------------- subdivide */
 
@@ -352,6 +444,11 @@ typedef struct limn_mesh_measures {
 
 limn_status limn_mesh_measure(limn_context *ctx, const limn_mesh *mesh, limn_mesh_measures *out);
 
+/* Signed volume and area from the faces alone, without building the topology
+   (cheaper; the volume means something only where limn_mesh_measure says the
+   mesh is closed). */
+void limn_mesh_volume_area(const limn_mesh *mesh, double *volume, double *area);
+
 /* LIMN_OK when a and b have the same vertex count and faces; otherwise
    LIMN_ERR_TOPOLOGY with a message naming the first difference. */
 limn_status limn_mesh_same_topology(limn_context *ctx, const limn_mesh *a, const limn_mesh *b);
@@ -376,6 +473,8 @@ typedef struct limn_texture_options {
     uint64_t seed;            /* shuffles the noise's permutation; default 1 */
     double frequency;         /* noise cells across the bbox diagonal on G_0; default 4 */
     double tolerance;         /* of each level's scalar interpolation; default 1e-6 */
+    size_t max_memory;        /* refuse above this predicted peak, bytes; 0 = three
+                                 quarters of physical memory (as limn_subdivide) */
 } limn_texture_options;
 
 void limn_texture_options_default(limn_texture_options *options);

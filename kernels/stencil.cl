@@ -31,11 +31,12 @@ kernel void spmv(uint rows, global const uint *ro, global const uint *col,
         y[i] = row_product(i, ro, col, w, x);
 }
 
-/* r = m - A p; p_next = p + r; partial max |r|, sum |r|, sum |r|^2 per item. */
+/* r = m - A p; p_next = p + omega r; partial max |r|, sum |r|, sum |r|^2 per item
+   (omega = 1: the seeds' iteration; other values: the weighted iteration). */
 kernel void interp_step(uint rows, global const uint *ro, global const uint *col,
                         global const double *w, global const double4 *m,
                         global const double4 *p, global double4 *p_next,
-                        global double *partials)
+                        global double *partials, double omega)
 {
     uint item = (uint)get_global_id(0);
     uint begin = item * ROWS_PER_ITEM;
@@ -45,7 +46,7 @@ kernel void interp_step(uint rows, global const uint *ro, global const uint *col
         double4 acc = row_product(i, ro, col, w, p);
         double4 mi = m[i], pi = p[i];
         double r0 = mi.x - acc.x, r1 = mi.y - acc.y, r2 = mi.z - acc.z;
-        p_next[i] = (double4)(pi.x + r0, pi.y + r1, pi.z + r2, 0.0);
+        p_next[i] = (double4)(pi.x + omega * r0, pi.y + omega * r1, pi.z + omega * r2, 0.0);
         double r2sum = r0 * r0 + r1 * r1 + r2 * r2;
         double len = sqrt(r2sum);
         mx = len > mx ? len : mx;

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Configures and builds limn into build/ (RelWithDebInfo).
+# Configures and builds limn into build/ (RelWithDebInfo; LIMN_BUILD_DIR overrides).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" >/dev/null
-cmake --build build -j "$(nproc)"
+dir=${LIMN_BUILD_DIR:-build}
+cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" >/dev/null
+cmake --build "$dir" -j "$(nproc)"

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Installs the Debian packages limn needs that are missing (as root, or via sudo).
 #   scripts/deps.sh          build + run dependencies
-#   scripts/deps.sh --test   also the test-only ones (cmocka, OpenSubdiv)
+#   scripts/deps.sh --test   also the test-only ones (cmocka, OpenSubdiv, clang
+#                            and its libFuzzer runtime for scripts/fuzz.sh)
 set -euo pipefail
 
 packages=(gcc g++ make cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd)
 if [[ "${1:-}" == "--test" ]]; then
-    packages+=(libcmocka-dev libosd-dev)
+    packages+=(libcmocka-dev libosd-dev clang-14 libclang-rt-14-dev)
 fi
 
 missing=()

@@ -1,8 +1,31 @@
 #!/usr/bin/env bash
 # One command from a fresh Debian 12: install what is missing (test-only
-# packages included), build, and run the whole test suite under CTest.
+# packages included), build, and run everything CI checks:
+#   1. every reader's fuzz target for a bounded time (libFuzzer, ASan + UBSan;
+#      LIMN_FUZZ_SECONDS per target, default 60; 0 skips);
+#   2. the whole test suite once under ASan + UBSan (LIMN_SANITIZE_RUN=0 skips);
+#   3. the whole test suite, plain: its CTest summary closes the output.
+# Build directories: LIMN_BUILD_DIR (build), LIMN_FUZZ_DIR (build-fuzz),
+# LIMN_SANITIZE_DIR (build-sanitize).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/deps.sh --test
+start=$SECONDS
 bash scripts/build.sh -DLIMN_BUILD_TESTS=ON
-ctest --test-dir build --output-on-failure
+if [[ "${LIMN_FUZZ_SECONDS:-60}" != 0 ]]; then
+    echo "== limn: fuzzing every reader, ${LIMN_FUZZ_SECONDS:-60} s per target (scripts/fuzz.sh)"
+    bash scripts/fuzz.sh "${LIMN_FUZZ_SECONDS:-60}"
+fi
+if [[ "${LIMN_SANITIZE_RUN:-1}" != 0 ]]; then
+    echo "== limn: the whole test suite under AddressSanitizer + UBSan (scripts/sanitize.sh)"
+    log=$(mktemp)
+    if ! bash scripts/sanitize.sh >"$log" 2>&1; then
+        cat "$log"
+        echo "limn: the test suite failed under the sanitizers (see above)" >&2
+        exit 1
+    fi
+    grep -E "Test +#|tests passed|Total Test time" "$log" | sed 's/^/  [asan+ubsan] /'
+    rm -f "$log"
+fi
+echo "== limn: the whole test suite ($((SECONDS - start)) s so far)"
+ctest --test-dir "${LIMN_BUILD_DIR:-build}" --output-on-failure

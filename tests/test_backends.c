@@ -146,12 +146,66 @@ static void deterministic_output(void **s)
     assert_int_equal(system(cmd), 0);
 }
 
+/* Every mesh output of the CLI is the same bytes for PoCL on 1 and 2 threads,
+   on two runs, and on the reference backend: subdivide (with --limit), and
+   interpolate with its surface, on a mesh with n-gons and one with
+   non-manifold parts and repaired faces; STL and OFF outputs too. */
+static void deterministic_cli(void **s)
+{
+    (void)s;
+    char dir[] = "/tmp/limn_det2_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char inputs[2][4096];
+    int count = 1;
+    snprintf(inputs[0], sizeof inputs[0], "%.4000s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
+    if (test_shared_meshes()) {
+        snprintf(inputs[1], sizeof inputs[1], "%.4000s",
+                 test_shared_path("opensubdiv/catmark_nonman_edges.obj"));
+        count = 2;
+    }
+    static const char *const envs[] = {"POCL_MAX_PTHREAD_COUNT=2", "POCL_MAX_PTHREAD_COUNT=2",
+                                       "POCL_MAX_PTHREAD_COUNT=1", "LIMN_DEVICE=reference"};
+    static const char *const commands[] = {
+        "subdivide '%s' -o '%s/%d.ply' --levels 2 --limit -q",
+        "subdivide '%s' -o '%s/%d.off' --levels 1 --alpha 0.5 -q",
+        "interpolate '%s' -o '%s/%d.ply' --surface '%s/%d_surface.stl' --levels 2 --limit -q",
+    };
+    for (int in = 0; in < count; in++)
+        for (size_t c = 0; c < sizeof commands / sizeof *commands; c++) {
+            for (int e = 0; e < 4; e++) {
+                char args[8192], cmd[16384];
+                snprintf(args, sizeof args, commands[c], inputs[in], dir, e, dir, e);
+                snprintf(cmd, sizeof cmd, "%s '%s' %s", envs[e], getenv("LIMN_BIN"), args);
+                if (system(cmd) != 0)
+                    fail_msg("failed: %s", cmd);
+            }
+            const char *ext = c == 1 ? "off" : "ply";
+            for (int e = 1; e < 4; e++) {
+                char a[4200], b[4200];
+                snprintf(a, sizeof a, "%s/0.%s", dir, ext);
+                snprintf(b, sizeof b, "%s/%d.%s", dir, e, ext);
+                if (!same_bytes(a, b))
+                    fail_msg("%s: command %zu, run %d (%s) differs", inputs[in], c, e, envs[e]);
+                if (c == 2) {
+                    snprintf(a, sizeof a, "%s/0_surface.stl", dir);
+                    snprintf(b, sizeof b, "%s/%d_surface.stl", dir, e);
+                    if (!same_bytes(a, b))
+                        fail_msg("%s: surface of run %d (%s) differs", inputs[in], e, envs[e]);
+                }
+            }
+        }
+    char cmd[4200];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(generated),
         cmocka_unit_test(shared),
         cmocka_unit_test(deterministic_output),
+        cmocka_unit_test(deterministic_cli),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

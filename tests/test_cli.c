@@ -72,17 +72,23 @@ static void no_output_left(void)
     }
 }
 
-static void expect_failure(const char *name, const char *content, int status, const char *message)
+static void expect_failure_opts(const char *name, const char *content, int status,
+                                const char *message, const char *opts)
 {
     const char *path = in_dir(name);
     assert_int_equal(test_write_text(path, content), 0);
     char args[1024];
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s'", path, out_path);
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' %s", path, out_path, opts);
     int rc = limn(args);
     if (rc != status || !strstr(text, message))
         fail_msg("%s: exit %d (want %d), output:\n%s\nwanted: %s", name, rc, status, text, message);
     no_output_left();
     unlink(path);
+}
+
+static void expect_failure(const char *name, const char *content, int status, const char *message)
+{
+    expect_failure_opts(name, content, status, message, "");
 }
 
 static void malformed_inputs(void **s)
@@ -95,8 +101,9 @@ static void malformed_inputs(void **s)
     expect_failure("in_word.obj", "v 0 zero 0\n", 1, "in_word.obj:1:");
     expect_failure("in_nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 1, "in_nan.obj:2:");
     expect_failure("in_empty.obj", "", 1, "in_empty.obj");
-    expect_failure("in_degenerate.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 2\n", 1,
-                   "face 1 uses vertex 1 twice");
+    /* repaired by default (tests/test_robust.c); refused with --no-repair */
+    expect_failure_opts("in_degenerate.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 2\n",
+                        1, "face 1 uses vertex 1 twice", "--no-repair");
     expect_failure("in_header.ply",
                    "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
                    "property float x\nproperty float y\nproperty float z\nend_header\n",
@@ -110,6 +117,8 @@ static void malformed_inputs(void **s)
                    "in_format.ply");
     expect_failure("in_counts.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n", 1, "in_counts.off");
     expect_failure("in_unknown.stlx", "solid x\n", 2, "in_unknown.stlx");
+    expect_failure("in_trunc.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n", 1,
+                   "in_trunc.stl:4: facet 0: the file ends inside the facet (truncated)");
 }
 
 static void bad_usage(void **s)
@@ -215,7 +224,7 @@ static void good_run_and_report(void **s)
     json[n] = '\0';
     fclose(f);
     static const char *keys[] = {"\"vertices\": 188", "\"faces\": 180", "\"scheme\": \"catmark\"",
-                                 "\"alpha\": 0", "\"method\": \"paper\"", "\"iterations\": ",
+                                 "\"alpha\": 0", "\"method\": \"paper\"", "\"iterations\": ", "\"products\": ",
                                  "\"max_rel_error\": ", "\"mean_rel_error\": ", "\"device\": ",
                                  "\"seconds\": {", "\"load\": ", "\"topology\": ",
                                  "\"stencil\": ", "\"solve\": ", "\"write\": "};

@@ -55,11 +55,15 @@ static int oracle_limit(const limn_mesh *p, limn_scheme scheme, double alpha, do
     return rc == 0;
 }
 
+static limn_method test_method = LIMN_METHOD_AUTO;
+static double last_products;
+
 static void check_mesh(limn_context *ctx, const char *name, const limn_mesh *m, limn_scheme scheme,
                        double alpha)
 {
     limn_interpolate_options o;
     limn_interpolate_options_default(&o);
+    o.method = test_method;
     o.scheme = scheme;
     o.alpha = alpha;
     limn_mesh *p = NULL;
@@ -68,6 +72,7 @@ static void check_mesh(limn_context *ctx, const char *name, const limn_mesh *m, 
         fail_msg("%s (%s, alpha %g): %s", name, limn_scheme_name(scheme), alpha,
                  limn_context_message(ctx));
     assert_true(r.max_rel_error <= o.tolerance);
+    last_products = r.products;
     size_t n = limn_mesh_vertex_count(m);
     double *lim = malloc(3 * n * sizeof *lim);
     if (!oracle_limit(p, scheme, alpha, lim)) {
@@ -135,8 +140,23 @@ static void folder(const char *sub)
     limn_context_destroy(ctx);
 }
 
-static void small_meshes(void **s) { (void)s; folder("small"); }
-static void medium_meshes(void **s) { (void)s; folder("medium"); }
+static void small_meshes(void **s)
+{
+    (void)s;
+    folder("small");
+    test_method = LIMN_METHOD_CG;
+    folder("small");
+    test_method = LIMN_METHOD_AUTO;
+}
+
+static void medium_meshes(void **s)
+{
+    (void)s;
+    folder("medium");
+    test_method = LIMN_METHOD_CG;
+    folder("medium");
+    test_method = LIMN_METHOD_AUTO;
+}
 
 static void embedded_spot(void **s)
 {
@@ -226,10 +246,45 @@ static void iteration_cap_and_options(void **s)
     limn_context_destroy(ctx);
 }
 
+/* Every method reaches the tolerance (checked through OpenSubdiv's limit of
+   P), and conjugate gradients need far fewer stencil products. */
+static void methods(void **s)
+{
+    (void)s;
+    char path[4096];
+    snprintf(path, sizeof path, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
+    limn_context *ctx = limn_context_create();
+    limn_mesh *spot = NULL, *ico = test_mesh_icosahedron(ctx), *grid = test_mesh_grid(ctx, 8, 7, 0);
+    assert_int_equal(limn_mesh_read(ctx, path, LIMN_FORMAT_AUTO, &spot), LIMN_OK);
+    test_perturb(ico, 0.2, 4);
+    limn_method ms[] = {LIMN_METHOD_PAPER, LIMN_METHOD_WEIGHTED, LIMN_METHOD_CG};
+    double products[3][3];
+    for (int k = 0; k < 3; k++) {
+        test_method = ms[k];
+        check_mesh(ctx, limn_method_name(ms[k]), spot, LIMN_SCHEME_CATMARK, 0.0);
+        products[k][0] = last_products;
+        check_mesh(ctx, limn_method_name(ms[k]), ico, LIMN_SCHEME_LOOP, 0.0);
+        products[k][1] = last_products;
+        /* open grid: boundary and corner tiers before the smooth block */
+        check_mesh(ctx, limn_method_name(ms[k]), grid, LIMN_SCHEME_CATMARK, 0.5);
+        products[k][2] = last_products;
+    }
+    test_method = LIMN_METHOD_AUTO;
+    printf("  products paper / weighted / cg: spot %.0f / %.0f / %.1f\n", products[0][0],
+           products[1][0], products[2][0]);
+    assert_true(products[2][0] * 4 < products[0][0]);
+    assert_true(products[1][0] < products[0][0]);
+    limn_mesh_destroy(spot);
+    limn_mesh_destroy(ico);
+    limn_mesh_destroy(grid);
+    limn_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(generated_meshes), cmocka_unit_test(singular_cube),
+        cmocka_unit_test(methods),
         cmocka_unit_test(iteration_cap_and_options), cmocka_unit_test(embedded_spot),
         cmocka_unit_test(small_meshes), cmocka_unit_test(medium_meshes),
     };

@@ -331,14 +331,16 @@ static void test_format_names(void **s)
     assert_true(limn_format_from_name("ply-ascii", &f) && f == LIMN_FORMAT_PLY_ASCII);
     assert_true(limn_format_from_name("ply-be", &f) && f == LIMN_FORMAT_PLY_BINARY_BE);
     assert_true(limn_format_from_name("off", &f) && f == LIMN_FORMAT_OFF);
-    assert_false(limn_format_from_name("stl", &f));
+    assert_true(limn_format_from_name("stl", &f) && f == LIMN_FORMAT_STL);
+    assert_false(limn_format_from_name("gltf", &f));
     assert_false(limn_format_from_name(NULL, &f));
     assert_true(limn_format_from_path("a/b.c/Mesh.PLY", &f) && f == LIMN_FORMAT_PLY);
     assert_true(limn_format_from_path("x.Obj", &f) && f == LIMN_FORMAT_OBJ);
     assert_true(limn_format_from_path("x.off", &f) && f == LIMN_FORMAT_OFF);
     assert_false(limn_format_from_path("a.ply/mesh", &f));
     assert_false(limn_format_from_path(".obj", &f));
-    assert_false(limn_format_from_path("x.stl", &f));
+    assert_true(limn_format_from_path("x.STL", &f) && f == LIMN_FORMAT_STL);
+    assert_false(limn_format_from_path("x.glb", &f));
 }
 
 /* ----------------------------------------------------------- OBJ features */
@@ -554,9 +556,9 @@ static void test_bad_off(void **s)
 static void test_bad_files(void **s)
 {
     (void)s;
-    expect_fail(tmp_path("mesh.stl"), LIMN_ERR_ARGUMENT, "mesh.stl");
-    assert_non_null(strstr(limn_context_message(ctx), ".obj, .ply, .off"));
-    expect_fail(tmp_path("noext"), LIMN_ERR_ARGUMENT, "accepted: .obj, .ply, .off");
+    expect_fail(tmp_path("mesh.3ds"), LIMN_ERR_ARGUMENT, "mesh.3ds");
+    assert_non_null(strstr(limn_context_message(ctx), ".obj, .ply, .off, .stl"));
+    expect_fail(tmp_path("noext"), LIMN_ERR_ARGUMENT, "accepted: .obj, .ply, .off, .stl");
     expect_fail(tmp_path("missing.obj"), LIMN_ERR_IO,
                 fmt("cannot open %s: No such file or directory", tmp_path("missing.obj")));
     expect_fail(write_text("empty.ply", ""), LIMN_ERR_FORMAT, "empty.ply: the file is empty");

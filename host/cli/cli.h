@@ -30,6 +30,35 @@ int cli_parse_size(const char *opt, const char *text, size_t *out);
    or the extension) and it is not the input file. Returns 0 or an exit status. */
 int cli_check_output(const char *cmd, const char *input, const char *output, limn_format format,
                      int overwrite_input);
+/* The repair policy of every command that reads a mesh (README "Meshes limn
+   accepts"): --no-repair refuses faces that use a vertex twice instead of
+   repairing them; --drop-duplicate-faces removes later copies of a face. */
+typedef struct cli_repair {
+    int off;
+    int drop_duplicates;
+} cli_repair;
+#define CLI_REPAIR_HELP                                                                        \
+    "  --no-repair            refuse faces that use a vertex twice (default:\n"                \
+    "                         repair them, with a warning saying what changed)\n"              \
+    "  --drop-duplicate-faces remove later copies of a face (default: keep\n"                 \
+    "                         them; their edges are sharp)\n"
+/* 1 when arg is a repair option (recorded in *r), else 0. */
+int cli_repair_arg(const char *arg, cli_repair *r);
+/* Reads path, prints its warnings, repairs the mesh by the policy (printing
+   what was changed as "limn CMD: warning: ..."), and with need_faces refuses a
+   mesh that has (or is left with) no faces. On failure *out is NULL and the
+   context holds the message. */
+limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
+                          limn_format format, const cli_repair *r, int need_faces,
+                          limn_mesh **out);
+/* After a failed operation: when the failure came from the OpenCL device and
+   the fallback is allowed (--fallback reference, LIMN_FALLBACK), switches to
+   the reference backend, prints the warning, sets *st to LIMN_OK and returns
+   1 (run the operation again); else returns 0. */
+int cli_fall_back(const char *cmd, limn_context *ctx, limn_status *st);
+/* Fails before any work (exit status 1, message printed) when the output
+   cannot be created: a missing or unwritable directory. Returns 0 or 1. */
+int cli_check_writable(const char *cmd, const char *output);
 /* Peak resident memory of this process so far, in bytes. */
 size_t cli_peak_rss(void);
 /* "--opt value": returns the value or prints an error when it is missing. */
@@ -69,5 +98,14 @@ void json_element_number(json_out *j, double value);
 void json_element_object_begin(json_out *j);
 /* Writes the document atomically; frees j in any case. */
 limn_status json_commit(limn_context *ctx, json_out *j, const char *path);
+/* The same without the final rename (see atomic_file_finish): the report is
+   complete in af's temporary file; frees j in any case. */
+struct atomic_file;
+limn_status json_stage(limn_context *ctx, json_out *j, const char *path, struct atomic_file *af);
+/* Makes the n staged outputs appear (atomic_file_commit, in order) when st is
+   LIMN_OK, else drops them all; returns the first failure. A command stages
+   every output first, so a failure writes nothing. */
+limn_status cli_commit_outputs(limn_context *ctx, limn_status st, struct atomic_file *staged,
+                               int n);
 
 #endif

@@ -1,6 +1,7 @@
 /* Shared CLI pieces: option values, errors, progress, JSON reports. */
 #include "cli.h"
 #include "atomic_file.h"
+#include "context.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -276,31 +277,48 @@ void json_element_object_begin(json_out *j)
     j->need_comma = 0;
 }
 
-limn_status json_commit(limn_context *ctx, json_out *j, const char *path)
+limn_status json_stage(limn_context *ctx, json_out *j, const char *path, atomic_file *af)
 {
-    (void)ctx;
     limn_status st = LIMN_OK;
+    memset(af, 0, sizeof *af);
     while (j->depth > 0)
         json_object_end(j);
     puts_(j, "\n");
     if (j->failed) {
-        fprintf(stderr, "limn: out of memory writing the report\n");
-        st = LIMN_ERR_MEMORY;
+        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing the report %s", path);
     } else {
-        atomic_file af;
-        st = atomic_file_open(ctx, path, &af);
+        st = atomic_file_open(ctx, path, af);
         if (!st) {
-            if (fwrite(j->text, 1, j->len, af.f) != j->len) {
-                atomic_file_abort(&af);
-                fprintf(stderr, "limn: %s: write failed\n", path);
-                st = LIMN_ERR_IO;
+            if (fwrite(j->text, 1, j->len, af->f) != j->len) {
+                int e = errno;
+                atomic_file_abort(af);
+                st = limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path,
+                               e ? strerror(e) : "write error");
             } else {
-                st = atomic_file_commit(ctx, &af);
+                st = atomic_file_finish(ctx, af);
             }
         }
     }
     free(j->text);
     free(j);
+    return st;
+}
+
+limn_status json_commit(limn_context *ctx, json_out *j, const char *path)
+{
+    atomic_file af;
+    limn_status st = json_stage(ctx, j, path, &af);
+    return st ? st : atomic_file_commit(ctx, &af);
+}
+
+limn_status cli_commit_outputs(limn_context *ctx, limn_status st, atomic_file *staged, int n)
+{
+    for (int i = 0; i < n; i++) {
+        if (!st)
+            st = atomic_file_commit(ctx, &staged[i]);
+        else
+            atomic_file_abort(&staged[i]);
+    }
     return st;
 }
 
@@ -366,10 +384,80 @@ int cli_check_output(const char *cmd, const char *input, const char *output, lim
     return 0;
 }
 
+int cli_check_writable(const char *cmd, const char *output)
+{
+    /* a temporary file is made beside the output and removed */
+    limn_context *ctx = limn_context_create();
+    if (!ctx)
+        return EXIT_FAILURE_RUN;
+    atomic_file af;
+    limn_status st = atomic_file_open(ctx, output, &af);
+    if (!st)
+        atomic_file_abort(&af);
+    int rc = st ? cli_fail(cmd, ctx, st) : 0;
+    limn_context_destroy(ctx);
+    return rc;
+}
+
 size_t cli_peak_rss(void)
 {
     struct rusage ru;
     if (getrusage(RUSAGE_SELF, &ru) != 0)
         return 0;
     return (size_t)ru.ru_maxrss * 1024;
+}
+
+int cli_repair_arg(const char *arg, cli_repair *r)
+{
+    if (strcmp(arg, "--no-repair") == 0)
+        r->off = 1;
+    else if (strcmp(arg, "--repair") == 0)
+        r->off = 0;
+    else if (strcmp(arg, "--drop-duplicate-faces") == 0)
+        r->drop_duplicates = 1;
+    else
+        return 0;
+    return 1;
+}
+
+limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
+                          limn_format format, const cli_repair *r, int need_faces,
+                          limn_mesh **out)
+{
+    limn_status st = limn_mesh_read(ctx, path, format, out);
+    cli_print_warnings(cmd, ctx);
+    if (st)
+        return st;
+    limn_repair_options o;
+    limn_repair_options_default(&o);
+    if (r) {
+        o.repeated_vertices = !r->off;
+        o.duplicate_faces = r->drop_duplicates;
+    }
+    limn_repair_report rep;
+    st = limn_mesh_repair(ctx, *out, &o, &rep);
+    cli_print_warnings(cmd, ctx);
+    if (!st && need_faces && limn_mesh_face_count(*out) == 0)
+        st = rep.faces_before
+                 ? limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+                                     "%s: no faces are left after the repair (all %zu were "
+                                     "degenerate): nothing to %s",
+                                     path, rep.faces_before, cmd)
+                 : limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+                                     "%s: the mesh has no faces (a point cloud?): nothing to %s",
+                                     path, cmd);
+    if (st) {
+        limn_mesh_destroy(*out);
+        *out = NULL;
+    }
+    return st;
+}
+
+int cli_fall_back(const char *cmd, limn_context *ctx, limn_status *st)
+{
+    if (limn_context_fall_back(ctx, *st) != LIMN_OK)
+        return 0;
+    cli_print_warnings(cmd, ctx);
+    *st = LIMN_OK;
+    return 1;
 }

@@ -4,27 +4,32 @@
 #include <string.h>
 
 static const char *const help =
-    "usage: limn info INPUT [--json] [--input-format F]\n"
+    "usage: limn info INPUT [--json] [--input-format F] [--no-repair]\n"
+    "                       [--drop-duplicate-faces]\n"
     "\n"
     "Prints vertex, face and edge counts, face kinds, boundary loops, components,\n"
     "non-manifold elements, the Euler characteristic, the bounding box and the\n"
-    "scheme 'auto' would choose.\n";
+    "scheme 'auto' would choose, of the mesh as the other commands see it: after\n"
+    "the repair step, whose changes are printed as warnings.\n"
+    CLI_REPAIR_HELP;
 
 int cli_info(int argc, char **argv)
 {
     const char *input = NULL;
     int json = 0;
     limn_format fmt = LIMN_FORMAT_AUTO;
+    cli_repair repair = {0, 0};
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) {
             fputs(help, stdout);
             return 0;
         } else if (strcmp(argv[i], "--json") == 0) {
             json = 1;
+        } else if (cli_repair_arg(argv[i], &repair)) {
         } else if (strcmp(argv[i], "--input-format") == 0) {
             const char *v = cli_value(argc, argv, &i);
             if (!v || !limn_format_from_name(v, &fmt))
-                return cli_usage_error("info", "--input-format needs one of obj, ply, off");
+                return cli_usage_error("info", "--input-format needs one of obj, ply, off, stl");
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return cli_usage_error("info", "unknown option '%s'", argv[i]);
         } else if (!input) {
@@ -40,8 +45,7 @@ int cli_info(int argc, char **argv)
         return EXIT_FAILURE_RUN;
     limn_mesh *mesh = NULL;
     limn_mesh_info in;
-    limn_status st = limn_mesh_read(ctx, input, fmt, &mesh);
-    cli_print_warnings("info", ctx);
+    limn_status st = cli_load_mesh("info", ctx, input, fmt, &repair, 0, &mesh);
     if (!st)
         st = limn_mesh_info_compute(ctx, mesh, &in);
     if (st) {

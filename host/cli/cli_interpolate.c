@@ -1,5 +1,7 @@
 /* limn interpolate: solve for the control mesh, write it and a report. */
 #include "cli.h"
+#include "atomic_file.h"
+#include "mesh_io.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -10,7 +12,7 @@ static const char *const help =
     "Computes the control mesh P whose subdivision limit surface passes through\n"
     "every vertex of INPUT (same faces, same vertex order) and writes it.\n"
     "\n"
-    "  -o, --output FILE      control mesh to write (.obj, .ply binary, .off)\n"
+    "  -o, --output FILE      control mesh to write (.obj, .ply binary, .off, .stl)\n"
     "  --scheme S             auto (Loop for triangle meshes, else Catmull-Clark),\n"
     "                         loop or catmark                        [auto]\n"
     "  --alpha A              Catmull-Clark alpha in [0, 1]; 0 is the standard\n"
@@ -21,24 +23,36 @@ static const char *const help =
     "  --report FILE.json     also write the report as JSON\n"
     "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
     "                         (default: LIMN_DEVICE etc., then the first device)\n"
-    "  --format F             output format: obj, ply, ply-ascii, ply-be, off\n"
+    "  --fallback reference   when the OpenCL device cannot be used, run on the\n"
+    "                         reference backend instead, with a warning\n"
+    "                         (default: LIMN_FALLBACK, else none: fail)\n"
+    "  --format F             output format: obj, ply, ply-ascii, ply-be, off, stl\n"
     "  --input-format F       input format, when the extension does not say\n"
     "  --surface FILE         also refine P and write its subdivision surface\n"
     "  --levels K             refinement levels of the surface, 0..16    [2]\n"
     "  --limit                put the surface's finest vertices on the limit\n"
     "                         surface: vertex i of it is then M_i to --tol\n"
-    "  --max-memory SIZE      refuse a surface whose predicted peak exceeds SIZE\n"
+    "  --max-memory SIZE      refuse, before any work, when the predicted peak\n"
+    "                         memory (of the solve, or of the surface) exceeds\n"
+    "                         SIZE (bytes, or with K, M, G suffix)   [3/4 of RAM]\n"
+    CLI_REPAIR_HELP
+    "  --method M             auto (the fastest measured: paper for now),\n"
+    "                         paper (the seeds' iteration, the reference),\n"
+    "                         weighted, cg (fewest products)            [auto]\n"
+    "  --no-reorder           keep the input vertex order inside the solve\n"
+    "                         (default: reverse Cuthill-McKee for locality)\n"
     "  --overwrite-input      allow OUTPUT to be the INPUT file\n"
     "  -q, --quiet            no summary and no progress on stderr\n"
     "\n"
     "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
 
 typedef struct args {
-    const char *input, *output, *report, *device, *surface;
+    const char *input, *output, *report, *device, *surface, *fallback;
     limn_format in_format, out_format;
     limn_interpolate_options opt;
     limn_subdivide_options sub;
     int quiet, overwrite_input, levels_given;
+    cli_repair repair;
 } args;
 
 static int parse(int argc, char **argv, args *a)
@@ -88,12 +102,15 @@ static int parse(int argc, char **argv, args *a)
         } else if (strcmp(s, "--device") == 0) {
             VALUE();
             a->device = v;
+        } else if (strcmp(s, "--fallback") == 0) {
+            VALUE();
+            a->fallback = v;
         } else if (strcmp(s, "--format") == 0 || strcmp(s, "--input-format") == 0) {
             VALUE();
             limn_format f;
             if (!limn_format_from_name(v, &f))
                 return cli_usage_error("interpolate",
-                                       "%s '%s' is not one of obj, ply, ply-ascii, ply-be, off", s,
+                                       "%s '%s' is not one of obj, ply, ply-ascii, ply-be, off, stl", s,
                                        v);
             if (s[2] == 'f')
                 a->out_format = f;
@@ -115,8 +132,24 @@ static int parse(int argc, char **argv, args *a)
             VALUE();
             if (!cli_parse_size(s, v, &a->sub.max_memory))
                 return EXIT_USAGE;
+        } else if (strcmp(s, "--method") == 0) {
+            VALUE();
+            if (strcmp(v, "auto") == 0)
+                a->opt.method = LIMN_METHOD_AUTO;
+            else if (strcmp(v, "paper") == 0)
+                a->opt.method = LIMN_METHOD_PAPER;
+            else if (strcmp(v, "weighted") == 0)
+                a->opt.method = LIMN_METHOD_WEIGHTED;
+            else if (strcmp(v, "cg") == 0)
+                a->opt.method = LIMN_METHOD_CG;
+            else
+                return cli_usage_error("interpolate",
+                                       "--method '%s' is not one of auto, paper, weighted, cg", v);
+        } else if (strcmp(s, "--no-reorder") == 0) {
+            a->opt.reorder = 0;
         } else if (strcmp(s, "--overwrite-input") == 0) {
             a->overwrite_input = 1;
+        } else if (cli_repair_arg(s, &a->repair)) {
         } else if (strcmp(s, "-q") == 0 || strcmp(s, "--quiet") == 0) {
             a->quiet = 1;
         } else if (s[0] == '-' && s[1]) {
@@ -142,6 +175,12 @@ static int parse(int argc, char **argv, args *a)
     if (!rc && a->report)
         rc = cli_check_output("interpolate", a->input, a->report, LIMN_FORMAT_OBJ,
                               a->overwrite_input);
+    if (!rc)
+        rc = cli_check_writable("interpolate", a->output);
+    if (!rc && a->surface)
+        rc = cli_check_writable("interpolate", a->surface);
+    if (!rc && a->report)
+        rc = cli_check_writable("interpolate", a->report);
     if (rc)
         return rc;
     return 0;
@@ -151,20 +190,22 @@ static void print_summary(const args *a, const limn_report *r, const double sec[
 {
     fprintf(stderr,
             "limn interpolate: %s -> %s\n"
-            "  vertices %zu, faces %zu, scheme %s, alpha %g, method %s\n"
+            "  vertices %zu, faces %zu, scheme %s, alpha %g, method %s, vertex order %s\n"
             "  iterations %d, max error %.3g, mean error %.3g (relative to the bbox diagonal "
             "%.6g)\n"
             "  device: %s\n"
             "  seconds: load %.3f, topology %.3f, stencil %.3f, solve %.3f (%.3g per "
             "iteration), write %.3f\n",
             a->input, a->output, r->vertices, r->faces, limn_scheme_name(r->scheme), r->alpha,
-            r->method, r->iterations, r->max_rel_error, r->mean_rel_error, r->bbox_diagonal,
+            r->method, r->reordered ? "rcm" : "input", r->iterations, r->max_rel_error,
+            r->mean_rel_error, r->bbox_diagonal,
             r->device, sec[0], r->seconds_topology, r->seconds_stencil, r->seconds_solve,
             r->seconds_solve / (r->iterations + 1), sec[1]);
 }
 
 static limn_status write_report(limn_context *ctx, const args *a, const limn_report *r,
-                                const limn_subdivide_report *sr, const double sec[3])
+                                const limn_subdivide_report *sr, const double sec[3],
+                                atomic_file *af)
 {
     json_out *j = json_begin();
     if (!j)
@@ -178,6 +219,10 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_number(j, "alpha", r->alpha);
     json_string(j, "method", r->method);
     json_integer(j, "iterations", r->iterations);
+    json_number(j, "products", r->products);
+    json_string(j, "method_reason", r->method_reason ? r->method_reason : "");
+    if (strcmp(r->method, "weighted") == 0)
+        json_number(j, "omega", r->omega);
     json_number(j, "tolerance", a->opt.tolerance);
     json_number(j, "max_rel_error", r->max_rel_error);
     json_number(j, "mean_rel_error", r->mean_rel_error);
@@ -185,6 +230,7 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_number(j, "mean_abs_error", r->mean_abs_error);
     json_number(j, "bbox_diagonal", r->bbox_diagonal);
     json_integer(j, "stencil_nonzeros", (long long)r->stencil_nonzeros);
+    json_string(j, "vertex_order", r->reordered ? "rcm" : "input");
     json_string(j, "device", r->device);
     if (sr) {
         json_string(j, "surface", a->surface);
@@ -204,7 +250,7 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_number(j, "write", sec[1]);
     json_number(j, "total", sec[2]);
     json_object_end(j);
-    return json_commit(ctx, j, a->report);
+    return json_stage(ctx, j, a->report, af);
 }
 
 
@@ -226,10 +272,13 @@ int cli_interpolate(int argc, char **argv)
     memset(&sr, 0, sizeof sr);
     double sec[3] = {0, 0, 0}, t0 = cli_now();
     limn_status st = limn_context_set_device(ctx, a.device);
+    if (!st && a.fallback)
+        st = limn_context_set_fallback(ctx, a.fallback);
     if (!st)
-        st = limn_mesh_read(ctx, a.input, a.in_format, &mesh);
-    cli_print_warnings("interpolate", ctx);
+        st = cli_load_mesh("interpolate", ctx, a.input, a.in_format, &a.repair, 1, &mesh);
     sec[0] = cli_now() - t0;
+    if (!st)
+        st = limn_interpolate_estimate(ctx, mesh, &a.opt, a.sub.max_memory, NULL);
     if (!st && a.surface) {
         /* refuse an oversize surface before solving */
         size_t v, f, bytes;
@@ -237,29 +286,43 @@ int cli_interpolate(int argc, char **argv)
         a.sub.alpha = a.opt.alpha;
         st = limn_subdivide_estimate(ctx, mesh, &a.sub, &v, &f, &bytes);
     }
-    if (!st) {
+    /* a device failure runs again on the reference backend when that is allowed */
+    for (int attempt = 0; !st && attempt < 2; attempt++) {
         cli_progress_enable(ctx, a.quiet);
         st = limn_interpolate(ctx, mesh, &a.opt, &control, &r);
         cli_progress_done();
         cli_print_warnings("interpolate", ctx);
+        if (!st && a.surface) {
+            a.sub.scheme = r.scheme;
+            cli_progress_enable(ctx, a.quiet);
+            st = limn_subdivide(ctx, control, &a.sub, &surface, &sr);
+            cli_progress_done();
+            cli_print_warnings("interpolate", ctx);
+        }
+        if (!st || !cli_fall_back("interpolate", ctx, &st))
+            break;
+        limn_mesh_destroy(control);
+        control = NULL;
     }
-    if (!st && a.surface) {
-        a.sub.scheme = r.scheme;
-        cli_progress_enable(ctx, a.quiet);
-        st = limn_subdivide(ctx, control, &a.sub, &surface, &sr);
-        cli_progress_done();
-    }
+    /* every output is complete (staged) before any appears: a failure writes nothing */
+    atomic_file staged[3];
+    int nstaged = 0;
     if (!st) {
-        /* both results exist before either file is written */
         double t1 = cli_now();
-        st = limn_mesh_write(ctx, control, a.output, a.out_format);
-        if (!st && a.surface)
-            st = limn_mesh_write(ctx, surface, a.surface, a.out_format);
+        st = mesh_write_staged(ctx, control, a.output, a.out_format, &staged[nstaged]);
+        nstaged += !st;
+        if (!st && a.surface) {
+            st = mesh_write_staged(ctx, surface, a.surface, a.out_format, &staged[nstaged]);
+            nstaged += !st;
+        }
         sec[1] = cli_now() - t1;
         sec[2] = cli_now() - t0;
     }
-    if (!st && a.report)
-        st = write_report(ctx, &a, &r, a.surface ? &sr : NULL, sec);
+    if (!st && a.report) {
+        st = write_report(ctx, &a, &r, a.surface ? &sr : NULL, sec, &staged[nstaged]);
+        nstaged += !st;
+    }
+    st = cli_commit_outputs(ctx, st, staged, nstaged);
     if (st)
         rc = cli_fail("interpolate", ctx, st);
     else if (!a.quiet) {

@@ -1,5 +1,7 @@
 /* Shared option handling, loading and reports of the series subcommands. */
 #include "cli_series.h"
+#include "atomic_file.h"
+#include "mesh_io.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -84,6 +86,8 @@ int series_cli_arg(series_cli *c, int argc, char **argv, int *i, int *rc)
         c->overwrite_input = 1;
     } else if (strcmp(s, "-q") == 0 || strcmp(s, "--quiet") == 0) {
         c->quiet = 1;
+    } else if (cli_repair_arg(s, &c->repair)) {
+        /* the repair policy, applied by series_cli_load */
     } else if (s[0] == '-' && s[1]) {
         return SERIES_ARG_NOT_MINE;
     } else if (c->input_count < c->inputs_wanted) {
@@ -125,8 +129,8 @@ limn_status series_cli_load(series_cli *c, limn_context **ctx, limn_mesh **meshe
     }
     limn_status st = limn_context_set_device(*ctx, c->device);
     for (int k = 0; !st && k < c->input_count; k++) {
-        st = limn_mesh_read(*ctx, c->inputs[k], c->in_format, &meshes[k]);
-        cli_print_warnings(c->cmd, *ctx);
+        st = cli_load_mesh(c->cmd, *ctx, c->inputs[k], c->in_format, &c->repair, 1,
+                           &meshes[k]);
     }
     return st;
 }
@@ -155,6 +159,15 @@ json_out *series_json_begin(const series_cli *c, const limn_series_report *r)
 limn_status series_json_finish(limn_context *ctx, json_out *j, const series_cli *c,
                                const limn_series_report *r, const series_seconds *s)
 {
+    atomic_file af;
+    limn_status st = series_json_stage(ctx, j, c, r, s, &af);
+    return st ? st : atomic_file_commit(ctx, &af);
+}
+
+limn_status series_json_stage(limn_context *ctx, json_out *j, const series_cli *c,
+                              const limn_series_report *r, const series_seconds *s,
+                              atomic_file *af)
+{
     json_object_begin(j, "seconds");
     json_number(j, "load", s->load);
     json_number(j, "topology", r->seconds_topology);
@@ -163,7 +176,7 @@ limn_status series_json_finish(limn_context *ctx, json_out *j, const series_cli 
     json_number(j, "write", s->write);
     json_number(j, "total", s->total);
     json_object_end(j);
-    return json_commit(ctx, j, c->report);
+    return json_stage(ctx, j, c->report, af);
 }
 
 void series_print_head(const series_cli *c, const limn_series_report *r)
@@ -182,4 +195,41 @@ void series_print_seconds(const limn_series_report *r, const series_seconds *s)
             "%.3f\n",
             s->load, r->seconds_topology, r->seconds_stencil, r->seconds_compute, s->write,
             s->total);
+}
+
+int series_cli_finish(series_cli *c, limn_context *ctx, limn_status st, const limn_mesh *result,
+                      const limn_series_report *r, series_seconds *s, const series_extra *x)
+{
+    /* the mesh and the report are both complete (staged) before either appears:
+       a failure writes nothing and leaves an existing output as it was */
+    atomic_file staged[2];
+    int nstaged = 0;
+    if (!st && result) {
+        double t = cli_now();
+        st = mesh_write_staged(ctx, result, c->output, c->out_format, &staged[nstaged]);
+        nstaged += !st;
+        s->write = cli_now() - t;
+    }
+    s->total = cli_now() - s->t0;
+    if (!st && c->report) {
+        json_out *j = series_json_begin(c, r);
+        if (!j) {
+            st = LIMN_ERR_MEMORY;
+        } else {
+            if (x && x->json)
+                x->json(j, x->user);
+            st = series_json_stage(ctx, j, c, r, s, &staged[nstaged]);
+            nstaged += !st;
+        }
+    }
+    st = cli_commit_outputs(ctx, st, staged, nstaged);
+    if (st)
+        return ctx ? cli_fail(c->cmd, ctx, st) : EXIT_FAILURE_RUN;
+    if (!c->quiet) {
+        series_print_head(c, r);
+        if (x && x->print)
+            x->print(x->user);
+        series_print_seconds(r, s);
+    }
+    return 0;
 }

@@ -14,6 +14,7 @@ typedef struct series_cli {
     limn_format in_format, out_format;
     limn_series_options opt;
     int quiet, overwrite_input;
+    cli_repair repair;        /* --no-repair, --drop-duplicate-faces (cli.h) */
 } series_cli;
 
 enum { SERIES_ARG_NOT_MINE = 0, SERIES_ARG_TAKEN = 1, SERIES_ARG_EXIT = 2 };
@@ -45,6 +46,12 @@ typedef struct series_seconds {
 /* The report's shared keys (command, input, output, vertices, faces, scheme,
    alpha, device, stencil_nonzeros, products, bbox_diagonal). */
 json_out *series_json_begin(const series_cli *c, const limn_series_report *r);
+/* The seconds object, then the report staged in af (atomic_file_commit makes
+   it appear; see json_stage). */
+struct atomic_file;
+limn_status series_json_stage(limn_context *ctx, json_out *j, const series_cli *c,
+                              const limn_series_report *r, const series_seconds *s,
+                              struct atomic_file *af);
 /* The seconds object, then writes the report atomically. */
 limn_status series_json_finish(limn_context *ctx, json_out *j, const series_cli *c,
                                const limn_series_report *r, const series_seconds *s);
@@ -52,7 +59,14 @@ limn_status series_json_finish(limn_context *ctx, json_out *j, const series_cli 
 void series_print_head(const series_cli *c, const limn_series_report *r);
 void series_print_seconds(const limn_series_report *r, const series_seconds *s);
 
-/* Volume of a mesh for reports: measures, and prints nothing. */
-limn_status series_measure(limn_context *ctx, const limn_mesh *mesh, limn_mesh_measures *m);
+/* Writes a filtered mesh (timed) and the shared report and summary; the
+   command adds its keys and lines through the callbacks (may be NULL). */
+typedef struct series_extra {
+    void (*json)(json_out *j, void *user);
+    void (*print)(void *user);
+    void *user;
+} series_extra;
+int series_cli_finish(series_cli *c, limn_context *ctx, limn_status st, const limn_mesh *result,
+                      const limn_series_report *r, series_seconds *s, const series_extra *x);
 
 #endif

@@ -1,5 +1,7 @@
 /* limn subdivide: refine a control mesh into its subdivision surface. */
 #include "cli.h"
+#include "atomic_file.h"
+#include "mesh_io.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -11,7 +13,7 @@ static const char *const help =
     "Loop: triangles). Vertex i of INPUT is vertex i of OUTPUT; then come one\n"
     "vertex per face (Catmull-Clark) and one per edge of each level.\n"
     "\n"
-    "  -o, --output FILE      surface to write (.obj, .ply binary, .off)\n"
+    "  -o, --output FILE      surface to write (.obj, .ply binary, .off, .stl)\n"
     "  --levels K             refinement levels, 0..16                  [1]\n"
     "  --limit                move the finest vertices onto the limit surface\n"
     "  --scheme S             auto | loop | catmark                     [auto]\n"
@@ -20,15 +22,18 @@ static const char *const help =
     "                         (bytes, or with K, M, G suffix) [3/4 of RAM]\n"
     "  --report FILE.json     also write the report as JSON\n"
     "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
-    "  --format F, --input-format F, --overwrite-input, -q (as in interpolate)\n";
+    "  --fallback reference   run on the reference backend when OpenCL fails\n"
+    "  --format F, --input-format F, --overwrite-input, -q (as in interpolate)\n"
+    CLI_REPAIR_HELP;
 
 int cli_subdivide(int argc, char **argv)
 {
-    const char *input = NULL, *output = NULL, *report = NULL, *device = NULL;
+    const char *input = NULL, *output = NULL, *report = NULL, *device = NULL, *fallback = NULL;
     limn_format in_format = LIMN_FORMAT_AUTO, out_format = LIMN_FORMAT_AUTO;
     limn_subdivide_options o;
     limn_subdivide_options_default(&o);
     int quiet = 0, overwrite_input = 0;
+    cli_repair repair = {0, 0};
     for (int i = 1; i < argc; i++) {
         const char *s = argv[i], *v = NULL;
 #define VALUE()                                                                                \
@@ -70,12 +75,15 @@ int cli_subdivide(int argc, char **argv)
         } else if (strcmp(s, "--device") == 0) {
             VALUE();
             device = v;
+        } else if (strcmp(s, "--fallback") == 0) {
+            VALUE();
+            fallback = v;
         } else if (strcmp(s, "--format") == 0 || strcmp(s, "--input-format") == 0) {
             VALUE();
             limn_format f;
             if (!limn_format_from_name(v, &f))
                 return cli_usage_error("subdivide",
-                                       "%s '%s' is not one of obj, ply, ply-ascii, ply-be, off", s,
+                                       "%s '%s' is not one of obj, ply, ply-ascii, ply-be, off, stl", s,
                                        v);
             if (s[2] == 'f')
                 out_format = f;
@@ -83,6 +91,7 @@ int cli_subdivide(int argc, char **argv)
                 in_format = f;
         } else if (strcmp(s, "--overwrite-input") == 0) {
             overwrite_input = 1;
+        } else if (cli_repair_arg(s, &repair)) {
         } else if (strcmp(s, "-q") == 0 || strcmp(s, "--quiet") == 0) {
             quiet = 1;
         } else if (s[0] == '-' && s[1]) {
@@ -101,6 +110,10 @@ int cli_subdivide(int argc, char **argv)
     int rc = cli_check_output("subdivide", input, output, out_format, overwrite_input);
     if (!rc && report)
         rc = cli_check_output("subdivide", input, report, LIMN_FORMAT_OBJ, overwrite_input);
+    if (!rc)
+        rc = cli_check_writable("subdivide", output);
+    if (!rc && report)
+        rc = cli_check_writable("subdivide", report);
     if (rc)
         return rc;
 
@@ -111,18 +124,27 @@ int cli_subdivide(int argc, char **argv)
     limn_subdivide_report r;
     double sec[3] = {0, 0, 0}, t0 = cli_now();
     limn_status st = limn_context_set_device(ctx, device);
+    if (!st && fallback)
+        st = limn_context_set_fallback(ctx, fallback);
     if (!st)
-        st = limn_mesh_read(ctx, input, in_format, &mesh);
-    cli_print_warnings("subdivide", ctx);
+        st = cli_load_mesh("subdivide", ctx, input, in_format, &repair, 1, &mesh);
     sec[0] = cli_now() - t0;
-    if (!st) {
+    /* a device failure runs again on the reference backend when that is allowed */
+    for (int attempt = 0; !st && attempt < 2; attempt++) {
         cli_progress_enable(ctx, quiet);
         st = limn_subdivide(ctx, mesh, &o, &surface, &r);
         cli_progress_done();
+        cli_print_warnings("subdivide", ctx);
+        if (!st || !cli_fall_back("subdivide", ctx, &st))
+            break;
     }
+    /* the surface and the report are both complete before either appears */
+    atomic_file staged[2];
+    int nstaged = 0;
     if (!st) {
         double t1 = cli_now();
-        st = limn_mesh_write(ctx, surface, output, out_format);
+        st = mesh_write_staged(ctx, surface, output, out_format, &staged[nstaged]);
+        nstaged += !st;
         sec[1] = cli_now() - t1;
         sec[2] = cli_now() - t0;
     }
@@ -151,8 +173,10 @@ int cli_subdivide(int argc, char **argv)
         json_number(j, "write", sec[1]);
         json_number(j, "total", sec[2]);
         json_object_end(j);
-        st = json_commit(ctx, j, report);
+        st = json_stage(ctx, j, report, &staged[nstaged]);
+        nstaged += !st;
     }
+    st = cli_commit_outputs(ctx, st, staged, nstaged);
     if (st)
         rc = cli_fail("subdivide", ctx, st);
     else if (!quiet)

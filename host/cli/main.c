@@ -16,10 +16,22 @@ static void usage(FILE *out)
             "  subdivide INPUT -o OUTPUT --levels K [--limit] [--scheme S] [--alpha A]\n"
             "              [--max-memory SIZE] [--report FILE.json] [--device SPEC] [-q]\n"
             "      refine a control mesh into its subdivision surface\n"
+            "  bands INPUT --count N -o PREFIX      the mesh as bands (E-A)^i A M + remainder\n"
+            "  smooth INPUT -o OUTPUT --terms N     partial sum of the first N bands\n"
+            "  denoise INPUT -o OUTPUT [--m M] [--steps K] [--keep-volume]\n"
+            "      seed 000 eq. 8 smoothing, volume change reported\n"
+            "  sharpen INPUT -o OUTPUT --from M --to N [--steps K]\n"
+            "      adds the terms (E-A)^i T, i = M..N\n"
+            "  morph FROM TO -o 'frames/f%%04d.ply' [--frames F] [--m M] [--p P] [--linear]\n"
+            "      frames from FROM to TO (seed 000 eq. 9) or the linear blend\n"
+            "  texture INPUT -o OUTPUT.ply --colors '#hex,...' [--levels N] [--seed S]\n"
+            "      procedural Perlin texture through the interpolation (vertex colours)\n"
+            "  render INPUT -o OUTPUT.png [--view AZ,EL] [--size WxH] [--flat]\n"
+            "      a shaded picture of a mesh, without a display\n"
             "  info INPUT [--json]       counts, boundaries, non-manifold elements, bbox\n"
             "  devices                   the OpenCL devices limn can use\n"
             "\n"
-            "Run 'limn COMMAND --help' for a command's options. Formats: OBJ, PLY, OFF.\n");
+            "Run 'limn COMMAND --help' for a command's options. Formats: OBJ, PLY, OFF, STL.\n");
 }
 
 int main(int argc, char **argv)
@@ -37,6 +49,15 @@ int main(int argc, char **argv)
         return cli_devices(argc - 1, argv + 1);
     if (strcmp(cmd, "subdivide") == 0)
         return cli_subdivide(argc - 1, argv + 1);
+    static const struct {
+        const char *name;
+        int (*run)(int, char **);
+    } series[] = {{"bands", cli_bands},     {"smooth", cli_smooth},   {"denoise", cli_denoise},
+                  {"sharpen", cli_sharpen}, {"morph", cli_morph},     {"texture", cli_texture},
+                  {"render", cli_render}};
+    for (size_t k = 0; k < sizeof series / sizeof *series; k++)
+        if (strcmp(cmd, series[k].name) == 0)
+            return series[k].run(argc - 1, argv + 1);
     if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
         usage(stdout);
         return 0;

@@ -1,0 +1,22 @@
+/* Solvers for A P = M beyond the seeds' iteration (host/solve_*.c). */
+#ifndef LIMN_SOLVE_H
+#define LIMN_SOLVE_H
+
+#include "operator.h"
+
+typedef struct solve_stats {
+    double products;     /* stencil products, in units of one full A x */
+    int iterations;      /* solver steps */
+    int catmark_alpha0;  /* for messages about the singular alpha = 0 case */
+} solve_stats;
+
+/*
+ * Tiered, D-preconditioned conjugate gradients (solve_cg.c). m4: M in the
+ * operator's row order, 4 doubles per row; p4 receives P. Returns
+ * LIMN_ERR_TOPOLOGY, without a message, when A is not block triangular by
+ * vertex rule (the caller then falls back to the seeds' iteration).
+ */
+limn_status solve_cg(limn_context *ctx, const limn_operator *op, const double *m4,
+                     double tol_abs, int max_iter, double *p4, solve_stats *stats);
+
+#endif
