@@ -6,10 +6,10 @@
  * Model, from the peak RSS of `limn interpolate` measured 2026-11-23 on both
  * backends (README "Memory"): per vertex and per face corner, plus 96 MiB for
  * the OpenCL runtime (measured 78-80 MiB):
- *   cg (the default): 1000 B/vertex + 8 B/corner; measured 2.15M-vertex Loop
+ *   cg: 1000 B/vertex + 8 B/corner; measured 2.15M-vertex Loop
  *     mesh (igea, 2 levels) 1.95 GiB (OpenCL), 1.37M-vertex Catmull-Clark
  *     (bob_quad, 4 levels) 1.32 GiB; the model says 2.19 and 1.40 GiB;
- *   paper, weighted: 600 B/vertex + 16 B/corner; measured 1.27 and 0.81 GiB;
+ *   paper (auto), weighted: 600 B/vertex + 16 B/corner; measured 1.27 and 0.81 GiB;
  *     the model says 1.50 and 0.94 GiB.
  * A solver that keeps more vectors must update these figures.
  */
@@ -35,7 +35,8 @@ limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
     limn_clear(ctx);
     if (!mesh)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate_estimate: mesh is NULL");
-    int cg = !options || options->method == LIMN_METHOD_AUTO || options->method == LIMN_METHOD_CG;
+    /* auto runs the paper iteration (interpolate.c) */
+    int cg = options && options->method == LIMN_METHOD_CG;
     double per_vertex = cg ? 1000.0 : 600.0, per_corner = cg ? 8.0 : 16.0;
     size_t corners = mesh->face_offsets[mesh->face_count];
     double peak = (double)mesh->vertex_count * per_vertex + (double)corners * per_corner +

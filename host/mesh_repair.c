@@ -145,73 +145,113 @@ static int cmp_u32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Faces with the vertex set of an earlier face (a hash table on the sorted
-   vertex lists, in face order, so "earlier" is the first copy); removes them
-   when asked. */
+/* The vertices of face f in increasing order, into buf (room for its size). */
+static const uint32_t *sorted_face(const limn_mesh *m, uint32_t f, uint32_t *buf, uint32_t *d)
+{
+    uint32_t b = m->face_offsets[f];
+    *d = m->face_offsets[f + 1] - b;
+    memcpy(buf, m->face_indices + b, *d * sizeof *buf);
+    if (*d <= 8) {
+        for (uint32_t i = 1; i < *d; i++)
+            for (uint32_t j = i; j > 0 && buf[j - 1] > buf[j]; j--) {
+                uint32_t t = buf[j];
+                buf[j] = buf[j - 1];
+                buf[j - 1] = t;
+            }
+    } else {
+        qsort(buf, *d, sizeof *buf, cmp_u32);
+    }
+    return buf;
+}
+
+typedef struct keyed {
+    uint64_t hash;   /* of the sorted vertex list */
+    uint32_t face;
+} keyed;
+
+/* Faces with the vertex set of an earlier face: every face's sorted vertex
+   list is hashed, the hashes are radix-sorted (stable, so faces stay in order
+   among equal hashes and "earlier" is the first copy), and equal hashes are
+   compared list by list. Removes the later copies when asked. */
 static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
                                    limn_repair_report *r)
 {
-    size_t nf = m->face_count, nc = m->face_offsets[nf];
+    size_t nf = m->face_count;
     if (nf < 2)
         return LIMN_OK;
-    size_t cap = 16;
-    while (cap < 2 * nf)
-        cap *= 2;
-    uint32_t *sorted = malloc((nc ? nc : 1) * sizeof *sorted);
-    uint32_t *slots = calloc(cap, sizeof *slots); /* face + 1; 0 = empty */
+    uint32_t maxd = 0;
+    for (size_t f = 0; f < nf; f++)
+        if (m->face_offsets[f + 1] - m->face_offsets[f] > maxd)
+            maxd = m->face_offsets[f + 1] - m->face_offsets[f];
+    keyed *k = malloc(nf * sizeof *k), *tmp = malloc(nf * sizeof *tmp);
+    uint32_t *buf = malloc(2 * (size_t)maxd * sizeof *buf);
     uint8_t *dup = calloc(nf, 1);
-    if (!sorted || !slots || !dup) {
-        free(sorted);
-        free(slots);
+    if (!k || !tmp || !buf || !dup) {
+        free(k);
+        free(tmp);
+        free(buf);
         free(dup);
         return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
     }
-    memcpy(sorted, m->face_indices, nc * sizeof *sorted);
     for (size_t f = 0; f < nf; f++) {
-        uint32_t b = m->face_offsets[f], d = m->face_offsets[f + 1] - b;
-        uint32_t *s = sorted + b;
-        if (d <= 8) {
-            for (uint32_t i = 1; i < d; i++)
-                for (uint32_t j = i; j > 0 && s[j - 1] > s[j]; j--) {
-                    uint32_t t = s[j];
-                    s[j] = s[j - 1];
-                    s[j - 1] = t;
-                }
-        } else {
-            qsort(s, d, sizeof *s, cmp_u32);
-        }
+        uint32_t d;
+        const uint32_t *v = sorted_face(m, (uint32_t)f, buf, &d);
         uint64_t h = mix(d);
         for (uint32_t i = 0; i < d; i++)
-            h = mix(h ^ (s[i] + 0x9e3779b97f4a7c15ULL));
-        size_t k = (size_t)h & (cap - 1);
-        for (;; k = (k + 1) & (cap - 1)) {
-            if (!slots[k]) {
-                slots[k] = (uint32_t)(f + 1);
-                break;
-            }
-            uint32_t g = slots[k] - 1;
-            uint32_t gb = m->face_offsets[g], gd = m->face_offsets[g + 1] - gb;
-            if (gd == d && memcmp(sorted + gb, s, d * sizeof *s) == 0) {
+            h = mix(h ^ (v[i] + 0x9e3779b97f4a7c15ULL));
+        k[f].hash = h;
+        k[f].face = (uint32_t)f;
+    }
+    /* LSD radix sort on the high 32 bits of the hash, 8 bits a pass */
+    for (int shift = 32; shift < 64; shift += 8) {
+        size_t count[257] = {0};
+        for (size_t i = 0; i < nf; i++)
+            count[((k[i].hash >> shift) & 255) + 1]++;
+        for (int b = 0; b < 256; b++)
+            count[b + 1] += count[b];
+        for (size_t i = 0; i < nf; i++)
+            tmp[count[(k[i].hash >> shift) & 255]++] = k[i];
+        keyed *t = k;
+        k = tmp;
+        tmp = t;
+    }
+    for (size_t i = 0; i < nf;) {
+        size_t j = i + 1;
+        while (j < nf && (k[j].hash >> 32) == (k[i].hash >> 32))
+            j++;
+        /* a run of equal high bits: usually one face; faces in increasing order */
+        for (size_t x = i + 1; x < j; x++)
+            for (size_t y = i; y < x; y++) {
+                if (k[y].hash != k[x].hash || dup[k[y].face])
+                    continue;
+                uint32_t dx, dy;
+                const uint32_t *vx = sorted_face(m, k[x].face, buf, &dx);
+                const uint32_t *vy = sorted_face(m, k[y].face, buf + maxd, &dy);
+                if (dx != dy || memcmp(vx, vy, dx * sizeof *vx) != 0)
+                    continue;
+                uint32_t f = k[x].face;
                 dup[f] = 1;
-                if (r->duplicate_faces++ == 0) {
+                r->duplicate_faces++;
+                if (r->first_duplicate_face == SIZE_MAX || f < r->first_duplicate_face) {
                     r->first_duplicate_face = f;
-                    r->first_duplicate_of = g;
+                    r->first_duplicate_of = k[y].face;
                 }
                 break;
             }
-        }
+        i = j;
     }
-    free(sorted);
-    free(slots);
+    free(k);
+    free(tmp);
+    free(buf);
     if (remove && r->duplicate_faces) {
-        size_t out = 0, k = 0;
+        size_t out = 0, w = 0;
         for (size_t f = 0; f < nf; f++) {
             uint32_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
             if (dup[f])
                 continue;
-            memmove(m->face_indices + k, m->face_indices + b, (e - b) * sizeof(uint32_t));
-            k += e - b;
-            m->face_offsets[++out] = (uint32_t)k;
+            memmove(m->face_indices + w, m->face_indices + b, (e - b) * sizeof(uint32_t));
+            w += e - b;
+            m->face_offsets[++out] = (uint32_t)w;
         }
         m->face_count = out;
         r->duplicates_removed = r->duplicate_faces;
