@@ -40,7 +40,7 @@ void limn_interpolate_options_default(limn_interpolate_options *o)
     o->method = LIMN_METHOD_AUTO;
 }
 
-static limn_status check_options(limn_context *ctx, const limn_interpolate_options *o)
+limn_status solve_check_options(limn_context *ctx, const limn_interpolate_options *o)
 {
     if (o->scheme != LIMN_SCHEME_AUTO && o->scheme != LIMN_SCHEME_LOOP &&
         o->scheme != LIMN_SCHEME_CATMARK)
@@ -80,15 +80,15 @@ static void solve_release(solve_state *s)
 #define WEIGHTED_PROBE 8
 
 /*
- * Runs P += omega (M - A P) from s->p[0]; on success *which is the buffer
+ * Runs P += omega (M - A P) from buffer 0 through step(); on success *which is the buffer
  * holding the answer. weighted: omega starts at 1 and, after WEIGHTED_PROBE
  * steps, becomes 2 / (lambda + 1) with lambda = 1 - (contraction of |r|_2),
  * an over-estimate of lambda_min, so omega stays below the optimum and the
  * iteration stays convergent. Counts one stencil product per step.
  */
-static limn_status iterate(limn_context *ctx, const limn_operator *op, solve_state *s,
-                           const limn_interpolate_options *o, double diag, int weighted,
-                           int *which, limn_report *r)
+limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, size_t vertices,
+                          limn_scheme scheme, double alpha, const limn_interpolate_options *o,
+                          double diag, int weighted, int *which, limn_report *r)
 {
     double tol_abs = o->tolerance * diag;
     double history[STALL_WINDOW];
@@ -97,12 +97,11 @@ static limn_status iterate(limn_context *ctx, const limn_operator *op, solve_sta
     r->omega = 1.0;
     for (int k = 0;; k++) {
         device_norms nr;
-        limn_status st = s->dev->ops->interp_step(s->dev, &op->device, s->m, s->p[cur],
-                                                  s->p[1 - cur], omega, &nr);
+        limn_status st = step(user, cur, omega, &nr);
         if (st)
             return st;
         r->products += 1.0;
-        size_t n = op->vertex_count ? op->vertex_count : 1;
+        size_t n = vertices ? vertices : 1;
         if (weighted && k == 2)
             l2_probe = sqrt(nr.sum_sq);
         if (weighted && k == WEIGHTED_PROBE && l2_probe > 0) {
@@ -133,7 +132,7 @@ static limn_status iterate(limn_context *ctx, const limn_operator *op, solve_sta
                 "this mesh%s; no result was written",
                 nr.max, diag > 0 ? nr.max / diag : nr.max, k,
                 history[k % STALL_WINDOW], STALL_WINDOW,
-                op->scheme == LIMN_SCHEME_CATMARK && op->alpha == 0.0
+                scheme == LIMN_SCHEME_CATMARK && alpha == 0.0
                     ? " (alpha = 0 with valence-3 vertices, e.g. a cube, has a zero "
                       "eigenvalue): run again with --alpha 0.5"
                     : "");
@@ -154,6 +153,20 @@ static limn_status iterate(limn_context *ctx, const limn_operator *op, solve_sta
     }
 }
 
+/* One step of the single process: the whole table in one launch. */
+typedef struct local_step {
+    const limn_operator *op;
+    solve_state *s;
+} local_step;
+
+static limn_status step_local(void *user, int cur, double omega, device_norms *norms)
+{
+    local_step *l = user;
+    solve_state *s = l->s;
+    return s->dev->ops->interp_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur], omega,
+                                    norms);
+}
+
 limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
                              const limn_interpolate_options *options, limn_mesh **control,
                              limn_report *report)
@@ -167,7 +180,7 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     limn_interpolate_options defaults;
     limn_interpolate_options_default(&defaults);
     const limn_interpolate_options *o = options ? options : &defaults;
-    limn_status st = check_options(ctx, o);
+    limn_status st = solve_check_options(ctx, o);
     if (st)
         return st;
     limn_report local;
@@ -236,8 +249,10 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     if (!st)
         st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), NULL, &s.p[1]);
     int which = 0;
+    local_step ls = {&op, &s};
     if (!st)
-        st = iterate(ctx, &op, &s, o, diag, method == LIMN_METHOD_WEIGHTED, &which, r);
+        st = solve_iterate(ctx, step_local, &ls, op.vertex_count, op.scheme, op.alpha, o, diag,
+                           method == LIMN_METHOD_WEIGHTED, &which, r);
     if (!st)
         st = s.dev->ops->buffer_read(s.dev, s.p[which], 4 * n * sizeof(double), buf);
     limn_mesh *out = NULL;
