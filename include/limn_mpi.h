@@ -72,9 +72,10 @@ void limn_mpi_result_free(limn_mpi_result *result);
  * limn_interpolate over comm. mesh: the input on root (NULL elsewhere);
  * *control: the control mesh on root (NULL elsewhere). report (may be NULL)
  * is filled on every rank with the global figures. mpi and result may be
- * NULL. Methods: paper, weighted and cg (cg: dot products reduced in
- * double-double, so the result does not depend on the rank count; it agrees
- * with the single process to rounding, README "MPI").
+ * NULL. Methods: paper and weighted (same iteration count as the single
+ * process; paper bit for bit), and cg: its dot products are reduced over the
+ * ranks in double-double, but each rank first sums its own rows, so it agrees
+ * with the single process to rounding (README "MPI" has the measured gap).
  */
 limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
                                  const limn_interpolate_options *options, limn_mesh **control,

@@ -26,6 +26,7 @@
 
 #include "device.h"
 #include "operator.h"
+#include "solve.h"
 #include "stencil.h"
 
 #include <mpi.h>
@@ -46,6 +47,7 @@ typedef struct mpi_part {
     limn_context *ctx;
     MPI_Comm comm;                /* a duplicate of the caller's */
     int rank, size, root;
+    int local_size;               /* ranks on this node */
     /* the global problem (same on every rank) */
     limn_scheme scheme;
     double alpha, diag;
@@ -55,10 +57,11 @@ typedef struct mpi_part {
     size_t n_owned, n_ghost, n_interior, send_begin, send_end;
     size_t n_split;               /* interior rows rounded down to whole chunks */
     uint32_t *owned_ids, *ghost_ids; /* input vertex of each local row / ghost */
-    uint8_t *owned_rule;          /* vertex_rule of each owned row (CG tiers) */
+    uint8_t *owned_rule, *ghost_rule; /* vertex_rule of each row / ghost (CG tiers) */
+    double *owned_scale;          /* scheme_limit_row_scale of each owned row (CG) */
     stencil_csr host;             /* owned rows, local columns */
     struct limn_device *dev;
-    device_csr all, inner, outer; /* all rows; [0, n_split); [n_split, n_owned) */
+    device_csr all;               /* the owned rows on the device */
     mpi_halo halo;
     limn_mpi_stats stats;
     int echo;                     /* the last failure was another rank's */
@@ -129,21 +132,34 @@ limn_status mpi_distribute(mpi_part *p, const limn_mesh *mesh, limn_scheme schem
 typedef limn_status (*mpi_rows_fn)(void *user, const device_csr *rows, device_norms *norms);
 
 /*
- * One overlapped product: posts the exchange of x's ghost values, runs fn on
- * the rows free of ghosts, waits, writes the ghosts into x, runs fn on the
- * rest; *norms gets the local norms of both. Every MPI call is made even
- * after a local failure, so the other ranks never wait in vain.
+ * One overlapped product with `table` (p->all, or a table of the same rows):
+ * posts the exchange of x's ghost values, runs fn on the rows [0, n_split)
+ * (free of ghosts), waits, writes the ghosts into x, runs fn on the rest;
+ * *norms gets the local norms of both. With a failure already (prior,
+ * or on the way) the device is left alone but every MPI call is still made,
+ * so the other ranks never wait in vain; returns the first failure.
  */
-limn_status mpi_overlapped(mpi_part *p, device_buffer *x, mpi_rows_fn fn, void *user,
-                           device_norms *norms);
+limn_status mpi_overlapped(mpi_part *p, const device_csr *table, device_buffer *x,
+                           mpi_rows_fn fn, void *user, limn_status prior, device_norms *norms);
 /* Just the exchange (x's ghosts made current). */
-limn_status mpi_exchange(mpi_part *p, device_buffer *x);
+limn_status mpi_exchange(mpi_part *p, device_buffer *x, limn_status prior);
 void mpi_halo_free(mpi_halo *h);
+
+/* ------------------------------------------------------------------- mpi_cg.c */
+
+/*
+ * The tiered, D-preconditioned CG of solve_cg.c over the ranks: m4 and p4
+ * hold this rank's owned rows (4 doubles a row); p4 receives P. Dot products
+ * are reduced in double-double. LIMN_ERR_TOPOLOGY (no message) on every
+ * rank when A is not block triangular by vertex rule.
+ */
+limn_status mpi_solve_cg(mpi_part *p, const double *m4, double tol_abs, int max_iter, double *p4,
+                         solve_stats *stats);
 
 /* ---------------------------------------------------------------- mpi_piece.c */
 
 /* Collective, after a result is gathered on root (xyz_root: 3 per input
-   vertex): each rank gets its piece (limn_mpi_result). */
+   vertex): each rank gets its piece in result (may be NULL: dropped). */
 limn_status mpi_pieces(mpi_part *p, const limn_mesh *mesh_root, const double *xyz_root,
                        limn_mpi_result *result);
 
