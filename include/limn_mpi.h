@@ -49,6 +49,7 @@ typedef struct limn_mpi_stats {
     long long exchanges;      /* halo exchanges run */
     double seconds_partition; /* root: building the operator and METIS; others: 0 */
     double seconds_distribute;/* sending / receiving the rows */
+    double seconds_solve;     /* the iteration or the series products, wall clock */
     double seconds_compute;   /* device work on this rank's rows */
     double seconds_halo;      /* reading, sending, waiting for and writing ghost values */
     double seconds_reduce;    /* global norms (one Allreduce per step) */

@@ -167,6 +167,7 @@ void cli_mpi_json(json_out *j)
         json_integer(j, "halo_bytes_received", (long long)s->halo_bytes_received);
         json_integer(j, "exchanges", s->exchanges);
         json_number(j, "seconds_distribute", s->seconds_distribute);
+        json_number(j, "seconds_solve", s->seconds_solve);
         json_number(j, "seconds_compute", s->seconds_compute);
         json_number(j, "seconds_halo", s->seconds_halo);
         json_number(j, "seconds_reduce", s->seconds_reduce);

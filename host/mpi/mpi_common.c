@@ -76,6 +76,8 @@ void mpi_part_end(mpi_part *p)
     free(p->owned_ids);
     free(p->ghost_ids);
     free(p->owned_rule);
+    free(p->owned_scale);
+    free(p->ghost_rule);
     if (p->has_global)
         operator_free(&p->global);
     free(p->root_off);

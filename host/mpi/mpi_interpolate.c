@@ -66,9 +66,11 @@ static limn_status iterate(mpi_part *p, const limn_interpolate_options *o, limn_
         st = ops->buffer_create(p->dev, nl * row, NULL, &s.x[1]);
     st = mpi_agree(p, st);
     int which = 0;
+    double t0 = MPI_Wtime();
     if (!st)
         st = solve_iterate(p->ctx, step, &s, p->n_global, p->scheme, p->alpha, o, p->diag,
                            method == LIMN_METHOD_WEIGHTED, &which, r);
+    p->stats.seconds_solve += MPI_Wtime() - t0;
     if (!st)
         st = ops->buffer_read_at(p->dev, s.x[which], 0, p->n_owned * row, out4);
     if (s.m)

@@ -126,6 +126,7 @@ static limn_status partial_sum(series_mpi *s, device_buffer *x, device_buffer *a
 {
     limn_status st = LIMN_OK;
     device_buffer *cur = x;
+    double t0 = MPI_Wtime();
     for (int i = 0; i <= m; i++) {
         device_buffer *next = cur == ra ? rb : ra;
         term t = {s->p.dev, cur, next, acc, i < m ? SERIES_STORE_NEXT : 0,
@@ -135,6 +136,7 @@ static limn_status partial_sum(series_mpi *s, device_buffer *x, device_buffer *a
         ++*products;
         cur = next;
     }
+    s->p.stats.seconds_solve += MPI_Wtime() - t0;
     return mpi_agree(&s->p, st);
 }
 
