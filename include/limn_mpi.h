@@ -52,6 +52,8 @@ typedef struct limn_mpi_stats {
     double seconds_solve;     /* the iteration or the series products, wall clock */
     double seconds_compute;   /* device work on this rank's rows */
     double seconds_halo;      /* reading, sending, waiting for and writing ghost values */
+    double seconds_wait;      /* the part of seconds_halo spent in MPI_Waitall: the
+                                 transfer not hidden, and waiting for slower ranks */
     double seconds_reduce;    /* global norms (one Allreduce per step) */
     char device[256];
 } limn_mpi_stats;

@@ -26,11 +26,13 @@ static void print_stats(const limn_mpi_stats *s, int iterations)
     printf("{\"rank\": %d, \"ranks\": %d, \"owned\": %zu, \"ghosts\": %zu, \"interior_rows\": %zu, "
            "\"neighbours\": %d, \"halo_bytes_sent\": %zu, \"halo_bytes_received\": %zu, "
            "\"exchanges\": %lld, \"seconds_per_iteration\": %.6g, \"compute_per_exchange\": "
-           "%.6g, \"halo_per_exchange\": %.6g, \"reduce_per_exchange\": %.6g, "
+           "%.6g, \"halo_per_exchange\": %.6g, \"wait_per_exchange\": %.6g, "
+           "\"reduce_per_exchange\": %.6g, "
            "\"seconds_partition\": %.4g, \"seconds_distribute\": %.4g, \"device\": \"%s\"}\n",
            s->rank, s->ranks, s->owned, s->ghosts, s->interior_rows, s->neighbours,
            s->halo_bytes_sent, s->halo_bytes_received, s->exchanges, s->seconds_solve / it,
-           s->seconds_compute / ex, s->seconds_halo / ex, s->seconds_reduce / ex,
+           s->seconds_compute / ex, s->seconds_halo / ex, s->seconds_wait / ex,
+           s->seconds_reduce / ex,
            s->seconds_partition, s->seconds_distribute, s->device);
 }
 

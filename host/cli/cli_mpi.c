@@ -170,6 +170,7 @@ void cli_mpi_json(json_out *j)
         json_number(j, "seconds_solve", s->seconds_solve);
         json_number(j, "seconds_compute", s->seconds_compute);
         json_number(j, "seconds_halo", s->seconds_halo);
+        json_number(j, "seconds_wait", s->seconds_wait);
         json_number(j, "seconds_reduce", s->seconds_reduce);
         json_object_end(j);
     }
@@ -188,10 +189,11 @@ void cli_mpi_print(void)
         double n = s->exchanges > 0 ? (double)s->exchanges : 1.0;
         fprintf(stderr,
                 "  rank %d: %zu owned, %zu ghosts, %d neighbours, halo %zu B out / %zu B in per "
-                "exchange; per exchange: compute %.3g s, halo %.3g s, reduce %.3g s\n",
+                "exchange; per exchange: compute %.3g s, halo %.3g s (waiting %.3g), reduce "
+                "%.3g s\n",
                 r, s->owned, s->ghosts, s->neighbours, s->halo_bytes_sent,
                 s->halo_bytes_received, s->seconds_compute / n, s->seconds_halo / n,
-                s->seconds_reduce / n);
+                s->seconds_wait / n, s->seconds_reduce / n);
     }
 }
 

@@ -60,7 +60,9 @@ static limn_status post(mpi_part *p, device_buffer *x, limn_status st)
 static limn_status finish(mpi_part *p, device_buffer *x, limn_status st)
 {
     mpi_halo *h = &p->halo;
+    double t0 = MPI_Wtime();
     MPI_Waitall(h->n_recv + h->n_send, h->req, MPI_STATUSES_IGNORE);
+    p->stats.seconds_wait += MPI_Wtime() - t0;
     if (st || p->n_ghost == 0)
         return st;
     for (size_t i = 0; i < p->n_ghost; i++) {
