@@ -277,6 +277,58 @@ static void per_rank(void **s)
     assert_non_null(strstr(text, "--per-rank-output needs several MPI ranks"));
 }
 
+/* The ranks of a node take the matching OpenCL devices in turn (local rank %
+   count). Two ICD entries naming PoCL make two platforms of one CPU device
+   each: ranks 0, 1, 2 must take 0.0, 1.0, 0.0, and still give the same bytes. */
+static void device_per_rank(void **s)
+{
+    (void)s;
+    FILE *icd = fopen("/etc/OpenCL/vendors/pocl.icd", "r");
+    if (!icd)
+        skip();
+    char lib[512] = "";
+    if (!fgets(lib, sizeof lib, icd))
+        lib[0] = '\0';
+    fclose(icd);
+    lib[strcspn(lib, "\r\n")] = '\0';
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "mkdir -p '%s' && printf '%%s\\n' '%s' > '%s' && cp '%s' '%s'",
+             at("icd"), lib, at("icd/a.icd"), at("icd/a.icd"), at("icd/b.icd"));
+    assert_int_equal(system(cmd), 0);
+    write_inputs();
+    char args[2048];
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' -q", at("quad.obj"), at("one.ply"));
+    assert_int_equal(run(0, args), 0);
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' -q", at("quad.obj"),
+             at("many.ply"), at("many.json"));
+    setenv("OCL_ICD_VENDORS", at("icd"), 1);
+    int rc = run(3, args);
+    unsetenv("OCL_ICD_VENDORS");
+    if (rc != 0)
+        fail_msg("%s", text);
+    assert_true(same_bytes(at("one.ply"), at("many.ply")));
+    FILE *f = fopen(at("many.json"), "r");
+    assert_non_null(f);
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    static const char *want[3] = {"device 0.0", "device 1.0", "device 0.0"};
+    const char *at_rank = text;
+    for (int r = 0; r < 3; r++) {
+        char key[32];
+        snprintf(key, sizeof key, "\"rank\": %d", r);
+        at_rank = strstr(at_rank, key);
+        assert_non_null(at_rank);
+        const char *dev = strstr(at_rank, "\"device\"");
+        assert_non_null(dev);
+        const char *end = strchr(dev + 10, '}');
+        assert_non_null(end);
+        const char *hit = strstr(dev, want[r]);
+        if (!hit || hit > end)
+            fail_msg("rank %d should have taken %s: %.200s", r, want[r], dev);
+    }
+}
+
 static void errors(void **s)
 {
     (void)s;
@@ -322,7 +374,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(interpolate_generated), cmocka_unit_test(interpolate_shared),
         cmocka_unit_test(series_same),           cmocka_unit_test(per_rank),
-        cmocka_unit_test(errors),
+        cmocka_unit_test(device_per_rank),       cmocka_unit_test(errors),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
