@@ -229,9 +229,12 @@ int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **))
     MPI_Comm_rank(MPI_COMM_WORLD, &g.rank);
     MPI_Comm_size(MPI_COMM_WORLD, &g.size);
     int rc;
-    if (g.size == 1 || argc < 2) {
-        g.size = 1; /* one rank: exactly the single process */
-        rc = dispatch(argc, argv);
+    if (g.size == 1) {
+        rc = dispatch(argc, argv); /* one rank: exactly the single process */
+    } else if (argc < 2 || argv[1][0] == '-' || strcmp(argv[1], "help") == 0) {
+        /* usage, --help, --version: rank 0 answers for all */
+        rc = g.rank == 0 ? dispatch(argc, argv) : 0;
+        MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
     } else if (!distributed(argv[1])) {
         if (g.rank == 0)
             fprintf(stderr,

@@ -478,6 +478,10 @@ static limn_status root_prepare(mpi_part *p, const limn_mesh *mesh, limn_scheme 
     p->faces_global = mesh->face_count;
     p->nnz_global = g->host.row_offsets[g->host.rows];
     p->reordered = g->order != NULL;
+    if (3 * p->n_global > INT_MAX) /* MPI_Scatterv's displacements are ints */
+        return limn_fail(p->ctx, LIMN_ERR_MEMORY,
+                         "%zu vertices are more than the MPI layer can scatter (%d at most)",
+                         p->n_global, INT_MAX / 3);
     p->part_of = malloc((p->n_global ? p->n_global : 1) * sizeof *p->part_of);
     p->root_buf = malloc((p->n_global ? 3 * p->n_global : 1) * sizeof *p->root_buf);
     if (!p->part_of || !p->root_buf)
