@@ -26,6 +26,7 @@ const char *limn_method_name(limn_method m)
     case LIMN_METHOD_PAPER: return "paper";
     case LIMN_METHOD_WEIGHTED: return "weighted";
     case LIMN_METHOD_CG: return "cg";
+    case LIMN_METHOD_CHEBYSHEV: return "chebyshev";
     }
     return "unknown";
 }
@@ -53,7 +54,7 @@ static limn_status check_options(limn_context *ctx, const limn_interpolate_optio
     if (!(o->tolerance > 0.0 && isfinite(o->tolerance)))
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "tolerance is %g; it must be a positive number",
                          o->tolerance);
-    if (o->method < LIMN_METHOD_AUTO || o->method > LIMN_METHOD_CG)
+    if (o->method < LIMN_METHOD_AUTO || o->method > LIMN_METHOD_CHEBYSHEV)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "unknown method %d", (int)o->method);
     if (o->max_iterations < 1)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "max iterations is %d; it must be at least 1",
@@ -79,38 +80,57 @@ static void solve_release(solve_state *s)
    contraction of the seeds' iteration (power iteration on E - A). */
 #define WEIGHTED_PROBE 8
 
+typedef enum step_kind { STEP_PAPER, STEP_WEIGHTED, STEP_CHEBYSHEV } step_kind;
+
 /*
- * Runs P += omega (M - A P) from s->p[0]; on success *which is the buffer
- * holding the answer. weighted: omega starts at 1 and, after WEIGHTED_PROBE
- * steps, becomes 2 / (lambda + 1) with lambda = 1 - (contraction of |r|_2),
- * an over-estimate of lambda_min, so omega stays below the optimum and the
- * iteration stays convergent. Counts one stencil product per step.
+ * Runs the stationary or semi-iterative update from s->p[0]; on success
+ * *which is the buffer holding the answer (always an iterate whose residual
+ * was measured). paper: P += M - A P. weighted: omega starts at 1 and, after
+ * WEIGHTED_PROBE steps, becomes 2 / (lambda + 1) with lambda = 1 -
+ * (contraction of |r|_2), an over-estimate of lambda_min, so omega stays below
+ * the optimum and the iteration convergent. chebyshev: the three-term
+ * recurrence of solve_chebyshev.c, s->p[1 - cur] holding the previous
+ * iterate in and the next one out. Counts one stencil product per step.
  */
 static limn_status iterate(limn_context *ctx, const limn_operator *op, solve_state *s,
-                           const limn_interpolate_options *o, double diag, int weighted,
+                           const limn_interpolate_options *o, double diag, step_kind kind,
                            int *which, limn_report *r)
 {
     double tol_abs = o->tolerance * diag;
     double history[STALL_WINDOW];
     double first = -1.0, omega = 1.0, l2_probe = 0.0;
     int cur = 0, start = r->iterations;
+    chebyshev cheb;
+    chebyshev_init(&cheb, chebyshev_prior(op->scheme));
     r->omega = 1.0;
     for (int k = 0;; k++) {
         device_norms nr;
-        limn_status st = s->dev->ops->interp_step(s->dev, &op->device, s->m, s->p[cur],
-                                                  s->p[1 - cur], omega, &nr);
+        limn_status st;
+        if (kind == STEP_CHEBYSHEV) {
+            double c1, c2;
+            chebyshev_coefficients(&cheb, &c1, &c2);
+            st = s->dev->ops->cheb_step(s->dev, &op->device, s->m, s->p[cur], s->p[1 - cur], c1,
+                                        c2, &nr);
+        } else {
+            st = s->dev->ops->interp_step(s->dev, &op->device, s->m, s->p[cur], s->p[1 - cur],
+                                          omega, &nr);
+        }
         if (st)
             return st;
         r->products += 1.0;
         size_t n = op->vertex_count ? op->vertex_count : 1;
-        if (weighted && k == 2)
+        if (kind == STEP_WEIGHTED && k == 2)
             l2_probe = sqrt(nr.sum_sq);
-        if (weighted && k == WEIGHTED_PROBE && l2_probe > 0) {
+        if (kind == STEP_WEIGHTED && k == WEIGHTED_PROBE && l2_probe > 0) {
             double rho = pow(sqrt(nr.sum_sq) / l2_probe, 1.0 / (WEIGHTED_PROBE - 2));
             double lambda = rho < 1.0 ? 1.0 - rho : 1.0;
             omega = 2.0 / (lambda + 1.0);
             r->omega = omega;
         }
+        if (kind == STEP_CHEBYSHEV && nr.max > tol_abs)
+            chebyshev_observe(&cheb, nr.max);
+        r->spectrum_lower = kind == STEP_CHEBYSHEV ? cheb.a : 0.0;
+        r->restarts = cheb.restarts;
         r->iterations = start + k;
         r->max_abs_error = nr.max;
         r->mean_abs_error = nr.sum / (double)n;
@@ -237,7 +257,11 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
         st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), NULL, &s.p[1]);
     int which = 0;
     if (!st)
-        st = iterate(ctx, &op, &s, o, diag, method == LIMN_METHOD_WEIGHTED, &which, r);
+        st = iterate(ctx, &op, &s, o, diag,
+                     method == LIMN_METHOD_WEIGHTED    ? STEP_WEIGHTED
+                     : method == LIMN_METHOD_CHEBYSHEV ? STEP_CHEBYSHEV
+                                                       : STEP_PAPER,
+                     &which, r);
     if (!st)
         st = s.dev->ops->buffer_read(s.dev, s.p[which], 4 * n * sizeof(double), buf);
     limn_mesh *out = NULL;

@@ -19,4 +19,25 @@ typedef struct solve_stats {
 limn_status solve_cg(limn_context *ctx, const limn_operator *op, const double *m4,
                      double tol_abs, int max_iter, double *p4, solve_stats *stats);
 
+/*
+ * The Chebyshev iteration's schedule (solve_chebyshev.c): interval [a, 1],
+ * coefficients of each fused step, and the restart rule when the residual
+ * shows an eigenvalue below a.
+ */
+typedef struct chebyshev {
+    double a, theta, delta, sigma, tau, rho;
+    double first, history[4];
+    int step;        /* steps since the last (re)start */
+    int restarts;
+} chebyshev;
+
+double chebyshev_prior(limn_scheme scheme);
+void chebyshev_init(chebyshev *c, double a);
+/* Coefficients of the next step: x_next = x + c1 (x - x_prev) + c2 (M - A x). */
+void chebyshev_coefficients(chebyshev *c, double *c1, double *c2);
+/* Records max |r| measured by the step just taken (optional: without it the
+   schedule is the plain recurrence); returns 1 when a was lowered and the
+   recurrence restarts with the next step. */
+int chebyshev_observe(chebyshev *c, double residual);
+
 #endif

@@ -235,10 +235,12 @@ typedef enum limn_method {
     LIMN_METHOD_AUTO = 0,      /* the default: the fastest as measured (README "Solvers") */
     LIMN_METHOD_PAPER = 1,     /* the seeds' iteration P += M - A P, the reference */
     LIMN_METHOD_WEIGHTED = 2,  /* P += w (M - A P), w = 2 / (lambda_min + 1) estimated */
-    LIMN_METHOD_CG = 3         /* tiered, D-preconditioned conjugate gradients */
+    LIMN_METHOD_CG = 3,        /* tiered, D-preconditioned conjugate gradients */
+    LIMN_METHOD_CHEBYSHEV = 4  /* Chebyshev iteration on [a, 1], one fused step a product */
 } limn_method;
 
-const char *limn_method_name(limn_method method); /* "paper", "weighted", "cg", "auto" */
+/* "paper", "weighted", "cg", "chebyshev", "auto" */
+const char *limn_method_name(limn_method method);
 
 typedef struct limn_interpolate_options {
     limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
@@ -260,6 +262,8 @@ typedef struct limn_report {
     const char *method_reason; /* why that one, in words */
     double products;          /* stencil products, in units of one full A P */
     double omega;             /* the weight of the weighted iteration (1 for paper) */
+    double spectrum_lower;    /* chebyshev: the lower bound a of [a, 1] it ended with */
+    int restarts;             /* chebyshev: restarts after lowering a */
     int iterations;           /* updates applied to P */
     double max_abs_error, mean_abs_error;   /* of the returned P: |M - A P| */
     double max_rel_error, mean_rel_error;   /* the same over the bbox diagonal */

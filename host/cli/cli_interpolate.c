@@ -38,7 +38,8 @@ static const char *const help =
     CLI_REPAIR_HELP
     "  --method M             auto (the fastest measured: paper for now),\n"
     "                         paper (the seeds' iteration, the reference),\n"
-    "                         weighted, cg (fewest products)            [auto]\n"
+    "                         weighted, chebyshev (one fused step a product),\n"
+    "                         cg (fewest products)                      [auto]\n"
     "  --no-reorder           keep the input vertex order inside the solve\n"
     "                         (default: reverse Cuthill-McKee for locality)\n"
     "  --overwrite-input      allow OUTPUT to be the INPUT file\n"
@@ -142,9 +143,12 @@ static int parse(int argc, char **argv, args *a)
                 a->opt.method = LIMN_METHOD_WEIGHTED;
             else if (strcmp(v, "cg") == 0)
                 a->opt.method = LIMN_METHOD_CG;
+            else if (strcmp(v, "chebyshev") == 0)
+                a->opt.method = LIMN_METHOD_CHEBYSHEV;
             else
-                return cli_usage_error("interpolate",
-                                       "--method '%s' is not one of auto, paper, weighted, cg", v);
+                return cli_usage_error(
+                    "interpolate", "--method '%s' is not one of auto, paper, weighted, chebyshev, cg",
+                    v);
         } else if (strcmp(s, "--no-reorder") == 0) {
             a->opt.reorder = 0;
         } else if (strcmp(s, "--overwrite-input") == 0) {
@@ -223,6 +227,10 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_string(j, "method_reason", r->method_reason ? r->method_reason : "");
     if (strcmp(r->method, "weighted") == 0)
         json_number(j, "omega", r->omega);
+    if (strcmp(r->method, "chebyshev") == 0) {
+        json_number(j, "spectrum_lower", r->spectrum_lower);
+        json_integer(j, "restarts", r->restarts);
+    }
     json_number(j, "tolerance", a->opt.tolerance);
     json_number(j, "max_rel_error", r->max_rel_error);
     json_number(j, "mean_rel_error", r->mean_rel_error);
