@@ -101,7 +101,7 @@ static limn_status iterate(limn_context *ctx, const limn_operator *op, solve_sta
     double first = -1.0, omega = 1.0, l2_probe = 0.0;
     int cur = 0, start = r->iterations;
     chebyshev cheb;
-    chebyshev_init(&cheb, chebyshev_prior(op->scheme));
+    chebyshev_init(&cheb, chebyshev_prior(op->scheme), chebyshev_lead_steps(op->scheme));
     r->omega = 1.0;
     for (int k = 0;; k++) {
         device_norms nr;
@@ -195,15 +195,16 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     memset(r, 0, sizeof *r);
     r->vertices = mesh->vertex_count;
     r->faces = mesh->face_count;
-    /* auto: the seeds' iteration. CG needs 2-5x fewer products, but on PoCL's
-       CPU device one CG step costs 2-3 fused steps of the seeds' iteration
-       (three passes and two reductions), so in measured time it only ties on
-       scans and loses on smooth refined meshes (README "Solvers"). */
-    limn_method method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_PAPER : o->method;
+    /* auto: Chebyshev. It needs 2.6-4.3x fewer products than the seeds'
+       iteration on the shared medium meshes and its fused step moves one
+       vector more (~16% per product), so it was the fastest in measured
+       solve time from 4k to 8.6M vertices; CG needs about as few products
+       but each costs 2-3 fused steps here (README "Solvers"). */
+    limn_method method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_CHEBYSHEV : o->method;
     r->method = limn_method_name(method);
     r->method_reason = o->method == LIMN_METHOD_AUTO
-                           ? "auto: the seeds' iteration, the fastest in measured time on the "
-                             "shared meshes (cg uses fewer products, each costlier)"
+                           ? "auto: chebyshev, the fastest in measured time on every shared "
+                             "mesh (fewest fused steps; cg uses as few products, each costlier)"
                            : "chosen by the caller";
 
     limn_operator op;

@@ -28,11 +28,14 @@ typedef struct chebyshev {
     double a, theta, delta, sigma, tau, rho;
     double first, history[4];
     int step;        /* steps since the last (re)start */
+    int lead, in_lead; /* seeds' steps still to take before the recurrence */
     int restarts;
 } chebyshev;
 
 double chebyshev_prior(limn_scheme scheme);
-void chebyshev_init(chebyshev *c, double a);
+/* Steps of the seeds' iteration that precede the recurrence for a scheme. */
+int chebyshev_lead_steps(limn_scheme scheme);
+void chebyshev_init(chebyshev *c, double a, int lead_steps);
 /* Coefficients of the next step: x_next = x + c1 (x - x_prev) + c2 (M - A x). */
 void chebyshev_coefficients(chebyshev *c, double *c1, double *c2);
 /* Records max |r| measured by the step just taken (optional: without it the

@@ -7,7 +7,7 @@ by side in the same run.
 
 For each mesh size (real shared meshes, refined with `limn subdivide` into
 out/perf-meshes/ for the large sizes) and each scheme, it runs:
-  - limn interpolate, every method (paper, weighted, cg), PoCL on 1 and on 2
+  - limn interpolate, every method (paper, weighted, chebyshev, cg), PoCL on 1 and 2
     threads (POCL_MAX_PTHREAD_COUNT), double precision;
   - the seeds' iteration on OpenSubdiv's limit stencils (perf/osd_iteration,
     a plain C++ double loop; sizes up to --osd-max: its adaptive stencil build
@@ -94,7 +94,7 @@ def main():
         j = json.loads(run([os.path.join(perf, "stream_triad"), "512", "10"],
                            env={"OMP_NUM_THREADS": str(t)}))
         stream[t] = j["gb_per_s"]
-    methods = ["paper", "cg"] if a.quick else ["paper", "weighted", "cg"]
+    methods = ["paper", "chebyshev", "cg"] if a.quick else ["paper", "weighted", "chebyshev", "cg"]
     threads = [2] if a.quick else [1, 2]
     for label, base, levels, schemes in SIZES:
         path = mesh_for(a, base, levels)

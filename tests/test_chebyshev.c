@@ -115,7 +115,7 @@ static void closed_form(void **state)
         diag_open(ctx, devices[d], lambda, &s);
         for (int steps = 1; steps <= 30; steps += 29) {
             chebyshev c;
-            chebyshev_init(&c, 0.2);
+            chebyshev_init(&c, 0.2, 0);
             double theta = c.theta, delta = c.delta, sigma = c.sigma, last, p[4 * N];
             /* reset the start */
             double m[4 * N];
@@ -159,7 +159,7 @@ static void restart_below_a(void **state)
     diag_system s;
     diag_open(ctx, "reference", lambda, &s);
     chebyshev c;
-    chebyshev_init(&c, chebyshev_prior(LIMN_SCHEME_LOOP));
+    chebyshev_init(&c, chebyshev_prior(LIMN_SCHEME_LOOP), 0);
     double r0 = 0.998 * sqrt(5.0), last = r0, p[4 * N];
     int steps = 0, cur = 0;
     while (last > 1e-9 * r0 && steps < 2000) {

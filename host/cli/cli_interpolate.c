@@ -36,7 +36,7 @@ static const char *const help =
     "                         memory (of the solve, or of the surface) exceeds\n"
     "                         SIZE (bytes, or with K, M, G suffix)   [3/4 of RAM]\n"
     CLI_REPAIR_HELP
-    "  --method M             auto (the fastest measured: paper for now),\n"
+    "  --method M             auto (the fastest measured: chebyshev),\n"
     "                         paper (the seeds' iteration, the reference),\n"
     "                         weighted, chebyshev (one fused step a product),\n"
     "                         cg (fewest products)                      [auto]\n"
