@@ -14,7 +14,8 @@ out/perf-meshes/ for the large sizes) and each scheme, it runs:
     grows fast);
   - SciPy on limn's exported operator (perf/scipy_anchor.py): the seeds'
     iteration on a CSR matrix, the same CG, SuperLU up to --superlu-max;
-  - STREAM triad on 1 and 2 threads (perf/stream_triad), once.
+  - STREAM triad on 1 and 2 threads (perf/stream_triad), once;
+  - denoise and morph throughput (perf/series_throughput.py).
 It prints a markdown table (time per vertex per product, products, solve
 seconds, GB/s moved by limn's solve loop and its fraction of the triad rate)
 and writes out/perf_suite.csv and out/perf_suite.png (time per vertex against
@@ -160,6 +161,12 @@ def main():
         frac = f"{100 * r['triad_fraction']:.0f}%" if r["triad_fraction"] != "" else ""
         print(f"| {r['size']} | {r['scheme']} | {r['impl']} | {r['products']:.1f} "
               f"| {r['seconds']:.3f} | {nsv} | {gbs} | {frac} |")
+    # the series toolkit's throughput, same run (perf/series_throughput.py)
+    sys.path.insert(0, os.path.join(ROOT, "perf"))
+    import series_throughput
+    print("\nDenoise and morph (PoCL, 2 threads; compute phase):")
+    series_throughput.print_table(
+        series_throughput.measure(a.build, a.meshes, min(a.max_size, 9e6), stream[2]), stream[2])
     try:
         import matplotlib
         matplotlib.use("Agg")
