@@ -83,6 +83,36 @@ limn_status limn_list_devices(limn_context *ctx, char *buf, size_t buf_size);
 const char *limn_context_device_name(const limn_context *ctx);
 
 /*
+ * Threads of the OpenCL runtime (PoCL sizes its pool from the whole machine
+ * and ignores the process's CPU binding, e.g. an MPI rank's cores). Before
+ * the first OpenCL platform query in the process, limn sets
+ * POCL_MAX_PTHREAD_COUNT (PoCL 3.x) and POCL_CPU_MAX_CU_COUNT (PoCL 4.x) to:
+ *   - nothing, when the user set either variable (the other one is set to
+ *     the same value, so both PoCL generations see it);
+ *   - else `threads` as given here, when > 0;
+ *   - else (LIMN_THREADS_FROM_BINDING, the default) the number of cores
+ *     (hwloc) with at least one CPU inside the process's binding;
+ *   - LIMN_THREADS_RUNTIME_DEFAULT sets nothing: the runtime decides.
+ * setenv is process wide and PoCL reads these once: the first context to
+ * query a platform decides for the whole process (later requests only get a
+ * warning), and the application should not call getenv/setenv from other
+ * threads meanwhile. An application that initialises OpenCL itself before
+ * limn must set the variables itself.
+ */
+#define LIMN_THREADS_FROM_BINDING 0
+#define LIMN_THREADS_RUNTIME_DEFAULT (-1)
+limn_status limn_context_set_threads(limn_context *ctx, int threads);
+
+/*
+ * The thread count in effect and where it came from: "binding via hwloc",
+ * "API", "POCL_MAX_PTHREAD_COUNT", "POCL_CPU_MAX_CU_COUNT", "OpenCL runtime
+ * default ..." (threads 0: the runtime chose), or "reference backend" (1)
+ * when ctx's device is the C backend. Before any platform query: 0 and a
+ * source saying so. *source is static storage, valid for the process.
+ */
+limn_status limn_context_threads(const limn_context *ctx, int *threads, const char **source);
+
+/*
  * Whether the C reference backend may stand in when the OpenCL device cannot
  * be used: backend "reference" allows it, "none" (or NULL) forbids it.
  * Default: the environment LIMN_FALLBACK=reference, else none. When allowed,
