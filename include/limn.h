@@ -6,9 +6,22 @@
  *  - every call that can fail returns a limn_status and leaves a readable
  *    message in its limn_context (limn_context_message);
  *  - there is no global state: two contexts never share anything;
- *  - ownership: buffers passed in are copied unless the call says otherwise;
- *    pointers returned by *_positions() etc. belong to the handle and stay
- *    valid until it is destroyed.
+ *  - a context may be used by one thread at a time; contexts share nothing
+ *    but the process-wide thread-count decision (limn_context_set_threads).
+ *
+ * Ownership (README "Embedding limn"):
+ *  - arrays passed in (positions, faces, colours, options) are read during
+ *    the call only and copied where kept: free or reuse them on return;
+ *  - arrays passed out (double *out, bands, energy, rgb, limn_mesh_copy_*)
+ *    belong to the caller, are written during the call only (sizes given per
+ *    call) and never kept; a refused call writes nothing into them;
+ *  - handles returned through **out belong to the caller (*_destroy); a mesh
+ *    does not refer to the context that made it: destroy them in any order;
+ *  - pointers from accessors (limn_mesh_positions, _face_offsets, ...) point
+ *    into the mesh: valid until it is destroyed, repaired (faces) or given
+ *    new colours (colours); limn_mesh_set_positions keeps them valid;
+ *  - strings from a context (message, warnings, device name) are valid until
+ *    its next call or its destruction.
  */
 #ifndef LIMN_H
 #define LIMN_H
@@ -163,7 +176,33 @@ LIMN_API const uint32_t *limn_mesh_face_offsets(const limn_mesh *mesh);
 LIMN_API const uint32_t *limn_mesh_face_indices(const limn_mesh *mesh);
 /* Per-vertex RGB colours (3 bytes per vertex), or NULL when the mesh has none. */
 LIMN_API const uint8_t *limn_mesh_colors(const limn_mesh *mesh);
+/* Copies 3 * vertex_count bytes from rgb (NULL removes the colours). */
 LIMN_API limn_status limn_mesh_set_colors(limn_context *ctx, limn_mesh *mesh, const uint8_t *rgb);
+/* Entries of face_indices: face_offsets[face_count]. */
+LIMN_API size_t limn_mesh_index_count(const limn_mesh *mesh);
+
+/*
+ * Results into the caller's own arrays. Each copies the whole of the mesh's
+ * data; capacities count what the caller's buffer holds (vertices for
+ * positions, 3 doubles each, and colours, 3 bytes each; uint32 entries for
+ * faces: limn_mesh_face_count + 1 offsets, limn_mesh_index_count indices).
+ * A buffer too small, a NULL or (colours) a mesh without colours is refused
+ * with LIMN_ERR_ARGUMENT and a message, and nothing is written.
+ */
+LIMN_API limn_status limn_mesh_copy_positions(limn_context *ctx, const limn_mesh *mesh,
+                                              double *dst, size_t capacity_vertices);
+LIMN_API limn_status limn_mesh_copy_faces(limn_context *ctx, const limn_mesh *mesh,
+                                          uint32_t *offsets, size_t offsets_capacity,
+                                          uint32_t *indices, size_t indices_capacity);
+LIMN_API limn_status limn_mesh_copy_colors(limn_context *ctx, const limn_mesh *mesh,
+                                           uint8_t *dst, size_t capacity_vertices);
+/*
+ * New positions for the same vertices (vertex_count must be the mesh's; all
+ * finite), copied in place: run an operation again on moved vertices without
+ * making a new mesh. Refused, with the mesh unchanged, otherwise.
+ */
+LIMN_API limn_status limn_mesh_set_positions(limn_context *ctx, limn_mesh *mesh,
+                                             const double *positions, size_t vertex_count);
 
 typedef enum limn_format {
     LIMN_FORMAT_AUTO = 0,        /* from the file name's extension */
