@@ -30,7 +30,8 @@
 #include <stdint.h>
 
 /* Marks the public API: the only symbols liblimn.so exports (the library is
-   built with -fvisibility=hidden). */
+   built with -fvisibility=hidden). Every function declared here carries it
+   (test_exports checks). */
 #if defined(__GNUC__) && __GNUC__ >= 4
 #define LIMN_API __attribute__((visibility("default")))
 #else

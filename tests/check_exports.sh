@@ -2,7 +2,8 @@
 # The installable libraries export exactly limn.h's API: every function the
 # header marks LIMN_API is a defined global of liblimn.so (nm -D) and of
 # liblimn.a, and nothing else is (internal functions are hidden in the .so and
-# local in the archive, so they cannot clash with an application's symbols).
+# local in the archive, so they cannot clash with an application's symbols),
+# and no function prototype of the header lacks LIMN_API.
 #   check_exports.sh LIBDIR HEADER
 set -euo pipefail
 libdir=$1 header=$2
@@ -10,6 +11,11 @@ so=$libdir/liblimn.so a=$libdir/liblimn.a
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
+# a prototype without LIMN_API would be hidden in liblimn.so: name it
+if grep -nE '^[a-z][a-z0-9_ ]*[ *]limn_[a-z0-9_]+\(' "$header" | grep -vE ':(LIMN_API|typedef) '; then
+    echo "check_exports: the declarations above in $header lack LIMN_API" >&2
+    exit 1
+fi
 # LIMN_API declarations: the name before the first '(' of each
 grep -E '^LIMN_API ' "$header" | sed -E 's/\(.*//; s/.*[ *]//' | sort -u >"$tmp/api"
 # sanitizer builds add their own instrumentation symbols (reserved names)
