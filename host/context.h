@@ -18,6 +18,7 @@ struct limn_context {
     char device_name[256];
     int fallback;             /* 0: from LIMN_FALLBACK; 1: none; 2: the reference backend */
     int device_failed;        /* the last LIMN_ERR_MEMORY came from the OpenCL device */
+    int threads_request;      /* limn_context_set_threads; 0 = from the CPU binding */
 };
 
 /* Records a failure message and returns status (for `return limn_fail(...)`). */

@@ -33,6 +33,8 @@ const char *limn_method_name(limn_method m)
 
 void limn_interpolate_options_default(limn_interpolate_options *o)
 {
+    if (!o)
+        return; /* no context to report to */
     o->scheme = LIMN_SCHEME_AUTO;
     o->alpha = 0.0;
     o->tolerance = 1e-6;

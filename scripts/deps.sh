@@ -5,7 +5,8 @@
 #                            and its libFuzzer runtime for scripts/fuzz.sh)
 set -euo pipefail
 
-packages=(gcc g++ make cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd)
+packages=(gcc g++ make cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
+          libhwloc-dev)
 if [[ "${1:-}" == "--test" ]]; then
     packages+=(libcmocka-dev libosd-dev clang-14 libclang-rt-14-dev)
 fi

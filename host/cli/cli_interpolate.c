@@ -190,20 +190,24 @@ static int parse(int argc, char **argv, args *a)
     return 0;
 }
 
-static void print_summary(const args *a, const limn_report *r, const double sec[3])
+static void print_summary(limn_context *ctx, const args *a, const limn_report *r,
+                          const double sec[3])
 {
+    int threads;
+    const char *threads_source;
+    limn_context_threads(ctx, &threads, &threads_source);
     fprintf(stderr,
             "limn interpolate: %s -> %s\n"
             "  vertices %zu, faces %zu, scheme %s, alpha %g, method %s, vertex order %s\n"
             "  iterations %d, max error %.3g, mean error %.3g (relative to the bbox diagonal "
             "%.6g)\n"
-            "  device: %s\n"
+            "  device: %s; threads %d (%s)\n"
             "  seconds: load %.3f, topology %.3f, stencil %.3f, solve %.3f (%.3g per "
             "iteration), write %.3f\n",
             a->input, a->output, r->vertices, r->faces, limn_scheme_name(r->scheme), r->alpha,
             r->method, r->reordered ? "rcm" : "input", r->iterations, r->max_rel_error,
             r->mean_rel_error, r->bbox_diagonal,
-            r->device, sec[0], r->seconds_topology, r->seconds_stencil, r->seconds_solve,
+            r->device, threads, threads_source, sec[0], r->seconds_topology, r->seconds_stencil, r->seconds_solve,
             r->seconds_solve / (r->iterations + 1), sec[1]);
 }
 
@@ -240,6 +244,11 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_integer(j, "stencil_nonzeros", (long long)r->stencil_nonzeros);
     json_string(j, "vertex_order", r->reordered ? "rcm" : "input");
     json_string(j, "device", r->device);
+    int threads;
+    const char *threads_source;
+    limn_context_threads(ctx, &threads, &threads_source);
+    json_integer(j, "threads", threads);
+    json_string(j, "threads_source", threads_source);
     if (sr) {
         json_string(j, "surface", a->surface);
         json_integer(j, "surface_vertices", (long long)sr->vertices);
@@ -334,7 +343,7 @@ int cli_interpolate(int argc, char **argv)
     if (st)
         rc = cli_fail("interpolate", ctx, st);
     else if (!a.quiet) {
-        print_summary(&a, &r, sec);
+        print_summary(ctx, &a, &r, sec);
         if (a.surface)
             fprintf(stderr, "  surface: %s, %zu vertices, %zu faces (%d levels%s), %.3f s\n",
                     a.surface, sr.vertices, sr.faces, sr.levels,
