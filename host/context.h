@@ -20,6 +20,7 @@ struct limn_context {
     int device_failed;        /* the last LIMN_ERR_MEMORY came from the OpenCL device */
     int device_slot;          /* of the OpenCL devices matching the choice, take number
                                  slot % count (MPI: the rank on its node); 0 = the first */
+    int threads_request;      /* limn_context_set_threads; 0 = from the CPU binding */
 };
 
 /* Records a failure message and returns status (for `return limn_fail(...)`). */

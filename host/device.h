@@ -63,6 +63,12 @@ typedef struct device_ops {
     limn_status (*interp_step)(struct limn_device *dev, const device_csr *a,
                                device_buffer *m, device_buffer *p, device_buffer *p_next,
                                double omega, device_norms *norms);
+    /* r = m - A p; prev_next = p + c1 (p - prev_next) + c2 r (x_{k-1} in,
+       x_{k+1} out: the Chebyshev recurrence); norms of r. c1 = 0, c2 = omega
+       gives interp_step's update (kernels/solve.cl). */
+    limn_status (*cheb_step)(struct limn_device *dev, const device_csr *a, device_buffer *m,
+                             device_buffer *p, device_buffer *prev_next, double c1, double c2,
+                             device_norms *norms);
     /* y = A x and dot = sum_i dinv_i (x_i . y_i) (kernels/solve.cl). */
     limn_status (*spmv_dot)(struct limn_device *dev, const device_csr *a, device_buffer *x,
                             device_buffer *y, device_buffer *dinv, double *dot);

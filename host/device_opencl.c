@@ -27,7 +27,7 @@ typedef struct opencl_impl {
     cl_kernel spmv;
     cl_kernel interp_step;
     cl_kernel series_step, axpby, norms;
-    cl_kernel spmv_dot, pcg_update;
+    cl_kernel spmv_dot, pcg_update, cheb_step;
     cl_ulong max_alloc;
     cl_mem partials;          /* 3 doubles per work-item, grown on demand */
     size_t partials_items;
@@ -358,6 +358,27 @@ static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, dev
     return st;
 }
 
+static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
+                                device_buffer *m, device_buffer *p, device_buffer *prev_next,
+                                double c1, double c2, device_norms *norms)
+{
+    opencl_impl *im = impl_of(dev);
+    limn_status st = ensure_partials(dev, first_item(a) + work_items(a->rows) + 1);
+    if (!st)
+        st = set_csr_args(dev, im->cheb_step, a);
+    if (st)
+        return st;
+    cl_kernel k = im->cheb_step;
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &m->mem), "clSetKernelArg(m)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
+    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &prev_next->mem), "clSetKernelArg(prev_next)");
+    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    CHECK(clSetKernelArg(k, 8, sizeof c1, &c1), "clSetKernelArg(c1)");
+    CHECK(clSetKernelArg(k, 9, sizeof c2, &c2), "clSetKernelArg(c2)");
+    st = launch_at(dev, k, first_item(a), a->rows, "cheb_step");
+    return st ? st : read_partials(dev, first_item(a), a->rows, norms);
+}
+
 static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double alpha,
                                  device_buffer *p, device_buffer *q, device_buffer *x,
                                  device_buffer *z, device_buffer *dinv, device_norms *norms)
@@ -403,6 +424,8 @@ static void cl_close(struct limn_device *dev)
             clReleaseKernel(im->spmv_dot);
         if (im->pcg_update)
             clReleaseKernel(im->pcg_update);
+        if (im->cheb_step)
+            clReleaseKernel(im->cheb_step);
         if (im->program)
             clReleaseProgram(im->program);
         if (im->queue)
@@ -426,6 +449,7 @@ static const device_ops opencl_ops = {
     .interp_step = cl_interp_step,
     .spmv_dot = cl_spmv_dot,
     .pcg_update = cl_pcg_update,
+    .cheb_step = cl_cheb_step,
     .series_step = cl_series_step,
     .axpby = cl_axpby,
     .norms = cl_norms,
@@ -478,6 +502,8 @@ static limn_status build_program(struct limn_device *dev, cl_device_id device)
     CHECK(err, "clCreateKernel(spmv_dot)");
     im->pcg_update = clCreateKernel(im->program, "pcg_update", &err);
     CHECK(err, "clCreateKernel(pcg_update)");
+    im->cheb_step = clCreateKernel(im->program, "cheb_step", &err);
+    CHECK(err, "clCreateKernel(cheb_step)");
     return LIMN_OK;
 }
 

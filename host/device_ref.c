@@ -148,6 +148,46 @@ static limn_status ref_interp_step(struct limn_device *dev, const device_csr *a,
     return LIMN_OK;
 }
 
+/* Same order as kernels/solve.cl: cheb_step. */
+static limn_status ref_cheb_step(struct limn_device *dev, const device_csr *a, device_buffer *m,
+                                 device_buffer *p, device_buffer *prev_next, double c1,
+                                 double c2, device_norms *norms)
+{
+    const double *ms = m->data, *ps = p->data;
+    double *qn = prev_next->data;
+    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
+    if (!partials)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+    for (size_t g = 0; g < chunks; g++) {
+        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > a->row_begin + a->rows)
+            end = a->row_begin + a->rows;
+        double mx = 0.0, sum = 0.0, sq = 0.0;
+        for (size_t i = begin; i < end; i++) {
+            double acc[4], r[3];
+            row_product(a, i, ps, acc);
+            for (int d = 0; d < 3; d++) {
+                r[d] = ms[4 * i + d] - acc[d];
+                double pi = ps[4 * i + d];
+                qn[4 * i + d] = pi + c1 * (pi - qn[4 * i + d]) + c2 * r[d];
+            }
+            qn[4 * i + 3] = 0.0;
+            double r2sum = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+            double len = sqrt(r2sum);
+            mx = len > mx ? len : mx;
+            sum += len;
+            sq += r2sum;
+        }
+        partials[3 * g] = mx;
+        partials[3 * g + 1] = sum;
+        partials[3 * g + 2] = sq;
+    }
+    device_norms_finish(partials, chunks, norms);
+    free(partials);
+    return LIMN_OK;
+}
+
 /* Same order as kernels/series.cl: series_step. */
 static limn_status ref_series_step(struct limn_device *dev, const device_csr *a,
                                    device_buffer *x, device_buffer *x_next, device_buffer *ax,
@@ -318,6 +358,7 @@ static const device_ops reference_ops = {
     .interp_step = ref_interp_step,
     .spmv_dot = ref_spmv_dot,
     .pcg_update = ref_pcg_update,
+    .cheb_step = ref_cheb_step,
     .series_step = ref_series_step,
     .axpby = ref_axpby,
     .norms = ref_norms,

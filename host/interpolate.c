@@ -26,18 +26,28 @@ const char *limn_method_name(limn_method m)
     case LIMN_METHOD_PAPER: return "paper";
     case LIMN_METHOD_WEIGHTED: return "weighted";
     case LIMN_METHOD_CG: return "cg";
+    case LIMN_METHOD_CHEBYSHEV: return "chebyshev";
     }
     return "unknown";
 }
 
 void limn_interpolate_options_default(limn_interpolate_options *o)
 {
+    if (!o)
+        return; /* no context to report to */
     o->scheme = LIMN_SCHEME_AUTO;
     o->alpha = 0.0;
     o->tolerance = 1e-6;
     o->max_iterations = 1000;
     o->reorder = 1;
     o->method = LIMN_METHOD_AUTO;
+}
+
+solve_kind solve_kind_of(limn_method method)
+{
+    return method == LIMN_METHOD_WEIGHTED    ? SOLVE_WEIGHTED
+           : method == LIMN_METHOD_CHEBYSHEV ? SOLVE_CHEBYSHEV
+                                             : SOLVE_PAPER;
 }
 
 limn_status solve_check_options(limn_context *ctx, const limn_interpolate_options *o)
@@ -53,7 +63,7 @@ limn_status solve_check_options(limn_context *ctx, const limn_interpolate_option
     if (!(o->tolerance > 0.0 && isfinite(o->tolerance)))
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "tolerance is %g; it must be a positive number",
                          o->tolerance);
-    if (o->method < LIMN_METHOD_AUTO || o->method > LIMN_METHOD_CG)
+    if (o->method < LIMN_METHOD_AUTO || o->method > LIMN_METHOD_CHEBYSHEV)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "unknown method %d", (int)o->method);
     if (o->max_iterations < 1)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "max iterations is %d; it must be at least 1",
@@ -80,36 +90,49 @@ static void solve_release(solve_state *s)
 #define WEIGHTED_PROBE 8
 
 /*
- * Runs P += omega (M - A P) from buffer 0 through step(); on success *which is the buffer
- * holding the answer. weighted: omega starts at 1 and, after WEIGHTED_PROBE
- * steps, becomes 2 / (lambda + 1) with lambda = 1 - (contraction of |r|_2),
- * an over-estimate of lambda_min, so omega stays below the optimum and the
- * iteration stays convergent. Counts one stencil product per step.
+ * Runs the stationary or semi-iterative update from buffer 0 through step()
+ * (one device, or MPI ranks); on success *which is the buffer holding the
+ * answer (always an iterate whose residual was measured). paper: P += M - A P.
+ * weighted: omega starts at 1 and, after WEIGHTED_PROBE steps, becomes
+ * 2 / (lambda + 1) with lambda = 1 - (contraction of |r|_2), an over-estimate
+ * of lambda_min, so omega stays below the optimum and the iteration
+ * convergent. chebyshev: the three-term recurrence of solve_chebyshev.c,
+ * buffer 1 - cur holding the previous iterate in and the next one out. Counts
+ * one stencil product per step.
  */
 limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, size_t vertices,
                           limn_scheme scheme, double alpha, const limn_interpolate_options *o,
-                          double diag, int weighted, int *which, limn_report *r)
+                          double diag, solve_kind kind, int *which, limn_report *r)
 {
     double tol_abs = o->tolerance * diag;
     double history[STALL_WINDOW];
     double first = -1.0, omega = 1.0, l2_probe = 0.0;
     int cur = 0, start = r->iterations;
+    chebyshev cheb;
+    chebyshev_init(&cheb, chebyshev_prior(scheme), chebyshev_lead_steps(scheme));
     r->omega = 1.0;
     for (int k = 0;; k++) {
         device_norms nr;
-        limn_status st = step(user, cur, omega, &nr);
+        solve_step sp = {kind, omega, 0.0, 0.0};
+        if (kind == SOLVE_CHEBYSHEV)
+            chebyshev_coefficients(&cheb, &sp.c1, &sp.c2);
+        limn_status st = step(user, cur, &sp, &nr);
         if (st)
             return st;
         r->products += 1.0;
         size_t n = vertices ? vertices : 1;
-        if (weighted && k == 2)
+        if (kind == SOLVE_WEIGHTED && k == 2)
             l2_probe = sqrt(nr.sum_sq);
-        if (weighted && k == WEIGHTED_PROBE && l2_probe > 0) {
+        if (kind == SOLVE_WEIGHTED && k == WEIGHTED_PROBE && l2_probe > 0) {
             double rho = pow(sqrt(nr.sum_sq) / l2_probe, 1.0 / (WEIGHTED_PROBE - 2));
             double lambda = rho < 1.0 ? 1.0 - rho : 1.0;
             omega = 2.0 / (lambda + 1.0);
             r->omega = omega;
         }
+        if (kind == SOLVE_CHEBYSHEV && nr.max > tol_abs)
+            chebyshev_observe(&cheb, nr.max);
+        r->spectrum_lower = kind == SOLVE_CHEBYSHEV ? cheb.a : 0.0;
+        r->restarts = cheb.restarts;
         r->iterations = start + k;
         r->max_abs_error = nr.max;
         r->mean_abs_error = nr.sum / (double)n;
@@ -159,12 +182,15 @@ typedef struct local_step {
     solve_state *s;
 } local_step;
 
-static limn_status step_local(void *user, int cur, double omega, device_norms *norms)
+static limn_status step_local(void *user, int cur, const solve_step *sp, device_norms *norms)
 {
     local_step *l = user;
     solve_state *s = l->s;
-    return s->dev->ops->interp_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur], omega,
-                                    norms);
+    if (sp->kind == SOLVE_CHEBYSHEV)
+        return s->dev->ops->cheb_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur],
+                                      sp->c1, sp->c2, norms);
+    return s->dev->ops->interp_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur],
+                                    sp->omega, norms);
 }
 
 limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
@@ -188,15 +214,16 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     memset(r, 0, sizeof *r);
     r->vertices = mesh->vertex_count;
     r->faces = mesh->face_count;
-    /* auto: the seeds' iteration. CG needs 2-5x fewer products, but on PoCL's
-       CPU device one CG step costs 2-3 fused steps of the seeds' iteration
-       (three passes and two reductions), so in measured time it only ties on
-       scans and loses on smooth refined meshes (README "Solvers"). */
-    limn_method method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_PAPER : o->method;
+    /* auto: Chebyshev. It needs 2.6-4.3x fewer products than the seeds'
+       iteration on the shared medium meshes and its fused step moves one
+       vector more (~16% per product), so it was the fastest in measured
+       solve time from 4k to 8.6M vertices; CG needs about as few products
+       but each costs 2-3 fused steps here (README "Solvers"). */
+    limn_method method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_CHEBYSHEV : o->method;
     r->method = limn_method_name(method);
     r->method_reason = o->method == LIMN_METHOD_AUTO
-                           ? "auto: the seeds' iteration, the fastest in measured time on the "
-                             "shared meshes (cg uses fewer products, each costlier)"
+                           ? "auto: chebyshev, the fastest in measured time on every shared "
+                             "mesh (fewest fused steps; cg uses as few products, each costlier)"
                            : "chosen by the caller";
 
     limn_operator op;
@@ -252,7 +279,7 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     local_step ls = {&op, &s};
     if (!st)
         st = solve_iterate(ctx, step_local, &ls, op.vertex_count, op.scheme, op.alpha, o, diag,
-                           method == LIMN_METHOD_WEIGHTED, &which, r);
+                           solve_kind_of(method), &which, r);
     if (!st)
         st = s.dev->ops->buffer_read(s.dev, s.p[which], 4 * n * sizeof(double), buf);
     limn_mesh *out = NULL;

@@ -35,7 +35,7 @@ limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
     limn_clear(ctx);
     if (!mesh)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate_estimate: mesh is NULL");
-    /* auto runs the paper iteration (interpolate.c) */
+    /* paper, weighted, chebyshev (and so auto) hold the same buffers; cg more */
     int cg = options && options->method == LIMN_METHOD_CG;
     double per_vertex = cg ? 1000.0 : 600.0, per_corner = cg ? 8.0 : 16.0;
     size_t corners = mesh->face_offsets[mesh->face_count];

@@ -92,7 +92,13 @@ limn_status limn_mesh_measure(limn_context *ctx, const limn_mesh *mesh, limn_mes
 
 void limn_mesh_volume_area(const limn_mesh *mesh, double *volume, double *area)
 {
-    measure_volume_area(mesh, mesh->positions, volume, area);
+    double v = NAN, a = NAN;
+    if (mesh)
+        measure_volume_area(mesh, mesh->positions, &v, &a);
+    if (volume)
+        *volume = v;
+    if (area)
+        *area = a;
 }
 
 limn_status measure_same_topology(limn_context *ctx, const limn_mesh *a, const limn_mesh *b,

@@ -49,7 +49,7 @@ limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
         return limn_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_create: face_offsets[0] is %u, must be 0", face_offsets[0]);
     for (size_t f = 0; f < face_count; f++) {
-        if (face_offsets[f + 1] < face_offsets[f] + 3)
+        if ((uint64_t)face_offsets[f + 1] < (uint64_t)face_offsets[f] + 3)
             return limn_fail(ctx, LIMN_ERR_ARGUMENT,
                              "limn_mesh_create: face %zu has %ld vertices (at least 3 needed)",
                              f, (long)face_offsets[f + 1] - (long)face_offsets[f]);
@@ -79,8 +79,12 @@ limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
 
 limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh **out)
 {
+    /* no limn_clear: operations call this for their results, keeping their warnings */
+    if (out)
+        *out = NULL;
     if (!mesh || !out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy: NULL argument");
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy: %s is NULL",
+                         !mesh ? "mesh" : "out");
     limn_status st = mesh_alloc(ctx, mesh->vertex_count, mesh->face_count,
                                 mesh->face_offsets[mesh->face_count], out);
     if (st)

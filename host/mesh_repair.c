@@ -23,6 +23,8 @@
 
 void limn_repair_options_default(limn_repair_options *o)
 {
+    if (!o)
+        return; /* no context to report to */
     o->repeated_vertices = 1;
     o->duplicate_faces = 0;
 }

@@ -8,6 +8,7 @@
 #include "context.h"
 #include "device.h"
 #include "opencl_errors.h"
+#include "threads.h"
 
 #include <ctype.h>
 #include <stdio.h>
@@ -30,6 +31,7 @@ static const char *type_name(cl_device_type t)
 
 static limn_status platforms(limn_context *ctx, cl_platform_id *ids, cl_uint *count)
 {
+    threads_apply(ctx); /* PoCL reads its thread count at the first platform query */
     cl_int err = device_test_fault("no-platform") ? -1001
                                                   : clGetPlatformIDs(MAX_PLATFORMS, ids, count);
     if (err == -1001 || (err == CL_SUCCESS && *count == 0))

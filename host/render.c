@@ -15,6 +15,8 @@
 
 void limn_render_options_default(limn_render_options *o)
 {
+    if (!o)
+        return; /* no context to report to */
     memset(o, 0, sizeof *o);
     o->width = 400;
     o->height = 300;

@@ -20,12 +20,16 @@
 
 void limn_series_options_default(limn_series_options *o)
 {
+    if (!o)
+        return; /* no context to report to */
     o->scheme = LIMN_SCHEME_AUTO;
     o->alpha = 0.0;
 }
 
 void limn_morph_options_default(limn_morph_options *o)
 {
+    if (!o)
+        return; /* no context to report to */
     limn_series_options_default(&o->series);
     o->frames = 30;
     o->m = 2;

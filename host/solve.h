@@ -19,22 +19,57 @@ typedef struct solve_stats {
 limn_status solve_cg(limn_context *ctx, const limn_operator *op, const double *m4,
                      double tol_abs, int max_iter, double *p4, solve_stats *stats);
 
-/* One update P_next = P_cur + omega (M - A P_cur) with the norms of the
-   residual M - A P_cur over all vertices (cur: 0 or 1, the buffer holding P). */
-typedef limn_status (*solve_step_fn)(void *user, int cur, double omega, device_norms *norms);
+/* The updates of solve_iterate. */
+typedef enum solve_kind { SOLVE_PAPER, SOLVE_WEIGHTED, SOLVE_CHEBYSHEV } solve_kind;
+solve_kind solve_kind_of(limn_method method); /* AUTO is resolved before */
+
+/* One step from P in buffer cur: chebyshev: P_next = P + c1 (P - P_prev) +
+   c2 (M - A P), P_prev in buffer 1 - cur in, P_next out; otherwise P_next =
+   P + omega (M - A P) into buffer 1 - cur. norms: of the residual M - A P
+   over all vertices. */
+typedef struct solve_step {
+    solve_kind kind;
+    double omega, c1, c2;
+} solve_step;
+typedef limn_status (*solve_step_fn)(void *user, int cur, const solve_step *step,
+                                     device_norms *norms);
 
 /*
- * The seeds' iteration and its weighted form (interpolate.c), on any way of
- * running a step (one device, or MPI ranks): stop when max |r| <= tol * diag,
- * singular / cap / divergence detection with messages; *which gets the buffer
- * holding the answer. vertices: for the mean error; scheme and alpha: for the
- * messages.
+ * The seeds' iteration, its weighted form and Chebyshev (interpolate.c), on
+ * any way of running a step (one device, or MPI ranks): stop when max |r| <=
+ * tol * diag, singular / cap / divergence detection with messages; *which
+ * gets the buffer holding the answer. vertices: for the mean error; scheme
+ * and alpha: for the Chebyshev interval and the messages. Every decision reads
+ * the norms step() returns, so ranks given the same norms decide alike.
  */
 limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, size_t vertices,
                           limn_scheme scheme, double alpha, const limn_interpolate_options *o,
-                          double diag, int weighted, int *which, limn_report *r);
+                          double diag, solve_kind kind, int *which, limn_report *r);
 
 /* Refuses bad interpolation options with a message (interpolate.c). */
 limn_status solve_check_options(limn_context *ctx, const limn_interpolate_options *o);
+/*
+ * The Chebyshev iteration's schedule (solve_chebyshev.c): interval [a, 1],
+ * coefficients of each fused step, and the restart rule when the residual
+ * shows an eigenvalue below a.
+ */
+typedef struct chebyshev {
+    double a, theta, delta, sigma, tau, rho;
+    double first, history[4];
+    int step;        /* steps since the last (re)start */
+    int lead, in_lead; /* seeds' steps still to take before the recurrence */
+    int restarts;
+} chebyshev;
+
+double chebyshev_prior(limn_scheme scheme);
+/* Steps of the seeds' iteration that precede the recurrence for a scheme. */
+int chebyshev_lead_steps(limn_scheme scheme);
+void chebyshev_init(chebyshev *c, double a, int lead_steps);
+/* Coefficients of the next step: x_next = x + c1 (x - x_prev) + c2 (M - A x). */
+void chebyshev_coefficients(chebyshev *c, double *c1, double *c2);
+/* Records max |r| measured by the step just taken (optional: without it the
+   schedule is the plain recurrence); returns 1 when a was lowered and the
+   recurrence restarts with the next step. */
+int chebyshev_observe(chebyshev *c, double residual);
 
 #endif

@@ -12,6 +12,8 @@
 
 void limn_subdivide_options_default(limn_subdivide_options *o)
 {
+    if (!o)
+        return; /* no context to report to */
     o->scheme = LIMN_SCHEME_AUTO;
     o->alpha = 0.0;
     o->levels = 1;

@@ -33,6 +33,8 @@ static uint64_t splitmix64(uint64_t *state)
 
 void limn_noise_init(limn_noise *noise, uint64_t seed)
 {
+    if (!noise)
+        return; /* no context to report to */
     uint8_t p[256];
     for (int i = 0; i < 256; i++)
         p[i] = (uint8_t)i;
@@ -58,6 +60,8 @@ static double grad(int hash, double x, double y, double z)
 
 double limn_noise_eval(const limn_noise *noise, double x, double y, double z)
 {
+    if (!noise)
+        return 0.0;
     const uint8_t *p = noise->perm;
     double fx = floor(x), fy = floor(y), fz = floor(z);
     int X = (int)((long long)fx & 255), Y = (int)((long long)fy & 255),
@@ -159,6 +163,8 @@ static void spline_color(const double *d, size_t k, const uint8_t lo[3], const u
 
 void limn_texture_options_default(limn_texture_options *o)
 {
+    if (!o)
+        return; /* no context to report to */
     memset(o, 0, sizeof *o);
     limn_series_options_default(&o->series);
     o->levels = 3;

@@ -6,15 +6,37 @@
  *  - every call that can fail returns a limn_status and leaves a readable
  *    message in its limn_context (limn_context_message);
  *  - there is no global state: two contexts never share anything;
- *  - ownership: buffers passed in are copied unless the call says otherwise;
- *    pointers returned by *_positions() etc. belong to the handle and stay
- *    valid until it is destroyed.
+ *  - a context may be used by one thread at a time; contexts share nothing
+ *    but the process-wide thread-count decision (limn_context_set_threads).
+ *
+ * Ownership (README "Embedding limn"):
+ *  - arrays passed in (positions, faces, colours, options) are read during
+ *    the call only and copied where kept: free or reuse them on return;
+ *  - arrays passed out (double *out, bands, energy, rgb, limn_mesh_copy_*)
+ *    belong to the caller, are written during the call only (sizes given per
+ *    call) and never kept; a refused call writes nothing into them;
+ *  - handles returned through **out belong to the caller (*_destroy); a mesh
+ *    does not refer to the context that made it: destroy them in any order;
+ *  - pointers from accessors (limn_mesh_positions, _face_offsets, ...) point
+ *    into the mesh: valid until it is destroyed, repaired (faces) or given
+ *    new colours (colours); limn_mesh_set_positions keeps them valid;
+ *  - strings from a context (message, warnings, device name) are valid until
+ *    its next call or its destruction.
  */
 #ifndef LIMN_H
 #define LIMN_H
 
 #include <stddef.h>
 #include <stdint.h>
+
+/* Marks the public API: the only symbols liblimn.so exports (the library is
+   built with -fvisibility=hidden). Every function declared here carries it
+   (test_exports checks). */
+#if defined(__GNUC__) && __GNUC__ >= 4
+#define LIMN_API __attribute__((visibility("default")))
+#else
+#define LIMN_API
+#endif
 
 #ifdef __cplusplus
 extern "C" {
@@ -37,25 +59,25 @@ typedef enum limn_status {
 } limn_status;
 
 /* A short constant name for a status ("LIMN_ERR_FORMAT"). */
-const char *limn_status_name(limn_status status);
+LIMN_API const char *limn_status_name(limn_status status);
 
 /* ------------------------------------------------------------------ context */
 
 typedef struct limn_context limn_context;
 
 /* Creates a context. Returns NULL only when memory is exhausted. */
-limn_context *limn_context_create(void);
-void limn_context_destroy(limn_context *ctx);
+LIMN_API limn_context *limn_context_create(void);
+LIMN_API void limn_context_destroy(limn_context *ctx);
 
 /* The message of the last failed call on this context ("" after success). */
-const char *limn_context_message(const limn_context *ctx);
+LIMN_API const char *limn_context_message(const limn_context *ctx);
 
 /* Warnings accumulated by the last call (repairs made, etc.); "" if none. */
-const char *limn_context_warnings(const limn_context *ctx);
+LIMN_API const char *limn_context_warnings(const limn_context *ctx);
 
 /* Progress callback for long work: fraction in [0,1], a stage name. */
 typedef void (*limn_progress_fn)(void *user, const char *stage, double fraction);
-void limn_context_set_progress(limn_context *ctx, limn_progress_fn fn, void *user);
+LIMN_API void limn_context_set_progress(limn_context *ctx, limn_progress_fn fn, void *user);
 
 /* ------------------------------------------------------------------ devices */
 
@@ -74,13 +96,44 @@ typedef enum limn_backend {
  *   "opencl:TEXT"           first OpenCL device whose name contains TEXT
  * The device is opened lazily by the first operation that needs it.
  */
-limn_status limn_context_set_device(limn_context *ctx, const char *spec);
+LIMN_API limn_status limn_context_set_device(limn_context *ctx, const char *spec);
 
 /* Fills buf with one line per OpenCL device ("P.D  name  (platform)  type"). */
-limn_status limn_list_devices(limn_context *ctx, char *buf, size_t buf_size);
+LIMN_API limn_status limn_list_devices(limn_context *ctx, char *buf, size_t buf_size);
 
 /* The device that ran the last operation, in words ("" before any). */
-const char *limn_context_device_name(const limn_context *ctx);
+LIMN_API const char *limn_context_device_name(const limn_context *ctx);
+
+/*
+ * Threads of the OpenCL runtime (PoCL sizes its pool from the whole machine
+ * and ignores the process's CPU binding, e.g. an MPI rank's cores). Before
+ * the first OpenCL platform query in the process, limn sets
+ * POCL_MAX_PTHREAD_COUNT (PoCL 3.x) and POCL_CPU_MAX_CU_COUNT (PoCL 4.x) to:
+ *   - nothing, when the user set either variable (the other one is set to
+ *     the same value, so both PoCL generations see it);
+ *   - else `threads` as given here, when > 0;
+ *   - else (LIMN_THREADS_FROM_BINDING, the default) the number of cores
+ *     (hwloc) with at least one CPU inside the process's binding;
+ *   - LIMN_THREADS_RUNTIME_DEFAULT sets nothing: the runtime decides.
+ * setenv is process wide and PoCL reads these once: the first context to
+ * query a platform decides for the whole process (later requests only get a
+ * warning), and the application should not call getenv/setenv from other
+ * threads meanwhile. An application that initialises OpenCL itself before
+ * limn must set the variables itself.
+ */
+#define LIMN_THREADS_FROM_BINDING 0
+#define LIMN_THREADS_RUNTIME_DEFAULT (-1)
+LIMN_API limn_status limn_context_set_threads(limn_context *ctx, int threads);
+
+/*
+ * The thread count in effect and where it came from: "binding via hwloc",
+ * "API", "POCL_MAX_PTHREAD_COUNT", "POCL_CPU_MAX_CU_COUNT", "OpenCL runtime
+ * default ..." (threads 0: the runtime chose), or "reference backend" (1)
+ * when ctx's device is the C backend. Before any platform query: 0 and a
+ * source saying so. *source is static storage, valid for the process.
+ */
+LIMN_API limn_status limn_context_threads(const limn_context *ctx, int *threads,
+                                          const char **source);
 
 /*
  * Whether the C reference backend may stand in when the OpenCL device cannot
@@ -89,7 +142,7 @@ const char *limn_context_device_name(const limn_context *ctx);
  * an OpenCL device that cannot be opened (no platform, no matching device, a
  * kernel build failure) gives way to the reference backend with a warning.
  */
-limn_status limn_context_set_fallback(limn_context *ctx, const char *backend);
+LIMN_API limn_status limn_context_set_fallback(limn_context *ctx, const char *backend);
 
 /*
  * After an operation failed with `status`: when the failure came from the
@@ -98,7 +151,7 @@ limn_status limn_context_set_fallback(limn_context *ctx, const char *backend);
  * warning saying so and returns LIMN_OK: run the operation again. Otherwise
  * returns status unchanged.
  */
-limn_status limn_context_fall_back(limn_context *ctx, limn_status status);
+LIMN_API limn_status limn_context_fall_back(limn_context *ctx, limn_status status);
 
 /* --------------------------------------------------------------------- mesh */
 
@@ -109,22 +162,48 @@ typedef struct limn_mesh limn_mesh;
  * face_offsets: face_count + 1 entries, face_offsets[0] = 0; face f uses
  * face_indices[face_offsets[f] .. face_offsets[f+1]). Indices are 0-based.
  */
-limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
-                             const double *positions, size_t face_count,
-                             const uint32_t *face_offsets,
-                             const uint32_t *face_indices, limn_mesh **out);
-limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh **out);
-void limn_mesh_destroy(limn_mesh *mesh);
+LIMN_API limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
+                                      const double *positions, size_t face_count,
+                                      const uint32_t *face_offsets,
+                                      const uint32_t *face_indices, limn_mesh **out);
+LIMN_API limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh **out);
+LIMN_API void limn_mesh_destroy(limn_mesh *mesh);
 
-size_t limn_mesh_vertex_count(const limn_mesh *mesh);
-size_t limn_mesh_face_count(const limn_mesh *mesh);
-const double *limn_mesh_positions(const limn_mesh *mesh);     /* 3 per vertex */
-double *limn_mesh_positions_mutable(limn_mesh *mesh);
-const uint32_t *limn_mesh_face_offsets(const limn_mesh *mesh);
-const uint32_t *limn_mesh_face_indices(const limn_mesh *mesh);
+LIMN_API size_t limn_mesh_vertex_count(const limn_mesh *mesh);
+LIMN_API size_t limn_mesh_face_count(const limn_mesh *mesh);
+LIMN_API const double *limn_mesh_positions(const limn_mesh *mesh);     /* 3 per vertex */
+LIMN_API double *limn_mesh_positions_mutable(limn_mesh *mesh);
+LIMN_API const uint32_t *limn_mesh_face_offsets(const limn_mesh *mesh);
+LIMN_API const uint32_t *limn_mesh_face_indices(const limn_mesh *mesh);
 /* Per-vertex RGB colours (3 bytes per vertex), or NULL when the mesh has none. */
-const uint8_t *limn_mesh_colors(const limn_mesh *mesh);
-limn_status limn_mesh_set_colors(limn_context *ctx, limn_mesh *mesh, const uint8_t *rgb);
+LIMN_API const uint8_t *limn_mesh_colors(const limn_mesh *mesh);
+/* Copies 3 * vertex_count bytes from rgb (NULL removes the colours). */
+LIMN_API limn_status limn_mesh_set_colors(limn_context *ctx, limn_mesh *mesh, const uint8_t *rgb);
+/* Entries of face_indices: face_offsets[face_count]. */
+LIMN_API size_t limn_mesh_index_count(const limn_mesh *mesh);
+
+/*
+ * Results into the caller's own arrays. Each copies the whole of the mesh's
+ * data; capacities count what the caller's buffer holds (vertices for
+ * positions, 3 doubles each, and colours, 3 bytes each; uint32 entries for
+ * faces: limn_mesh_face_count + 1 offsets, limn_mesh_index_count indices).
+ * A buffer too small, a NULL or (colours) a mesh without colours is refused
+ * with LIMN_ERR_ARGUMENT and a message, and nothing is written.
+ */
+LIMN_API limn_status limn_mesh_copy_positions(limn_context *ctx, const limn_mesh *mesh,
+                                              double *dst, size_t capacity_vertices);
+LIMN_API limn_status limn_mesh_copy_faces(limn_context *ctx, const limn_mesh *mesh,
+                                          uint32_t *offsets, size_t offsets_capacity,
+                                          uint32_t *indices, size_t indices_capacity);
+LIMN_API limn_status limn_mesh_copy_colors(limn_context *ctx, const limn_mesh *mesh,
+                                           uint8_t *dst, size_t capacity_vertices);
+/*
+ * New positions for the same vertices (vertex_count must be the mesh's; all
+ * finite), copied in place: run an operation again on moved vertices without
+ * making a new mesh. Refused, with the mesh unchanged, otherwise.
+ */
+LIMN_API limn_status limn_mesh_set_positions(limn_context *ctx, limn_mesh *mesh,
+                                             const double *positions, size_t vertex_count);
 
 typedef enum limn_format {
     LIMN_FORMAT_AUTO = 0,        /* from the file name's extension */
@@ -137,10 +216,10 @@ typedef enum limn_format {
 } limn_format;
 
 /* "obj", "ply", "ply-ascii", "ply-be", "off", "stl" -> format; 0 if unknown. */
-int limn_format_from_name(const char *name, limn_format *out);
+LIMN_API int limn_format_from_name(const char *name, limn_format *out);
 
 /* Format from a file name's extension (.obj .ply .off .stl, any case); 0 if none. */
-int limn_format_from_path(const char *path, limn_format *out);
+LIMN_API int limn_format_from_path(const char *path, limn_format *out);
 
 /*
  * Reads OBJ, PLY (ascii, binary LE/BE, faces or tristrips), OFF or STL
@@ -150,14 +229,14 @@ int limn_format_from_path(const char *path, limn_format *out);
  * "PATH: byte N: ..." (binary); counts in a header are checked against the
  * file size before anything is allocated.
  */
-limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format format,
-                           limn_mesh **out);
+LIMN_API limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format format,
+                                    limn_mesh **out);
 /*
  * Writes the mesh. The file appears whole or not at all: data goes to a
  * temporary file in the same directory which is then renamed over path.
  */
-limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh,
-                            const char *path, limn_format format);
+LIMN_API limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh,
+                                     const char *path, limn_format format);
 
 /* ------------------------------------------------------------------- repair */
 /*
@@ -171,7 +250,7 @@ typedef struct limn_repair_options {
     int duplicate_faces;      /* faces with an earlier face's vertices: 0 keep (default), 1 remove */
 } limn_repair_options;
 
-void limn_repair_options_default(limn_repair_options *options);
+LIMN_API void limn_repair_options_default(limn_repair_options *options);
 
 typedef struct limn_repair_report {
     size_t faces_before, faces_after;
@@ -199,8 +278,9 @@ typedef struct limn_repair_report {
  * kept and reported. With repeated_vertices = 0 a face using a vertex twice
  * is refused (LIMN_ERR_TOPOLOGY, naming it). options and report may be NULL.
  */
-limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh,
-                             const limn_repair_options *options, limn_repair_report *report);
+LIMN_API limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh,
+                                      const limn_repair_options *options,
+                                      limn_repair_report *report);
 
 /* ----------------------------------------------------------------- topology */
 
@@ -218,8 +298,8 @@ typedef struct limn_mesh_info {
     double bbox_diagonal;
 } limn_mesh_info;
 
-limn_status limn_mesh_info_compute(limn_context *ctx, const limn_mesh *mesh,
-                                   limn_mesh_info *info);
+LIMN_API limn_status limn_mesh_info_compute(limn_context *ctx, const limn_mesh *mesh,
+                                            limn_mesh_info *info);
 
 /* -------------------------------------------------------------- interpolate */
 
@@ -229,28 +309,30 @@ typedef enum limn_scheme {
     LIMN_SCHEME_CATMARK = 2
 } limn_scheme;
 
-const char *limn_scheme_name(limn_scheme scheme);  /* "loop", "catmark", "auto" */
+LIMN_API const char *limn_scheme_name(limn_scheme scheme);  /* "loop", "catmark", "auto" */
 
 typedef enum limn_method {
     LIMN_METHOD_AUTO = 0,      /* the default: the fastest as measured (README "Solvers") */
     LIMN_METHOD_PAPER = 1,     /* the seeds' iteration P += M - A P, the reference */
     LIMN_METHOD_WEIGHTED = 2,  /* P += w (M - A P), w = 2 / (lambda_min + 1) estimated */
-    LIMN_METHOD_CG = 3         /* tiered, D-preconditioned conjugate gradients */
+    LIMN_METHOD_CG = 3,        /* tiered, D-preconditioned conjugate gradients */
+    LIMN_METHOD_CHEBYSHEV = 4  /* Chebyshev iteration on [a, 1], one fused step a product */
 } limn_method;
 
-const char *limn_method_name(limn_method method); /* "paper", "weighted", "cg", "auto" */
+/* "paper", "weighted", "cg", "chebyshev", "auto" */
+LIMN_API const char *limn_method_name(limn_method method);
 
 typedef struct limn_interpolate_options {
     limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
-    double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
-    double tolerance;         /* max |M - A P| / bbox diagonal; default 1e-6 */
-    int max_iterations;       /* default 1000 */
-    int reorder;              /* renumber vertices for locality (RCM) inside the
-                                 solve; results stay in input order; default 1 */
-    limn_method method;       /* default LIMN_METHOD_AUTO */
-} limn_interpolate_options;
+             double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
+             double tolerance;         /* max |M - A P| / bbox diagonal; default 1e-6 */
+             int max_iterations;       /* default 1000 */
+             int reorder;              /* renumber vertices for locality (RCM) inside the
+                                          solve; results stay in input order; default 1 */
+             limn_method method;       /* default LIMN_METHOD_AUTO */
+         } limn_interpolate_options;
 
-void limn_interpolate_options_default(limn_interpolate_options *options);
+LIMN_API void limn_interpolate_options_default(limn_interpolate_options *options);
 
 typedef struct limn_report {
     size_t vertices, faces;
@@ -260,6 +342,8 @@ typedef struct limn_report {
     const char *method_reason; /* why that one, in words */
     double products;          /* stencil products, in units of one full A P */
     double omega;             /* the weight of the weighted iteration (1 for paper) */
+    double spectrum_lower;    /* chebyshev: the lower bound a of [a, 1] it ended with */
+    int restarts;             /* chebyshev: restarts after lowering a */
     int iterations;           /* updates applied to P */
     double max_abs_error, mean_abs_error;   /* of the returned P: |M - A P| */
     double max_rel_error, mean_rel_error;   /* the same over the bbox diagonal */
@@ -277,9 +361,9 @@ typedef struct limn_report {
  * the tolerance cannot be reached; the message says what to do.
  * report may be NULL.
  */
-limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
-                             const limn_interpolate_options *options,
-                             limn_mesh **control, limn_report *report);
+LIMN_API limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
+                                      const limn_interpolate_options *options,
+                                      limn_mesh **control, limn_report *report);
 
 /*
  * Predicts the peak memory of limn_interpolate on mesh (bytes, host and
@@ -287,9 +371,9 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
  * runtime) and refuses with LIMN_ERR_MEMORY, naming the sizes, when it exceeds
  * max_memory (0 = three quarters of physical memory). peak_bytes may be NULL.
  */
-limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
-                                      const limn_interpolate_options *options,
-                                      size_t max_memory, size_t *peak_bytes);
+LIMN_API limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
+                                               const limn_interpolate_options *options,
+                                               size_t max_memory, size_t *peak_bytes);
 
 /* -------------------------------------------------------------- subdivide */
 
@@ -301,7 +385,7 @@ typedef struct limn_subdivide_options {
     size_t max_memory;        /* bytes; 0 = three quarters of physical memory */
 } limn_subdivide_options;
 
-void limn_subdivide_options_default(limn_subdivide_options *options);
+LIMN_API void limn_subdivide_options_default(limn_subdivide_options *options);
 
 typedef struct limn_subdivide_report {
     size_t input_vertices, input_faces;
@@ -324,22 +408,23 @@ typedef struct limn_subdivide_report {
  * LIMN_ERR_MEMORY, before allocating, when the predicted peak exceeds
  * max_memory. report may be NULL.
  */
-limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
-                           const limn_subdivide_options *options, limn_mesh **surface,
-                           limn_subdivide_report *report);
+LIMN_API limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
+                                    const limn_subdivide_options *options, limn_mesh **surface,
+                                    limn_subdivide_report *report);
 
 /*
  * Predicts what limn_subdivide would make: vertex and face counts and the
  * peak memory in bytes. Returns LIMN_ERR_MEMORY (with the message) when the
  * peak exceeds options->max_memory, so callers can refuse before any work.
  */
-limn_status limn_subdivide_estimate(limn_context *ctx, const limn_mesh *mesh,
-                                    const limn_subdivide_options *options, size_t *vertices,
-                                    size_t *faces, size_t *peak_bytes);
+LIMN_API limn_status limn_subdivide_estimate(limn_context *ctx, const limn_mesh *mesh,
+                                             const limn_subdivide_options *options,
+                                             size_t *vertices, size_t *faces,
+                                             size_t *peak_bytes);
 
 /* Limit positions A P of every vertex of P (written to out, 3 per vertex). */
-limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *mesh,
-                                 limn_scheme scheme, double alpha, double *out);
+LIMN_API limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *mesh,
+                                          limn_scheme scheme, double alpha, double *out);
 
 /* ------------------------------------------------------------------- series */
 /*
@@ -354,7 +439,7 @@ typedef struct limn_series_options {
     double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
 } limn_series_options;
 
-void limn_series_options_default(limn_series_options *options);
+LIMN_API void limn_series_options_default(limn_series_options *options);
 
 typedef struct limn_series_report {
     size_t vertices, faces;
@@ -374,14 +459,14 @@ typedef struct limn_series_report {
  * values, sum over vertices of |band_i|^2 (the remainder's last).
  * report may be NULL (here and below).
  */
-limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh,
-                       const limn_series_options *options, int count, double *bands,
-                       double *energy, limn_series_report *report);
+LIMN_API limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh,
+                                const limn_series_options *options, int count, double *bands,
+                                double *energy, limn_series_report *report);
 
 /* Partial sum of the first `terms` bands, = (E - (E - A)^terms) M: a new mesh. */
-limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
-                        const limn_series_options *options, int terms, limn_mesh **out,
-                        limn_series_report *report);
+LIMN_API limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_series_options *options, int terms, limn_mesh **out,
+                                 limn_series_report *report);
 
 /*
  * Seed 000 eq. 8: T_0 = M, T_{k+1} = sum_{i=0..m} (E - A)^i A T_k, `steps`
@@ -389,15 +474,16 @@ limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
  * about the mean of its vertices to the input's volume (closed meshes only:
  * LIMN_ERR_TOPOLOGY otherwise).
  */
-limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
-                         const limn_series_options *options, int m, int steps, int keep_volume,
-                         limn_mesh **out, limn_series_report *report);
+LIMN_API limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
+                                  const limn_series_options *options, int m, int steps,
+                                  int keep_volume, limn_mesh **out,
+                                  limn_series_report *report);
 
 /* Seed 000: T_{k+1} = T_k + sum_{i=from..to} (E - A)^i T_k, `steps` times
    (to * steps products); 0 <= from <= to. */
-limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
-                         const limn_series_options *options, int from, int to, int steps,
-                         limn_mesh **out, limn_series_report *report);
+LIMN_API limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
+                                  const limn_series_options *options, int from, int to, int steps,
+                                  limn_mesh **out, limn_series_report *report);
 
 typedef struct limn_morph_options {
     limn_series_options series;
@@ -407,7 +493,7 @@ typedef struct limn_morph_options {
     int linear;               /* 1: the linear blend (1 - t) FROM + t TO, t = k / (frames - 1) */
 } limn_morph_options;
 
-void limn_morph_options_default(limn_morph_options *options);
+LIMN_API void limn_morph_options_default(limn_morph_options *options);
 
 typedef struct limn_morph_frame {
     int index;                /* 0 .. frames - 1 */
@@ -429,9 +515,9 @@ typedef limn_status (*limn_morph_frame_fn)(void *user, const limn_morph_frame *f
  * products only ((m + 1) per frame), A the operator of the shared topology.
  * Frame 0 is FROM exactly; frames approach TO geometrically (not exactly).
  */
-limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
-                       const limn_morph_options *options, limn_morph_frame_fn fn, void *user,
-                       limn_series_report *report);
+LIMN_API limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                                const limn_morph_options *options, limn_morph_frame_fn fn,
+                                void *user, limn_series_report *report);
 
 /* ----------------------------------------------------------------- measures */
 
@@ -442,16 +528,18 @@ typedef struct limn_mesh_measures {
     double centroid[3];       /* mean of the vertices */
 } limn_mesh_measures;
 
-limn_status limn_mesh_measure(limn_context *ctx, const limn_mesh *mesh, limn_mesh_measures *out);
+LIMN_API limn_status limn_mesh_measure(limn_context *ctx, const limn_mesh *mesh,
+                                       limn_mesh_measures *out);
 
 /* Signed volume and area from the faces alone, without building the topology
    (cheaper; the volume means something only where limn_mesh_measure says the
    mesh is closed). */
-void limn_mesh_volume_area(const limn_mesh *mesh, double *volume, double *area);
+LIMN_API void limn_mesh_volume_area(const limn_mesh *mesh, double *volume, double *area);
 
 /* LIMN_OK when a and b have the same vertex count and faces; otherwise
    LIMN_ERR_TOPOLOGY with a message naming the first difference. */
-limn_status limn_mesh_same_topology(limn_context *ctx, const limn_mesh *a, const limn_mesh *b);
+LIMN_API limn_status limn_mesh_same_topology(limn_context *ctx, const limn_mesh *a,
+                                             const limn_mesh *b);
 
 typedef struct limn_mesh_comparison {
     double mean_distance, max_distance;   /* |a_i - b_i| over vertices */
@@ -460,8 +548,8 @@ typedef struct limn_mesh_comparison {
 } limn_mesh_comparison;
 
 /* Compares two meshes of one topology vertex by vertex and face by face. */
-limn_status limn_mesh_compare(limn_context *ctx, const limn_mesh *a, const limn_mesh *b,
-                              limn_mesh_comparison *out);
+LIMN_API limn_status limn_mesh_compare(limn_context *ctx, const limn_mesh *a, const limn_mesh *b,
+                                       limn_mesh_comparison *out);
 
 /* ------------------------------------------------------------------ texture */
 
@@ -477,7 +565,7 @@ typedef struct limn_texture_options {
                                  quarters of physical memory (as limn_subdivide) */
 } limn_texture_options;
 
-void limn_texture_options_default(limn_texture_options *options);
+LIMN_API void limn_texture_options_default(limn_texture_options *options);
 
 /*
  * Procedural texture (seed 000 §5): improved Perlin noise f(2^i p)/2^i on the
@@ -487,16 +575,16 @@ void limn_texture_options_default(limn_texture_options *options);
  * cubic B-spline that interpolates the colours (clamped to their per-channel
  * range). *out: level `levels`, positions on the limit surface, with colours.
  */
-limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
-                         const limn_texture_options *options, limn_mesh **out,
-                         limn_series_report *report);
+LIMN_API limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
+                                  const limn_texture_options *options, limn_mesh **out,
+                                  limn_series_report *report);
 
 /* Improved Perlin noise (Perlin 2002) with a permutation shuffled from seed. */
 typedef struct limn_noise {
     uint8_t perm[512];
 } limn_noise;
-void limn_noise_init(limn_noise *noise, uint64_t seed);
-double limn_noise_eval(const limn_noise *noise, double x, double y, double z);
+LIMN_API void limn_noise_init(limn_noise *noise, uint64_t seed);
+LIMN_API double limn_noise_eval(const limn_noise *noise, double x, double y, double z);
 
 /* ------------------------------------------------------------------- render */
 
@@ -510,16 +598,16 @@ typedef struct limn_render_options {
     uint8_t color[3];         /* surface colour when the mesh has none */
 } limn_render_options;
 
-void limn_render_options_default(limn_render_options *options);
+LIMN_API void limn_render_options_default(limn_render_options *options);
 
 /* Headless z-buffer rendering, orthographic, Lambert shading with vertex
    colours when present; rgb: width * height * 3 bytes, rows top first. */
-limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
-                        const limn_render_options *options, uint8_t *rgb);
+LIMN_API limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_render_options *options, uint8_t *rgb);
 
 /* Writes an 8-bit RGB PNG (own deflate encoder, no dependency), atomically. */
-limn_status limn_png_write(limn_context *ctx, const char *path, int width, int height,
-                           const uint8_t *rgb);
+LIMN_API limn_status limn_png_write(limn_context *ctx, const char *path, int width, int height,
+                                    const uint8_t *rgb);
 
 #ifdef __cplusplus
 }

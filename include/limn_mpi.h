@@ -11,8 +11,8 @@
  * (limn_context_set_device; with several GPUs on a node the ranks of the node
  * take the matching devices in turn), exchanging ghost values with its
  * neighbours before each stencil product. Results equal the single-process
- * calls of limn.h: the paper iteration and the series bit for bit, the
- * weighted iteration to rounding (same iteration count).
+ * calls of limn.h: the paper and Chebyshev iterations and the series bit for
+ * bit, the weighted iteration to rounding (same iteration count).
  *
  * A failure on any rank is returned on every rank, with the failing rank's
  * message in every context, and nothing is left half done: no rank waits for
@@ -75,10 +75,11 @@ void limn_mpi_result_free(limn_mpi_result *result);
  * limn_interpolate over comm. mesh: the input on root (NULL elsewhere);
  * *control: the control mesh on root (NULL elsewhere). report (may be NULL)
  * is filled on every rank with the global figures. mpi and result may be
- * NULL. Methods: paper and weighted (same iteration count as the single
- * process; paper bit for bit), and cg: its dot products are reduced over the
- * ranks in double-double, but each rank first sums its own rows, so it agrees
- * with the single process to rounding (README "MPI" has the measured gap).
+ * NULL. Methods as limn_interpolate (auto = chebyshev): paper, chebyshev and
+ * weighted take the single process's iteration count (paper and chebyshev
+ * its bits); cg reduces its dot products over the ranks in double-double, but
+ * each rank first sums its own rows, so it agrees with the single process to
+ * rounding (README "MPI" has the measured gap).
  */
 limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
                                  const limn_interpolate_options *options, limn_mesh **control,

@@ -1,7 +1,7 @@
 /*
  * Strong scaling of limn_interpolate_mpi (driven by perf/mpi_scaling.py).
  *
- *   mpirun -np R mpi_bench MESH [--tol T] [--method M] [--repeat K]
+ *   mpirun -np R mpi_bench MESH [--tol T] [--method M] [--repeat K] [--device D]
  *       interpolates MESH K times on R ranks; rank 0 prints one JSON line per
  *       rank (its figures in the best run: the least wall time per iteration)
  *       and one summary line.
@@ -114,9 +114,11 @@ int main(int argc, char **argv)
         if (strcmp(argv[i], "--tol") == 0 && i + 1 < argc)
             o.tolerance = atof(argv[++i]);
         else if (strcmp(argv[i], "--method") == 0 && i + 1 < argc)
-            o.method = strcmp(argv[++i], "weighted") == 0 ? LIMN_METHOD_WEIGHTED
-                       : strcmp(argv[i], "cg") == 0       ? LIMN_METHOD_CG
-                                                          : LIMN_METHOD_PAPER;
+            o.method = strcmp(argv[++i], "weighted") == 0    ? LIMN_METHOD_WEIGHTED
+                       : strcmp(argv[i], "cg") == 0          ? LIMN_METHOD_CG
+                       : strcmp(argv[i], "chebyshev") == 0   ? LIMN_METHOD_CHEBYSHEV
+                       : strcmp(argv[i], "paper") == 0       ? LIMN_METHOD_PAPER
+                                                             : LIMN_METHOD_AUTO;
         else if (strcmp(argv[i], "--repeat") == 0 && i + 1 < argc)
             repeat = atoi(argv[++i]);
         else if (strcmp(argv[i], "--parts") == 0 && i + 1 < argc)

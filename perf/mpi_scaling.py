@@ -5,7 +5,7 @@
 
 Makes a >= 2M-vertex mesh (igea.ply refined twice by Loop: 2,149,490 vertices)
 with `limn subdivide` unless --mesh is given, then runs perf/mpi_bench (the
-paper iteration to --tol, best of --repeat runs) on 1 rank and on 2 ranks, one
+--method iteration to --tol, paper by default, best of --repeat runs) on 1 rank and on 2 ranks, one
 core each (mpirun binds each rank to a core; the MPI layer gives PoCL the
 rank's cores), and 1 rank with 2 PoCL threads for comparison. Prints per rank:
 time per iteration, halo bytes per iteration, compute / halo / reduce time per
@@ -50,6 +50,8 @@ def main():
     ap.add_argument("--mesh", help="mesh to use (default: igea refined twice, made if missing)")
     ap.add_argument("--tol", default="1e-10", help="tolerance (tight: enough iterations to time)")
     ap.add_argument("--repeat", default="3")
+    ap.add_argument("--method", default="paper",
+                    help="paper (default: the reference step), chebyshev, weighted or cg")
     ap.add_argument("--latency-us", type=float, default=2.0,
                     help="projection: network latency per message, microseconds")
     ap.add_argument("--bandwidth-gbs", type=float, default=10.0,
@@ -74,7 +76,7 @@ def main():
     env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
     env.setdefault("POCL_CACHE_DIR", os.path.join(args.build, "pocl-cache"))
     env.pop("POCL_MAX_PTHREAD_COUNT", None)
-    common = [bench, mesh, "--tol", args.tol, "--repeat", args.repeat]
+    common = [bench, mesh, "--tol", args.tol, "--repeat", args.repeat, "--method", args.method]
 
     cores = effective_cores()
     print(f"mesh: {mesh}")

@@ -7,14 +7,15 @@ by side in the same run.
 
 For each mesh size (real shared meshes, refined with `limn subdivide` into
 out/perf-meshes/ for the large sizes) and each scheme, it runs:
-  - limn interpolate, every method (paper, weighted, cg), PoCL on 1 and on 2
+  - limn interpolate, every method (paper, weighted, chebyshev, cg), PoCL on 1 and 2
     threads (POCL_MAX_PTHREAD_COUNT), double precision;
   - the seeds' iteration on OpenSubdiv's limit stencils (perf/osd_iteration,
     a plain C++ double loop; sizes up to --osd-max: its adaptive stencil build
     grows fast);
   - SciPy on limn's exported operator (perf/scipy_anchor.py): the seeds'
     iteration on a CSR matrix, the same CG, SuperLU up to --superlu-max;
-  - STREAM triad on 1 and 2 threads (perf/stream_triad), once.
+  - STREAM triad on 1 and 2 threads (perf/stream_triad), once;
+  - denoise and morph throughput (perf/series_throughput.py).
 It prints a markdown table (time per vertex per product, products, solve
 seconds, GB/s moved by limn's solve loop and its fraction of the triad rate)
 and writes out/perf_suite.csv and out/perf_suite.png (time per vertex against
@@ -94,7 +95,7 @@ def main():
         j = json.loads(run([os.path.join(perf, "stream_triad"), "512", "10"],
                            env={"OMP_NUM_THREADS": str(t)}))
         stream[t] = j["gb_per_s"]
-    methods = ["paper", "cg"] if a.quick else ["paper", "weighted", "cg"]
+    methods = ["paper", "chebyshev", "cg"] if a.quick else ["paper", "weighted", "chebyshev", "cg"]
     threads = [2] if a.quick else [1, 2]
     for label, base, levels, schemes in SIZES:
         path = mesh_for(a, base, levels)
@@ -160,6 +161,12 @@ def main():
         frac = f"{100 * r['triad_fraction']:.0f}%" if r["triad_fraction"] != "" else ""
         print(f"| {r['size']} | {r['scheme']} | {r['impl']} | {r['products']:.1f} "
               f"| {r['seconds']:.3f} | {nsv} | {gbs} | {frac} |")
+    # the series toolkit's throughput, same run (perf/series_throughput.py)
+    sys.path.insert(0, os.path.join(ROOT, "perf"))
+    import series_throughput
+    print("\nDenoise and morph (PoCL, 2 threads; compute phase):")
+    series_throughput.print_table(
+        series_throughput.measure(a.build, a.meshes, min(a.max_size, 9e6), stream[2]), stream[2])
     try:
         import matplotlib
         matplotlib.use("Agg")

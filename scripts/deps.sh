@@ -7,7 +7,8 @@
 #                            tested (optional for users: LIMN_MPI, README "MPI")
 set -euo pipefail
 
-packages=(gcc g++ make cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd)
+packages=(gcc g++ make cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
+          libhwloc-dev)
 if [[ "${1:-}" == "--test" ]]; then
     packages+=(libcmocka-dev libosd-dev clang-14 libclang-rt-14-dev
                libopenmpi-dev openmpi-bin libmetis-dev)

@@ -55,6 +55,24 @@ static void agree_on(const char *name, limn_mesh *m, limn_scheme scheme, double 
     compare_arrays(name, limn_mesh_positions(pa), limn_mesh_positions(pb), 3 * n, &same);
     printf("  %-34s %-7s: %zu of %zu values bit-identical, %d iterations each\n", name,
            limn_scheme_name(scheme), same, 6 * n, ra.iterations);
+    /* every solver's kernels, too */
+    limn_method others[] = {LIMN_METHOD_PAPER, LIMN_METHOD_WEIGHTED, LIMN_METHOD_CHEBYSHEV,
+                            LIMN_METHOD_CG};
+    for (int k = 0; k < 4; k++) {
+        limn_mesh *qa = NULL, *qb = NULL;
+        size_t same_k = 0;
+        o.method = others[k];
+        assert_int_equal(limn_interpolate(cl, m, &o, &qa, &ra), LIMN_OK);
+        assert_int_equal(limn_interpolate(ref, m, &o, &qb, &rb), LIMN_OK);
+        assert_int_equal(ra.iterations, rb.iterations);
+        compare_arrays(name, limn_mesh_positions(qa), limn_mesh_positions(qb), 3 * n, &same_k);
+        if (same_k != 3 * n)
+            fail_msg("%s, method %s: %zu of %zu values bit-identical", name,
+                     limn_method_name(others[k]), same_k, 3 * n);
+        limn_mesh_destroy(qa);
+        limn_mesh_destroy(qb);
+    }
+    o.method = LIMN_METHOD_AUTO;
     assert_true(strstr(limn_context_device_name(ref), "reference") != NULL);
     limn_mesh_destroy(pa);
     limn_mesh_destroy(pb);

@@ -115,6 +115,21 @@ static void ranges_on(const char *device, int triangles)
     free(x1);
     free(x2);
 
+    /* cheb_step: its previous iterate is read and overwritten row by row */
+    device_buffer *prev1 = make(&f, f.host), *prev2 = make(&f, f.host);
+    assert_int_equal(ops->cheb_step(dev, &f.op.device, m, p, prev1, 0.3, 1.2, &whole), LIMN_OK);
+    assert_int_equal(ops->cheb_step(dev, &hi, m, p, prev2, 0.3, 1.2, &b), LIMN_OK);
+    assert_int_equal(ops->cheb_step(dev, &lo, m, p, prev2, 0.3, 1.2, &a), LIMN_OK);
+    combine(&a, &b, &parts);
+    same_norms(&whole, &parts);
+    x1 = read_all(&f, prev1);
+    x2 = read_all(&f, prev2);
+    assert_memory_equal(x1, x2, 4 * f.n * sizeof(double));
+    free(x1);
+    free(x2);
+    ops->buffer_release(dev, prev1);
+    ops->buffer_release(dev, prev2);
+
     /* series_step with every output */
     device_buffer *ax1 = make(&f, NULL), *ax2 = make(&f, NULL), *acc1 = make(&f, f.host),
                   *acc2 = make(&f, f.host);

@@ -146,6 +146,8 @@ static void small_meshes(void **s)
     folder("small");
     test_method = LIMN_METHOD_CG;
     folder("small");
+    test_method = LIMN_METHOD_CHEBYSHEV;
+    folder("small");
     test_method = LIMN_METHOD_AUTO;
 }
 
@@ -154,6 +156,8 @@ static void medium_meshes(void **s)
     (void)s;
     folder("medium");
     test_method = LIMN_METHOD_CG;
+    folder("medium");
+    test_method = LIMN_METHOD_CHEBYSHEV;
     folder("medium");
     test_method = LIMN_METHOD_AUTO;
 }
@@ -210,6 +214,11 @@ static void singular_cube(void **s)
     assert_int_equal(limn_interpolate(ctx, cube, &o, &p, NULL), LIMN_ERR_SINGULAR);
     assert_null(p);
     assert_non_null(strstr(limn_context_message(ctx), "--alpha 0.5"));
+    o.method = LIMN_METHOD_CHEBYSHEV; /* the restart rule must not hide the stall */
+    assert_int_equal(limn_interpolate(ctx, cube, &o, &p, NULL), LIMN_ERR_SINGULAR);
+    assert_null(p);
+    assert_non_null(strstr(limn_context_message(ctx), "--alpha 0.5"));
+    o.method = LIMN_METHOD_AUTO;
     o.alpha = 0.5;
     limn_report r;
     assert_int_equal(limn_interpolate(ctx, cube, &o, &p, &r), LIMN_OK);
@@ -257,9 +266,10 @@ static void methods(void **s)
     limn_mesh *spot = NULL, *ico = test_mesh_icosahedron(ctx), *grid = test_mesh_grid(ctx, 8, 7, 0);
     assert_int_equal(limn_mesh_read(ctx, path, LIMN_FORMAT_AUTO, &spot), LIMN_OK);
     test_perturb(ico, 0.2, 4);
-    limn_method ms[] = {LIMN_METHOD_PAPER, LIMN_METHOD_WEIGHTED, LIMN_METHOD_CG};
-    double products[3][3];
-    for (int k = 0; k < 3; k++) {
+    limn_method ms[] = {LIMN_METHOD_PAPER, LIMN_METHOD_WEIGHTED, LIMN_METHOD_CG,
+                        LIMN_METHOD_CHEBYSHEV};
+    double products[4][3];
+    for (int k = 0; k < 4; k++) {
         test_method = ms[k];
         check_mesh(ctx, limn_method_name(ms[k]), spot, LIMN_SCHEME_CATMARK, 0.0);
         products[k][0] = last_products;
@@ -270,10 +280,14 @@ static void methods(void **s)
         products[k][2] = last_products;
     }
     test_method = LIMN_METHOD_AUTO;
-    printf("  products paper / weighted / cg: spot %.0f / %.0f / %.1f\n", products[0][0],
-           products[1][0], products[2][0]);
+    printf("  products paper / weighted / cg / chebyshev: spot %.0f / %.0f / %.1f / %.0f, "
+           "perturbed icosahedron %.0f / %.0f / %.1f / %.0f\n",
+           products[0][0], products[1][0], products[2][0], products[3][0], products[0][1],
+           products[1][1], products[2][1], products[3][1]);
     assert_true(products[2][0] * 4 < products[0][0]);
+    assert_true(products[3][0] * 4 < products[0][0]);
     assert_true(products[1][0] < products[0][0]);
+    assert_true(products[3][1] < products[0][1]);
     limn_mesh_destroy(spot);
     limn_mesh_destroy(ico);
     limn_mesh_destroy(grid);

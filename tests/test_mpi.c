@@ -2,8 +2,8 @@
  * The MPI layer against the single process, run under mpirun with 2 and 3
  * ranks (tests/CMakeLists.txt). On every mesh and method the distributed
  * result must equal limn_interpolate's to 1e-12 of the coordinates' scale with
- * the same iteration count; the paper iteration and the series filters must
- * give the very same bits (each row is summed in the single process's order,
+ * the same iteration count; the paper iteration, Chebyshev (its coefficients
+ * follow the reduced maximum) and the series filters must give the very same bits (each row is summed in the single process's order,
  * mpi_part.h). The root computes the single-process reference with the same
  * device. Meshes: a generated one with several components (open grids with
  * boundaries and corners, a closed icosahedron, a pyramid, a non-manifold fin,
@@ -389,10 +389,12 @@ int main(int argc, char **argv)
     interpolate_case(ctx, "composite", tri, LIMN_SCHEME_LOOP, 0.0, LIMN_METHOD_PAPER);
     interpolate_case(ctx, "composite", tri, LIMN_SCHEME_LOOP, 0.0, LIMN_METHOD_WEIGHTED);
     interpolate_case(ctx, "composite", tri, LIMN_SCHEME_LOOP, 0.0, LIMN_METHOD_CG);
+    interpolate_case(ctx, "composite", tri, LIMN_SCHEME_LOOP, 0.0, LIMN_METHOD_CHEBYSHEV);
     interpolate_case(ctx, "composite", quad, LIMN_SCHEME_CATMARK, 0.0, LIMN_METHOD_PAPER);
     interpolate_case(ctx, "composite", quad, LIMN_SCHEME_CATMARK, 0.5, LIMN_METHOD_PAPER);
     interpolate_case(ctx, "composite", quad, LIMN_SCHEME_CATMARK, 0.5, LIMN_METHOD_WEIGHTED);
     interpolate_case(ctx, "composite", quad, LIMN_SCHEME_CATMARK, 0.0, LIMN_METHOD_CG);
+    interpolate_case(ctx, "composite", quad, LIMN_SCHEME_CATMARK, 0.5, LIMN_METHOD_CHEBYSHEV);
     series_case(ctx, "composite tri", tri);
     series_case(ctx, "composite quad", quad);
     morph_case(ctx, "composite quad", quad);
@@ -451,6 +453,8 @@ int main(int argc, char **argv)
         interpolate_case(ctx, real[k].path, m, real[k].scheme, real[k].alpha,
                          LIMN_METHOD_WEIGHTED);
         interpolate_case(ctx, real[k].path, m, real[k].scheme, real[k].alpha, LIMN_METHOD_CG);
+        interpolate_case(ctx, real[k].path, m, real[k].scheme, real[k].alpha,
+                         LIMN_METHOD_CHEBYSHEV);
         if (k < 2)
             series_case(ctx, real[k].path, m);
         limn_mesh_destroy(m);

@@ -193,6 +193,7 @@ static void interpolate_generated(void **s)
         interpolate_same(at("tri.obj"), "--method paper", ranks, 1);
         interpolate_same(at("tri.obj"), "--method weighted", ranks, 0);
         interpolate_same(at("tri.obj"), "--method cg", ranks, 0);
+        interpolate_same(at("tri.obj"), "--method chebyshev", ranks, 1);
         interpolate_same(at("quad.obj"), "--alpha 0.5", ranks, 1);
         interpolate_same(at("quad.obj"), "--alpha 0.5 --method weighted", ranks, 0);
         interpolate_same(at("quad.obj"), "--alpha 0.5 --method cg", ranks, 0);

@@ -9,7 +9,9 @@ int cli_devices(int argc, char **argv)
     if (argc > 1 && (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0)) {
         puts("usage: limn devices\n\nLists OpenCL devices as P.D (platform.device); pick one "
              "with --device opencl:P.D,\n--device opencl:NAME, or LIMN_PLATFORM / LIMN_DEVICE / "
-             "LIMN_DEVICE_TYPE.");
+             "LIMN_DEVICE_TYPE.\nThe last line gives the OpenCL runtime's thread count and its source: the cores\n"
+             "inside the CPU binding (hwloc), unless POCL_MAX_PTHREAD_COUNT or\n"
+             "POCL_CPU_MAX_CU_COUNT is set.");
         return 0;
     }
     if (argc > 1)
@@ -24,8 +26,13 @@ int cli_devices(int argc, char **argv)
     if (st) {
         rc = cli_fail("devices", ctx, st);
     } else {
+        cli_print_warnings("devices", ctx);
         fputs(buf, stdout);
         puts("reference  plain C backend (--device reference)");
+        int threads;
+        const char *source;
+        limn_context_threads(ctx, &threads, &source);
+        printf("threads: %d (%s)\n", threads, source);
     }
     free(buf);
     limn_context_destroy(ctx);

@@ -248,30 +248,26 @@ limn_status mpi_gather_rows(mpi_part *p, const double *rows4, double *xyz_root)
 
 /* ------------------------------------------------------------------ device */
 
-/* PoCL ignores the process's CPU binding and starts a thread per core
-   (DESIGN.md §4): with several ranks on a node that oversubscribes the cores.
-   Unless the user chose, give it the cores this rank is bound to, or its
-   share of the node when unbound. Read by PoCL at its first use only. */
-static void pocl_threads(int local_size)
+/* PoCL ignores the process's CPU binding; limn gives it the cores inside the
+   binding (threads.c, hwloc). A rank that is not bound (mpirun --bind-to none,
+   or more ranks than cores) sees the whole node there, so unless the caller
+   asked for a count, such a rank takes its share of the node instead. */
+static void share_cores(mpi_part *p)
 {
-    if (getenv("POCL_MAX_PTHREAD_COUNT"))
-        return;
     long online = sysconf(_SC_NPROCESSORS_ONLN);
     cpu_set_t set;
-    int bound = online > 0 ? (int)online : 1;
-    if (sched_getaffinity(0, sizeof set, &set) == 0)
-        bound = CPU_COUNT(&set);
-    int threads = bound < online ? bound : (int)(online / (local_size > 0 ? local_size : 1));
-    char text[16];
-    snprintf(text, sizeof text, "%d", threads > 0 ? threads : 1);
-    setenv("POCL_MAX_PTHREAD_COUNT", text, 0);
+    if (p->local_size <= 1 || p->ctx->threads_request != LIMN_THREADS_FROM_BINDING ||
+        online <= 0 || sched_getaffinity(0, sizeof set, &set) != 0 || CPU_COUNT(&set) < online)
+        return;
+    long share = online / p->local_size;
+    p->ctx->threads_request = share > 0 ? (int)share : 1;
 }
 
 limn_status mpi_open_device(mpi_part *p)
 {
     if (!p->ctx->device) /* an open device stays the caller's choice */
         p->ctx->device_slot = p->stats.local_rank;
-    pocl_threads(p->local_size);
+    share_cores(p);
     limn_status st = device_get(p->ctx, &p->dev);
     if (!st)
         snprintf(p->stats.device, sizeof p->stats.device, "%s", p->dev->name);

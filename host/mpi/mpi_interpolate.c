@@ -21,23 +21,27 @@ typedef struct mpi_solve {
     mpi_part *p;
     device_buffer *m, *x[2];
     int cur;
-    double omega;
+    solve_step step;
 } mpi_solve;
 
 static limn_status rows_step(void *user, const device_csr *rows, device_norms *norms)
 {
     mpi_solve *s = user;
     struct limn_device *dev = s->p->dev;
-    return dev->ops->interp_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->omega,
+    if (s->step.kind == SOLVE_CHEBYSHEV)
+        return dev->ops->cheb_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->step.c1,
+                                   s->step.c2, norms);
+    return dev->ops->interp_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->step.omega,
                                  norms);
 }
 
-/* solve_step_fn: one overlapped step, then the global norms. */
-static limn_status step(void *user, int cur, double omega, device_norms *norms)
+/* solve_step_fn: one overlapped step (only P's ghosts are read: the previous
+   iterate of Chebyshev is read row by row), then the global norms. */
+static limn_status step(void *user, int cur, const solve_step *sp, device_norms *norms)
 {
     mpi_solve *s = user;
     s->cur = cur;
-    s->omega = omega;
+    s->step = *sp;
     device_norms local;
     limn_status st = mpi_overlapped(s->p, &s->p->all, s->x[cur], rows_step, s, LIMN_OK, &local);
     return mpi_reduce_norms(s->p, st, &local, norms);
@@ -69,7 +73,7 @@ static limn_status iterate(mpi_part *p, const limn_interpolate_options *o, limn_
     double t0 = MPI_Wtime();
     if (!st)
         st = solve_iterate(p->ctx, step, &s, p->n_global, p->scheme, p->alpha, o, p->diag,
-                           method == LIMN_METHOD_WEIGHTED, &which, r);
+                           solve_kind_of(method), &which, r);
     p->stats.seconds_solve += MPI_Wtime() - t0;
     if (!st)
         st = ops->buffer_read_at(p->dev, s.x[which], 0, p->n_owned * row, out4);
@@ -107,11 +111,12 @@ limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_me
         st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
                        "limn_interpolate_mpi: the root rank needs the mesh and control");
     st = mpi_agree(&p, st);
-    limn_method method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_PAPER : o->method;
+    /* auto as in limn_interpolate, so that both give the same answer */
+    limn_method method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_CHEBYSHEV : o->method;
     r->method = limn_method_name(method);
     r->method_reason = o->method == LIMN_METHOD_AUTO
-                           ? "auto: the seeds' iteration, the fastest in measured time on the "
-                             "shared meshes (cg uses fewer products, each costlier)"
+                           ? "auto: chebyshev, the fastest in measured time on every shared "
+                             "mesh (fewest fused steps; cg uses as few products, each costlier)"
                            : "chosen by the caller";
     if (!st)
         st = mpi_distribute(&p, mesh, o->scheme, o->alpha, o->reorder);
