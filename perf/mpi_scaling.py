@@ -49,7 +49,8 @@ def main():
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--mesh", help="mesh to use (default: igea refined twice, made if missing)")
     ap.add_argument("--tol", default="1e-10", help="tolerance (tight: enough iterations to time)")
-    ap.add_argument("--repeat", default="3")
+    ap.add_argument("--repeat", default="3", help="solves per launch (the best is kept)")
+    ap.add_argument("--rounds", default="3", help="launches per configuration, taking turns")
     ap.add_argument("--method", default="paper",
                     help="paper (default: the reference step), chebyshev, weighted or cg")
     ap.add_argument("--latency-us", type=float, default=2.0,
@@ -78,16 +79,24 @@ def main():
     env.pop("POCL_MAX_PTHREAD_COUNT", None)
     common = [bench, mesh, "--tol", args.tol, "--repeat", args.repeat, "--method", args.method]
 
-    cores = effective_cores()
     print(f"mesh: {mesh}")
-    print(f"cores available now: {cores:.2f} of {os.cpu_count()} (two busy processes vs one)")
-    runs = {}
-    runs["1 rank, 1 core"] = run_json(["mpirun", "-np", "1", "--bind-to", "core"] + common, env)
-    runs["2 ranks, 1 core each"] = run_json(["mpirun", "-np", "2", "--bind-to", "core"] + common,
-                                            env)
     env2 = dict(env, POCL_MAX_PTHREAD_COUNT="2")
-    runs["1 rank, 2 PoCL threads"] = run_json(["mpirun", "-np", "1", "--bind-to", "none"] + common,
-                                              env2)
+    configs = [("1 rank, 1 core", ["mpirun", "-np", "1", "--bind-to", "core"], env),
+               ("2 ranks, 1 core each", ["mpirun", "-np", "2", "--bind-to", "core"], env),
+               ("1 rank, 2 PoCL threads", ["mpirun", "-np", "1", "--bind-to", "none"], env2)]
+    # the machine is shared: the configurations take turns for --rounds rounds and
+    # each keeps its best round (least time per iteration of the slowest rank)
+    runs, best = {}, {}
+    for k in range(int(args.rounds)):
+        cores = effective_cores()
+        print(f"round {k + 1}: cores available {cores:.2f} of {os.cpu_count()} "
+              f"(two busy processes vs one)", flush=True)
+        for name, launcher, e in configs:
+            lines = run_json(launcher + common, e)
+            t = [r for r in lines if r.get("summary")][0]["seconds_per_iteration"]
+            if name not in best or t < best[name]:
+                best[name] = t
+                runs[name] = lines
 
     print()
     print("| run | rank | owned | ghosts | halo B/iter out / in | s/iter | compute | halo "
