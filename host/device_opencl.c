@@ -111,6 +111,30 @@ static limn_status cl_buffer_read(struct limn_device *dev, device_buffer *buf, s
     return LIMN_OK;
 }
 
+static limn_status cl_buffer_write_at(struct limn_device *dev, device_buffer *buf,
+                                      size_t offset, size_t bytes, const void *src)
+{
+    if (offset > buf->bytes || bytes > buf->bytes - offset)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+    if (bytes)
+        CHECK(clEnqueueWriteBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, offset, bytes, src, 0,
+                                   NULL, NULL),
+              "clEnqueueWriteBuffer");
+    return LIMN_OK;
+}
+
+static limn_status cl_buffer_read_at(struct limn_device *dev, device_buffer *buf, size_t offset,
+                                     size_t bytes, void *dst)
+{
+    if (offset > buf->bytes || bytes > buf->bytes - offset)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+    if (bytes)
+        CHECK(clEnqueueReadBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, offset, bytes, dst, 0,
+                                  NULL, NULL),
+              "clEnqueueReadBuffer");
+    return LIMN_OK;
+}
+
 static void cl_buffer_release(struct limn_device *dev, device_buffer *buf)
 {
     (void)dev;
@@ -128,7 +152,7 @@ static size_t work_items(size_t rows)
 
 static limn_status set_csr_args(struct limn_device *dev, cl_kernel k, const device_csr *a)
 {
-    cl_uint rows = (cl_uint)a->rows;
+    cl_uint rows = (cl_uint)(a->row_begin + a->rows); /* kernels stop at the range's end */
     CHECK(clSetKernelArg(k, 0, sizeof rows, &rows), "clSetKernelArg(rows)");
     CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &a->row_offsets->mem), "clSetKernelArg(offsets)");
     CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &a->columns->mem), "clSetKernelArg(columns)");
@@ -136,13 +160,17 @@ static limn_status set_csr_args(struct limn_device *dev, cl_kernel k, const devi
     return LIMN_OK;
 }
 
-static limn_status launch(struct limn_device *dev, cl_kernel k, size_t rows, const char *name)
+/* Launches work-items first_item .. for `rows` rows: a row range starting at
+   row first_item * DEVICE_ROWS_PER_ITEM uses the global work offset, so the
+   kernels need no argument for it (device_csr.row_begin). */
+static limn_status launch_at(struct limn_device *dev, cl_kernel k, size_t first_item,
+                             size_t rows, const char *name)
 {
     if (rows == 0)
         return LIMN_OK;
-    size_t global = work_items(rows), local = DEVICE_WORKGROUP;
-    cl_int err = clEnqueueNDRangeKernel(impl_of(dev)->queue, k, 1, NULL, &global, &local, 0,
-                                        NULL, NULL);
+    size_t global = work_items(rows), local = DEVICE_WORKGROUP, offset = first_item;
+    cl_int err = clEnqueueNDRangeKernel(impl_of(dev)->queue, k, 1, first_item ? &offset : NULL,
+                                        &global, &local, 0, NULL, NULL);
     if (err == CL_SUCCESS && device_test_fault("enqueue"))
         err = CL_OUT_OF_RESOURCES; /* test-only (device.h) */
     if (err != CL_SUCCESS)
@@ -151,6 +179,27 @@ static limn_status launch(struct limn_device *dev, cl_kernel k, size_t rows, con
                          "it; try another device (--device, see 'limn devices') or --device "
                          "reference (or allow --fallback reference)",
                          name, dev->name, opencl_error_name(err), err);
+    return LIMN_OK;
+}
+
+static limn_status launch(struct limn_device *dev, cl_kernel k, size_t rows, const char *name)
+{
+    return launch_at(dev, k, 0, rows, name);
+}
+
+static size_t first_item(const device_csr *a) { return a->row_begin / DEVICE_ROWS_PER_ITEM; }
+
+/* Finishes the partials of `rows` rows written by items from `first`. */
+static limn_status read_partials(struct limn_device *dev, size_t first, size_t rows,
+                                 device_norms *out)
+{
+    opencl_impl *im = impl_of(dev);
+    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    if (chunks)
+        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE, first * 3 * sizeof(double),
+                                  chunks * 3 * sizeof(double), im->host_partials, 0, NULL, NULL),
+              "reading the reduction partials");
+    device_norms_finish(im->host_partials, chunks, out);
     return LIMN_OK;
 }
 
@@ -163,7 +212,7 @@ static limn_status cl_spmv(struct limn_device *dev, const device_csr *a, device_
         return st;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
-    return launch(dev, k, a->rows, "spmv");
+    return launch_at(dev, k, first_item(a), a->rows, "spmv");
 }
 
 static limn_status ensure_partials(struct limn_device *dev, size_t items)
@@ -192,8 +241,7 @@ static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
                                   double omega, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    limn_status st = ensure_partials(dev, work_items(a->rows) ? work_items(a->rows) : 1);
+    limn_status st = ensure_partials(dev, first_item(a) + work_items(a->rows) + 1);
     if (!st)
         st = set_csr_args(dev, im->interp_step, a);
     if (st)
@@ -204,15 +252,8 @@ static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
     CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &p_next->mem), "clSetKernelArg(p_next)");
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
     CHECK(clSetKernelArg(k, 8, sizeof omega, &omega), "clSetKernelArg(omega)");
-    st = launch(dev, k, a->rows, "interp_step");
-    if (st)
-        return st;
-    if (chunks)
-        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE, 0, chunks * 3 * sizeof(double),
-                                  im->host_partials, 0, NULL, NULL),
-              "reading the reduction partials");
-    device_norms_finish(im->host_partials, chunks, norms);
-    return LIMN_OK;
+    st = launch_at(dev, k, first_item(a), a->rows, "interp_step");
+    return st ? st : read_partials(dev, first_item(a), a->rows, norms);
 }
 
 static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
@@ -221,8 +262,7 @@ static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
                                   device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    limn_status st = ensure_partials(dev, work_items(a->rows) ? work_items(a->rows) : 1);
+    limn_status st = ensure_partials(dev, first_item(a) + work_items(a->rows) + 1);
     if (!st)
         st = set_csr_args(dev, im->series_step, a);
     if (st)
@@ -240,15 +280,8 @@ static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
     CHECK(clSetKernelArg(k, 8, sizeof fl, &fl), "clSetKernelArg(flags)");
     CHECK(clSetKernelArg(k, 9, sizeof mode, &mode), "clSetKernelArg(acc_mode)");
     CHECK(clSetKernelArg(k, 10, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = launch(dev, k, a->rows, "series_step");
-    if (st)
-        return st;
-    if (chunks)
-        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE, 0, chunks * 3 * sizeof(double),
-                                  im->host_partials, 0, NULL, NULL),
-              "reading the reduction partials");
-    device_norms_finish(im->host_partials, chunks, norms);
-    return LIMN_OK;
+    st = launch_at(dev, k, first_item(a), a->rows, "series_step");
+    return st ? st : read_partials(dev, first_item(a), a->rows, norms);
 }
 
 static limn_status cl_axpby(struct limn_device *dev, size_t rows, double a, device_buffer *x,
@@ -306,7 +339,7 @@ static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, dev
                                device_buffer *y, device_buffer *dinv, double *dot)
 {
     opencl_impl *im = impl_of(dev);
-    limn_status st = ensure_partials(dev, work_items(a->rows) ? work_items(a->rows) : 1);
+    limn_status st = ensure_partials(dev, first_item(a) + work_items(a->rows) + 1);
     if (!st)
         st = set_csr_args(dev, im->spmv_dot, a);
     if (st)
@@ -316,10 +349,10 @@ static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, dev
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
     CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = launch(dev, k, a->rows, "spmv_dot");
+    st = launch_at(dev, k, first_item(a), a->rows, "spmv_dot");
     device_norms n;
     if (!st)
-        st = finish_partials(dev, a->rows, &n);
+        st = read_partials(dev, first_item(a), a->rows, &n);
     if (!st)
         *dot = n.sum;
     return st;
@@ -330,7 +363,7 @@ static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
                                 double c1, double c2, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    limn_status st = ensure_partials(dev, work_items(a->rows) ? work_items(a->rows) : 1);
+    limn_status st = ensure_partials(dev, first_item(a) + work_items(a->rows) + 1);
     if (!st)
         st = set_csr_args(dev, im->cheb_step, a);
     if (st)
@@ -342,10 +375,8 @@ static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
     CHECK(clSetKernelArg(k, 8, sizeof c1, &c1), "clSetKernelArg(c1)");
     CHECK(clSetKernelArg(k, 9, sizeof c2, &c2), "clSetKernelArg(c2)");
-    st = launch(dev, k, a->rows, "cheb_step");
-    if (!st)
-        st = finish_partials(dev, a->rows, norms);
-    return st;
+    st = launch_at(dev, k, first_item(a), a->rows, "cheb_step");
+    return st ? st : read_partials(dev, first_item(a), a->rows, norms);
 }
 
 static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double alpha,
@@ -412,6 +443,8 @@ static const device_ops opencl_ops = {
     .buffer_write = cl_buffer_write,
     .buffer_read = cl_buffer_read,
     .buffer_release = cl_buffer_release,
+    .buffer_write_at = cl_buffer_write_at,
+    .buffer_read_at = cl_buffer_read_at,
     .spmv = cl_spmv,
     .interp_step = cl_interp_step,
     .spmv_dot = cl_spmv_dot,
