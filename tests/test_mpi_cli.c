@@ -168,8 +168,11 @@ static void interpolate_same(const char *input, const char *opts, int ranks, int
         fail_msg("one process: %s", text);
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' %s", input, many,
              at("many.json"), opts);
-    if (run(ranks, args) != 0)
-        fail_msg("%d ranks: %s", ranks, text);
+    int rc = run(ranks, args);
+    if (rc != 0) {
+        fputs(text, stderr); /* whole: cmocka's message is cut short */
+        fail_msg("%d ranks: exit status %d", ranks, rc);
+    }
     /* rank 0 printed the summary once, with every rank's line */
     assert_int_equal(count(text, "  device: "), 1);
     char line[32];
