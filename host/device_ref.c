@@ -4,16 +4,11 @@
  * with FP_CONTRACT OFF), so it is the oracle for the OpenCL path.
  */
 #include "context.h"
-#include "device.h"
+#include "device_ref.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-struct device_buffer {
-    size_t bytes;
-    void *data;
-};
 
 static limn_status ref_buffer_create(struct limn_device *dev, size_t bytes, const void *init,
                                      device_buffer **out)
@@ -342,6 +337,9 @@ static const device_ops reference_ops = {
     .series_step = ref_series_step,
     .axpby = ref_axpby,
     .norms = ref_norms,
+    .residual_f = ref_residual_f,
+    .interp_step_f = ref_interp_step_f,
+    .add_f = ref_add_f,
     .close = ref_close,
 };
 

@@ -1,0 +1,20 @@
+/* Internals of the reference backend shared by device_ref.c and
+   device_ref_mixed.c (the float operations of the mixed-precision solve). */
+#ifndef LIMN_DEVICE_REF_H
+#define LIMN_DEVICE_REF_H
+
+#include "device.h"
+
+struct device_buffer {
+    size_t bytes;
+    void *data;
+};
+
+limn_status ref_residual_f(struct limn_device *dev, const device_csr *a, device_buffer *m,
+                           device_buffer *p, device_buffer *r_f, device_norms *norms);
+limn_status ref_interp_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
+                              device_buffer *d, device_buffer *d_next, float omega,
+                              device_norms *norms);
+limn_status ref_add_f(struct limn_device *dev, size_t rows, device_buffer *p, device_buffer *d);
+
+#endif
