@@ -173,19 +173,14 @@ limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, 
     return st;
 }
 
-limn_status device_csr_upload_float(struct limn_device *dev, const stencil_csr *host,
-                                    device_csr *csr)
+limn_status device_csr_add_float(struct limn_device *dev, device_csr *csr)
 {
     if (csr->weights_f)
         return LIMN_OK;
-    size_t nnz = csr->nonzeros;
-    float *w = malloc((nnz ? nnz : 1) * sizeof *w);
-    if (!w)
-        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for %zu float weights", nnz);
-    for (size_t k = 0; k < nnz; k++)
-        w[k] = (float)host->weights[k];
-    limn_status st = dev->ops->buffer_create(dev, nnz * sizeof *w, w, &csr->weights_f);
-    free(w);
+    limn_status st = dev->ops->buffer_create(dev, csr->nonzeros * sizeof(float), NULL,
+                                             &csr->weights_f);
+    if (!st)
+        st = dev->ops->to_float(dev, csr->nonzeros, csr->weights, csr->weights_f);
     return st;
 }
 

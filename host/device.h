@@ -26,7 +26,7 @@ typedef struct device_csr {
     device_buffer *row_offsets;  /* uint32, rows + 1 */
     device_buffer *columns;      /* uint32, nonzeros */
     device_buffer *weights;      /* double, nonzeros */
-    device_buffer *weights_f;    /* float copy for the float path (device_csr_upload_float);
+    device_buffer *weights_f;    /* float copy for the float path (device_csr_add_float);
                                     NULL until then */
     int gather_ahead;            /* the gathers scatter over memory: the solve kernels
                                     prefetch them (kernels/stencil.cl, GATHER_AHEAD) */
@@ -98,6 +98,9 @@ typedef struct device_ops {
     /* p += d over `rows` (d float, widened exactly to double). */
     limn_status (*add_f)(struct limn_device *dev, size_t rows, device_buffer *p,
                          device_buffer *d);
+    /* w_f = w rounded to float, `count` values. */
+    limn_status (*to_float)(struct limn_device *dev, size_t count, device_buffer *w,
+                            device_buffer *w_f);
     void (*close)(struct limn_device *dev);
 } device_ops;
 
@@ -158,9 +161,9 @@ limn_status device_open_opencl(limn_context *ctx, const char *spec, struct limn_
 
 /* Uploads a host CSR table; releases it with device_csr_release. */
 limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, device_csr *out);
-/* Adds the float copy of the weights (once; a no-op when present). */
-limn_status device_csr_upload_float(struct limn_device *dev, const stencil_csr *host,
-                                    device_csr *csr);
+/* Adds the float copy of the weights, made on the device (once; a no-op
+   when present). */
+limn_status device_csr_add_float(struct limn_device *dev, device_csr *csr);
 void device_csr_release(struct limn_device *dev, device_csr *csr);
 
 /* Finishes per-chunk partial norms in chunk order. */

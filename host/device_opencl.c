@@ -380,6 +380,7 @@ static const device_ops opencl_ops = {
     .residual_f = cl_residual_f,
     .interp_step_f = cl_interp_step_f,
     .add_f = cl_add_f,
+    .to_float = cl_to_float,
     .close = cl_close,
 };
 

@@ -23,6 +23,7 @@ typedef enum opencl_kernel_id {
     K_RESIDUAL_F,
     K_INTERP_STEP_F,
     K_ADD_F,
+    K_TO_FLOAT,
     K_COUNT
 } opencl_kernel_id;
 
@@ -78,5 +79,7 @@ limn_status cl_interp_step_f(struct limn_device *dev, const device_csr *a, devic
                              device_buffer *d, device_buffer *d_next, float omega,
                              device_norms *norms);
 limn_status cl_add_f(struct limn_device *dev, size_t rows, device_buffer *p, device_buffer *d);
+limn_status cl_to_float(struct limn_device *dev, size_t count, device_buffer *w,
+                        device_buffer *w_f);
 
 #endif

@@ -55,3 +55,14 @@ limn_status cl_add_f(struct limn_device *dev, size_t rows, device_buffer *p, dev
     CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &d->mem), "clSetKernelArg(d)");
     return opencl_launch(dev, K_ADD_F, rows);
 }
+
+limn_status cl_to_float(struct limn_device *dev, size_t count, device_buffer *w,
+                        device_buffer *w_f)
+{
+    cl_kernel k = impl_of(dev)->kernels[K_TO_FLOAT];
+    cl_uint c = (cl_uint)count;
+    CHECK(clSetKernelArg(k, 0, sizeof c, &c), "clSetKernelArg(count)");
+    CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &w->mem), "clSetKernelArg(w)");
+    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &w_f->mem), "clSetKernelArg(w_f)");
+    return opencl_launch(dev, K_TO_FLOAT, count);
+}

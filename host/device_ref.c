@@ -340,6 +340,7 @@ static const device_ops reference_ops = {
     .residual_f = ref_residual_f,
     .interp_step_f = ref_interp_step_f,
     .add_f = ref_add_f,
+    .to_float = ref_to_float,
     .close = ref_close,
 };
 

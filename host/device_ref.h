@@ -16,5 +16,7 @@ limn_status ref_interp_step_f(struct limn_device *dev, const device_csr *a, devi
                               device_buffer *d, device_buffer *d_next, float omega,
                               device_norms *norms);
 limn_status ref_add_f(struct limn_device *dev, size_t rows, device_buffer *p, device_buffer *d);
+limn_status ref_to_float(struct limn_device *dev, size_t count, device_buffer *w,
+                         device_buffer *w_f);
 
 #endif

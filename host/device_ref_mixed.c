@@ -120,3 +120,14 @@ limn_status ref_add_f(struct limn_device *dev, size_t rows, device_buffer *p, de
     }
     return LIMN_OK;
 }
+
+limn_status ref_to_float(struct limn_device *dev, size_t count, device_buffer *w,
+                         device_buffer *w_f)
+{
+    (void)dev;
+    const double *ws = w->data;
+    float *fs = w_f->data;
+    for (size_t i = 0; i < count; i++)
+        fs[i] = (float)ws[i];
+    return LIMN_OK;
+}

@@ -33,6 +33,7 @@ static const char *const kernel_names[K_COUNT] = {
     [K_RESIDUAL_F] = "residual_f",
     [K_INTERP_STEP_F] = "interp_step_f",
     [K_ADD_F] = "add_f",
+    [K_TO_FLOAT] = "to_float",
 };
 
 const char *opencl_kernel_name(opencl_kernel_id id) { return kernel_names[id]; }

@@ -141,7 +141,7 @@ limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, 
     mixed_state s = {.dev = dev, .omega = 1.0};
     *converged = 0;
     r->omega = 1.0;
-    limn_status st = device_csr_upload_float(dev, &op->host, &op->device);
+    limn_status st = device_csr_add_float(dev, &op->device);
     if (!st)
         st = dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &s.r);
     for (int i = 0; i < 2 && !st; i++)

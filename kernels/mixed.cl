@@ -93,3 +93,13 @@ kernel void add_f(uint rows, global double4 *p, global const float4 *d)
         p[i] = (double4)(pi.x + (double)di.x, pi.y + (double)di.y, pi.z + (double)di.z, 0.0);
     }
 }
+
+/* w_f = w rounded to float (the float copy of a table's weights, made on the
+   device: no host copy, no transfer). */
+kernel void to_float(uint count, global const double *w, global float *w_f)
+{
+    uint begin = (uint)get_global_id(0) * ROWS_PER_ITEM;
+    uint end = min(count, begin + ROWS_PER_ITEM);
+    for (uint i = begin; i < end; i++)
+        w_f[i] = (float)w[i];
+}

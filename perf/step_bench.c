@@ -87,7 +87,7 @@ int main(int argc, char **argv)
         fbuf[i] = (float)buf[i];
     device_buffer *b = NULL, *d[2] = {NULL, NULL};
     if (!st)
-        st = device_csr_upload_float(dev, &op.host, &op.device);
+        st = device_csr_add_float(dev, &op.device);
     if (!st)
         st = dev->ops->buffer_create(dev, 4 * n * sizeof(float), fbuf, &b);
     for (int i = 0; i < 2 && !st; i++)

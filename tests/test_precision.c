@@ -58,7 +58,7 @@ static void ops_on(const char *name, const limn_mesh *mesh, limn_scheme scheme, 
             b4[i] = (i & 3) == 3 ? 0.0f : (float)(1e-3 * cos(0.37 * (double)i));
         }
         device_buffer *m = NULL, *p = NULL, *r = NULL, *b = NULL, *d = NULL;
-        assert_int_equal(device_csr_upload_float(dev, &op.host, &op.device), LIMN_OK);
+        assert_int_equal(device_csr_add_float(dev, &op.device), LIMN_OK);
         assert_int_equal(dev->ops->buffer_create(dev, 4 * n * sizeof(double), m4, &m), LIMN_OK);
         assert_int_equal(dev->ops->buffer_create(dev, 4 * n * sizeof(double), p4, &p), LIMN_OK);
         assert_int_equal(dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &r), LIMN_OK);
