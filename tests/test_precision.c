@@ -353,6 +353,30 @@ static void singular_cube_in_float(void **s)
     limn_context_destroy(ctx);
 }
 
+/* Far from the origin float keeps fewer digits of the diagonal: this grid
+   moved by 200 diagonals has a pure-float floor of 2.5e-5 of it (measured
+   with perf/float_floor; bunny_closed moved by 10: 2.4e-6), yet the mixed
+   path, whose float vectors hold only corrections, still meets 1e-8. */
+static void far_from_origin(void **s)
+{
+    (void)s;
+    limn_context *ctx = limn_context_create();
+    limn_mesh *g = test_mesh_grid(ctx, 40, 37, 1);
+    double *pos = limn_mesh_positions_mutable(g), shift = 200.0 * test_bbox_diagonal(g);
+    for (size_t i = 0; i < 3 * limn_mesh_vertex_count(g); i++)
+        pos[i] += shift;
+    limn_report r;
+    limn_mesh *p = solve(ctx, g, LIMN_SCHEME_LOOP, 1e-8, LIMN_METHOD_PAPER,
+                         LIMN_PRECISION_FLOAT, &r);
+    assert_true(r.max_rel_error <= 1e-8 && r.products_float > 0);
+    printf("  grid moved by 200 diagonals, float: %.0f double + %.0f float products, error "
+           "%.2e\n",
+           r.products - r.products_float, r.products_float, r.max_rel_error);
+    limn_mesh_destroy(p);
+    limn_mesh_destroy(g);
+    limn_context_destroy(ctx);
+}
+
 /* The first solve on a fresh context opens OpenCL and says what it cost;
    the second finds everything ready. The reference backend has none. */
 static void setup_reported(void **s)
@@ -432,6 +456,7 @@ int main(void)
         cmocka_unit_test(solves_match_reference),
         cmocka_unit_test(choice_and_refusals),
         cmocka_unit_test(singular_cube_in_float),
+        cmocka_unit_test(far_from_origin),
         cmocka_unit_test(setup_reported),
         cmocka_unit_test(command_line),
         cmocka_unit_test(medium_meshes_meet_tolerance),
