@@ -91,10 +91,12 @@ typedef struct device_ops {
     limn_status (*residual_f)(struct limn_device *dev, const device_csr *a, device_buffer *m,
                               device_buffer *p, device_buffer *r_f, device_norms *norms);
     /* One float step on the correction system A d = b with the float weights:
-       s = b - A_f d and d_next = d + omega s in float; norms of s in double. */
-    limn_status (*interp_step_f)(struct limn_device *dev, const device_csr *a, device_buffer *b,
-                                 device_buffer *d, device_buffer *d_next, float omega,
-                                 device_norms *norms);
+       s = b - A_f d and next = d + c1 (d - prev) + c2 s in float (Chebyshev;
+       c1 = 0, c2 = omega: the seeds' or weighted step); norms of s in double.
+       prev and next may be one buffer, prev may be d; next is not d. */
+    limn_status (*step_f)(struct limn_device *dev, const device_csr *a, device_buffer *b,
+                          device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
+                          float c2, device_norms *norms);
     /* p += d over `rows` (d float, widened exactly to double). */
     limn_status (*add_f)(struct limn_device *dev, size_t rows, device_buffer *p,
                          device_buffer *d);

@@ -318,6 +318,8 @@ static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
     CHECK(clSetKernelArg(k, 8, sizeof c1, &c1), "clSetKernelArg(c1)");
     CHECK(clSetKernelArg(k, 9, sizeof c2, &c2), "clSetKernelArg(c2)");
+    cl_uint ahead = (cl_uint)a->gather_ahead;
+    CHECK(clSetKernelArg(k, 10, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
     st = opencl_launch(dev, K_CHEB_STEP, a->rows);
     return st ? st : opencl_finish_partials(dev, a->rows, norms);
 }
@@ -378,7 +380,7 @@ static const device_ops opencl_ops = {
     .axpby = cl_axpby,
     .norms = cl_norms,
     .residual_f = cl_residual_f,
-    .interp_step_f = cl_interp_step_f,
+    .step_f = cl_step_f,
     .add_f = cl_add_f,
     .to_float = cl_to_float,
     .close = cl_close,

@@ -21,7 +21,7 @@ typedef enum opencl_kernel_id {
     K_PCG_UPDATE,
     K_CHEB_STEP,
     K_RESIDUAL_F,
-    K_INTERP_STEP_F,
+    K_STEP_F,
     K_ADD_F,
     K_TO_FLOAT,
     K_COUNT
@@ -75,9 +75,9 @@ limn_status opencl_finish_partials(struct limn_device *dev, size_t rows, device_
 
 limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_buffer *m,
                           device_buffer *p, device_buffer *r_f, device_norms *norms);
-limn_status cl_interp_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
-                             device_buffer *d, device_buffer *d_next, float omega,
-                             device_norms *norms);
+limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
+                      device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
+                      float c2, device_norms *norms);
 limn_status cl_add_f(struct limn_device *dev, size_t rows, device_buffer *p, device_buffer *d);
 limn_status cl_to_float(struct limn_device *dev, size_t count, device_buffer *w,
                         device_buffer *w_f);

@@ -22,14 +22,14 @@ limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_b
     return st ? st : opencl_finish_partials(dev, a->rows, norms);
 }
 
-limn_status cl_interp_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
-                             device_buffer *d, device_buffer *d_next, float omega,
-                             device_norms *norms)
+limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
+                      device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
+                      float c2, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    cl_kernel k = im->kernels[K_INTERP_STEP_F];
+    cl_kernel k = im->kernels[K_STEP_F];
     if (!a->weights_f)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "interp_step_f: no float weights");
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "step_f: no float weights");
     limn_status st = opencl_ensure_partials(dev, a->rows);
     if (!st)
         st = opencl_set_csr_args(dev, k, a, a->weights_f);
@@ -37,12 +37,14 @@ limn_status cl_interp_step_f(struct limn_device *dev, const device_csr *a, devic
         return st;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &b->mem), "clSetKernelArg(b)");
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &d->mem), "clSetKernelArg(d)");
-    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &d_next->mem), "clSetKernelArg(d_next)");
-    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &prev->mem), "clSetKernelArg(prev)");
+    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &next->mem), "clSetKernelArg(next)");
+    CHECK(clSetKernelArg(k, 8, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
     cl_uint ahead = (cl_uint)a->gather_ahead;
-    CHECK(clSetKernelArg(k, 8, sizeof omega, &omega), "clSetKernelArg(omega)");
-    CHECK(clSetKernelArg(k, 9, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
-    st = opencl_launch(dev, K_INTERP_STEP_F, a->rows);
+    CHECK(clSetKernelArg(k, 9, sizeof c1, &c1), "clSetKernelArg(c1)");
+    CHECK(clSetKernelArg(k, 10, sizeof c2, &c2), "clSetKernelArg(c2)");
+    CHECK(clSetKernelArg(k, 11, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
+    st = opencl_launch(dev, K_STEP_F, a->rows);
     return st ? st : opencl_finish_partials(dev, a->rows, norms);
 }
 

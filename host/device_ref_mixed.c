@@ -72,15 +72,16 @@ limn_status ref_residual_f(struct limn_device *dev, const device_csr *a, device_
     return LIMN_OK;
 }
 
-limn_status ref_interp_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
-                              device_buffer *d, device_buffer *d_next, float omega,
-                              device_norms *norms)
+limn_status ref_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
+                       device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
+                       float c2, device_norms *norms)
 {
     if (!a->weights_f)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "interp_step_f: no float weights");
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "step_f: no float weights");
     const uint32_t *ro = a->row_offsets->data, *col = a->columns->data;
     const float *w = a->weights_f->data, *bs = b->data, *ds = d->data;
-    float *dn = d_next->data;
+    const float *qs = prev->data;
+    float *dn = next->data;
     chunk_norms c;
     limn_status st = chunks_begin(dev, a->rows, &c);
     if (st)
@@ -95,13 +96,13 @@ limn_status ref_interp_step_f(struct limn_device *dev, const device_csr *a, devi
             for (uint32_t k = ro[i]; k < ro[i + 1]; k++)
                 for (int j = 0; j < 4; j++)
                     acc[j] += w[k] * ds[4 * (size_t)col[k] + j];
-            float s0 = bs[4 * i] - acc[0], s1 = bs[4 * i + 1] - acc[1],
-                  s2 = bs[4 * i + 2] - acc[2];
-            dn[4 * i] = ds[4 * i] + omega * s0;
-            dn[4 * i + 1] = ds[4 * i + 1] + omega * s1;
-            dn[4 * i + 2] = ds[4 * i + 2] + omega * s2;
+            float s[3] = {bs[4 * i] - acc[0], bs[4 * i + 1] - acc[1], bs[4 * i + 2] - acc[2]};
+            for (int j = 0; j < 3; j++) {
+                float dj = ds[4 * i + j], qj = qs[4 * i + j]; /* prev before next */
+                dn[4 * i + j] = dj + c1 * (dj - qj) + c2 * s[j];
+            }
             dn[4 * i + 3] = 0.0f;
-            accumulate_norms(s0, s1, s2, n);
+            accumulate_norms(s[0], s[1], s[2], n);
         }
     }
     chunks_end(&c, norms);

@@ -265,8 +265,7 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
         st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), buf, &s.p[0]);
     int which = 0, done = 0;
     if (!st && precision == LIMN_PRECISION_FLOAT)
-        st = solve_mixed(ctx, &op, s.m, s.p[0], o, diag, method == LIMN_METHOD_WEIGHTED, &done,
-                         r);
+        st = solve_mixed(ctx, &op, s.m, s.p[0], o, diag, method, &done, r);
     if (!st && !done)
         st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), NULL, &s.p[1]);
     if (!st && !done)

@@ -31,7 +31,7 @@ static const char *const kernel_names[K_COUNT] = {
     [K_PCG_UPDATE] = "pcg_update",
     [K_CHEB_STEP] = "cheb_step",
     [K_RESIDUAL_F] = "residual_f",
-    [K_INTERP_STEP_F] = "interp_step_f",
+    [K_STEP_F] = "step_f",
     [K_ADD_F] = "add_f",
     [K_TO_FLOAT] = "to_float",
 };

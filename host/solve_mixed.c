@@ -9,6 +9,7 @@
  */
 #include "solve_mixed.h"
 #include "context.h"
+#include "solve.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -45,7 +46,8 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
                                    limn_method method, size_t vertices, limn_precision *out,
                                    limn_report *r)
 {
-    int iterative = method == LIMN_METHOD_PAPER || method == LIMN_METHOD_WEIGHTED;
+    int iterative = method == LIMN_METHOD_PAPER || method == LIMN_METHOD_WEIGHTED ||
+                    method == LIMN_METHOD_CHEBYSHEV;
     switch (o->precision) {
     case LIMN_PRECISION_DOUBLE:
         *out = LIMN_PRECISION_DOUBLE;
@@ -54,8 +56,8 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
     case LIMN_PRECISION_FLOAT:
         if (!iterative)
             return limn_fail(ctx, LIMN_ERR_ARGUMENT,
-                             "precision float runs the paper or weighted iteration; method %s "
-                             "runs in double: use --method paper or weighted, or --precision "
+                             "precision float runs the chebyshev, paper or weighted iteration; "
+                             "method %s runs in double: use another --method, or --precision "
                              "double or auto",
                              limn_method_name(method));
         *out = LIMN_PRECISION_FLOAT;
@@ -85,37 +87,55 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
 
 typedef struct mixed_state {
     struct limn_device *dev;
+    limn_method method;        /* paper, weighted or chebyshev */
     device_buffer *r, *d[2];   /* float4 rows: right-hand side, corrections */
     double omega;              /* weighted: set after the probe of the first solve */
     double probe;              /* |s|_2 at the probe's start */
+    double cheb_a;             /* chebyshev: lower bound, kept across float solves */
 } mixed_state;
 
-/* One float solve of A d = r from d = r; *out: the buffer holding d. */
+/*
+ * One float solve of A d = r; *out: the buffer holding d. Its first iterate
+ * d = r costs nothing (the seeds' step from d = 0), so step j here is step
+ * j + 1 of the double iteration from P = M, and Chebyshev starts after that
+ * step, as the double one does after its lead step. Iterates: x_0 = r,
+ * x_k (k >= 1) in d[(k - 1) & 1]; step j reads x_j and x_{j-1} and writes
+ * x_{j+1} over x_{j-1} (each row reads it first).
+ */
 static limn_status inner_solve(limn_context *ctx, limn_operator *op, mixed_state *s,
-                               double target, int weighted, int probing, int max_iter,
-                               device_buffer **out, limn_report *r)
+                               double target, int probing, int max_iter, device_buffer **out,
+                               limn_report *r)
 {
     double history[INNER_STALL_WINDOW];
+    chebyshev cheb;
+    chebyshev_init(&cheb, s->cheb_a, 0);
     device_buffer *cur = s->r;
     for (int j = 0;; j++) {
         device_norms ns;
+        double c1 = 0.0, c2 = s->omega;
+        if (s->method == LIMN_METHOD_CHEBYSHEV)
+            chebyshev_coefficients(&cheb, &c1, &c2);
+        /* c1 = 0 reads no previous iterate: pass cur, whose lines are loaded anyway */
         device_buffer *next = s->d[j & 1];
-        limn_status st = s->dev->ops->interp_step_f(s->dev, &op->device, s->r, cur, next,
-                                                    (float)s->omega, &ns);
+        device_buffer *prev = c1 == 0.0 ? cur : j == 1 ? s->r : next;
+        limn_status st = s->dev->ops->step_f(s->dev, &op->device, s->r, cur, prev, next,
+                                             (float)c1, (float)c2, &ns);
         if (st)
             return st;
         r->products += 1.0;
         r->products_float += 1.0;
         r->iterations++;
-        /* inner step j is step j + 1 of the seeds' iteration from P = M */
-        if (weighted && probing && j == 1)
+        if (s->method == LIMN_METHOD_WEIGHTED && probing && j == 1)
             s->probe = sqrt(ns.sum_sq);
-        if (weighted && probing && j == WEIGHTED_PROBE - 1 && s->probe > 0) {
+        if (s->method == LIMN_METHOD_WEIGHTED && probing && j == WEIGHTED_PROBE - 1 &&
+            s->probe > 0) {
             double rho = pow(sqrt(ns.sum_sq) / s->probe, 1.0 / (WEIGHTED_PROBE - 2));
             double lambda = rho < 1.0 ? 1.0 - rho : 1.0;
             s->omega = 2.0 / (lambda + 1.0);
             r->omega = s->omega;
         }
+        if (s->method == LIMN_METHOD_CHEBYSHEV && ns.max > target)
+            r->restarts += chebyshev_observe(&cheb, ns.max);
         if (!isfinite(ns.max))
             return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
                              "the float correction became non-finite; the iteration diverges "
@@ -127,18 +147,22 @@ static limn_status inner_solve(limn_context *ctx, limn_operator *op, mixed_state
             break;
         history[j % INNER_STALL_WINDOW] = ns.max;
     }
+    s->cheb_a = cheb.a;
+    if (s->method == LIMN_METHOD_CHEBYSHEV)
+        r->spectrum_lower = cheb.a;
     *out = cur;
     return LIMN_OK;
 }
 
 limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, device_buffer *p,
-                        const limn_interpolate_options *o, double diag, int weighted,
+                        const limn_interpolate_options *o, double diag, limn_method method,
                         int *converged, limn_report *r)
 {
     struct limn_device *dev = op->dev;
     size_t n = op->vertex_count ? op->vertex_count : 1;
     double tol_abs = o->tolerance * diag, first = -1.0, prev = INFINITY;
-    mixed_state s = {.dev = dev, .omega = 1.0};
+    mixed_state s = {.dev = dev, .method = method, .omega = 1.0,
+                     .cheb_a = chebyshev_prior(op->scheme)};
     *converged = 0;
     r->omega = 1.0;
     limn_status st = device_csr_add_float(dev, &op->device);
@@ -185,7 +209,7 @@ limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, 
         prev = nr.max;
         device_buffer *d = NULL;
         double target = fmax(tol_abs, INNER_REDUCTION * nr.max);
-        st = inner_solve(ctx, op, &s, target, weighted, outer == 0, o->max_iterations, &d, r);
+        st = inner_solve(ctx, op, &s, target, outer == 0, o->max_iterations, &d, r);
         if (!st)
             st = dev->ops->add_f(dev, op->vertex_count, p, d);
     }

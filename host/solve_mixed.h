@@ -21,8 +21,8 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
  * Mixed-precision iterative refinement of P (p: 4 doubles a row, in the
  * operator's order; m: M likewise): r = M - A P in double with the stop test
  * of the double iteration (exact, on the P returned); the correction d with
- * A d = r iterated in float (the seeds' or the weighted step, d starting at
- * r) until its residual is INNER_REDUCTION of r's or the tolerance; P += d
+ * A d = r iterated in float (`method`: the seeds', the weighted or the
+ * Chebyshev step, d starting at r) until its residual is INNER_REDUCTION of r's or the tolerance; P += d
  * in double; again. Counts products (float ones in r->products_float) and
  * updates in r. On LIMN_OK, *converged says whether P meets the tolerance;
  * 0 means the float corrections stopped gaining (A singular or nearly so, a
@@ -30,7 +30,7 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
  * p, whose own stall test then speaks.
  */
 limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, device_buffer *p,
-                        const limn_interpolate_options *o, double diag, int weighted,
+                        const limn_interpolate_options *o, double diag, limn_method method,
                         int *converged, limn_report *r);
 
 #endif

@@ -340,8 +340,8 @@ typedef struct limn_interpolate_options {
     int reorder;              /* renumber vertices for locality (RCM) inside the
                                  solve; results stay in input order; default 1 */
     limn_method method;       /* default LIMN_METHOD_AUTO */
-    limn_precision precision; /* default LIMN_PRECISION_AUTO; float needs the paper or
-                                 weighted method */
+    limn_precision precision; /* default LIMN_PRECISION_AUTO; float runs with every
+                                 method but cg */
 } limn_interpolate_options;
 
 LIMN_API void limn_interpolate_options_default(limn_interpolate_options *options);

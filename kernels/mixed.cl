@@ -57,11 +57,14 @@ kernel void residual_f(uint rows, global const uint *ro, global const uint *col,
     }
 }
 
-/* s = b - A_f d; d_next = d + omega s, in float; partial norms of s in double. */
-kernel void interp_step_f(uint rows, global const uint *ro, global const uint *col,
-                          global const float *w, global const float4 *b,
-                          global const float4 *d, global float4 *d_next,
-                          global double *partials, float omega, uint ahead)
+/* s = b - A_f d; next = d + c1 (d - prev) + c2 s, in float (the Chebyshev
+   recurrence; c1 = 0, c2 = omega: the seeds' or the weighted step); partial
+   norms of s in double. prev and next may be one buffer (each row reads its
+   prev before writing its next); prev may be d. */
+kernel void step_f(uint rows, global const uint *ro, global const uint *col,
+                   global const float *w, global const float4 *b, global const float4 *d,
+                   global const float4 *prev, global float4 *next, global double *partials,
+                   float c1, float c2, uint ahead)
 {
     uint item = (uint)get_global_id(0);
     uint begin = item * ROWS_PER_ITEM;
@@ -70,9 +73,11 @@ kernel void interp_step_f(uint rows, global const uint *ro, global const uint *c
     uint last = ro[rows] - 1;
     for (uint i = begin; i < end; i++) {
         float4 acc = row_product_f(i, ro, col, w, d, last, ahead);
-        float4 bi = b[i], di = d[i];
+        float4 bi = b[i], di = d[i], qi = prev[i];
         float s0 = bi.x - acc.x, s1 = bi.y - acc.y, s2 = bi.z - acc.z;
-        d_next[i] = (float4)(di.x + omega * s0, di.y + omega * s1, di.z + omega * s2, 0.0f);
+        next[i] = (float4)(di.x + c1 * (di.x - qi.x) + c2 * s0,
+                           di.y + c1 * (di.y - qi.y) + c2 * s1,
+                           di.z + c1 * (di.z - qi.z) + c2 * s2, 0.0f);
         accumulate_norms(s0, s1, s2, &mx, &sum, &sq);
     }
     if (begin < rows) {

@@ -40,13 +40,14 @@ first-launch compiles).
 
 Bytes a step must move (the roofline of DESIGN.md §6), per precision:
   double: the CSR table (4-byte column + 8-byte weight a nonzero, 4-byte row
-          offset a row) and m, p read and p_next written (32 bytes a row each);
+          offset a row) and m, p read and p_next written (32 bytes a row each;
+          chebyshev also reads the previous iterate it overwrites: 4 streams);
   float:  the table with float weights (4 + 4 a nonzero, 4 a row) and b, d
-          read and d_next written (16 bytes a row each).
+          read and d_next written (16 bytes a row each; chebyshev: 4 streams).
 The gather of p (or d) is not counted again: in a local vertex order it hits
 the lines the p stream brings in. A mixed solve moves products_float float
-steps and the rest double ones. Write-allocate traffic is not counted (nor
-is it in STREAM).
+steps and, for the rest, residuals of P (m, p read, a float r written).
+Write-allocate traffic is not counted (nor is it in STREAM).
 """
 import argparse
 import csv
@@ -74,10 +75,12 @@ SIZES = [
 ]
 
 
-def step_bytes(nonzeros, vertices, precision):
+def step_bytes(nonzeros, vertices, precision, streams=3):
+    """CSR table + `streams` vector streams (3: paper, weighted; 4: chebyshev,
+    whose previous iterate is read, then overwritten)."""
     if precision == "float":
-        return 8 * nonzeros + (4 + 3 * 16) * vertices
-    return 12 * nonzeros + (4 + 3 * 32) * vertices
+        return 8 * nonzeros + (4 + streams * 16) * vertices
+    return 12 * nonzeros + (4 + streams * 32) * vertices
 
 
 def run(cmd, env=None, timeout=3600):
@@ -115,9 +118,14 @@ def interpolate(a, tmp, path, scheme, method, precision, threads, env=None):
 
 
 def solve_bytes(j):
-    nf = j.get("products_float", 0)
-    return (step_bytes(j["stencil_nonzeros"], j["vertices"], "double") * (j["products"] - nf) +
-            step_bytes(j["stencil_nonzeros"], j["vertices"], "float") * nf)
+    """Bytes of a whole solve: its double products (in a mixed solve, residuals
+    of P: m and p read, a float r written) and its float ones."""
+    nnz, n, nf = j["stencil_nonzeros"], j["vertices"], j.get("products_float", 0)
+    streams = 4 if j["method"] == "chebyshev" else 3
+    if nf:
+        residual = 12 * nnz + (4 + 32 + 32 + 16) * n
+        return residual * (j["products"] - nf) + step_bytes(nnz, n, "float", streams) * nf
+    return step_bytes(nnz, n, "double", streams) * j["products"]
 
 
 def triad(perf):
@@ -168,9 +176,9 @@ def focus(a, perf, tmp):
                           env={"POCL_MAX_PTHREAD_COUNT": str(t)})
                 for line in out.splitlines():
                     j = json.loads(line)
-                    kernel_rows.append((label, scheme, j["precision"], t, j["seconds_best"],
-                                        j["seconds_median"], j["gb_per_s"]))
-                    print(f"  {label} {scheme} step {j['precision']} {t}t: "
+                    kernel_rows.append((label, scheme, f"{j['method']} {j['precision']}", t,
+                                        j["seconds_best"], j["seconds_median"], j["gb_per_s"]))
+                    print(f"  {label} {scheme} step {j['method']} {j['precision']} {t}t: "
                           f"{j['seconds_best'] * 1e3:.1f} ms", file=sys.stderr)
                 for method, precision in ((m, p) for m in a.focus_methods.split(",")
                                           for p in ("double", "float")):
@@ -190,7 +198,7 @@ def focus(a, perf, tmp):
           "the higher of two runs")
     print("\nThe solve loop's step alone (perf/step_bench, best of "
           f"{a.steps} steps; bytes: see perf/run_suite.py):")
-    print("| size | scheme | precision | threads | ms best | ms median | GB/s | of triad |")
+    print("| size | scheme | step, precision | threads | ms best | ms median | GB/s | of triad |")
     print("|---|---|---|---:|---:|---:|---:|---:|")
     for r in kernel_rows:
         print(f"| {r[0]} | {r[1]} | {r[2]} | {r[3]} | {r[4] * 1e3:.1f} | {r[5] * 1e3:.1f} "

@@ -63,10 +63,12 @@ static void ops_on(const char *name, const limn_mesh *mesh, limn_scheme scheme, 
         assert_int_equal(dev->ops->buffer_create(dev, 4 * n * sizeof(double), p4, &p), LIMN_OK);
         assert_int_equal(dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &r), LIMN_OK);
         assert_int_equal(dev->ops->buffer_create(dev, 4 * n * sizeof(float), b4, &b), LIMN_OK);
-        assert_int_equal(dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &d), LIMN_OK);
+        assert_int_equal(dev->ops->buffer_create(dev, 4 * n * sizeof(float), b4, &d), LIMN_OK);
         assert_int_equal(dev->ops->residual_f(dev, &op.device, m, p, r, &nr[k]), LIMN_OK);
-        /* weighted step (omega != 1) from d = r towards b */
-        assert_int_equal(dev->ops->interp_step_f(dev, &op.device, b, r, d, 1.3f, &ns[k]), LIMN_OK);
+        /* a Chebyshev step from d = r towards b, the previous iterate (b) read
+           and the next written in place */
+        assert_int_equal(dev->ops->step_f(dev, &op.device, b, r, d, d, 0.7f, 1.3f, &ns[k]),
+                         LIMN_OK);
         assert_int_equal(dev->ops->add_f(dev, n, p, d), LIMN_OK);
         assert_int_equal(dev->ops->buffer_read(dev, r, 4 * n * sizeof(float), out_r[k]), LIMN_OK);
         assert_int_equal(dev->ops->buffer_read(dev, d, 4 * n * sizeof(float), out_d[k]), LIMN_OK);
@@ -83,7 +85,7 @@ static void ops_on(const char *name, const limn_mesh *mesh, limn_scheme scheme, 
     assert_memory_equal(&nr[0], &nr[1], sizeof nr[0]);
     assert_memory_equal(&ns[0], &ns[1], sizeof ns[0]);
     assert_true(nr[0].max > 0 && ns[0].max > 0);
-    printf("  %-30s %-7s: residual_f, interp_step_f, add_f bit-identical (%zu rows%s)\n",
+    printf("  %-30s %-7s: residual_f, step_f, add_f bit-identical (%zu rows%s)\n",
            name, limn_scheme_name(scheme), n, ahead ? ", gathers prefetched" : "");
     for (int k = 0; k < 2; k++) {
         free(out_p[k]);
@@ -172,9 +174,9 @@ static void solves_match_reference(void **s)
     snprintf(path, sizeof path, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
     assert_int_equal(limn_mesh_read(cl, path, LIMN_FORMAT_AUTO, &spot), LIMN_OK);
     const limn_mesh *meshes[] = {g, spot};
-    limn_method methods[] = {LIMN_METHOD_PAPER, LIMN_METHOD_WEIGHTED};
+    limn_method methods[] = {LIMN_METHOD_PAPER, LIMN_METHOD_WEIGHTED, LIMN_METHOD_CHEBYSHEV};
     for (int i = 0; i < 2; i++)
-        for (int k = 0; k < 2; k++) {
+        for (int k = 0; k < 3; k++) {
             limn_report ra, rb;
             limn_mesh *a = solve(cl, meshes[i], LIMN_SCHEME_CATMARK, 1e-8, methods[k],
                                  LIMN_PRECISION_FLOAT, &ra);
@@ -269,21 +271,22 @@ static void medium_meshes_meet_tolerance(void **s)
         assert_int_equal(limn_mesh_read(ctx, test_shared_path(names[i]), LIMN_FORMAT_AUTO, &m),
                          LIMN_OK);
         limn_scheme schemes[2] = {LIMN_SCHEME_CATMARK, LIMN_SCHEME_LOOP};
-        for (int k = 0; k < (test_all_triangles(m) ? 2 : 1); k++)
+        limn_method methods[2] = {LIMN_METHOD_AUTO, LIMN_METHOD_PAPER};
+        for (int k = 0; k < (test_all_triangles(m) ? 4 : 2); k++)
             for (double tol = 1e-6; tol > 1e-9; tol *= 1e-2) {
                 limn_report r;
-                limn_mesh *p = solve(ctx, m, schemes[k], tol, LIMN_METHOD_PAPER,
+                limn_mesh *p = solve(ctx, m, schemes[k / 2], tol, methods[k % 2],
                                      LIMN_PRECISION_FLOAT, &r);
                 assert_string_equal(r.precision, "float");
                 assert_true(r.max_rel_error <= tol);
                 double doubles = r.products - r.products_float;
                 /* the first residual, one float solve, the check; 1e-8 may take one more */
                 assert_true(doubles >= 2 && doubles <= 3 && r.products_float > 0);
-                double miss = oracle_miss(ctx, m, p, schemes[k], tol);
-                printf("  %-30s %-7s tol %g: %2.0f double + %3.0f float products, error "
-                       "%.2e (OpenSubdiv's limit of P: %.2e)\n",
-                       names[i], limn_scheme_name(schemes[k]), tol, doubles, r.products_float,
-                       r.max_rel_error, miss);
+                double miss = oracle_miss(ctx, m, p, schemes[k / 2], tol);
+                printf("  %-30s %-7s %-9s tol %g: %2.0f double + %3.0f float products, "
+                       "error %.2e (OpenSubdiv's limit of P: %.2e)\n",
+                       names[i], limn_scheme_name(schemes[k / 2]), r.method, tol, doubles,
+                       r.products_float, r.max_rel_error, miss);
                 limn_mesh_destroy(p);
             }
         limn_mesh_destroy(m);

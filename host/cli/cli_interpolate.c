@@ -42,7 +42,7 @@ static const char *const help =
     "                         cg (fewest products)                      [auto]\n"
     "  --precision P          auto (float from 200,000 vertices), double, or\n"
     "                         float: corrections iterated in float, residuals\n"
-    "                         and the stop test in double (paper, weighted) [auto]\n"
+    "                         and the stop test in double (not with cg)  [auto]\n"
     "  --no-reorder           keep the input vertex order inside the solve\n"
     "                         (default: reverse Cuthill-McKee for locality)\n"
     "  --overwrite-input      allow OUTPUT to be the INPUT file\n"
@@ -184,8 +184,8 @@ static int parse(int argc, char **argv, args *a)
     if (!a->output)
         return cli_usage_error("interpolate", "no output given (-o OUTPUT)");
     if (a->opt.precision == LIMN_PRECISION_FLOAT && a->opt.method == LIMN_METHOD_CG)
-        return cli_usage_error("interpolate", "--precision float runs the paper or weighted "
-                                              "iteration; cg runs in double");
+        return cli_usage_error("interpolate", "--precision float runs the chebyshev, paper or "
+                                              "weighted iteration; cg runs in double");
     if ((a->levels_given || a->sub.limit) && !a->surface)
         return cli_usage_error("interpolate", "--levels and --limit need --surface FILE");
     int rc = cli_check_output("interpolate", a->input, a->output, a->out_format,
