@@ -268,12 +268,14 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
         st = solve_mixed(ctx, &op, s.m, s.p[0], o, diag, method, &done, r);
     if (!st && !done)
         st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), NULL, &s.p[1]);
+    double t_loop = limn_seconds(), compiles = s.dev->setup.kernels; /* first launches */
     if (!st && !done)
         st = iterate(ctx, &op, &s, o, diag,
                      method == LIMN_METHOD_WEIGHTED    ? STEP_WEIGHTED
                      : method == LIMN_METHOD_CHEBYSHEV ? STEP_CHEBYSHEV
                                                        : STEP_PAPER,
                      &which, r);
+    r->seconds_iterations += limn_seconds() - t_loop - (s.dev->setup.kernels - compiles);
     if (!st)
         st = s.dev->ops->buffer_read(s.dev, s.p[which], 4 * n * sizeof(double), buf);
     limn_mesh *out = NULL;

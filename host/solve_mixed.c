@@ -170,6 +170,7 @@ limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, 
         st = dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &s.r);
     for (int i = 0; i < 2 && !st; i++)
         st = dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &s.d[i]);
+    double t_loop = limn_seconds(), compiles = dev->setup.kernels; /* first launches */
     for (int outer = 0; !st; outer++) {
         device_norms nr;
         st = dev->ops->residual_f(dev, &op->device, m, p, s.r, &nr);
@@ -213,6 +214,7 @@ limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, 
         if (!st)
             st = dev->ops->add_f(dev, op->vertex_count, p, d);
     }
+    r->seconds_iterations += limn_seconds() - t_loop - (dev->setup.kernels - compiles);
     for (int i = 0; i < 2; i++)
         if (s.d[i])
             dev->ops->buffer_release(dev, s.d[i]);

@@ -364,6 +364,9 @@ typedef struct limn_report {
     size_t stencil_nonzeros;
     int reordered;            /* 1 when the solve ran in RCM order */
     double seconds_topology, seconds_stencil, seconds_solve;
+    double seconds_iterations; /* of seconds_solve, the iteration loop alone: products and
+                                  their reductions, no buffer set-up, packing or output (cg:
+                                  its final check only) */
     const char *precision;    /* the precision that ran: "double" or "float" */
     const char *precision_reason; /* why that one, in words */
     double products_float;    /* of `products`, those run in float */

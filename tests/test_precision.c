@@ -11,7 +11,8 @@
  *    and by OpenSubdiv's limit of the P written; and it does so with at most
  *    two double products beyond the first (one float solve reaches 1e-8).
  *  - The choice: float with cg refused, auto by size, a singular operator
- *    still named as such, the OpenCL set-up reported; the command line.
+ *    still named as such, the OpenCL set-up and the loop's own time
+ *    reported; the command line.
  */
 #include "support.h"
 #include "device.h"
@@ -372,6 +373,7 @@ static void far_from_origin(void **s)
     limn_mesh *p = solve(ctx, g, LIMN_SCHEME_LOOP, 1e-8, LIMN_METHOD_PAPER,
                          LIMN_PRECISION_FLOAT, &r);
     assert_true(r.max_rel_error <= 1e-8 && r.products_float > 0);
+    assert_true(r.seconds_iterations > 0 && r.seconds_iterations <= r.seconds_solve);
     printf("  grid moved by 200 diagonals, float: %.0f double + %.0f float products, error "
            "%.2e\n",
            r.products - r.products_float, r.products_float, r.max_rel_error);
@@ -398,6 +400,8 @@ static void setup_reported(void **s)
            r.seconds_opencl_kernels);
     assert_true(r.seconds_opencl_platform > 0 && r.seconds_opencl_build > 0 &&
                 r.seconds_opencl_kernels > 0);
+    /* the loop alone, without the first launches' compiles */
+    assert_true(r.seconds_iterations > 0 && r.seconds_iterations <= r.seconds_solve);
     p = solve(ctx, g, LIMN_SCHEME_CATMARK, 1e-6, LIMN_METHOD_PAPER, LIMN_PRECISION_DOUBLE, &r);
     limn_mesh_destroy(p);
     assert_true(r.seconds_opencl_platform == 0 && r.seconds_opencl_build == 0 &&
