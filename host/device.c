@@ -181,9 +181,6 @@ limn_status device_csr_add_float(struct limn_device *dev, device_csr *csr)
                                              &csr->weights_f);
     if (!st)
         st = dev->ops->to_float(dev, csr->nonzeros, csr->weights, csr->weights_f);
-    float first; /* a blocking read: the conversion is done when this returns */
-    if (!st && csr->nonzeros)
-        st = dev->ops->buffer_read(dev, csr->weights_f, sizeof first, &first);
     return st;
 }
 
