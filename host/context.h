@@ -18,6 +18,8 @@ struct limn_context {
     char device_name[256];
     int fallback;             /* 0: from LIMN_FALLBACK; 1: none; 2: the reference backend */
     int device_failed;        /* the last LIMN_ERR_MEMORY came from the OpenCL device */
+    int device_slot;          /* of the OpenCL devices matching the choice, take number
+                                 slot % count (MPI: the rank on its node); 0 = the first */
     int threads_request;      /* limn_context_set_threads; 0 = from the CPU binding */
 };
 

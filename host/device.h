@@ -19,10 +19,16 @@
 typedef struct device_buffer device_buffer;
 struct limn_device;
 
-/* A CSR table resident on the device. */
+/* A CSR table resident on the device. An op computes the rows
+   [row_begin, row_begin + rows); row_begin is 0 for a whole table. A row range
+   (for MPI: rows free of ghost columns first, the rest after the halo arrives)
+   is a copy of the struct with row_begin a multiple of DEVICE_ROWS_PER_ITEM,
+   so its reduction chunks are the table's own; row_offsets stay indexed by
+   the table's row and outputs land in the same rows of y. */
 typedef struct device_csr {
     size_t rows;
     size_t nonzeros;
+    size_t row_begin;
     device_buffer *row_offsets;  /* uint32, rows + 1 */
     device_buffer *columns;      /* uint32, nonzeros */
     device_buffer *weights;      /* double, nonzeros */
@@ -48,6 +54,11 @@ typedef struct device_ops {
     limn_status (*buffer_read)(struct limn_device *dev, device_buffer *buf, size_t bytes,
                                void *dst);
     void (*buffer_release)(struct limn_device *dev, device_buffer *buf);
+    /* Part of a buffer: bytes at byte offset `offset` (MPI halo rows). */
+    limn_status (*buffer_write_at)(struct limn_device *dev, device_buffer *buf, size_t offset,
+                                   size_t bytes, const void *src);
+    limn_status (*buffer_read_at)(struct limn_device *dev, device_buffer *buf, size_t offset,
+                                  size_t bytes, void *dst);
     /* y = A x */
     limn_status (*spmv)(struct limn_device *dev, const device_csr *a, device_buffer *x,
                         device_buffer *y);

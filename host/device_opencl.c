@@ -79,6 +79,30 @@ static limn_status cl_buffer_read(struct limn_device *dev, device_buffer *buf, s
     return LIMN_OK;
 }
 
+static limn_status cl_buffer_write_at(struct limn_device *dev, device_buffer *buf,
+                                      size_t offset, size_t bytes, const void *src)
+{
+    if (offset > buf->bytes || bytes > buf->bytes - offset)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+    if (bytes)
+        CHECK(clEnqueueWriteBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, offset, bytes, src, 0,
+                                   NULL, NULL),
+              "clEnqueueWriteBuffer");
+    return LIMN_OK;
+}
+
+static limn_status cl_buffer_read_at(struct limn_device *dev, device_buffer *buf, size_t offset,
+                                     size_t bytes, void *dst)
+{
+    if (offset > buf->bytes || bytes > buf->bytes - offset)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+    if (bytes)
+        CHECK(clEnqueueReadBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, offset, bytes, dst, 0,
+                                  NULL, NULL),
+              "clEnqueueReadBuffer");
+    return LIMN_OK;
+}
+
 static void cl_buffer_release(struct limn_device *dev, device_buffer *buf)
 {
     (void)dev;
@@ -97,7 +121,7 @@ size_t opencl_work_items(size_t rows)
 limn_status opencl_set_csr_args(struct limn_device *dev, cl_kernel k, const device_csr *a,
                                 device_buffer *weights)
 {
-    cl_uint rows = (cl_uint)a->rows;
+    cl_uint rows = (cl_uint)(a->row_begin + a->rows); /* kernels stop at the range's end */
     CHECK(clSetKernelArg(k, 0, sizeof rows, &rows), "clSetKernelArg(rows)");
     CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &a->row_offsets->mem), "clSetKernelArg(offsets)");
     CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &a->columns->mem), "clSetKernelArg(columns)");
@@ -110,14 +134,14 @@ limn_status opencl_set_csr_args(struct limn_device *dev, cl_kernel k, const devi
    triggers that compile alone, so it is timed as set-up (dev->setup.kernels)
    rather than hidden in the first step; the kernels do nothing for rows = 0. */
 static limn_status compile_on_first_launch(struct limn_device *dev, opencl_kernel_id id,
-                                           size_t rows)
+                                           size_t rows_arg)
 {
     opencl_impl *im = impl_of(dev);
     if (im->compiled[id])
         return LIMN_OK;
     double t0 = limn_seconds();
     cl_kernel k = im->kernels[id];
-    cl_uint none = 0, all = (cl_uint)rows;
+    cl_uint none = 0, all = (cl_uint)rows_arg; /* argument 0 restored after */
     size_t size = DEVICE_WORKGROUP;
     CHECK(clSetKernelArg(k, 0, sizeof none, &none), "clSetKernelArg(rows)");
     cl_int err = clEnqueueNDRangeKernel(im->queue, k, 1, NULL, &size, &size, 0, NULL, NULL);
@@ -131,16 +155,21 @@ static limn_status compile_on_first_launch(struct limn_device *dev, opencl_kerne
     return LIMN_OK;
 }
 
-limn_status opencl_launch(struct limn_device *dev, opencl_kernel_id id, size_t rows)
+/* A row range starting at row first_item * DEVICE_ROWS_PER_ITEM uses the
+   global work offset, so the kernels need no argument for it
+   (device_csr.row_begin). */
+limn_status opencl_launch(struct limn_device *dev, opencl_kernel_id id, size_t first_item,
+                          size_t rows)
 {
     if (rows == 0)
         return LIMN_OK;
-    limn_status st = compile_on_first_launch(dev, id, rows);
+    limn_status st = compile_on_first_launch(dev, id, first_item * DEVICE_ROWS_PER_ITEM + rows);
     if (st)
         return st;
-    size_t global = opencl_work_items(rows), local = DEVICE_WORKGROUP;
-    cl_int err = clEnqueueNDRangeKernel(impl_of(dev)->queue, impl_of(dev)->kernels[id], 1, NULL,
-                                        &global, &local, 0, NULL, NULL);
+    size_t global = opencl_work_items(rows), local = DEVICE_WORKGROUP, offset = first_item;
+    cl_int err = clEnqueueNDRangeKernel(impl_of(dev)->queue, impl_of(dev)->kernels[id], 1,
+                                        first_item ? &offset : NULL, &global, &local, 0, NULL,
+                                        NULL);
     if (err == CL_SUCCESS && device_test_fault("enqueue"))
         err = CL_OUT_OF_RESOURCES; /* test-only (device.h) */
     if (err != CL_SUCCESS)
@@ -161,13 +190,13 @@ static limn_status cl_spmv(struct limn_device *dev, const device_csr *a, device_
         return st;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
-    return opencl_launch(dev, K_SPMV, a->rows);
+    return opencl_launch(dev, K_SPMV, opencl_first_item(a), a->rows);
 }
 
-limn_status opencl_ensure_partials(struct limn_device *dev, size_t rows)
+limn_status opencl_ensure_partials(struct limn_device *dev, size_t first_item, size_t rows)
 {
     opencl_impl *im = impl_of(dev);
-    size_t items = opencl_work_items(rows) ? opencl_work_items(rows) : 1;
+    size_t items = first_item + opencl_work_items(rows) + 1;
     if (items <= im->partials_items)
         return LIMN_OK;
     if (im->partials)
@@ -186,12 +215,14 @@ limn_status opencl_ensure_partials(struct limn_device *dev, size_t rows)
     return LIMN_OK;
 }
 
-limn_status opencl_finish_partials(struct limn_device *dev, size_t rows, device_norms *out)
+limn_status opencl_finish_partials(struct limn_device *dev, size_t first_item, size_t rows,
+                                   device_norms *out)
 {
     opencl_impl *im = impl_of(dev);
     size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
     if (chunks)
-        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE, 0, chunks * 3 * sizeof(double),
+        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE,
+                                  first_item * 3 * sizeof(double), chunks * 3 * sizeof(double),
                                   im->host_partials, 0, NULL, NULL),
               "reading the reduction partials");
     device_norms_finish(im->host_partials, chunks, out);
@@ -204,7 +235,7 @@ static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
 {
     opencl_impl *im = impl_of(dev);
     cl_kernel k = im->kernels[K_INTERP_STEP];
-    limn_status st = opencl_ensure_partials(dev, a->rows);
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
     if (!st)
         st = opencl_set_csr_args(dev, k, a, a->weights);
     if (st)
@@ -216,8 +247,8 @@ static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
     cl_uint ahead = (cl_uint)a->gather_ahead;
     CHECK(clSetKernelArg(k, 8, sizeof omega, &omega), "clSetKernelArg(omega)");
     CHECK(clSetKernelArg(k, 9, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
-    st = opencl_launch(dev, K_INTERP_STEP, a->rows);
-    return st ? st : opencl_finish_partials(dev, a->rows, norms);
+    st = opencl_launch(dev, K_INTERP_STEP, opencl_first_item(a), a->rows);
+    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
 }
 
 static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
@@ -227,7 +258,7 @@ static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
 {
     opencl_impl *im = impl_of(dev);
     cl_kernel k = im->kernels[K_SERIES_STEP];
-    limn_status st = opencl_ensure_partials(dev, a->rows);
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
     if (!st)
         st = opencl_set_csr_args(dev, k, a, a->weights);
     if (st)
@@ -244,8 +275,8 @@ static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
     CHECK(clSetKernelArg(k, 8, sizeof fl, &fl), "clSetKernelArg(flags)");
     CHECK(clSetKernelArg(k, 9, sizeof mode, &mode), "clSetKernelArg(acc_mode)");
     CHECK(clSetKernelArg(k, 10, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = opencl_launch(dev, K_SERIES_STEP, a->rows);
-    return st ? st : opencl_finish_partials(dev, a->rows, norms);
+    st = opencl_launch(dev, K_SERIES_STEP, opencl_first_item(a), a->rows);
+    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
 }
 
 static limn_status cl_axpby(struct limn_device *dev, size_t rows, double a, device_buffer *x,
@@ -259,14 +290,14 @@ static limn_status cl_axpby(struct limn_device *dev, size_t rows, double a, devi
     CHECK(clSetKernelArg(k, 3, sizeof b, &b), "clSetKernelArg(b)");
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &out->mem), "clSetKernelArg(out)");
-    return opencl_launch(dev, K_AXPBY, rows);
+    return opencl_launch(dev, K_AXPBY, 0, rows);
 }
 
 static limn_status cl_norms(struct limn_device *dev, size_t rows, device_buffer *x,
                             device_norms *out)
 {
     opencl_impl *im = impl_of(dev);
-    limn_status st = opencl_ensure_partials(dev, rows);
+    limn_status st = opencl_ensure_partials(dev, 0, rows);
     if (st)
         return st;
     cl_kernel k = im->kernels[K_NORMS];
@@ -274,10 +305,10 @@ static limn_status cl_norms(struct limn_device *dev, size_t rows, device_buffer 
     CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
     CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
     CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = opencl_launch(dev, K_NORMS, rows);
+    st = opencl_launch(dev, K_NORMS, 0, rows);
     if (st)
         return st;
-    return opencl_finish_partials(dev, rows, out);
+    return opencl_finish_partials(dev, 0, rows, out);
 }
 
 static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, device_buffer *x,
@@ -285,7 +316,7 @@ static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, dev
 {
     opencl_impl *im = impl_of(dev);
     cl_kernel k = im->kernels[K_SPMV_DOT];
-    limn_status st = opencl_ensure_partials(dev, a->rows);
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
     if (!st)
         st = opencl_set_csr_args(dev, k, a, a->weights);
     if (st)
@@ -294,10 +325,10 @@ static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, dev
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
     CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = opencl_launch(dev, K_SPMV_DOT, a->rows);
+    st = opencl_launch(dev, K_SPMV_DOT, opencl_first_item(a), a->rows);
     device_norms n;
     if (!st)
-        st = opencl_finish_partials(dev, a->rows, &n);
+        st = opencl_finish_partials(dev, opencl_first_item(a), a->rows, &n);
     if (!st)
         *dot = n.sum;
     return st;
@@ -309,7 +340,7 @@ static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
 {
     opencl_impl *im = impl_of(dev);
     cl_kernel k = im->kernels[K_CHEB_STEP];
-    limn_status st = opencl_ensure_partials(dev, a->rows);
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
     if (!st)
         st = opencl_set_csr_args(dev, k, a, a->weights);
     if (st)
@@ -322,8 +353,8 @@ static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
     CHECK(clSetKernelArg(k, 9, sizeof c2, &c2), "clSetKernelArg(c2)");
     cl_uint ahead = (cl_uint)a->gather_ahead;
     CHECK(clSetKernelArg(k, 10, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
-    st = opencl_launch(dev, K_CHEB_STEP, a->rows);
-    return st ? st : opencl_finish_partials(dev, a->rows, norms);
+    st = opencl_launch(dev, K_CHEB_STEP, opencl_first_item(a), a->rows);
+    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
 }
 
 static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double alpha,
@@ -331,7 +362,7 @@ static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double al
                                  device_buffer *z, device_buffer *dinv, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    limn_status st = opencl_ensure_partials(dev, rows);
+    limn_status st = opencl_ensure_partials(dev, 0, rows);
     if (st)
         return st;
     cl_kernel k = im->kernels[K_PCG_UPDATE];
@@ -344,9 +375,9 @@ static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double al
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &z->mem), "clSetKernelArg(z)");
     CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = opencl_launch(dev, K_PCG_UPDATE, rows);
+    st = opencl_launch(dev, K_PCG_UPDATE, 0, rows);
     if (!st)
-        st = opencl_finish_partials(dev, rows, norms);
+        st = opencl_finish_partials(dev, 0, rows, norms);
     return st;
 }
 
@@ -373,6 +404,8 @@ static const device_ops opencl_ops = {
     .buffer_write = cl_buffer_write,
     .buffer_read = cl_buffer_read,
     .buffer_release = cl_buffer_release,
+    .buffer_write_at = cl_buffer_write_at,
+    .buffer_read_at = cl_buffer_read_at,
     .spmv = cl_spmv,
     .interp_step = cl_interp_step,
     .spmv_dot = cl_spmv_dot,

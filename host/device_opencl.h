@@ -66,12 +66,21 @@ size_t opencl_work_items(size_t rows);
 /* Binds rows and the CSR table to arguments 0-3. */
 limn_status opencl_set_csr_args(struct limn_device *dev, cl_kernel k, const device_csr *a,
                                 device_buffer *weights);
-/* Enqueues kernel `id` over `rows` rows (arguments already set). */
-limn_status opencl_launch(struct limn_device *dev, opencl_kernel_id id, size_t rows);
-/* Makes room for the partial norms of `rows` rows. */
-limn_status opencl_ensure_partials(struct limn_device *dev, size_t rows);
-/* Reads the partial norms of `rows` rows and finishes them in chunk order. */
-limn_status opencl_finish_partials(struct limn_device *dev, size_t rows, device_norms *out);
+/* Enqueues kernel `id` over `rows` rows from work-item first_item (arguments
+   already set). */
+limn_status opencl_launch(struct limn_device *dev, opencl_kernel_id id, size_t first_item,
+                          size_t rows);
+/* A row range's first work-item (device_csr.row_begin is a multiple of
+   DEVICE_ROWS_PER_ITEM). */
+static inline size_t opencl_first_item(const device_csr *a)
+{
+    return a->row_begin / DEVICE_ROWS_PER_ITEM;
+}
+/* Makes room for the partial norms of `rows` rows from work-item first_item. */
+limn_status opencl_ensure_partials(struct limn_device *dev, size_t first_item, size_t rows);
+/* Reads those partial norms and finishes them in chunk order. */
+limn_status opencl_finish_partials(struct limn_device *dev, size_t first_item, size_t rows,
+                                   device_norms *out);
 
 limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_buffer *m,
                           device_buffer *p, device_buffer *r_f, device_norms *norms);

@@ -7,7 +7,7 @@ limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_b
 {
     opencl_impl *im = impl_of(dev);
     cl_kernel k = im->kernels[K_RESIDUAL_F];
-    limn_status st = opencl_ensure_partials(dev, a->rows);
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
     if (!st)
         st = opencl_set_csr_args(dev, k, a, a->weights);
     if (st)
@@ -18,8 +18,8 @@ limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_b
     cl_uint ahead = (cl_uint)a->gather_ahead;
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
     CHECK(clSetKernelArg(k, 8, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
-    st = opencl_launch(dev, K_RESIDUAL_F, a->rows);
-    return st ? st : opencl_finish_partials(dev, a->rows, norms);
+    st = opencl_launch(dev, K_RESIDUAL_F, opencl_first_item(a), a->rows);
+    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
 }
 
 limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
@@ -30,7 +30,7 @@ limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffe
     cl_kernel k = im->kernels[K_STEP_F];
     if (!a->weights_f)
         return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "step_f: no float weights");
-    limn_status st = opencl_ensure_partials(dev, a->rows);
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
     if (!st)
         st = opencl_set_csr_args(dev, k, a, a->weights_f);
     if (st)
@@ -44,8 +44,8 @@ limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffe
     CHECK(clSetKernelArg(k, 9, sizeof c1, &c1), "clSetKernelArg(c1)");
     CHECK(clSetKernelArg(k, 10, sizeof c2, &c2), "clSetKernelArg(c2)");
     CHECK(clSetKernelArg(k, 11, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
-    st = opencl_launch(dev, K_STEP_F, a->rows);
-    return st ? st : opencl_finish_partials(dev, a->rows, norms);
+    st = opencl_launch(dev, K_STEP_F, opencl_first_item(a), a->rows);
+    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
 }
 
 limn_status cl_add_f(struct limn_device *dev, size_t rows, device_buffer *p, device_buffer *d)
@@ -55,7 +55,7 @@ limn_status cl_add_f(struct limn_device *dev, size_t rows, device_buffer *p, dev
     CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
     CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
     CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &d->mem), "clSetKernelArg(d)");
-    return opencl_launch(dev, K_ADD_F, rows);
+    return opencl_launch(dev, K_ADD_F, 0, rows);
 }
 
 limn_status cl_to_float(struct limn_device *dev, size_t count, device_buffer *w,
@@ -66,5 +66,5 @@ limn_status cl_to_float(struct limn_device *dev, size_t count, device_buffer *w,
     CHECK(clSetKernelArg(k, 0, sizeof c, &c), "clSetKernelArg(count)");
     CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &w->mem), "clSetKernelArg(w)");
     CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &w_f->mem), "clSetKernelArg(w_f)");
-    return opencl_launch(dev, K_TO_FLOAT, count);
+    return opencl_launch(dev, K_TO_FLOAT, 0, count);
 }

@@ -49,6 +49,24 @@ static limn_status ref_buffer_read(struct limn_device *dev, device_buffer *buf, 
     return LIMN_OK;
 }
 
+static limn_status ref_buffer_write_at(struct limn_device *dev, device_buffer *buf,
+                                       size_t offset, size_t bytes, const void *src)
+{
+    if (offset > buf->bytes || bytes > buf->bytes - offset)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+    memcpy((char *)buf->data + offset, src, bytes);
+    return LIMN_OK;
+}
+
+static limn_status ref_buffer_read_at(struct limn_device *dev, device_buffer *buf, size_t offset,
+                                      size_t bytes, void *dst)
+{
+    if (offset > buf->bytes || bytes > buf->bytes - offset)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+    memcpy(dst, (const char *)buf->data + offset, bytes);
+    return LIMN_OK;
+}
+
 static void ref_buffer_release(struct limn_device *dev, device_buffer *buf)
 {
     (void)dev;
@@ -81,7 +99,7 @@ static limn_status ref_spmv(struct limn_device *dev, const device_csr *a, device
     (void)dev;
     const double *xs = x->data;
     double *ys = y->data;
-    for (size_t i = 0; i < a->rows; i++)
+    for (size_t i = a->row_begin; i < a->row_begin + a->rows; i++)
         row_product(a, i, xs, ys + 4 * i);
     return LIMN_OK;
 }
@@ -97,9 +115,9 @@ static limn_status ref_interp_step(struct limn_device *dev, const device_csr *a,
     if (!partials)
         return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
     for (size_t g = 0; g < chunks; g++) {
-        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        if (end > a->rows)
-            end = a->rows;
+        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > a->row_begin + a->rows)
+            end = a->row_begin + a->rows;
         double mx = 0.0, sum = 0.0, sq = 0.0;
         for (size_t i = begin; i < end; i++) {
             double acc[4];
@@ -137,9 +155,9 @@ static limn_status ref_cheb_step(struct limn_device *dev, const device_csr *a, d
     if (!partials)
         return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
     for (size_t g = 0; g < chunks; g++) {
-        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        if (end > a->rows)
-            end = a->rows;
+        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > a->row_begin + a->rows)
+            end = a->row_begin + a->rows;
         double mx = 0.0, sum = 0.0, sq = 0.0;
         for (size_t i = begin; i < end; i++) {
             double acc[4], r[3];
@@ -179,9 +197,9 @@ static limn_status ref_series_step(struct limn_device *dev, const device_csr *a,
     if (!partials)
         return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
     for (size_t g = 0; g < chunks; g++) {
-        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        if (end > a->rows)
-            end = a->rows;
+        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > a->row_begin + a->rows)
+            end = a->row_begin + a->rows;
         double mx = 0.0, sum = 0.0, sq = 0.0;
         for (size_t i = begin; i < end; i++) {
             double v[4];
@@ -266,9 +284,9 @@ static limn_status ref_spmv_dot(struct limn_device *dev, const device_csr *a, de
     size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
     double total = 0.0;
     for (size_t g = 0; g < chunks; g++) {
-        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        if (end > a->rows)
-            end = a->rows;
+        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > a->row_begin + a->rows)
+            end = a->row_begin + a->rows;
         double sum = 0.0;
         for (size_t i = begin; i < end; i++) {
             double *acc = ys + 4 * i;
@@ -329,6 +347,8 @@ static const device_ops reference_ops = {
     .buffer_write = ref_buffer_write,
     .buffer_read = ref_buffer_read,
     .buffer_release = ref_buffer_release,
+    .buffer_write_at = ref_buffer_write_at,
+    .buffer_read_at = ref_buffer_read_at,
     .spmv = ref_spmv,
     .interp_step = ref_interp_step,
     .spmv_dot = ref_spmv_dot,

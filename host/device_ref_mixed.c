@@ -50,8 +50,9 @@ limn_status ref_residual_f(struct limn_device *dev, const device_csr *a, device_
     if (st)
         return st;
     for (size_t g = 0; g < c.chunks; g++) {
-        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        end = end < a->rows ? end : a->rows;
+        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM;
+        size_t end = begin + DEVICE_ROWS_PER_ITEM, stop = a->row_begin + a->rows;
+        end = end < stop ? end : stop;
         double *n = c.partials + 3 * g;
         n[0] = n[1] = n[2] = 0.0;
         for (size_t i = begin; i < end; i++) {
@@ -87,8 +88,9 @@ limn_status ref_step_f(struct limn_device *dev, const device_csr *a, device_buff
     if (st)
         return st;
     for (size_t g = 0; g < c.chunks; g++) {
-        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        end = end < a->rows ? end : a->rows;
+        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM;
+        size_t end = begin + DEVICE_ROWS_PER_ITEM, stop = a->row_begin + a->rows;
+        end = end < stop ? end : stop;
         double *n = c.partials + 3 * g;
         n[0] = n[1] = n[2] = 0.0;
         for (size_t i = begin; i < end; i++) {

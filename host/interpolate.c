@@ -45,7 +45,14 @@ void limn_interpolate_options_default(limn_interpolate_options *o)
     o->precision = LIMN_PRECISION_AUTO;
 }
 
-static limn_status check_options(limn_context *ctx, const limn_interpolate_options *o)
+solve_kind solve_kind_of(limn_method method)
+{
+    return method == LIMN_METHOD_WEIGHTED    ? SOLVE_WEIGHTED
+           : method == LIMN_METHOD_CHEBYSHEV ? SOLVE_CHEBYSHEV
+                                             : SOLVE_PAPER;
+}
+
+limn_status solve_check_options(limn_context *ctx, const limn_interpolate_options *o)
 {
     if (o->scheme != LIMN_SCHEME_AUTO && o->scheme != LIMN_SCHEME_LOOP &&
         o->scheme != LIMN_SCHEME_CATMARK)
@@ -84,56 +91,49 @@ static void solve_release(solve_state *s)
    contraction of the seeds' iteration (power iteration on E - A). */
 #define WEIGHTED_PROBE 8
 
-typedef enum step_kind { STEP_PAPER, STEP_WEIGHTED, STEP_CHEBYSHEV } step_kind;
-
 /*
- * Runs the stationary or semi-iterative update from s->p[0]; on success
- * *which is the buffer holding the answer (always an iterate whose residual
- * was measured). paper: P += M - A P. weighted: omega starts at 1 and, after
- * WEIGHTED_PROBE steps, becomes 2 / (lambda + 1) with lambda = 1 -
- * (contraction of |r|_2), an over-estimate of lambda_min, so omega stays below
- * the optimum and the iteration convergent. chebyshev: the three-term
- * recurrence of solve_chebyshev.c, s->p[1 - cur] holding the previous
- * iterate in and the next one out. Counts one stencil product per step.
+ * Runs the stationary or semi-iterative update from buffer 0 through step()
+ * (one device, or MPI ranks); on success *which is the buffer holding the
+ * answer (always an iterate whose residual was measured). paper: P += M - A P.
+ * weighted: omega starts at 1 and, after WEIGHTED_PROBE steps, becomes
+ * 2 / (lambda + 1) with lambda = 1 - (contraction of |r|_2), an over-estimate
+ * of lambda_min, so omega stays below the optimum and the iteration
+ * convergent. chebyshev: the three-term recurrence of solve_chebyshev.c,
+ * buffer 1 - cur holding the previous iterate in and the next one out. Counts
+ * one stencil product per step.
  */
-static limn_status iterate(limn_context *ctx, const limn_operator *op, solve_state *s,
-                           const limn_interpolate_options *o, double diag, step_kind kind,
-                           int *which, limn_report *r)
+limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, size_t vertices,
+                          limn_scheme scheme, double alpha, const limn_interpolate_options *o,
+                          double diag, solve_kind kind, int *which, limn_report *r)
 {
     double tol_abs = o->tolerance * diag;
     double history[STALL_WINDOW];
     double first = -1.0, omega = 1.0, l2_probe = 0.0;
     int cur = 0, start = r->iterations;
     chebyshev cheb;
-    chebyshev_init(&cheb, chebyshev_prior(op->scheme), chebyshev_lead_steps(op->scheme));
+    chebyshev_init(&cheb, chebyshev_prior(scheme), chebyshev_lead_steps(scheme));
     r->omega = 1.0;
     for (int k = 0;; k++) {
         device_norms nr;
-        limn_status st;
-        if (kind == STEP_CHEBYSHEV) {
-            double c1, c2;
-            chebyshev_coefficients(&cheb, &c1, &c2);
-            st = s->dev->ops->cheb_step(s->dev, &op->device, s->m, s->p[cur], s->p[1 - cur], c1,
-                                        c2, &nr);
-        } else {
-            st = s->dev->ops->interp_step(s->dev, &op->device, s->m, s->p[cur], s->p[1 - cur],
-                                          omega, &nr);
-        }
+        solve_step sp = {kind, omega, 0.0, 0.0};
+        if (kind == SOLVE_CHEBYSHEV)
+            chebyshev_coefficients(&cheb, &sp.c1, &sp.c2);
+        limn_status st = step(user, cur, &sp, &nr);
         if (st)
             return st;
         r->products += 1.0;
-        size_t n = op->vertex_count ? op->vertex_count : 1;
-        if (kind == STEP_WEIGHTED && k == 2)
+        size_t n = vertices ? vertices : 1;
+        if (kind == SOLVE_WEIGHTED && k == 2)
             l2_probe = sqrt(nr.sum_sq);
-        if (kind == STEP_WEIGHTED && k == WEIGHTED_PROBE && l2_probe > 0) {
+        if (kind == SOLVE_WEIGHTED && k == WEIGHTED_PROBE && l2_probe > 0) {
             double rho = pow(sqrt(nr.sum_sq) / l2_probe, 1.0 / (WEIGHTED_PROBE - 2));
             double lambda = rho < 1.0 ? 1.0 - rho : 1.0;
             omega = 2.0 / (lambda + 1.0);
             r->omega = omega;
         }
-        if (kind == STEP_CHEBYSHEV && nr.max > tol_abs)
+        if (kind == SOLVE_CHEBYSHEV && nr.max > tol_abs)
             chebyshev_observe(&cheb, nr.max);
-        r->spectrum_lower = kind == STEP_CHEBYSHEV ? cheb.a : 0.0;
+        r->spectrum_lower = kind == SOLVE_CHEBYSHEV ? cheb.a : 0.0;
         r->restarts = cheb.restarts;
         r->iterations = start + k;
         r->max_abs_error = nr.max;
@@ -157,7 +157,7 @@ static limn_status iterate(limn_context *ctx, const limn_operator *op, solve_sta
                 "this mesh%s; no result was written",
                 nr.max, diag > 0 ? nr.max / diag : nr.max, k,
                 history[k % STALL_WINDOW], STALL_WINDOW,
-                op->scheme == LIMN_SCHEME_CATMARK && op->alpha == 0.0
+                scheme == LIMN_SCHEME_CATMARK && alpha == 0.0
                     ? " (alpha = 0 with valence-3 vertices, e.g. a cube, has a zero "
                       "eigenvalue): run again with --alpha 0.5"
                     : "");
@@ -178,6 +178,23 @@ static limn_status iterate(limn_context *ctx, const limn_operator *op, solve_sta
     }
 }
 
+/* One step of the single process: the whole table in one launch. */
+typedef struct local_step {
+    const limn_operator *op;
+    solve_state *s;
+} local_step;
+
+static limn_status step_local(void *user, int cur, const solve_step *sp, device_norms *norms)
+{
+    local_step *l = user;
+    solve_state *s = l->s;
+    if (sp->kind == SOLVE_CHEBYSHEV)
+        return s->dev->ops->cheb_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur],
+                                      sp->c1, sp->c2, norms);
+    return s->dev->ops->interp_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur],
+                                    sp->omega, norms);
+}
+
 limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
                              const limn_interpolate_options *options, limn_mesh **control,
                              limn_report *report)
@@ -191,7 +208,7 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     limn_interpolate_options defaults;
     limn_interpolate_options_default(&defaults);
     const limn_interpolate_options *o = options ? options : &defaults;
-    limn_status st = check_options(ctx, o);
+    limn_status st = solve_check_options(ctx, o);
     if (st)
         return st;
     limn_report local;
@@ -269,12 +286,10 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     if (!st && !done)
         st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), NULL, &s.p[1]);
     double t_loop = limn_seconds(), compiles = s.dev->setup.kernels; /* first launches */
+    local_step ls = {&op, &s};
     if (!st && !done)
-        st = iterate(ctx, &op, &s, o, diag,
-                     method == LIMN_METHOD_WEIGHTED    ? STEP_WEIGHTED
-                     : method == LIMN_METHOD_CHEBYSHEV ? STEP_CHEBYSHEV
-                                                       : STEP_PAPER,
-                     &which, r);
+        st = solve_iterate(ctx, step_local, &ls, op.vertex_count, op.scheme, op.alpha, o, diag,
+                           solve_kind_of(method), &which, r);
     r->seconds_iterations += limn_seconds() - t_loop - (s.dev->setup.kernels - compiles);
     if (!st)
         st = s.dev->ops->buffer_read(s.dev, s.p[which], 4 * n * sizeof(double), buf);

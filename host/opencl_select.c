@@ -140,6 +140,8 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
         }
     }
 
+    opencl_choice match[MAX_DEVICES];
+    size_t matches = 0;
     for (cl_uint p = 0; p < np; p++) {
         char pname[96];
         if (clGetPlatformInfo(plats[p], CL_PLATFORM_NAME, sizeof pname, pname, NULL) != CL_SUCCESS)
@@ -173,12 +175,19 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
                 continue;
             if (!(dt & type))
                 continue;
-            out->platform = plats[p];
-            out->device = devs[d];
-            snprintf(out->name, sizeof out->name, "%s [%s, device %u.%u, %s]", dname, pname, p, d,
-                     type_name(dt));
-            return LIMN_OK;
+            /* every match is recorded: MPI ranks of a node take them in turn */
+            if (matches < MAX_DEVICES) {
+                match[matches].platform = plats[p];
+                match[matches].device = devs[d];
+                snprintf(match[matches].name, sizeof match[matches].name,
+                         "%s [%s, device %u.%u, %s]", dname, pname, p, d, type_name(dt));
+                matches++;
+            }
         }
+    }
+    if (matches > 0) {
+        *out = match[(size_t)(ctx->device_slot >= 0 ? ctx->device_slot : 0) % matches];
+        return LIMN_OK;
     }
     if (!*value)
         return limn_fail(ctx, LIMN_ERR_DEVICE,

@@ -122,9 +122,9 @@ limn_status operator_build_ex(limn_context *ctx, const limn_mesh *mesh, limn_sch
         }
         op->seconds_reorder = limn_seconds() - t2;
     }
-    if (!st)
+    if (!st && !(flags & OPERATOR_HOST_ONLY))
         st = device_get(ctx, &op->dev);
-    if (!st)
+    if (!st && !(flags & OPERATOR_HOST_ONLY))
         st = device_csr_upload(op->dev, &op->host, &op->device);
     if (st)
         operator_free(op);

@@ -25,7 +25,10 @@ typedef struct limn_operator {
     uint32_t *order, *rank;
 } limn_operator;
 
-enum { OPERATOR_REORDER = 1 };
+enum {
+    OPERATOR_REORDER = 1,
+    OPERATOR_HOST_ONLY = 2    /* no device copy (MPI: the root sends rows to ranks) */
+};
 
 /* operator_build with flags (OPERATOR_REORDER: renumber rows for locality;
    then use operator_pack / operator_unpack for every vector). */

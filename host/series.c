@@ -141,7 +141,7 @@ limn_status series_partial_sum(series_run *s, device_buffer *x, device_buffer *a
 
 /* Checks that a result is finite (a diverging filter, e.g. sharpening far too
    hard, must not be written as if it were a mesh). */
-static limn_status check_finite(limn_context *ctx, const double *xyz, size_t n, const char *what)
+limn_status series_check_finite(limn_context *ctx, const double *xyz, size_t n, const char *what)
 {
     for (size_t i = 0; i < 3 * n; i++)
         if (!isfinite(xyz[i]))
@@ -227,7 +227,7 @@ static limn_status result_mesh(limn_context *ctx, series_run *s, device_buffer *
     if (!st)
         st = series_download(s, b, m->positions);
     if (!st)
-        st = check_finite(ctx, m->positions, m->vertex_count, what);
+        st = series_check_finite(ctx, m->positions, m->vertex_count, what);
     if (st) {
         limn_mesh_destroy(m);
         return st;
@@ -264,6 +264,28 @@ limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
     r->seconds_compute = limn_seconds() - s.t0;
     series_close(&s);
     return st;
+}
+
+limn_status series_keep_volume(limn_context *ctx, const limn_mesh *mesh, limn_mesh *out)
+{
+    double v0, v1, a;
+    measure_volume_area(mesh, mesh->positions, &v0, &a);
+    measure_volume_area(out, out->positions, &v1, &a);
+    if (!(v1 != 0.0 && (v0 > 0.0) == (v1 > 0.0)))
+        return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+                         "cannot keep the volume: it went from %.6g to %.6g", v0, v1);
+    double scale = cbrt(v0 / v1), c[3] = {0, 0, 0};
+    double *p = out->positions;
+    size_t n = out->vertex_count;
+    for (size_t i = 0; i < n; i++)
+        for (int j = 0; j < 3; j++)
+            c[j] += p[3 * i + j];
+    for (int j = 0; j < 3; j++)
+        c[j] /= (double)n;
+    for (size_t i = 0; i < n; i++)
+        for (int j = 0; j < 3; j++)
+            p[3 * i + j] = c[j] + scale * (p[3 * i + j] - c[j]);
+    return LIMN_OK;
 }
 
 limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
@@ -309,25 +331,7 @@ limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
     if (!st)
         st = result_mesh(ctx, &s, t, mesh, "denoising", out);
     if (!st && keep_volume) {
-        double v0, v1, a;
-        measure_volume_area(mesh, mesh->positions, &v0, &a);
-        measure_volume_area(*out, (*out)->positions, &v1, &a);
-        if (!(v1 != 0.0 && (v0 > 0.0) == (v1 > 0.0))) {
-            st = limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
-                           "cannot keep the volume: it went from %.6g to %.6g", v0, v1);
-        } else {
-            double scale = cbrt(v0 / v1), c[3] = {0, 0, 0};
-            double *p = (*out)->positions;
-            size_t n = (*out)->vertex_count;
-            for (size_t i = 0; i < n; i++)
-                for (int j = 0; j < 3; j++)
-                    c[j] += p[3 * i + j];
-            for (int j = 0; j < 3; j++)
-                c[j] /= (double)n;
-            for (size_t i = 0; i < n; i++)
-                for (int j = 0; j < 3; j++)
-                    p[3 * i + j] = c[j] + scale * (p[3 * i + j] - c[j]);
-        }
+        st = series_keep_volume(ctx, mesh, *out);
         if (st) {
             limn_mesh_destroy(*out);
             *out = NULL;
@@ -390,7 +394,7 @@ limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
 }
 
 /* Fills a frame's measures and calls the user's callback. */
-static limn_status emit_frame(const limn_mesh *from, const limn_mesh *to, int closed,
+limn_status series_emit_frame(const limn_mesh *from, const limn_mesh *to, int closed,
                               double diag, int index, const double *pos, limn_morph_frame_fn fn,
                               void *user)
 {
@@ -467,7 +471,7 @@ limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh
             double u = (double)k / (double)(o.frames - 1);
             for (size_t i = 0; i < n3; i++)
                 q[i] = (1.0 - u) * from->positions[i] + u * to->positions[i];
-            st = emit_frame(from, to, closed, diag, k, q, fn, user);
+            st = series_emit_frame(from, to, closed, diag, k, q, fn, user);
         }
         r->seconds_compute = limn_seconds() - t0;
         free(q);
@@ -486,7 +490,7 @@ limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh
         q[i] = from->positions[i] - to->positions[i];
     st = series_upload(&s, s.buf[0], q);
     if (!st)
-        st = emit_frame(from, to, closed, diag, 0, from->positions, fn, user);
+        st = series_emit_frame(from, to, closed, diag, 0, from->positions, fn, user);
     for (int k = 1; !st && k < o.frames; k++) {
         /* D_{k} = p sum_{i=0..m} (E - A)^i A D_{k-1}; Q_k = TO + D_k */
         st = series_partial_sum(&s, s.buf[0], s.buf[1], s.buf[2], s.buf[3], o.m, &r->products);
@@ -497,10 +501,10 @@ limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh
         if (!st) {
             for (size_t i = 0; i < n3; i++)
                 q[i] = to->positions[i] + q[i];
-            st = check_finite(ctx, q, n, "the morph");
+            st = series_check_finite(ctx, q, n, "the morph");
         }
         if (!st)
-            st = emit_frame(from, to, closed, diag, k, q, fn, user);
+            st = series_emit_frame(from, to, closed, diag, k, q, fn, user);
         limn_progress(ctx, "morph", (double)k / (double)(o.frames - 1));
     }
     r->seconds_compute = limn_seconds() - s.t0;

@@ -33,4 +33,12 @@ limn_status series_download(series_run *s, device_buffer *b, double *xyz);
 limn_status series_partial_sum(series_run *s, device_buffer *x, device_buffer *acc,
                                device_buffer *ra, device_buffer *rb, int m, long long *products);
 
+/* Refuses a non-finite coordinate of a result, naming the vertex. */
+limn_status series_check_finite(limn_context *ctx, const double *xyz, size_t n, const char *what);
+/* denoise --keep-volume: scales out about the mean of its vertices to mesh's volume. */
+limn_status series_keep_volume(limn_context *ctx, const limn_mesh *mesh, limn_mesh *out);
+/* Fills a morph frame's measures (pos: 3 per vertex) and calls fn. */
+limn_status series_emit_frame(const limn_mesh *from, const limn_mesh *to, int closed, double diag,
+                              int index, const double *pos, limn_morph_frame_fn fn, void *user);
+
 #endif

@@ -108,4 +108,88 @@ limn_status json_stage(limn_context *ctx, json_out *j, const char *path, struct 
 limn_status cli_commit_outputs(limn_context *ctx, limn_status st, struct atomic_file *staged,
                                int n);
 
+/* ---------------------------------------------------------------------- MPI
+ * Under mpirun with several ranks (cli_mpi.c; cli_mpi_none.c without
+ * LIMN_MPI: always one rank), interpolate, smooth, denoise and morph run
+ * distributed: rank 0 reads, writes and prints; every rank computes its share
+ * (include/limn_mpi.h). With one rank everything is as without MPI. */
+int cli_mpi_launched(void);   /* an MPI launcher started this process */
+/* main(): MPI_Init, the command (refused on several ranks unless distributed),
+   the same exit status on every rank, MPI_Finalize. */
+int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **));
+int cli_mpi_ranks(void);      /* 1 without MPI */
+int cli_mpi_rank(void);       /* 0 without MPI */
+/* Every rank gets the lowest failing rank's status and message (collective). */
+limn_status cli_mpi_agree(limn_context *ctx, limn_status st);
+/* Rank 0's exit status on every rank (after parsing: usage errors are its). */
+int cli_mpi_root_rc(int rc);
+/* --per-rank-output: each rank writes its piece to cli_mpi_rank_path(OUTPUT). */
+void cli_mpi_set_per_rank(int on);
+int cli_mpi_per_rank(void);
+/* OUTPUT with ".rNNN" before the extension (this rank's number); caller frees. */
+char *cli_mpi_rank_path(const char *path);
+/* The distributed calls; *piece (may be NULL): with --per-rank-output, this
+   rank's owned vertices and their faces. Every rank's statistics are kept
+   for cli_mpi_json (the report's "mpi" object) and cli_mpi_print. */
+limn_status cli_mpi_interpolate(limn_context *ctx, const limn_mesh *mesh,
+                                const limn_interpolate_options *o, limn_mesh **control,
+                                limn_report *r, limn_mesh **piece);
+limn_status cli_mpi_smooth(limn_context *ctx, const limn_mesh *mesh,
+                           const limn_series_options *o, int terms, limn_mesh **out,
+                           limn_series_report *r, limn_mesh **piece);
+limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
+                            const limn_series_options *o, int m, int steps, int keep_volume,
+                            limn_mesh **out, limn_series_report *r, limn_mesh **piece);
+limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                          const limn_morph_options *o, limn_morph_frame_fn fn, void *user,
+                          limn_series_report *r);
+void cli_mpi_json(json_out *j);
+void cli_mpi_print(void);
+#define CLI_MPI_HELP                                                                           \
+    "  --per-rank-output      under mpirun: each rank writes its owned vertices\n"             \
+    "                         and their faces to OUTPUT.rN.EXT instead of rank 0\n"           \
+    "                         writing OUTPUT\n"
+
+/* ---------------------------------------------------------------------- MPI
+ * Under mpirun with several ranks (cli_mpi.c; cli_mpi_none.c without
+ * LIMN_MPI: always one rank), interpolate, smooth, denoise and morph run
+ * distributed: rank 0 reads, writes and prints; every rank computes its share
+ * (include/limn_mpi.h). With one rank everything is as without MPI. */
+int cli_mpi_launched(void);   /* an MPI launcher started this process */
+/* main(): MPI_Init, the command (refused on several ranks unless distributed),
+   the same exit status on every rank, MPI_Finalize. */
+int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **));
+int cli_mpi_ranks(void);      /* 1 without MPI */
+int cli_mpi_rank(void);       /* 0 without MPI */
+/* Every rank gets the lowest failing rank's status and message (collective). */
+limn_status cli_mpi_agree(limn_context *ctx, limn_status st);
+/* Rank 0's exit status on every rank (after parsing: usage errors are its). */
+int cli_mpi_root_rc(int rc);
+/* --per-rank-output: each rank writes its piece to cli_mpi_rank_path(OUTPUT). */
+void cli_mpi_set_per_rank(int on);
+int cli_mpi_per_rank(void);
+/* OUTPUT with ".rNNN" before the extension (this rank's number); caller frees. */
+char *cli_mpi_rank_path(const char *path);
+/* The distributed calls; *piece (may be NULL): with --per-rank-output, this
+   rank's owned vertices and their faces. Every rank's statistics are kept
+   for cli_mpi_json (the report's "mpi" object) and cli_mpi_print. */
+limn_status cli_mpi_interpolate(limn_context *ctx, const limn_mesh *mesh,
+                                const limn_interpolate_options *o, limn_mesh **control,
+                                limn_report *r, limn_mesh **piece);
+limn_status cli_mpi_smooth(limn_context *ctx, const limn_mesh *mesh,
+                           const limn_series_options *o, int terms, limn_mesh **out,
+                           limn_series_report *r, limn_mesh **piece);
+limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
+                            const limn_series_options *o, int m, int steps, int keep_volume,
+                            limn_mesh **out, limn_series_report *r, limn_mesh **piece);
+limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                          const limn_morph_options *o, limn_morph_frame_fn fn, void *user,
+                          limn_series_report *r);
+void cli_mpi_json(json_out *j);
+void cli_mpi_print(void);
+#define CLI_MPI_HELP                                                                           \
+    "  --per-rank-output      under mpirun: each rank writes its owned vertices\n"             \
+    "                         and their faces to OUTPUT.rN.EXT instead of rank 0\n"           \
+    "                         writing OUTPUT\n"
+
 #endif

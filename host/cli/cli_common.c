@@ -16,6 +16,8 @@
 
 int cli_usage_error(const char *cmd, const char *fmt, ...)
 {
+    if (cli_mpi_rank() != 0) /* under mpirun: printed once, by rank 0 */
+        return EXIT_USAGE;
     va_list ap;
     va_start(ap, fmt);
     fprintf(stderr, "limn %s: ", cmd);
@@ -60,13 +62,14 @@ int cli_parse_int(const char *opt, const char *text, int *out)
 
 int cli_fail(const char *cmd, limn_context *ctx, limn_status st)
 {
-    fprintf(stderr, "limn %s: error: %s\n", cmd, limn_context_message(ctx));
+    if (cli_mpi_rank() == 0)
+        fprintf(stderr, "limn %s: error: %s\n", cmd, limn_context_message(ctx));
     return st == LIMN_ERR_ARGUMENT ? EXIT_USAGE : EXIT_FAILURE_RUN;
 }
 
 void cli_print_warnings(const char *cmd, limn_context *ctx)
 {
-    const char *w = limn_context_warnings(ctx);
+    const char *w = cli_mpi_rank() == 0 ? limn_context_warnings(ctx) : "";
     while (*w) {
         const char *nl = strchr(w, '\n');
         int len = nl ? (int)(nl - w) : (int)strlen(w);
@@ -91,7 +94,7 @@ static void show_progress(void *user, const char *stage, double fraction)
 
 void cli_progress_enable(limn_context *ctx, int quiet)
 {
-    if (!quiet && isatty(STDERR_FILENO))
+    if (!quiet && isatty(STDERR_FILENO) && cli_mpi_rank() == 0)
         limn_context_set_progress(ctx, show_progress, NULL);
 }
 
@@ -313,6 +316,8 @@ limn_status json_commit(limn_context *ctx, json_out *j, const char *path)
 
 limn_status cli_commit_outputs(limn_context *ctx, limn_status st, atomic_file *staged, int n)
 {
+    /* under mpirun: every rank's outputs are staged before any appears */
+    st = cli_mpi_agree(ctx, st);
     for (int i = 0; i < n; i++) {
         if (!st)
             st = atomic_file_commit(ctx, &staged[i]);

@@ -23,6 +23,7 @@ static const char *const help =
     "  --report FILE.json     also write the report as JSON\n"
     "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
     "  --format F / --input-format F / --overwrite-input / -q\n"
+    CLI_MPI_HELP
     "\n"
     "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
 
@@ -87,7 +88,7 @@ int cli_denoise(int argc, char **argv)
             return cli_usage_error(c.cmd, "unknown option '%s'", s);
         }
     }
-    int rc = series_cli_check(&c, 1);
+    int rc = cli_mpi_root_rc(series_cli_check(&c, 1));
     if (rc)
         return rc;
     series_seconds s = {.t0 = cli_now()};
@@ -99,18 +100,21 @@ int cli_denoise(int argc, char **argv)
     s.load = cli_now() - s.t0;
     if (!st) {
         cli_progress_enable(ctx, c.quiet);
-        st = limn_denoise(ctx, in[0], &c.opt, e.m, e.steps, e.keep_volume, &out, &r);
+        st = cli_mpi_ranks() > 1 ? cli_mpi_denoise(ctx, in[0], &c.opt, e.m, e.steps,
+                                                   e.keep_volume, &out, &r, &c.piece)
+                                 : limn_denoise(ctx, in[0], &c.opt, e.m, e.steps, e.keep_volume,
+                                                &out, &r);
         cli_progress_done();
     }
     limn_mesh_measures a, b;
     limn_mesh_comparison cmp;
-    if (!st)
+    if (!st && out) /* under mpirun: rank 0 */
         st = limn_mesh_measure(ctx, in[0], &a);
-    if (!st)
+    if (!st && out)
         limn_mesh_volume_area(out, &b.volume, &b.area); /* same topology as the input */
-    if (!st)
+    if (!st && out)
         st = limn_mesh_compare(ctx, in[0], out, &cmp);
-    if (!st) {
+    if (!st && out) {
         e.closed = a.closed;
         e.volume_in = a.volume;
         e.volume_out = b.volume;

@@ -47,7 +47,10 @@ static const char *const help =
     "                         (default: reverse Cuthill-McKee for locality)\n"
     "  --overwrite-input      allow OUTPUT to be the INPUT file\n"
     "  -q, --quiet            no summary and no progress on stderr\n"
+    CLI_MPI_HELP
     "\n"
+    "Under 'mpirun -np N' (N > 1) the vertices are split across the ranks (README\n"
+    "\"MPI\"): rank 0 reads INPUT and writes OUTPUT, the same bits as one process.\n"
     "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
 
 typedef struct args {
@@ -55,7 +58,7 @@ typedef struct args {
     limn_format in_format, out_format;
     limn_interpolate_options opt;
     limn_subdivide_options sub;
-    int quiet, overwrite_input, levels_given;
+    int quiet, overwrite_input, levels_given, per_rank;
     cli_repair repair;
 } args;
 
@@ -73,7 +76,8 @@ static int parse(int argc, char **argv, args *a)
             return cli_usage_error("interpolate", "%s needs a value", s);                      \
     } while (0)
         if (strcmp(s, "-h") == 0 || strcmp(s, "--help") == 0) {
-            fputs(help, stdout);
+            if (cli_mpi_rank() == 0)
+                fputs(help, stdout);
             return -1;
         } else if (strcmp(s, "-o") == 0 || strcmp(s, "--output") == 0) {
             VALUE();
@@ -167,6 +171,8 @@ static int parse(int argc, char **argv, args *a)
             a->opt.reorder = 0;
         } else if (strcmp(s, "--overwrite-input") == 0) {
             a->overwrite_input = 1;
+        } else if (strcmp(s, "--per-rank-output") == 0) {
+            a->per_rank = 1;
         } else if (cli_repair_arg(s, &a->repair)) {
         } else if (strcmp(s, "-q") == 0 || strcmp(s, "--quiet") == 0) {
             a->quiet = 1;
@@ -188,6 +194,9 @@ static int parse(int argc, char **argv, args *a)
                                               "weighted iteration; cg runs in double");
     if ((a->levels_given || a->sub.limit) && !a->surface)
         return cli_usage_error("interpolate", "--levels and --limit need --surface FILE");
+    if (a->per_rank && cli_mpi_ranks() == 1)
+        return cli_usage_error("interpolate", "--per-rank-output needs several MPI ranks "
+                                              "(mpirun -np N limn interpolate ...)");
     int rc = cli_check_output("interpolate", a->input, a->output, a->out_format,
                               a->overwrite_input);
     if (!rc && a->surface)
@@ -223,7 +232,8 @@ static void print_summary(limn_context *ctx, const args *a, const limn_report *r
             "  seconds: load %.3f, opencl setup %.3f, topology %.3f, stencil %.3f, solve %.3f "
             "(%.3g per iteration), write %.3f\n",
             a->input, a->output, r->vertices, r->faces, limn_scheme_name(r->scheme), r->alpha,
-            r->method, r->precision, r->reordered ? "rcm" : "input", r->iterations,
+            r->method, r->precision ? r->precision : "double", r->reordered ? "rcm" : "input",
+            r->iterations,
             r->max_rel_error, r->mean_rel_error, r->bbox_diagonal, r->device, threads,
             threads_source, sec[0],
             r->seconds_opencl_platform + r->seconds_opencl_context + r->seconds_opencl_build +
@@ -250,7 +260,7 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_integer(j, "iterations", r->iterations);
     json_number(j, "products", r->products);
     json_string(j, "method_reason", r->method_reason ? r->method_reason : "");
-    json_string(j, "precision", r->precision);
+    json_string(j, "precision", r->precision ? r->precision : "double");
     json_string(j, "precision_reason", r->precision_reason ? r->precision_reason : "");
     json_number(j, "products_float", r->products_float);
     if (strcmp(r->method, "weighted") == 0)
@@ -281,6 +291,7 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
         json_string(j, "limit", sr->limit ? "yes" : "no");
     }
     json_integer(j, "peak_rss_bytes", (long long)cli_peak_rss());
+    cli_mpi_json(j);
     json_object_begin(j, "seconds");
     json_number(j, "load", sec[0]);
     json_number(j, "topology", r->seconds_topology);
@@ -305,70 +316,99 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
 
 
 
+/* Solves (on one process, or distributed under mpirun), then refines the
+   surface on rank 0. A device failure runs again on the reference backend
+   when that is allowed (one process only: under MPI a rank's device falls
+   back when it opens, see --fallback). */
+static limn_status solve(args *a, limn_context *ctx, const limn_mesh *mesh, limn_mesh **control,
+                         limn_mesh **surface, limn_mesh **piece, limn_report *r,
+                         limn_subdivide_report *sr)
+{
+    limn_status st = LIMN_OK;
+    for (int attempt = 0; attempt < 2; attempt++) {
+        cli_progress_enable(ctx, a->quiet);
+        if (cli_mpi_ranks() > 1)
+            st = cli_mpi_interpolate(ctx, mesh, &a->opt, control, r, a->per_rank ? piece : NULL);
+        else
+            st = limn_interpolate(ctx, mesh, &a->opt, control, r);
+        cli_progress_done();
+        cli_print_warnings("interpolate", ctx);
+        if (!st && a->surface && *control) {
+            a->sub.scheme = r->scheme;
+            cli_progress_enable(ctx, a->quiet);
+            st = limn_subdivide(ctx, *control, &a->sub, surface, sr);
+            cli_progress_done();
+            cli_print_warnings("interpolate", ctx);
+        }
+        if (!st || cli_mpi_ranks() > 1 || !cli_fall_back("interpolate", ctx, &st))
+            break;
+        limn_mesh_destroy(*control);
+        *control = NULL;
+    }
+    return st;
+}
+
 int cli_interpolate(int argc, char **argv)
 {
     args a = {0};
-    int rc = parse(argc, argv, &a);
+    int rc = cli_mpi_root_rc(parse(argc, argv, &a));
     if (rc)
         return rc < 0 ? 0 : rc;
+    int root = cli_mpi_rank() == 0;
+    a.quiet |= !root; /* under mpirun rank 0 prints */
+    cli_mpi_set_per_rank(a.per_rank);
     limn_context *ctx = limn_context_create();
     if (!ctx) {
         fprintf(stderr, "limn interpolate: out of memory\n");
         return EXIT_FAILURE_RUN;
     }
-    limn_mesh *mesh = NULL, *control = NULL, *surface = NULL;
+    limn_mesh *mesh = NULL, *control = NULL, *surface = NULL, *piece = NULL;
     limn_report r;
+    memset(&r, 0, sizeof r);
     limn_subdivide_report sr;
     memset(&sr, 0, sizeof sr);
     double sec[3] = {0, 0, 0}, t0 = cli_now();
     limn_status st = limn_context_set_device(ctx, a.device);
     if (!st && a.fallback)
         st = limn_context_set_fallback(ctx, a.fallback);
-    if (!st)
+    if (!st && root)
         st = cli_load_mesh("interpolate", ctx, a.input, a.in_format, &a.repair, 1, &mesh);
     sec[0] = cli_now() - t0;
-    if (!st)
+    if (!st && root)
         st = limn_interpolate_estimate(ctx, mesh, &a.opt, a.sub.max_memory, NULL);
-    if (!st && a.surface) {
+    if (!st && root && a.surface) {
         /* refuse an oversize surface before solving */
         size_t v, f, bytes;
         a.sub.scheme = a.opt.scheme;
         a.sub.alpha = a.opt.alpha;
         st = limn_subdivide_estimate(ctx, mesh, &a.sub, &v, &f, &bytes);
     }
-    /* a device failure runs again on the reference backend when that is allowed */
-    for (int attempt = 0; !st && attempt < 2; attempt++) {
-        cli_progress_enable(ctx, a.quiet);
-        st = limn_interpolate(ctx, mesh, &a.opt, &control, &r);
-        cli_progress_done();
-        cli_print_warnings("interpolate", ctx);
-        if (!st && a.surface) {
-            a.sub.scheme = r.scheme;
-            cli_progress_enable(ctx, a.quiet);
-            st = limn_subdivide(ctx, control, &a.sub, &surface, &sr);
-            cli_progress_done();
-            cli_print_warnings("interpolate", ctx);
-        }
-        if (!st || !cli_fall_back("interpolate", ctx, &st))
-            break;
-        limn_mesh_destroy(control);
-        control = NULL;
-    }
+    st = cli_mpi_agree(ctx, st); /* a bad input stops every rank, one message */
+    if (!st)
+        st = solve(&a, ctx, mesh, &control, &surface, &piece, &r, &sr);
     /* every output is complete (staged) before any appears: a failure writes nothing */
     atomic_file staged[3];
     int nstaged = 0;
     if (!st) {
         double t1 = cli_now();
-        st = mesh_write_staged(ctx, control, a.output, a.out_format, &staged[nstaged]);
-        nstaged += !st;
-        if (!st && a.surface) {
+        if (a.per_rank) {
+            char *path = cli_mpi_rank_path(a.output);
+            st = path ? mesh_write_staged(ctx, piece, path, a.out_format, &staged[nstaged])
+                      : LIMN_ERR_MEMORY;
+            free(path);
+            nstaged += !st;
+        } else if (root) {
+            st = mesh_write_staged(ctx, control, a.output, a.out_format, &staged[nstaged]);
+            nstaged += !st;
+        }
+        if (!st && root && a.surface) {
             st = mesh_write_staged(ctx, surface, a.surface, a.out_format, &staged[nstaged]);
             nstaged += !st;
         }
         sec[1] = cli_now() - t1;
         sec[2] = cli_now() - t0;
     }
-    if (!st && a.report) {
+    if (!st && root && a.report) {
         st = write_report(ctx, &a, &r, a.surface ? &sr : NULL, sec, &staged[nstaged]);
         nstaged += !st;
     }
@@ -382,10 +422,12 @@ int cli_interpolate(int argc, char **argv)
                     a.surface, sr.vertices, sr.faces, sr.levels,
                     sr.limit ? ", limit positions" : "",
                     sr.seconds_plan + sr.seconds_apply + sr.seconds_limit);
+        cli_mpi_print();
     }
     limn_mesh_destroy(surface);
     limn_mesh_destroy(mesh);
     limn_mesh_destroy(control);
+    limn_mesh_destroy(piece);
     limn_context_destroy(ctx);
     return rc;
 }

@@ -32,7 +32,8 @@ static const char *const help =
     "  --format F / --input-format F / --overwrite-input / -q\n"
     "\n"
     "Every frame is written whole or not at all; on failure the frames written\n"
-    "are removed. Exit status: 0 success, 1 failure, 2 bad usage.\n";
+    "are removed. Under 'mpirun -np N' the products are distributed and rank 0\n"
+    "writes the frames. Exit status: 0 success, 1 failure, 2 bad usage.\n";
 
 typedef struct pattern {
     char *prefix, *suffix;
@@ -212,14 +213,14 @@ int cli_morph(int argc, char **argv)
             return cli_usage_error(c.cmd, "unknown option '%s'", s);
         }
     }
-    int rc = series_cli_check(&c, 0);
+    int rc = cli_mpi_root_rc(series_cli_check(&c, 0));
     if (rc)
         return rc;
     morph_state ms = {.c = &c, .frames = mo.frames, .m = mo.m, .p = mo.p, .linear = mo.linear};
     char why[512];
     if (!parse_pattern(c.output, &ms.pat, why, sizeof why)) {
         rc = cli_usage_error(c.cmd, "-o %s", why);
-        goto out_pattern;
+        goto checked;
     }
     ms.name_size = strlen(c.output) + 64;
     ms.name = malloc(ms.name_size);
@@ -230,7 +231,7 @@ int cli_morph(int argc, char **argv)
     if (!ms.name || !ms.volume || !ms.area || !ms.distance || !ms.flipped) {
         fprintf(stderr, "limn morph: out of memory\n");
         rc = EXIT_FAILURE_RUN;
-        goto out_pattern;
+        goto checked;
     }
     /* the frames' names: a known format, distinct, not an input, in a directory */
     frame_name(&ms.pat, 0, ms.name, ms.name_size);
@@ -242,18 +243,18 @@ int cli_morph(int argc, char **argv)
         free(second);
         if (same) {
             rc = cli_usage_error(c.cmd, "-o '%s' gives every frame the same name", c.output);
-            goto out_pattern;
+            goto checked;
         }
     }
     for (int k = 0; k < 2; k++)
         if ((rc = cli_check_output(c.cmd, c.inputs[k], ms.name, c.out_format,
                                    c.overwrite_input)))
-            goto out_pattern;
+            goto checked;
     for (int k = 0; k < mo.frames && !c.overwrite_input; k++) {
         frame_name(&ms.pat, k, ms.name, ms.name_size);
         if (cli_same_file(ms.name, c.inputs[0]) || cli_same_file(ms.name, c.inputs[1])) {
             rc = cli_usage_error(c.cmd, "frame %d would overwrite the input '%s'", k, ms.name);
-            goto out_pattern;
+            goto checked;
         }
     }
     {
@@ -267,7 +268,7 @@ int cli_morph(int argc, char **argv)
                         dir);
                 free(dir);
                 rc = EXIT_FAILURE_RUN;
-                goto out_pattern;
+                goto checked;
             }
         }
         free(dir);
@@ -275,6 +276,10 @@ int cli_morph(int argc, char **argv)
     if (c.out_format == LIMN_FORMAT_AUTO)
         limn_format_from_path(ms.name, &c.out_format);
 
+checked: /* under mpirun rank 0's checks decide for every rank */
+    rc = cli_mpi_root_rc(rc);
+    if (rc)
+        goto out_pattern;
     series_seconds s = {.t0 = cli_now()};
     limn_mesh *in[2] = {NULL, NULL};
     limn_series_report r;
@@ -282,11 +287,13 @@ int cli_morph(int argc, char **argv)
     limn_status st = series_cli_load(&c, &ms.ctx, in);
     s.load = cli_now() - s.t0;
     mo.series = c.opt;
-    if (!st)
+    if (!st && in[0]) /* rank 0 writes the frames */
         st = limn_mesh_copy(ms.ctx, in[0], &ms.frame);
     if (!st) {
         cli_progress_enable(ms.ctx, c.quiet);
-        st = limn_morph(ms.ctx, in[0], in[1], &mo, write_frame, &ms, &r);
+        st = cli_mpi_ranks() > 1
+                 ? cli_mpi_morph(ms.ctx, in[0], in[1], &mo, write_frame, &ms, &r)
+                 : limn_morph(ms.ctx, in[0], in[1], &mo, write_frame, &ms, &r);
         cli_progress_done();
     }
     r.seconds_compute -= ms.write_seconds;

@@ -42,7 +42,8 @@ int series_cli_arg(series_cli *c, int argc, char **argv, int *i, int *rc)
         }                                                                                      \
     } while (0)
     if (strcmp(s, "-h") == 0 || strcmp(s, "--help") == 0) {
-        fputs(c->help, stdout);
+        if (cli_mpi_rank() == 0)
+            fputs(c->help, stdout);
         *rc = -1;
         return SERIES_ARG_EXIT;
     } else if (strcmp(s, "-o") == 0 || strcmp(s, "--output") == 0) {
@@ -84,6 +85,9 @@ int series_cli_arg(series_cli *c, int argc, char **argv, int *i, int *rc)
             c->in_format = f;
     } else if (strcmp(s, "--overwrite-input") == 0) {
         c->overwrite_input = 1;
+    } else if (strcmp(s, "--per-rank-output") == 0 &&
+               (strcmp(c->cmd, "smooth") == 0 || strcmp(c->cmd, "denoise") == 0)) {
+        c->per_rank = 1;
     } else if (strcmp(s, "-q") == 0 || strcmp(s, "--quiet") == 0) {
         c->quiet = 1;
     } else if (cli_repair_arg(s, &c->repair)) {
@@ -102,6 +106,10 @@ int series_cli_arg(series_cli *c, int argc, char **argv, int *i, int *rc)
 
 int series_cli_check(series_cli *c, int mesh_output)
 {
+    if (c->per_rank && cli_mpi_ranks() == 1)
+        return cli_usage_error(c->cmd, "--per-rank-output needs several MPI ranks (mpirun -np "
+                                       "N limn %s ...)",
+                               c->cmd);
     if (c->input_count < c->inputs_wanted)
         return cli_usage_error(c->cmd, c->inputs_wanted == 2 ? "two meshes are needed (FROM TO)"
                                                              : "no INPUT mesh given");
@@ -128,11 +136,13 @@ limn_status series_cli_load(series_cli *c, limn_context **ctx, limn_mesh **meshe
         return LIMN_ERR_MEMORY;
     }
     limn_status st = limn_context_set_device(*ctx, c->device);
-    for (int k = 0; !st && k < c->input_count; k++) {
+    c->quiet |= cli_mpi_rank() != 0; /* under mpirun rank 0 prints */
+    cli_mpi_set_per_rank(c->per_rank);
+    for (int k = 0; !st && cli_mpi_rank() == 0 && k < c->input_count; k++) {
         st = cli_load_mesh(c->cmd, *ctx, c->inputs[k], c->in_format, &c->repair, 1,
                            &meshes[k]);
     }
-    return st;
+    return cli_mpi_agree(*ctx, st);
 }
 
 json_out *series_json_begin(const series_cli *c, const limn_series_report *r)
@@ -153,6 +163,7 @@ json_out *series_json_begin(const series_cli *c, const limn_series_report *r)
     json_integer(j, "stencil_nonzeros", (long long)r->stencil_nonzeros);
     json_integer(j, "products", r->products);
     json_number(j, "bbox_diagonal", r->bbox_diagonal);
+    cli_mpi_json(j);
     return j;
 }
 
@@ -204,14 +215,22 @@ int series_cli_finish(series_cli *c, limn_context *ctx, limn_status st, const li
        a failure writes nothing and leaves an existing output as it was */
     atomic_file staged[2];
     int nstaged = 0;
-    if (!st && result) {
-        double t = cli_now();
+    double t = cli_now();
+    if (!st && c->per_rank) { /* every rank: its piece */
+        char *path = cli_mpi_rank_path(c->output);
+        st = path ? mesh_write_staged(ctx, c->piece, path, c->out_format, &staged[nstaged])
+                  : LIMN_ERR_MEMORY;
+        free(path);
+        nstaged += !st;
+    } else if (!st && result) {
         st = mesh_write_staged(ctx, result, c->output, c->out_format, &staged[nstaged]);
         nstaged += !st;
-        s->write = cli_now() - t;
     }
+    s->write = cli_now() - t;
+    limn_mesh_destroy(c->piece);
+    c->piece = NULL;
     s->total = cli_now() - s->t0;
-    if (!st && c->report) {
+    if (!st && c->report && cli_mpi_rank() == 0) {
         json_out *j = series_json_begin(c, r);
         if (!j) {
             st = LIMN_ERR_MEMORY;
@@ -230,6 +249,7 @@ int series_cli_finish(series_cli *c, limn_context *ctx, limn_status st, const li
         if (x && x->print)
             x->print(x->user);
         series_print_seconds(r, s);
+        cli_mpi_print();
     }
     return 0;
 }

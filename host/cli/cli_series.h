@@ -15,6 +15,8 @@ typedef struct series_cli {
     limn_series_options opt;
     int quiet, overwrite_input;
     cli_repair repair;        /* --no-repair, --drop-duplicate-faces (cli.h) */
+    int per_rank;             /* --per-rank-output (smooth, denoise; under mpirun) */
+    limn_mesh *piece;         /* this rank's piece for it; series_cli_finish frees */
 } series_cli;
 
 enum { SERIES_ARG_NOT_MINE = 0, SERIES_ARG_TAKEN = 1, SERIES_ARG_EXIT = 2 };
@@ -36,7 +38,8 @@ const char *series_cli_value(series_cli *c, int argc, char **argv, int *i);
 int series_cli_int(series_cli *c, const char *opt, const char *text, int min, int *out);
 int series_cli_number(series_cli *c, const char *opt, const char *text, double *out);
 
-/* Creates the context, sets the device, reads the input meshes. */
+/* Creates the context, sets the device, reads the input meshes (under
+   mpirun: on rank 0 only, and a failure there stops every rank). */
 limn_status series_cli_load(series_cli *c, limn_context **ctx, limn_mesh **meshes);
 
 typedef struct series_seconds {

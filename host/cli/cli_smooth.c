@@ -17,6 +17,7 @@ static const char *const help =
     "  --report FILE.json     also write the report as JSON\n"
     "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
     "  --format F / --input-format F / --overwrite-input / -q\n"
+    CLI_MPI_HELP
     "\n"
     "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
 
@@ -60,7 +61,7 @@ int cli_smooth(int argc, char **argv)
     }
     if (e.terms == 0)
         return cli_usage_error(c.cmd, "--terms N is required");
-    int rc = series_cli_check(&c, 1);
+    int rc = cli_mpi_root_rc(series_cli_check(&c, 1));
     if (rc)
         return rc;
     series_seconds s = {.t0 = cli_now()};
@@ -72,11 +73,13 @@ int cli_smooth(int argc, char **argv)
     s.load = cli_now() - s.t0;
     if (!st) {
         cli_progress_enable(ctx, c.quiet);
-        st = limn_smooth(ctx, in[0], &c.opt, e.terms, &out, &r);
+        st = cli_mpi_ranks() > 1
+                 ? cli_mpi_smooth(ctx, in[0], &c.opt, e.terms, &out, &r, &c.piece)
+                 : limn_smooth(ctx, in[0], &c.opt, e.terms, &out, &r);
         cli_progress_done();
     }
     limn_mesh_comparison cmp;
-    if (!st && limn_mesh_compare(ctx, in[0], out, &cmp) == LIMN_OK)
+    if (!st && out && limn_mesh_compare(ctx, in[0], out, &cmp) == LIMN_OK)
         e.mean_displacement = cmp.mean_distance / (r.bbox_diagonal > 0 ? r.bbox_diagonal : 1.0);
     series_extra x = {json_extra, print_extra, &e};
     rc = series_cli_finish(&c, ctx, st, out, &r, &s, &x);

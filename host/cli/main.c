@@ -34,7 +34,7 @@ static void usage(FILE *out)
             "Run 'limn COMMAND --help' for a command's options. Formats: OBJ, PLY, OFF, STL.\n");
 }
 
-int main(int argc, char **argv)
+static int dispatch(int argc, char **argv)
 {
     if (argc < 2) {
         usage(stderr);
@@ -69,4 +69,13 @@ int main(int argc, char **argv)
     fprintf(stderr, "limn: unknown command '%s'\n\n", cmd);
     usage(stderr);
     return EXIT_USAGE;
+}
+
+int main(int argc, char **argv)
+{
+    /* started by mpirun (a build with LIMN_MPI): MPI_Init and, with several
+       ranks, the distributed commands; otherwise no MPI at all */
+    if (cli_mpi_launched())
+        return cli_mpi_main(argc, argv, dispatch);
+    return dispatch(argc, argv);
 }

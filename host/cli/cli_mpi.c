@@ -1,0 +1,256 @@
+/*
+ * limn under mpirun (built with LIMN_MPI). main() calls cli_mpi_main when an
+ * MPI launcher started the process; with one rank everything runs exactly as
+ * without MPI. With several, interpolate, smooth, denoise and morph run
+ * distributed (include/limn_mpi.h): the root (rank 0) reads, writes and
+ * prints, every rank computes its share, and every failure is agreed on so
+ * that all ranks exit with the same status and the message is printed once.
+ * The other commands refuse to run on several ranks.
+ */
+#include "cli.h"
+
+#include "context.h"
+#include "limn_mpi.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static struct {
+    int rank, size;
+    int per_rank;               /* --per-rank-output was given */
+    limn_mpi_stats *all;        /* root: every rank's figures of the last call */
+} g = {0, 1, 0, NULL};
+
+int cli_mpi_launched(void)
+{
+    /* Open MPI, MPICH / Hydra (PMI), PMIx launchers */
+    static const char *vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "PMI_RANK"};
+    for (size_t k = 0; k < sizeof vars / sizeof *vars; k++)
+        if (getenv(vars[k]))
+            return 1;
+    return 0;
+}
+
+int cli_mpi_ranks(void) { return g.size; }
+int cli_mpi_rank(void) { return g.rank; }
+
+limn_status cli_mpi_agree(limn_context *ctx, limn_status st)
+{
+    if (g.size == 1)
+        return st;
+    /* the lowest failing rank's status and message */
+    int key = st ? g.rank : g.size, first;
+    MPI_Allreduce(&key, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (first == g.size)
+        return LIMN_OK;
+    int status = (int)st;
+    char message[2048] = "";
+    if (g.rank == first && ctx)
+        snprintf(message, sizeof message, "%s", limn_context_message(ctx));
+    MPI_Bcast(&status, 1, MPI_INT, first, MPI_COMM_WORLD);
+    MPI_Bcast(message, (int)sizeof message, MPI_CHAR, first, MPI_COMM_WORLD);
+    if (g.rank != first && ctx)
+        limn_fail(ctx, (limn_status)status, "%s", message);
+    return (limn_status)status;
+}
+
+int cli_mpi_root_rc(int rc)
+{
+    if (g.size > 1)
+        MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    return rc;
+}
+
+void cli_mpi_set_per_rank(int on) { g.per_rank = on; }
+int cli_mpi_per_rank(void) { return g.per_rank; }
+
+/* Every rank's statistics to the root, for the report and the summary. */
+static void collect(const limn_mpi_result *res)
+{
+    free(g.all);
+    g.all = NULL;
+    if (g.rank == 0)
+        g.all = calloc((size_t)g.size, sizeof *g.all);
+    limn_mpi_stats mine = res->stats;
+    /* homogeneous ranks: the struct travels as bytes */
+    MPI_Gather(&mine, (int)sizeof mine, MPI_BYTE, g.all, g.all ? (int)sizeof mine : 0, MPI_BYTE,
+               0, MPI_COMM_WORLD);
+}
+
+static void adopt_piece(limn_mpi_result *res, limn_mesh **piece)
+{
+    if (piece) {
+        *piece = res->piece;
+        res->piece = NULL;
+    }
+    limn_mpi_result_free(res);
+}
+
+static limn_mpi_options options(void)
+{
+    limn_mpi_options o;
+    limn_mpi_options_default(&o);
+    o.keep_piece = g.per_rank;
+    return o;
+}
+
+limn_status cli_mpi_interpolate(limn_context *ctx, const limn_mesh *mesh,
+                                const limn_interpolate_options *o, limn_mesh **control,
+                                limn_report *r, limn_mesh **piece)
+{
+    limn_mpi_options mo = options();
+    limn_mpi_result res;
+    limn_status st = limn_interpolate_mpi(ctx, MPI_COMM_WORLD, mesh, o, control, r, &mo, &res);
+    collect(&res);
+    adopt_piece(&res, piece);
+    return st;
+}
+
+limn_status cli_mpi_smooth(limn_context *ctx, const limn_mesh *mesh,
+                           const limn_series_options *o, int terms, limn_mesh **out,
+                           limn_series_report *r, limn_mesh **piece)
+{
+    limn_mpi_options mo = options();
+    limn_mpi_result res;
+    limn_status st = limn_smooth_mpi(ctx, MPI_COMM_WORLD, mesh, o, terms, out, r, &mo, &res);
+    collect(&res);
+    adopt_piece(&res, piece);
+    return st;
+}
+
+limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
+                            const limn_series_options *o, int m, int steps, int keep_volume,
+                            limn_mesh **out, limn_series_report *r, limn_mesh **piece)
+{
+    limn_mpi_options mo = options();
+    limn_mpi_result res;
+    limn_status st = limn_denoise_mpi(ctx, MPI_COMM_WORLD, mesh, o, m, steps, keep_volume, out, r,
+                                      &mo, &res);
+    collect(&res);
+    adopt_piece(&res, piece);
+    return st;
+}
+
+limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                          const limn_morph_options *o, limn_morph_frame_fn fn, void *user,
+                          limn_series_report *r)
+{
+    limn_mpi_options mo = options();
+    mo.keep_piece = 0;
+    limn_mpi_result res;
+    limn_status st = limn_morph_mpi(ctx, MPI_COMM_WORLD, from, to, o, fn, user, r, &mo, &res);
+    collect(&res);
+    limn_mpi_result_free(&res);
+    return st;
+}
+
+void cli_mpi_json(json_out *j)
+{
+    if (g.size == 1 || !g.all)
+        return;
+    json_object_begin(j, "mpi");
+    json_integer(j, "ranks", g.size);
+    json_integer(j, "edge_cut", (long long)g.all[0].edge_cut);
+    json_number(j, "seconds_partition", g.all[0].seconds_partition);
+    json_array_begin(j, "per_rank");
+    for (int r = 0; r < g.size; r++) {
+        const limn_mpi_stats *s = &g.all[r];
+        json_element_object_begin(j);
+        json_integer(j, "rank", s->rank);
+        json_integer(j, "local_rank", s->local_rank);
+        json_string(j, "device", s->device);
+        json_integer(j, "owned", (long long)s->owned);
+        json_integer(j, "ghosts", (long long)s->ghosts);
+        json_integer(j, "interior_rows", (long long)s->interior_rows);
+        json_integer(j, "neighbours", s->neighbours);
+        json_integer(j, "halo_bytes_sent", (long long)s->halo_bytes_sent);
+        json_integer(j, "halo_bytes_received", (long long)s->halo_bytes_received);
+        json_integer(j, "exchanges", s->exchanges);
+        json_number(j, "seconds_distribute", s->seconds_distribute);
+        json_number(j, "seconds_solve", s->seconds_solve);
+        json_number(j, "seconds_compute", s->seconds_compute);
+        json_number(j, "seconds_halo", s->seconds_halo);
+        json_number(j, "seconds_wait", s->seconds_wait);
+        json_number(j, "seconds_reduce", s->seconds_reduce);
+        json_object_end(j);
+    }
+    json_array_end(j);
+    json_object_end(j);
+}
+
+void cli_mpi_print(void)
+{
+    if (g.size == 1 || !g.all)
+        return;
+    fprintf(stderr, "  MPI: %d ranks, METIS edge cut %zu, partition and rows on rank 0 %.3f s\n",
+            g.size, g.all[0].edge_cut, g.all[0].seconds_partition);
+    for (int r = 0; r < g.size; r++) {
+        const limn_mpi_stats *s = &g.all[r];
+        double n = s->exchanges > 0 ? (double)s->exchanges : 1.0;
+        fprintf(stderr,
+                "  rank %d: %zu owned, %zu ghosts, %d neighbours, halo %zu B out / %zu B in per "
+                "exchange; per exchange: compute %.3g s, halo %.3g s (waiting %.3g), reduce "
+                "%.3g s\n",
+                r, s->owned, s->ghosts, s->neighbours, s->halo_bytes_sent,
+                s->halo_bytes_received, s->seconds_compute / n, s->seconds_halo / n,
+                s->seconds_wait / n, s->seconds_reduce / n);
+    }
+}
+
+char *cli_mpi_rank_path(const char *path)
+{
+    /* out.ply -> out.r0003.ply: the extension stays, so the format does */
+    int digits = 1;
+    for (int n = g.size - 1; n >= 10; n /= 10)
+        digits++;
+    size_t len = strlen(path) + 32;
+    char *out = malloc(len);
+    if (!out)
+        return NULL;
+    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+    if (!dot || (slash && dot < slash))
+        dot = path + strlen(path);
+    snprintf(out, len, "%.*s.r%0*d%s", (int)(dot - path), path, digits, g.rank, dot);
+    return out;
+}
+
+static int distributed(const char *cmd)
+{
+    static const char *names[] = {"interpolate", "smooth", "denoise", "morph"};
+    for (size_t k = 0; k < sizeof names / sizeof *names; k++)
+        if (strcmp(cmd, names[k]) == 0)
+            return 1;
+    return 0;
+}
+
+int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **))
+{
+    MPI_Init(&argc, &argv);
+    MPI_Comm_rank(MPI_COMM_WORLD, &g.rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &g.size);
+    int rc;
+    if (g.size == 1) {
+        rc = dispatch(argc, argv); /* one rank: exactly the single process */
+    } else if (argc < 2 || argv[1][0] == '-' || strcmp(argv[1], "help") == 0) {
+        /* usage, --help, --version: rank 0 answers for all */
+        rc = g.rank == 0 ? dispatch(argc, argv) : 0;
+        MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    } else if (!distributed(argv[1])) {
+        if (g.rank == 0)
+            fprintf(stderr,
+                    "limn %s: does not run on several MPI ranks (%d here): run it without "
+                    "mpirun; interpolate, smooth, denoise and morph run distributed\n",
+                    argv[1], g.size);
+        rc = EXIT_USAGE;
+    } else {
+        rc = dispatch(argc, argv);
+        /* every rank leaves with the same status (the root's decides usage errors) */
+        int worst = rc;
+        MPI_Allreduce(&rc, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+        rc = worst;
+    }
+    free(g.all);
+    g.all = NULL;
+    MPI_Finalize();
+    return rc;
+}

@@ -1,0 +1,275 @@
+/*
+ * What every distributed call shares: the communicator, agreement on a
+ * status before each collective phase, global norms, vectors scattered from
+ * and gathered to the root, and the device of each rank.
+ */
+#define _GNU_SOURCE /* sched_getaffinity: the cores this rank may use */
+#include "mpi_part.h"
+
+#include "context.h"
+#include "mesh.h"
+
+#include <limits.h>
+#include <sched.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+void limn_mpi_options_default(limn_mpi_options *o)
+{
+    o->root = 0;
+    o->keep_piece = 0;
+}
+
+void limn_mpi_result_free(limn_mpi_result *r)
+{
+    if (!r)
+        return;
+    limn_mesh_destroy(r->piece);
+    free(r->piece_vertices);
+    r->piece = NULL;
+    r->piece_vertices = NULL;
+    r->piece_owned = 0;
+}
+
+limn_status mpi_part_begin(limn_context *ctx, MPI_Comm comm, const limn_mpi_options *mpi,
+                           mpi_part *p)
+{
+    memset(p, 0, sizeof *p);
+    p->ctx = ctx;
+    p->comm = MPI_COMM_NULL;
+    int initialized = 0, finalized = 0;
+    MPI_Initialized(&initialized);
+    MPI_Finalized(&finalized);
+    if (!initialized || finalized)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "MPI is not running (call MPI_Init before the limn_*_mpi calls, and "
+                         "MPI_Finalize after)");
+    if (comm == MPI_COMM_NULL)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "the communicator is MPI_COMM_NULL");
+    /* a private copy: our messages never match the caller's */
+    MPI_Comm_dup(comm, &p->comm);
+    MPI_Comm_rank(p->comm, &p->rank);
+    MPI_Comm_size(p->comm, &p->size);
+    MPI_Comm node;
+    MPI_Comm_split_type(p->comm, MPI_COMM_TYPE_SHARED, p->rank, MPI_INFO_NULL, &node);
+    MPI_Comm_rank(node, &p->stats.local_rank);
+    MPI_Comm_size(node, &p->local_size);
+    MPI_Comm_free(&node);
+    p->stats.ranks = p->size;
+    p->stats.rank = p->rank;
+    p->root = mpi ? mpi->root : 0;
+    limn_status st = LIMN_OK;
+    if (p->root < 0 || p->root >= p->size)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "the root rank is %d; the communicator has %d",
+                       p->root, p->size);
+    return mpi_agree(p, st);
+}
+
+void mpi_part_end(mpi_part *p)
+{
+    if (p->dev)
+        device_csr_release(p->dev, &p->all);
+    stencil_free(&p->host);
+    mpi_halo_free(&p->halo);
+    free(p->owned_ids);
+    free(p->ghost_ids);
+    free(p->owned_rule);
+    free(p->owned_scale);
+    free(p->ghost_rule);
+    if (p->has_global)
+        operator_free(&p->global);
+    free(p->root_off);
+    free(p->root_ids);
+    free(p->part_of);
+    free(p->root_buf);
+    if (p->comm != MPI_COMM_NULL)
+        MPI_Comm_free(&p->comm);
+    memset(p, 0, sizeof *p);
+    p->comm = MPI_COMM_NULL;
+}
+
+limn_status mpi_agree(mpi_part *p, limn_status st)
+{
+    /* real failures rank before echoes of another rank's, then by rank */
+    int key = st == LIMN_OK ? 2 * p->size : (p->echo ? p->size + p->rank : p->rank), first;
+    MPI_Allreduce(&key, &first, 1, MPI_INT, MPI_MIN, p->comm);
+    p->echo = 0;
+    if (first == 2 * p->size)
+        return LIMN_OK;
+    int who = first >= p->size ? first - p->size : first;
+    int status = (int)st;
+    MPI_Bcast(&status, 1, MPI_INT, who, p->comm);
+    MPI_Bcast(p->ctx->message, (int)sizeof p->ctx->message, MPI_CHAR, who, p->comm);
+    p->ctx->message[sizeof p->ctx->message - 1] = '\0';
+    return (limn_status)status;
+}
+
+/* ------------------------------------------------------------------ norms */
+
+/* One element of the reduction: max, failure flag, two double-double sums. */
+enum { RED_MAX, RED_FAIL, RED_SUM_HI, RED_SUM_LO, RED_SQ_HI, RED_SQ_LO, RED_WIDTH };
+
+/* a + b of two double-double numbers (Dekker / Knuth TwoSum, then a fast
+   renormalisation): exact to ~2^-104 whatever the order of the additions,
+   so every rank rounds the total to the same double. Needs -ffp-contract=off. */
+static void dd_add(double *hi, double *lo, double bh, double bl)
+{
+    double s = *hi + bh, v = s - *hi;
+    double e = (*hi - (s - v)) + (bh - v);
+    e += *lo + bl;
+    *hi = s + e;
+    *lo = e - (*hi - s);
+}
+
+static void reduce_fn(void *in, void *inout, int *len, MPI_Datatype *type)
+{
+    (void)type;
+    const double *a = in;
+    double *b = inout;
+    for (int k = 0; k < *len; k++, a += RED_WIDTH, b += RED_WIDTH) {
+        b[RED_MAX] = a[RED_MAX] > b[RED_MAX] ? a[RED_MAX] : b[RED_MAX];
+        b[RED_FAIL] = a[RED_FAIL] > b[RED_FAIL] ? a[RED_FAIL] : b[RED_FAIL];
+        dd_add(&b[RED_SUM_HI], &b[RED_SUM_LO], a[RED_SUM_HI], a[RED_SUM_LO]);
+        dd_add(&b[RED_SQ_HI], &b[RED_SQ_LO], a[RED_SQ_HI], a[RED_SQ_LO]);
+    }
+}
+
+static void reduce(mpi_part *p, double v[RED_WIDTH])
+{
+    MPI_Datatype t;
+    MPI_Op op;
+    MPI_Type_contiguous(RED_WIDTH, MPI_DOUBLE, &t);
+    MPI_Type_commit(&t);
+    MPI_Op_create(reduce_fn, 1, &op);
+    double out[RED_WIDTH];
+    double t0 = MPI_Wtime();
+    MPI_Allreduce(v, out, 1, t, op, p->comm);
+    p->stats.seconds_reduce += MPI_Wtime() - t0;
+    MPI_Op_free(&op);
+    MPI_Type_free(&t);
+    memcpy(v, out, sizeof out);
+}
+
+limn_status mpi_reduce_norms(mpi_part *p, limn_status local, const device_norms *in,
+                             device_norms *out)
+{
+    double v[RED_WIDTH] = {in->max, local ? 1.0 : 0.0, in->sum, 0.0, in->sum_sq, 0.0};
+    reduce(p, v);
+    out->max = v[RED_MAX];
+    out->sum = v[RED_SUM_HI] + v[RED_SUM_LO];
+    out->sum_sq = v[RED_SQ_HI] + v[RED_SQ_LO];
+    if (local)
+        return local;
+    if (v[RED_FAIL] > 0.0) {
+        p->echo = 1;
+        return limn_fail(p->ctx, LIMN_ERR_DEVICE, "another rank failed");
+    }
+    return LIMN_OK;
+}
+
+double mpi_sum(mpi_part *p, double x)
+{
+    double v[RED_WIDTH] = {0.0, 0.0, x, 0.0, 0.0, 0.0};
+    reduce(p, v);
+    return v[RED_SUM_HI] + v[RED_SUM_LO];
+}
+
+/* -------------------------------------------------------- scatter, gather */
+
+/* Counts and displacements (in doubles) of each rank's owned rows on root. */
+static limn_status root_counts(mpi_part *p, int **counts, int **displs)
+{
+    *counts = NULL;
+    *displs = NULL;
+    if (p->rank != p->root)
+        return LIMN_OK;
+    *counts = malloc((size_t)p->size * sizeof **counts);
+    *displs = malloc((size_t)p->size * sizeof **displs);
+    if (!*counts || !*displs)
+        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %d ranks", p->size);
+    for (int r = 0; r < p->size; r++) {
+        (*counts)[r] = (int)(3 * (p->root_off[r + 1] - p->root_off[r]));
+        (*displs)[r] = (int)(3 * p->root_off[r]);
+    }
+    return LIMN_OK;
+}
+
+limn_status mpi_scatter_rows(mpi_part *p, const double *xyz_root, double *rows4)
+{
+    int *counts, *displs;
+    limn_status st = root_counts(p, &counts, &displs);
+    double *mine = malloc((p->n_owned ? 3 * p->n_owned : 1) * sizeof *mine);
+    if (!mine)
+        st = limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_owned);
+    st = mpi_agree(p, st);
+    if (!st) {
+        if (p->rank == p->root)
+            for (size_t k = 0; k < p->n_global; k++)
+                memcpy(p->root_buf + 3 * k, xyz_root + 3 * (size_t)p->root_ids[k],
+                       3 * sizeof(double));
+        MPI_Scatterv(p->root_buf, counts, displs, MPI_DOUBLE, mine, (int)(3 * p->n_owned),
+                     MPI_DOUBLE, p->root, p->comm);
+        for (size_t i = 0; i < p->n_owned; i++) {
+            memcpy(rows4 + 4 * i, mine + 3 * i, 3 * sizeof(double));
+            rows4[4 * i + 3] = 0.0;
+        }
+    }
+    free(mine);
+    free(counts);
+    free(displs);
+    return st;
+}
+
+limn_status mpi_gather_rows(mpi_part *p, const double *rows4, double *xyz_root)
+{
+    int *counts, *displs;
+    limn_status st = root_counts(p, &counts, &displs);
+    double *mine = malloc((p->n_owned ? 3 * p->n_owned : 1) * sizeof *mine);
+    if (!mine)
+        st = limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_owned);
+    st = mpi_agree(p, st);
+    if (!st) {
+        for (size_t i = 0; i < p->n_owned; i++)
+            memcpy(mine + 3 * i, rows4 + 4 * i, 3 * sizeof(double));
+        MPI_Gatherv(mine, (int)(3 * p->n_owned), MPI_DOUBLE, p->root_buf, counts, displs,
+                    MPI_DOUBLE, p->root, p->comm);
+        if (p->rank == p->root)
+            for (size_t k = 0; k < p->n_global; k++)
+                memcpy(xyz_root + 3 * (size_t)p->root_ids[k], p->root_buf + 3 * k,
+                       3 * sizeof(double));
+    }
+    free(mine);
+    free(counts);
+    free(displs);
+    return st;
+}
+
+/* ------------------------------------------------------------------ device */
+
+/* PoCL ignores the process's CPU binding; limn gives it the cores inside the
+   binding (threads.c, hwloc). A rank that is not bound (mpirun --bind-to none,
+   or more ranks than cores) sees the whole node there, so unless the caller
+   asked for a count, such a rank takes its share of the node instead. */
+static void share_cores(mpi_part *p)
+{
+    long online = sysconf(_SC_NPROCESSORS_ONLN);
+    cpu_set_t set;
+    if (p->local_size <= 1 || p->ctx->threads_request != LIMN_THREADS_FROM_BINDING ||
+        online <= 0 || sched_getaffinity(0, sizeof set, &set) != 0 || CPU_COUNT(&set) < online)
+        return;
+    long share = online / p->local_size;
+    p->ctx->threads_request = share > 0 ? (int)share : 1;
+}
+
+limn_status mpi_open_device(mpi_part *p)
+{
+    if (!p->ctx->device) /* an open device stays the caller's choice */
+        p->ctx->device_slot = p->stats.local_rank;
+    share_cores(p);
+    limn_status st = device_get(p->ctx, &p->dev);
+    if (!st)
+        snprintf(p->stats.device, sizeof p->stats.device, "%s", p->dev->name);
+    return st;
+}

@@ -1,0 +1,211 @@
+/*
+ * limn_interpolate over MPI: the iteration of interpolate.c (solve_iterate,
+ * the same stop test, weights and messages) with each step run as an
+ * overlapped product on every rank's rows and the residual norms reduced
+ * over the ranks. The stop test uses the maximum, which is exact under any
+ * reduction order, and every row is summed in the single process's order, so
+ * the paper iteration gives the single process's bits and iteration count.
+ */
+#include "mpi_part.h"
+
+#include "context.h"
+#include "mesh.h"
+#include "solve.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct mpi_solve {
+    mpi_part *p;
+    device_buffer *m, *x[2];
+    int cur;
+    solve_step step;
+} mpi_solve;
+
+static limn_status rows_step(void *user, const device_csr *rows, device_norms *norms)
+{
+    mpi_solve *s = user;
+    struct limn_device *dev = s->p->dev;
+    if (s->step.kind == SOLVE_CHEBYSHEV)
+        return dev->ops->cheb_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->step.c1,
+                                   s->step.c2, norms);
+    return dev->ops->interp_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->step.omega,
+                                 norms);
+}
+
+/* solve_step_fn: one overlapped step (only P's ghosts are read: the previous
+   iterate of Chebyshev is read row by row), then the global norms. */
+static limn_status step(void *user, int cur, const solve_step *sp, device_norms *norms)
+{
+    mpi_solve *s = user;
+    s->cur = cur;
+    s->step = *sp;
+    device_norms local;
+    limn_status st = mpi_overlapped(s->p, &s->p->all, s->x[cur], rows_step, s, LIMN_OK, &local);
+    return mpi_reduce_norms(s->p, st, &local, norms);
+}
+
+static void release(mpi_solve *s)
+{
+    struct limn_device *dev = s->p->dev;
+    device_buffer *all[] = {s->m, s->x[0], s->x[1]};
+    for (int k = 0; k < 3; k++)
+        if (all[k])
+            dev->ops->buffer_release(dev, all[k]);
+}
+
+/* The seeds' iteration (or the weighted one) from the start in x[0]. */
+static limn_status iterate(mpi_part *p, const limn_interpolate_options *o, limn_method method,
+                           const double *m4, const double *start4, double *out4, limn_report *r)
+{
+    mpi_solve s = {.p = p};
+    size_t nl = p->n_owned + p->n_ghost, row = 4 * sizeof(double);
+    const device_ops *ops = p->dev->ops;
+    limn_status st = ops->buffer_create(p->dev, p->n_owned * row, m4, &s.m);
+    if (!st)
+        st = ops->buffer_create(p->dev, nl * row, start4, &s.x[0]);
+    if (!st)
+        st = ops->buffer_create(p->dev, nl * row, NULL, &s.x[1]);
+    st = mpi_agree(p, st);
+    int which = 0;
+    double t0 = MPI_Wtime();
+    if (!st)
+        st = solve_iterate(p->ctx, step, &s, p->n_global, p->scheme, p->alpha, o, p->diag,
+                           solve_kind_of(method), &which, r);
+    p->stats.seconds_solve += MPI_Wtime() - t0;
+    if (!st)
+        st = ops->buffer_read_at(p->dev, s.x[which], 0, p->n_owned * row, out4);
+    if (s.m)
+        release(&s);
+    return mpi_agree(p, st);
+}
+
+limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                 const limn_interpolate_options *options, limn_mesh **control,
+                                 limn_report *report, const limn_mpi_options *mpi,
+                                 limn_mpi_result *result)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (control)
+        *control = NULL;
+    if (result)
+        memset(result, 0, sizeof *result);
+    limn_report local;
+    limn_report *r = report ? report : &local;
+    memset(r, 0, sizeof *r);
+    mpi_part p;
+    limn_status st = mpi_part_begin(ctx, comm, mpi, &p);
+    if (st) {
+        mpi_part_end(&p);
+        return st;
+    }
+    limn_interpolate_options defaults;
+    limn_interpolate_options_default(&defaults);
+    const limn_interpolate_options *o = options ? options : &defaults;
+    st = solve_check_options(ctx, o);
+    /* the float path (solve_mixed.c) is single-process for now */
+    if (!st && o->precision == LIMN_PRECISION_FLOAT)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                       "precision float is not available under MPI yet: use --precision double "
+                       "or auto");
+    r->precision = "double";
+    r->precision_reason = "MPI runs in double";
+    if (!st && p.rank == p.root && (!mesh || !control))
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                       "limn_interpolate_mpi: the root rank needs the mesh and control");
+    st = mpi_agree(&p, st);
+    /* auto as in limn_interpolate, so that both give the same answer */
+    limn_method method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_CHEBYSHEV : o->method;
+    r->method = limn_method_name(method);
+    r->method_reason = o->method == LIMN_METHOD_AUTO
+                           ? "auto: chebyshev, the fastest in measured time on every shared "
+                             "mesh (fewest fused steps; cg uses as few products, each costlier)"
+                           : "chosen by the caller";
+    if (!st)
+        st = mpi_distribute(&p, mesh, o->scheme, o->alpha, o->reorder);
+    double t0 = MPI_Wtime();
+    double *m4 = NULL, *p4 = NULL, *xyz = NULL;
+    if (!st) {
+        r->vertices = p.n_global;
+        r->faces = p.faces_global;
+        r->scheme = p.scheme;
+        r->alpha = p.alpha;
+        r->bbox_diagonal = p.diag;
+        r->stencil_nonzeros = p.nnz_global;
+        r->reordered = p.reordered;
+        r->omega = 1.0;
+        snprintf(r->device, sizeof r->device, "%s", p.stats.device);
+        if (p.has_global) {
+            r->seconds_topology = p.global.seconds_topology;
+            r->seconds_stencil = p.global.seconds_stencil + p.global.seconds_reorder;
+        }
+        size_t nl = p.n_owned + p.n_ghost;
+        m4 = calloc(nl ? 4 * nl : 4, sizeof *m4);
+        p4 = calloc(nl ? 4 * nl : 4, sizeof *p4);
+        if (p.rank == p.root)
+            xyz = malloc((p.n_global ? 3 * p.n_global : 1) * sizeof *xyz);
+        if (!m4 || !p4 || (p.rank == p.root && !xyz))
+            st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
+        st = mpi_agree(&p, st);
+    }
+    if (!st)
+        st = mpi_scatter_rows(&p, p.rank == p.root ? mesh->positions : NULL, m4);
+    if (!st)
+        memcpy(p4, m4, 4 * p.n_owned * sizeof *p4);
+    if (!st && method == LIMN_METHOD_CG) {
+        /* CG gives the start; the seeds' step measures its residual on the
+           whole system (and polishes, should rounding leave it short) */
+        solve_stats stats = {0, 0, p.scheme == LIMN_SCHEME_CATMARK && p.alpha == 0.0};
+        st = mpi_solve_cg(&p, m4, o->tolerance * p.diag, o->max_iterations, p4, &stats);
+        if (st == LIMN_ERR_TOPOLOGY) {
+            limn_warn(ctx, "conjugate gradients need the limit operator to be block triangular "
+                           "by vertex rule, which this mesh's is not: used the seeds' iteration");
+            method = LIMN_METHOD_PAPER;
+            r->method = limn_method_name(method);
+            r->method_reason = "cg cannot run on this operator (not block triangular)";
+            memcpy(p4, m4, 4 * p.n_owned * sizeof *p4);
+            st = LIMN_OK;
+        } else if (!st) {
+            r->products = stats.products;
+            r->iterations = stats.iterations;
+        }
+    }
+    if (!st)
+        st = iterate(&p, o, method, m4, p4, p4, r);
+    if (!st)
+        st = mpi_gather_rows(&p, p4, xyz);
+    limn_mesh *out = NULL;
+    if (!st && p.rank == p.root) {
+        st = limn_mesh_copy(ctx, mesh, &out);
+        if (!st)
+            memcpy(out->positions, xyz, 3 * p.n_global * sizeof *xyz);
+    }
+    st = mpi_agree(&p, st);
+    r->seconds_solve = MPI_Wtime() - t0;
+    r->max_rel_error = p.diag > 0 ? r->max_abs_error / p.diag : r->max_abs_error;
+    r->mean_rel_error = p.diag > 0 ? r->mean_abs_error / p.diag : r->mean_abs_error;
+    if (!st && mpi && mpi->keep_piece)
+        st = mpi_pieces(&p, mesh, xyz, result);
+    if (result)
+        result->stats = p.stats;
+    free(m4);
+    free(p4);
+    free(xyz);
+    mpi_part_end(&p);
+    if (st) {
+        limn_mesh_destroy(out);
+        if (result)
+            limn_mpi_result_free(result);
+        return st;
+    }
+    if (control && out)
+        *control = out;
+    else
+        limn_mesh_destroy(out);
+    limn_progress(ctx, "solve", 1.0);
+    return LIMN_OK;
+}

@@ -1,0 +1,166 @@
+/*
+ * One rank's share of a distributed limit operator (README "MPI").
+ *
+ * The root builds the global operator exactly as the single process does
+ * (operator_build_ex, RCM included), partitions the input vertices with METIS
+ * and sends each rank the rows of its owned vertices, entries in the global
+ * row's order with columns renamed to local numbers. Each row is then summed
+ * in the same order as in the single process, so a stencil product gives the
+ * same bits on any number of ranks.
+ *
+ * Local numbering: owned rows, then ghosts. Owned rows are ordered in four
+ * classes, each in the global (solve) order:
+ *   [0, send_begin)            no ghost column, not needed by another rank
+ *   [send_begin, n_interior)   no ghost column, needed by another rank
+ *   [n_interior, send_end)     ghost columns, needed by another rank
+ *   [send_end, n_owned)        ghost columns, not needed
+ * so rows free of ghosts come first (computed while the halo is in flight)
+ * and the values other ranks need are one contiguous device range. Ghosts
+ * are sorted by owner, then by the owner's local number: what a neighbour
+ * sends arrives as one contiguous block.
+ */
+#ifndef LIMN_MPI_PART_H
+#define LIMN_MPI_PART_H
+
+#include "limn_mpi.h"
+
+#include "device.h"
+#include "operator.h"
+#include "solve.h"
+#include "stencil.h"
+
+#include <mpi.h>
+
+typedef struct mpi_halo {
+    int n_recv, n_send;
+    int *recv_rank, *send_rank;
+    size_t *recv_off, *recv_cnt;  /* ghost index of each neighbour's block */
+    size_t *send_off, *send_cnt;  /* into send_idx */
+    uint32_t *send_idx;           /* owned row - send_begin, per neighbour */
+    double *stage4;               /* rows [send_begin, send_end), 4 doubles */
+    double *send3, *recv3;        /* 3 doubles per value on the wire */
+    double *ghost4;               /* ghost rows, 4 doubles */
+    MPI_Request *req;             /* n_recv receives, then n_send sends */
+} mpi_halo;
+
+typedef struct mpi_part {
+    limn_context *ctx;
+    MPI_Comm comm;                /* a duplicate of the caller's */
+    int rank, size, root;
+    int local_size;               /* ranks on this node */
+    /* the global problem (same on every rank) */
+    limn_scheme scheme;
+    double alpha, diag;
+    size_t n_global, faces_global, nnz_global, edge_cut;
+    int reordered;
+    /* this rank's rows */
+    size_t n_owned, n_ghost, n_interior, send_begin, send_end;
+    size_t n_split;               /* interior rows rounded down to whole chunks */
+    uint32_t *owned_ids, *ghost_ids; /* input vertex of each local row / ghost */
+    uint8_t *owned_rule, *ghost_rule; /* vertex_rule of each row / ghost (CG tiers) */
+    double *owned_scale;          /* scheme_limit_row_scale of each owned row (CG) */
+    stencil_csr host;             /* owned rows, local columns */
+    struct limn_device *dev;
+    device_csr all;               /* the owned rows on the device */
+    mpi_halo halo;
+    limn_mpi_stats stats;
+    int echo;                     /* the last failure was another rank's */
+    /* root only */
+    limn_operator global;         /* host table and topology, no device copy */
+    int has_global;
+    size_t *root_off;             /* rank r owns root_ids[root_off[r] .. root_off[r+1]) */
+    uint32_t *root_ids;           /* in each rank's local order */
+    uint32_t *part_of;            /* rank of each input vertex */
+    double *root_buf;             /* 3 doubles per vertex, for scatter and gather */
+} mpi_part;
+
+/* --------------------------------------------------------------- mpi_common.c */
+
+/* Duplicates comm, records rank and size, checks the root; every rank gets
+   the same status (a bad root is refused everywhere). */
+limn_status mpi_part_begin(limn_context *ctx, MPI_Comm comm, const limn_mpi_options *mpi,
+                           mpi_part *p);
+void mpi_part_end(mpi_part *p);
+
+/*
+ * Agreement before a collective phase: every rank passes its own status;
+ * all get the status and message of the lowest-numbered rank that failed
+ * (a failure that only echoes another rank's, p->echo, gives way to the
+ * real one). One Allreduce when all is well.
+ */
+limn_status mpi_agree(mpi_part *p, limn_status st);
+
+/* Local norms -> global ones (max exact, sums in double-double so that the
+   result does not depend on how MPI associates them), together with a
+   failure flag: returns LIMN_ERR_DEVICE with p->echo set when another rank
+   failed and this one did not. */
+limn_status mpi_reduce_norms(mpi_part *p, limn_status local, const device_norms *in,
+                             device_norms *out);
+/* A sum over ranks in double-double (the same on every rank). */
+double mpi_sum(mpi_part *p, double x);
+
+/* Root's 3 doubles per input vertex -> each rank's owned rows (4 doubles a
+   row, w = 0), and back (gather: out on root only). */
+limn_status mpi_scatter_rows(mpi_part *p, const double *xyz_root, double *rows4);
+limn_status mpi_gather_rows(mpi_part *p, const double *rows4, double *xyz_root);
+
+/* Sets the device slot (local rank) and, unless the user set it, PoCL's
+   thread count to the cores this rank may use; then opens the device. */
+limn_status mpi_open_device(mpi_part *p);
+
+/* ------------------------------------------------------------ mpi_partition.c */
+
+/* Root: part_of[v] for every input vertex, METIS k-way on the vertex graph
+   of the faces (isolated vertices and components included), and the edge
+   cut. One rank, or fewer vertices than ranks, needs no METIS. */
+limn_status mpi_partition(limn_context *ctx, const limn_mesh *mesh, int parts,
+                          uint32_t *part_of, size_t *edge_cut);
+
+/* ----------------------------------------------------------- mpi_distribute.c */
+
+/*
+ * Collective: root (mesh != NULL there) builds the global operator (reorder:
+ * as limn_interpolate's option), partitions, and sends each rank its rows
+ * and halo plan; every rank opens its device and uploads its rows.
+ */
+limn_status mpi_distribute(mpi_part *p, const limn_mesh *mesh, limn_scheme scheme, double alpha,
+                           int reorder);
+
+/* ----------------------------------------------------------------- mpi_halo.c */
+
+/* Work on a row range of the local table (one device op). */
+typedef limn_status (*mpi_rows_fn)(void *user, const device_csr *rows, device_norms *norms);
+
+/*
+ * One overlapped product with `table` (p->all, or a table of the same rows):
+ * posts the exchange of x's ghost values, runs fn on the rows [0, n_split)
+ * (free of ghosts), waits, writes the ghosts into x, runs fn on the rest;
+ * *norms gets the local norms of both. With a failure already (prior,
+ * or on the way) the device is left alone but every MPI call is still made,
+ * so the other ranks never wait in vain; returns the first failure.
+ */
+limn_status mpi_overlapped(mpi_part *p, const device_csr *table, device_buffer *x,
+                           mpi_rows_fn fn, void *user, limn_status prior, device_norms *norms);
+/* Just the exchange (x's ghosts made current). */
+limn_status mpi_exchange(mpi_part *p, device_buffer *x, limn_status prior);
+void mpi_halo_free(mpi_halo *h);
+
+/* ------------------------------------------------------------------- mpi_cg.c */
+
+/*
+ * The tiered, D-preconditioned CG of solve_cg.c over the ranks: m4 and p4
+ * hold this rank's owned rows (4 doubles a row); p4 receives P. Dot products
+ * are reduced in double-double. LIMN_ERR_TOPOLOGY (no message) on every
+ * rank when A is not block triangular by vertex rule.
+ */
+limn_status mpi_solve_cg(mpi_part *p, const double *m4, double tol_abs, int max_iter, double *p4,
+                         solve_stats *stats);
+
+/* ---------------------------------------------------------------- mpi_piece.c */
+
+/* Collective, after a result is gathered on root (xyz_root: 3 per input
+   vertex): each rank gets its piece in result (may be NULL: dropped). */
+limn_status mpi_pieces(mpi_part *p, const limn_mesh *mesh_root, const double *xyz_root,
+                       limn_mpi_result *result);
+
+#endif

@@ -1,0 +1,360 @@
+/*
+ * The series filters over MPI: smooth, denoise and morph (seed 000 §3, §6,
+ * §7; series.c is the single process). Each term (E - A)^i x is one
+ * overlapped product on every rank's rows with the running sum fused in
+ * (series_step on a row range); rows are summed in the single process's
+ * order, so the results are the single process's bits. Measures that need
+ * the whole mesh (volumes, frames) are taken on the root after a gather.
+ */
+#include "mpi_part.h"
+
+#include "context.h"
+#include "measure.h"
+#include "mesh.h"
+#include "series.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct series_mpi {
+    mpi_part p;
+    device_buffer *buf[4];
+    double *rows4;            /* owned and ghost rows, 4 doubles */
+    double *xyz;              /* root: 3 per input vertex */
+    double t0;
+} series_mpi;
+
+static void close_series(series_mpi *s)
+{
+    for (int b = 0; b < 4; b++)
+        if (s->buf[b])
+            s->p.dev->ops->buffer_release(s->p.dev, s->buf[b]);
+    free(s->rows4);
+    free(s->xyz);
+    mpi_part_end(&s->p);
+}
+
+/* Common start: checks, the distributed operator, four work vectors. */
+static limn_status open_series(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                               const limn_series_options *options, const limn_mpi_options *mpi,
+                               series_mpi *s, limn_series_report *r)
+{
+    memset(s, 0, sizeof *s);
+    memset(r, 0, sizeof *r);
+    limn_status st = mpi_part_begin(ctx, comm, mpi, &s->p);
+    if (st)
+        return st;
+    mpi_part *p = &s->p;
+    limn_series_options defaults;
+    limn_series_options_default(&defaults);
+    const limn_series_options *o = options ? options : &defaults;
+    st = series_check_options(ctx, o);
+    if (!st && p->rank == p->root) {
+        if (!mesh)
+            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "the root rank needs the mesh");
+        else if (mesh->vertex_count == 0 || mesh->face_count == 0)
+            st = limn_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
+                           mesh->vertex_count ? "faces" : "vertices");
+    }
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_distribute(p, mesh, o->scheme, o->alpha, 0); /* series.c: input order */
+    if (st)
+        return st;
+    size_t nl = p->n_owned + p->n_ghost;
+    s->rows4 = calloc(nl ? 4 * nl : 4, sizeof *s->rows4);
+    if (p->rank == p->root)
+        s->xyz = malloc(3 * p->n_global * sizeof *s->xyz);
+    if (!s->rows4 || (p->rank == p->root && !s->xyz))
+        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
+    for (int b = 0; !st && b < 4; b++)
+        st = p->dev->ops->buffer_create(p->dev, 4 * nl * sizeof(double), NULL, &s->buf[b]);
+    r->vertices = p->n_global;
+    r->faces = p->faces_global;
+    r->scheme = p->scheme;
+    r->alpha = p->alpha;
+    r->stencil_nonzeros = p->nnz_global;
+    r->bbox_diagonal = p->diag;
+    snprintf(r->device, sizeof r->device, "%s", p->stats.device);
+    if (p->has_global) {
+        r->seconds_topology = p->global.seconds_topology;
+        r->seconds_stencil = p->global.seconds_stencil;
+    }
+    s->t0 = MPI_Wtime();
+    return mpi_agree(p, st);
+}
+
+/* Root's positions (3 per input vertex) -> b on every rank. */
+static limn_status upload(series_mpi *s, const double *xyz_root, device_buffer *b)
+{
+    mpi_part *p = &s->p;
+    limn_status st = mpi_scatter_rows(p, xyz_root, s->rows4);
+    if (!st)
+        st = p->dev->ops->buffer_write(p->dev, b, 4 * p->n_owned * sizeof(double), s->rows4);
+    return mpi_agree(p, st);
+}
+
+/* b's owned rows on every rank -> s->xyz on root. */
+static limn_status download(series_mpi *s, device_buffer *b)
+{
+    mpi_part *p = &s->p;
+    limn_status st =
+        p->dev->ops->buffer_read_at(p->dev, b, 0, 4 * p->n_owned * sizeof(double), s->rows4);
+    st = mpi_agree(p, st);
+    return st ? st : mpi_gather_rows(p, s->rows4, s->xyz);
+}
+
+typedef struct term {
+    struct limn_device *dev;
+    device_buffer *x, *next, *acc;
+    int flags, mode;
+} term;
+
+static limn_status rows_term(void *user, const device_csr *rows, device_norms *norms)
+{
+    term *t = user;
+    return t->dev->ops->series_step(t->dev, rows, t->x, t->next, NULL, t->acc, t->flags, t->mode,
+                                    norms);
+}
+
+/* acc = sum_{i=0..m} (E - A)^i A x (series_partial_sum of series.c), m + 1
+   overlapped products; a failure is carried through the exchanges and agreed. */
+static limn_status partial_sum(series_mpi *s, device_buffer *x, device_buffer *acc,
+                               device_buffer *ra, device_buffer *rb, int m, long long *products)
+{
+    limn_status st = LIMN_OK;
+    device_buffer *cur = x;
+    double t0 = MPI_Wtime();
+    for (int i = 0; i <= m; i++) {
+        device_buffer *next = cur == ra ? rb : ra;
+        term t = {s->p.dev, cur, next, acc, i < m ? SERIES_STORE_NEXT : 0,
+                  i == 0 ? SERIES_ACC_SET_AX : SERIES_ACC_ADD_AX};
+        device_norms unused;
+        st = mpi_overlapped(&s->p, &s->p.all, cur, rows_term, &t, st, &unused);
+        ++*products;
+        cur = next;
+    }
+    s->p.stats.seconds_solve += MPI_Wtime() - t0;
+    return mpi_agree(&s->p, st);
+}
+
+/* The root's result: a copy of mesh with s->xyz, refused when not finite. */
+static limn_status result_mesh(series_mpi *s, const limn_mesh *mesh, const char *what,
+                               limn_mesh **out)
+{
+    mpi_part *p = &s->p;
+    limn_status st = LIMN_OK;
+    if (p->rank == p->root) {
+        st = series_check_finite(p->ctx, s->xyz, p->n_global, what);
+        if (!st)
+            st = limn_mesh_copy(p->ctx, mesh, out);
+        if (!st)
+            memcpy((*out)->positions, s->xyz, 3 * p->n_global * sizeof *s->xyz);
+    }
+    return mpi_agree(p, st);
+}
+
+/* The end of smooth and denoise: pieces, statistics, the result on root. */
+static limn_status finish(series_mpi *s, limn_status st, const limn_mesh *mesh,
+                          const limn_mpi_options *mpi, limn_mpi_result *result, limn_mesh **out,
+                          limn_series_report *r)
+{
+    r->seconds_compute = MPI_Wtime() - s->t0;
+    if (!st && mpi && mpi->keep_piece)
+        st = mpi_pieces(&s->p, mesh, s->xyz, result);
+    if (result)
+        result->stats = s->p.stats;
+    if (st && out) {
+        limn_mesh_destroy(*out);
+        *out = NULL;
+        limn_mpi_result_free(result);
+    }
+    close_series(s);
+    return st;
+}
+
+limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                            const limn_series_options *options, int terms, limn_mesh **out,
+                            limn_series_report *report, const limn_mpi_options *mpi,
+                            limn_mpi_result *result)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (out)
+        *out = NULL;
+    if (result)
+        memset(result, 0, sizeof *result);
+    limn_series_report local, *r = report ? report : &local;
+    series_mpi s;
+    limn_status st = open_series(ctx, comm, mesh, options, mpi, &s, r);
+    if (!st && terms < 1)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "terms is %d; it must be at least 1", terms);
+    if (!st && s.p.rank == s.p.root && !out)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_smooth_mpi: out is NULL on the root");
+    if (s.p.comm != MPI_COMM_NULL)
+        st = mpi_agree(&s.p, st);
+    if (!st)
+        st = upload(&s, s.p.rank == s.p.root ? mesh->positions : NULL, s.buf[0]);
+    if (!st)
+        st = partial_sum(&s, s.buf[0], s.buf[1], s.buf[2], s.buf[3], terms - 1, &r->products);
+    if (!st)
+        st = download(&s, s.buf[1]);
+    if (!st)
+        st = result_mesh(&s, mesh, "smoothing", out);
+    return finish(&s, st, mesh, mpi, result, out, r);
+}
+
+limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                             const limn_series_options *options, int m, int steps,
+                             int keep_volume, limn_mesh **out, limn_series_report *report,
+                             const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (out)
+        *out = NULL;
+    if (result)
+        memset(result, 0, sizeof *result);
+    limn_series_report local, *r = report ? report : &local;
+    series_mpi s;
+    limn_status st = open_series(ctx, comm, mesh, options, mpi, &s, r);
+    if (!st && m < 0)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "m is %d; it must be 0 or more", m);
+    if (!st && steps < 1)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "steps is %d; it must be at least 1", steps);
+    if (!st && s.p.rank == s.p.root && !out)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_denoise_mpi: out is NULL on the root");
+    const topology *t = &s.p.global.topo;
+    if (!st && keep_volume && s.p.rank == s.p.root && !measure_topology_closed(t))
+        st = limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+                       "keeping the volume needs a closed mesh, and this one has %zu boundary, "
+                       "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
+                       "not defined",
+                       t->boundary_edges, t->nonmanifold_edges, t->inconsistent_edges);
+    if (s.p.comm != MPI_COMM_NULL)
+        st = mpi_agree(&s.p, st);
+    if (!st)
+        st = upload(&s, s.p.rank == s.p.root ? mesh->positions : NULL, s.buf[0]);
+    device_buffer *x = s.buf[0], *acc = s.buf[1];
+    for (int k = 0; !st && k < steps; k++) {
+        st = partial_sum(&s, x, acc, s.buf[2], s.buf[3], m, &r->products);
+        device_buffer *tmp = x;
+        x = acc;
+        acc = tmp;
+        limn_progress(ctx, "denoise", (double)(k + 1) / steps);
+    }
+    if (!st)
+        st = download(&s, x);
+    if (!st)
+        st = result_mesh(&s, mesh, "denoising", out);
+    if (!st && keep_volume) {
+        limn_status kv = s.p.rank == s.p.root ? series_keep_volume(ctx, mesh, *out) : LIMN_OK;
+        st = mpi_agree(&s.p, kv);
+    }
+    return finish(&s, st, mesh, mpi, result, out, r);
+}
+
+/* Frame k of the series morph on root: Q_k = TO + D_k (in s->xyz). */
+static limn_status morph_frame(series_mpi *s, const limn_mesh *from, const limn_mesh *to,
+                               int closed, double diag, int k, double *q, limn_morph_frame_fn fn,
+                               void *user)
+{
+    mpi_part *p = &s->p;
+    limn_status st = LIMN_OK;
+    if (p->rank == p->root) {
+        for (size_t i = 0; i < 3 * p->n_global; i++)
+            q[i] = to->positions[i] + s->xyz[i];
+        st = series_check_finite(p->ctx, q, p->n_global, "the morph");
+        if (!st)
+            st = series_emit_frame(from, to, closed, diag, k, q, fn, user);
+    }
+    return mpi_agree(p, st);
+}
+
+limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
+                           const limn_mesh *to, const limn_morph_options *options,
+                           limn_morph_frame_fn fn, void *user, limn_series_report *report,
+                           const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (result)
+        memset(result, 0, sizeof *result);
+    limn_morph_options o;
+    if (options)
+        o = *options;
+    else
+        limn_morph_options_default(&o);
+    limn_series_report local, *r = report ? report : &local;
+    memset(r, 0, sizeof *r);
+    /* the checks of limn_morph, on the root; agreed before any work */
+    mpi_part probe;
+    limn_status st = mpi_part_begin(ctx, comm, mpi, &probe);
+    if (!st && probe.rank == probe.root) {
+        if (!from || !to || !fn)
+            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_morph_mpi: NULL argument on the root");
+        else if (o.linear)
+            st = limn_morph(ctx, from, to, &o, fn, user, r); /* no operator: the root alone */
+        else if (o.frames < 2)
+            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "frames is %d; it must be at least 2",
+                           o.frames);
+        else if (o.m < 0)
+            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "m is %d; it must be 0 or more", o.m);
+        else if (!(o.p > 0.0 && o.p < 1.0))
+            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
+                           o.p);
+        else
+            st = measure_same_topology(ctx, from, to, "FROM", "TO");
+    }
+    if (probe.comm != MPI_COMM_NULL)
+        st = mpi_agree(&probe, st);
+    int linear = o.linear;
+    mpi_part_end(&probe);
+    if (st || linear)
+        return st;
+
+    series_mpi s;
+    st = open_series(ctx, comm, from, &o.series, mpi, &s, r);
+    double diag = 0.0, lo[3], hi[3], *q = NULL;
+    int closed = 0;
+    if (!st && s.p.rank == s.p.root) {
+        diag = mesh_bbox_diagonal(to, lo, hi);
+        closed = measure_topology_closed(&s.p.global.topo);
+        q = malloc(3 * s.p.n_global * sizeof *q);
+        if (!q)
+            st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", s.p.n_global);
+        for (size_t i = 0; q && i < 3 * s.p.n_global; i++)
+            q[i] = from->positions[i] - to->positions[i];
+    }
+    if (s.p.comm != MPI_COMM_NULL)
+        st = mpi_agree(&s.p, st);
+    if (!st)
+        st = upload(&s, q, s.buf[0]);
+    if (!st && s.p.rank == s.p.root)
+        st = series_emit_frame(from, to, closed, diag, 0, from->positions, fn, user);
+    if (s.p.comm != MPI_COMM_NULL)
+        st = mpi_agree(&s.p, st);
+    for (int k = 1; !st && k < o.frames; k++) {
+        /* D_k = p sum_{i=0..m} (E - A)^i A D_{k-1}; Q_k = TO + D_k */
+        st = partial_sum(&s, s.buf[0], s.buf[1], s.buf[2], s.buf[3], o.m, &r->products);
+        if (!st)
+            st = mpi_agree(&s.p, s.p.dev->ops->axpby(s.p.dev, s.p.n_owned, o.p, s.buf[1], 0.0,
+                                                     s.buf[1], s.buf[0]));
+        if (!st)
+            st = download(&s, s.buf[0]);
+        if (!st)
+            st = morph_frame(&s, from, to, closed, diag, k, q, fn, user);
+        limn_progress(ctx, "morph", (double)k / (double)(o.frames - 1));
+    }
+    r->seconds_compute = MPI_Wtime() - s.t0;
+    if (result)
+        result->stats = s.p.stats;
+    free(q);
+    close_series(&s);
+    return st;
+}

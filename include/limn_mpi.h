@@ -1,0 +1,111 @@
+/*
+ * limn over MPI (optional, built with -DLIMN_MPI=ON): the interpolation and
+ * the series filters of limn.h with the mesh's vertices split across the
+ * ranks of the caller's communicator (README "MPI").
+ *
+ * Every call here is collective over comm: every rank calls it, with the same
+ * options; the input mesh is read only on the root rank (others pass NULL)
+ * and the result arrives on the root only. The root partitions the vertices
+ * (METIS), builds the limit operator once and sends each rank the rows of its
+ * owned vertices; each rank then computes its rows on its own device
+ * (limn_context_set_device; with several GPUs on a node the ranks of the node
+ * take the matching devices in turn), exchanging ghost values with its
+ * neighbours before each stencil product. Results equal the single-process
+ * calls of limn.h: the paper and Chebyshev iterations and the series bit for
+ * bit, the weighted iteration to rounding (same iteration count).
+ *
+ * A failure on any rank is returned on every rank, with the failing rank's
+ * message in every context, and nothing is left half done: no rank waits for
+ * a message that will not come. The communicator is duplicated internally,
+ * so these calls never match the caller's own messages.
+ */
+#ifndef LIMN_MPI_H
+#define LIMN_MPI_H
+
+#include "limn.h"
+#include <mpi.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct limn_mpi_options {
+    int root;                 /* rank holding the input and receiving the result; default 0 */
+    int keep_piece;           /* 1: return this rank's piece in limn_mpi_result; default 0 */
+} limn_mpi_options;
+
+void limn_mpi_options_default(limn_mpi_options *options);
+
+/* What one rank did (each rank fills its own). */
+typedef struct limn_mpi_stats {
+    int ranks, rank;
+    int local_rank;           /* among the ranks sharing this node */
+    int neighbours;           /* ranks this one exchanges ghost values with */
+    size_t owned, ghosts;     /* vertices of this rank */
+    size_t interior_rows;     /* owned rows without ghost columns: computed while the
+                                 halo is in flight */
+    size_t edge_cut;          /* edges of the vertex graph between parts (all ranks) */
+    size_t halo_bytes_sent, halo_bytes_received; /* per exchange, this rank */
+    long long exchanges;      /* halo exchanges run */
+    double seconds_partition; /* root: building the operator and METIS; others: 0 */
+    double seconds_distribute;/* sending / receiving the rows */
+    double seconds_solve;     /* the iteration or the series products, wall clock */
+    double seconds_compute;   /* device work on this rank's rows */
+    double seconds_halo;      /* reading, sending, waiting for and writing ghost values */
+    double seconds_wait;      /* the part of seconds_halo spent in MPI_Waitall: the
+                                 transfer not hidden, and waiting for slower ranks */
+    double seconds_reduce;    /* global norms (one Allreduce per step) */
+    char device[256];
+} limn_mpi_stats;
+
+typedef struct limn_mpi_result {
+    limn_mpi_stats stats;
+    /* With keep_piece: this rank's owned vertices (in input order), then the
+       other vertices of the faces incident to them (in input order), with the
+       result's positions; those faces, in input order. piece_vertices[i] is
+       the input index of piece vertex i. Free with limn_mpi_result_free. */
+    limn_mesh *piece;
+    size_t piece_owned;
+    uint32_t *piece_vertices;
+} limn_mpi_result;
+
+void limn_mpi_result_free(limn_mpi_result *result);
+
+/*
+ * limn_interpolate over comm. mesh: the input on root (NULL elsewhere);
+ * *control: the control mesh on root (NULL elsewhere). report (may be NULL)
+ * is filled on every rank with the global figures. mpi and result may be
+ * NULL. Methods as limn_interpolate (auto = chebyshev): paper, chebyshev and
+ * weighted take the single process's iteration count (paper and chebyshev
+ * its bits); cg reduces its dot products over the ranks in double-double, but
+ * each rank first sums its own rows, so it agrees with the single process to
+ * rounding (README "MPI" has the measured gap).
+ */
+limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                 const limn_interpolate_options *options, limn_mesh **control,
+                                 limn_report *report, const limn_mpi_options *mpi,
+                                 limn_mpi_result *result);
+
+/* limn_smooth over comm (input and *out on root). */
+limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                            const limn_series_options *options, int terms, limn_mesh **out,
+                            limn_series_report *report, const limn_mpi_options *mpi,
+                            limn_mpi_result *result);
+
+/* limn_denoise over comm (input and *out on root). */
+limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                             const limn_series_options *options, int m, int steps,
+                             int keep_volume, limn_mesh **out, limn_series_report *report,
+                             const limn_mpi_options *mpi, limn_mpi_result *result);
+
+/* limn_morph over comm: FROM and TO on root; fn is called on root only, once
+   per frame in order (its failure stops every rank). keep_piece is ignored. */
+limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
+                           const limn_mesh *to, const limn_morph_options *options,
+                           limn_morph_frame_fn fn, void *user, limn_series_report *report,
+                           const limn_mpi_options *mpi, limn_mpi_result *result);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

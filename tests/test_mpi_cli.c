@@ -1,0 +1,381 @@
+/*
+ * `mpirun -np N limn ...` as a user meets it (2 and 3 ranks): interpolate,
+ * smooth, denoise and morph write the very bytes of one process (paper
+ * iteration and series: every row is summed in the same order), weighted and
+ * cg agree to 1e-12 with the same iteration count; --per-rank-output writes
+ * one piece per rank; a bad input gives one message, exit status 1 on every
+ * rank, no output and no hang; commands that do not run distributed refuse.
+ * Meshes: generated with several components, boundaries and an isolated
+ * vertex, and shared real meshes when ../shared/meshes is there.
+ */
+#include "support.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+static char dir[64];
+static char text[1 << 16];
+
+static int setup(void **s)
+{
+    (void)s;
+    strcpy(dir, "/tmp/limn_mpi_cli_XXXXXX");
+    return mkdtemp(dir) ? 0 : -1;
+}
+
+static int teardown(void **s)
+{
+    (void)s;
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+static const char *at(const char *name)
+{
+    static char path[8][256];
+    static int k;
+    k = (k + 1) % 8;
+    snprintf(path[k], sizeof path[k], "%s/%s", dir, name);
+    return path[k];
+}
+
+/* Runs `limn ARGS` (ranks > 0: under the MPI launcher, killed after 300 s so
+   that a hang fails instead of blocking), output in text; the exit status. */
+static int run(int ranks, const char *args)
+{
+    char cmd[8192];
+    if (ranks > 0)
+        snprintf(cmd, sizeof cmd, "timeout 300 %s %d '%s' %s 2>&1", getenv("LIMN_MPIEXEC"), ranks,
+                 getenv("LIMN_BIN"), args);
+    else
+        snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", getenv("LIMN_BIN"), args);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t n = fread(text, 1, sizeof text - 1, p);
+    text[n] = '\0';
+    int st = pclose(p);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static size_t count(const char *hay, const char *needle)
+{
+    size_t n = 0;
+    for (const char *p = strstr(hay, needle); p; p = strstr(p + 1, needle))
+        n++;
+    return n;
+}
+
+static int same_bytes(const char *a, const char *b)
+{
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", a, b);
+    return system(cmd) == 0;
+}
+
+/* The generated inputs: several components, boundaries, an isolated vertex. */
+static void write_inputs(void)
+{
+    limn_context *ctx = limn_context_create();
+    limn_mesh *grid = test_mesh_grid(ctx, 40, 30, 1), *quads = test_mesh_grid(ctx, 40, 30, 0);
+    limn_mesh *ico = test_mesh_icosahedron(ctx), *cube = test_mesh_cube(ctx);
+    /* two components each: an OBJ by hand (the grid, then the closed piece) */
+    const limn_mesh *pairs[2][2] = {{grid, ico}, {quads, cube}};
+    const char *names[2] = {"tri.obj", "quad.obj"};
+    for (int k = 0; k < 2; k++) {
+        FILE *f = fopen(at(names[k]), "w");
+        assert_non_null(f);
+        size_t base = 0;
+        for (int part = 0; part < 2; part++) {
+            const limn_mesh *m = pairs[k][part];
+            const double *p = limn_mesh_positions(m);
+            for (size_t i = 0; i < limn_mesh_vertex_count(m); i++)
+                fprintf(f, "v %.17g %.17g %.17g\n", p[3 * i] + 50.0 * part, p[3 * i + 1],
+                        p[3 * i + 2]);
+            if (part == 0) {
+                fprintf(f, "v -5 -5 0\n"); /* isolated */
+                base++;
+            }
+            const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
+            for (size_t fc = 0; fc < limn_mesh_face_count(m); fc++) {
+                fprintf(f, "f");
+                for (uint32_t c = off[fc]; c < off[fc + 1]; c++)
+                    fprintf(f, " %zu", (size_t)idx[c] + 1 + (part ? base : 0));
+                fprintf(f, "\n");
+            }
+            base += limn_mesh_vertex_count(m);
+        }
+        assert_int_equal(fclose(f), 0);
+    }
+    limn_mesh_destroy(grid);
+    limn_mesh_destroy(quads);
+    limn_mesh_destroy(ico);
+    limn_mesh_destroy(cube);
+    limn_context_destroy(ctx);
+}
+
+static int report_iterations(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    char buf[1 << 14];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+    const char *k = strstr(buf, "\"iterations\":");
+    assert_non_null(k);
+    return atoi(k + strlen("\"iterations\":"));
+}
+
+/* Both outputs read back; the largest coordinate difference over the scale. */
+static double difference(const char *a, const char *b)
+{
+    limn_context *ctx = limn_context_create();
+    limn_mesh *ma = NULL, *mb = NULL;
+    assert_int_equal(limn_mesh_read(ctx, a, LIMN_FORMAT_AUTO, &ma), LIMN_OK);
+    assert_int_equal(limn_mesh_read(ctx, b, LIMN_FORMAT_AUTO, &mb), LIMN_OK);
+    size_t n3 = 3 * limn_mesh_vertex_count(ma);
+    assert_int_equal(n3, 3 * limn_mesh_vertex_count(mb));
+    double worst = 0, scale = 0;
+    for (size_t i = 0; i < n3; i++) {
+        worst = fmax(worst, fabs(limn_mesh_positions(ma)[i] - limn_mesh_positions(mb)[i]));
+        scale = fmax(scale, fabs(limn_mesh_positions(ma)[i]));
+    }
+    limn_mesh_destroy(ma);
+    limn_mesh_destroy(mb);
+    limn_context_destroy(ctx);
+    return worst / (scale > 0 ? scale : 1);
+}
+
+/* interpolate with `opts` on one process and on `ranks`: same bytes (exact)
+   or 1e-12 and the same iteration count. */
+static void interpolate_same(const char *input, const char *opts, int ranks, int exact)
+{
+    char args[2048];
+    const char *one = at("one.ply"), *many = at("many.ply");
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' %s -q", input, one,
+             at("one.json"), opts);
+    if (run(0, args) != 0)
+        fail_msg("one process: %s", text);
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' %s", input, many,
+             at("many.json"), opts);
+    if (run(ranks, args) != 0)
+        fail_msg("%d ranks: %s", ranks, text);
+    /* rank 0 printed the summary once, with every rank's line */
+    assert_int_equal(count(text, "  device: "), 1);
+    char line[32];
+    snprintf(line, sizeof line, "rank %d:", ranks - 1);
+    assert_non_null(strstr(text, line));
+    assert_int_equal(report_iterations(at("one.json")), report_iterations(at("many.json")));
+    if (exact)
+        assert_true(same_bytes(one, many));
+    double d = difference(one, many);
+    const char *base = strrchr(input, '/');
+    printf("  %s %s, %d ranks: %s, max difference %.2g of the scale\n", base ? base + 1 : input,
+           opts, ranks, exact ? "same bytes" : "close", d);
+    assert_true(d <= 1e-12);
+}
+
+static void interpolate_generated(void **s)
+{
+    (void)s;
+    write_inputs();
+    for (int ranks = 2; ranks <= 3; ranks++) {
+        interpolate_same(at("tri.obj"), "--method paper", ranks, 1);
+        interpolate_same(at("tri.obj"), "--method weighted", ranks, 0);
+        interpolate_same(at("tri.obj"), "--method cg", ranks, 0);
+        interpolate_same(at("tri.obj"), "--method chebyshev", ranks, 1);
+        interpolate_same(at("quad.obj"), "--alpha 0.5", ranks, 1);
+        interpolate_same(at("quad.obj"), "--alpha 0.5 --method weighted", ranks, 0);
+        interpolate_same(at("quad.obj"), "--alpha 0.5 --method cg", ranks, 0);
+    }
+}
+
+static void interpolate_shared(void **s)
+{
+    (void)s;
+    if (!test_shared_meshes())
+        skip();
+    char path[4096];
+    snprintf(path, sizeof path, "%s", test_shared_path("medium/bun_zipper.ply"));
+    interpolate_same(path, "", 2, 1);
+    interpolate_same(path, "--method weighted", 3, 0);
+    snprintf(path, sizeof path, "%s", test_shared_path("small/suzanne.obj"));
+    interpolate_same(path, "", 3, 1);
+}
+
+static void series_same(void **s)
+{
+    (void)s;
+    write_inputs();
+    static const char *cmds[] = {"smooth '%s' -o '%s' --terms 4 -q", "denoise '%s' -o '%s' -q"};
+    for (int k = 0; k < 2; k++)
+        for (int ranks = 2; ranks <= 3; ranks++) {
+            char args[1024];
+            snprintf(args, sizeof args, cmds[k], at("quad.obj"), at("s1.ply"));
+            assert_int_equal(run(0, args), 0);
+            snprintf(args, sizeof args, cmds[k], at("quad.obj"), at("s2.ply"));
+            if (run(ranks, args) != 0)
+                fail_msg("%s", text);
+            assert_true(same_bytes(at("s1.ply"), at("s2.ply")));
+        }
+    /* morph: every frame the same bytes */
+    char args[1024];
+    snprintf(args, sizeof args, "denoise '%s' -o '%s' --steps 6 -q", at("quad.obj"), at("to.ply"));
+    assert_int_equal(run(0, args), 0);
+    snprintf(args, sizeof args, "mkdir -p '%s' '%s'", at("f1"), at("f2"));
+    assert_int_equal(system(args), 0);
+    snprintf(args, sizeof args, "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 -q", at("quad.obj"),
+             at("to.ply"), at("f1"));
+    assert_int_equal(run(0, args), 0);
+    snprintf(args, sizeof args, "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 -q", at("quad.obj"),
+             at("to.ply"), at("f2"));
+    if (run(3, args) != 0)
+        fail_msg("%s", text);
+    for (int k = 0; k < 3; k++) {
+        char a[64], b[64];
+        snprintf(a, sizeof a, "f1/f%d.ply", k);
+        snprintf(b, sizeof b, "f2/f%d.ply", k);
+        assert_true(same_bytes(at(a), at(b)));
+    }
+}
+
+static void per_rank(void **s)
+{
+    (void)s;
+    write_inputs();
+    char args[1024];
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --per-rank-output -q", at("tri.obj"),
+             at("piece.ply"));
+    if (run(3, args) != 0)
+        fail_msg("%s", text);
+    assert_false(test_file_exists(at("piece.ply"))); /* the pieces instead */
+    limn_context *ctx = limn_context_create();
+    size_t total = 0;
+    for (int r = 0; r < 3; r++) {
+        char name[64];
+        snprintf(name, sizeof name, "piece.r%d.ply", r);
+        limn_mesh *m = NULL;
+        assert_int_equal(limn_mesh_read(ctx, at(name), LIMN_FORMAT_AUTO, &m), LIMN_OK);
+        total += limn_mesh_vertex_count(m);
+        assert_true(limn_mesh_face_count(m) > 0);
+        limn_mesh_destroy(m);
+    }
+    /* owned vertices once each, plus the ring around each piece */
+    assert_true(total > 41 * 31 + 1 + 12);
+    limn_context_destroy(ctx);
+    /* one process refuses the option */
+    assert_int_equal(run(0, args), 2);
+    assert_non_null(strstr(text, "--per-rank-output needs several MPI ranks"));
+}
+
+/* The ranks of a node take the matching OpenCL devices in turn (local rank %
+   count). Two ICD entries naming PoCL make two platforms of one CPU device
+   each: ranks 0, 1, 2 must take 0.0, 1.0, 0.0, and still give the same bytes. */
+static void device_per_rank(void **s)
+{
+    (void)s;
+    FILE *icd = fopen("/etc/OpenCL/vendors/pocl.icd", "r");
+    if (!icd)
+        skip();
+    char lib[512] = "";
+    if (!fgets(lib, sizeof lib, icd))
+        lib[0] = '\0';
+    fclose(icd);
+    lib[strcspn(lib, "\r\n")] = '\0';
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "mkdir -p '%s' && printf '%%s\\n' '%s' > '%s' && cp '%s' '%s'",
+             at("icd"), lib, at("icd/a.icd"), at("icd/a.icd"), at("icd/b.icd"));
+    assert_int_equal(system(cmd), 0);
+    write_inputs();
+    char args[2048];
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' -q", at("quad.obj"), at("one.ply"));
+    assert_int_equal(run(0, args), 0);
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' -q", at("quad.obj"),
+             at("many.ply"), at("many.json"));
+    setenv("OCL_ICD_VENDORS", at("icd"), 1);
+    int rc = run(3, args);
+    unsetenv("OCL_ICD_VENDORS");
+    if (rc != 0)
+        fail_msg("%s", text);
+    assert_true(same_bytes(at("one.ply"), at("many.ply")));
+    FILE *f = fopen(at("many.json"), "r");
+    assert_non_null(f);
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    static const char *want[3] = {"device 0.0", "device 1.0", "device 0.0"};
+    const char *at_rank = text;
+    for (int r = 0; r < 3; r++) {
+        char key[32];
+        snprintf(key, sizeof key, "\"rank\": %d", r);
+        at_rank = strstr(at_rank, key);
+        assert_non_null(at_rank);
+        const char *dev = strstr(at_rank, "\"device\"");
+        assert_non_null(dev);
+        const char *end = strchr(dev + 10, '}');
+        assert_non_null(end);
+        const char *hit = strstr(dev, want[r]);
+        if (!hit || hit > end)
+            fail_msg("rank %d should have taken %s: %.200s", r, want[r], dev);
+    }
+}
+
+static void errors(void **s)
+{
+    (void)s;
+    char args[1024];
+    /* a missing file and a malformed one: one message, status 1, nothing written */
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s'", at("missing.obj"), at("bad.ply"));
+    assert_int_equal(run(3, args), 1);
+    assert_int_equal(count(text, "limn interpolate: error:"), 1);
+    assert_non_null(strstr(text, "missing.obj"));
+    assert_false(test_file_exists(at("bad.ply")));
+    assert_int_equal(test_write_text(at("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n"), 0);
+    snprintf(args, sizeof args, "smooth '%s' -o '%s' --terms 2", at("broken.obj"), at("bad.ply"));
+    assert_int_equal(run(2, args), 1);
+    assert_int_equal(count(text, "limn smooth: error:"), 1);
+    assert_non_null(strstr(text, "broken.obj"));
+    assert_false(test_file_exists(at("bad.ply")));
+    /* Loop on quads fails on the root while building the operator */
+    write_inputs();
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --scheme loop", at("quad.obj"),
+             at("bad.ply"));
+    assert_int_equal(run(2, args), 1);
+    assert_int_equal(count(text, "error:"), 1);
+    assert_non_null(strstr(text, "Loop"));
+    assert_false(test_file_exists(at("bad.ply")));
+    /* a usage error, once */
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --tol -1", at("quad.obj"),
+             at("bad.ply"));
+    assert_int_equal(run(3, args), 2);
+    assert_int_equal(count(text, "--tol -1 must be positive"), 1);
+    /* a command that does not run distributed */
+    snprintf(args, sizeof args, "info '%s'", at("quad.obj"));
+    assert_int_equal(run(2, args), 2);
+    assert_int_equal(count(text, "does not run on several MPI ranks"), 1);
+    /* one rank under the launcher: as without it */
+    snprintf(args, sizeof args, "info '%s'", at("quad.obj"));
+    assert_int_equal(run(1, args), 0);
+}
+
+int main(void)
+{
+    if (!getenv("LIMN_MPIEXEC") || !getenv("LIMN_BIN"))
+        return 77;
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(interpolate_generated), cmocka_unit_test(interpolate_shared),
+        cmocka_unit_test(series_same),           cmocka_unit_test(per_rank),
+        cmocka_unit_test(device_per_rank),       cmocka_unit_test(errors),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
