@@ -12,7 +12,6 @@
 #include "solve.h"
 
 #include <math.h>
-#include <stdio.h>
 
 /* A float solve aims at the tolerance or at this reduction of its
    right-hand side, whichever is larger. Its floor (float weights and float
