@@ -117,10 +117,41 @@ limn_status device_get(limn_context *ctx, struct limn_device **out)
     return LIMN_OK;
 }
 
+device_setup_times device_setup_of(const limn_context *ctx)
+{
+    device_setup_times none = {0, 0, 0, 0};
+    return ctx->device ? ctx->device->setup : none;
+}
+
+void device_setup_report(const limn_context *ctx, const device_setup_times *before,
+                         limn_report *r)
+{
+    device_setup_times now = device_setup_of(ctx);
+    r->seconds_opencl_platform = now.platform - before->platform;
+    r->seconds_opencl_context = now.context - before->context;
+    r->seconds_opencl_build = now.build - before->build;
+    r->seconds_opencl_kernels = now.kernels - before->kernels;
+    r->seconds_solve -= r->seconds_opencl_kernels;
+}
+
 void device_close(struct limn_device *dev)
 {
     if (dev)
         dev->ops->close(dev);
+}
+
+/* Whether a table's gathers scatter over memory: over a tenth of the entries
+   of every 16th row lie more than 16,384 rows (512 KiB of vertex records)
+   from their row. Meshes refined in place, in their input order, score
+   0.64 (igea, Loop, 2 levels) to 0.78 (bob_quad, Catmull-Clark, 4 levels);
+   the same after RCM, 0.00; scans in RCM order 0.00. */
+static int gathers_scatter(const stencil_csr *a)
+{
+    size_t far = 0, seen = 0;
+    for (size_t r = 0; r < a->rows; r += 16)
+        for (uint32_t k = a->row_offsets[r]; k < a->row_offsets[r + 1]; k++, seen++)
+            far += (a->columns[k] > r ? a->columns[k] - r : r - a->columns[k]) > 16384;
+    return far * 10 > seen;
 }
 
 limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, device_csr *out)
@@ -128,6 +159,7 @@ limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, 
     memset(out, 0, sizeof *out);
     out->rows = host->rows;
     out->nonzeros = host->row_offsets[host->rows];
+    out->gather_ahead = gathers_scatter(host);
     limn_status st = dev->ops->buffer_create(dev, (host->rows + 1) * sizeof(uint32_t),
                                              host->row_offsets, &out->row_offsets);
     if (!st)
@@ -141,6 +173,17 @@ limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, 
     return st;
 }
 
+limn_status device_csr_add_float(struct limn_device *dev, device_csr *csr)
+{
+    if (csr->weights_f)
+        return LIMN_OK;
+    limn_status st = dev->ops->buffer_create(dev, csr->nonzeros * sizeof(float), NULL,
+                                             &csr->weights_f);
+    if (!st)
+        st = dev->ops->to_float(dev, csr->nonzeros, csr->weights, csr->weights_f);
+    return st;
+}
+
 void device_csr_release(struct limn_device *dev, device_csr *csr)
 {
     if (csr->row_offsets)
@@ -149,6 +192,8 @@ void device_csr_release(struct limn_device *dev, device_csr *csr)
         dev->ops->buffer_release(dev, csr->columns);
     if (csr->weights)
         dev->ops->buffer_release(dev, csr->weights);
+    if (csr->weights_f)
+        dev->ops->buffer_release(dev, csr->weights_f);
     memset(csr, 0, sizeof *csr);
 }
 

@@ -32,6 +32,10 @@ typedef struct device_csr {
     device_buffer *row_offsets;  /* uint32, rows + 1 */
     device_buffer *columns;      /* uint32, nonzeros */
     device_buffer *weights;      /* double, nonzeros */
+    device_buffer *weights_f;    /* float copy for the float path (device_csr_add_float);
+                                    NULL until then */
+    int gather_ahead;            /* the gathers scatter over memory: the solve kernels
+                                    prefetch them (kernels/stencil.cl, GATHER_AHEAD) */
 } device_csr;
 
 /* Per-chunk partial norms of a residual r (per vertex Euclidean length). */
@@ -92,6 +96,24 @@ typedef struct device_ops {
     /* Norms of x (x, y, z of each of `rows` vectors), finished in chunk order. */
     limn_status (*norms)(struct limn_device *dev, size_t rows, device_buffer *x,
                          device_norms *out);
+    /* Mixed-precision refinement (kernels/mixed.cl, host/solve_mixed.c).
+       Float vectors are 4 floats per row. residual_f: r = m - A p in double,
+       stored rounded to float in r_f; norms of the double r. */
+    limn_status (*residual_f)(struct limn_device *dev, const device_csr *a, device_buffer *m,
+                              device_buffer *p, device_buffer *r_f, device_norms *norms);
+    /* One float step on the correction system A d = b with the float weights:
+       s = b - A_f d and next = d + c1 (d - prev) + c2 s in float (Chebyshev;
+       c1 = 0, c2 = omega: the seeds' or weighted step); norms of s in double.
+       prev and next may be one buffer, prev may be d; next is not d. */
+    limn_status (*step_f)(struct limn_device *dev, const device_csr *a, device_buffer *b,
+                          device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
+                          float c2, device_norms *norms);
+    /* p += d over `rows` (d float, widened exactly to double). */
+    limn_status (*add_f)(struct limn_device *dev, size_t rows, device_buffer *p,
+                         device_buffer *d);
+    /* w_f = w rounded to float, `count` values. */
+    limn_status (*to_float)(struct limn_device *dev, size_t count, device_buffer *w,
+                            device_buffer *w_f);
     void (*close)(struct limn_device *dev);
 } device_ops;
 
@@ -104,11 +126,20 @@ enum {
     SERIES_ACC_ADD_X = 3    /* acc = acc + x */
 };
 
+/* Seconds the OpenCL back end spent setting up (all zero for the reference
+   one): platform query and device choice, context and queue, program build
+   (from PoCL's kernel cache when warm), and the compiles PoCL does on each
+   kernel's first launch (a warm cache holds those too). */
+typedef struct device_setup_times {
+    double platform, context, build, kernels;
+} device_setup_times;
+
 struct limn_device {
     const device_ops *ops;
     limn_context *ctx;        /* for error messages */
     char name[256];
     void *impl;
+    device_setup_times setup; /* accumulated over the device's life */
 };
 
 /*
@@ -121,6 +152,13 @@ struct limn_device {
 int device_test_fault(const char *name);
 /* Whether the context allows the reference fallback (API, else LIMN_FALLBACK). */
 int device_fallback_allowed(const limn_context *ctx);
+
+/* The set-up times of the context's device (zero when none is open). */
+device_setup_times device_setup_of(const limn_context *ctx);
+/* Fills r's seconds_opencl_* with the set-up since `before` and takes the
+   kernels' first-launch compiles out of r->seconds_solve. */
+void device_setup_report(const limn_context *ctx, const device_setup_times *before,
+                         limn_report *r);
 
 /* Opens the device named by ctx->device_spec (or the environment). With a
    fallback allowed (limn_context_set_fallback, LIMN_FALLBACK=reference), an
@@ -136,6 +174,9 @@ limn_status device_open_opencl(limn_context *ctx, const char *spec, struct limn_
 
 /* Uploads a host CSR table; releases it with device_csr_release. */
 limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, device_csr *out);
+/* Adds the float copy of the weights, made on the device (once; a no-op
+   when present). */
+limn_status device_csr_add_float(struct limn_device *dev, device_csr *csr);
 void device_csr_release(struct limn_device *dev, device_csr *csr);
 
 /* Finishes per-chunk partial norms in chunk order. */

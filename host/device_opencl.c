@@ -1,48 +1,14 @@
-/* The OpenCL backend: context, queue, the stencil program and its kernels. */
+/* The OpenCL backend: context, queue, buffers, launches and the
+   double-precision operations (the program: opencl_program.c; the float
+   operations: device_opencl_mixed.c). */
 #include "context.h"
-#include "device.h"
-#include "opencl_errors.h"
+#include "device_opencl.h"
 #include "opencl_select.h"
+#include "operator.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-extern const unsigned char limn_kernel_stencil[];
-extern const size_t limn_kernel_stencil_size;
-extern const unsigned char limn_kernel_series[];
-extern const size_t limn_kernel_series_size;
-extern const unsigned char limn_kernel_solve[];
-extern const size_t limn_kernel_solve_size;
-
-struct device_buffer {
-    cl_mem mem;
-    size_t bytes;
-};
-
-typedef struct opencl_impl {
-    cl_context context;
-    cl_command_queue queue;
-    cl_program program;
-    cl_kernel spmv;
-    cl_kernel interp_step;
-    cl_kernel series_step, axpby, norms;
-    cl_kernel spmv_dot, pcg_update, cheb_step;
-    cl_ulong max_alloc;
-    cl_mem partials;          /* 3 doubles per work-item, grown on demand */
-    size_t partials_items;
-    double *host_partials;
-} opencl_impl;
-
-#define CHECK(call, what)                                                                      \
-    do {                                                                                       \
-        cl_int err_ = (call);                                                                  \
-        if (err_ != CL_SUCCESS)                                                                \
-            return limn_fail(dev->ctx, LIMN_ERR_DEVICE, "%s failed: %s (%d)", what,            \
-                             opencl_error_name(err_), err_);                                   \
-    } while (0)
-
-static opencl_impl *impl_of(struct limn_device *dev) { return dev->impl; }
 
 static limn_status cl_buffer_create(struct limn_device *dev, size_t bytes, const void *init,
                                     device_buffer **out)
@@ -63,7 +29,9 @@ static limn_status cl_buffer_create(struct limn_device *dev, size_t bytes, const
     cl_mem_flags flags = CL_MEM_READ_WRITE | (init && bytes ? CL_MEM_COPY_HOST_PTR : 0);
     b->mem = clCreateBuffer(im->context, flags, n, init && bytes ? (void *)init : NULL, &err);
     if (err == CL_SUCCESS && !init) {
-        /* PoCL does not zero new buffers; start from a defined state. */
+        /* PoCL does not zero new buffers; start from a defined state. Not
+           waited for: measured, waiting here (clFinish or a blocking read)
+           made a 1.4-2.1M-vertex float solve 50-70 ms slower. */
         static const unsigned char zero = 0;
         err = clEnqueueFillBuffer(im->queue, b->mem, &zero, 1, 0, n, 0, NULL, NULL);
     }
@@ -144,33 +112,64 @@ static void cl_buffer_release(struct limn_device *dev, device_buffer *buf)
     }
 }
 
-static size_t work_items(size_t rows)
+size_t opencl_work_items(size_t rows)
 {
     size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
     return (chunks + DEVICE_WORKGROUP - 1) / DEVICE_WORKGROUP * DEVICE_WORKGROUP;
 }
 
-static limn_status set_csr_args(struct limn_device *dev, cl_kernel k, const device_csr *a)
+limn_status opencl_set_csr_args(struct limn_device *dev, cl_kernel k, const device_csr *a,
+                                device_buffer *weights)
 {
     cl_uint rows = (cl_uint)(a->row_begin + a->rows); /* kernels stop at the range's end */
     CHECK(clSetKernelArg(k, 0, sizeof rows, &rows), "clSetKernelArg(rows)");
     CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &a->row_offsets->mem), "clSetKernelArg(offsets)");
     CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &a->columns->mem), "clSetKernelArg(columns)");
-    CHECK(clSetKernelArg(k, 3, sizeof(cl_mem), &a->weights->mem), "clSetKernelArg(weights)");
+    CHECK(clSetKernelArg(k, 3, sizeof(cl_mem), &weights->mem), "clSetKernelArg(weights)");
     return LIMN_OK;
 }
 
-/* Launches work-items first_item .. for `rows` rows: a row range starting at
-   row first_item * DEVICE_ROWS_PER_ITEM uses the global work offset, so the
-   kernels need no argument for it (device_csr.row_begin). */
-static limn_status launch_at(struct limn_device *dev, cl_kernel k, size_t first_item,
-                             size_t rows, const char *name)
+/* PoCL compiles a kernel's work-group function on its first launch (~55 ms
+   with a cold cache, nothing with a warm one). A launch over no rows first
+   triggers that compile alone, so it is timed as set-up (dev->setup.kernels)
+   rather than hidden in the first step; the kernels do nothing for rows = 0. */
+static limn_status compile_on_first_launch(struct limn_device *dev, opencl_kernel_id id,
+                                           size_t rows_arg)
+{
+    opencl_impl *im = impl_of(dev);
+    if (im->compiled[id])
+        return LIMN_OK;
+    double t0 = limn_seconds();
+    cl_kernel k = im->kernels[id];
+    cl_uint none = 0, all = (cl_uint)rows_arg; /* argument 0 restored after */
+    size_t size = DEVICE_WORKGROUP;
+    CHECK(clSetKernelArg(k, 0, sizeof none, &none), "clSetKernelArg(rows)");
+    cl_int err = clEnqueueNDRangeKernel(im->queue, k, 1, NULL, &size, &size, 0, NULL, NULL);
+    if (err == CL_SUCCESS)
+        err = clFinish(im->queue);
+    CHECK(clSetKernelArg(k, 0, sizeof all, &all), "clSetKernelArg(rows)");
+    if (err != CL_SUCCESS)
+        return LIMN_OK; /* the real launch reports it, with advice */
+    im->compiled[id] = 1;
+    dev->setup.kernels += limn_seconds() - t0;
+    return LIMN_OK;
+}
+
+/* A row range starting at row first_item * DEVICE_ROWS_PER_ITEM uses the
+   global work offset, so the kernels need no argument for it
+   (device_csr.row_begin). */
+limn_status opencl_launch(struct limn_device *dev, opencl_kernel_id id, size_t first_item,
+                          size_t rows)
 {
     if (rows == 0)
         return LIMN_OK;
-    size_t global = work_items(rows), local = DEVICE_WORKGROUP, offset = first_item;
-    cl_int err = clEnqueueNDRangeKernel(impl_of(dev)->queue, k, 1, first_item ? &offset : NULL,
-                                        &global, &local, 0, NULL, NULL);
+    limn_status st = compile_on_first_launch(dev, id, first_item * DEVICE_ROWS_PER_ITEM + rows);
+    if (st)
+        return st;
+    size_t global = opencl_work_items(rows), local = DEVICE_WORKGROUP, offset = first_item;
+    cl_int err = clEnqueueNDRangeKernel(impl_of(dev)->queue, impl_of(dev)->kernels[id], 1,
+                                        first_item ? &offset : NULL, &global, &local, 0, NULL,
+                                        NULL);
     if (err == CL_SUCCESS && device_test_fault("enqueue"))
         err = CL_OUT_OF_RESOURCES; /* test-only (device.h) */
     if (err != CL_SUCCESS)
@@ -178,46 +177,26 @@ static limn_status launch_at(struct limn_device *dev, cl_kernel k, size_t first_
                          "launching kernel %s on %s failed: %s (%d): the device could not run "
                          "it; try another device (--device, see 'limn devices') or --device "
                          "reference (or allow --fallback reference)",
-                         name, dev->name, opencl_error_name(err), err);
-    return LIMN_OK;
-}
-
-static limn_status launch(struct limn_device *dev, cl_kernel k, size_t rows, const char *name)
-{
-    return launch_at(dev, k, 0, rows, name);
-}
-
-static size_t first_item(const device_csr *a) { return a->row_begin / DEVICE_ROWS_PER_ITEM; }
-
-/* Finishes the partials of `rows` rows written by items from `first`. */
-static limn_status read_partials(struct limn_device *dev, size_t first, size_t rows,
-                                 device_norms *out)
-{
-    opencl_impl *im = impl_of(dev);
-    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    if (chunks)
-        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE, first * 3 * sizeof(double),
-                                  chunks * 3 * sizeof(double), im->host_partials, 0, NULL, NULL),
-              "reading the reduction partials");
-    device_norms_finish(im->host_partials, chunks, out);
+                         opencl_kernel_name(id), dev->name, opencl_error_name(err), err);
     return LIMN_OK;
 }
 
 static limn_status cl_spmv(struct limn_device *dev, const device_csr *a, device_buffer *x,
                            device_buffer *y)
 {
-    cl_kernel k = impl_of(dev)->spmv;
-    limn_status st = set_csr_args(dev, k, a);
+    cl_kernel k = impl_of(dev)->kernels[K_SPMV];
+    limn_status st = opencl_set_csr_args(dev, k, a, a->weights);
     if (st)
         return st;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
-    return launch_at(dev, k, first_item(a), a->rows, "spmv");
+    return opencl_launch(dev, K_SPMV, opencl_first_item(a), a->rows);
 }
 
-static limn_status ensure_partials(struct limn_device *dev, size_t items)
+limn_status opencl_ensure_partials(struct limn_device *dev, size_t first_item, size_t rows)
 {
     opencl_impl *im = impl_of(dev);
+    size_t items = first_item + opencl_work_items(rows) + 1;
     if (items <= im->partials_items)
         return LIMN_OK;
     if (im->partials)
@@ -236,24 +215,40 @@ static limn_status ensure_partials(struct limn_device *dev, size_t items)
     return LIMN_OK;
 }
 
+limn_status opencl_finish_partials(struct limn_device *dev, size_t first_item, size_t rows,
+                                   device_norms *out)
+{
+    opencl_impl *im = impl_of(dev);
+    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    if (chunks)
+        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE,
+                                  first_item * 3 * sizeof(double), chunks * 3 * sizeof(double),
+                                  im->host_partials, 0, NULL, NULL),
+              "reading the reduction partials");
+    device_norms_finish(im->host_partials, chunks, out);
+    return LIMN_OK;
+}
+
 static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
                                   device_buffer *m, device_buffer *p, device_buffer *p_next,
                                   double omega, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    limn_status st = ensure_partials(dev, first_item(a) + work_items(a->rows) + 1);
+    cl_kernel k = im->kernels[K_INTERP_STEP];
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
     if (!st)
-        st = set_csr_args(dev, im->interp_step, a);
+        st = opencl_set_csr_args(dev, k, a, a->weights);
     if (st)
         return st;
-    cl_kernel k = im->interp_step;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &m->mem), "clSetKernelArg(m)");
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
     CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &p_next->mem), "clSetKernelArg(p_next)");
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    cl_uint ahead = (cl_uint)a->gather_ahead;
     CHECK(clSetKernelArg(k, 8, sizeof omega, &omega), "clSetKernelArg(omega)");
-    st = launch_at(dev, k, first_item(a), a->rows, "interp_step");
-    return st ? st : read_partials(dev, first_item(a), a->rows, norms);
+    CHECK(clSetKernelArg(k, 9, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
+    st = opencl_launch(dev, K_INTERP_STEP, opencl_first_item(a), a->rows);
+    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
 }
 
 static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
@@ -262,12 +257,12 @@ static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
                                   device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    limn_status st = ensure_partials(dev, first_item(a) + work_items(a->rows) + 1);
+    cl_kernel k = im->kernels[K_SERIES_STEP];
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
     if (!st)
-        st = set_csr_args(dev, im->series_step, a);
+        st = opencl_set_csr_args(dev, k, a, a->weights);
     if (st)
         return st;
-    cl_kernel k = im->series_step;
     /* buffers this launch does not use are bound to x and never touched */
     cl_mem xn = (flags & SERIES_STORE_NEXT) ? x_next->mem : x->mem;
     cl_mem axm = (flags & SERIES_STORE_AX) ? ax->mem : x->mem;
@@ -280,14 +275,14 @@ static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
     CHECK(clSetKernelArg(k, 8, sizeof fl, &fl), "clSetKernelArg(flags)");
     CHECK(clSetKernelArg(k, 9, sizeof mode, &mode), "clSetKernelArg(acc_mode)");
     CHECK(clSetKernelArg(k, 10, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = launch_at(dev, k, first_item(a), a->rows, "series_step");
-    return st ? st : read_partials(dev, first_item(a), a->rows, norms);
+    st = opencl_launch(dev, K_SERIES_STEP, opencl_first_item(a), a->rows);
+    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
 }
 
 static limn_status cl_axpby(struct limn_device *dev, size_t rows, double a, device_buffer *x,
                             double b, device_buffer *y, device_buffer *out)
 {
-    cl_kernel k = impl_of(dev)->axpby;
+    cl_kernel k = impl_of(dev)->kernels[K_AXPBY];
     cl_uint r = (cl_uint)rows;
     CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
     CHECK(clSetKernelArg(k, 1, sizeof a, &a), "clSetKernelArg(a)");
@@ -295,64 +290,45 @@ static limn_status cl_axpby(struct limn_device *dev, size_t rows, double a, devi
     CHECK(clSetKernelArg(k, 3, sizeof b, &b), "clSetKernelArg(b)");
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &out->mem), "clSetKernelArg(out)");
-    return launch(dev, k, rows, "axpby");
+    return opencl_launch(dev, K_AXPBY, 0, rows);
 }
 
 static limn_status cl_norms(struct limn_device *dev, size_t rows, device_buffer *x,
                             device_norms *out)
 {
     opencl_impl *im = impl_of(dev);
-    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    limn_status st = ensure_partials(dev, work_items(rows) ? work_items(rows) : 1);
+    limn_status st = opencl_ensure_partials(dev, 0, rows);
     if (st)
         return st;
-    cl_kernel k = im->norms;
+    cl_kernel k = im->kernels[K_NORMS];
     cl_uint r = (cl_uint)rows;
     CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
     CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
     CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = launch(dev, k, rows, "norms");
+    st = opencl_launch(dev, K_NORMS, 0, rows);
     if (st)
         return st;
-    if (chunks)
-        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE, 0, chunks * 3 * sizeof(double),
-                                  im->host_partials, 0, NULL, NULL),
-              "reading the reduction partials");
-    device_norms_finish(im->host_partials, chunks, out);
-    return LIMN_OK;
-}
-
-/* Reads the first `items` partial triples and finishes them in order. */
-static limn_status finish_partials(struct limn_device *dev, size_t rows, device_norms *out)
-{
-    opencl_impl *im = impl_of(dev);
-    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    if (chunks)
-        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE, 0, chunks * 3 * sizeof(double),
-                                  im->host_partials, 0, NULL, NULL),
-              "reading the reduction partials");
-    device_norms_finish(im->host_partials, chunks, out);
-    return LIMN_OK;
+    return opencl_finish_partials(dev, 0, rows, out);
 }
 
 static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, device_buffer *x,
                                device_buffer *y, device_buffer *dinv, double *dot)
 {
     opencl_impl *im = impl_of(dev);
-    limn_status st = ensure_partials(dev, first_item(a) + work_items(a->rows) + 1);
+    cl_kernel k = im->kernels[K_SPMV_DOT];
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
     if (!st)
-        st = set_csr_args(dev, im->spmv_dot, a);
+        st = opencl_set_csr_args(dev, k, a, a->weights);
     if (st)
         return st;
-    cl_kernel k = im->spmv_dot;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
     CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = launch_at(dev, k, first_item(a), a->rows, "spmv_dot");
+    st = opencl_launch(dev, K_SPMV_DOT, opencl_first_item(a), a->rows);
     device_norms n;
     if (!st)
-        st = read_partials(dev, first_item(a), a->rows, &n);
+        st = opencl_finish_partials(dev, opencl_first_item(a), a->rows, &n);
     if (!st)
         *dot = n.sum;
     return st;
@@ -363,20 +339,22 @@ static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
                                 double c1, double c2, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    limn_status st = ensure_partials(dev, first_item(a) + work_items(a->rows) + 1);
+    cl_kernel k = im->kernels[K_CHEB_STEP];
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
     if (!st)
-        st = set_csr_args(dev, im->cheb_step, a);
+        st = opencl_set_csr_args(dev, k, a, a->weights);
     if (st)
         return st;
-    cl_kernel k = im->cheb_step;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &m->mem), "clSetKernelArg(m)");
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
     CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &prev_next->mem), "clSetKernelArg(prev_next)");
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
     CHECK(clSetKernelArg(k, 8, sizeof c1, &c1), "clSetKernelArg(c1)");
     CHECK(clSetKernelArg(k, 9, sizeof c2, &c2), "clSetKernelArg(c2)");
-    st = launch_at(dev, k, first_item(a), a->rows, "cheb_step");
-    return st ? st : read_partials(dev, first_item(a), a->rows, norms);
+    cl_uint ahead = (cl_uint)a->gather_ahead;
+    CHECK(clSetKernelArg(k, 10, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
+    st = opencl_launch(dev, K_CHEB_STEP, opencl_first_item(a), a->rows);
+    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
 }
 
 static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double alpha,
@@ -384,10 +362,10 @@ static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double al
                                  device_buffer *z, device_buffer *dinv, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    limn_status st = ensure_partials(dev, work_items(rows) ? work_items(rows) : 1);
+    limn_status st = opencl_ensure_partials(dev, 0, rows);
     if (st)
         return st;
-    cl_kernel k = im->pcg_update;
+    cl_kernel k = im->kernels[K_PCG_UPDATE];
     cl_uint r = (cl_uint)rows;
     CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
     CHECK(clSetKernelArg(k, 1, sizeof alpha, &alpha), "clSetKernelArg(alpha)");
@@ -397,9 +375,9 @@ static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double al
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &z->mem), "clSetKernelArg(z)");
     CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = launch(dev, k, rows, "pcg_update");
+    st = opencl_launch(dev, K_PCG_UPDATE, 0, rows);
     if (!st)
-        st = finish_partials(dev, rows, norms);
+        st = opencl_finish_partials(dev, 0, rows, norms);
     return st;
 }
 
@@ -410,24 +388,7 @@ static void cl_close(struct limn_device *dev)
         if (im->partials)
             clReleaseMemObject(im->partials);
         free(im->host_partials);
-        if (im->spmv)
-            clReleaseKernel(im->spmv);
-        if (im->interp_step)
-            clReleaseKernel(im->interp_step);
-        if (im->series_step)
-            clReleaseKernel(im->series_step);
-        if (im->axpby)
-            clReleaseKernel(im->axpby);
-        if (im->norms)
-            clReleaseKernel(im->norms);
-        if (im->spmv_dot)
-            clReleaseKernel(im->spmv_dot);
-        if (im->pcg_update)
-            clReleaseKernel(im->pcg_update);
-        if (im->cheb_step)
-            clReleaseKernel(im->cheb_step);
-        if (im->program)
-            clReleaseProgram(im->program);
+        opencl_release_program(im);
         if (im->queue)
             clReleaseCommandQueue(im->queue);
         if (im->context)
@@ -453,62 +414,16 @@ static const device_ops opencl_ops = {
     .series_step = cl_series_step,
     .axpby = cl_axpby,
     .norms = cl_norms,
+    .residual_f = cl_residual_f,
+    .step_f = cl_step_f,
+    .add_f = cl_add_f,
+    .to_float = cl_to_float,
     .close = cl_close,
 };
 
-/* Builds the stencil program; on failure the message carries the build log. */
-static limn_status build_program(struct limn_device *dev, cl_device_id device)
-{
-    opencl_impl *im = impl_of(dev);
-    /* one program: stencil.cl, then series.cl and solve.cl (which use its
-       row_product) */
-    const char *src[3] = {(const char *)limn_kernel_stencil, (const char *)limn_kernel_series,
-                          (const char *)limn_kernel_solve};
-    size_t len[3] = {limn_kernel_stencil_size, limn_kernel_series_size, limn_kernel_solve_size};
-    cl_int err;
-    im->program = clCreateProgramWithSource(im->context, 3, src, len, &err);
-    CHECK(err, "clCreateProgramWithSource");
-    char options[128];
-    snprintf(options, sizeof options, "-D ROWS_PER_ITEM=%d", DEVICE_ROWS_PER_ITEM);
-    if (device_test_fault("build")) /* test-only (device.h): a genuine compile error */
-        snprintf(options, sizeof options, "-D ROWS_PER_ITEM=limn_test_fault_build");
-    err = clBuildProgram(im->program, 1, &device, options, NULL, NULL);
-    if (err != CL_SUCCESS) {
-        char log[1500] = "";
-        clGetProgramBuildInfo(im->program, device, CL_PROGRAM_BUILD_LOG, sizeof log - 1, log, NULL);
-        log[sizeof log - 1] = '\0';
-        if (!log[0])
-            snprintf(log, sizeof log, "(empty: the driver gave none; PoCL prints its compiler's "
-                                      "errors on stderr)");
-        return limn_fail(dev->ctx, LIMN_ERR_DEVICE,
-                         "building the OpenCL kernels for %s failed: %s: the device's OpenCL "
-                         "compiler rejected them; choose another device with --device (see "
-                         "'limn devices') or use --device reference (or allow --fallback "
-                         "reference); for PoCL, check that its kernel cache (POCL_CACHE_DIR, "
-                         "default ~/.cache/pocl) is writable\nbuild log:\n%s",
-                         dev->name, opencl_error_name(err), log);
-    }
-    im->spmv = clCreateKernel(im->program, "spmv", &err);
-    CHECK(err, "clCreateKernel(spmv)");
-    im->interp_step = clCreateKernel(im->program, "interp_step", &err);
-    CHECK(err, "clCreateKernel(interp_step)");
-    im->series_step = clCreateKernel(im->program, "series_step", &err);
-    CHECK(err, "clCreateKernel(series_step)");
-    im->axpby = clCreateKernel(im->program, "axpby", &err);
-    CHECK(err, "clCreateKernel(axpby)");
-    im->norms = clCreateKernel(im->program, "norms", &err);
-    CHECK(err, "clCreateKernel(norms)");
-    im->spmv_dot = clCreateKernel(im->program, "spmv_dot", &err);
-    CHECK(err, "clCreateKernel(spmv_dot)");
-    im->pcg_update = clCreateKernel(im->program, "pcg_update", &err);
-    CHECK(err, "clCreateKernel(pcg_update)");
-    im->cheb_step = clCreateKernel(im->program, "cheb_step", &err);
-    CHECK(err, "clCreateKernel(cheb_step)");
-    return LIMN_OK;
-}
-
 static limn_status open_device(struct limn_device *dev, const char *spec)
 {
+    double t0 = limn_seconds();
     opencl_choice choice;
     limn_status st = opencl_select_device(dev->ctx, spec, &choice);
     if (st)
@@ -522,9 +437,12 @@ static limn_status open_device(struct limn_device *dev, const char *spec)
                          "another with --device (see 'limn devices') or use --device reference",
                          dev->name);
     opencl_impl *im = impl_of(dev);
+    im->device = choice.device;
     CHECK(clGetDeviceInfo(choice.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof im->max_alloc,
                           &im->max_alloc, NULL),
           "clGetDeviceInfo(CL_DEVICE_MAX_MEM_ALLOC_SIZE)");
+    double t1 = limn_seconds();
+    dev->setup.platform += t1 - t0;
     cl_int err;
     cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)choice.platform,
                                      0};
@@ -532,7 +450,8 @@ static limn_status open_device(struct limn_device *dev, const char *spec)
     CHECK(err, "clCreateContext");
     im->queue = clCreateCommandQueue(im->context, choice.device, 0, &err);
     CHECK(err, "clCreateCommandQueue");
-    return build_program(dev, choice.device);
+    dev->setup.context += limn_seconds() - t1;
+    return opencl_build_program(dev);
 }
 
 limn_status device_open_opencl(limn_context *ctx, const char *spec, struct limn_device **out)

@@ -4,16 +4,11 @@
  * with FP_CONTRACT OFF), so it is the oracle for the OpenCL path.
  */
 #include "context.h"
-#include "device.h"
+#include "device_ref.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-struct device_buffer {
-    size_t bytes;
-    void *data;
-};
 
 static limn_status ref_buffer_create(struct limn_device *dev, size_t bytes, const void *init,
                                      device_buffer **out)
@@ -362,6 +357,10 @@ static const device_ops reference_ops = {
     .series_step = ref_series_step,
     .axpby = ref_axpby,
     .norms = ref_norms,
+    .residual_f = ref_residual_f,
+    .step_f = ref_step_f,
+    .add_f = ref_add_f,
+    .to_float = ref_to_float,
     .close = ref_close,
 };
 

@@ -8,6 +8,7 @@
 #include "mesh.h"
 #include "operator.h"
 #include "solve.h"
+#include "solve_mixed.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -41,6 +42,7 @@ void limn_interpolate_options_default(limn_interpolate_options *o)
     o->max_iterations = 1000;
     o->reorder = 1;
     o->method = LIMN_METHOD_AUTO;
+    o->precision = LIMN_PRECISION_AUTO;
 }
 
 solve_kind solve_kind_of(limn_method method)
@@ -225,6 +227,11 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
                            ? "auto: chebyshev, the fastest in measured time on every shared "
                              "mesh (fewest fused steps; cg uses as few products, each costlier)"
                            : "chosen by the caller";
+    limn_precision precision;
+    st = solve_precision_choose(ctx, o, method, mesh->vertex_count, &precision, r);
+    if (st)
+        return st;
+    device_setup_times setup = device_setup_of(ctx);
 
     limn_operator op;
     st = operator_build_ex(ctx, mesh, o->scheme, o->alpha, o->reorder ? OPERATOR_REORDER : 0, &op);
@@ -273,13 +280,17 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     }
     if (!st)
         st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), buf, &s.p[0]);
-    if (!st)
+    int which = 0, done = 0;
+    if (!st && precision == LIMN_PRECISION_FLOAT)
+        st = solve_mixed(ctx, &op, s.m, s.p[0], o, diag, method, &done, r);
+    if (!st && !done)
         st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), NULL, &s.p[1]);
-    int which = 0;
+    double t_loop = limn_seconds(), compiles = s.dev->setup.kernels; /* first launches */
     local_step ls = {&op, &s};
-    if (!st)
+    if (!st && !done)
         st = solve_iterate(ctx, step_local, &ls, op.vertex_count, op.scheme, op.alpha, o, diag,
                            solve_kind_of(method), &which, r);
+    r->seconds_iterations += limn_seconds() - t_loop - (s.dev->setup.kernels - compiles);
     if (!st)
         st = s.dev->ops->buffer_read(s.dev, s.p[which], 4 * n * sizeof(double), buf);
     limn_mesh *out = NULL;
@@ -288,6 +299,7 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     if (!st)
         operator_unpack(&op, buf, out->positions);
     r->seconds_solve = limn_seconds() - t0;
+    device_setup_report(ctx, &setup, r);
     r->max_rel_error = diag > 0 ? r->max_abs_error / diag : r->max_abs_error;
     r->mean_rel_error = diag > 0 ? r->mean_abs_error / diag : r->mean_abs_error;
     free(buf);

@@ -11,10 +11,14 @@
  *     (bob_quad, 4 levels) 1.32 GiB; the model says 2.19 and 1.40 GiB;
  *   paper (auto), weighted: 600 B/vertex + 16 B/corner; measured 1.27 and 0.81 GiB;
  *     the model says 1.50 and 0.94 GiB.
+ *   precision float (and auto from SOLVE_FLOAT_MIN_VERTICES): + 80 B/vertex for its
+ *     float right-hand side, two float corrections and float weights; measured
+ *     +60 MB at both sizes (1.36 -> 1.42 and 0.87 -> 0.93 GiB).
  * A solver that keeps more vectors must update these figures.
  */
 #include "context.h"
 #include "mesh.h"
+#include "solve_mixed.h"
 
 #include <unistd.h>
 
@@ -38,6 +42,11 @@ limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
     /* paper, weighted, chebyshev (and so auto) hold the same buffers; cg more */
     int cg = options && options->method == LIMN_METHOD_CG;
     double per_vertex = cg ? 1000.0 : 600.0, per_corner = cg ? 8.0 : 16.0;
+    limn_precision precision = options ? options->precision : LIMN_PRECISION_AUTO;
+    if (!cg && (precision == LIMN_PRECISION_FLOAT ||
+                (precision == LIMN_PRECISION_AUTO &&
+                 mesh->vertex_count >= SOLVE_FLOAT_MIN_VERTICES)))
+        per_vertex += 80.0;
     size_t corners = mesh->face_offsets[mesh->face_count];
     double peak = (double)mesh->vertex_count * per_vertex + (double)corners * per_corner +
                   (double)RUNTIME_BYTES;

@@ -322,15 +322,27 @@ typedef enum limn_method {
 /* "paper", "weighted", "cg", "chebyshev", "auto" */
 LIMN_API const char *limn_method_name(limn_method method);
 
+typedef enum limn_precision {
+    LIMN_PRECISION_AUTO = 0,   /* the default: float where it measured faster (README "Precision") */
+    LIMN_PRECISION_DOUBLE = 1, /* every product in double */
+    LIMN_PRECISION_FLOAT = 2   /* mixed: residuals of P in double, corrections iterated in
+                                  float; the tolerance still holds, measured in double */
+} limn_precision;
+
+/* "double", "float", "auto" */
+LIMN_API const char *limn_precision_name(limn_precision precision);
+
 typedef struct limn_interpolate_options {
     limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
-             double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
-             double tolerance;         /* max |M - A P| / bbox diagonal; default 1e-6 */
-             int max_iterations;       /* default 1000 */
-             int reorder;              /* renumber vertices for locality (RCM) inside the
-                                          solve; results stay in input order; default 1 */
-             limn_method method;       /* default LIMN_METHOD_AUTO */
-         } limn_interpolate_options;
+    double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
+    double tolerance;         /* max |M - A P| / bbox diagonal; default 1e-6 */
+    int max_iterations;       /* default 1000 */
+    int reorder;              /* renumber vertices for locality (RCM) inside the
+                                 solve; results stay in input order; default 1 */
+    limn_method method;       /* default LIMN_METHOD_AUTO */
+    limn_precision precision; /* default LIMN_PRECISION_AUTO; float runs with every
+                                 method but cg */
+} limn_interpolate_options;
 
 LIMN_API void limn_interpolate_options_default(limn_interpolate_options *options);
 
@@ -352,6 +364,19 @@ typedef struct limn_report {
     size_t stencil_nonzeros;
     int reordered;            /* 1 when the solve ran in RCM order */
     double seconds_topology, seconds_stencil, seconds_solve;
+    double seconds_iterations; /* of seconds_solve, the iteration loop alone: products and
+                                  their reductions, no buffer set-up, packing or output (cg:
+                                  its final check only) */
+    const char *precision;    /* the precision that ran: "double" or "float" */
+    const char *precision_reason; /* why that one, in words */
+    double products_float;    /* of `products`, those run in float */
+    /* OpenCL set-up during this call (zero on the reference backend, or when
+       the context's device was open and its kernels compiled already):
+       platform query and device choice, context and queue, program build
+       (from PoCL's kernel cache when warm), and the compiles on each
+       kernel's first launch. seconds_solve leaves the last out. */
+    double seconds_opencl_platform, seconds_opencl_context, seconds_opencl_build,
+        seconds_opencl_kernels;
 } limn_report;
 
 /*

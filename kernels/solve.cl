@@ -60,18 +60,20 @@ kernel void pcg_update(uint rows, double alpha, global const double4 *p,
 /* One step of a two-term recurrence (Chebyshev iteration, host/interpolate.c):
    r = m - A p; prev_next = p + c1 (p - prev_next) + c2 r, row by row (each row
    reads its own prev value before writing it, so one buffer holds x_{k-1} in
-   and x_{k+1} out); partials as interp_step. c1 = 0 gives p + c2 r. */
+   and x_{k+1} out); partials as interp_step. c1 = 0 gives p + c2 r.
+   ahead: prefetch the gathers (stencil.cl, GATHER_AHEAD). */
 kernel void cheb_step(uint rows, global const uint *ro, global const uint *col,
                       global const double *w, global const double4 *m,
                       global const double4 *p, global double4 *prev_next,
-                      global double *partials, double c1, double c2)
+                      global double *partials, double c1, double c2, uint ahead)
 {
     uint item = (uint)get_global_id(0);
     uint begin = item * ROWS_PER_ITEM;
     uint end = min(rows, begin + ROWS_PER_ITEM);
     double mx = 0.0, sum = 0.0, sq = 0.0;
+    uint last = ro[rows] - 1;
     for (uint i = begin; i < end; i++) {
-        double4 acc = row_product(i, ro, col, w, p);
+        double4 acc = row_product_ahead(i, ro, col, w, p, last, ahead);
         double4 mi = m[i], pi = p[i], qi = prev_next[i];
         double r0 = mi.x - acc.x, r1 = mi.y - acc.y, r2 = mi.z - acc.z;
         prev_next[i] = (double4)(pi.x + c1 * (pi.x - qi.x) + c2 * r0,

@@ -5,12 +5,15 @@
  *   uint64 n, uint64 nnz, uint32 row_offsets[n+1], uint32 columns[nnz],
  *   double weights[nnz], double M[3n], uint8 rule[n] (0 isolated, 1 smooth,
  *   2 crease, 3 pinned), double scale[n]
- *   export_operator MESH loop|catmark OUT.bin [alpha]
+ *   export_operator MESH loop|catmark OUT.bin [alpha] [rcm]
+ * rcm: rows and columns (and M, rule, scale) in limn's reverse Cuthill-McKee
+ * order, as a solve renumbers a mesh whose rows hop (README "Locality").
  */
 #include "limn.h"
 #include "mesh.h"
 #include "scheme.h"
 #include "stencil.h"
+#include "reorder.h"
 #include "topology.h"
 
 #include <stdio.h>
@@ -20,7 +23,7 @@
 int main(int argc, char **argv)
 {
     if (argc < 4) {
-        fprintf(stderr, "usage: export_operator MESH loop|catmark OUT.bin [alpha]\n");
+        fprintf(stderr, "usage: export_operator MESH loop|catmark OUT.bin [alpha] [rcm]\n");
         return 2;
     }
     limn_context *ctx = limn_context_create();
@@ -34,20 +37,40 @@ int main(int argc, char **argv)
         fprintf(stderr, "%s\n", limn_context_message(ctx));
         return 1;
     }
+    uint32_t *order = NULL, *rank = NULL;
+    if (argc > 5 && strcmp(argv[5], "rcm") == 0) {
+        stencil_csr permuted;
+        if (reorder_rcm(ctx, &t, &order, &rank) ||
+            stencil_permute(ctx, &a, order, rank, &permuted)) {
+            fprintf(stderr, "%s\n", limn_context_message(ctx));
+            return 1;
+        }
+        stencil_free(&a);
+        a = permuted;
+    }
     FILE *f = fopen(argv[3], "wb");
     if (!f)
         return 1;
     uint64_t n = a.rows, nnz = a.row_offsets[a.rows];
-    double *scale = malloc(n * sizeof *scale);
-    for (uint32_t v = 0; v < n; v++)
-        scale[v] = scheme_limit_row_scale(&t, scheme, v);
+    double *scale = malloc(n * sizeof *scale), *pos = malloc(3 * n * sizeof *pos);
+    uint8_t *rule = malloc(n);
+    for (uint32_t k = 0; k < n; k++) {
+        uint32_t v = order ? order[k] : k; /* row k is input vertex v */
+        scale[k] = scheme_limit_row_scale(&t, scheme, v);
+        rule[k] = (uint8_t)t.vertex_rule[v];
+        memcpy(pos + 3 * k, m->positions + 3 * v, 3 * sizeof *pos);
+    }
     int ok = fwrite(&n, 8, 1, f) == 1 && fwrite(&nnz, 8, 1, f) == 1 &&
              fwrite(a.row_offsets, 4, n + 1, f) == n + 1 && fwrite(a.columns, 4, nnz, f) == nnz &&
-             fwrite(a.weights, 8, nnz, f) == nnz && fwrite(m->positions, 8, 3 * n, f) == 3 * n &&
-             fwrite(t.vertex_rule, 1, n, f) == n && fwrite(scale, 8, n, f) == n;
+             fwrite(a.weights, 8, nnz, f) == nnz && fwrite(pos, 8, 3 * n, f) == 3 * n &&
+             fwrite(rule, 1, n, f) == n && fwrite(scale, 8, n, f) == n;
     if (fclose(f) != 0 || !ok)
         return 1;
     free(scale);
+    free(pos);
+    free(rule);
+    free(order);
+    free(rank);
     stencil_free(&a);
     topology_free(&t);
     limn_mesh_destroy(m);

@@ -3,12 +3,17 @@
 by side in the same run.
 
     bash scripts/build.sh -DLIMN_BUILD_PERF=ON
-    python3 perf/run_suite.py [--max-size 9000000] [--quick]
+    python3 perf/run_suite.py [--max-size 9000000] [--quick]   # the whole suite
+    python3 perf/run_suite.py --focus [--max-size 2200000]     # solve loop at >= 1M
 
-For each mesh size (real shared meshes, refined with `limn subdivide` into
-out/perf-meshes/ for the large sizes) and each scheme, it runs:
-  - limn interpolate, every method (paper, weighted, chebyshev, cg), PoCL on 1 and 2
-    threads (POCL_MAX_PTHREAD_COUNT), double precision;
+The whole suite needs numpy, scipy and matplotlib (pip install numpy scipy
+matplotlib); --focus needs none of them.
+
+Whole suite: for each mesh size (real shared meshes, refined with `limn
+subdivide` into out/perf-meshes/ for the large sizes) and each scheme:
+  - limn interpolate, every method (paper, weighted, chebyshev, cg), PoCL on 1
+    and on 2 threads (POCL_MAX_PTHREAD_COUNT); chebyshev and paper also in
+    float precision (--precision);
   - the seeds' iteration on OpenSubdiv's limit stencils (perf/osd_iteration,
     a plain C++ double loop; sizes up to --osd-max: its adaptive stencil build
     grows fast);
@@ -17,19 +22,38 @@ out/perf-meshes/ for the large sizes) and each scheme, it runs:
   - STREAM triad on 1 and 2 threads (perf/stream_triad), once;
   - denoise and morph throughput (perf/series_throughput.py).
 It prints a markdown table (time per vertex per product, products, solve
-seconds, GB/s moved by limn's solve loop and its fraction of the triad rate)
-and writes out/perf_suite.csv and out/perf_suite.png (time per vertex against
+seconds, GB/s moved by limn's solve and its fraction of the triad rate) and
+writes out/perf_suite.csv and out/perf_suite.png (time per vertex against
 size, per implementation).
 
-Bytes one product moves (the roofline of DESIGN.md §6): the CSR table
-(12 bytes a nonzero + 4 a row) plus the vectors the fused step streams
-(m, p read, p_next written: 3 x 32 bytes a row) plus one gather of p (32 bytes
-a row when the order is local).
+--focus: sizes from --min-size (1M) to --max-size only. For each: the solve
+loop's kernels alone (perf/step_bench: best of --repeats steps on resident
+buffers, double and float, 1 and 2 threads) as GB/s and fraction of the
+triad measured in the same run; and whole solves (limn interpolate, the
+--focus-methods, double and float, 1 and 2 threads, best and median of
+--repeats runs).
+
+Both modes end with OpenCL set-up on the embedded Spot mesh: a cold PoCL
+kernel cache (a fresh POCL_CACHE_DIR) and then a warm one, from the report's
+seconds.opencl_setup and its parts (platform query, context, program build,
+first-launch compiles).
+
+Bytes a step must move (the roofline of DESIGN.md §6), per precision:
+  double: the CSR table (4-byte column + 8-byte weight a nonzero, 4-byte row
+          offset a row) and m, p read and p_next written (32 bytes a row each;
+          chebyshev also reads the previous iterate it overwrites: 4 streams);
+  float:  the table with float weights (4 + 4 a nonzero, 4 a row) and b, d
+          read and d_next written (16 bytes a row each; chebyshev: 4 streams).
+The gather of p (or d) is not counted again: in a local vertex order it hits
+the lines the p stream brings in. A mixed solve moves products_float float
+steps and, for the rest, residuals of P (m, p read, a float r written).
+Write-allocate traffic is not counted (nor is it in STREAM).
 """
 import argparse
 import csv
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -44,10 +68,19 @@ SIZES = [
     ("igea 134k", "large/igea.ply", 0, ["loop", "catmark"]),
     ("bob 342k", "medium/bob_quad.obj", 3, ["catmark"]),
     ("igea 537k", "large/igea.ply", 1, ["loop", "catmark"]),
+    ("bob 1.4M", "medium/bob_quad.obj", 4, ["catmark"]),
     ("igea 2.1M", "large/igea.ply", 2, ["loop", "catmark"]),
     ("bob 5.5M", "medium/bob_quad.obj", 5, ["catmark"]),
     ("igea 8.6M", "large/igea.ply", 3, ["loop", "catmark"]),
 ]
+
+
+def step_bytes(nonzeros, vertices, precision, streams=3):
+    """CSR table + `streams` vector streams (3: paper, weighted; 4: chebyshev,
+    whose previous iterate is read, then overwritten)."""
+    if precision == "float":
+        return 8 * nonzeros + (4 + streams * 16) * vertices
+    return 12 * nonzeros + (4 + streams * 32) * vertices
 
 
 def run(cmd, env=None, timeout=3600):
@@ -74,27 +107,163 @@ def mesh_for(a, base, levels):
     return out
 
 
+def interpolate(a, tmp, path, scheme, method, precision, threads, env=None):
+    rep = os.path.join(tmp, "r.json")
+    e = {"POCL_MAX_PTHREAD_COUNT": str(threads)}
+    e.update(env or {})
+    run([a.limn, "interpolate", path, "-o", os.path.join(tmp, "p.ply"), "-q", "--scheme",
+         scheme, "--method", method, "--precision", precision, "--report", rep], env=e)
+    with open(rep) as f:
+        return json.load(f)
+
+
+def solve_bytes(j):
+    """Bytes of a whole solve: its double products (in a mixed solve, residuals
+    of P: m and p read, a float r written) and its float ones."""
+    nnz, n, nf = j["stencil_nonzeros"], j["vertices"], j.get("products_float", 0)
+    streams = 4 if j["method"] == "chebyshev" else 3
+    if nf:
+        residual = 12 * nnz + (4 + 32 + 32 + 16) * n
+        return residual * (j["products"] - nf) + step_bytes(nnz, n, "float", streams) * nf
+    return step_bytes(nnz, n, "double", streams) * j["products"]
+
+
+def triad(perf):
+    rates = {}
+    for t in (1, 2):
+        j = json.loads(run([os.path.join(perf, "stream_triad"), "512", "10"],
+                           env={"OMP_NUM_THREADS": str(t)}))
+        rates[t] = j["gb_per_s"]
+    return rates
+
+
+def setup_times(a, tmp, warm_runs=3):
+    """OpenCL set-up of a small job with a cold, then a warm, PoCL cache."""
+    spot = os.path.join(ROOT, "data", "spot_control_mesh.obj")
+    cache = tempfile.mkdtemp(prefix="limn_pocl_cache_")
+    rows = []
+    for label, runs in (("cold cache", 1), ("warm cache", warm_runs)):
+        js = [interpolate(a, tmp, spot, "catmark", "paper", "double", 2,
+                          env={"POCL_CACHE_DIR": cache}) for _ in range(runs)]
+        j = sorted(js, key=lambda x: x["seconds"]["opencl_setup"])[len(js) // 2]
+        rows.append((label, j["seconds"]["opencl_setup"], j["opencl_setup"],
+                     j["seconds"]["total"]))
+    subprocess.run(["rm", "-rf", cache])
+    return rows
+
+
+def print_setup(rows):
+    print("\nOpenCL set-up, embedded Spot mesh (2,930 vertices; median of the warm runs):")
+    print("| kernel cache | set-up s | platform | context | program build | first launches "
+          "| whole run s |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    for label, total, parts, whole in rows:
+        print(f"| {label} | {total:.3f} | {parts['platform']:.3f} | {parts['context']:.3f} "
+              f"| {parts['build']:.3f} | {parts['kernels']:.3f} | {whole:.3f} |")
+
+
+def focus(a, perf, tmp):
+    stream = triad(perf)
+    kernel_rows, solve_rows = [], []
+    for label, base, levels, schemes in SIZES:
+        path = mesh_for(a, base, levels)
+        n = json.loads(run([a.limn, "info", path, "--json"]))["vertices"]
+        if n < a.min_size or n > a.max_size:
+            continue
+        for scheme in schemes:
+            for t in (1, 2):
+                out = run([os.path.join(perf, "step_bench"), path, scheme, str(a.steps)],
+                          env={"POCL_MAX_PTHREAD_COUNT": str(t)})
+                for line in out.splitlines():
+                    j = json.loads(line)
+                    kernel_rows.append((label, scheme, f"{j['method']} {j['precision']}", t,
+                                        j["seconds_best"], j["seconds_median"], j["gb_per_s"]))
+                    print(f"  {label} {scheme} step {j['method']} {j['precision']} {t}t: "
+                          f"{j['seconds_best'] * 1e3:.1f} ms", file=sys.stderr)
+                for method, precision in ((m, p) for m in a.focus_methods.split(",")
+                                          for p in ("double", "float")):
+                    js = [interpolate(a, tmp, path, scheme, method, precision, t)
+                          for _ in range(a.repeats)]
+                    secs = sorted(j["seconds"]["solve"] for j in js)
+                    loop = min(j["seconds"]["iterations"] for j in js)
+                    j = js[0]
+                    solve_rows.append((label, scheme, f"{method} {precision}", t, j["products"],
+                                       j.get("products_float", 0), secs[0],
+                                       statistics.median(secs), j["max_rel_error"],
+                                       solve_bytes(j) / secs[0] / 1e9, loop,
+                                       solve_bytes(j) / loop / 1e9))
+    # the machine is shared: the triad is taken again at the end and the higher
+    # rate kept, so that a busy moment cannot flatter the fractions
+    again = triad(perf)
+    stream = {t: max(stream[t], again[t]) for t in stream}
+    print(f"STREAM triad: {stream[1]:.1f} GB/s (1 thread), {stream[2]:.1f} GB/s (2 threads), "
+          "the higher of two runs")
+    print("\nThe solve loop's step alone (perf/step_bench, best of "
+          f"{a.steps} steps; bytes: see perf/run_suite.py):")
+    print("| size | scheme | step, precision | threads | ms best | ms median | GB/s | of triad |")
+    print("|---|---|---|---:|---:|---:|---:|---:|")
+    for r in kernel_rows:
+        print(f"| {r[0]} | {r[1]} | {r[2]} | {r[3]} | {r[4] * 1e3:.1f} | {r[5] * 1e3:.1f} "
+              f"| {r[6]:.1f} | {100 * r[6] / stream[r[3]]:.0f}% |")
+    print(f"\nWhole solves to 1e-6 (limn interpolate; best and median of {a.repeats}). Its "
+          "iteration loop alone (the report's seconds.iterations, best) and its rate; the "
+          "whole solve's rate counts its buffers, packing and output mesh as time, not bytes:")
+    print("| size | scheme | method, precision | threads | products (float) | solve s best "
+          "| median | max error | loop s | loop GB/s | loop of triad | whole solve of triad |")
+    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for r in solve_rows:
+        print(f"| {r[0]} | {r[1]} | {r[2]} | {r[3]} | {r[4]:.0f} ({r[5]:.0f}) | {r[6]:.3f} "
+              f"| {r[7]:.3f} | {r[8]:.2e} | {r[10]:.3f} | {r[11]:.1f} "
+              f"| {100 * r[11] / stream[r[3]]:.0f}% | {100 * r[9] / stream[r[3]]:.0f}% |")
+
+
+def need_modules(names, why):
+    missing = []
+    for m in names:
+        try:
+            __import__(m)
+        except ImportError:
+            missing.append(m)
+    if missing:
+        sys.exit(f"perf/run_suite.py: {why} needs the Python modules {', '.join(missing)}: "
+                 f"pip install {' '.join(missing)}  (or run with --focus, which needs none)")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--meshes", default=os.environ.get(
         "LIMN_SHARED_MESHES", os.path.join(ROOT, "..", "shared", "meshes")))
     ap.add_argument("--max-size", type=float, default=9e6)
+    ap.add_argument("--min-size", type=float, default=1e6, help="--focus: smallest mesh")
     ap.add_argument("--osd-max", type=float, default=140e3)
     ap.add_argument("--scipy-max", type=float, default=2.2e6)
     ap.add_argument("--superlu-max", type=int, default=150000)
     ap.add_argument("--quick", action="store_true", help="1 thread count, cg and paper only")
+    ap.add_argument("--focus", action="store_true",
+                    help="the solve loop at >= --min-size: kernels alone and whole solves, "
+                         "double and float, 1 and 2 threads, against STREAM triad")
+    ap.add_argument("--repeats", type=int, default=3, help="--focus: runs per whole solve")
+    ap.add_argument("--focus-methods", default="chebyshev",
+                    help="--focus: methods of the whole solves, comma-separated")
+    ap.add_argument("--steps", type=int, default=20, help="--focus: timed kernel steps")
     ap.add_argument("--csv", default=os.path.join(ROOT, "out", "perf_suite.csv"))
     a = ap.parse_args()
     a.limn = os.path.join(a.build, "limn")
     perf = os.path.join(a.build, "perf")
+    for tool in ("stream_triad", "step_bench"):
+        if not os.path.exists(os.path.join(perf, tool)):
+            sys.exit(f"perf/run_suite.py: {perf}/{tool} is missing: build with "
+                     "bash scripts/build.sh -DLIMN_BUILD_PERF=ON (or pass --build DIR)")
     tmp = tempfile.mkdtemp(prefix="limn_suite_")
+    if a.focus:
+        focus(a, perf, tmp)
+        print_setup(setup_times(a, tmp))
+        print(f"({time.strftime('%Y-%m-%d')})")
+        return
+    need_modules(["numpy", "scipy", "matplotlib"], "the whole suite (SciPy anchors, plot)")
     rows = []
-    stream = {}
-    for t in (1, 2):
-        j = json.loads(run([os.path.join(perf, "stream_triad"), "512", "10"],
-                           env={"OMP_NUM_THREADS": str(t)}))
-        stream[t] = j["gb_per_s"]
+    stream = triad(perf)
     methods = ["paper", "chebyshev", "cg"] if a.quick else ["paper", "weighted", "chebyshev", "cg"]
     threads = [2] if a.quick else [1, 2]
     for label, base, levels, schemes in SIZES:
@@ -104,23 +273,19 @@ def main():
         if n > a.max_size:
             continue
         for scheme in schemes:
-            for method in methods:
+            runs = [(m, "double") for m in methods] + [("chebyshev", "float"), ("paper", "float")]
+            for method, precision in runs:
                 for t in threads:
-                    rep = os.path.join(tmp, "r.json")
-                    run([a.limn, "interpolate", path, "-o", os.path.join(tmp, "p.ply"), "-q",
-                         "--scheme", scheme, "--method", method, "--report", rep],
-                        env={"POCL_MAX_PTHREAD_COUNT": str(t)})
-                    with open(rep) as f:
-                        j = json.load(f)
+                    j = interpolate(a, tmp, path, scheme, method, precision, t)
                     per = j["seconds"]["solve"] / max(j["products"], 1)
-                    nbytes = j["stencil_nonzeros"] * 12 + n * (4 + 4 * 32)
-                    gbs = nbytes / per / 1e9
+                    gbs = solve_bytes(j) / j["seconds"]["solve"] / 1e9
+                    impl = f"limn {method}{' float' if precision == 'float' else ''} {t}t"
                     rows.append({"size": label, "vertices": n, "scheme": scheme,
-                                 "impl": f"limn {method} {t}t", "products": j["products"],
+                                 "impl": impl, "products": j["products"],
                                  "seconds": j["seconds"]["solve"], "s_per_product": per,
                                  "gb_per_s": gbs, "triad_fraction": gbs / stream[t],
                                  "peak_rss_bytes": j.get("peak_rss_bytes", 0)})
-                    print(f"  {label} {scheme} limn {method} {t}t: {j['products']:.1f} products, "
+                    print(f"  {label} {scheme} {impl}: {j['products']:.1f} products, "
                           f"{per * 1e3:.2f} ms/product", file=sys.stderr)
             if n <= a.osd_max:
                 j = json.loads(run([os.path.join(perf, "osd_iteration"), path, scheme]))
@@ -167,28 +332,26 @@ def main():
     print("\nDenoise and morph (PoCL, 2 threads; compute phase):")
     series_throughput.print_table(
         series_throughput.measure(a.build, a.meshes, min(a.max_size, 9e6), stream[2]), stream[2])
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
-        for ax, scheme in zip(axes, ("loop", "catmark")):
-            impls = sorted({r["impl"] for r in rows if r["scheme"] == scheme})
-            for impl in impls:
-                pts = sorted((r["vertices"], r["seconds"] / r["vertices"] * 1e9) for r in rows
-                             if r["scheme"] == scheme and r["impl"] == impl)
-                ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker="o", label=impl)
-            ax.set_title(f"{scheme}: solve time per vertex to 1e-6")
-            ax.set_xlabel("vertices")
-            ax.grid(True, which="both", alpha=0.3)
-        axes[0].set_ylabel("ns per vertex (whole solve)")
-        axes[1].legend(fontsize=7, loc="upper right")
-        fig.tight_layout()
-        png = os.path.splitext(a.csv)[0] + ".png"
-        fig.savefig(png, dpi=90)
-        print(f"(plot: {png}; CSV: {a.csv}; {time.strftime('%Y-%m-%d')})")
-    except ImportError:
-        print("(matplotlib not installed: no plot; pip install matplotlib)")
+    print_setup(setup_times(a, tmp))
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    for ax, scheme in zip(axes, ("loop", "catmark")):
+        impls = sorted({r["impl"] for r in rows if r["scheme"] == scheme})
+        for impl in impls:
+            pts = sorted((r["vertices"], r["seconds"] / r["vertices"] * 1e9) for r in rows
+                         if r["scheme"] == scheme and r["impl"] == impl)
+            ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker="o", label=impl)
+        ax.set_title(f"{scheme}: solve time per vertex to 1e-6")
+        ax.set_xlabel("vertices")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("ns per vertex (whole solve)")
+    axes[1].legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    png = os.path.splitext(a.csv)[0] + ".png"
+    fig.savefig(png, dpi=90)
+    print(f"(plot: {png}; CSV: {a.csv}; {time.strftime('%Y-%m-%d')})")
 
 
 if __name__ == "__main__":

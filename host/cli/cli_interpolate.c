@@ -40,6 +40,9 @@ static const char *const help =
     "                         paper (the seeds' iteration, the reference),\n"
     "                         weighted, chebyshev (one fused step a product),\n"
     "                         cg (fewest products)                      [auto]\n"
+    "  --precision P          auto (float from 200,000 vertices), double, or\n"
+    "                         float: corrections iterated in float, residuals\n"
+    "                         and the stop test in double (not with cg)  [auto]\n"
     "  --no-reorder           keep the input vertex order inside the solve\n"
     "                         (default: reverse Cuthill-McKee for locality)\n"
     "  --overwrite-input      allow OUTPUT to be the INPUT file\n"
@@ -153,6 +156,17 @@ static int parse(int argc, char **argv, args *a)
                 return cli_usage_error(
                     "interpolate", "--method '%s' is not one of auto, paper, weighted, chebyshev, cg",
                     v);
+        } else if (strcmp(s, "--precision") == 0) {
+            VALUE();
+            if (strcmp(v, "auto") == 0)
+                a->opt.precision = LIMN_PRECISION_AUTO;
+            else if (strcmp(v, "double") == 0)
+                a->opt.precision = LIMN_PRECISION_DOUBLE;
+            else if (strcmp(v, "float") == 0)
+                a->opt.precision = LIMN_PRECISION_FLOAT;
+            else
+                return cli_usage_error("interpolate",
+                                       "--precision '%s' is not one of auto, double, float", v);
         } else if (strcmp(s, "--no-reorder") == 0) {
             a->opt.reorder = 0;
         } else if (strcmp(s, "--overwrite-input") == 0) {
@@ -175,6 +189,9 @@ static int parse(int argc, char **argv, args *a)
         return cli_usage_error("interpolate", "no INPUT mesh given");
     if (!a->output)
         return cli_usage_error("interpolate", "no output given (-o OUTPUT)");
+    if (a->opt.precision == LIMN_PRECISION_FLOAT && a->opt.method == LIMN_METHOD_CG)
+        return cli_usage_error("interpolate", "--precision float runs the chebyshev, paper or "
+                                              "weighted iteration; cg runs in double");
     if ((a->levels_given || a->sub.limit) && !a->surface)
         return cli_usage_error("interpolate", "--levels and --limit need --surface FILE");
     if (a->per_rank && cli_mpi_ranks() == 1)
@@ -207,16 +224,21 @@ static void print_summary(limn_context *ctx, const args *a, const limn_report *r
     limn_context_threads(ctx, &threads, &threads_source);
     fprintf(stderr,
             "limn interpolate: %s -> %s\n"
-            "  vertices %zu, faces %zu, scheme %s, alpha %g, method %s, vertex order %s\n"
+            "  vertices %zu, faces %zu, scheme %s, alpha %g, method %s, precision %s, vertex "
+            "order %s\n"
             "  iterations %d, max error %.3g, mean error %.3g (relative to the bbox diagonal "
             "%.6g)\n"
             "  device: %s; threads %d (%s)\n"
-            "  seconds: load %.3f, topology %.3f, stencil %.3f, solve %.3f (%.3g per "
-            "iteration), write %.3f\n",
+            "  seconds: load %.3f, opencl setup %.3f, topology %.3f, stencil %.3f, solve %.3f "
+            "(%.3g per iteration), write %.3f\n",
             a->input, a->output, r->vertices, r->faces, limn_scheme_name(r->scheme), r->alpha,
-            r->method, r->reordered ? "rcm" : "input", r->iterations, r->max_rel_error,
-            r->mean_rel_error, r->bbox_diagonal,
-            r->device, threads, threads_source, sec[0], r->seconds_topology, r->seconds_stencil, r->seconds_solve,
+            r->method, r->precision ? r->precision : "double", r->reordered ? "rcm" : "input",
+            r->iterations,
+            r->max_rel_error, r->mean_rel_error, r->bbox_diagonal, r->device, threads,
+            threads_source, sec[0],
+            r->seconds_opencl_platform + r->seconds_opencl_context + r->seconds_opencl_build +
+                r->seconds_opencl_kernels,
+            r->seconds_topology, r->seconds_stencil, r->seconds_solve,
             r->seconds_solve / (r->iterations + 1), sec[1]);
 }
 
@@ -238,6 +260,9 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_integer(j, "iterations", r->iterations);
     json_number(j, "products", r->products);
     json_string(j, "method_reason", r->method_reason ? r->method_reason : "");
+    json_string(j, "precision", r->precision ? r->precision : "double");
+    json_string(j, "precision_reason", r->precision_reason ? r->precision_reason : "");
+    json_number(j, "products_float", r->products_float);
     if (strcmp(r->method, "weighted") == 0)
         json_number(j, "omega", r->omega);
     if (strcmp(r->method, "chebyshev") == 0) {
@@ -272,10 +297,19 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_number(j, "topology", r->seconds_topology);
     json_number(j, "stencil", r->seconds_stencil);
     json_number(j, "solve", r->seconds_solve);
+    json_number(j, "iterations", r->seconds_iterations);
+    json_number(j, "opencl_setup", r->seconds_opencl_platform + r->seconds_opencl_context +
+                                       r->seconds_opencl_build + r->seconds_opencl_kernels);
     if (sr)
         json_number(j, "surface", sr->seconds_plan + sr->seconds_apply + sr->seconds_limit);
     json_number(j, "write", sec[1]);
     json_number(j, "total", sec[2]);
+    json_object_end(j);
+    json_object_begin(j, "opencl_setup");
+    json_number(j, "platform", r->seconds_opencl_platform);
+    json_number(j, "context", r->seconds_opencl_context);
+    json_number(j, "build", r->seconds_opencl_build);
+    json_number(j, "kernels", r->seconds_opencl_kernels);
     json_object_end(j);
     return json_stage(ctx, j, a->report, af);
 }

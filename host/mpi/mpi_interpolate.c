@@ -107,6 +107,13 @@ limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_me
     limn_interpolate_options_default(&defaults);
     const limn_interpolate_options *o = options ? options : &defaults;
     st = solve_check_options(ctx, o);
+    /* the float path (solve_mixed.c) is single-process for now */
+    if (!st && o->precision == LIMN_PRECISION_FLOAT)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                       "precision float is not available under MPI yet: use --precision double "
+                       "or auto");
+    r->precision = "double";
+    r->precision_reason = "MPI runs in double";
     if (!st && p.rank == p.root && (!mesh || !control))
         st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
                        "limn_interpolate_mpi: the root rank needs the mesh and control");
