@@ -229,6 +229,50 @@ def need_modules(names, why):
                  f"pip install {' '.join(missing)}  (or run with --focus, which needs none)")
 
 
+COLORS = {"paper": "tab:blue", "weighted": "tab:green", "chebyshev": "tab:red",
+          "cg": "tab:purple", "opensubdiv": "black", "scipy paper": "tab:gray",
+          "scipy cg": "tab:brown", "scipy superlu": "tab:olive"}
+
+
+def style(impl):
+    """Colour by method, line by threads (solid 2, dashed 1), marker by
+    precision (o double, s float); anchors dotted."""
+    words = impl.split()
+    if words[0] == "limn":
+        return dict(color=COLORS[words[1]], linestyle="-" if impl.endswith("2t") else "--",
+                    marker="s" if "float" in words else "o", markersize=4)
+    key = "opensubdiv" if words[0] == "opensubdiv" else " ".join(words[:2])
+    return dict(color=COLORS.get(key, "tab:cyan"), linestyle=":", marker="^", markersize=5)
+
+
+def plot(rows, png):
+    """Time per vertex of the whole solve against size, one line per
+    implementation, Loop and Catmull-Clark side by side."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), sharey=True)
+    for ax, scheme in zip(axes, ("loop", "catmark")):
+        impls = sorted({r["impl"] for r in rows if r["scheme"] == scheme})
+        for impl in impls:
+            pts = sorted((float(r["vertices"]), float(r["seconds"]) / float(r["vertices"]) * 1e9)
+                         for r in rows if r["scheme"] == scheme and r["impl"] == impl)
+            ax.loglog([p[0] for p in pts], [p[1] for p in pts], label=impl, **style(impl))
+        ax.set_title(f"{scheme}: solve time per vertex to 1e-6")
+        ax.set_xlabel("vertices")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("ns per vertex (whole solve; OpenSubdiv: with its stencil build)")
+    handles, labels = axes[0].get_legend_handles_labels()
+    h2, l2 = axes[1].get_legend_handles_labels()
+    for h, lab in zip(h2, l2):
+        if lab not in labels:
+            handles.append(h)
+            labels.append(lab)
+    fig.legend(handles, labels, fontsize=7, loc="center right")
+    fig.tight_layout(rect=(0, 0, 0.84, 1))
+    fig.savefig(png, dpi=90)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
@@ -248,7 +292,16 @@ def main():
                     help="--focus: methods of the whole solves, comma-separated")
     ap.add_argument("--steps", type=int, default=20, help="--focus: timed kernel steps")
     ap.add_argument("--csv", default=os.path.join(ROOT, "out", "perf_suite.csv"))
+    ap.add_argument("--plot-only", action="store_true",
+                    help="redraw the PNG from an existing --csv, measuring nothing")
     a = ap.parse_args()
+    if a.plot_only:
+        with open(a.csv, newline="") as f:
+            rows = list(csv.DictReader(f))
+        png = os.path.splitext(a.csv)[0] + ".png"
+        plot(rows, png)
+        print(f"(plot: {png}, from {a.csv})")
+        return
     a.limn = os.path.join(a.build, "limn")
     perf = os.path.join(a.build, "perf")
     for tool in ("stream_triad", "step_bench"):
@@ -333,24 +386,8 @@ def main():
     series_throughput.print_table(
         series_throughput.measure(a.build, a.meshes, min(a.max_size, 9e6), stream[2]), stream[2])
     print_setup(setup_times(a, tmp))
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
-    for ax, scheme in zip(axes, ("loop", "catmark")):
-        impls = sorted({r["impl"] for r in rows if r["scheme"] == scheme})
-        for impl in impls:
-            pts = sorted((r["vertices"], r["seconds"] / r["vertices"] * 1e9) for r in rows
-                         if r["scheme"] == scheme and r["impl"] == impl)
-            ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker="o", label=impl)
-        ax.set_title(f"{scheme}: solve time per vertex to 1e-6")
-        ax.set_xlabel("vertices")
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].set_ylabel("ns per vertex (whole solve)")
-    axes[1].legend(fontsize=7, loc="upper right")
-    fig.tight_layout()
     png = os.path.splitext(a.csv)[0] + ".png"
-    fig.savefig(png, dpi=90)
+    plot(rows, png)
     print(f"(plot: {png}; CSV: {a.csv}; {time.strftime('%Y-%m-%d')})")
 
 
