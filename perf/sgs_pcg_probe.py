@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""A probe for issue 5's open products target: conjugate gradients on the
+symmetric form S = D^-1 A preconditioned by symmetric Gauss-Seidel (SSOR with
+omega = 1), in the natural vertex order, counting iterations to
+max |M - A P| <= 1e-6 x bbox diagonal. Closed manifold meshes only (one
+smooth block). Not a solver of limn: it measures what a stronger
+preconditioner would buy before anyone builds one on the device (which
+needs a multicolour ordering).
+
+    bash scripts/build.sh -DLIMN_BUILD_PERF=ON
+    python3 perf/sgs_pcg_probe.py [--build build] [MESH:SCHEME ...]
+
+Needs numpy and scipy. Each iteration applies S once and the two triangular
+sweeps once (with Eisenstat's trick about one matrix pass in all).
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from scipy_anchor import load  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SHARED = os.environ.get("LIMN_SHARED_MESHES", os.path.join(ROOT, "..", "shared", "meshes"))
+DEFAULT = ["armadillo_43k.obj:loop", "bunny_closed.off:loop", "blub_quadrangulated.obj:catmark"]
+
+
+def max_norm(r):
+    return float(np.sqrt((r * r).sum(axis=1)).max())
+
+
+def sgs_pcg(A, M, scale, tol):
+    S = (sp.diags(1 / scale) @ A).tocsr()
+    S = ((S + S.T) / 2).tocsr()  # symmetric to rounding on closed manifold meshes
+    b = sp.diags(1 / scale) @ M
+    diag = S.diagonal()
+    lower = (sp.diags(diag) + sp.tril(S, -1)).tocsr()
+    upper = (sp.diags(diag) + sp.triu(S, 1)).tocsr()
+
+    def precondition(r):
+        y = spla.spsolve_triangular(lower, r, lower=True)
+        return spla.spsolve_triangular(upper, diag[:, None] * y, lower=False)
+
+    x = M.copy()
+    r = b - S @ x
+    z = precondition(r)
+    p = z.copy()
+    rz = float((r * z).sum())
+    for k in range(1, 200):
+        if max_norm(M - A @ x) <= tol:
+            return k
+        q = S @ p
+        alpha = rz / float((p * q).sum())
+        x += alpha * p
+        r -= alpha * q
+        z = precondition(r)
+        rz_next = float((r * z).sum())
+        p = z + (rz_next / rz) * p
+        rz = rz_next
+    return -1
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("meshes", nargs="*", default=DEFAULT)
+    a = ap.parse_args()
+    exporter = os.path.join(a.build, "perf", "export_operator")
+    if not os.path.exists(exporter):
+        sys.exit(f"{exporter} is missing: bash scripts/build.sh -DLIMN_BUILD_PERF=ON")
+    print("| mesh | scheme | SGS-PCG iterations to 1e-6 |")
+    print("|---|---|---:|")
+    with tempfile.TemporaryDirectory() as tmp:
+        for item in a.meshes:
+            name, scheme = item.rsplit(":", 1)
+            path = name if os.path.exists(name) else os.path.join(SHARED, "medium", name)
+            out = os.path.join(tmp, "op.bin")
+            subprocess.run([exporter, path, scheme, out], check=True)
+            A, M, rule, scale = load(out)
+            if (rule != 1).any():
+                print(f"| {os.path.basename(name)} | {scheme} | (not closed manifold: skipped) |")
+                continue
+            tol = 1e-6 * float(np.linalg.norm(M.max(0) - M.min(0)))
+            print(f"| {os.path.basename(name)} | {scheme} | {sgs_pcg(A, M, scale, tol)} |",
+                  flush=True)
+
+
+if __name__ == "__main__":
+    main()
