@@ -104,52 +104,17 @@ static limn_status ref_spmv(struct limn_device *dev, const device_csr *a, device
     return LIMN_OK;
 }
 
-static limn_status ref_interp_step(struct limn_device *dev, const device_csr *a,
-                                   device_buffer *m, device_buffer *p, device_buffer *p_next,
-                                   double omega, device_norms *norms)
+/*
+ * The fused residual step of kernels/stencil.cl (interp_step) and
+ * kernels/solve.cl (cheb_step), in their order: r = m - A p and, per row,
+ * prev == NULL: next = p + c2 r (interp_step, c2 = omega);
+ * otherwise:    next = p + c1 (p - prev) + c2 r (cheb_step; next may be prev).
+ * Partial norms of r per chunk, finished in chunk order.
+ */
+static limn_status ref_fused_step(struct limn_device *dev, const device_csr *a,
+                                  const double *ms, const double *ps, const double *prev,
+                                  double *next, double c1, double c2, device_norms *norms)
 {
-    const double *ms = m->data, *ps = p->data;
-    double *pn = p_next->data;
-    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
-    if (!partials)
-        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
-    for (size_t g = 0; g < chunks; g++) {
-        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        if (end > a->row_begin + a->rows)
-            end = a->row_begin + a->rows;
-        double mx = 0.0, sum = 0.0, sq = 0.0;
-        for (size_t i = begin; i < end; i++) {
-            double acc[4];
-            row_product(a, i, ps, acc);
-            double r0 = ms[4 * i] - acc[0], r1 = ms[4 * i + 1] - acc[1],
-                   r2 = ms[4 * i + 2] - acc[2];
-            pn[4 * i] = ps[4 * i] + omega * r0;
-            pn[4 * i + 1] = ps[4 * i + 1] + omega * r1;
-            pn[4 * i + 2] = ps[4 * i + 2] + omega * r2;
-            pn[4 * i + 3] = 0.0;
-            double r2sum = r0 * r0 + r1 * r1 + r2 * r2;
-            double len = sqrt(r2sum);
-            mx = len > mx ? len : mx;
-            sum += len;
-            sq += r2sum;
-        }
-        partials[3 * g] = mx;
-        partials[3 * g + 1] = sum;
-        partials[3 * g + 2] = sq;
-    }
-    device_norms_finish(partials, chunks, norms);
-    free(partials);
-    return LIMN_OK;
-}
-
-/* Same order as kernels/solve.cl: cheb_step. */
-static limn_status ref_cheb_step(struct limn_device *dev, const device_csr *a, device_buffer *m,
-                                 device_buffer *p, device_buffer *prev_next, double c1,
-                                 double c2, device_norms *norms)
-{
-    const double *ms = m->data, *ps = p->data;
-    double *qn = prev_next->data;
     size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
     double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
     if (!partials)
@@ -165,9 +130,10 @@ static limn_status ref_cheb_step(struct limn_device *dev, const device_csr *a, d
             for (int d = 0; d < 3; d++) {
                 r[d] = ms[4 * i + d] - acc[d];
                 double pi = ps[4 * i + d];
-                qn[4 * i + d] = pi + c1 * (pi - qn[4 * i + d]) + c2 * r[d];
+                next[4 * i + d] = prev ? pi + c1 * (pi - prev[4 * i + d]) + c2 * r[d]
+                                       : pi + c2 * r[d];
             }
-            qn[4 * i + 3] = 0.0;
+            next[4 * i + 3] = 0.0;
             double r2sum = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
             double len = sqrt(r2sum);
             mx = len > mx ? len : mx;
@@ -181,6 +147,21 @@ static limn_status ref_cheb_step(struct limn_device *dev, const device_csr *a, d
     device_norms_finish(partials, chunks, norms);
     free(partials);
     return LIMN_OK;
+}
+
+static limn_status ref_interp_step(struct limn_device *dev, const device_csr *a,
+                                   device_buffer *m, device_buffer *p, device_buffer *p_next,
+                                   double omega, device_norms *norms)
+{
+    return ref_fused_step(dev, a, m->data, p->data, NULL, p_next->data, 0.0, omega, norms);
+}
+
+static limn_status ref_cheb_step(struct limn_device *dev, const device_csr *a, device_buffer *m,
+                                 device_buffer *p, device_buffer *prev_next, double c1,
+                                 double c2, device_norms *norms)
+{
+    return ref_fused_step(dev, a, m->data, p->data, prev_next->data, prev_next->data, c1, c2,
+                          norms);
 }
 
 /* Same order as kernels/series.cl: series_step. */
