@@ -215,6 +215,21 @@ limn_status opencl_ensure_partials(struct limn_device *dev, size_t first_item, s
     return LIMN_OK;
 }
 
+limn_status opencl_begin_reduce(struct limn_device *dev, opencl_kernel_id id,
+                                const device_csr *a, device_buffer *weights, cl_kernel *k)
+{
+    *k = impl_of(dev)->kernels[id];
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
+    return st ? st : opencl_set_csr_args(dev, *k, a, weights);
+}
+
+limn_status opencl_end_reduce(struct limn_device *dev, opencl_kernel_id id, const device_csr *a,
+                              device_norms *out)
+{
+    limn_status st = opencl_launch(dev, id, opencl_first_item(a), a->rows);
+    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, out);
+}
+
 limn_status opencl_finish_partials(struct limn_device *dev, size_t first_item, size_t rows,
                                    device_norms *out)
 {
@@ -234,10 +249,8 @@ static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
                                   double omega, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    cl_kernel k = im->kernels[K_INTERP_STEP];
-    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
-    if (!st)
-        st = opencl_set_csr_args(dev, k, a, a->weights);
+    cl_kernel k;
+    limn_status st = opencl_begin_reduce(dev, K_INTERP_STEP, a, a->weights, &k);
     if (st)
         return st;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &m->mem), "clSetKernelArg(m)");
@@ -247,8 +260,7 @@ static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
     cl_uint ahead = (cl_uint)a->gather_ahead;
     CHECK(clSetKernelArg(k, 8, sizeof omega, &omega), "clSetKernelArg(omega)");
     CHECK(clSetKernelArg(k, 9, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
-    st = opencl_launch(dev, K_INTERP_STEP, opencl_first_item(a), a->rows);
-    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
+    return opencl_end_reduce(dev, K_INTERP_STEP, a, norms);
 }
 
 static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
@@ -257,10 +269,8 @@ static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
                                   device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    cl_kernel k = im->kernels[K_SERIES_STEP];
-    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
-    if (!st)
-        st = opencl_set_csr_args(dev, k, a, a->weights);
+    cl_kernel k;
+    limn_status st = opencl_begin_reduce(dev, K_SERIES_STEP, a, a->weights, &k);
     if (st)
         return st;
     /* buffers this launch does not use are bound to x and never touched */
@@ -275,8 +285,7 @@ static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
     CHECK(clSetKernelArg(k, 8, sizeof fl, &fl), "clSetKernelArg(flags)");
     CHECK(clSetKernelArg(k, 9, sizeof mode, &mode), "clSetKernelArg(acc_mode)");
     CHECK(clSetKernelArg(k, 10, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = opencl_launch(dev, K_SERIES_STEP, opencl_first_item(a), a->rows);
-    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
+    return opencl_end_reduce(dev, K_SERIES_STEP, a, norms);
 }
 
 static limn_status cl_axpby(struct limn_device *dev, size_t rows, double a, device_buffer *x,
@@ -315,20 +324,16 @@ static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, dev
                                device_buffer *y, device_buffer *dinv, double *dot)
 {
     opencl_impl *im = impl_of(dev);
-    cl_kernel k = im->kernels[K_SPMV_DOT];
-    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
-    if (!st)
-        st = opencl_set_csr_args(dev, k, a, a->weights);
+    cl_kernel k;
+    limn_status st = opencl_begin_reduce(dev, K_SPMV_DOT, a, a->weights, &k);
     if (st)
         return st;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
     CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
     CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = opencl_launch(dev, K_SPMV_DOT, opencl_first_item(a), a->rows);
     device_norms n;
-    if (!st)
-        st = opencl_finish_partials(dev, opencl_first_item(a), a->rows, &n);
+    st = opencl_end_reduce(dev, K_SPMV_DOT, a, &n);
     if (!st)
         *dot = n.sum;
     return st;
@@ -339,10 +344,8 @@ static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
                                 double c1, double c2, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    cl_kernel k = im->kernels[K_CHEB_STEP];
-    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
-    if (!st)
-        st = opencl_set_csr_args(dev, k, a, a->weights);
+    cl_kernel k;
+    limn_status st = opencl_begin_reduce(dev, K_CHEB_STEP, a, a->weights, &k);
     if (st)
         return st;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &m->mem), "clSetKernelArg(m)");
@@ -353,8 +356,7 @@ static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
     CHECK(clSetKernelArg(k, 9, sizeof c2, &c2), "clSetKernelArg(c2)");
     cl_uint ahead = (cl_uint)a->gather_ahead;
     CHECK(clSetKernelArg(k, 10, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
-    st = opencl_launch(dev, K_CHEB_STEP, opencl_first_item(a), a->rows);
-    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
+    return opencl_end_reduce(dev, K_CHEB_STEP, a, norms);
 }
 
 static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double alpha,

@@ -81,6 +81,13 @@ limn_status opencl_ensure_partials(struct limn_device *dev, size_t first_item, s
 /* Reads those partial norms and finishes them in chunk order. */
 limn_status opencl_finish_partials(struct limn_device *dev, size_t first_item, size_t rows,
                                    device_norms *out);
+/* For a reducing kernel over table a: room for its partials, the table bound
+   as arguments 0-3 (with `weights`); *k is the kernel for its own arguments. */
+limn_status opencl_begin_reduce(struct limn_device *dev, opencl_kernel_id id,
+                                const device_csr *a, device_buffer *weights, cl_kernel *k);
+/* Launches it over a's rows and finishes its partial norms into out. */
+limn_status opencl_end_reduce(struct limn_device *dev, opencl_kernel_id id, const device_csr *a,
+                              device_norms *out);
 
 limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_buffer *m,
                           device_buffer *p, device_buffer *r_f, device_norms *norms);

@@ -6,10 +6,8 @@ limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_b
                           device_buffer *p, device_buffer *r_f, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    cl_kernel k = im->kernels[K_RESIDUAL_F];
-    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
-    if (!st)
-        st = opencl_set_csr_args(dev, k, a, a->weights);
+    cl_kernel k;
+    limn_status st = opencl_begin_reduce(dev, K_RESIDUAL_F, a, a->weights, &k);
     if (st)
         return st;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &m->mem), "clSetKernelArg(m)");
@@ -18,8 +16,7 @@ limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_b
     cl_uint ahead = (cl_uint)a->gather_ahead;
     CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
     CHECK(clSetKernelArg(k, 8, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
-    st = opencl_launch(dev, K_RESIDUAL_F, opencl_first_item(a), a->rows);
-    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
+    return opencl_end_reduce(dev, K_RESIDUAL_F, a, norms);
 }
 
 limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
@@ -27,12 +24,10 @@ limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffe
                       float c2, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    cl_kernel k = im->kernels[K_STEP_F];
     if (!a->weights_f)
         return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "step_f: no float weights");
-    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
-    if (!st)
-        st = opencl_set_csr_args(dev, k, a, a->weights_f);
+    cl_kernel k;
+    limn_status st = opencl_begin_reduce(dev, K_STEP_F, a, a->weights_f, &k);
     if (st)
         return st;
     CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &b->mem), "clSetKernelArg(b)");
@@ -44,8 +39,7 @@ limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffe
     CHECK(clSetKernelArg(k, 9, sizeof c1, &c1), "clSetKernelArg(c1)");
     CHECK(clSetKernelArg(k, 10, sizeof c2, &c2), "clSetKernelArg(c2)");
     CHECK(clSetKernelArg(k, 11, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
-    st = opencl_launch(dev, K_STEP_F, opencl_first_item(a), a->rows);
-    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, norms);
+    return opencl_end_reduce(dev, K_STEP_F, a, norms);
 }
 
 limn_status cl_add_f(struct limn_device *dev, size_t rows, device_buffer *p, device_buffer *d)
