@@ -49,39 +49,26 @@ static const char *at(const char *name)
     return path[k];
 }
 
-/* LeakSanitizer's own stop-the-world tracer sometimes segfaults at exit while
-   Open MPI's and PoCL's threads wind down ("Tracer caught signal 11 ...
-   LeakSanitizer has encountered a fatal error", google/sanitizers#1353): a
-   crash of the checker after limn has finished, not a leak report. Seen in
-   about one of the ~60 launches of a sanitizer run. */
-static int lsan_tracer_crashed(const char *out)
-{
-    return strstr(out, "Tracer caught signal") &&
-           strstr(out, "LeakSanitizer has encountered a fatal error");
-}
-
-static int run_once(int ranks, const char *args);
-
 /* Runs `limn ARGS` (ranks > 0: under the MPI launcher, killed after 300 s so
    that a hang fails instead of blocking), output in text; the exit status.
-   A launch that only failed by the tracer crash above runs again (twice at
-   most), so that leaks are still checked and a real failure still fails. */
+   Under the sanitizers the ranks run without LeakSanitizer: its
+   stop-the-world tracer segfaults at exit while Open MPI's and PoCL's
+   threads wind down ("Tracer caught signal 11 ... LeakSanitizer has
+   encountered a fatal error", google/sanitizers#1353) - seen three times in
+   a row on a loaded CI machine, after limn had written its output. The same
+   code's leaks are still checked: by the one-process runs here and by
+   test_mpi (the MPI layer in process, 2 and 3 ranks). Memory errors and
+   undefined behaviour still fail the ranks. */
 static int run(int ranks, const char *args)
 {
-    int rc = run_once(ranks, args);
-    for (int again = 0; again < 2 && rc != 0 && lsan_tracer_crashed(text); again++) {
-        fprintf(stderr, "  (LeakSanitizer's tracer crashed at exit; running it again)\n");
-        rc = run_once(ranks, args);
-    }
-    return rc;
-}
-
-static int run_once(int ranks, const char *args)
-{
     char cmd[8192];
+    const char *asan = getenv("ASAN_OPTIONS");
+    char no_leaks[512] = "";
+    if (asan)
+        snprintf(no_leaks, sizeof no_leaks, "ASAN_OPTIONS='%s:detect_leaks=0' ", asan);
     if (ranks > 0)
-        snprintf(cmd, sizeof cmd, "timeout 300 %s %d '%s' %s 2>&1", getenv("LIMN_MPIEXEC"), ranks,
-                 getenv("LIMN_BIN"), args);
+        snprintf(cmd, sizeof cmd, "%stimeout 300 %s %d '%s' %s 2>&1", no_leaks,
+                 getenv("LIMN_MPIEXEC"), ranks, getenv("LIMN_BIN"), args);
     else
         snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", getenv("LIMN_BIN"), args);
     FILE *p = popen(cmd, "r");
