@@ -45,6 +45,31 @@ typedef struct device_norms {
     double sum_sq;    /* sum |r_i|^2 */
 } device_norms;
 
+/* The table of the multicolour symmetric Gauss-Seidel sweeps (host/sgs_table.c,
+   kernels/sgs.cl) for S = D_A^-1 A on one solver block. Rows are in colour
+   order, colour c owning rows [colour_begin[c], colour_begin[c + 1]); no
+   entry joins two rows of one colour. Row i's off-diagonal entries are
+   [row_offsets[i], row_offsets[i + 1]): columns of lower colours first, the
+   higher ones from split[i]. info: 4 doubles a row, (d_i, sqrt d_i, scale_i,
+   0) with d_i = S_ii and scale_i the row scale (A = scale S). */
+typedef struct device_sgs {
+    size_t rows, colours;
+    size_t *colour_begin;         /* host array, colours + 1 */
+    device_buffer *row_offsets;   /* uint32, rows + 1 */
+    device_buffer *split;         /* uint32, rows */
+    device_buffer *columns;       /* uint32 */
+    device_buffer *weights;       /* double */
+    device_buffer *info;          /* 4 doubles a row */
+} device_sgs;
+
+/* The vectors of the SGS-preconditioned conjugate gradients (host/solve_sgs.c),
+   4 doubles a row: right-hand side b (of S x = b), iterate x, residual
+   r = b - S x, the transformed residual rhat and direction phat, and the
+   sweeps' t, u and st = S t. */
+typedef struct sgs_vectors {
+    device_buffer *b, *x, *r, *rhat, *phat, *t, *u, *st;
+} sgs_vectors;
+
 typedef struct device_ops {
     const char *kind;   /* "opencl" or "reference" */
     limn_status (*buffer_create)(struct limn_device *dev, size_t bytes, const void *init,
@@ -114,6 +139,23 @@ typedef struct device_ops {
     /* w_f = w rounded to float, `count` values. */
     limn_status (*to_float)(struct limn_device *dev, size_t count, device_buffer *w,
                             device_buffer *w_f);
+    /* SGS-preconditioned CG (host/solve_sgs.c, kernels/sgs.cl; C = (D + L)
+       D^-1/2 with S = L + D + U, steps on C^-1 S C^-T).
+       The backward sweep, colours high to low: phat = rhat + beta phat, then
+       t = (D + U)^-1 D^1/2 phat. */
+    limn_status (*sgs_upper)(struct limn_device *dev, const device_sgs *a, double beta,
+                             const sgs_vectors *v);
+    /* The forward sweep, colours low to high. start: r = b - S x, u =
+       (D + L)^-1 r, rhat = D^1/2 u; out->max = max scale_i |r_i| (the
+       residual of A), out->sum = rhat . rhat. Otherwise u = (D + L)^-1
+       (D^1/2 phat - D t), st = S t, out->sum = phat . q with q = D^1/2
+       (t + u). Each entry is read once either way. */
+    limn_status (*sgs_lower)(struct limn_device *dev, const device_sgs *a, int start,
+                             const sgs_vectors *v, device_norms *out);
+    /* x += alpha t; r -= alpha st; rhat -= alpha q; norms->max = max scale_i
+       |r_i|, norms->sum = rhat . rhat. */
+    limn_status (*sgs_update)(struct limn_device *dev, const device_sgs *a, double alpha,
+                              const sgs_vectors *v, device_norms *norms);
     void (*close)(struct limn_device *dev);
 } device_ops;
 

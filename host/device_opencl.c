@@ -420,6 +420,9 @@ static const device_ops opencl_ops = {
     .step_f = cl_step_f,
     .add_f = cl_add_f,
     .to_float = cl_to_float,
+    .sgs_upper = cl_sgs_upper,
+    .sgs_lower = cl_sgs_lower,
+    .sgs_update = cl_sgs_update,
     .close = cl_close,
 };
 

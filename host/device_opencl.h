@@ -24,6 +24,9 @@ typedef enum opencl_kernel_id {
     K_STEP_F,
     K_ADD_F,
     K_TO_FLOAT,
+    K_SGS_UPPER,
+    K_SGS_LOWER,
+    K_SGS_UPDATE,
     K_COUNT
 } opencl_kernel_id;
 
@@ -97,5 +100,11 @@ limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffe
 limn_status cl_add_f(struct limn_device *dev, size_t rows, device_buffer *p, device_buffer *d);
 limn_status cl_to_float(struct limn_device *dev, size_t count, device_buffer *w,
                         device_buffer *w_f);
+limn_status cl_sgs_upper(struct limn_device *dev, const device_sgs *a, double beta,
+                         const sgs_vectors *v);
+limn_status cl_sgs_lower(struct limn_device *dev, const device_sgs *a, int start,
+                         const sgs_vectors *v, device_norms *out);
+limn_status cl_sgs_update(struct limn_device *dev, const device_sgs *a, double alpha,
+                          const sgs_vectors *v, device_norms *norms);
 
 #endif

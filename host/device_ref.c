@@ -342,6 +342,9 @@ static const device_ops reference_ops = {
     .step_f = ref_step_f,
     .add_f = ref_add_f,
     .to_float = ref_to_float,
+    .sgs_upper = ref_sgs_upper,
+    .sgs_lower = ref_sgs_lower,
+    .sgs_update = ref_sgs_update,
     .close = ref_close,
 };
 

@@ -1,5 +1,6 @@
-/* Internals of the reference backend shared by device_ref.c and
-   device_ref_mixed.c (the float operations of the mixed-precision solve). */
+/* Internals of the reference backend shared by device_ref.c,
+   device_ref_mixed.c (the float operations of the mixed-precision solve) and
+   device_ref_sgs.c (the SGS-preconditioned CG's sweeps). */
 #ifndef LIMN_DEVICE_REF_H
 #define LIMN_DEVICE_REF_H
 
@@ -18,5 +19,11 @@ limn_status ref_step_f(struct limn_device *dev, const device_csr *a, device_buff
 limn_status ref_add_f(struct limn_device *dev, size_t rows, device_buffer *p, device_buffer *d);
 limn_status ref_to_float(struct limn_device *dev, size_t count, device_buffer *w,
                          device_buffer *w_f);
+limn_status ref_sgs_upper(struct limn_device *dev, const device_sgs *a, double beta,
+                          const sgs_vectors *v);
+limn_status ref_sgs_lower(struct limn_device *dev, const device_sgs *a, int start,
+                          const sgs_vectors *v, device_norms *out);
+limn_status ref_sgs_update(struct limn_device *dev, const device_sgs *a, double alpha,
+                           const sgs_vectors *v, device_norms *norms);
 
 #endif

@@ -28,6 +28,7 @@ const char *limn_method_name(limn_method m)
     case LIMN_METHOD_WEIGHTED: return "weighted";
     case LIMN_METHOD_CG: return "cg";
     case LIMN_METHOD_CHEBYSHEV: return "chebyshev";
+    case LIMN_METHOD_SGS: return "sgs";
     }
     return "unknown";
 }
@@ -65,7 +66,7 @@ limn_status solve_check_options(limn_context *ctx, const limn_interpolate_option
     if (!(o->tolerance > 0.0 && isfinite(o->tolerance)))
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "tolerance is %g; it must be a positive number",
                          o->tolerance);
-    if (o->method < LIMN_METHOD_AUTO || o->method > LIMN_METHOD_CHEBYSHEV)
+    if (o->method < LIMN_METHOD_AUTO || o->method > LIMN_METHOD_SGS)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "unknown method %d", (int)o->method);
     if (o->max_iterations < 1)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "max iterations is %d; it must be at least 1",
@@ -257,13 +258,17 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
         operator_pack(&op, mesh->positions, buf);
     if (!st)
         st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), buf, &s.m);
-    if (!st && method == LIMN_METHOD_CG) {
+    if (!st && (method == LIMN_METHOD_CG || method == LIMN_METHOD_SGS)) {
         /* CG gives the start; the seeds' step below measures its residual on
            the whole system (and polishes, should rounding leave it short) */
         double *p4 = malloc((n ? n : 1) * 4 * sizeof *p4);
         solve_stats stats = {0, 0, op.scheme == LIMN_SCHEME_CATMARK && op.alpha == 0.0};
-        st = p4 ? solve_cg(ctx, &op, buf, o->tolerance * diag, o->max_iterations, p4, &stats)
-                : limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+        if (!p4)
+            st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+        else if (method == LIMN_METHOD_SGS)
+            st = solve_sgs(ctx, &op, buf, o->tolerance * diag, o->max_iterations, p4, &stats);
+        else
+            st = solve_cg(ctx, &op, buf, o->tolerance * diag, o->max_iterations, p4, &stats);
         if (st == LIMN_ERR_TOPOLOGY) {
             limn_warn(ctx, "conjugate gradients need the limit operator to be block triangular "
                            "by vertex rule, which this mesh's is not: used the seeds' iteration");

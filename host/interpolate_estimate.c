@@ -40,7 +40,7 @@ limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
     if (!mesh)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate_estimate: mesh is NULL");
     /* paper, weighted, chebyshev (and so auto) hold the same buffers; cg more */
-    int cg = options && options->method == LIMN_METHOD_CG;
+    int cg = options && (options->method == LIMN_METHOD_CG || options->method == LIMN_METHOD_SGS);
     double per_vertex = cg ? 1000.0 : 600.0, per_corner = cg ? 8.0 : 16.0;
     limn_precision precision = options ? options->precision : LIMN_PRECISION_AUTO;
     if (!cg && (precision == LIMN_PRECISION_FLOAT ||

@@ -20,6 +20,8 @@ extern const unsigned char limn_kernel_solve[];
 extern const size_t limn_kernel_solve_size;
 extern const unsigned char limn_kernel_mixed[];
 extern const size_t limn_kernel_mixed_size;
+extern const unsigned char limn_kernel_sgs[];
+extern const size_t limn_kernel_sgs_size;
 
 static const char *const kernel_names[K_COUNT] = {
     [K_SPMV] = "spmv",
@@ -34,6 +36,9 @@ static const char *const kernel_names[K_COUNT] = {
     [K_STEP_F] = "step_f",
     [K_ADD_F] = "add_f",
     [K_TO_FLOAT] = "to_float",
+    [K_SGS_UPPER] = "sgs_upper",
+    [K_SGS_LOWER] = "sgs_lower",
+    [K_SGS_UPDATE] = "sgs_update",
 };
 
 const char *opencl_kernel_name(opencl_kernel_id id) { return kernel_names[id]; }
@@ -42,12 +47,13 @@ limn_status opencl_build_program(struct limn_device *dev)
 {
     opencl_impl *im = impl_of(dev);
     double t0 = limn_seconds();
-    const char *src[4] = {(const char *)limn_kernel_stencil, (const char *)limn_kernel_series,
-                          (const char *)limn_kernel_solve, (const char *)limn_kernel_mixed};
-    size_t len[4] = {limn_kernel_stencil_size, limn_kernel_series_size, limn_kernel_solve_size,
-                     limn_kernel_mixed_size};
+    const char *src[5] = {(const char *)limn_kernel_stencil, (const char *)limn_kernel_series,
+                          (const char *)limn_kernel_solve, (const char *)limn_kernel_mixed,
+                          (const char *)limn_kernel_sgs};
+    size_t len[5] = {limn_kernel_stencil_size, limn_kernel_series_size, limn_kernel_solve_size,
+                     limn_kernel_mixed_size, limn_kernel_sgs_size};
     cl_int err;
-    im->program = clCreateProgramWithSource(im->context, 4, src, len, &err);
+    im->program = clCreateProgramWithSource(im->context, 5, src, len, &err);
     CHECK(err, "clCreateProgramWithSource");
     /* gathers prefetched ahead on CPU devices only (kernels/stencil.cl) */
     cl_device_type type = 0;

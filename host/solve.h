@@ -19,6 +19,47 @@ typedef struct solve_stats {
 limn_status solve_cg(limn_context *ctx, const limn_operator *op, const double *m4,
                      double tol_abs, int max_iter, double *p4, solve_stats *stats);
 
+/*
+ * The same tiers, each block solved by CG preconditioned by multicolour
+ * symmetric Gauss-Seidel (solve_sgs.c); same contract as solve_cg.
+ */
+limn_status solve_sgs(limn_context *ctx, const limn_operator *op, const double *m4,
+                      double tol_abs, int max_iter, double *p4, solve_stats *stats);
+
+/* One tier's block A x = b (rows of table a, 4 doubles a row in b and x0,
+   dinv = 1 / row scale, so that dinv A is symmetric); the answer returns in
+   x0. on_device: a's copy on the device when it has one, else NULL. */
+typedef limn_status (*solve_block_fn)(limn_context *ctx, struct limn_device *dev,
+                                      const stencil_csr *a, const device_csr *on_device,
+                                      const double *b, double *x0, const double *dinv,
+                                      double tol_abs, int max_iter, double n_total,
+                                      solve_stats *stats);
+limn_status solve_block_jacobi(limn_context *ctx, struct limn_device *dev, const stencil_csr *a,
+                               const device_csr *on_device, const double *b, double *x0,
+                               const double *dinv, double tol_abs, int max_iter, double n_total,
+                               solve_stats *stats);
+limn_status solve_block_sgs(limn_context *ctx, struct limn_device *dev, const stencil_csr *a,
+                            const device_csr *on_device, const double *b, double *x0,
+                            const double *dinv, double tol_abs, int max_iter, double n_total,
+                            solve_stats *stats);
+/* Pinned rows P = M, then the crease and the smooth block (solve_cg.c). */
+limn_status solve_tiers(limn_context *ctx, const limn_operator *op, const double *m4,
+                        double tol_abs, int max_iter, double *p4, solve_block_fn solve_block,
+                        solve_stats *stats);
+
+/* The guards of a CG-type loop (solve_cg.c): cg_watch_step sees the max
+   residual before each step and sets *done when it meets tol_abs, or fails
+   with a message on divergence, stalling (singular operator) or the step cap. */
+#define CG_STALL_WINDOW 25
+typedef struct cg_watch {
+    int steps;
+    double history[CG_STALL_WINDOW];
+} cg_watch;
+limn_status cg_watch_step(limn_context *ctx, cg_watch *w, double residual, solve_stats *stats,
+                          double tol_abs, int max_iter, int *done);
+/* The message when p . S p is not positive. */
+limn_status cg_breakdown(limn_context *ctx, double pq, solve_stats *stats);
+
 /* The updates of solve_iterate. */
 typedef enum solve_kind { SOLVE_PAPER, SOLVE_WEIGHTED, SOLVE_CHEBYSHEV } solve_kind;
 solve_kind solve_kind_of(limn_method method); /* AUTO is resolved before */

@@ -19,7 +19,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define STALL_WINDOW 25
 
 typedef struct block {
     stencil_csr s;          /* rows and columns of the tier, local numbering */
@@ -104,6 +103,47 @@ static limn_status make_block(limn_context *ctx, const limn_operator *op, const 
     return LIMN_OK;
 }
 
+limn_status cg_watch_step(limn_context *ctx, cg_watch *w, double residual, solve_stats *stats,
+                          double tol_abs, int max_iter, int *done)
+{
+    int k = w->steps++;
+    *done = 0;
+    if (!isfinite(residual))
+        return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+                         "conjugate gradients diverged (non-finite residual after %d steps)", k);
+    if (residual <= tol_abs) {
+        *done = 1;
+        return LIMN_OK;
+    }
+    if (k >= CG_STALL_WINDOW && residual > 0.99 * w->history[k % CG_STALL_WINDOW])
+        return limn_fail(ctx, LIMN_ERR_SINGULAR,
+                         "the residual stopped shrinking under conjugate gradients: %.3g after "
+                         "%d steps, %.3g %d steps earlier. The limit operator is singular or "
+                         "nearly so for this mesh%s; no result was written",
+                         residual, k, w->history[k % CG_STALL_WINDOW], CG_STALL_WINDOW,
+                         stats->catmark_alpha0
+                             ? " (alpha = 0 with valence-3 vertices, e.g. a cube, has a zero "
+                               "eigenvalue): run again with --alpha 0.5"
+                             : "");
+    w->history[k % CG_STALL_WINDOW] = residual;
+    if (stats->iterations >= max_iter)
+        return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+                         "no convergence in %d conjugate-gradient steps: max error %.3g, "
+                         "tolerance %.3g: raise --max-iter or loosen --tol",
+                         stats->iterations, residual, tol_abs);
+    return LIMN_OK;
+}
+
+limn_status cg_breakdown(limn_context *ctx, double pq, solve_stats *stats)
+{
+    return limn_fail(ctx, LIMN_ERR_SINGULAR,
+                     "conjugate gradients broke down (p.Ap = %.3g): the limit operator is "
+                     "not positive definite for this mesh%s; no result was written",
+                     pq,
+                     stats->catmark_alpha0 ? ": run again with --alpha 0.5 or --method paper"
+                                           : ": try --method paper");
+}
+
 /* PCG on one block whose matrix is on the device (s, n rows): b and x0 are
    4 doubles a row, dinv one; the answer returns in x0. */
 static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_csr *sp,
@@ -127,8 +167,7 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
         st = ops->buffer_create(dev, bytes, NULL, &q);
     if (!st)
         st = ops->buffer_create(dev, n * sizeof(double), dinv_host, &dinv);
-    double share = (double)n / n_total, rz = 0, first = -1;
-    double history[STALL_WINDOW];
+    double share = (double)n / n_total, rz = 0;
     device_norms nz;
     /* z = b - S x0 (one product); p = z; norms of z through a zero update */
     if (!st)
@@ -141,36 +180,12 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
         st = ops->pcg_update(dev, n, 0.0, p, q, x, z, dinv, &nz);
     stats->products += share;
     rz = nz.sum;
+    cg_watch watch = {0};
     for (int k = 0; !st; k++) {
-        if (!isfinite(nz.max)) {
-            st = limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
-                           "conjugate gradients diverged (non-finite residual after %d steps)", k);
+        int done = 0;
+        st = cg_watch_step(ctx, &watch, nz.max, stats, tol_abs, max_iter, &done);
+        if (st || done)
             break;
-        }
-        if (nz.max <= tol_abs)
-            break;
-        if (first < 0)
-            first = nz.max;
-        if (k >= STALL_WINDOW && nz.max > 0.99 * history[k % STALL_WINDOW]) {
-            st = limn_fail(ctx, LIMN_ERR_SINGULAR,
-                           "the residual stopped shrinking under conjugate gradients: %.3g after "
-                           "%d steps, %.3g %d steps earlier. The limit operator is singular or "
-                           "nearly so for this mesh%s; no result was written",
-                           nz.max, k, history[k % STALL_WINDOW], STALL_WINDOW,
-                           stats->catmark_alpha0
-                               ? " (alpha = 0 with valence-3 vertices, e.g. a cube, has a zero "
-                                 "eigenvalue): run again with --alpha 0.5"
-                               : "");
-            break;
-        }
-        history[k % STALL_WINDOW] = nz.max;
-        if (stats->iterations >= max_iter) {
-            st = limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
-                           "no convergence in %d conjugate-gradient steps: max error %.3g, "
-                           "tolerance %.3g: raise --max-iter or loosen --tol",
-                           stats->iterations, nz.max, tol_abs);
-            break;
-        }
         double pq;
         st = ops->spmv_dot(dev, &s, p, q, dinv, &pq);
         stats->products += share;
@@ -178,12 +193,7 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
         if (st)
             break;
         if (!(pq > 0.0) || !isfinite(pq)) {
-            st = limn_fail(ctx, LIMN_ERR_SINGULAR,
-                           "conjugate gradients broke down (p.Ap = %.3g): the limit operator is "
-                           "not positive definite for this mesh%s; no result was written",
-                           pq,
-                           stats->catmark_alpha0 ? ": run again with --alpha 0.5 or --method paper"
-                                                 : ": try --method paper");
+            st = cg_breakdown(ctx, pq, stats);
             break;
         }
         double alpha = rz / pq;
@@ -203,11 +213,29 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
     return st;
 }
 
+/* The D-preconditioned block solve (solve_block_fn): the block's table is
+   uploaded unless it is the operator's own. */
+limn_status solve_block_jacobi(limn_context *ctx, struct limn_device *dev, const stencil_csr *a,
+                               const device_csr *on_device, const double *b, double *x0,
+                               const double *dinv, double tol_abs, int max_iter, double n_total,
+                               solve_stats *stats)
+{
+    if (on_device)
+        return pcg(ctx, dev, on_device, a->rows, b, x0, dinv, tol_abs, max_iter, n_total, stats);
+    device_csr sd;
+    limn_status st = device_csr_upload(dev, a, &sd);
+    if (!st) {
+        st = pcg(ctx, dev, &sd, a->rows, b, x0, dinv, tol_abs, max_iter, n_total, stats);
+        device_csr_release(dev, &sd);
+    }
+    return st;
+}
+
 /* Every row smooth (closed manifold meshes): the operator's own table is the
    block, already on the device; b = x0 = M. */
 static limn_status solve_single_block(limn_context *ctx, const limn_operator *op,
                                       const double *m4, double tol_abs, int max_iter, double *p4,
-                                      solve_stats *stats)
+                                      solve_block_fn solve_block, solve_stats *stats)
 {
     size_t n = op->host.rows;
     double *dinv = malloc((n ? n : 1) * sizeof *dinv);
@@ -217,14 +245,15 @@ static limn_status solve_single_block(limn_context *ctx, const limn_operator *op
         dinv[r] = 1.0 / scheme_limit_row_scale(&op->topo, op->scheme,
                                                op->order ? op->order[r] : (uint32_t)r);
     memcpy(p4, m4, 4 * n * sizeof(double));
-    limn_status st = pcg(ctx, op->dev, &op->device, n, m4, p4, dinv, tol_abs, max_iter,
-                         (double)(n ? n : 1), stats);
+    limn_status st = solve_block(ctx, op->dev, &op->host, &op->device, m4, p4, dinv, tol_abs,
+                                 max_iter, (double)(n ? n : 1), stats);
     free(dinv);
     return st;
 }
 
-limn_status solve_cg(limn_context *ctx, const limn_operator *op, const double *m4,
-                     double tol_abs, int max_iter, double *p4, solve_stats *stats)
+limn_status solve_tiers(limn_context *ctx, const limn_operator *op, const double *m4,
+                        double tol_abs, int max_iter, double *p4, solve_block_fn solve_block,
+                        solve_stats *stats)
 {
     size_t n = op->host.rows;
     int *tier = malloc((n ? n : 1) * sizeof *tier);
@@ -242,7 +271,7 @@ limn_status solve_cg(limn_context *ctx, const limn_operator *op, const double *m
     if (count[2] == n) {
         free(tier);
         free(local);
-        return solve_single_block(ctx, op, m4, tol_abs, max_iter, p4, stats);
+        return solve_single_block(ctx, op, m4, tol_abs, max_iter, p4, solve_block, stats);
     }
     /* pinned rows: P = M */
     memcpy(p4, m4, 4 * n * sizeof(double));
@@ -252,23 +281,14 @@ limn_status solve_cg(limn_context *ctx, const limn_operator *op, const double *m
             continue;
         block bl;
         st = make_block(ctx, op, tier, local, t, m4, p4, count[t], &bl);
-        if (st == LIMN_ERR_TOPOLOGY) {
-            st = LIMN_ERR_TOPOLOGY; /* not block triangular: caller falls back */
-            break;
-        }
         if (st)
-            break;
+            break; /* LIMN_ERR_TOPOLOGY: not block triangular, the caller falls back */
         /* forming b reads the block's rows once: a fraction of a product,
            and nothing when no other tier exists (b = M) */
         if (count[t] < n)
             stats->products += (double)count[t] / (double)(n ? n : 1);
-        device_csr sd;
-        st = device_csr_upload(op->dev, &bl.s, &sd);
-        if (!st) {
-            st = pcg(ctx, op->dev, &sd, count[t], bl.b, bl.x0, bl.dinv, tol_abs, max_iter,
-                     (double)(n ? n : 1), stats);
-            device_csr_release(op->dev, &sd);
-        }
+        st = solve_block(ctx, op->dev, &bl.s, NULL, bl.b, bl.x0, bl.dinv, tol_abs, max_iter,
+                         (double)(n ? n : 1), stats);
         for (size_t i = 0; !st && i < count[t]; i++)
             memcpy(p4 + 4 * (size_t)bl.rows[i], bl.x0 + 4 * i, 3 * sizeof(double));
         block_free(&bl);
@@ -276,4 +296,10 @@ limn_status solve_cg(limn_context *ctx, const limn_operator *op, const double *m
     free(tier);
     free(local);
     return st;
+}
+
+limn_status solve_cg(limn_context *ctx, const limn_operator *op, const double *m4,
+                     double tol_abs, int max_iter, double *p4, solve_stats *stats)
+{
+    return solve_tiers(ctx, op, m4, tol_abs, max_iter, p4, solve_block_jacobi, stats);
 }

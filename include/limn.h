@@ -316,10 +316,12 @@ typedef enum limn_method {
     LIMN_METHOD_PAPER = 1,     /* the seeds' iteration P += M - A P, the reference */
     LIMN_METHOD_WEIGHTED = 2,  /* P += w (M - A P), w = 2 / (lambda_min + 1) estimated */
     LIMN_METHOD_CG = 3,        /* tiered, D-preconditioned conjugate gradients */
-    LIMN_METHOD_CHEBYSHEV = 4  /* Chebyshev iteration on [a, 1], one fused step a product */
+    LIMN_METHOD_CHEBYSHEV = 4, /* Chebyshev iteration on [a, 1], one fused step a product */
+    LIMN_METHOD_SGS = 5        /* tiered CG preconditioned by symmetric Gauss-Seidel
+                                  (multicolour sweeps, Eisenstat's form): fewest products */
 } limn_method;
 
-/* "paper", "weighted", "cg", "chebyshev", "auto" */
+/* "paper", "weighted", "cg", "chebyshev", "sgs", "auto" */
 LIMN_API const char *limn_method_name(limn_method method);
 
 typedef enum limn_precision {

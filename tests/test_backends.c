@@ -57,8 +57,8 @@ static void agree_on(const char *name, limn_mesh *m, limn_scheme scheme, double 
            limn_scheme_name(scheme), same, 6 * n, ra.iterations);
     /* every solver's kernels, too */
     limn_method others[] = {LIMN_METHOD_PAPER, LIMN_METHOD_WEIGHTED, LIMN_METHOD_CHEBYSHEV,
-                            LIMN_METHOD_CG};
-    for (int k = 0; k < 4; k++) {
+                            LIMN_METHOD_CG, LIMN_METHOD_SGS};
+    for (int k = 0; k < 5; k++) {
         limn_mesh *qa = NULL, *qb = NULL;
         size_t same_k = 0;
         o.method = others[k];

@@ -39,10 +39,12 @@ static const char *const help =
     "  --method M             auto (the fastest measured: chebyshev),\n"
     "                         paper (the seeds' iteration, the reference),\n"
     "                         weighted, chebyshev (one fused step a product),\n"
-    "                         cg (fewest products)                      [auto]\n"
+    "                         cg (D-preconditioned conjugate gradients),\n"
+    "                         sgs (CG with symmetric Gauss-Seidel: fewest\n"
+    "                         products)                                 [auto]\n"
     "  --precision P          auto (float from 200,000 vertices), double, or\n"
     "                         float: corrections iterated in float, residuals\n"
-    "                         and the stop test in double (not with cg)  [auto]\n"
+    "                         and the stop test in double (not cg, sgs)  [auto]\n"
     "  --no-reorder           keep the input vertex order inside the solve\n"
     "                         (default: reverse Cuthill-McKee for locality)\n"
     "  --overwrite-input      allow OUTPUT to be the INPUT file\n"
@@ -152,10 +154,13 @@ static int parse(int argc, char **argv, args *a)
                 a->opt.method = LIMN_METHOD_CG;
             else if (strcmp(v, "chebyshev") == 0)
                 a->opt.method = LIMN_METHOD_CHEBYSHEV;
+            else if (strcmp(v, "sgs") == 0)
+                a->opt.method = LIMN_METHOD_SGS;
             else
-                return cli_usage_error(
-                    "interpolate", "--method '%s' is not one of auto, paper, weighted, chebyshev, cg",
-                    v);
+                return cli_usage_error("interpolate",
+                                       "--method '%s' is not one of auto, paper, weighted, "
+                                       "chebyshev, cg, sgs",
+                                       v);
         } else if (strcmp(s, "--precision") == 0) {
             VALUE();
             if (strcmp(v, "auto") == 0)
@@ -189,9 +194,10 @@ static int parse(int argc, char **argv, args *a)
         return cli_usage_error("interpolate", "no INPUT mesh given");
     if (!a->output)
         return cli_usage_error("interpolate", "no output given (-o OUTPUT)");
-    if (a->opt.precision == LIMN_PRECISION_FLOAT && a->opt.method == LIMN_METHOD_CG)
+    if (a->opt.precision == LIMN_PRECISION_FLOAT &&
+        (a->opt.method == LIMN_METHOD_CG || a->opt.method == LIMN_METHOD_SGS))
         return cli_usage_error("interpolate", "--precision float runs the chebyshev, paper or "
-                                              "weighted iteration; cg runs in double");
+                                              "weighted iteration; cg and sgs run in double");
     if ((a->levels_given || a->sub.limit) && !a->surface)
         return cli_usage_error("interpolate", "--levels and --limit need --surface FILE");
     if (a->per_rank && cli_mpi_ranks() == 1)

@@ -117,6 +117,10 @@ limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_me
     if (!st && p.rank == p.root && (!mesh || !control))
         st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
                        "limn_interpolate_mpi: the root rank needs the mesh and control");
+    if (!st && o->method == LIMN_METHOD_SGS)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                       "method sgs is not available under MPI yet (its sweeps run colour by "
+                       "colour over the whole mesh): use --method chebyshev, cg or auto");
     st = mpi_agree(&p, st);
     /* auto as in limn_interpolate, so that both give the same answer */
     limn_method method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_CHEBYSHEV : o->method;
