@@ -270,11 +270,16 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
         else
             st = solve_cg(ctx, &op, buf, o->tolerance * diag, o->max_iterations, p4, &stats);
         if (st == LIMN_ERR_TOPOLOGY) {
-            limn_warn(ctx, "conjugate gradients need the limit operator to be block triangular "
-                           "by vertex rule, which this mesh's is not: used the seeds' iteration");
+            limn_warn(ctx, "%s needs the limit operator to be block triangular by vertex rule "
+                           "with symmetric, positive blocks, which this mesh's is not: used the "
+                           "seeds' iteration",
+                      method == LIMN_METHOD_SGS ? "sgs (Gauss-Seidel-preconditioned CG)"
+                                                : "conjugate gradients");
+            r->method_reason = method == LIMN_METHOD_SGS
+                                   ? "sgs cannot run on this operator (see the warning)"
+                                   : "cg cannot run on this operator (not block triangular)";
             method = LIMN_METHOD_PAPER;
             r->method = limn_method_name(method);
-            r->method_reason = "cg cannot run on this operator (not block triangular)";
             st = LIMN_OK;
         } else if (!st) {
             memcpy(buf, p4, 4 * n * sizeof *p4);

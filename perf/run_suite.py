@@ -11,7 +11,7 @@ matplotlib); --focus needs none of them.
 
 Whole suite: for each mesh size (real shared meshes, refined with `limn
 subdivide` into out/perf-meshes/ for the large sizes) and each scheme:
-  - limn interpolate, every method (paper, weighted, chebyshev, cg), PoCL on 1
+  - limn interpolate, every method (paper, weighted, chebyshev, cg, sgs), PoCL on 1
     and on 2 threads (POCL_MAX_PTHREAD_COUNT); chebyshev and paper also in
     float precision (--precision);
   - the seeds' iteration on OpenSubdiv's limit stencils (perf/osd_iteration,
@@ -121,7 +121,9 @@ def solve_bytes(j):
     """Bytes of a whole solve: its double products (in a mixed solve, residuals
     of P: m and p read, a float r written) and its float ones."""
     nnz, n, nf = j["stencil_nonzeros"], j["vertices"], j.get("products_float", 0)
-    streams = 4 if j["method"] == "chebyshev" else 3
+    # sgs: a step's two sweeps and update touch ~18 vector streams per
+    # product's worth of table (README "Solvers")
+    streams = {"chebyshev": 4, "sgs": 18}.get(j["method"], 3)
     if nf:
         residual = 12 * nnz + (4 + 32 + 32 + 16) * n
         return residual * (j["products"] - nf) + step_bytes(nnz, n, "float", streams) * nf
@@ -230,7 +232,7 @@ def need_modules(names, why):
 
 
 COLORS = {"paper": "tab:blue", "weighted": "tab:green", "chebyshev": "tab:red",
-          "cg": "tab:purple", "opensubdiv": "black", "scipy paper": "tab:gray",
+          "cg": "tab:purple", "sgs": "tab:orange", "opensubdiv": "black", "scipy paper": "tab:gray",
           "scipy cg": "tab:brown", "scipy superlu": "tab:olive"}
 
 
@@ -317,7 +319,8 @@ def main():
     need_modules(["numpy", "scipy", "matplotlib"], "the whole suite (SciPy anchors, plot)")
     rows = []
     stream = triad(perf)
-    methods = ["paper", "chebyshev", "cg"] if a.quick else ["paper", "weighted", "chebyshev", "cg"]
+    methods = (["paper", "chebyshev", "cg", "sgs"] if a.quick
+               else ["paper", "weighted", "chebyshev", "cg", "sgs"])
     threads = [2] if a.quick else [1, 2]
     for label, base, levels, schemes in SIZES:
         path = mesh_for(a, base, levels)
