@@ -57,8 +57,8 @@ typedef struct cg_watch {
 } cg_watch;
 limn_status cg_watch_step(limn_context *ctx, cg_watch *w, double residual, solve_stats *stats,
                           double tol_abs, int max_iter, int *done);
-/* The message when p . S p is not positive. */
-limn_status cg_breakdown(limn_context *ctx, double pq, solve_stats *stats);
+/* LIMN_OK when p . S p is positive, else the breakdown message. */
+limn_status cg_curvature(limn_context *ctx, double pq, solve_stats *stats);
 
 /* The updates of solve_iterate. */
 typedef enum solve_kind { SOLVE_PAPER, SOLVE_WEIGHTED, SOLVE_CHEBYSHEV } solve_kind;

@@ -134,8 +134,10 @@ limn_status cg_watch_step(limn_context *ctx, cg_watch *w, double residual, solve
     return LIMN_OK;
 }
 
-limn_status cg_breakdown(limn_context *ctx, double pq, solve_stats *stats)
+limn_status cg_curvature(limn_context *ctx, double pq, solve_stats *stats)
 {
+    if (pq > 0.0 && isfinite(pq))
+        return LIMN_OK;
     return limn_fail(ctx, LIMN_ERR_SINGULAR,
                      "conjugate gradients broke down (p.Ap = %.3g): the limit operator is "
                      "not positive definite for this mesh%s; no result was written",
@@ -192,10 +194,9 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
         stats->iterations++;
         if (st)
             break;
-        if (!(pq > 0.0) || !isfinite(pq)) {
-            st = cg_breakdown(ctx, pq, stats);
+        st = cg_curvature(ctx, pq, stats);
+        if (st)
             break;
-        }
         double alpha = rz / pq;
         st = ops->pcg_update(dev, n, alpha, p, q, x, z, dinv, &nz);
         if (st)

@@ -51,11 +51,9 @@ static limn_status run(limn_context *ctx, struct limn_device *dev, const device_
         stats->iterations++;
         if (st)
             break;
-        if (!(pq > 0.0) || !isfinite(pq)) {
-            st = cg_breakdown(ctx, pq, stats);
-            break;
-        }
-        st = ops->sgs_update(dev, a, gamma / pq, v, &norms);
+        st = cg_curvature(ctx, pq, stats);
+        if (!st)
+            st = ops->sgs_update(dev, a, gamma / pq, v, &norms);
         beta = norms.sum / gamma;
         gamma = norms.sum;
     }

@@ -19,8 +19,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define STALL_WINDOW 25
-
 typedef struct cg_rows {
     struct limn_device *dev;
     device_buffer *in, *out, *dinv;
@@ -73,7 +71,8 @@ static limn_status pcg(mpi_part *p, const device_csr *table, const double *b4, d
         st = ops->buffer_create(dev, no * sizeof(double), dinv_host, &dinv);
     st = mpi_agree(p, st);
     device_norms loc, nz = {0, 0, 0}, glob;
-    double rz = 0, first = -1, history[STALL_WINDOW];
+    double rz = 0;
+    cg_watch watch = {0};
     limn_status pending = LIMN_OK;
     if (!st) {
         /* z = b - A x0; d = z; norms of z through a zero update */
@@ -91,36 +90,11 @@ static limn_status pcg(mpi_part *p, const device_csr *table, const double *b4, d
         rz = nz.sum;
     }
     for (int k = 0; !st; k++) {
-        /* every test below reads reduced values: all ranks decide alike */
-        if (!isfinite(nz.max)) {
-            st = limn_fail(p->ctx, LIMN_ERR_NO_CONVERGENCE,
-                           "conjugate gradients diverged (non-finite residual after %d steps)", k);
+        /* every test reads reduced values: all ranks decide alike */
+        int done = 0;
+        st = cg_watch_step(p->ctx, &watch, nz.max, stats, tol_abs, max_iter, &done);
+        if (st || done)
             break;
-        }
-        if (nz.max <= tol_abs)
-            break;
-        if (first < 0)
-            first = nz.max;
-        if (k >= STALL_WINDOW && nz.max > 0.99 * history[k % STALL_WINDOW]) {
-            st = limn_fail(p->ctx, LIMN_ERR_SINGULAR,
-                           "the residual stopped shrinking under conjugate gradients: %.3g after "
-                           "%d steps, %.3g %d steps earlier. The limit operator is singular or "
-                           "nearly so for this mesh%s; no result was written",
-                           nz.max, k, history[k % STALL_WINDOW], STALL_WINDOW,
-                           stats->catmark_alpha0
-                               ? " (alpha = 0 with valence-3 vertices, e.g. a cube, has a zero "
-                                 "eigenvalue): run again with --alpha 0.5"
-                               : "");
-            break;
-        }
-        history[k % STALL_WINDOW] = nz.max;
-        if (stats->iterations >= max_iter) {
-            st = limn_fail(p->ctx, LIMN_ERR_NO_CONVERGENCE,
-                           "no convergence in %d conjugate-gradient steps: max error %.3g, "
-                           "tolerance %.3g: raise --max-iter or loosen --tol",
-                           stats->iterations, nz.max, tol_abs);
-            break;
-        }
         cg_rows a = {dev, d, q, dinv};
         limn_status ls = mpi_overlapped(p, table, d, rows_dot, &a, pending, &loc);
         st = mpi_reduce_norms(p, ls, &loc, &glob);
@@ -129,15 +103,9 @@ static limn_status pcg(mpi_part *p, const device_csr *table, const double *b4, d
         if (st)
             break;
         double pq = glob.sum;
-        if (!(pq > 0.0) || !isfinite(pq)) {
-            st = limn_fail(p->ctx, LIMN_ERR_SINGULAR,
-                           "conjugate gradients broke down (p.Ap = %.3g): the limit operator is "
-                           "not positive definite for this mesh%s; no result was written",
-                           pq,
-                           stats->catmark_alpha0 ? ": run again with --alpha 0.5 or --method paper"
-                                                 : ": try --method paper");
+        st = cg_curvature(p->ctx, pq, stats);
+        if (st)
             break;
-        }
         double alpha = rz / pq;
         ls = ops->pcg_update(dev, no, alpha, d, q, x, z, dinv, &loc);
         st = mpi_reduce_norms(p, ls, &loc, &nz);
