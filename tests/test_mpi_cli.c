@@ -374,6 +374,13 @@ static void errors(void **s)
              at("bad.ply"));
     assert_int_equal(run(3, args), 2);
     assert_int_equal(count(text, "--tol -1 must be positive"), 1);
+    /* a method that does not run distributed: an argument error (status 2),
+       one message, nothing written */
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --method sgs", at("quad.obj"),
+             at("bad.ply"));
+    assert_int_equal(run(2, args), 2);
+    assert_int_equal(count(text, "method sgs is not available under MPI"), 1);
+    assert_false(test_file_exists(at("bad.ply")));
     /* a command that does not run distributed */
     snprintf(args, sizeof args, "info '%s'", at("quad.obj"));
     assert_int_equal(run(2, args), 2);
