@@ -262,7 +262,7 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
         /* CG gives the start; the seeds' step below measures its residual on
            the whole system (and polishes, should rounding leave it short) */
         double *p4 = malloc((n ? n : 1) * 4 * sizeof *p4);
-        solve_stats stats = {0, 0, op.scheme == LIMN_SCHEME_CATMARK && op.alpha == 0.0};
+        solve_stats stats = {.catmark_alpha0 = op.scheme == LIMN_SCHEME_CATMARK && op.alpha == 0.0};
         if (!p4)
             st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
         else if (method == LIMN_METHOD_SGS)
@@ -285,6 +285,7 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
             memcpy(buf, p4, 4 * n * sizeof *p4);
             r->products = stats.products;
             r->iterations = stats.iterations;
+            r->seconds_iterations = stats.seconds_loop;
         }
         free(p4);
     }

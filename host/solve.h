@@ -8,6 +8,8 @@ typedef struct solve_stats {
     double products;     /* stencil products, in units of one full A x */
     int iterations;      /* solver steps */
     int catmark_alpha0;  /* for messages about the singular alpha = 0 case */
+    double seconds_loop; /* in the CG-type loops: their products, sweeps and reductions,
+                            without buffer and table set-up or first-launch compiles */
 } solve_stats;
 
 /*

@@ -171,6 +171,7 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
         st = ops->buffer_create(dev, n * sizeof(double), dinv_host, &dinv);
     double share = (double)n / n_total, rz = 0;
     device_norms nz;
+    double t_loop = limn_seconds(), compiles = dev->setup.kernels;
     /* z = b - S x0 (one product); p = z; norms of z through a zero update */
     if (!st)
         st = ops->spmv(dev, &s, x, q);
@@ -205,6 +206,7 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
         rz = nz.sum;
         st = ops->axpby(dev, n, 1.0, z, beta, p, p);
     }
+    stats->seconds_loop += limn_seconds() - t_loop - (dev->setup.kernels - compiles);
     if (!st)
         st = ops->buffer_read(dev, x, bytes, x0);
     device_buffer *bufs[] = {b, x, z, p, q, dinv};

@@ -99,7 +99,9 @@ limn_status solve_block_sgs(limn_context *ctx, struct limn_device *dev, const st
     if (!st) {
         sgs_vectors v = {vec[V_B], vec[V_X], vec[V_R], vec[V_RHAT],
                          vec[V_PHAT], vec[V_T], vec[V_U], vec[V_ST]};
+        double t_loop = limn_seconds(), compiles = dev->setup.kernels;
         st = run(ctx, dev, &da, &v, tol_abs, max_iter, (double)n / n_total, &t, stats);
+        stats->seconds_loop += limn_seconds() - t_loop - (dev->setup.kernels - compiles);
         if (!st)
             st = ops->buffer_read(dev, vec[V_X], 4 * n * sizeof(double), xs);
         for (size_t i = 0; !st && i < n; i++)

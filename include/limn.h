@@ -367,8 +367,9 @@ typedef struct limn_report {
     int reordered;            /* 1 when the solve ran in RCM order */
     double seconds_topology, seconds_stencil, seconds_solve;
     double seconds_iterations; /* of seconds_solve, the iteration loop alone: products and
-                                  their reductions, no buffer set-up, packing or output (cg:
-                                  its final check only) */
+                                  their reductions, no buffer set-up, packing or output (cg,
+                                  sgs: their steps and the final check; not their blocks',
+                                  tables' and vectors' set-up) */
     const char *precision;    /* the precision that ran: "double" or "float" */
     const char *precision_reason; /* why that one, in words */
     double products_float;    /* of `products`, those run in float */

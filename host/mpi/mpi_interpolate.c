@@ -163,7 +163,7 @@ limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_me
     if (!st && method == LIMN_METHOD_CG) {
         /* CG gives the start; the seeds' step measures its residual on the
            whole system (and polishes, should rounding leave it short) */
-        solve_stats stats = {0, 0, p.scheme == LIMN_SCHEME_CATMARK && p.alpha == 0.0};
+        solve_stats stats = {.catmark_alpha0 = p.scheme == LIMN_SCHEME_CATMARK && p.alpha == 0.0};
         st = mpi_solve_cg(&p, m4, o->tolerance * p.diag, o->max_iterations, p4, &stats);
         if (st == LIMN_ERR_TOPOLOGY) {
             limn_warn(ctx, "conjugate gradients need the limit operator to be block triangular "
