@@ -19,7 +19,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 typedef struct block {
     stencil_csr s;          /* rows and columns of the tier, local numbering */
     uint32_t *rows;         /* operator row of each local row */
@@ -184,7 +183,7 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
     stats->products += share;
     rz = nz.sum;
     cg_watch watch = {0};
-    for (int k = 0; !st; k++) {
+    while (!st) {
         int done = 0;
         st = cg_watch_step(ctx, &watch, nz.max, stats, tol_abs, max_iter, &done);
         if (st || done)

@@ -89,7 +89,7 @@ static limn_status pcg(mpi_part *p, const device_csr *table, const double *b4, d
         stats->products += share;
         rz = nz.sum;
     }
-    for (int k = 0; !st; k++) {
+    while (!st) {
         /* every test reads reduced values: all ranks decide alike */
         int done = 0;
         st = cg_watch_step(p->ctx, &watch, nz.max, stats, tol_abs, max_iter, &done);
