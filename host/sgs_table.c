@@ -72,12 +72,14 @@ limn_status sgs_table_build(limn_context *ctx, const stencil_csr *a, const doubl
     out->weights = malloc((nnz ? nnz : 1) * sizeof *out->weights);
     out->info = malloc((n ? n : 1) * 4 * sizeof *out->info);
     size_t colours = colour && where ? colour_rows(a, colour) : 0;
+    size_t *next = colours ? calloc(colours, sizeof *next) : NULL; /* rows placed a colour */
     if (colours)
         out->colour_begin = calloc(colours + 1, sizeof *out->colour_begin);
-    if (!colour || !where || !colours || !out->colour_begin || !out->order ||
-        !out->row_offsets || !out->split || !out->columns || !out->weights || !out->info) {
+    if (!next || !out->colour_begin || !out->order || !out->row_offsets || !out->split ||
+        !out->columns || !out->weights || !out->info) {
         free(colour);
         free(where);
+        free(next);
         sgs_table_free(out);
         return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the Gauss-Seidel table");
     }
@@ -86,13 +88,6 @@ limn_status sgs_table_build(limn_context *ctx, const stencil_csr *a, const doubl
         out->colour_begin[colour[i] + 1]++;
     for (size_t c = 0; c < colours; c++)
         out->colour_begin[c + 1] += out->colour_begin[c];
-    size_t *next = calloc(colours, sizeof *next);
-    if (!next) {
-        free(colour);
-        free(where);
-        sgs_table_free(out);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the Gauss-Seidel table");
-    }
     for (size_t i = 0; i < n; i++) {
         size_t at = out->colour_begin[colour[i]] + next[colour[i]]++;
         out->order[at] = (uint32_t)i;
