@@ -303,9 +303,23 @@ static void subdivide_and_surface(void **s)
     unlink(surf);
 }
 
+/* --help lists --version, which prints the library's version. */
+static void version_and_help(void **s)
+{
+    (void)s;
+    assert_int_equal(limn("--help"), 0);
+    assert_non_null(strstr(text, "--version"));
+    assert_int_equal(limn("--version"), 0);
+    char expect[64];
+    snprintf(expect, sizeof expect, "limn %d.%d.%d\n", LIMN_VERSION_MAJOR, LIMN_VERSION_MINOR,
+             LIMN_VERSION_PATCH);
+    assert_string_equal(text, expect);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(version_and_help),
         cmocka_unit_test(malformed_inputs),
         cmocka_unit_test(bad_usage),
         cmocka_unit_test(singular_keeps_existing_output),

@@ -30,6 +30,8 @@ static void usage(FILE *out)
             "      a shaded picture of a mesh, without a display\n"
             "  info INPUT [--json]       counts, boundaries, non-manifold elements, bbox\n"
             "  devices                   the OpenCL devices limn can use\n"
+            "  --version                 print limn's version\n"
+            "  --help                    this text\n"
             "\n"
             "Run 'limn COMMAND --help' for a command's options. Formats: OBJ, PLY, OFF, STL.\n");
 }
