@@ -211,12 +211,9 @@ static int parse(int argc, char **argv, args *a)
     if (!rc && a->report)
         rc = cli_check_output("interpolate", a->input, a->report, LIMN_FORMAT_OBJ,
                               a->overwrite_input);
+    const char *outputs[] = {a->output, a->surface, a->report};
     if (!rc)
-        rc = cli_check_writable("interpolate", a->output);
-    if (!rc && a->surface)
-        rc = cli_check_writable("interpolate", a->surface);
-    if (!rc && a->report)
-        rc = cli_check_writable("interpolate", a->report);
+        rc = cli_check_outputs("interpolate", outputs, 3);
     if (rc)
         return rc;
     return 0;

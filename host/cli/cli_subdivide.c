@@ -110,10 +110,9 @@ int cli_subdivide(int argc, char **argv)
     int rc = cli_check_output("subdivide", input, output, out_format, overwrite_input);
     if (!rc && report)
         rc = cli_check_output("subdivide", input, report, LIMN_FORMAT_OBJ, overwrite_input);
+    const char *outputs[] = {output, report};
     if (!rc)
-        rc = cli_check_writable("subdivide", output);
-    if (!rc && report)
-        rc = cli_check_writable("subdivide", report);
+        rc = cli_check_outputs("subdivide", outputs, 2);
     if (rc)
         return rc;
 
