@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #define ATOMIC_FILE_BUFFER (1 << 20)
@@ -235,6 +236,20 @@ static limn_status write_through(limn_context *ctx, atomic_file *af)
     return st;
 }
 
+/* Test-only hook (inert unless set): LIMN_TEST_COMMIT_PAUSE_MS waits
+   between the renames of a set, so that tests/test_outputs.c can show that
+   another run's set cannot come in between. */
+static void test_pause(void)
+{
+    const char *ms = getenv("LIMN_TEST_COMMIT_PAUSE_MS");
+    long v = ms ? strtol(ms, NULL, 10) : 0;
+    if (v > 0 && v <= 10000) {
+        struct timespec ts = {v / 1000, (v % 1000) * 1000000L};
+        while (nanosleep(&ts, &ts) != 0 && errno == EINTR)
+            ;
+    }
+}
+
 static void lock_set(atomic_file *af, int n, int *fds, int *nfds)
 {
     const char *dirs[OUTPUT_LOCK_MAX];
@@ -255,13 +270,17 @@ limn_status atomic_file_commit_all(limn_context *ctx, atomic_file *af, int n)
     int fds[OUTPUT_LOCK_MAX], nfds = 0;
     if (!st)
         lock_set(af, n, fds, &nfds);
+    int renamed = 0;
     for (int i = 0; i < n; i++) {
         if (af[i].out.kind != OUTPUT_FILE)
             continue;
-        if (!st && af[i].tmp_path)
+        if (!st && af[i].tmp_path) {
+            if (renamed++)
+                test_pause();
             st = rename_over(ctx, &af[i]);
-        else
+        } else {
             atomic_file_abort(&af[i]);
+        }
     }
     output_unlock(fds, nfds);
     /* last: these cannot be undone once written */
