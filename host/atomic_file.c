@@ -142,7 +142,7 @@ limn_status atomic_file_check(limn_context *ctx, const char *path)
     if (st)
         return st;
     int device = op.kind == OUTPUT_DEVICE;
-    if (device && access(op.target, W_OK) != 0)
+    if (device && faccessat(AT_FDCWD, op.target, W_OK, AT_EACCESS) != 0)
         st = write_failed(ctx, path, errno);
     output_path_free(&op);
     if (st || device)

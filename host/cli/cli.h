@@ -42,6 +42,12 @@ typedef struct cli_repair {
     "                         repair them, with a warning saying what changed)\n"              \
     "  --drop-duplicate-faces remove later copies of a face (default: keep\n"                 \
     "                         them; their edges are sharp)\n"
+/* Where outputs go (README "Command line"). */
+#define CLI_PATHS_HELP                                                                         \
+    "\n"                                                                                      \
+    "INPUT '-' is standard input (with --input-format); an output '-' is standard\n"         \
+    "output (a mesh with --format). Files appear whole or not at all; a symlink's\n"        \
+    "target is replaced; '-', FIFOs and devices are written last, straight through.\n"
 /* 1 when arg is a repair option (recorded in *r), else 0. */
 int cli_repair_arg(const char *arg, cli_repair *r);
 /* Reads path, prints its warnings, repairs the mesh by the policy (printing

@@ -405,23 +405,13 @@ int cli_check_writable(const char *cmd, const char *output)
     return rc;
 }
 
-/* Is path standard output, or the FIFO or device standard output is? */
-static int goes_to_stdout(const char *path)
-{
-    struct stat sp, so;
-    if (output_is_stdout(path))
-        return 1;
-    return stat(path, &sp) == 0 && !S_ISREG(sp.st_mode) && fstat(STDOUT_FILENO, &so) == 0 &&
-           sp.st_dev == so.st_dev && sp.st_ino == so.st_ino;
-}
-
 int cli_check_outputs(const char *cmd, const char *const *outputs, int n)
 {
     const char *first = NULL;
     for (int i = 0; i < n; i++) {
         if (!outputs[i])
             continue;
-        if (goes_to_stdout(outputs[i])) {
+        if (output_is_stdout(outputs[i])) {
             if (first)
                 return cli_usage_error(cmd,
                                        "'%s' and '%s' both go to standard output; at most one "

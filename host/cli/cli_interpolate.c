@@ -50,6 +50,7 @@ static const char *const help =
     "  --overwrite-input      allow OUTPUT to be the INPUT file\n"
     "  -q, --quiet            no summary and no progress on stderr\n"
     CLI_MPI_HELP
+    CLI_PATHS_HELP
     "\n"
     "Under 'mpirun -np N' (N > 1) the vertices are split across the ranks (README\n"
     "\"MPI\"): rank 0 reads INPUT and writes OUTPUT, the same bits as one process.\n"

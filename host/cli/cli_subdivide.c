@@ -24,7 +24,8 @@ static const char *const help =
     "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
     "  --fallback reference   run on the reference backend when OpenCL fails\n"
     "  --format F, --input-format F, --overwrite-input, -q (as in interpolate)\n"
-    CLI_REPAIR_HELP;
+    CLI_REPAIR_HELP
+    CLI_PATHS_HELP;
 
 int cli_subdivide(int argc, char **argv)
 {
