@@ -64,7 +64,7 @@ static limn_status temp_failed(limn_context *ctx, atomic_file *af, int e)
     af->tmp_path = NULL; /* nothing to remove */
     const char *dir = af->out.dir;
     limn_status st =
-        strcmp(dir, ".") == 0 && af->out.target[0] != '.'
+        !strchr(af->out.target, '/')
             ? limn_fail(ctx, LIMN_ERR_IO,
                         "cannot write %s: cannot create a temporary file in the current "
                         "directory: %s",
