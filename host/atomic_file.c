@@ -205,8 +205,11 @@ static int write_all(int fd, const char *p, size_t n)
         ssize_t w = write(fd, p, n);
         if (w < 0 && errno == EINTR)
             continue;
-        if (w <= 0)
+        if (w <= 0) {
+            if (w == 0)
+                errno = EIO; /* no progress: do not loop */
             return -1;
+        }
         p += w;
         n -= (size_t)w;
     }
@@ -226,7 +229,7 @@ static limn_status write_through(limn_context *ctx, atomic_file *af)
     size_t n;
     while (!e && (n = fread(buf, 1, sizeof buf, af->f)) > 0)
         if (write_all(fd, buf, n) != 0)
-            e = errno ? errno : EIO;
+            e = errno;
     if (!e && ferror(af->f))
         e = EIO;
     if (fd >= 0 && !to_stdout && close(fd) != 0 && !e)
