@@ -1,4 +1,8 @@
-/* Atomic file replacement: mkstemp + fsync + rename (+ fsync of the directory). */
+/* Atomic file replacement: mkstemp + fsync + rename (+ fsync of the
+   directory); straight-through outputs buffered until the commit. */
+#ifndef _DEFAULT_SOURCE
+#define _DEFAULT_SOURCE /* fchown, fsync, fdopen, mkstemp */
+#endif
 #include "atomic_file.h"
 #include "context.h"
 
@@ -7,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #define ATOMIC_FILE_BUFFER (1 << 20)
@@ -38,51 +43,84 @@ static limn_status write_failed(limn_context *ctx, const char *path, int e)
     return limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path, e ? strerror(e) : "write error");
 }
 
-limn_status atomic_file_open(limn_context *ctx, const char *path, atomic_file *af)
+/* The new file gets the replaced one's owner, group and mode where the
+   process may set them, else the mode a new file would have. */
+static int set_mode(int fd, const output_path *op)
 {
-    memset(af, 0, sizeof *af);
-    if (!path || !*path)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "empty output file name");
-    const char *slash = strrchr(path, '/');
-    const char *base = slash ? slash + 1 : path;
-    if (!*base || strcmp(base, ".") == 0 || strcmp(base, "..") == 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "cannot write %s: it names a directory", path);
-    size_t dirlen = slash ? (size_t)(slash - path) + 1 : 0; /* keeps the '/' */
-    size_t baselen = strlen(base);
-    if (baselen > 200)
-        baselen = 200; /* keep the temporary name within NAME_MAX */
-    const char suffix[] = ".tmp.XXXXXX";
-    af->path = strdup(path);
-    af->tmp_path = malloc(dirlen + 1 + baselen + sizeof suffix);
-    if (!af->path || !af->tmp_path) {
+    if (!op->exists)
+        return fchmod(fd, 0666 & ~current_umask());
+    mode_t mode = op->old_mode & 07777;
+    if (fchown(fd, op->old_uid, op->old_gid) != 0) {
+        if (errno != EPERM)
+            return -1;
+        mode &= ~(mode_t)(S_ISUID | S_ISGID); /* not for a file of another owner or group */
+    }
+    return fchmod(fd, mode);
+}
+
+static limn_status temp_failed(limn_context *ctx, atomic_file *af, int e)
+{
+    free(af->tmp_path);
+    af->tmp_path = NULL; /* nothing to remove */
+    const char *dir = af->out.dir;
+    limn_status st =
+        !strchr(af->out.target, '/')
+            ? limn_fail(ctx, LIMN_ERR_IO,
+                        "cannot write %s: cannot create a temporary file in the current "
+                        "directory: %s",
+                        af->path, strerror(e))
+            : limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot create a temporary file in %s%s: %s",
+                        af->path, dir, strcmp(dir, "/") ? "/" : "", strerror(e));
+    atomic_file_abort(af);
+    return st;
+}
+
+static limn_status open_regular(limn_context *ctx, atomic_file *af)
+{
+    limn_status st = output_check_rename(ctx, af->path, &af->out);
+    if (st) {
+        atomic_file_abort(af);
+        return st;
+    }
+    output_remove_stale(&af->out);
+    af->tmp_path = output_temp_template(&af->out);
+    if (!af->tmp_path) {
         atomic_file_abort(af);
         return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
     }
-    memcpy(af->tmp_path, path, dirlen);
-    af->tmp_path[dirlen] = '.';
-    memcpy(af->tmp_path + dirlen + 1, base, baselen);
-    memcpy(af->tmp_path + dirlen + 1 + baselen, suffix, sizeof suffix);
     int fd = mkstemp(af->tmp_path);
-    if (fd < 0) {
-        int e = errno;
-        free(af->tmp_path);
-        af->tmp_path = NULL; /* nothing to remove */
-        atomic_file_abort(af);
-        if (dirlen)
-            return limn_fail(ctx, LIMN_ERR_IO,
-                             "cannot write %s: cannot create a temporary file in %.*s: %s", path,
-                             (int)dirlen, path, strerror(e));
-        return limn_fail(ctx, LIMN_ERR_IO,
-                         "cannot write %s: cannot create a temporary file in the current "
-                         "directory: %s",
-                         path, strerror(e));
-    }
-    if (fchmod(fd, 0666 & ~current_umask()) != 0 || !(af->f = fdopen(fd, "wb"))) {
+    if (fd < 0)
+        return temp_failed(ctx, af, errno);
+    if (set_mode(fd, &af->out) != 0 || !(af->f = fdopen(fd, "wb"))) {
         int e = errno;
         if (!af->f)
             close(fd);
         atomic_file_abort(af);
-        return write_failed(ctx, path, e);
+        return write_failed(ctx, af->path, e);
+    }
+    return LIMN_OK;
+}
+
+limn_status atomic_file_open(limn_context *ctx, const char *path, atomic_file *af)
+{
+    memset(af, 0, sizeof *af);
+    limn_status st = output_path_resolve(ctx, path, &af->out);
+    if (st)
+        return st;
+    if (!(af->path = strdup(path))) {
+        atomic_file_abort(af);
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
+    }
+    if (af->out.kind == OUTPUT_FILE) {
+        if ((st = open_regular(ctx, af)))
+            return st;
+    } else if (!(af->f = tmpfile())) {
+        /* unlinked at once: nothing is left behind, whatever happens */
+        int e = errno;
+        atomic_file_abort(af);
+        return limn_fail(ctx, LIMN_ERR_IO,
+                         "cannot write %s: cannot create a buffer file in %s: %s", path, P_tmpdir,
+                         strerror(e));
     }
     af->iobuf = malloc(ATOMIC_FILE_BUFFER);
     if (af->iobuf)
@@ -90,11 +128,45 @@ limn_status atomic_file_open(limn_context *ctx, const char *path, atomic_file *a
     return LIMN_OK;
 }
 
+limn_status atomic_file_check(limn_context *ctx, const char *path)
+{
+    if (output_is_stdout(path)) {
+        int fl = fcntl(STDOUT_FILENO, F_GETFL);
+        if (fl < 0 || (fl & O_ACCMODE) == O_RDONLY)
+            return limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: standard output is %s", path,
+                             fl < 0 ? "closed" : "not open for writing");
+        return LIMN_OK;
+    }
+    output_path op;
+    limn_status st = output_path_resolve(ctx, path, &op);
+    if (st)
+        return st;
+    int device = op.kind == OUTPUT_DEVICE;
+    if (device && faccessat(AT_FDCWD, op.target, W_OK, AT_EACCESS) != 0)
+        st = write_failed(ctx, path, errno);
+    output_path_free(&op);
+    if (st || device)
+        return st;
+    /* the temporary file is made beside the target and removed */
+    atomic_file af;
+    st = atomic_file_open(ctx, path, &af);
+    if (!st)
+        atomic_file_abort(&af);
+    return st;
+}
+
 limn_status atomic_file_finish(limn_context *ctx, atomic_file *af)
 {
     if (!af->f)
         return LIMN_OK;
     limn_status st = LIMN_OK;
+    if (af->out.kind != OUTPUT_FILE) { /* the buffer stays open for the commit */
+        if (fflush(af->f) != 0 || ferror(af->f))
+            st = write_failed(ctx, af->path, errno);
+        if (st)
+            atomic_file_abort(af);
+        return st;
+    }
     if (fflush(af->f) != 0 || ferror(af->f) || fsync(fileno(af->f)) != 0)
         st = write_failed(ctx, af->path, errno);
     FILE *closing = af->f;
@@ -106,23 +178,17 @@ limn_status atomic_file_finish(limn_context *ctx, atomic_file *af)
     return st;
 }
 
-limn_status atomic_file_commit(limn_context *ctx, atomic_file *af)
+/* Renames a finished regular output over its target and syncs the directory. */
+static limn_status rename_over(limn_context *ctx, atomic_file *af)
 {
-    limn_status st = atomic_file_finish(ctx, af);
-    if (st)
-        return st;
-    if (rename(af->tmp_path, af->path) != 0)
-        st = limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot rename %s over it: %s",
-                       af->path, af->tmp_path, strerror(errno));
-    if (st) {
+    if (rename(af->tmp_path, af->out.target) != 0) {
+        limn_status st = limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot rename %s over it: %s",
+                                   af->path, af->tmp_path, strerror(errno));
         atomic_file_abort(af);
         return st;
     }
     /* make the rename durable; a failure here does not undo the write */
-    const char *slash = strrchr(af->path, '/');
-    if (slash)
-        af->path[slash - af->path + 1] = '\0';
-    int dfd = open(slash ? af->path : ".", O_RDONLY);
+    int dfd = open(af->out.dir, O_RDONLY | O_CLOEXEC);
     if (dfd >= 0) {
         (void)fsync(dfd);
         close(dfd);
@@ -131,6 +197,108 @@ limn_status atomic_file_commit(limn_context *ctx, atomic_file *af)
     af->tmp_path = NULL; /* renamed: nothing to remove */
     atomic_file_abort(af);
     return LIMN_OK;
+}
+
+static int write_all(int fd, const char *p, size_t n)
+{
+    while (n > 0) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0) {
+            if (w == 0)
+                errno = EIO; /* no progress: do not loop */
+            return -1;
+        }
+        p += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+/* Copies the buffered bytes of a straight-through output to it. */
+static limn_status write_through(limn_context *ctx, atomic_file *af)
+{
+    int to_stdout = af->out.kind == OUTPUT_STDOUT;
+    fflush(stdout); /* whatever stdio holds goes first */
+    int fd = to_stdout ? STDOUT_FILENO : open(af->out.target, O_WRONLY | O_NOCTTY | O_CLOEXEC);
+    int e = 0;
+    if (fd < 0 || fseek(af->f, 0, SEEK_SET) != 0)
+        e = errno;
+    char buf[1 << 16];
+    size_t n;
+    while (!e && (n = fread(buf, 1, sizeof buf, af->f)) > 0)
+        if (write_all(fd, buf, n) != 0)
+            e = errno;
+    if (!e && ferror(af->f))
+        e = EIO;
+    if (fd >= 0 && !to_stdout && close(fd) != 0 && !e)
+        e = errno;
+    limn_status st = e ? write_failed(ctx, to_stdout ? "standard output" : af->path, e) : LIMN_OK;
+    atomic_file_abort(af);
+    return st;
+}
+
+/* Test-only hook (inert unless set): LIMN_TEST_COMMIT_PAUSE_MS waits
+   between the renames of a set, so that tests/test_outputs.c can show that
+   another run's set cannot come in between. */
+static void test_pause(void)
+{
+    const char *ms = getenv("LIMN_TEST_COMMIT_PAUSE_MS");
+    long v = ms ? strtol(ms, NULL, 10) : 0;
+    if (v > 0 && v <= 10000) {
+        struct timespec ts = {v / 1000, (v % 1000) * 1000000L};
+        while (nanosleep(&ts, &ts) != 0 && errno == EINTR)
+            ;
+    }
+}
+
+static void lock_set(atomic_file *af, int n, int *fds, int *nfds)
+{
+    const char *dirs[OUTPUT_LOCK_MAX];
+    int k = 0;
+    for (int i = 0; i < n && k < OUTPUT_LOCK_MAX; i++)
+        if (af[i].out.kind == OUTPUT_FILE && af[i].tmp_path)
+            dirs[k++] = af[i].out.dir;
+    *nfds = k > 1 ? k : 0; /* one rename is atomic by itself */
+    if (*nfds)
+        output_lock_dirs(dirs, k, fds);
+}
+
+limn_status atomic_file_commit_all(limn_context *ctx, atomic_file *af, int n)
+{
+    limn_status st = LIMN_OK;
+    for (int i = 0; i < n && !st; i++)
+        st = atomic_file_finish(ctx, &af[i]);
+    int fds[OUTPUT_LOCK_MAX], nfds = 0;
+    if (!st)
+        lock_set(af, n, fds, &nfds);
+    int renamed = 0;
+    for (int i = 0; i < n; i++) {
+        if (af[i].out.kind != OUTPUT_FILE)
+            continue;
+        if (!st && af[i].tmp_path) {
+            if (renamed++)
+                test_pause();
+            st = rename_over(ctx, &af[i]);
+        } else {
+            atomic_file_abort(&af[i]);
+        }
+    }
+    output_unlock(fds, nfds);
+    /* last: these cannot be undone once written */
+    for (int i = 0; i < n; i++) {
+        if (!st && af[i].f)
+            st = write_through(ctx, &af[i]);
+        else
+            atomic_file_abort(&af[i]);
+    }
+    return st;
+}
+
+limn_status atomic_file_commit(limn_context *ctx, atomic_file *af)
+{
+    return atomic_file_commit_all(ctx, af, 1);
 }
 
 void atomic_file_abort(atomic_file *af)
@@ -142,5 +310,6 @@ void atomic_file_abort(atomic_file *af)
     free(af->iobuf);
     free(af->path);
     free(af->tmp_path);
+    output_path_free(&af->out);
     memset(af, 0, sizeof *af);
 }

@@ -343,6 +343,39 @@ static limn_status format_from_path(limn_context *ctx, const char *path, limn_fo
                      path);
 }
 
+/* Reads a mesh of a known format from an open file (not closed here). */
+static limn_status read_open_file(limn_context *ctx, const char *path, FILE *f,
+                                  limn_format format, limn_mesh **out)
+{
+    limn_status st;
+    struct stat sb;
+    if (fstat(fileno(f), &sb) != 0) {
+        st = limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: %s", path, strerror(errno));
+    } else if (S_ISDIR(sb.st_mode)) {
+        st = limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: it is a directory", path);
+    } else if (S_ISREG(sb.st_mode) && sb.st_size == 0) {
+        st = limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file is empty", path);
+    } else if (format == LIMN_FORMAT_OBJ) {
+        st = obj_read(ctx, path, f, out);
+    } else if (format == LIMN_FORMAT_OFF) {
+        st = off_read(ctx, path, f, out);
+    } else if (format == LIMN_FORMAT_STL) {
+        st = stl_read(ctx, path, f, out);
+    } else {
+        st = ply_read(ctx, path, f, out);
+    }
+    if (st == LIMN_OK && (*out)->vertex_count == 0) {
+        limn_mesh_destroy(*out);
+        *out = NULL;
+        st = limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
+    }
+    if (st != LIMN_OK && *out) {
+        limn_mesh_destroy(*out);
+        *out = NULL;
+    }
+    return st;
+}
+
 limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format format,
                            limn_mesh **out)
 {
@@ -361,33 +394,32 @@ limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format form
     FILE *f = fopen(path, "rb");
     if (!f)
         return limn_fail(ctx, LIMN_ERR_IO, "cannot open %s: %s", path, strerror(errno));
-    struct stat sb;
-    if (fstat(fileno(f), &sb) != 0) {
-        st = limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: %s", path, strerror(errno));
-    } else if (S_ISDIR(sb.st_mode)) {
-        st = limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: it is a directory", path);
-    } else if (S_ISREG(sb.st_mode) && sb.st_size == 0) {
-        st = limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file is empty", path);
-    } else if (format == LIMN_FORMAT_OBJ) {
-        st = obj_read(ctx, path, f, out);
-    } else if (format == LIMN_FORMAT_OFF) {
-        st = off_read(ctx, path, f, out);
-    } else if (format == LIMN_FORMAT_STL) {
-        st = stl_read(ctx, path, f, out);
-    } else {
-        st = ply_read(ctx, path, f, out);
-    }
+    st = read_open_file(ctx, path, f, format, out);
     fclose(f);
-    if (st == LIMN_OK && (*out)->vertex_count == 0) {
-        limn_mesh_destroy(*out);
-        *out = NULL;
-        st = limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
-    }
-    if (st != LIMN_OK && *out) {
-        limn_mesh_destroy(*out);
-        *out = NULL;
-    }
     return st;
+}
+
+limn_status limn_mesh_read_stream(limn_context *ctx, FILE *stream, const char *name,
+                                  limn_format format, limn_mesh **out)
+{
+    limn_clear(ctx);
+    if (!out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read_stream: out is NULL");
+    *out = NULL;
+    if (!name || !*name)
+        name = "(stream)";
+    if (!stream)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read_stream: %s: stream is NULL",
+                         name);
+    if (format == LIMN_FORMAT_AUTO)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "%s: a stream has no file extension to tell the mesh format: name "
+                         "the format (obj, ply, off, stl)",
+                         name);
+    if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read_stream: unknown format %d",
+                         (int)format);
+    return read_open_file(ctx, name, stream, format, out);
 }
 
 /* ------------------------------------------------------------------ write */

@@ -28,6 +28,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 /* Marks the public API: the only symbols liblimn.so exports (the library is
    built with -fvisibility=hidden). Every function declared here carries it
@@ -232,8 +233,22 @@ LIMN_API int limn_format_from_path(const char *path, limn_format *out);
 LIMN_API limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format format,
                                     limn_mesh **out);
 /*
- * Writes the mesh. The file appears whole or not at all: data goes to a
- * temporary file in the same directory which is then renamed over path.
+ * Reads a mesh from an already open stream (standard input, a pipe, a
+ * socket), from its current position to its end. format must be given (a
+ * stream has no extension: LIMN_FORMAT_AUTO is refused); name (may be NULL)
+ * stands for the file in messages. The stream stays the caller's: it is
+ * neither closed nor rewound.
+ */
+LIMN_API limn_status limn_mesh_read_stream(limn_context *ctx, FILE *stream, const char *name,
+                                           limn_format format, limn_mesh **out);
+/*
+ * Writes the mesh. A regular file appears whole or not at all: data goes to
+ * a temporary file (.NAME.limn-tmp.PID.XXXXXX) beside it which is then
+ * renamed over it, keeping the replaced file's mode (and owner and group
+ * where the process may set them); stale temporaries of dead processes are
+ * removed. A symlink is followed and the file it names replaced (the link
+ * stays). "-" (or /dev/stdout) is standard output; a FIFO or a character
+ * device is written straight through (not atomic). A directory is refused.
  */
 LIMN_API limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh,
                                      const char *path, limn_format format);
@@ -633,7 +648,8 @@ LIMN_API void limn_render_options_default(limn_render_options *options);
 LIMN_API limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
                                  const limn_render_options *options, uint8_t *rgb);
 
-/* Writes an 8-bit RGB PNG (own deflate encoder, no dependency), atomically. */
+/* Writes an 8-bit RGB PNG (own deflate encoder, no dependency), as
+   limn_mesh_write writes a mesh (atomically, links followed, "-" stdout). */
 LIMN_API limn_status limn_png_write(limn_context *ctx, const char *path, int width, int height,
                                     const uint8_t *rgb);
 

@@ -42,6 +42,12 @@ typedef struct cli_repair {
     "                         repair them, with a warning saying what changed)\n"              \
     "  --drop-duplicate-faces remove later copies of a face (default: keep\n"                 \
     "                         them; their edges are sharp)\n"
+/* Where outputs go (README "Command line"). */
+#define CLI_PATHS_HELP                                                                         \
+    "\n"                                                                                      \
+    "INPUT '-' is standard input (with --input-format); an output '-' is standard\n"         \
+    "output (a mesh with --format). Files appear whole or not at all; a symlink's\n"        \
+    "target is replaced; '-', FIFOs and devices are written last, straight through.\n"
 /* 1 when arg is a repair option (recorded in *r), else 0. */
 int cli_repair_arg(const char *arg, cli_repair *r);
 /* Reads path, prints its warnings, repairs the mesh by the policy (printing
@@ -57,8 +63,13 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
    1 (run the operation again); else returns 0. */
 int cli_fall_back(const char *cmd, limn_context *ctx, limn_status *st);
 /* Fails before any work (exit status 1, message printed) when the output
-   cannot be created: a missing or unwritable directory. Returns 0 or 1. */
+   cannot be written (atomic_file_check): a missing or unwritable directory,
+   a directory, a name too long, a rename the directory would not allow.
+   Returns 0 or 1. */
 int cli_check_writable(const char *cmd, const char *output);
+/* cli_check_writable of each non-NULL output, after refusing (exit status 2)
+   two that go to standard output. Returns 0 or an exit status. */
+int cli_check_outputs(const char *cmd, const char *const *outputs, int n);
 /* Peak resident memory of this process so far, in bytes. */
 size_t cli_peak_rss(void);
 /* "--opt value": returns the value or prints an error when it is missing. */

@@ -129,6 +129,8 @@ int cli_bands(int argc, char **argv)
                                  e.names[i]);
             goto out_names;
         }
+    if ((rc = cli_check_outputs(c.cmd, (const char *const *)e.names, e.count + 2)))
+        goto out_names;
 
     series_seconds s = {.t0 = cli_now()};
     limn_context *ctx = NULL;

@@ -1,6 +1,7 @@
 /* Shared CLI pieces: option values, errors, progress, JSON reports. */
 #include "cli.h"
 #include "atomic_file.h"
+#include "output_path.h"
 #include "context.h"
 
 #include <errno.h>
@@ -109,7 +110,8 @@ void cli_progress_done(void)
 int cli_same_file(const char *a, const char *b)
 {
     struct stat sa, sb;
-    if (stat(a, &sa) != 0 || stat(b, &sb) != 0)
+    /* standard input or output is never a file of the command line */
+    if (!strcmp(a, "-") || !strcmp(b, "-") || stat(a, &sa) != 0 || stat(b, &sb) != 0)
         return 0;
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
@@ -318,12 +320,10 @@ limn_status cli_commit_outputs(limn_context *ctx, limn_status st, atomic_file *s
 {
     /* under mpirun: every rank's outputs are staged before any appears */
     st = cli_mpi_agree(ctx, st);
-    for (int i = 0; i < n; i++) {
-        if (!st)
-            st = atomic_file_commit(ctx, &staged[i]);
-        else
-            atomic_file_abort(&staged[i]);
-    }
+    if (!st)
+        return atomic_file_commit_all(ctx, staged, n);
+    for (int i = 0; i < n; i++)
+        atomic_file_abort(&staged[i]);
     return st;
 }
 
@@ -376,6 +376,10 @@ int cli_check_output(const char *cmd, const char *input, const char *output, lim
                      int overwrite_input)
 {
     limn_format f;
+    if (format == LIMN_FORMAT_AUTO && output_is_stdout(output))
+        return cli_usage_error(cmd, "writing a mesh to standard output ('%s') needs --format, "
+                                    "since there is no extension to tell it",
+                               output);
     if (format == LIMN_FORMAT_AUTO && !limn_format_from_path(output, &f))
         return cli_usage_error(cmd,
                                "cannot tell the format of '%s' from its extension: use .obj, "
@@ -391,17 +395,37 @@ int cli_check_output(const char *cmd, const char *input, const char *output, lim
 
 int cli_check_writable(const char *cmd, const char *output)
 {
-    /* a temporary file is made beside the output and removed */
     limn_context *ctx = limn_context_create();
     if (!ctx)
         return EXIT_FAILURE_RUN;
-    atomic_file af;
-    limn_status st = atomic_file_open(ctx, output, &af);
-    if (!st)
-        atomic_file_abort(&af);
-    int rc = st ? cli_fail(cmd, ctx, st) : 0;
+    limn_status st = atomic_file_check(ctx, output);
+    /* every refusal here is the run's failure (1), a usage error or not */
+    int rc = st ? (cli_fail(cmd, ctx, st), EXIT_FAILURE_RUN) : 0;
     limn_context_destroy(ctx);
     return rc;
+}
+
+int cli_check_outputs(const char *cmd, const char *const *outputs, int n)
+{
+    const char *first = NULL;
+    for (int i = 0; i < n; i++) {
+        if (!outputs[i])
+            continue;
+        if (output_is_stdout(outputs[i])) {
+            if (first)
+                return cli_usage_error(cmd,
+                                       "'%s' and '%s' both go to standard output; at most one "
+                                       "output can",
+                                       first, outputs[i]);
+            first = outputs[i];
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        int rc = outputs[i] ? cli_check_writable(cmd, outputs[i]) : 0;
+        if (rc)
+            return rc;
+    }
+    return 0;
 }
 
 size_t cli_peak_rss(void)
@@ -429,7 +453,16 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
                           limn_format format, const cli_repair *r, int need_faces,
                           limn_mesh **out)
 {
-    limn_status st = limn_mesh_read(ctx, path, format, out);
+    limn_status st;
+    if (strcmp(path, "-") != 0)
+        st = limn_mesh_read(ctx, path, format, out);
+    else if (format == LIMN_FORMAT_AUTO)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                       "reading standard input ('-') needs --input-format (obj, ply, off, "
+                       "stl), since there is no extension to tell the format (a file named "
+                       "'-' is ./-)");
+    else
+        st = limn_mesh_read_stream(ctx, stdin, "standard input", format, out);
     cli_print_warnings(cmd, ctx);
     if (st)
         return st;

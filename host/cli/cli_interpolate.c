@@ -50,6 +50,7 @@ static const char *const help =
     "  --overwrite-input      allow OUTPUT to be the INPUT file\n"
     "  -q, --quiet            no summary and no progress on stderr\n"
     CLI_MPI_HELP
+    CLI_PATHS_HELP
     "\n"
     "Under 'mpirun -np N' (N > 1) the vertices are split across the ranks (README\n"
     "\"MPI\"): rank 0 reads INPUT and writes OUTPUT, the same bits as one process.\n"
@@ -211,12 +212,9 @@ static int parse(int argc, char **argv, args *a)
     if (!rc && a->report)
         rc = cli_check_output("interpolate", a->input, a->report, LIMN_FORMAT_OBJ,
                               a->overwrite_input);
+    const char *outputs[] = {a->output, a->surface, a->report};
     if (!rc)
-        rc = cli_check_writable("interpolate", a->output);
-    if (!rc && a->surface)
-        rc = cli_check_writable("interpolate", a->surface);
-    if (!rc && a->report)
-        rc = cli_check_writable("interpolate", a->report);
+        rc = cli_check_outputs("interpolate", outputs, 3);
     if (rc)
         return rc;
     return 0;

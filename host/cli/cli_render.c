@@ -110,6 +110,9 @@ int cli_render(int argc, char **argv)
         return cli_usage_error(c.cmd, "the output '%s' must end in .png", c.output);
     if (!c.overwrite_input && cli_same_file(c.inputs[0], c.output))
         return cli_usage_error(c.cmd, "output '%s' is the input file", c.output);
+    const char *picture[] = {c.output};
+    if ((rc = cli_check_outputs(c.cmd, picture, 1)))
+        return rc;
 
     double t0 = cli_now(), load, draw = 0, write = 0;
     limn_context *ctx = NULL;

@@ -125,7 +125,9 @@ int series_cli_check(series_cli *c, int mesh_output)
         if (c->report && !c->overwrite_input && cli_same_file(c->report, c->inputs[k]))
             return cli_usage_error(c->cmd, "--report '%s' is the input file", c->report);
     }
-    return 0;
+    /* the output of bands and morph is a prefix or a pattern, not a file */
+    const char *outputs[] = {mesh_output ? c->output : NULL, c->report};
+    return cli_check_outputs(c->cmd, outputs, 2);
 }
 
 limn_status series_cli_load(series_cli *c, limn_context **ctx, limn_mesh **meshes)

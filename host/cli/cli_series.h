@@ -29,7 +29,8 @@ enum { SERIES_ARG_NOT_MINE = 0, SERIES_ARG_TAKEN = 1, SERIES_ARG_EXIT = 2 };
  */
 int series_cli_arg(series_cli *c, int argc, char **argv, int *i, int *rc);
 /* Checks inputs and output after parsing; 0 or an exit status. mesh_output:
-   the output is a mesh (its format must be known and it is not an input). */
+   the output is a mesh (its format must be known, it is not an input and it
+   can be written: cli_check_outputs, as the report always). */
 int series_cli_check(series_cli *c, int mesh_output);
 /* "--opt value" for the command's own options: the value or NULL after a
    usage error. */

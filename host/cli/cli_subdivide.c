@@ -24,7 +24,8 @@ static const char *const help =
     "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
     "  --fallback reference   run on the reference backend when OpenCL fails\n"
     "  --format F, --input-format F, --overwrite-input, -q (as in interpolate)\n"
-    CLI_REPAIR_HELP;
+    CLI_REPAIR_HELP
+    CLI_PATHS_HELP;
 
 int cli_subdivide(int argc, char **argv)
 {
@@ -110,10 +111,9 @@ int cli_subdivide(int argc, char **argv)
     int rc = cli_check_output("subdivide", input, output, out_format, overwrite_input);
     if (!rc && report)
         rc = cli_check_output("subdivide", input, report, LIMN_FORMAT_OBJ, overwrite_input);
+    const char *outputs[] = {output, report};
     if (!rc)
-        rc = cli_check_writable("subdivide", output);
-    if (!rc && report)
-        rc = cli_check_writable("subdivide", report);
+        rc = cli_check_outputs("subdivide", outputs, 2);
     if (rc)
         return rc;
 

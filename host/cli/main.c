@@ -1,6 +1,7 @@
 /* limn: command dispatch. */
 #include "cli.h"
 
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -75,6 +76,9 @@ static int dispatch(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
+    /* a reader of "-o -" or of a FIFO that goes away is a write error
+       (EPIPE, exit status 1, a message), not a silent death by SIGPIPE */
+    signal(SIGPIPE, SIG_IGN);
     /* started by mpirun (a build with LIMN_MPI): MPI_Init and, with several
        ranks, the distributed commands; otherwise no MPI at all */
     if (cli_mpi_launched())
