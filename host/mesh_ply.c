@@ -70,6 +70,8 @@ typedef struct ply {
     uint64_t nv;
     int colors;
     growbuf pos, col, offsets, indices;
+    char dropped[256];         /* vertex properties limn does not keep, for one warning */
+    size_t ndropped;
 } ply;
 
 static limn_status ply_err(ply *p, limn_status st, const char *fmt, ...)
@@ -249,6 +251,18 @@ static int type_from_name(const char *s)
     return T_NONE;
 }
 
+/* Remembers a vertex property that is read past, to name it in a warning. */
+static void ply_note_dropped(ply *p, const char *name)
+{
+    size_t len = strlen(p->dropped), room = sizeof p->dropped - len;
+    if (p->ndropped++ == 0)
+        snprintf(p->dropped, sizeof p->dropped, "'%.40s'", name);
+    else if (room > 50)
+        snprintf(p->dropped + len, room, ", '%.40s'", name);
+    else if (room > 5 && !strstr(p->dropped, "..."))
+        snprintf(p->dropped + len, room, ", ...");
+}
+
 static limn_status ply_property(ply *p, char **w, int nw)
 {
     ply_elem *e = &p->elems[p->nelems - 1];
@@ -271,6 +285,8 @@ static limn_status ply_property(ply *p, char **w, int nw)
         for (int r = R_X; r <= R_BLUE; r++)
             if (strcmp(name, role_names[r]) == 0)
                 pr.role = (unsigned char)r;
+        if (pr.role == R_OTHER)
+            ply_note_dropped(p, name);
         if (pr.role >= R_X && pr.role <= R_Z && list)
             return ply_err(p, LIMN_ERR_FORMAT, "vertex property '%s' is a list", name);
         if (pr.role >= R_RED && (list || pr.type != T_U8)) {
@@ -386,6 +402,10 @@ static limn_status ply_header(ply *p)
     }
     if (p->format == F_NONE)
         return ply_err(p, LIMN_ERR_FORMAT, "the header has no format line");
+    if (p->ndropped)
+        limn_warn(p->ctx, "%s: %zu vertex %s dropped (limn keeps x, y, z and red, green, "
+                          "blue): %s", p->path, p->ndropped,
+                  p->ndropped == 1 ? "property" : "properties", p->dropped);
     return LIMN_OK;
 }
 
@@ -557,6 +577,8 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         free(p);
         return LIMN_ERR_MEMORY;
     }
+    p->pos.budget = p->col.budget = p->offsets.budget = p->indices.budget = &p->r.budget;
+    mio_skip_bom(&p->r);
     p->in_header = 1;
     st = ply_header(p);
     p->in_header = 0;
@@ -614,6 +636,7 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     }
     st = mio_make_mesh(ctx, &p->pos, &p->offsets, &p->indices, &p->col, out);
 done:
+    st = mio_finish(&p->r, st, p->format != F_ASCII && !p->in_header);
     for (size_t i = 0; i < p->nelems; i++)
         free(p->elems[i].props);
     growbuf_free(&p->pos);
