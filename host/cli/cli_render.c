@@ -149,7 +149,7 @@ int cli_render(int argc, char **argv)
             json_number(j, "elevation", o.elevation);
             json_string(j, "up", o.up_axis == 0 ? "x" : o.up_axis == 1 ? "y" : "z");
             json_string(j, "shading", o.flat ? "flat" : "smooth");
-            json_integer(j, "vertex_colors", limn_mesh_colors(in[0]) != NULL);
+            json_bool(j, "vertex_colors", limn_mesh_colors(in[0]) != NULL);
             json_object_begin(j, "seconds");
             json_number(j, "load", load);
             json_number(j, "render", draw);

@@ -1,6 +1,7 @@
 /* limn: command dispatch. */
 #include "cli.h"
 
+#include <locale.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -63,7 +64,7 @@ static int dispatch(int argc, char **argv)
         return 0;
     }
     if (strcmp(cmd, "--version") == 0) {
-        printf("limn %d.%d.%d\n", LIMN_VERSION_MAJOR, LIMN_VERSION_MINOR, LIMN_VERSION_PATCH);
+        printf("limn %s\n", limn_version());
         return 0;
     }
     fprintf(stderr, "limn: unknown command '%s'\n\n", cmd);
@@ -73,6 +74,9 @@ static int dispatch(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
+    /* the user's locale, as a real host would have: the library reads and
+       writes numbers in the C locale regardless (README "Meshes limn accepts") */
+    setlocale(LC_ALL, "");
     /* started by mpirun (a build with LIMN_MPI): MPI_Init and, with several
        ranks, the distributed commands; otherwise no MPI at all */
     if (cli_mpi_launched())
