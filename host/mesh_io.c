@@ -34,7 +34,14 @@ int mio_init(mio_reader *r, limn_context *ctx, const char *path, FILE *f)
     r->next_line = 1;
     r->cap = MIO_BUFFER;
     r->budget.limit = context_max_memory(ctx);
-    if (!growbuf_budget_take(&r->budget, r->cap) || !(r->buf = malloc(r->cap))) {
+    if (!growbuf_budget_take(&r->budget, r->cap)) {
+        limn_fail(ctx, LIMN_ERR_MEMORY,
+                  "%s: the memory limit of %zu bytes does not hold the %zu-byte read buffer: "
+                  "raise --max-memory (limn_context_set_max_memory)", path, r->budget.limit,
+                  r->cap);
+        return 0;
+    }
+    if (!(r->buf = malloc(r->cap))) {
         limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for a read buffer", path);
         return 0;
     }
