@@ -258,6 +258,9 @@ static void cli_reports_the_same_numbers(void **s)
     assert_string_equal(ra, rb);
     free(ra);
     free(rb);
+    /* option values with a decimal point, and one with a comma between two numbers */
+    if (run_cli(DE, de, sizeof de, "render '%s' -o r.png --view 30.5,20 --size 32x32", mesh) != 0)
+        fail_msg("render --view 30.5,20 under %s failed:\n%s", DE, de);
     char *ma = slurp(path_in("C/s.obj"), &na), *mb = slurp(path_in(DE "/s.obj"), &nb);
     assert_non_null(ma);
     assert_non_null(mb);

@@ -1,5 +1,6 @@
 /* limn render: a headless PNG picture of a mesh. */
 #include "cli_series.h"
+#include "c_locale.h"
 
 #include <ctype.h>
 #include <stdlib.h>
@@ -69,8 +70,9 @@ int cli_render(int argc, char **argv)
             return EXIT_USAGE;
         if (strcmp(s, "--view") == 0) {
             char *end, *end2;
-            double az = strtod(v, &end), el = 0;
-            if (end == v || *end != ',' || (el = strtod(end + 1, &end2), end2 == end + 1) ||
+            /* C locale: under de_DE strtod would read "30,20" as 30.2 */
+            double az = c_strtod(v, &end), el = 0;
+            if (end == v || *end != ',' || (el = c_strtod(end + 1, &end2), end2 == end + 1) ||
                 *end2 || !(el >= -90 && el <= 90) || !(az > -1e6 && az < 1e6))
                 return cli_usage_error(c.cmd,
                                        "--view '%s' is not AZIMUTH,ELEVATION in degrees "
