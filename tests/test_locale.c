@@ -16,6 +16,7 @@
 #include "support.h"
 
 #include <locale.h>
+#include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -183,6 +184,41 @@ static void library_reads_and_writes_in_any_locale(void **s)
     }
 }
 
+/* A thread with its own German locale (uselocale, the process stays in C):
+   reads as the C locale does and keeps its locale afterwards. */
+static void *german_thread(void *arg)
+{
+    double *x = arg;
+    locale_t de = newlocale(LC_ALL_MASK, DE, (locale_t)0);
+    if (de == (locale_t)0)
+        return NULL;
+    locale_t prev = uselocale(de);
+    limn_context *ctx = limn_context_create();
+    limn_mesh *m = NULL;
+    if (ctx && limn_mesh_read(ctx, path_in("q.off"), LIMN_FORMAT_AUTO, &m) == LIMN_OK)
+        x[0] = limn_mesh_positions(m)[0];
+    char buf[32];
+    snprintf(buf, sizeof buf, "%g", 0.5);
+    x[1] = strcmp(buf, "0,5") == 0;
+    limn_mesh_destroy(m);
+    limn_context_destroy(ctx);
+    uselocale(prev);
+    freelocale(de);
+    return NULL;
+}
+
+static void thread_locale_is_kept(void **s)
+{
+    (void)s;
+    assert_int_equal(test_write_text(path_in("q.off"), inputs[1].text), 0);
+    double x[2] = {0, 0};
+    pthread_t t;
+    assert_int_equal(pthread_create(&t, NULL, german_thread, x), 0);
+    assert_int_equal(pthread_join(t, NULL), 0);
+    assert_true(x[0] == 0.5); /* read with a '.' */
+    assert_true(x[1] == 1);   /* and the thread's locale is German again */
+}
+
 /* ------------------------------------------------------------------ the CLI */
 
 /* Runs the CLI with LC_ALL=locale in dir/locale/; its output into out. */
@@ -282,6 +318,7 @@ int main(void)
         return 1;
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(library_reads_and_writes_in_any_locale),
+        cmocka_unit_test(thread_locale_is_kept),
         cmocka_unit_test(cli_reports_the_same_numbers),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
