@@ -2,9 +2,20 @@
 #include "context.h"
 #include "device.h"
 
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+
+#define LIMN_STR_(x) #x
+#define LIMN_STR(x) LIMN_STR_(x)
+
+const char *limn_version(void)
+{
+    return LIMN_STR(LIMN_VERSION_MAJOR) "." LIMN_STR(LIMN_VERSION_MINOR) "." LIMN_STR(
+        LIMN_VERSION_PATCH);
+}
 
 limn_context *limn_context_create(void)
 {
@@ -37,6 +48,24 @@ void limn_context_set_progress(limn_context *ctx, limn_progress_fn fn, void *use
         return;
     ctx->progress = fn;
     ctx->progress_user = user;
+}
+
+void limn_context_set_max_memory(limn_context *ctx, size_t bytes)
+{
+    if (ctx)
+        ctx->max_memory = bytes;
+}
+
+size_t context_max_memory(const limn_context *ctx)
+{
+    if (ctx && ctx->max_memory)
+        return ctx->max_memory;
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    if (pages <= 0 || page <= 0)
+        return SIZE_MAX;
+    if ((unsigned long long)pages > SIZE_MAX / 3 / (unsigned long long)page)
+        return SIZE_MAX;
+    return (size_t)pages * (size_t)page / 4 * 3;
 }
 
 const char *limn_context_device_name(const limn_context *ctx)

@@ -21,6 +21,7 @@ struct limn_context {
     int device_slot;          /* of the OpenCL devices matching the choice, take number
                                  slot % count (MPI: the rank on its node); 0 = the first */
     int threads_request;      /* limn_context_set_threads; 0 = from the CPU binding */
+    size_t max_memory;        /* limn_context_set_max_memory; 0 = 3/4 of physical memory */
 };
 
 /* Records a failure message and returns status (for `return limn_fail(...)`). */
@@ -38,5 +39,8 @@ void limn_warn(limn_context *ctx, const char *fmt, ...)
 /* Clears message and warnings at the start of a public call. */
 void limn_clear(limn_context *ctx);
 void limn_progress(limn_context *ctx, const char *stage, double fraction);
+/* The readers' memory limit in bytes: the context's setting, else three
+   quarters of physical memory (SIZE_MAX when that is unknown). */
+size_t context_max_memory(const limn_context *ctx);
 
 #endif

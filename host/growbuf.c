@@ -13,9 +13,13 @@ int growbuf_reserve(growbuf *g, size_t more)
     size_t cap = g->cap ? g->cap : 256;
     while (cap < need)
         cap = cap > SIZE_MAX / 2 ? need : cap * 2;
-    unsigned char *p = realloc(g->data, cap);
-    if (!p)
+    if (!growbuf_budget_take(g->budget, cap - g->cap))
         return 0;
+    unsigned char *p = realloc(g->data, cap);
+    if (!p) {
+        growbuf_budget_give(g->budget, cap - g->cap);
+        return 0;
+    }
     g->data = p;
     g->cap = cap;
     return 1;
@@ -23,6 +27,7 @@ int growbuf_reserve(growbuf *g, size_t more)
 
 void growbuf_free(growbuf *g)
 {
+    growbuf_budget_give(g->budget, g->cap);
     free(g->data);
     g->data = NULL;
     g->len = g->cap = 0;

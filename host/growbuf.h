@@ -6,11 +6,38 @@
 #include <stdint.h>
 #include <string.h>
 
+/* What a reader's buffers may hold together (limn_context_set_max_memory):
+   a growth past limit fails like an exhausted memory, with exceeded set so
+   the reader can say which it was. */
+typedef struct growbuf_budget {
+    size_t limit, used;
+    int exceeded;
+} growbuf_budget;
+
 typedef struct growbuf {
     unsigned char *data;
     size_t len;   /* bytes in use */
     size_t cap;   /* bytes allocated */
+    growbuf_budget *budget; /* NULL: no cap */
 } growbuf;
+
+/* Books n more bytes against b (NULL: no cap); 0 (and b->exceeded) past it. */
+static inline int growbuf_budget_take(growbuf_budget *b, size_t n)
+{
+    if (!b)
+        return 1;
+    if (n > b->limit - b->used) {
+        b->exceeded = 1;
+        return 0;
+    }
+    b->used += n;
+    return 1;
+}
+static inline void growbuf_budget_give(growbuf_budget *b, size_t n)
+{
+    if (b)
+        b->used = n < b->used ? b->used - n : 0;
+}
 
 /* Makes room for at least `more` further bytes. Returns 0 when the size
    would overflow or memory is exhausted (the buffer is then unchanged). */

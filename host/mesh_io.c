@@ -8,6 +8,7 @@
 #endif
 #include "mesh_io.h"
 #include "atomic_file.h"
+#include "c_locale.h"
 #include "context.h"
 #include "mesh.h"
 
@@ -32,8 +33,15 @@ int mio_init(mio_reader *r, limn_context *ctx, const char *path, FILE *f)
     r->f = f;
     r->next_line = 1;
     r->cap = MIO_BUFFER;
-    r->buf = malloc(r->cap);
-    if (!r->buf) {
+    r->budget.limit = context_max_memory(ctx);
+    if (!growbuf_budget_take(&r->budget, r->cap)) {
+        limn_fail(ctx, LIMN_ERR_MEMORY,
+                  "%s: the memory limit of %zu bytes does not hold the %zu-byte read buffer: "
+                  "raise --max-memory (limn_context_set_max_memory)", path, r->budget.limit,
+                  r->cap);
+        return 0;
+    }
+    if (!(r->buf = malloc(r->cap))) {
         limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for a read buffer", path);
         return 0;
     }
@@ -60,6 +68,24 @@ uint64_t mio_remaining(const mio_reader *r)
     return off < r->file_size ? r->file_size - off : 0;
 }
 
+/* Grows the buffer to cap bytes, within the budget; 0 (r->error) when not. */
+static int mio_grow(mio_reader *r, size_t cap)
+{
+    if (!growbuf_budget_take(&r->budget, cap - r->cap)) {
+        r->error = ENOMEM;
+        return 0;
+    }
+    char *p = realloc(r->buf, cap);
+    if (!p) {
+        growbuf_budget_give(&r->budget, cap - r->cap);
+        r->error = ENOMEM;
+        return 0;
+    }
+    r->buf = p;
+    r->cap = cap;
+    return 1;
+}
+
 /* Reads more data, moving the unread part to the front and growing the buffer
    when it is full. Returns the number of bytes added (0 at EOF or error). */
 static size_t mio_fill(mio_reader *r)
@@ -77,18 +103,13 @@ static size_t mio_fill(mio_reader *r)
             r->error = ENOMEM;
             return 0;
         }
-        char *p = realloc(r->buf, r->cap * 2);
-        if (!p) {
-            r->error = ENOMEM;
+        if (!mio_grow(r, r->cap * 2))
             return 0;
-        }
-        r->buf = p;
-        r->cap *= 2;
     }
     size_t n = fread(r->buf + r->end, 1, r->cap - 1 - r->end, r->f);
     if (n == 0) {
         if (ferror(r->f))
-            r->error = errno ? errno : -1;
+            r->error = errno ? errno : MIO_ERR_UNKNOWN;
         else
             r->eof = 1;
     }
@@ -98,6 +119,45 @@ static size_t mio_fill(mio_reader *r)
     return n;
 }
 
+/* Finds the end of the line at base among bytes [from, avail): *e gets the
+   end of its content and *next where the following line starts. A lone '\r'
+   (old Mac files) ends a line and "\r\n" is one end, so a '\r' that is the
+   last byte read so far waits for the next byte unless the file ends. Returns
+   0 when no end is seen yet; *seen then tells how far the bytes are done. */
+static int mio_line_end(const char *base, size_t from, size_t avail, int eof, size_t *e,
+                        size_t *next, size_t *seen)
+{
+    const char *nl = memchr(base + from, '\n', avail - from);
+    size_t lim = nl ? (size_t)(nl - base) : avail;
+    const char *cr = memchr(base + from, '\r', lim - from);
+    if (cr) {
+        size_t i = (size_t)(cr - base);
+        if (i + 1 < avail || eof) {
+            *e = i;
+            *next = i + 1 < avail && base[i + 1] == '\n' ? i + 2 : i + 1;
+            return 1;
+        }
+        *seen = i;
+        return 0;
+    }
+    if (nl) {
+        *e = lim;
+        *next = lim + 1;
+        return 1;
+    }
+    *seen = avail;
+    return 0;
+}
+
+/* A line that cannot be text: NUL bytes (binary data, /dev/zero) or no end
+   in sight. Records where and returns NULL for mio_line. */
+static char *mio_not_text(mio_reader *r, int error, unsigned long lines)
+{
+    r->error = error;
+    r->error_line = r->next_line + lines;
+    return NULL;
+}
+
 char *mio_line(mio_reader *r, size_t *len)
 {
     size_t scan = 0; /* relative to r->start: bytes already searched */
@@ -105,27 +165,27 @@ char *mio_line(mio_reader *r, size_t *len)
     for (;;) {
         char *base = r->buf + r->start;
         size_t avail = r->end - r->start;
-        char *nl = memchr(base + scan, '\n', avail - scan);
-        size_t e;      /* end of the line's content, relative to start */
-        size_t next;   /* where the following line starts, relative to start */
-        if (nl) {
-            next = (size_t)(nl - base) + 1;
-            e = next - 1;
-        } else if (r->error) {
-            return NULL;
-        } else if (r->eof) {
+        size_t e, next, seen = 0;
+        if (!mio_line_end(base, scan, avail, r->eof, &e, &next, &seen)) {
+            if (r->error)
+                return NULL;
+            if (memchr(base + scan, '\0', seen - scan))
+                return mio_not_text(r, MIO_ERR_NUL, lines);
+            scan = seen;
+            if (!r->eof) {
+                if (avail >= MIO_MAX_LINE)
+                    return mio_not_text(r, MIO_ERR_LONG_LINE, lines);
+                mio_fill(r);
+                continue;
+            }
             if (avail == 0)
                 return NULL;
             next = e = avail;
             r->unterminated = 1;
-        } else {
-            scan = avail;
-            mio_fill(r);
-            continue;
         }
+        if (e > scan && memchr(base + scan, '\0', e - scan))
+            return mio_not_text(r, MIO_ERR_NUL, lines);
         lines++;
-        if (e > 0 && base[e - 1] == '\r')
-            e--;
         if (r->continuation && e > 0 && base[e - 1] == '\\' && next > e) {
             memset(base + e - 1, ' ', next - (e - 1));
             scan = next;
@@ -165,13 +225,8 @@ const unsigned char *mio_bytes(mio_reader *r, size_t n)
                 }
                 cap *= 2;
             }
-            char *p = realloc(r->buf, cap);
-            if (!p) {
-                r->error = ENOMEM;
+            if (!mio_grow(r, cap))
                 return NULL;
-            }
-            r->buf = p;
-            r->cap = cap;
         }
         mio_fill(r);
     }
@@ -196,12 +251,51 @@ int mio_skip(mio_reader *r, uint64_t n)
     return 1;
 }
 
+void mio_skip_bom(mio_reader *r)
+{
+    size_t avail;
+    if (mio_offset(r) != 0)
+        return;
+    const unsigned char *b = mio_peek(r, 3, &avail);
+    if (avail == 3 && b[0] == 0xEF && b[1] == 0xBB && b[2] == 0xBF)
+        r->start += 3;
+}
+
+/* The limit in MiB for messages. */
+static double mib(size_t bytes) { return (double)bytes / (1024.0 * 1024.0); }
+
 limn_status mio_read_failed(mio_reader *r)
 {
+    if (r->error == MIO_ERR_NUL)
+        return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+                         "%s:%lu: a NUL byte: binary data in a text file (wrong format or "
+                         "--input-format?)", r->path, r->error_line);
+    if (r->error == MIO_ERR_LONG_LINE)
+        return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+                         "%s:%lu: a line longer than %.0f MiB: not a text mesh file (wrong "
+                         "format or --input-format?)", r->path, r->error_line, mib(MIO_MAX_LINE));
+    if (r->error == ENOMEM && r->budget.exceeded)
+        return mio_finish(r, LIMN_ERR_MEMORY, 0);
     if (r->error == ENOMEM)
         return limn_fail(r->ctx, LIMN_ERR_MEMORY, "%s: out of memory while reading", r->path);
     return limn_fail(r->ctx, LIMN_ERR_IO, "%s: read error: %s", r->path,
                      r->error > 0 ? strerror(r->error) : "unknown error");
+}
+
+limn_status mio_finish(mio_reader *r, limn_status st, int binary)
+{
+    if (st != LIMN_ERR_MEMORY || !r->budget.exceeded)
+        return st;
+    char where[64];
+    if (binary)
+        snprintf(where, sizeof where, ": byte %llu", (unsigned long long)mio_offset(r));
+    else
+        snprintf(where, sizeof where, ":%lu", r->line ? r->line : 1);
+    return limn_fail(r->ctx, LIMN_ERR_MEMORY,
+                     "%s%s: reading stopped at the memory limit of %.1f MiB (%.1f MiB held): "
+                     "the file needs more; raise --max-memory (limn_context_set_max_memory) "
+                     "if it is really this large", r->path, where, mib(r->budget.limit),
+                     mib(r->budget.used));
 }
 
 /* ----------------------------------------------------------------- numbers */
@@ -343,27 +437,46 @@ static limn_status format_from_path(limn_context *ctx, const char *path, limn_fo
                      path);
 }
 
-/* Reads a mesh of a known format from an open file (not closed here). */
-static limn_status read_open_file(limn_context *ctx, const char *path, FILE *f,
-                                  limn_format format, limn_mesh **out)
+/* A pipe or device has no size to check counts against and may never end:
+   read only when its format is named. */
+static limn_status not_regular(limn_context *ctx, const char *path, mode_t mode)
 {
-    limn_status st;
+    return limn_fail(ctx, LIMN_ERR_IO,
+                     "%s: not a regular file (a %s: its size is unknown): name its format "
+                     "(--input-format) to read it as a stream", path,
+                     S_ISFIFO(mode)   ? "pipe"
+                     : S_ISCHR(mode)  ? "character device"
+                     : S_ISSOCK(mode) ? "socket"
+                                      : "special file");
+}
+
+/* Reads an open file in the format; refuses what cannot be a mesh file. */
+static limn_status read_open(limn_context *ctx, const char *path, limn_format format,
+                             int format_given, FILE *f, limn_mesh **out)
+{
     struct stat sb;
-    if (fstat(fileno(f), &sb) != 0) {
-        st = limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: %s", path, strerror(errno));
-    } else if (S_ISDIR(sb.st_mode)) {
-        st = limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: it is a directory", path);
-    } else if (S_ISREG(sb.st_mode) && sb.st_size == 0) {
-        st = limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file is empty", path);
-    } else if (format == LIMN_FORMAT_OBJ) {
-        st = obj_read(ctx, path, f, out);
-    } else if (format == LIMN_FORMAT_OFF) {
-        st = off_read(ctx, path, f, out);
-    } else if (format == LIMN_FORMAT_STL) {
-        st = stl_read(ctx, path, f, out);
-    } else {
-        st = ply_read(ctx, path, f, out);
-    }
+    if (fstat(fileno(f), &sb) != 0)
+        return limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: %s", path, strerror(errno));
+    if (S_ISDIR(sb.st_mode))
+        return limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: it is a directory", path);
+    if (S_ISREG(sb.st_mode) && sb.st_size == 0)
+        return limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file is empty", path);
+    if (!S_ISREG(sb.st_mode) && !format_given)
+        return not_regular(ctx, path, sb.st_mode);
+    if (format == LIMN_FORMAT_OBJ)
+        return obj_read(ctx, path, f, out);
+    if (format == LIMN_FORMAT_OFF)
+        return off_read(ctx, path, f, out);
+    if (format == LIMN_FORMAT_STL)
+        return stl_read(ctx, path, f, out);
+    return ply_read(ctx, path, f, out);
+}
+
+/* read_open, then the checks every mesh file must pass; *out is NULL on failure. */
+static limn_status read_checked(limn_context *ctx, const char *path, limn_format format,
+                                int format_given, FILE *f, limn_mesh **out)
+{
+    limn_status st = read_open(ctx, path, format, format_given, f, out);
     if (st == LIMN_OK && (*out)->vertex_count == 0) {
         limn_mesh_destroy(*out);
         *out = NULL;
@@ -376,6 +489,27 @@ static limn_status read_open_file(limn_context *ctx, const char *path, FILE *f,
     return st;
 }
 
+static limn_status mesh_read(limn_context *ctx, const char *path, limn_format format,
+                             limn_mesh **out)
+{
+    int given = format != LIMN_FORMAT_AUTO;
+    limn_status st;
+    struct stat sb; /* before opening: a FIFO's open would wait for a writer */
+    if (!given && stat(path, &sb) == 0 && !S_ISREG(sb.st_mode) && !S_ISDIR(sb.st_mode))
+        return not_regular(ctx, path, sb.st_mode);
+    if (!given && (st = format_from_path(ctx, path, &format)))
+        return st;
+    if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: unknown format %d",
+                         (int)format);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return limn_fail(ctx, LIMN_ERR_IO, "cannot open %s: %s", path, strerror(errno));
+    st = read_checked(ctx, path, format, given, f, out);
+    fclose(f);
+    return st;
+}
+
 limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format format,
                            limn_mesh **out)
 {
@@ -385,17 +519,11 @@ limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format form
     *out = NULL;
     if (!path || !*path)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: no file name");
-    limn_status st;
-    if (format == LIMN_FORMAT_AUTO && (st = format_from_path(ctx, path, &format)))
-        return st;
-    if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: unknown format %d",
-                         (int)format);
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return limn_fail(ctx, LIMN_ERR_IO, "cannot open %s: %s", path, strerror(errno));
-    st = read_open_file(ctx, path, f, format, out);
-    fclose(f);
+    c_locale_scope loc;
+    if (!c_locale_enter(&loc))
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for the C locale", path);
+    limn_status st = mesh_read(ctx, path, format, out);
+    c_locale_leave(&loc);
     return st;
 }
 
@@ -419,7 +547,12 @@ limn_status limn_mesh_read_stream(limn_context *ctx, FILE *stream, const char *n
     if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read_stream: unknown format %d",
                          (int)format);
-    return read_open_file(ctx, name, stream, format, out);
+    c_locale_scope loc;
+    if (!c_locale_enter(&loc))
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for the C locale", name);
+    limn_status st = read_checked(ctx, name, format, 1, stream, out);
+    c_locale_leave(&loc);
+    return st;
 }
 
 /* ------------------------------------------------------------------ write */
@@ -440,7 +573,10 @@ limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const ch
     st = atomic_file_open(ctx, path, af);
     if (st)
         return st;
-    if (format == LIMN_FORMAT_OBJ)
+    c_locale_scope loc; /* "%.17g" with a '.', whatever the host's locale */
+    if (!c_locale_enter(&loc))
+        st = limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for the C locale", path);
+    else if (format == LIMN_FORMAT_OBJ)
         st = obj_write(ctx, mesh, path, af->f);
     else if (format == LIMN_FORMAT_OFF)
         st = off_write(ctx, mesh, path, af->f);
@@ -448,6 +584,7 @@ limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const ch
         st = stl_write(ctx, mesh, path, af->f);
     else
         st = ply_write(ctx, mesh, path, af->f, format);
+    c_locale_leave(&loc);
     if (st) {
         atomic_file_abort(af);
         return st;

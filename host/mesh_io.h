@@ -47,14 +47,25 @@ typedef struct mio_reader {
     unsigned long line;       /* number of the line last returned by mio_line */
     unsigned long next_line;  /* number of the next line */
     int unterminated;         /* the last line returned ended the file without '\n' */
+    unsigned long error_line; /* the line a MIO_ERR_* refusal was found on */
+    growbuf_budget budget;    /* what the reader and its arrays may hold (max_memory) */
 } mio_reader;
 
-/* Returns 0 (with a message) when memory is exhausted. */
+/* r->error values beside errno ones: the file is not text as expected. */
+#define MIO_ERR_UNKNOWN (-1)
+#define MIO_ERR_LONG_LINE (-2) /* a line longer than MIO_MAX_LINE */
+#define MIO_ERR_NUL (-3)       /* a NUL byte in a line: binary data */
+#define MIO_MAX_LINE ((size_t)64 << 20)
+
+/* Returns 0 (with a message) when memory is exhausted. The budget's limit
+   is the context's max_memory; readers point their growbufs at r->budget. */
 int mio_init(mio_reader *r, limn_context *ctx, const char *path, FILE *f);
 void mio_free(mio_reader *r);
-/* The next line without its '\n' (and a '\r' before it), NUL-terminated and
-   writable; NULL at the end of the file or on a read error (check r->error)
-   or when out of memory (r->error = ENOMEM). *len gets its length. */
+/* The next line without its end ('\n', "\r\n" or a lone '\r'), NUL-terminated
+   and writable; NULL at the end of the file or on a read error (check
+   r->error), when out of memory or over the budget (r->error = ENOMEM), on a
+   NUL byte (MIO_ERR_NUL) or a line over MIO_MAX_LINE (MIO_ERR_LONG_LINE).
+   *len gets its length. */
 char *mio_line(mio_reader *r, size_t *len);
 /* Pointer to the next n bytes (consumed), or NULL when fewer remain (or a read
    error, see r->error). */
@@ -68,8 +79,15 @@ int mio_skip(mio_reader *r, uint64_t n);
 static inline uint64_t mio_offset(const mio_reader *r) { return r->buf_offset + r->start; }
 /* Bytes left in the file after the current position (UINT64_MAX if unknown). */
 uint64_t mio_remaining(const mio_reader *r);
-/* Sets the message for a read error (r->error) and returns LIMN_ERR_IO. */
+/* Consumes a UTF-8 byte order mark (EF BB BF) at the start of the file. */
+void mio_skip_bom(mio_reader *r);
+/* Sets the message for a read error (r->error) and returns LIMN_ERR_IO
+   (LIMN_ERR_FORMAT for a file that is not text, LIMN_ERR_MEMORY). */
 limn_status mio_read_failed(mio_reader *r);
+/* A reader's final status: a LIMN_ERR_MEMORY that came from the budget gets
+   the message naming the limit (at the current line, or byte offset when
+   binary). Returns st. */
+limn_status mio_finish(mio_reader *r, limn_status st, int binary);
 
 /* ----------------------------------------------------------------- tokens */
 static inline int mio_space(char c)

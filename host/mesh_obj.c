@@ -139,6 +139,8 @@ limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         return LIMN_ERR_MEMORY;
     mio_reader *r = &o.r;
     r->continuation = 1;
+    o.pos.budget = o.offsets.budget = o.indices.budget = &r->budget;
+    mio_skip_bom(r);
     limn_status st = LIMN_OK;
     size_t unknown = 0;
     if (!growbuf_push_u32(&o.offsets, 0)) {
@@ -189,6 +191,7 @@ limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     growbuf nocolors = {0};
     st = mio_make_mesh(ctx, &o.pos, &o.offsets, &o.indices, &nocolors, out);
 done:
+    st = mio_finish(r, st, 0);
     growbuf_free(&o.pos);
     growbuf_free(&o.offsets);
     growbuf_free(&o.indices);

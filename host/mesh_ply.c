@@ -1,11 +1,10 @@
 /*
  * PLY (Stanford): ascii, binary little and big endian. Reads the vertex
  * element (x, y, z of any scalar type, optional uchar red/green/blue, other
- * properties skipped), a `face` element (list vertex_indices / vertex_index)
+ * properties skipped and named in one warning), a `face` element (list vertex_indices / vertex_index)
  * and/or a `tristrips` element (strips separated by -1), and skips every other
  * element. Counts in the header are checked against the file size before
- * anything is allocated. Writes binary (LE or BE) or ascii with double
- * coordinates.
+ * anything is allocated. The writer is mesh_ply_write.c.
  */
 #include "mesh_io.h"
 #include "context.h"
@@ -70,6 +69,8 @@ typedef struct ply {
     uint64_t nv;
     int colors;
     growbuf pos, col, offsets, indices;
+    char dropped[256];         /* vertex properties limn does not keep, for one warning */
+    size_t ndropped;
 } ply;
 
 static limn_status ply_err(ply *p, limn_status st, const char *fmt, ...)
@@ -249,6 +250,18 @@ static int type_from_name(const char *s)
     return T_NONE;
 }
 
+/* Remembers a vertex property that is read past, to name it in a warning. */
+static void ply_note_dropped(ply *p, const char *name)
+{
+    size_t len = strlen(p->dropped), room = sizeof p->dropped - len;
+    if (p->ndropped++ == 0)
+        snprintf(p->dropped, sizeof p->dropped, "'%.40s'", name);
+    else if (room > 50)
+        snprintf(p->dropped + len, room, ", '%.40s'", name);
+    else if (room > 5 && !strstr(p->dropped, "..."))
+        snprintf(p->dropped + len, room, ", ...");
+}
+
 static limn_status ply_property(ply *p, char **w, int nw)
 {
     ply_elem *e = &p->elems[p->nelems - 1];
@@ -271,6 +284,8 @@ static limn_status ply_property(ply *p, char **w, int nw)
         for (int r = R_X; r <= R_BLUE; r++)
             if (strcmp(name, role_names[r]) == 0)
                 pr.role = (unsigned char)r;
+        if (pr.role == R_OTHER)
+            ply_note_dropped(p, name);
         if (pr.role >= R_X && pr.role <= R_Z && list)
             return ply_err(p, LIMN_ERR_FORMAT, "vertex property '%s' is a list", name);
         if (pr.role >= R_RED && (list || pr.type != T_U8)) {
@@ -386,6 +401,10 @@ static limn_status ply_header(ply *p)
     }
     if (p->format == F_NONE)
         return ply_err(p, LIMN_ERR_FORMAT, "the header has no format line");
+    if (p->ndropped)
+        limn_warn(p->ctx, "%s: %zu vertex %s dropped (limn keeps x, y, z and red, green, "
+                          "blue): %s", p->path, p->ndropped,
+                  p->ndropped == 1 ? "property" : "properties", p->dropped);
     return LIMN_OK;
 }
 
@@ -557,6 +576,8 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         free(p);
         return LIMN_ERR_MEMORY;
     }
+    p->pos.budget = p->col.budget = p->offsets.budget = p->indices.budget = &p->r.budget;
+    mio_skip_bom(&p->r);
     p->in_header = 1;
     st = ply_header(p);
     p->in_header = 0;
@@ -614,6 +635,7 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     }
     st = mio_make_mesh(ctx, &p->pos, &p->offsets, &p->indices, &p->col, out);
 done:
+    st = mio_finish(&p->r, st, p->format != F_ASCII && !p->in_header);
     for (size_t i = 0; i < p->nelems; i++)
         free(p->elems[i].props);
     growbuf_free(&p->pos);
@@ -623,105 +645,4 @@ done:
     mio_free(&p->r);
     free(p);
     return st;
-}
-
-/* ------------------------------------------------------------------ writer */
-
-typedef struct ply_out {
-    FILE *f;
-    int big;
-    size_t n;
-    unsigned char buf[1 << 16];
-} ply_out;
-
-static int out_flush(ply_out *o)
-{
-    size_t n = o->n;
-    o->n = 0;
-    return fwrite(o->buf, 1, n, o->f) == n;
-}
-
-static int out_put(ply_out *o, uint64_t v, unsigned size)
-{
-    if (o->n + size > sizeof o->buf && !out_flush(o))
-        return 0;
-    for (unsigned i = 0; i < size; i++)
-        o->buf[o->n + (o->big ? size - 1 - i : i)] = (unsigned char)(v >> (8 * i));
-    o->n += size;
-    return 1;
-}
-
-static int put_double(ply_out *o, double d)
-{
-    uint64_t u;
-    memcpy(&u, &d, 8);
-    return out_put(o, u, 8);
-}
-
-limn_status ply_write(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f,
-                      limn_format format)
-{
-    uint32_t max_face = 0;
-    for (size_t fc = 0; fc < m->face_count; fc++) {
-        uint32_t n = m->face_offsets[fc + 1] - m->face_offsets[fc];
-        if (n > max_face)
-            max_face = n;
-    }
-    const char *count_type = max_face > 255 ? "uint" : "uchar";
-    const char *index_type = m->vertex_count > 2147483647u ? "uint" : "int";
-    const char *name = format == LIMN_FORMAT_PLY_ASCII       ? "ascii"
-                       : format == LIMN_FORMAT_PLY_BINARY_BE ? "binary_big_endian"
-                                                             : "binary_little_endian";
-    if (fprintf(f, "ply\nformat %s 1.0\ncomment written by limn\nelement vertex %zu\n"
-                   "property double x\nproperty double y\nproperty double z\n",
-                name, m->vertex_count) < 0 ||
-        (m->colors && fputs("property uchar red\nproperty uchar green\nproperty uchar blue\n",
-                            f) == EOF) ||
-        fprintf(f, "element face %zu\nproperty list %s %s vertex_indices\nend_header\n",
-                m->face_count, count_type, index_type) < 0)
-        return mio_write_failed(ctx, path);
-    const double *p = m->positions;
-    const uint8_t *c = m->colors;
-    if (format == LIMN_FORMAT_PLY_ASCII) {
-        for (size_t v = 0; v < m->vertex_count; v++, p += 3) {
-            if (fprintf(f, "%.17g %.17g %.17g", p[0], p[1], p[2]) < 0 ||
-                (c && fprintf(f, " %u %u %u", c[3 * v], c[3 * v + 1], c[3 * v + 2]) < 0) ||
-                fputc('\n', f) == EOF)
-                return mio_write_failed(ctx, path);
-        }
-        for (size_t fc = 0; fc < m->face_count; fc++) {
-            uint32_t a = m->face_offsets[fc], b = m->face_offsets[fc + 1];
-            if (fprintf(f, "%lu", (unsigned long)(b - a)) < 0)
-                return mio_write_failed(ctx, path);
-            for (uint32_t i = a; i < b; i++)
-                if (fprintf(f, " %lu", (unsigned long)m->face_indices[i]) < 0)
-                    return mio_write_failed(ctx, path);
-            if (fputc('\n', f) == EOF)
-                return mio_write_failed(ctx, path);
-        }
-        return LIMN_OK;
-    }
-    ply_out *o = malloc(sizeof *o);
-    if (!o)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing %s", path);
-    o->f = f;
-    o->n = 0;
-    o->big = format == LIMN_FORMAT_PLY_BINARY_BE;
-    int ok = 1;
-    for (size_t v = 0; v < m->vertex_count && ok; v++, p += 3) {
-        ok = put_double(o, p[0]) && put_double(o, p[1]) && put_double(o, p[2]);
-        if (c && ok)
-            ok = out_put(o, c[3 * v], 1) && out_put(o, c[3 * v + 1], 1) &&
-                 out_put(o, c[3 * v + 2], 1);
-    }
-    unsigned count_size = max_face > 255 ? 4 : 1;
-    for (size_t fc = 0; fc < m->face_count && ok; fc++) {
-        uint32_t a = m->face_offsets[fc], b = m->face_offsets[fc + 1];
-        ok = out_put(o, b - a, count_size);
-        for (uint32_t i = a; i < b && ok; i++)
-            ok = out_put(o, m->face_indices[i], 4);
-    }
-    ok = ok && out_flush(o);
-    free(o);
-    return ok ? LIMN_OK : mio_write_failed(ctx, path);
 }

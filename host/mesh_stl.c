@@ -58,6 +58,8 @@ static uint64_t hash_coords(const double c[3])
 static int weld_grow(stl *s)
 {
     size_t cap = s->cap ? s->cap * 2 : 1024;
+    if (!growbuf_budget_take(&s->r.budget, (cap - s->cap) * sizeof(uint32_t)))
+        return 0;
     uint32_t *slots = calloc(cap, sizeof *slots);
     if (!slots)
         return 0;
@@ -355,11 +357,15 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         free(s);
         return LIMN_ERR_MEMORY;
     }
+    s->pos.budget = s->offsets.budget = s->indices.budget = &s->r.budget;
     limn_status st = LIMN_OK;
     size_t avail;
     const unsigned char *head = mio_peek(&s->r, STL_HEADER, &avail);
-    int solid = starts_with_solid(head, avail);
-    int binary;
+    /* an ascii file may start with a UTF-8 byte order mark; a binary header too,
+       which the size rule below still tells */
+    size_t bom = avail >= 3 && head[0] == 0xEF && head[1] == 0xBB && head[2] == 0xBF ? 3 : 0;
+    int solid = starts_with_solid(head + bom, avail - bom);
+    int binary = 0;
     if (s->r.error) {
         st = mio_read_failed(&s->r);
         goto done;
@@ -383,6 +389,8 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         st = limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
         goto done;
     }
+    if (!binary)
+        mio_skip_bom(&s->r);
     st = binary ? stl_binary(s) : stl_ascii(s);
     if (st)
         goto done;
@@ -393,6 +401,7 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     growbuf nocolors = {0};
     st = mio_make_mesh(ctx, &s->pos, &s->offsets, &s->indices, &nocolors, out);
 done:
+    st = mio_finish(&s->r, st, binary);
     growbuf_free(&s->pos);
     growbuf_free(&s->offsets);
     growbuf_free(&s->indices);

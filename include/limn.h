@@ -47,6 +47,10 @@ extern "C" {
 #define LIMN_VERSION_MINOR 1
 #define LIMN_VERSION_PATCH 0
 
+/* The library's version as "MAJOR.MINOR.PATCH" (static storage): that of the
+   liblimn actually loaded, which may differ from the header's macros. */
+LIMN_API const char *limn_version(void);
+
 typedef enum limn_status {
     LIMN_OK = 0,
     LIMN_ERR_ARGUMENT = 1,     /* a bad argument or option */
@@ -79,6 +83,16 @@ LIMN_API const char *limn_context_warnings(const limn_context *ctx);
 /* Progress callback for long work: fraction in [0,1], a stage name. */
 typedef void (*limn_progress_fn)(void *user, const char *stage, double fraction);
 LIMN_API void limn_context_set_progress(limn_context *ctx, limn_progress_fn fn, void *user);
+
+/*
+ * The memory limit of the mesh readers, in bytes (0, the default: three
+ * quarters of physical memory): limn_mesh_read stops with LIMN_ERR_MEMORY and
+ * a message naming the file, line and limit as soon as what it holds (line
+ * buffer, positions, faces, colours) would exceed it, so a huge or endless
+ * input (a pipe, /dev/zero) cannot take the machine. A line of a text file is
+ * also refused beyond 64 MiB whatever the limit. The CLI sets --max-memory.
+ */
+LIMN_API void limn_context_set_max_memory(limn_context *ctx, size_t bytes);
 
 /* ------------------------------------------------------------------ devices */
 
@@ -228,7 +242,12 @@ LIMN_API int limn_format_from_path(const char *path, limn_format *out);
  * coordinates are welded into one vertex, with a warning giving the counts).
  * Malformed files are refused with a message "PATH:LINE: ..." (text) or
  * "PATH: byte N: ..." (binary); counts in a header are checked against the
- * file size before anything is allocated.
+ * file size before anything is allocated. Text is read the same whatever the
+ * process locale (numbers always with a '.'), with or without a UTF-8 byte
+ * order mark, with LF, CRLF or CR-only line ends. A path that is not a regular
+ * file (a pipe, a device: its size is unknown) is read only when format is
+ * given (not LIMN_FORMAT_AUTO); the limit of limn_context_set_max_memory
+ * bounds what it may cost.
  */
 LIMN_API limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format format,
                                     limn_mesh **out);
@@ -249,6 +268,7 @@ LIMN_API limn_status limn_mesh_read_stream(limn_context *ctx, FILE *stream, cons
  * removed. A symlink is followed and the file it names replaced (the link
  * stays). "-" (or /dev/stdout) is standard output; a FIFO or a character
  * device is written straight through (not atomic). A directory is refused.
+ * Numbers are written in the C locale whatever the process locale.
  */
 LIMN_API limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh,
                                      const char *path, limn_format format);

@@ -4,14 +4,15 @@
 #   scripts/deps.sh --test   also the test-only ones (cmocka, OpenSubdiv, clang
 #                            and its libFuzzer runtime for scripts/fuzz.sh), and
 #                            Open MPI + METIS so that the MPI layer is built and
-#                            tested (optional for users: LIMN_MPI, README "MPI")
+#                            tested (optional for users: LIMN_MPI, README "MPI"),
+#                            and locales (test_locale generates de_DE.UTF-8)
 set -euo pipefail
 
 packages=(gcc g++ make cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
           libhwloc-dev)
 if [[ "${1:-}" == "--test" ]]; then
     packages+=(libcmocka-dev libosd-dev clang-14 libclang-rt-14-dev
-               libopenmpi-dev openmpi-bin libmetis-dev)
+               libopenmpi-dev openmpi-bin libmetis-dev locales)
 fi
 
 missing=()

@@ -244,7 +244,7 @@ static void good_runs(void **s)
     has_keys(rep, shared_keys, sizeof shared_keys / sizeof *shared_keys);
     static const char *const dkeys[] = {"\"m\": 2", "\"steps\": 3", "\"products\": 9",
                                         "\"volume_input\": ", "\"volume_output\": ",
-                                        "\"volume_change\": ", "\"closed\": 1"};
+                                        "\"volume_change\": ", "\"closed\": true"};
     has_keys(rep, dkeys, sizeof dkeys / sizeof *dkeys);
     assert_int_equal(limn("denoise '%s' -o dk.ply --keep-volume -q --report dk.json", spot), 0);
     assert_string_equal(text, "");
@@ -297,7 +297,7 @@ static void good_runs(void **s)
     /* render: a PNG that decodes to the right size, mesh in the middle */
     assert_int_equal(limn("render t1.ply -o r.png --size 120x90 --view 150,10 --report r.json"),
                      0);
-    assert_non_null(strstr(slurp("r.json"), "\"vertex_colors\": 1"));
+    assert_non_null(strstr(slurp("r.json"), "\"vertex_colors\": true"));
     if (system("python3 -c 'import zlib' 2>/dev/null") == 0) {
         snprintf(cmd, sizeof cmd,
                  "python3 -c \"\n"

@@ -93,10 +93,14 @@ double cli_now(void);
 /* Do two paths name the same existing file? */
 int cli_same_file(const char *a, const char *b);
 
-/* JSON report writer: keys in the order they are added. */
+/* The JSON writer of every report and of limn info --json: keys in the order
+   they are added, the first one "limn_version"; strings escaped per RFC 8259
+   (invalid UTF-8 bytes as U+FFFD); numbers in the C locale. */
 typedef struct json_out json_out;
-json_out *json_begin(void);
+json_out *json_begin(void);      /* one key per line (reports) */
+json_out *json_begin_line(void); /* the whole document on one line */
 void json_string(json_out *j, const char *key, const char *value);
+void json_bool(json_out *j, const char *key, int value);
 void json_number(json_out *j, const char *key, double value);
 void json_integer(json_out *j, const char *key, long long value);
 void json_object_begin(json_out *j, const char *key);
@@ -107,6 +111,9 @@ void json_array_begin(json_out *j, const char *key);
 void json_array_end(json_out *j);
 void json_element_number(json_out *j, double value);
 void json_element_object_begin(json_out *j);
+void json_element_array_begin(json_out *j); /* ends with json_array_end */
+/* Writes the document to f (stdout for limn info); frees j in any case. */
+limn_status json_print(limn_context *ctx, json_out *j, FILE *f);
 /* Writes the document atomically; frees j in any case. */
 limn_status json_commit(limn_context *ctx, json_out *j, const char *path);
 /* The same without the final rename (see atomic_file_finish): the report is

@@ -2,6 +2,7 @@
 #include "cli.h"
 #include "atomic_file.h"
 #include "output_path.h"
+#include "c_locale.h"
 #include "context.h"
 
 #include <errno.h>
@@ -38,8 +39,7 @@ const char *cli_value(int argc, char **argv, int *i)
 int cli_parse_double(const char *opt, const char *text, double *out)
 {
     char *end;
-    errno = 0;
-    double v = strtod(text, &end);
+    double v = c_strtod(text, &end); /* "0.5" whatever the locale */
     if (end == text || *end || errno == ERANGE || !isfinite(v)) {
         fprintf(stderr, "limn: %s expects a number, got '%s'\n", opt, text);
         return 0;
@@ -124,6 +124,7 @@ struct json_out {
     int depth;
     int need_comma;
     int failed;
+    int compact;    /* one line (limn info --json) instead of one key per line */
 };
 
 static void put(json_out *j, const char *s, size_t n)
@@ -147,62 +148,151 @@ static void put(json_out *j, const char *s, size_t n)
 
 static void puts_(json_out *j, const char *s) { put(j, s, strlen(s)); }
 
-static void key(json_out *j, const char *k)
+/* Length of the valid UTF-8 sequence at p (RFC 3629: no overlong forms, no
+   surrogates, nothing past U+10FFFF), or 0 when the byte starts none. */
+static size_t utf8_length(const unsigned char *p)
+{
+    unsigned char c = p[0];
+    size_t n;
+    unsigned char lo = 0x80, hi = 0xBF; /* range of the second byte */
+    if (c < 0x80)
+        return 1;
+    if (c >= 0xC2 && c <= 0xDF)
+        n = 2;
+    else if (c >= 0xE0 && c <= 0xEF) {
+        n = 3;
+        lo = c == 0xE0 ? 0xA0 : 0x80;
+        hi = c == 0xED ? 0x9F : 0xBF;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+        n = 4;
+        lo = c == 0xF0 ? 0x90 : 0x80;
+        hi = c == 0xF4 ? 0x8F : 0xBF;
+    } else
+        return 0;
+    if (p[1] < lo || p[1] > hi)
+        return 0;
+    for (size_t i = 2; i < n; i++)
+        if (p[i] < 0x80 || p[i] > 0xBF)
+            return 0;
+    return n;
+}
+
+/* A JSON string (RFC 8259): quotes, backslashes and control characters
+   escaped; a byte that is not valid UTF-8 (a file name from another
+   encoding) becomes U+FFFD, so the document always parses. */
+static void put_string(json_out *j, const char *v)
+{
+    puts_(j, "\"");
+    for (const unsigned char *p = (const unsigned char *)v; *p;) {
+        char esc[8];
+        size_t n = utf8_length(p);
+        const char *named = *p == '"'    ? "\\\""
+                            : *p == '\\' ? "\\\\"
+                            : *p == '\n' ? "\\n"
+                            : *p == '\t' ? "\\t"
+                            : *p == '\r' ? "\\r"
+                            : *p == '\b' ? "\\b"
+                            : *p == '\f' ? "\\f"
+                                         : NULL;
+        if (named) {
+            puts_(j, named);
+        } else if (*p < 0x20) {
+            snprintf(esc, sizeof esc, "\\u%04x", *p);
+            puts_(j, esc);
+        } else if (n == 0) {
+            puts_(j, "\\ufffd");
+            n = 1;
+        } else {
+            put(j, (const char *)p, n);
+        }
+        p += n ? n : 1;
+    }
+    puts_(j, "\"");
+}
+
+/* Comma, then a new line and indentation (or one space when compact). */
+static void element(json_out *j)
 {
     if (j->need_comma)
-        puts_(j, ",");
-    puts_(j, "\n");
-    for (int i = 0; i < j->depth; i++)
-        puts_(j, "  ");
-    puts_(j, "\"");
-    puts_(j, k);
-    puts_(j, "\": ");
+        puts_(j, j->compact ? ", " : ",");
+    if (!j->compact) {
+        puts_(j, "\n");
+        for (int i = 0; i < j->depth; i++)
+            puts_(j, "  ");
+    }
     j->need_comma = 1;
 }
 
-json_out *json_begin(void)
+static void key(json_out *j, const char *k)
+{
+    element(j);
+    put_string(j, k);
+    puts_(j, ": ");
+}
+
+/* A closing bracket on its own line (or right after the last value). */
+static void close_(json_out *j, const char *bracket)
+{
+    j->depth--;
+    if (!j->compact) {
+        puts_(j, "\n");
+        for (int i = 0; i < j->depth; i++)
+            puts_(j, "  ");
+    }
+    puts_(j, bracket);
+    j->need_comma = 1;
+}
+
+static void open_(json_out *j, const char *bracket)
+{
+    puts_(j, bracket);
+    j->depth++;
+    j->need_comma = 0;
+}
+
+static json_out *begin(int compact)
 {
     json_out *j = calloc(1, sizeof *j);
     if (j) {
-        puts_(j, "{");
-        j->depth = 1;
+        j->compact = compact;
+        open_(j, "{");
+        json_string(j, "limn_version", limn_version());
     }
     return j;
 }
 
+json_out *json_begin(void) { return begin(0); }
+json_out *json_begin_line(void) { return begin(1); }
+
 void json_string(json_out *j, const char *k, const char *v)
 {
     key(j, k);
-    puts_(j, "\"");
-    for (const unsigned char *p = (const unsigned char *)v; *p; p++) {
-        char esc[8];
-        if (*p == '"' || *p == '\\') {
-            esc[0] = '\\';
-            esc[1] = (char)*p;
-            put(j, esc, 2);
-        } else if (*p < 0x20) {
-            snprintf(esc, sizeof esc, "\\u%04x", *p);
-            puts_(j, esc);
-        } else {
-            put(j, (const char *)p, 1);
-        }
+    put_string(j, v ? v : "");
+}
+
+/* The shortest of %.15g / %.17g that reads back to v, with a '.' whatever
+   the locale (the C locale for this thread, only here); null if not finite. */
+static void put_number(json_out *j, double v)
+{
+    char buf[64] = "null";
+    if (isfinite(v)) {
+        c_locale_scope loc;
+        int entered = c_locale_enter(&loc);
+        snprintf(buf, sizeof buf, "%.15g", v);
+        if (strtod(buf, NULL) != v)
+            snprintf(buf, sizeof buf, "%.17g", v);
+        if (entered)
+            c_locale_leave(&loc);
+        else if (strchr(buf, ','))
+            *strchr(buf, ',') = '.'; /* no C locale object: mend the decimal comma */
     }
-    puts_(j, "\"");
+    puts_(j, buf);
 }
 
 void json_number(json_out *j, const char *k, double v)
 {
-    char buf[64];
     key(j, k);
-    if (isfinite(v)) {
-        /* shortest form that reads back to the same double */
-        snprintf(buf, sizeof buf, "%.15g", v);
-        if (strtod(buf, NULL) != v)
-            snprintf(buf, sizeof buf, "%.17g", v);
-    }
-    else
-        snprintf(buf, sizeof buf, "null");
-    puts_(j, buf);
+    put_number(j, v);
 }
 
 void json_integer(json_out *j, const char *k, long long v)
@@ -213,73 +303,59 @@ void json_integer(json_out *j, const char *k, long long v)
     puts_(j, buf);
 }
 
+void json_bool(json_out *j, const char *k, int v)
+{
+    key(j, k);
+    puts_(j, v ? "true" : "false");
+}
+
 void json_object_begin(json_out *j, const char *k)
 {
     key(j, k);
-    puts_(j, "{");
-    j->depth++;
-    j->need_comma = 0;
+    open_(j, "{");
 }
 
-void json_object_end(json_out *j)
-{
-    j->depth--;
-    puts_(j, "\n");
-    for (int i = 0; i < j->depth; i++)
-        puts_(j, "  ");
-    puts_(j, "}");
-    j->need_comma = 1;
-}
-
-/* An array element: comma, new line and indentation, no key. */
-static void element(json_out *j)
-{
-    if (j->need_comma)
-        puts_(j, ",");
-    puts_(j, "\n");
-    for (int i = 0; i < j->depth; i++)
-        puts_(j, "  ");
-    j->need_comma = 1;
-}
+void json_object_end(json_out *j) { close_(j, "}"); }
 
 void json_array_begin(json_out *j, const char *k)
 {
     key(j, k);
-    puts_(j, "[");
-    j->depth++;
-    j->need_comma = 0;
+    open_(j, "[");
 }
 
-void json_array_end(json_out *j)
-{
-    j->depth--;
-    puts_(j, "\n");
-    for (int i = 0; i < j->depth; i++)
-        puts_(j, "  ");
-    puts_(j, "]");
-    j->need_comma = 1;
-}
+void json_array_end(json_out *j) { close_(j, "]"); }
 
 void json_element_number(json_out *j, double v)
 {
-    char buf[64];
     element(j);
-    if (isfinite(v)) {
-        snprintf(buf, sizeof buf, "%.15g", v);
-        if (strtod(buf, NULL) != v)
-            snprintf(buf, sizeof buf, "%.17g", v);
-    } else {
-        snprintf(buf, sizeof buf, "null");
-    }
-    puts_(j, buf);
+    put_number(j, v);
 }
 
 void json_element_object_begin(json_out *j)
 {
     element(j);
-    puts_(j, "{");
-    j->depth++;
-    j->need_comma = 0;
+    open_(j, "{");
+}
+
+void json_element_array_begin(json_out *j)
+{
+    element(j);
+    open_(j, "[");
+}
+
+limn_status json_print(limn_context *ctx, json_out *j, FILE *f)
+{
+    limn_status st = LIMN_OK;
+    while (j->depth > 0)
+        json_object_end(j);
+    puts_(j, "\n");
+    if (j->failed)
+        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing JSON");
+    else if (fwrite(j->text, 1, j->len, f) != j->len || fflush(f) != 0)
+        st = limn_fail(ctx, LIMN_ERR_IO, "cannot write JSON: %s", strerror(errno));
+    free(j->text);
+    free(j);
+    return st;
 }
 
 limn_status json_stage(limn_context *ctx, json_out *j, const char *path, atomic_file *af)
@@ -352,8 +428,7 @@ int cli_parse_scheme(const char *cmd, const char *text, limn_scheme *out)
 int cli_parse_size(const char *opt, const char *text, size_t *out)
 {
     char *end;
-    errno = 0;
-    double v = strtod(text, &end);
+    double v = c_strtod(text, &end);
     double unit = 1;
     if (end != text && *end && !end[1]) {
         switch (*end) {

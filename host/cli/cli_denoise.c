@@ -37,8 +37,8 @@ static void json_extra(json_out *j, void *user)
     extra *e = user;
     json_integer(j, "m", e->m);
     json_integer(j, "steps", e->steps);
-    json_integer(j, "keep_volume", e->keep_volume);
-    json_integer(j, "closed", e->closed);
+    json_bool(j, "keep_volume", e->keep_volume);
+    json_bool(j, "closed", e->closed);
     json_number(j, "volume_input", e->closed ? e->volume_in : NAN);
     json_number(j, "volume_output", e->closed ? e->volume_out : NAN);
     json_number(j, "volume_change", e->closed ? (e->volume_out - e->volume_in) / e->volume_in : NAN);

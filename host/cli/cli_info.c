@@ -1,17 +1,84 @@
 /* limn info: what a mesh is made of, as text or JSON on stdout. */
 #include "cli.h"
+#include "c_locale.h"
+#include "context.h"
 
 #include <string.h>
 
 static const char *const help =
-    "usage: limn info INPUT [--json] [--input-format F] [--no-repair]\n"
-    "                       [--drop-duplicate-faces]\n"
+    "usage: limn info INPUT [--json] [--input-format F] [--max-memory SIZE]\n"
+    "                       [--no-repair] [--drop-duplicate-faces]\n"
     "\n"
     "Prints vertex, face and edge counts, face kinds, boundary loops, components,\n"
     "non-manifold elements, the Euler characteristic, the bounding box and the\n"
     "scheme 'auto' would choose, of the mesh as the other commands see it: after\n"
-    "the repair step, whose changes are printed as warnings.\n"
+    "the repair step, whose changes are printed as warnings. --json prints one line\n"
+    "of JSON. A pipe or device is read only with --input-format; reading stops\n"
+    "beyond --max-memory (default three quarters of physical memory).\n"
     CLI_REPAIR_HELP;
+
+static limn_status print_json(limn_context *ctx, const char *input, const limn_mesh_info *in,
+                              const char *scheme)
+{
+    json_out *j = json_begin_line();
+    if (!j)
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing JSON");
+    json_string(j, "file", input);
+    const struct { const char *key; size_t value; } counts[] = {
+        {"vertices", in->vertices},
+        {"faces", in->faces},
+        {"edges", in->edges},
+        {"referenced_vertices", in->referenced_vertices},
+        {"triangles", in->triangles},
+        {"quads", in->quads},
+        {"other_faces", in->other_faces},
+        {"max_face_size", in->max_face_size},
+        {"max_valence", in->max_valence},
+        {"boundary_edges", in->boundary_edges},
+        {"boundary_loops", in->boundary_loops},
+        {"components", in->components},
+        {"nonmanifold_edges", in->nonmanifold_edges},
+        {"nonmanifold_vertices", in->nonmanifold_vertices},
+        {"inconsistent_orientation_edges", in->inconsistent_edges},
+    };
+    for (size_t i = 0; i < sizeof counts / sizeof *counts; i++)
+        json_integer(j, counts[i].key, (long long)counts[i].value);
+    json_integer(j, "euler_characteristic", in->euler_characteristic);
+    json_array_begin(j, "bbox");
+    for (int c = 0; c < 2; c++) {
+        const double *corner = c ? in->bbox_max : in->bbox_min;
+        json_element_array_begin(j);
+        for (int k = 0; k < 3; k++)
+            json_element_number(j, corner[k]);
+        json_array_end(j);
+    }
+    json_array_end(j);
+    json_number(j, "bbox_diagonal", in->bbox_diagonal);
+    json_string(j, "auto_scheme", scheme);
+    return json_print(ctx, j, stdout);
+}
+
+static void print_text(const char *input, const limn_mesh_info *in, const char *scheme)
+{
+    printf("%s\n"
+           "  vertices   %zu (%zu used by faces)\n"
+           "  faces      %zu (%zu triangles, %zu quads, %zu other; largest %zu sides)\n"
+           "  edges      %zu (max valence %zu)\n"
+           "  boundary   %zu edges in %zu loops\n"
+           "  components %zu\n"
+           "  manifold   %s (%zu non-manifold edges, %zu non-manifold vertices, %zu edges "
+           "with inconsistent orientation)\n"
+           "  euler      %ld\n"
+           "  bbox       [%g %g %g] - [%g %g %g], diagonal %g\n"
+           "  scheme     %s (for --scheme auto)\n",
+           input, in->vertices, in->referenced_vertices, in->faces, in->triangles, in->quads,
+           in->other_faces, in->max_face_size, in->edges, in->max_valence, in->boundary_edges,
+           in->boundary_loops, in->components,
+           in->nonmanifold_edges || in->nonmanifold_vertices ? "NO" : "yes",
+           in->nonmanifold_edges, in->nonmanifold_vertices, in->inconsistent_edges,
+           in->euler_characteristic, in->bbox_min[0], in->bbox_min[1], in->bbox_min[2],
+           in->bbox_max[0], in->bbox_max[1], in->bbox_max[2], in->bbox_diagonal, scheme);
+}
 
 int cli_info(int argc, char **argv)
 {
@@ -19,6 +86,7 @@ int cli_info(int argc, char **argv)
     int json = 0;
     limn_format fmt = LIMN_FORMAT_AUTO;
     cli_repair repair = {0, 0};
+    size_t max_memory = 0;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) {
             fputs(help, stdout);
@@ -30,6 +98,12 @@ int cli_info(int argc, char **argv)
             const char *v = cli_value(argc, argv, &i);
             if (!v || !limn_format_from_name(v, &fmt))
                 return cli_usage_error("info", "--input-format needs one of obj, ply, off, stl");
+        } else if (strcmp(argv[i], "--max-memory") == 0) {
+            const char *v = cli_value(argc, argv, &i);
+            if (!v)
+                return cli_usage_error("info", "--max-memory needs a size such as 512M or 4G");
+            if (!cli_parse_size("--max-memory", v, &max_memory))
+                return EXIT_USAGE;
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return cli_usage_error("info", "unknown option '%s'", argv[i]);
         } else if (!input) {
@@ -43,6 +117,7 @@ int cli_info(int argc, char **argv)
     limn_context *ctx = limn_context_create();
     if (!ctx)
         return EXIT_FAILURE_RUN;
+    limn_context_set_max_memory(ctx, max_memory);
     limn_mesh *mesh = NULL;
     limn_mesh_info in;
     limn_status st = cli_load_mesh("info", ctx, input, fmt, &repair, 0, &mesh);
@@ -56,39 +131,19 @@ int cli_info(int argc, char **argv)
     }
     const char *scheme = in.faces > 0 && in.quads == 0 && in.other_faces == 0 ? "loop" : "catmark";
     if (json) {
-        printf("{\"file\": \"%s\", \"vertices\": %zu, \"faces\": %zu, \"edges\": %zu, "
-               "\"referenced_vertices\": %zu, \"triangles\": %zu, \"quads\": %zu, "
-               "\"other_faces\": %zu, \"max_face_size\": %zu, \"max_valence\": %zu, "
-               "\"boundary_edges\": %zu, \"boundary_loops\": %zu, \"components\": %zu, "
-               "\"nonmanifold_edges\": %zu, \"nonmanifold_vertices\": %zu, "
-               "\"inconsistent_orientation_edges\": %zu, \"euler_characteristic\": %ld, "
-               "\"bbox\": [[%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g]], "
-               "\"bbox_diagonal\": %.17g, \"auto_scheme\": \"%s\"}\n",
-               input, in.vertices, in.faces, in.edges, in.referenced_vertices, in.triangles,
-               in.quads, in.other_faces, in.max_face_size, in.max_valence, in.boundary_edges,
-               in.boundary_loops, in.components, in.nonmanifold_edges, in.nonmanifold_vertices,
-               in.inconsistent_edges, in.euler_characteristic, in.bbox_min[0], in.bbox_min[1],
-               in.bbox_min[2], in.bbox_max[0], in.bbox_max[1], in.bbox_max[2], in.bbox_diagonal,
-               scheme);
+        st = print_json(ctx, input, &in, scheme);
     } else {
-        printf("%s\n"
-               "  vertices   %zu (%zu used by faces)\n"
-               "  faces      %zu (%zu triangles, %zu quads, %zu other; largest %zu sides)\n"
-               "  edges      %zu (max valence %zu)\n"
-               "  boundary   %zu edges in %zu loops\n"
-               "  components %zu\n"
-               "  manifold   %s (%zu non-manifold edges, %zu non-manifold vertices, %zu edges "
-               "with inconsistent orientation)\n"
-               "  euler      %ld\n"
-               "  bbox       [%g %g %g] - [%g %g %g], diagonal %g\n"
-               "  scheme     %s (for --scheme auto)\n",
-               input, in.vertices, in.referenced_vertices, in.faces, in.triangles, in.quads,
-               in.other_faces, in.max_face_size, in.edges, in.max_valence, in.boundary_edges,
-               in.boundary_loops, in.components,
-               in.nonmanifold_edges || in.nonmanifold_vertices ? "NO" : "yes",
-               in.nonmanifold_edges, in.nonmanifold_vertices, in.inconsistent_edges,
-               in.euler_characteristic, in.bbox_min[0], in.bbox_min[1], in.bbox_min[2],
-               in.bbox_max[0], in.bbox_max[1], in.bbox_max[2], in.bbox_diagonal, scheme);
+        c_locale_scope loc; /* "%g" with a '.', as in the files, whatever the locale */
+        int entered = c_locale_enter(&loc);
+        print_text(input, &in, scheme);
+        if (entered)
+            c_locale_leave(&loc);
+    }
+    if (st) {
+        int rc = cli_fail("info", ctx, st);
+        limn_mesh_destroy(mesh);
+        limn_context_destroy(ctx);
+        return rc;
     }
     limn_mesh_destroy(mesh);
     limn_context_destroy(ctx);

@@ -292,7 +292,7 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
         json_integer(j, "surface_vertices", (long long)sr->vertices);
         json_integer(j, "surface_faces", (long long)sr->faces);
         json_integer(j, "levels", sr->levels);
-        json_string(j, "limit", sr->limit ? "yes" : "no");
+        json_bool(j, "limit", sr->limit);
     }
     json_integer(j, "peak_rss_bytes", (long long)cli_peak_rss());
     cli_mpi_json(j);
@@ -366,6 +366,7 @@ int cli_interpolate(int argc, char **argv)
         fprintf(stderr, "limn interpolate: out of memory\n");
         return EXIT_FAILURE_RUN;
     }
+    limn_context_set_max_memory(ctx, a.sub.max_memory); /* the reader's cap too */
     limn_mesh *mesh = NULL, *control = NULL, *surface = NULL, *piece = NULL;
     limn_report r;
     memset(&r, 0, sizeof r);

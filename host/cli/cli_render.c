@@ -1,5 +1,6 @@
 /* limn render: a headless PNG picture of a mesh. */
 #include "cli_series.h"
+#include "c_locale.h"
 
 #include <ctype.h>
 #include <stdlib.h>
@@ -69,8 +70,9 @@ int cli_render(int argc, char **argv)
             return EXIT_USAGE;
         if (strcmp(s, "--view") == 0) {
             char *end, *end2;
-            double az = strtod(v, &end), el = 0;
-            if (end == v || *end != ',' || (el = strtod(end + 1, &end2), end2 == end + 1) ||
+            /* C locale: under de_DE strtod would read "30,20" as 30.2 */
+            double az = c_strtod(v, &end), el = 0;
+            if (end == v || *end != ',' || (el = c_strtod(end + 1, &end2), end2 == end + 1) ||
                 *end2 || !(el >= -90 && el <= 90) || !(az > -1e6 && az < 1e6))
                 return cli_usage_error(c.cmd,
                                        "--view '%s' is not AZIMUTH,ELEVATION in degrees "
@@ -152,7 +154,7 @@ int cli_render(int argc, char **argv)
             json_number(j, "elevation", o.elevation);
             json_string(j, "up", o.up_axis == 0 ? "x" : o.up_axis == 1 ? "y" : "z");
             json_string(j, "shading", o.flat ? "flat" : "smooth");
-            json_integer(j, "vertex_colors", limn_mesh_colors(in[0]) != NULL);
+            json_bool(j, "vertex_colors", limn_mesh_colors(in[0]) != NULL);
             json_object_begin(j, "seconds");
             json_number(j, "load", load);
             json_number(j, "render", draw);

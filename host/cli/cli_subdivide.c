@@ -120,6 +120,7 @@ int cli_subdivide(int argc, char **argv)
     limn_context *ctx = limn_context_create();
     if (!ctx)
         return EXIT_FAILURE_RUN;
+    limn_context_set_max_memory(ctx, o.max_memory); /* the reader's cap too */
     limn_mesh *mesh = NULL, *surface = NULL;
     limn_subdivide_report r;
     double sec[3] = {0, 0, 0}, t0 = cli_now();
@@ -160,7 +161,7 @@ int cli_subdivide(int argc, char **argv)
         json_string(j, "scheme", limn_scheme_name(r.scheme));
         json_number(j, "alpha", r.alpha);
         json_integer(j, "levels", r.levels);
-        json_string(j, "limit", r.limit ? "yes" : "no");
+        json_bool(j, "limit", r.limit);
         json_integer(j, "stencil_nonzeros", (long long)r.stencil_nonzeros);
         json_integer(j, "estimated_bytes", (long long)r.estimated_bytes);
         json_integer(j, "peak_rss_bytes", (long long)cli_peak_rss());

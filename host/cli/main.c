@@ -2,6 +2,7 @@
 #include "cli.h"
 
 #include <signal.h>
+#include <locale.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -66,7 +67,7 @@ static int dispatch(int argc, char **argv)
         return 0;
     }
     if (strcmp(cmd, "--version") == 0) {
-        printf("limn %d.%d.%d\n", LIMN_VERSION_MAJOR, LIMN_VERSION_MINOR, LIMN_VERSION_PATCH);
+        printf("limn %s\n", limn_version());
         return 0;
     }
     fprintf(stderr, "limn: unknown command '%s'\n\n", cmd);
@@ -79,6 +80,9 @@ int main(int argc, char **argv)
     /* a reader of "-o -" or of a FIFO that goes away is a write error
        (EPIPE, exit status 1, a message), not a silent death by SIGPIPE */
     signal(SIGPIPE, SIG_IGN);
+    /* the user's locale, as a real host would have: the library reads and
+       writes numbers in the C locale regardless (README "Meshes limn accepts") */
+    setlocale(LC_ALL, "");
     /* started by mpirun (a build with LIMN_MPI): MPI_Init and, with several
        ranks, the distributed commands; otherwise no MPI at all */
     if (cli_mpi_launched())

@@ -200,6 +200,38 @@ for big, target in ((False, "ply_le"), (True, "ply_be")):
     put(target, "huge_face_count.bin", ply_binary_body(big).replace(b"element face 6",
                                                                     b"element face 9999999999"))
 
+# ------------------------------------------- issues 11.4 and 18: odd text
+BOM = "\ufeff"
+put("obj", "bom.obj", BOM + TRI + "f 1 2 3\n")
+put("obj", "cr_only.obj", (TRI + "f 1 2 3\n").replace("\n", "\r"))
+put("obj", "cr_mixed.obj", "v 0 0 0\rv 1 0 0\r\nv 0 1 0\nf 1 2 3\r")
+put("obj", "nul.obj", b"v 0 0 0\nv 1 0\x00 0\nv 0 1 0\nf 1 2 3\n")
+put("obj", "zeros.obj", bytes(4096))
+put("off", "bom.off", BOM + "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+put("off", "cr_only.off", "OFF\r3 1 0\r0 0 0\r1 0 0\r0 1 0\r3 0 1 2\r")
+put("off", "ncoff_meshlab.off", "NCOFF\n3 1 0\n0 0 0 255 0 0 255 0 0 1 \n"
+    "1 0 0 0 255 0 255 0 0 1 \n0 1 0 0 0 255 255 0 0 1 \n3 0 1 2 \n")
+put("off", "stcnoff.off", "STCNOFF\n3 1 0\n0 0 0 0 0 1 1 0 0 1 0 0\n"
+    "1 0 0 0 0 1 0 1 0 1 1 0\n0 1 0 0 0 1 0 0 1 1 0 1\n3 0 1 2\n")
+put("off", "noff_dim3.off", "nOFF\n3\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+put("off", "noff_dim4.off", "nOFF\n4\n1 0 0\n0 0 0 0\n")
+put("off", "two_faces_one_line.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+    "3 0 1 2 3 0 2 3\n")
+put("off", "zeros.off", bytes(4096))
+put("stl", "bom_ascii.stl", BOM + "solid b\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+    "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid b\n")
+put("stl", "cr_only_ascii.stl", "solid c\rfacet normal 0 0 1\router loop\rvertex 0 0 0\r"
+    "vertex 1 0 0\rvertex 0 1 0\rendloop\rendfacet\rendsolid c\r")
+put("stl", "bom_binary.stl", stl_binary([(0, 1, 2)], [(0, 0, 0), (1, 0, 0), (0, 1, 0)],
+                                        header=b"\xef\xbb\xbfsolid binary with a BOM"))
+put("ply", "bom.ply", BOM + ply_ascii_cube())
+put("ply", "cr_only.ply", ply_ascii_cube().replace("\n", "\r"))
+put("ply", "dropped_props.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"
+    "property float x\nproperty float y\nproperty float z\nproperty float confidence\n"
+    "property float intensity\nproperty float nx\nproperty float u\nelement face 1\n"
+    "property list uchar int vertex_indices\nend_header\n0 0 0 1 2 0 0\n1 0 0 1 2 0 0\n"
+    "0 1 0 1 2 0 0\n3 0 1 2\n")
+
 # ------------------------------------------------------------ shared meshes
 REAL = [
     ("obj", "opensubdiv/catmark_cube.obj"),
