@@ -32,11 +32,20 @@ void opencl_read_props(cl_platform_id platform, cl_device_id device, unsigned p,
     info_string(device, CL_DEVICE_VERSION, out->version, sizeof out->version);
     clGetDeviceInfo(device, CL_DEVICE_TYPE, sizeof out->type, &out->type, NULL);
     clGetDeviceInfo(device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof out->fp64, &out->fp64, NULL);
-    clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof out->max_work_group,
-                    &out->max_work_group, NULL);
-    size_t sizes[3] = {0, 0, 0}; /* every device has at least 3 dimensions */
-    clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_ITEM_SIZES, sizeof sizes, sizes, NULL);
-    out->max_item_size = sizes[0];
+    /* a limit the driver does not report is not held against the device */
+    if (clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof out->max_work_group,
+                        &out->max_work_group, NULL) != CL_SUCCESS)
+        out->max_work_group = (size_t)-1;
+    size_t sizes[64];
+    cl_uint dims = 0;
+    if (clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_ITEM_DIMENSIONS, sizeof dims, &dims, NULL) ==
+            CL_SUCCESS &&
+        dims >= 1 && dims <= 64 &&
+        clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_ITEM_SIZES, dims * sizeof *sizes, sizes,
+                        NULL) == CL_SUCCESS)
+        out->max_item_size = sizes[0];
+    else
+        out->max_item_size = (size_t)-1;
     clGetDeviceInfo(device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof out->mem, &out->mem, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof out->alloc, &out->alloc, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof out->units, &out->units, NULL);
