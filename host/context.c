@@ -28,13 +28,16 @@ void limn_context_destroy(limn_context *ctx)
     if (!ctx)
         return;
     device_close(ctx->device);
+    free(ctx->long_message);
     free(ctx->warnings);
     free(ctx);
 }
 
 const char *limn_context_message(const limn_context *ctx)
 {
-    return ctx ? ctx->message : "no context";
+    if (!ctx)
+        return "no context";
+    return ctx->long_message && ctx->message[0] ? ctx->long_message : ctx->message;
 }
 
 const char *limn_context_warnings(const limn_context *ctx)
@@ -75,12 +78,23 @@ const char *limn_context_device_name(const limn_context *ctx)
 
 limn_status limn_fail(limn_context *ctx, limn_status status, const char *fmt, ...)
 {
-    if (ctx) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(ctx->message, sizeof ctx->message, fmt, ap);
-        va_end(ap);
+    if (!ctx)
+        return status;
+    free(ctx->long_message);
+    ctx->long_message = NULL;
+    va_list ap, again;
+    va_start(ap, fmt);
+    va_copy(again, ap);
+    int n = vsnprintf(ctx->message, sizeof ctx->message, fmt, ap);
+    va_end(ap);
+    /* a message that does not fit (a compiler's whole build log) is kept
+       whole on the heap; message[] keeps its start (MPI sends that) */
+    if (n >= (int)sizeof ctx->message) {
+        ctx->long_message = malloc((size_t)n + 1);
+        if (ctx->long_message)
+            vsnprintf(ctx->long_message, (size_t)n + 1, fmt, again);
     }
+    va_end(again);
     return status;
 }
 
@@ -111,6 +125,8 @@ void limn_clear(limn_context *ctx)
     if (!ctx)
         return;
     ctx->message[0] = '\0';
+    free(ctx->long_message);
+    ctx->long_message = NULL;
     ctx->device_failed = 0;
     free(ctx->warnings);
     ctx->warnings = NULL;

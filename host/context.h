@@ -9,6 +9,8 @@ struct limn_device;
 
 struct limn_context {
     char message[2048];
+    char *long_message;       /* heap: the whole message when it outgrew message[] (a
+                                 build log); shown while message[0] is set */
     char *warnings;           /* heap, grows; NULL when empty */
     size_t warnings_len;
     limn_progress_fn progress;

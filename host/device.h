@@ -189,7 +189,9 @@ struct limn_device {
  * comma-separated list of no-platform, no-device, build, alloc, enqueue; the
  * OpenCL backend then fails as if clGetPlatformIDs found no ICD, no device
  * matched, the program did not build, clCreateBuffer ran out of device
- * memory, or a kernel launch failed. Compiled in always, inert unless set.
+ * memory, or a kernel launch failed. Also (tests/test_opencl.c): no-fp64,
+ * device 0.0 reports no double precision; prefetch, a kernel built with
+ * prefetching cannot be created (as on Oclgrind before the SPIR test). Compiled in always, inert unless set.
  */
 int device_test_fault(const char *name);
 /* Whether the context allows the reference fallback (API, else LIMN_FALLBACK). */

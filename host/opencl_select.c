@@ -1,33 +1,23 @@
 /*
  * OpenCL platform and device choice: the API's spec first, then the
  * environment (LIMN_PLATFORM, LIMN_DEVICE, LIMN_DEVICE_TYPE), then the first
- * device. Names match as substrings, never exactly (PoCL's device names
- * carry the CPU model).
+ * device limn can use (opencl_usable.c): unusable ones are skipped with a
+ * warning, unless the choice named one, which is then an error saying why.
  */
 #include "opencl_select.h"
 #include "context.h"
 #include "device.h"
 #include "opencl_errors.h"
+#include "opencl_pocl_cache.h"
+#include "opencl_usable.h"
 #include "threads.h"
 
-#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define MAX_PLATFORMS 16
 #define MAX_DEVICES 64
-
-static const char *type_name(cl_device_type t)
-{
-    if (t & CL_DEVICE_TYPE_GPU)
-        return "gpu";
-    if (t & CL_DEVICE_TYPE_CPU)
-        return "cpu";
-    if (t & CL_DEVICE_TYPE_ACCELERATOR)
-        return "accelerator";
-    return "other";
-}
 
 static limn_status platforms(limn_context *ctx, cl_platform_id *ids, cl_uint *count)
 {
@@ -49,25 +39,34 @@ static limn_status platforms(limn_context *ctx, cl_platform_id *ids, cl_uint *co
     return LIMN_OK;
 }
 
-static void info_string(cl_device_id d, cl_device_info what, char *buf, size_t size)
+/* Every device of every platform, in platform.device order. */
+static limn_status all_devices(limn_context *ctx, opencl_device_props *devs, size_t *count,
+                               cl_uint *np_out)
 {
-    if (clGetDeviceInfo(d, what, size, buf, NULL) != CL_SUCCESS)
-        snprintf(buf, size, "?");
-    buf[size - 1] = '\0';
-}
-
-static int contains_ci(const char *hay, const char *needle)
-{
-    size_t n = strlen(needle);
-    for (; *hay; hay++) {
-        size_t i = 0;
-        while (i < n && hay[i] &&
-               tolower((unsigned char)hay[i]) == tolower((unsigned char)needle[i]))
-            i++;
-        if (i == n)
-            return 1;
+    cl_platform_id plats[MAX_PLATFORMS];
+    cl_uint np = 0;
+    limn_status st = platforms(ctx, plats, &np);
+    if (st)
+        return st;
+    *count = 0;
+    *np_out = np;
+    for (cl_uint p = 0; p < np; p++) {
+        char pname[96];
+        if (clGetPlatformInfo(plats[p], CL_PLATFORM_NAME, sizeof pname, pname, NULL) != CL_SUCCESS)
+            snprintf(pname, sizeof pname, "?");
+        pname[sizeof pname - 1] = '\0';
+        cl_device_id ids[MAX_DEVICES];
+        cl_uint nd = 0;
+        cl_int err = clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, MAX_DEVICES, ids, &nd);
+        if (err == CL_DEVICE_NOT_FOUND || device_test_fault("no-device"))
+            continue;
+        if (err != CL_SUCCESS)
+            return limn_fail(ctx, LIMN_ERR_DEVICE, "clGetDeviceIDs on platform %u (%s) failed: %s",
+                             p, pname, opencl_error_name(err));
+        for (cl_uint d = 0; d < nd && d < MAX_DEVICES && *count < MAX_DEVICES; d++)
+            opencl_read_props(plats[p], ids[d], p, d, pname, &devs[(*count)++]);
     }
-    return n == 0;
+    return LIMN_OK;
 }
 
 static int parse_index_pair(const char *s, unsigned *p, unsigned *d)
@@ -91,13 +90,49 @@ static cl_device_type parse_type(const char *s, int *ok)
     return CL_DEVICE_TYPE_ALL;
 }
 
+static void describe(const opencl_device_props *d, char *buf, size_t size)
+{
+    snprintf(buf, size, "%s [%s, device %u.%u, %s]", d->name, d->platform, d->platform_index,
+             d->device_index, opencl_type_name(d->type));
+}
+
+/* "NAME [..]: why; NAME [..]: why" for the unusable matches. */
+static void reasons(const opencl_device_props *devs, const size_t *idx, size_t n, char *buf,
+                    size_t size)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < n && used + 1 < size; i++) {
+        char name[300], why[160];
+        describe(&devs[idx[i]], name, sizeof name);
+        opencl_unusable(&devs[idx[i]], why, sizeof why);
+        int w = snprintf(buf + used, size - used, "%s%s: %s", i ? "; " : "", name, why);
+        if (w < 0)
+            break;
+        used += (size_t)w;
+    }
+}
+
+/* The no-device message, with PoCL's cache when that is the cause. */
+static limn_status no_device(limn_context *ctx, cl_uint np)
+{
+    char cache[1400] = "";
+    int cache_bad = opencl_pocl_cache_problem(cache, sizeof cache);
+    if (cache_bad)
+        return limn_fail(ctx, LIMN_ERR_DEVICE,
+                         "no OpenCL device found (%u platform%s, no device); likely cause: %s "
+                         "(or use --device reference, or allow --fallback reference)",
+                         np, np == 1 ? "" : "s", cache);
+    return limn_fail(ctx, LIMN_ERR_DEVICE,
+                     "no OpenCL device found (%u platform%s, no device): check the driver "
+                     "with 'limn devices' or clinfo, or use --device reference, or allow "
+                     "--fallback reference",
+                     np, np == 1 ? "" : "s");
+}
+
 limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_choice *out)
 {
-    cl_platform_id plats[MAX_PLATFORMS];
-    cl_uint np = 0;
-    limn_status st = platforms(ctx, plats, &np);
-    if (st)
-        return st;
+    limn_status st;
 
     const char *env_platform = getenv("LIMN_PLATFORM");
     const char *env_device = getenv("LIMN_DEVICE");
@@ -140,65 +175,59 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
         }
     }
 
-    opencl_choice match[MAX_DEVICES];
-    size_t matches = 0;
-    for (cl_uint p = 0; p < np; p++) {
-        char pname[96];
-        if (clGetPlatformInfo(plats[p], CL_PLATFORM_NAME, sizeof pname, pname, NULL) != CL_SUCCESS)
-            snprintf(pname, sizeof pname, "?");
-        pname[sizeof pname - 1] = '\0';
-        if (platform_filter) {
-            unsigned idx;
-            char tail;
-            int is_index = sscanf(platform_filter, "%u%c", &idx, &tail) == 1;
-            if (is_index ? idx != p : !contains_ci(pname, platform_filter))
-                continue;
-        }
-        cl_device_id devs[MAX_DEVICES];
-        cl_uint nd = 0;
-        cl_int err = clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, MAX_DEVICES, devs, &nd);
-        if (err == CL_DEVICE_NOT_FOUND || device_test_fault("no-device"))
-            continue;
-        if (err != CL_SUCCESS)
-            return limn_fail(ctx, LIMN_ERR_DEVICE, "clGetDeviceIDs on platform %u (%s) failed: %s",
-                             p, pname, opencl_error_name(err));
-        if (nd > MAX_DEVICES)
-            nd = MAX_DEVICES;
-        for (cl_uint d = 0; d < nd; d++) {
-            char dname[112];
-            cl_device_type dt = 0;
-            info_string(devs[d], CL_DEVICE_NAME, dname, sizeof dname);
-            clGetDeviceInfo(devs[d], CL_DEVICE_TYPE, sizeof dt, &dt, NULL);
-            if (by_index && (p != want_p || d != want_d))
-                continue;
-            if (name_filter && !contains_ci(dname, name_filter))
-                continue;
-            if (!(dt & type))
-                continue;
-            /* every match is recorded: MPI ranks of a node take them in turn */
-            if (matches < MAX_DEVICES) {
-                match[matches].platform = plats[p];
-                match[matches].device = devs[d];
-                snprintf(match[matches].name, sizeof match[matches].name,
-                         "%s [%s, device %u.%u, %s]", dname, pname, p, d, type_name(dt));
-                matches++;
-            }
-        }
+    opencl_device_props *devs = malloc(MAX_DEVICES * sizeof *devs);
+    size_t *usable = malloc(2 * MAX_DEVICES * sizeof *usable), n = 0, n_bad = 0;
+    if (!devs || !usable) {
+        free(devs);
+        free(usable);
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of host memory");
     }
-    if (matches > 0) {
-        *out = match[(size_t)(ctx->device_slot >= 0 ? ctx->device_slot : 0) % matches];
-        return LIMN_OK;
+    size_t *bad = usable + MAX_DEVICES;
+    cl_uint np = 0;
+    st = all_devices(ctx, devs, &n, &np);
+    opencl_criteria c = {platform_filter, name_filter, by_index, want_p, want_d, type};
+    size_t good = st ? 0 : opencl_pick(devs, n, &c, usable, bad, &n_bad);
+    /* an explicit choice names its device: an unusable one is an error, not
+       skipped for another */
+    int explicit_choice = strcmp(source, "--device") == 0 || strcmp(source, "LIMN_DEVICE") == 0;
+    if (!st && good > 0) {
+        /* every usable match is kept: MPI ranks of a node take them in turn */
+        const opencl_device_props *d =
+            &devs[usable[(size_t)(ctx->device_slot >= 0 ? ctx->device_slot : 0) % good]];
+        for (size_t i = 0; i < n_bad && bad[i] < usable[0]; i++) {
+            char name[300], why[160];
+            describe(&devs[bad[i]], name, sizeof name);
+            opencl_unusable(&devs[bad[i]], why, sizeof why);
+            limn_warn(ctx, "skipping OpenCL device %s: limn cannot use it: %s", name, why);
+        }
+        out->platform = d->platform_id;
+        out->device = d->id;
+        describe(d, out->name, sizeof out->name);
+    } else if (!st && n_bad > 0) {
+        char list[1500];
+        reasons(devs, bad, n_bad, list, sizeof list);
+        if (explicit_choice)
+            st = limn_fail(ctx, LIMN_ERR_DEVICE,
+                           "the OpenCL device chosen by %s='%s' cannot run limn: %s; choose "
+                           "another (see 'limn devices') or use --device reference",
+                           source, value, list);
+        else
+            st = limn_fail(ctx, LIMN_ERR_DEVICE,
+                           "no OpenCL device can run limn: %s; install a driver whose device "
+                           "has double precision (e.g. pocl-opencl-icd), or use --device "
+                           "reference, or allow --fallback reference",
+                           list);
+    } else if (!st && n == 0 && !*value) {
+        st = no_device(ctx, np);
+    } else if (!st) {
+        st = limn_fail(ctx, LIMN_ERR_DEVICE,
+                       "no OpenCL device matches %s%s%s%s: run 'limn devices' to list them, or "
+                       "use --device reference",
+                       source, *value ? "='" : "", value, *value ? "'" : "");
     }
-    if (!*value)
-        return limn_fail(ctx, LIMN_ERR_DEVICE,
-                         "no OpenCL device found (%u platform%s, no device): check the driver "
-                         "with 'limn devices' or clinfo, or use --device reference, or allow "
-                         "--fallback reference",
-                         np, np == 1 ? "" : "s");
-    return limn_fail(ctx, LIMN_ERR_DEVICE,
-                     "no OpenCL device matches %s%s%s%s: run 'limn devices' to list them, or use "
-                     "--device reference",
-                     source, *value ? "='" : "", value, *value ? "'" : "");
+    free(devs);
+    free(usable);
+    return st;
 }
 
 limn_status limn_list_devices(limn_context *ctx, char *buf, size_t size)
@@ -207,46 +236,35 @@ limn_status limn_list_devices(limn_context *ctx, char *buf, size_t size)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_list_devices: NULL buffer");
     limn_clear(ctx);
     buf[0] = '\0';
-    cl_platform_id plats[MAX_PLATFORMS];
+    opencl_device_props *devs = malloc(MAX_DEVICES * sizeof *devs);
+    if (!devs)
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of host memory");
+    size_t n = 0, used = 0;
     cl_uint np = 0;
-    limn_status st = platforms(ctx, plats, &np);
-    if (st)
-        return st;
-    size_t used = 0;
-    for (cl_uint p = 0; p < np; p++) {
-        char pname[256];
-        if (clGetPlatformInfo(plats[p], CL_PLATFORM_NAME, sizeof pname, pname, NULL) != CL_SUCCESS)
-            snprintf(pname, sizeof pname, "?");
-        pname[sizeof pname - 1] = '\0';
-        cl_device_id devs[MAX_DEVICES];
-        cl_uint nd = 0;
-        if (clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, MAX_DEVICES, devs, &nd) != CL_SUCCESS)
-            nd = 0;
-        if (nd > MAX_DEVICES)
-            nd = MAX_DEVICES;
-        for (cl_uint d = 0; d < nd; d++) {
-            char dname[256], version[128];
-            cl_device_type dt = 0;
-            cl_ulong mem = 0, alloc = 0;
-            cl_uint units = 0;
-            cl_device_fp_config fp64 = 0;
-            info_string(devs[d], CL_DEVICE_NAME, dname, sizeof dname);
-            info_string(devs[d], CL_DEVICE_VERSION, version, sizeof version);
-            clGetDeviceInfo(devs[d], CL_DEVICE_TYPE, sizeof dt, &dt, NULL);
-            clGetDeviceInfo(devs[d], CL_DEVICE_GLOBAL_MEM_SIZE, sizeof mem, &mem, NULL);
-            clGetDeviceInfo(devs[d], CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof alloc, &alloc, NULL);
-            clGetDeviceInfo(devs[d], CL_DEVICE_MAX_COMPUTE_UNITS, sizeof units, &units, NULL);
-            clGetDeviceInfo(devs[d], CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, NULL);
-            int n = snprintf(buf + used, size - used,
-                             "%u.%u  %s  [%s, %s]  %s, %u compute units, %.1f GiB memory "
-                             "(%.1f GiB per buffer), double precision %s\n",
-                             p, d, dname, pname, version, type_name(dt), units,
-                             (double)mem / (1 << 30), (double)alloc / (1 << 30),
-                             fp64 ? "yes" : "NO");
-            if (n < 0 || (size_t)n >= size - used)
-                return limn_fail(ctx, LIMN_ERR_ARGUMENT, "device list buffer too small");
-            used += (size_t)n;
-        }
+    limn_status st = all_devices(ctx, devs, &n, &np);
+    for (size_t i = 0; !st && i < n; i++) {
+        const opencl_device_props *d = &devs[i];
+        char why[160];
+        int bad = opencl_unusable(d, why, sizeof why);
+        int w = snprintf(buf + used, size - used,
+                         "%u.%u  %s  [%s, %s]  %s, %u compute units, %.1f GiB memory "
+                         "(%.1f GiB per buffer), double precision %s, max work-group %zu; "
+                         "limn: %s%s\n",
+                         d->platform_index, d->device_index, d->name, d->platform, d->version,
+                         opencl_type_name(d->type), d->units, (double)d->mem / (1 << 30),
+                         (double)d->alloc / (1 << 30), d->fp64 ? "yes" : "NO", d->max_work_group,
+                         bad ? "NO, " : "usable", bad ? why : "");
+        if (w < 0 || (size_t)w >= size - used)
+            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "device list buffer too small");
+        else
+            used += (size_t)w;
     }
-    return LIMN_OK;
+    if (!st && n == 0) {
+        char cache[1400];
+        if (opencl_pocl_cache_problem(cache, sizeof cache))
+            limn_warn(ctx, "no OpenCL device found (%u platform%s); likely cause: %s", np,
+                      np == 1 ? "" : "s", cache);
+    }
+    free(devs);
+    return st;
 }

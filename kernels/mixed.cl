@@ -8,6 +8,8 @@
  * partials finished on the host in order, FP_CONTRACT OFF so that
  * host/device_ref_mixed.c gives the same bits).
  */
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#pragma OPENCL FP_CONTRACT OFF
 
 inline float4 row_product_f(uint i, global const uint *ro, global const uint *col,
                             global const float *w, global const float4 *x, uint last,

@@ -10,6 +10,7 @@
  * partial per item finished on the host in item order (colour by colour),
  * arithmetic identical to device_ref_sgs.c.
  */
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #pragma OPENCL FP_CONTRACT OFF
 
 inline double4 sgs_part(uint from, uint to, global const uint *col, global const double *w,

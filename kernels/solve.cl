@@ -5,6 +5,8 @@
  * the host in item order, arithmetic identical to device_ref.c.
  * Vectors are 4 doubles per row (x, y, z used); dinv holds one double per row.
  */
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#pragma OPENCL FP_CONTRACT OFF
 
 /* y = A x; partials[3 item + 1] = sum_i dinv_i (x_i . y_i) */
 kernel void spmv_dot(uint rows, global const uint *ro, global const uint *col,

@@ -3,10 +3,42 @@
  * consecutive rows (set with -D at build time) and writes one partial
  * reduction, finished on the host in item order: no barriers (slow on
  * PoCL's CPU device) and results independent of the thread count.
- * FP_CONTRACT OFF keeps the arithmetic identical to the C reference backend.
+ * FP_CONTRACT OFF keeps the arithmetic identical to the C reference backend;
+ * each kernel file states it itself, so that none depends on being joined
+ * after this one (tests/check_kernels.sh checks every file for it).
  */
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #pragma OPENCL FP_CONTRACT OFF
+
+/* test-only (LIMN_TEST_EXTRA_BUILD_OPTIONS, tests/test_opencl.c): a build
+   error after a build log longer than any fixed buffer */
+#ifdef LIMN_FORCE_BUILD_ERROR
+#warning limn forced build log line 01: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#warning limn forced build log line 02: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#warning limn forced build log line 03: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#warning limn forced build log line 04: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#warning limn forced build log line 05: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#warning limn forced build log line 06: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#warning limn forced build log line 07: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#warning limn forced build log line 08: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#warning limn forced build log line 09: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#warning limn forced build log line 10: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#warning limn forced build log line 11: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#warning limn forced build log line 12: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 01: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 02: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 03: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 04: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 05: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 06: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 07: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 08: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 09: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 10: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 11: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error 12: longer than a fixed buffer (LIMN_FORCE_BUILD_ERROR)
+#error limn forced build error: the end of the log (LIMN_FORCE_BUILD_ERROR)
+#endif
 
 #ifndef ROWS_PER_ITEM
 #define ROWS_PER_ITEM 256
@@ -29,8 +61,11 @@ inline double4 row_product(uint i, global const uint *ro, global const uint *col
  * refined mesh ran 13% (double) to 20% (float) faster. In a local order the
  * extra work cost 4-17%, hence the flag. `last` is the table's last entry
  * (ro[rows] - 1), so the look-ahead stays inside it. No result changes.
+ * Not on SPIR targets (Oclgrind): there the compiler takes the builtin but
+ * the device cannot run it (clCreateKernel fails); OpenCL's own prefetch()
+ * runs on PoCL at half the speed (a call per gather), so it is not used.
  */
-#if defined(LIMN_PREFETCH) && defined(__has_builtin)
+#if defined(LIMN_PREFETCH) && defined(__has_builtin) && !defined(__SPIR__) && !defined(__SPIRV__)
 #if __has_builtin(__builtin_prefetch)
 #define GATHER_AHEAD(ahead, x, col, k, last)                                                   \
     do {                                                                                       \

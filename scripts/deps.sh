@@ -2,7 +2,8 @@
 # Installs the Debian packages limn needs that are missing (as root, or via sudo).
 #   scripts/deps.sh          build + run dependencies
 #   scripts/deps.sh --test   also the test-only ones (cmocka, OpenSubdiv, clang
-#                            and its libFuzzer runtime for scripts/fuzz.sh), and
+#                            and its libFuzzer runtime for scripts/fuzz.sh,
+#                            Oclgrind for tests/test_oclgrind.sh), and
 #                            Open MPI + METIS so that the MPI layer is built and
 #                            tested (optional for users: LIMN_MPI, README "MPI"),
 #                            and locales (test_locale generates de_DE.UTF-8)
@@ -11,7 +12,7 @@ set -euo pipefail
 packages=(gcc g++ make cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
           libhwloc-dev)
 if [[ "${1:-}" == "--test" ]]; then
-    packages+=(libcmocka-dev libosd-dev clang-14 libclang-rt-14-dev
+    packages+=(libcmocka-dev libosd-dev clang-14 libclang-rt-14-dev oclgrind
                libopenmpi-dev openmpi-bin libmetis-dev locales)
 fi
 

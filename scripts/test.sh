@@ -4,7 +4,9 @@
 #   1. every reader's fuzz target for a bounded time (libFuzzer, ASan + UBSan;
 #      LIMN_FUZZ_SECONDS per target, default 60; 0 skips);
 #   2. the whole test suite once under ASan + UBSan (LIMN_SANITIZE_RUN=0 skips);
-#   3. the whole test suite, plain: its CTest summary closes the output.
+#   3. the whole test suite, plain (test_oclgrind among it: every kernel
+#      family under Oclgrind, no diagnostic, PoCL's bytes): its CTest summary
+#      closes the output.
 # Build directories: LIMN_BUILD_DIR (build), LIMN_FUZZ_DIR (build-fuzz),
 # LIMN_SANITIZE_DIR (build-sanitize).
 set -euo pipefail

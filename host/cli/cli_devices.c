@@ -9,7 +9,10 @@ int cli_devices(int argc, char **argv)
     if (argc > 1 && (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0)) {
         puts("usage: limn devices\n\nLists OpenCL devices as P.D (platform.device); pick one "
              "with --device opencl:P.D,\n--device opencl:NAME, or LIMN_PLATFORM / LIMN_DEVICE / "
-             "LIMN_DEVICE_TYPE.\nThe last line gives the OpenCL runtime's thread count and its source: the cores\n"
+             "LIMN_DEVICE_TYPE.\nEach line ends with whether limn can use the device "
+             "('limn: usable', or 'limn: NO,'\nand why: it needs double precision, OpenCL 1.2 "
+             "and work-groups of 8); without\na choice limn takes the first usable device.\n"
+             "The last line gives the OpenCL runtime's thread count and its source: the cores\n"
              "inside the CPU binding (hwloc), unless POCL_MAX_PTHREAD_COUNT or\n"
              "POCL_CPU_MAX_CU_COUNT is set.");
         return 0;

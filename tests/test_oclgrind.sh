@@ -1,0 +1,138 @@
+#!/usr/bin/env bash
+# Every kernel family of limn under Oclgrind (an OpenCL device simulator that
+# checks each memory access): `oclgrind --check-api --data-races limn ...` for
+# every --method and --precision, subdivide, the series commands and texture,
+# on small meshes. Each run must print no Oclgrind diagnostic and write the
+# same bytes as the same command on the default device (PoCL): FP_CONTRACT
+# is off in every kernel and reductions are finished on the host in item
+# order, so the results do not depend on the device. Oclgrind's Debian
+# package installs no ICD file: its wrapper preloads its runtime, which is
+# then the only platform limn sees. (--uninitialized is not used: it reports
+# buffers filled by clEnqueueFillBuffer.) Exit 77 (skipped) without oclgrind.
+#   tests/test_oclgrind.sh LIMN DATA_DIR
+set -euo pipefail
+limn=${1:?usage: test_oclgrind.sh LIMN DATA_DIR}
+data=${2:?usage: test_oclgrind.sh LIMN DATA_DIR}
+if ! command -v oclgrind >/dev/null; then
+    echo "test_oclgrind: oclgrind is not installed (apt-get install oclgrind): skipped"
+    exit 77
+fi
+work=$(mktemp -d /tmp/limn_oclgrind_XXXXXX)
+trap 'rm -rf "$work"' EXIT
+start=$SECONDS
+
+spot=$data/spot_control_mesh.obj
+# A small triangle mesh for Loop: an icosahedron refined once (42 vertices).
+cat >"$work/ico.obj" <<'EOF'
+v 0 -0.525731 0.850651
+v 0.850651 0 0.525731
+v 0.850651 0 -0.525731
+v -0.850651 0 -0.525731
+v -0.850651 0 0.525731
+v -0.525731 0.850651 0
+v 0.525731 0.850651 0
+v 0.525731 -0.850651 0
+v -0.525731 -0.850651 0
+v 0 -0.525731 -0.850651
+v 0 0.525731 -0.850651
+v 0 0.525731 0.850651
+f 2 3 7
+f 2 8 3
+f 4 5 6
+f 5 4 9
+f 7 6 12
+f 6 7 11
+f 10 11 3
+f 11 10 4
+f 8 9 10
+f 9 8 1
+f 12 1 2
+f 1 12 5
+f 7 3 11
+f 2 7 12
+f 4 6 11
+f 6 5 12
+f 3 8 10
+f 8 2 1
+f 4 10 9
+f 5 9 1
+EOF
+"$limn" subdivide "$work/ico.obj" -o "$work/tri.obj" --levels 1 -q
+# morph's target: spot smoothed (same faces, same vertex order)
+"$limn" smooth "$spot" -o "$work/spot_smooth.obj" --terms 2 -q
+
+# name | arguments (OUT: the output path, or prefix for bands, or frame pattern);
+# the paper and weighted iterations to 1e-4 (~40 steps instead of ~150: the
+# kernels are the same, Oclgrind runs each launch ~1000x slower than PoCL)
+cases=(
+    "paper-double|interpolate $spot -o OUT.ply --method paper --precision double --tol 1e-4"
+    "weighted-double|interpolate $spot -o OUT.ply --method weighted --precision double --tol 1e-4"
+    "chebyshev-double|interpolate $spot -o OUT.ply --method chebyshev --precision double"
+    "cg-double|interpolate $spot -o OUT.ply --method cg --precision double"
+    "sgs-double|interpolate $spot -o OUT.ply --method sgs --precision double"
+    "paper-float|interpolate $spot -o OUT.ply --method paper --precision float --tol 1e-4"
+    "weighted-float|interpolate $spot -o OUT.ply --method weighted --precision float --tol 1e-4"
+    "chebyshev-float|interpolate $spot -o OUT.ply --method chebyshev --precision float"
+    "loop-chebyshev-double|interpolate $work/tri.obj -o OUT.ply --method chebyshev --precision double"
+    "loop-sgs-double|interpolate $work/tri.obj -o OUT.ply --method sgs --precision double"
+    "loop-chebyshev-float|interpolate $work/tri.obj -o OUT.ply --method chebyshev --precision float"
+    "subdivide|subdivide $spot -o OUT.ply --levels 2"
+    "subdivide-limit|subdivide $work/tri.obj -o OUT.ply --levels 1 --limit"
+    "smooth|smooth $spot -o OUT.ply --terms 3"
+    "denoise|denoise $spot -o OUT.ply --m 2 --steps 2"
+    "sharpen|sharpen $spot -o OUT.ply --from 1 --to 2 --steps 1"
+    "bands|bands $spot --count 2 -o OUT"
+    "morph|morph $spot $work/spot_smooth.obj -o OUT/f%02d.ply --frames 3"
+    "texture|texture $work/tri.obj -o OUT.ply --colors #ff0000,#00ff00,#0000ff --levels 1"
+)
+
+failed=0
+for c in "${cases[@]}"; do
+    name=${c%%|*}
+    args=${c#*|}
+    t0=$SECONDS
+    bad=0
+    for side in pocl oclgrind; do
+        mkdir -p "$work/$side/$name"
+        out=$work/$side/$name/out
+        [[ $args == morph* ]] && mkdir -p "$out"
+        # shellcheck disable=SC2086 # the arguments are words on purpose
+        set -- ${args//OUT/$out}
+        if [[ $side == pocl ]]; then
+            rc=0
+            "$limn" "$@" -q >"$work/$side/$name.log" 2>&1 || rc=$?
+        else
+            rc=0
+            oclgrind --check-api --data-races "$limn" "$@" -q >"$work/$side/$name.log" 2>&1 || rc=$?
+        fi
+        if [[ $rc -ne 0 ]]; then
+            echo "FAIL $name ($side): exit $rc"
+            cat "$work/$side/$name.log"
+            bad=1
+        fi
+    done
+    # Oclgrind's diagnostics ("Invalid read ...", "Data race ...", "OpenCL
+    # runtime error detected", "OCLGRIND FATAL ERROR"); limn itself prints
+    # nothing with -q unless it warns, and a warning is a failure here too
+    if grep -Eiq 'oclgrind|invalid|error|race|warning' "$work/oclgrind/$name.log"; then
+        echo "FAIL $name: Oclgrind reported:"
+        cat "$work/oclgrind/$name.log"
+        bad=1
+    fi
+    if ! diff -r "$work/pocl/$name" "$work/oclgrind/$name" >/dev/null; then
+        echo "FAIL $name: Oclgrind's output differs from PoCL's:"
+        diff -r "$work/pocl/$name" "$work/oclgrind/$name" | head -5
+        bad=1
+    fi
+    files=$(find "$work/oclgrind/$name" -type f | wc -l)
+    if [[ $files -eq 0 ]]; then
+        echo "FAIL $name: no output"
+        bad=1
+    fi
+    if [[ $bad -eq 0 ]]; then
+        echo "ok   $name ($files file(s) identical, $((SECONDS - t0)) s)"
+    fi
+    failed=$((failed | bad))
+done
+echo "test_oclgrind: ${#cases[@]} commands in $((SECONDS - start)) s"
+exit $failed
