@@ -203,9 +203,13 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
 
 limn_status limn_list_devices(limn_context *ctx, char *buf, size_t size)
 {
-    if (!ctx || !buf || size == 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_list_devices: NULL buffer");
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
+    if (!buf || size == 0)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_list_devices: %s",
+                         !buf ? "buf is NULL"
+                              : "buf_size is 0: the buffer cannot hold even the terminating NUL");
     buf[0] = '\0';
     cl_platform_id plats[MAX_PLATFORMS];
     cl_uint np = 0;
@@ -244,7 +248,10 @@ limn_status limn_list_devices(limn_context *ctx, char *buf, size_t size)
                              (double)mem / (1 << 30), (double)alloc / (1 << 30),
                              fp64 ? "yes" : "NO");
             if (n < 0 || (size_t)n >= size - used)
-                return limn_fail(ctx, LIMN_ERR_ARGUMENT, "device list buffer too small");
+                return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                                 "limn_list_devices: the buffer of %zu bytes is too small for "
+                                 "the device list",
+                                 size);
             used += (size_t)n;
         }
     }
