@@ -133,6 +133,20 @@ limn_status check_mesh_writable(limn_context *ctx, const limn_mesh *mesh, limn_f
         return limn_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_write: the mesh has no vertices, and a mesh file without "
                          "vertices is not read back; nothing was written");
+    /* what the format drops, said rather than done silently (the file still
+       reads back, as a mesh with less in it) */
+    if (mesh->colors && format != LIMN_FORMAT_PLY && format != LIMN_FORMAT_PLY_ASCII &&
+        format != LIMN_FORMAT_PLY_BINARY_BE)
+        limn_warn(ctx, "limn_mesh_write: %s holds no vertex colours: the mesh's are not "
+                       "written (PLY holds them)",
+                  format == LIMN_FORMAT_OBJ ? "OBJ" : format == LIMN_FORMAT_OFF ? "OFF" : "STL");
+    size_t polygons = 0;
+    for (size_t f = 0; format == LIMN_FORMAT_STL && f < mesh->face_count; f++)
+        polygons += mesh->face_offsets[f + 1] - mesh->face_offsets[f] > 3;
+    if (polygons)
+        limn_warn(ctx, "limn_mesh_write: STL holds triangles only: %zu faces with more than 3 "
+                       "vertices are written fan-triangulated",
+                  polygons);
     if (format == LIMN_FORMAT_STL && mesh->face_count == 0)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_write: STL holds triangles only, and the mesh has %zu "

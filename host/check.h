@@ -32,7 +32,8 @@ limn_status check_count(limn_context *ctx, const char *fn, const char *arg, long
                         long long min, long long cap, const char *cap_name);
 
 /* What limn_mesh_write can write so that limn_mesh_read reads it back:
-   finite coordinates, at least one vertex, and (STL) at least one face. */
+   finite coordinates, at least one vertex, and (STL) at least one face;
+   warns of what the format drops (colours but in PLY, STL's n-gons). */
 limn_status check_mesh_writable(limn_context *ctx, const limn_mesh *mesh, limn_format format);
 
 /* The max of a norm reduction, or NaN when its sum shows non-finite values:

@@ -578,6 +578,18 @@ static void formats_that_cannot_hold_the_mesh(void **s)
     }
     REFUSED(ctx, limn_mesh_write(ctx, empty, scratch("none.stl"), LIMN_FORMAT_AUTO),
             "no vertices");
+    /* what a format drops is said: colours but in PLY, STL's quads */
+    limn_mesh *cube = test_mesh_cube(ctx);
+    uint8_t rgb[8 * 3] = {0};
+    OK(ctx, limn_mesh_set_colors(ctx, cube, rgb));
+    OK(ctx, limn_mesh_write(ctx, cube, scratch("cube.ply"), LIMN_FORMAT_AUTO));
+    assert_string_equal(limn_context_warnings(ctx), "");
+    OK(ctx, limn_mesh_write(ctx, cube, scratch("cube.obj"), LIMN_FORMAT_AUTO));
+    assert_non_null(strstr(limn_context_warnings(ctx), "OBJ holds no vertex colours"));
+    OK(ctx, limn_mesh_write(ctx, cube, scratch("cube.stl"), LIMN_FORMAT_AUTO));
+    assert_non_null(strstr(limn_context_warnings(ctx), "STL holds no vertex colours"));
+    assert_non_null(strstr(limn_context_warnings(ctx), "6 faces with more than 3 vertices"));
+    limn_mesh_destroy(cube);
     limn_mesh_destroy(cloud);
     limn_mesh_destroy(empty);
     limn_context_destroy(ctx);
