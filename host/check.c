@@ -6,6 +6,7 @@
 #include "check.h"
 #include "context.h"
 #include "mesh.h"
+#include "operator.h"
 
 #include <math.h>
 
@@ -43,21 +44,14 @@ limn_status check_mesh_magnitude(limn_context *ctx, const char *fn, const char *
     const double *p = mesh->positions;
     double sum = 0.0, big = 0.0, lo[3], hi[3];
     size_t at = 0;
-    for (int c = 0; c < 3; c++)
-        lo[c] = hi[c] = p[c];
     for (size_t i = 0; i < 3 * mesh->vertex_count; i++) {
-        double x = p[i];
-        sum += x * x; /* +inf once a square overflows: refused below */
-        if (fabs(x) > big) {
-            big = fabs(x);
+        sum += p[i] * p[i]; /* +inf once a square overflows: refused below */
+        if (fabs(p[i]) > big) {
+            big = fabs(p[i]);
             at = i;
         }
-        lo[i % 3] = fmin(lo[i % 3], x);
-        hi[i % 3] = fmax(hi[i % 3], x);
     }
-    double diag2 = 0.0;
-    for (int c = 0; c < 3; c++)
-        diag2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
+    double diag = mesh_bbox_diagonal(mesh, lo, hi), diag2 = diag * diag;
     if (sum <= CHECK_SQUARES_MAX && diag2 <= CHECK_SQUARES_MAX)
         return LIMN_OK;
     int by_sum = !(sum <= CHECK_SQUARES_MAX);
