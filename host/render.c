@@ -117,7 +117,7 @@ limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
     limn_clear(ctx);
     if (!rgb)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_render: rgb is NULL");
-    limn_status checked = check_mesh(ctx, "limn_render", NULL, mesh);
+    limn_status checked = check_mesh_magnitude(ctx, "limn_render", NULL, mesh);
     if (checked)
         return checked;
     limn_render_options o;

@@ -396,7 +396,7 @@ typedef struct limn_report {
  * Solves A P = M for the control mesh P whose limit surface passes through
  * every vertex of M (same topology as M). On success *control is a new mesh.
  * Like every operation that computes with positions (subdivide, limit
- * positions, the series, texture), it refuses with LIMN_ERR_ARGUMENT,
+ * positions, the series, texture, render), it refuses with LIMN_ERR_ARGUMENT,
  * naming the first vertex, a non-finite coordinate (e.g. written through
  * limn_mesh_positions_mutable), and coordinates so large that their sum of
  * squares or squared bbox diagonal exceeds DBL_MAX / 2^20 (overflow; about

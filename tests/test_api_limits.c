@@ -167,6 +167,11 @@ static void huge_coordinates_are_named_as_overflow(void **s)
     REFUSED(ctx, limn_smooth(ctx, m, NULL, 2, &out, NULL), "limn_smooth", "overflow");
     REFUSED(ctx, limn_subdivide(ctx, m, NULL, &out, NULL), "limn_subdivide", "overflow");
     REFUSED(ctx, limn_limit_positions(ctx, m, LIMN_SCHEME_AUTO, 0.0, d), "overflow");
+    uint8_t rgb[4 * 4 * 3];
+    limn_render_options ro;
+    limn_render_options_default(&ro);
+    ro.width = ro.height = 4;
+    REFUSED(ctx, limn_render(ctx, m, &ro, rgb), "limn_render", "overflow");
     limn_interpolate_options io;
     limn_interpolate_options_default(&io);
     io.method = LIMN_METHOD_CG;
