@@ -98,6 +98,15 @@ limn_status check_count(limn_context *ctx, const char *fn, const char *arg, long
     return LIMN_OK;
 }
 
+limn_status check_steps(limn_context *ctx, const char *fn, int steps, long long per_step,
+                        const char *what)
+{
+    limn_status st = check_count(ctx, fn, "steps", steps, 1, LIMN_MAX_STEPS, "LIMN_MAX_STEPS");
+    return st ? st
+              : check_count(ctx, fn, what, per_step * steps, 0, LIMN_MAX_PRODUCTS,
+                            "LIMN_MAX_PRODUCTS");
+}
+
 limn_status check_nonfinite_iteration(limn_context *ctx, const char *what, int k,
                                       limn_scheme scheme, double alpha, int in_float)
 {

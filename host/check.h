@@ -31,6 +31,11 @@ limn_status check_format(limn_context *ctx, const char *fn, limn_format format);
 limn_status check_count(limn_context *ctx, const char *fn, const char *arg, long long value,
                         long long min, long long cap, const char *cap_name);
 
+/* 1 <= steps <= LIMN_MAX_STEPS, and steps runs of per_step products each
+   within LIMN_MAX_PRODUCTS (what names the product: "(m + 1) * steps"). */
+limn_status check_steps(limn_context *ctx, const char *fn, int steps, long long per_step,
+                        const char *what);
+
 /* What limn_mesh_write can write so that limn_mesh_read reads it back:
    finite coordinates, at least one vertex, and (STL) at least one face;
    warns of what the format drops (colours but in PLY, STL's n-gons). */

@@ -175,16 +175,6 @@ static limn_status begin(limn_context *ctx, const char *fn, const limn_mesh *mes
     return st ? st : series_check_options(ctx, o);
 }
 
-/* steps runs of `per_step` products each stay within LIMN_MAX_STEPS and
-   LIMN_MAX_PRODUCTS (what names the product, e.g. "(m + 1) * steps"). */
-static limn_status check_steps(limn_context *ctx, const char *fn, int steps, long long per_step,
-                               const char *what)
-{
-    limn_status st = check_count(ctx, fn, "steps", steps, 1, LIMN_MAX_STEPS, "LIMN_MAX_STEPS");
-    return st ? st
-              : check_count(ctx, fn, what, per_step * steps, 0, LIMN_MAX_PRODUCTS,
-                            "LIMN_MAX_PRODUCTS");
-}
 
 limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh,
                        const limn_series_options *options, int count, double *bands,
