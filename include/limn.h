@@ -399,8 +399,8 @@ typedef struct limn_report {
  * positions, the series, texture, render), it refuses with LIMN_ERR_ARGUMENT,
  * naming the first vertex, a non-finite coordinate (e.g. written through
  * limn_mesh_positions_mutable), and coordinates so large that their sum of
- * squares or squared bbox diagonal exceeds DBL_MAX / 2^20 (overflow; about
- * 1e151 for one vertex, 1.3e148 for a million).
+ * squares or squared bbox diagonal exceeds DBL_MAX / 2^20 (overflow: one
+ * coordinate of 1.3e151, or a million of 1.3e148).
  * Fails with LIMN_ERR_SINGULAR or LIMN_ERR_NO_CONVERGENCE (and no mesh) when
  * the tolerance cannot be reached; the message says what to do.
  * report may be NULL.
