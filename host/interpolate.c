@@ -3,6 +3,7 @@
  * until max |M - A P_k| <= tol * bbox diagonal. The returned P is the one
  * whose residual was measured, so the reported error is exact, not a bound.
  */
+#include "check.h"
 #include "context.h"
 #include "device.h"
 #include "mesh.h"
@@ -55,9 +56,9 @@ solve_kind solve_kind_of(limn_method method)
 
 limn_status solve_check_options(limn_context *ctx, const limn_interpolate_options *o)
 {
-    if (o->scheme != LIMN_SCHEME_AUTO && o->scheme != LIMN_SCHEME_LOOP &&
-        o->scheme != LIMN_SCHEME_CATMARK)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "unknown scheme %d", (int)o->scheme);
+    limn_status st = check_scheme(ctx, "limn_interpolate", o->scheme);
+    if (st)
+        return st;
     if (!(o->alpha >= 0.0 && o->alpha <= 1.0))
         return limn_fail(ctx, LIMN_ERR_ARGUMENT,
                          "alpha is %g; it must lie in [0, 1] (6/7 or less keeps the iteration "
@@ -67,11 +68,20 @@ limn_status solve_check_options(limn_context *ctx, const limn_interpolate_option
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "tolerance is %g; it must be a positive number",
                          o->tolerance);
     if (o->method < LIMN_METHOD_AUTO || o->method > LIMN_METHOD_SGS)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "unknown method %d", (int)o->method);
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "limn_interpolate: unknown method %d (LIMN_METHOD_AUTO 0 .. "
+                         "LIMN_METHOD_SGS %d)",
+                         (int)o->method, (int)LIMN_METHOD_SGS);
+    if (o->precision < LIMN_PRECISION_AUTO || o->precision > LIMN_PRECISION_FLOAT)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "limn_interpolate: unknown precision %d (LIMN_PRECISION_AUTO 0, "
+                         "LIMN_PRECISION_DOUBLE 1, LIMN_PRECISION_FLOAT 2)",
+                         (int)o->precision);
     if (o->max_iterations < 1)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "max iterations is %d; it must be at least 1",
                          o->max_iterations);
-    return LIMN_OK;
+    return check_count(ctx, "limn_interpolate", "max_iterations", o->max_iterations, 1,
+                       LIMN_MAX_ITERATIONS, "LIMN_MAX_ITERATIONS");
 }
 
 typedef struct solve_state {
@@ -122,6 +132,7 @@ limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, siz
         limn_status st = step(user, cur, &sp, &nr);
         if (st)
             return st;
+        nr.max = check_norm_max(nr.max, nr.sum);
         r->products += 1.0;
         size_t n = vertices ? vertices : 1;
         if (kind == SOLVE_WEIGHTED && k == 2)
@@ -140,10 +151,7 @@ limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, siz
         r->max_abs_error = nr.max;
         r->mean_abs_error = nr.sum / (double)n;
         if (!isfinite(nr.max))
-            return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
-                             "the residual became non-finite after %d iterations; the iteration "
-                             "diverges for this mesh (for Catmull-Clark keep alpha <= 6/7)",
-                             k);
+            return check_nonfinite_iteration(ctx, "the residual", k, scheme, alpha, 0);
         if (nr.max <= tol_abs) {
             *which = cur;
             return LIMN_OK;
@@ -203,13 +211,15 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
-    if (!mesh || !control)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate: mesh or control is NULL");
+    if (!control)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate: control is NULL");
     *control = NULL;
     limn_interpolate_options defaults;
     limn_interpolate_options_default(&defaults);
     const limn_interpolate_options *o = options ? options : &defaults;
-    limn_status st = solve_check_options(ctx, o);
+    limn_status st = check_mesh_magnitude(ctx, "limn_interpolate", NULL, mesh);
+    if (!st)
+        st = solve_check_options(ctx, o);
     if (st)
         return st;
     limn_report local;
@@ -309,6 +319,10 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
         st = limn_mesh_copy(ctx, mesh, &out);
     if (!st)
         operator_unpack(&op, buf, out->positions);
+    /* the last line of defence: no non-finite control point is ever returned */
+    if (!st && check_positions(NULL, "", out->positions, n))
+        st = check_nonfinite_iteration(ctx, "the control mesh", r->iterations, op.scheme,
+                                       op.alpha, precision == LIMN_PRECISION_FLOAT);
     r->seconds_solve = limn_seconds() - t0;
     device_setup_report(ctx, &setup, r);
     r->max_rel_error = diag > 0 ? r->max_abs_error / diag : r->max_abs_error;

@@ -16,8 +16,10 @@
  *     +60 MB at both sizes (1.36 -> 1.42 and 0.87 -> 0.93 GiB).
  * A solver that keeps more vectors must update these figures.
  */
+#include "check.h"
 #include "context.h"
 #include "mesh.h"
+#include "solve.h"
 #include "solve_mixed.h"
 
 #include <unistd.h>
@@ -39,6 +41,9 @@ limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
     limn_clear(ctx);
     if (!mesh)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate_estimate: mesh is NULL");
+    limn_status checked = options ? solve_check_options(ctx, options) : LIMN_OK;
+    if (checked)
+        return checked;
     /* paper, weighted, chebyshev (and so auto) hold the same buffers; cg more;
        sgs most (its colour-ordered table copy and eight vectors: measured
        1,171-1,230 B a vertex at 0.5-2.1M, README "Solvers") */

@@ -5,6 +5,7 @@
  * reports, the tests and the benchmarks.
  */
 #include "measure.h"
+#include "check.h"
 #include "context.h"
 #include "mesh.h"
 #include "topology.h"
@@ -70,11 +71,14 @@ limn_status limn_mesh_measure(limn_context *ctx, const limn_mesh *mesh, limn_mes
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
-    if (!mesh || !out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_measure: NULL argument");
+    if (!out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_measure: out is NULL");
     memset(out, 0, sizeof *out);
+    limn_status st = check_mesh(ctx, "limn_mesh_measure", NULL, mesh);
+    if (st)
+        return st;
     topology t;
-    limn_status st = topology_build(ctx, mesh, &t);
+    st = topology_build(ctx, mesh, &t);
     if (st)
         return st;
     out->closed = measure_topology_closed(&t);
@@ -145,7 +149,8 @@ limn_status limn_mesh_same_topology(limn_context *ctx, const limn_mesh *a, const
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
     if (!a || !b)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_same_topology: NULL argument");
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_same_topology: the %s mesh is NULL",
+                         !a ? "first" : "second");
     return measure_same_topology(ctx, a, b, "the first mesh", "the second mesh");
 }
 
@@ -167,10 +172,14 @@ limn_status limn_mesh_compare(limn_context *ctx, const limn_mesh *a, const limn_
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
-    if (!a || !b || !out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_compare: NULL argument");
+    if (!out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_compare: out is NULL");
     memset(out, 0, sizeof *out);
-    limn_status st = measure_same_topology(ctx, a, b, "the first mesh", "the second mesh");
+    limn_status st = check_mesh(ctx, "limn_mesh_compare", "the first mesh", a);
+    if (!st)
+        st = check_mesh(ctx, "limn_mesh_compare", "the second mesh", b);
+    if (!st)
+        st = measure_same_topology(ctx, a, b, "the first mesh", "the second mesh");
     if (st)
         return st;
     double sum = 0.0;

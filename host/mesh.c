@@ -1,8 +1,8 @@
 /* Mesh container: creation from caller arrays, accessors, copies. */
 #include "mesh.h"
+#include "check.h"
 #include "context.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -44,7 +44,10 @@ limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_create: out is NULL");
     *out = NULL;
     if ((vertex_count && !positions) || !face_offsets || (face_count && !face_indices))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_create: a required array is NULL");
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_create: %s is NULL",
+                         vertex_count && !positions ? "positions"
+                         : !face_offsets            ? "face_offsets"
+                                                    : "face_indices");
     if (face_offsets[0] != 0)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_create: face_offsets[0] is %u, must be 0", face_offsets[0]);
@@ -60,12 +63,11 @@ limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
             return limn_fail(ctx, LIMN_ERR_ARGUMENT,
                              "limn_mesh_create: face index %zu is %u but there are %zu vertices",
                              i, face_indices[i], vertex_count);
-    for (size_t i = 0; i < 3 * vertex_count; i++)
-        if (!isfinite(positions[i]))
-            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
-                             "limn_mesh_create: vertex %zu has a non-finite coordinate", i / 3);
+    limn_status st = check_positions(ctx, "limn_mesh_create", positions, vertex_count);
+    if (st)
+        return st;
     limn_mesh *m;
-    limn_status st = mesh_alloc(ctx, vertex_count, face_count, index_count, &m);
+    st = mesh_alloc(ctx, vertex_count, face_count, index_count, &m);
     if (st)
         return st;
     if (vertex_count)

@@ -4,10 +4,10 @@
  * checked before anything is written, so a refused call leaves the caller's
  * buffer and the mesh as they were.
  */
+#include "check.h"
 #include "context.h"
 #include "mesh.h"
 
-#include <math.h>
 #include <string.h>
 
 size_t limn_mesh_index_count(const limn_mesh *mesh)
@@ -82,12 +82,9 @@ limn_status limn_mesh_set_positions(limn_context *ctx, limn_mesh *mesh, const do
                          "limn_mesh_set_positions: %zu vertices given but the mesh has %zu; "
                          "nothing was changed",
                          vertex_count, mesh->vertex_count);
-    for (size_t i = 0; i < 3 * vertex_count; i++)
-        if (!isfinite(positions[i]))
-            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
-                             "limn_mesh_set_positions: vertex %zu has a non-finite coordinate; "
-                             "nothing was changed",
-                             i / 3);
+    limn_status st = check_positions(ctx, "limn_mesh_set_positions", positions, vertex_count);
+    if (st)
+        return st; /* the mesh unchanged */
     if (vertex_count)
         memcpy(mesh->positions, positions, vertex_count * 3 * sizeof(double));
     return LIMN_OK;

@@ -1,4 +1,5 @@
 /* limn_mesh_info_compute: counts for `limn info` and for callers. */
+#include "check.h"
 #include "context.h"
 #include "mesh.h"
 #include "operator.h"
@@ -11,10 +12,13 @@ limn_status limn_mesh_info_compute(limn_context *ctx, const limn_mesh *mesh, lim
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
-    if (!mesh || !info)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_info_compute: NULL argument");
+    if (!info)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_info_compute: info is NULL");
+    limn_status st = check_mesh(ctx, "limn_mesh_info_compute", NULL, mesh);
+    if (st)
+        return st;
     topology t;
-    limn_status st = topology_build(ctx, mesh, &t);
+    st = topology_build(ctx, mesh, &t);
     if (st)
         return st;
     memset(info, 0, sizeof *info);

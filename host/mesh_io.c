@@ -9,6 +9,7 @@
 #include "mesh_io.h"
 #include "atomic_file.h"
 #include "c_locale.h"
+#include "check.h"
 #include "context.h"
 #include "mesh.h"
 
@@ -570,6 +571,9 @@ limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const ch
     if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: unknown format %d",
                          (int)format);
+    st = check_mesh_writable(ctx, mesh, format); /* before any file exists */
+    if (st)
+        return st;
     st = atomic_file_open(ctx, path, af);
     if (st)
         return st;

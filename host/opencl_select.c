@@ -232,9 +232,13 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
 
 limn_status limn_list_devices(limn_context *ctx, char *buf, size_t size)
 {
-    if (!ctx || !buf || size == 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_list_devices: NULL buffer");
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
+    if (!buf || size == 0)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_list_devices: %s",
+                         !buf ? "buf is NULL"
+                              : "buf_size is 0: the buffer cannot hold even the terminating NUL");
     buf[0] = '\0';
     opencl_device_props *devs = malloc(MAX_DEVICES * sizeof *devs);
     if (!devs)
@@ -255,7 +259,10 @@ limn_status limn_list_devices(limn_context *ctx, char *buf, size_t size)
                          (double)d->alloc / (1 << 30), d->fp64 ? "yes" : "NO", d->max_work_group,
                          bad ? "NO, " : "usable", bad ? why : "");
         if (w < 0 || (size_t)w >= size - used)
-            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "device list buffer too small");
+            st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                           "limn_list_devices: the buffer of %zu bytes is too small for "
+                           "the device list",
+                           size);
         else
             used += (size_t)w;
     }

@@ -1,5 +1,6 @@
 /* Building the limit operator of a mesh on the context's device. */
 #include "operator.h"
+#include "check.h"
 #include "context.h"
 #include "mesh.h"
 #include "reorder.h"
@@ -45,6 +46,10 @@ const char *limn_scheme_name(limn_scheme s)
 limn_status operator_resolve_scheme(limn_context *ctx, const limn_mesh *mesh, limn_scheme want,
                                     limn_scheme *out)
 {
+    /* a backstop: the public entry points name themselves in this check first */
+    limn_status st = check_scheme(ctx, "operator", want);
+    if (st)
+        return st;
     size_t first_other = SIZE_MAX;
     for (size_t f = 0; f < mesh->face_count && first_other == SIZE_MAX; f++)
         if (mesh->face_offsets[f + 1] - mesh->face_offsets[f] != 3)
@@ -148,12 +153,18 @@ limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *mesh, limn_
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
-    if (!mesh || !out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_limit_positions: NULL argument");
+    if (!out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_limit_positions: out is NULL");
+    limn_status st = check_mesh_magnitude(ctx, "limn_limit_positions", NULL, mesh);
+    if (!st)
+        st = check_scheme(ctx, "limn_limit_positions", scheme);
+    if (st)
+        return st;
     if (!(alpha >= 0.0 && alpha <= 1.0))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "alpha is %g; it must lie in [0, 1]", alpha);
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "limn_limit_positions: alpha is %g; it must lie in [0, 1]", alpha);
     limn_operator op;
-    limn_status st = operator_build(ctx, mesh, scheme, alpha, &op);
+    st = operator_build(ctx, mesh, scheme, alpha, &op);
     if (st)
         return st;
     size_t n = mesh->vertex_count;

@@ -415,8 +415,12 @@ limn_status limn_png_write(limn_context *ctx, const char *path, int width, int h
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
-    if (!path || !rgb || width < 1 || height < 1 || width > 65535 || height > 65535)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_png_write: bad arguments");
+    if (!path || !*path || !rgb)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_png_write: %s",
+                         !rgb ? "rgb is NULL" : "no file name");
+    if (width < 1 || height < 1 || width > 65535 || height > 65535)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "limn_png_write: picture size %dx%d is outside 1..65535", width, height);
     size_t stride = 3 * (size_t)width, raw_len = (stride + 1) * (size_t)height;
     uint8_t *raw = malloc(raw_len), *trial = malloc(5 * stride);
     bytes z = {0}, png = {0};

@@ -5,6 +5,7 @@
  * normals ("flat"), vertex colours when the mesh has them, and supersampling
  * for anti-aliasing. Polygons are fan-triangulated. Plain C, deterministic.
  */
+#include "check.h"
 #include "context.h"
 #include "measure.h"
 #include "mesh.h"
@@ -114,8 +115,11 @@ limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
-    if (!mesh || !rgb)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_render: NULL argument");
+    if (!rgb)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_render: rgb is NULL");
+    limn_status checked = check_mesh_magnitude(ctx, "limn_render", NULL, mesh);
+    if (checked)
+        return checked;
     limn_render_options o;
     if (options)
         o = *options;

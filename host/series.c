@@ -6,6 +6,7 @@
  * nothing but stencil products and vector updates is ever computed: no matrix
  * power is formed.
  */
+#include "check.h"
 #include "context.h"
 #include "device.h"
 #include "measure.h"
@@ -152,16 +153,17 @@ limn_status series_check_finite(limn_context *ctx, const double *xyz, size_t n, 
     return LIMN_OK;
 }
 
-/* Common start of the public drivers. */
-static limn_status begin(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *in,
-                         limn_series_options *o, limn_series_report *local,
-                         limn_series_report **r)
+/* Common start of the public drivers (fn: the caller's name, for messages). */
+static limn_status begin(limn_context *ctx, const char *fn, const limn_mesh *mesh,
+                         const limn_series_options *in, limn_series_options *o,
+                         limn_series_report *local, limn_series_report **r)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
-    if (!mesh)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "the mesh is NULL");
+    limn_status st = check_mesh_magnitude(ctx, fn, NULL, mesh);
+    if (st)
+        return st;
     if (in)
         *o = *in;
     else
@@ -169,8 +171,10 @@ static limn_status begin(limn_context *ctx, const limn_mesh *mesh, const limn_se
     if (!*r)
         *r = local;
     series_report_init(*r, mesh);
-    return series_check_options(ctx, o);
+    st = check_scheme(ctx, fn, o->scheme);
+    return st ? st : series_check_options(ctx, o);
 }
+
 
 limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh,
                        const limn_series_options *options, int count, double *bands,
@@ -178,11 +182,11 @@ limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh,
 {
     limn_series_options o;
     limn_series_report local, *r = report;
-    limn_status st = begin(ctx, mesh, options, &o, &local, &r);
+    limn_status st = begin(ctx, "limn_bands", mesh, options, &o, &local, &r);
+    if (!st)
+        st = check_count(ctx, "limn_bands", "count", count, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
     if (st)
         return st;
-    if (count < 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "band count is %d; it must be 0 or more", count);
     series_run s;
     /* 0: M, then ping-pong remainders 1, 2; 3: the band */
     st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
@@ -244,13 +248,14 @@ limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
     limn_series_report local, *r = report;
     if (out)
         *out = NULL;
-    limn_status st = begin(ctx, mesh, options, &o, &local, &r);
+    limn_status st = begin(ctx, "limn_smooth", mesh, options, &o, &local, &r);
     if (st)
         return st;
     if (!out)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_smooth: out is NULL");
-    if (terms < 1)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "terms is %d; it must be at least 1", terms);
+    st = check_count(ctx, "limn_smooth", "terms", terms, 1, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (st)
+        return st;
     series_run s;
     st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
     if (st)
@@ -296,15 +301,16 @@ limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
     limn_series_report local, *r = report;
     if (out)
         *out = NULL;
-    limn_status st = begin(ctx, mesh, options, &o, &local, &r);
+    limn_status st = begin(ctx, "limn_denoise", mesh, options, &o, &local, &r);
     if (st)
         return st;
     if (!out)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_denoise: out is NULL");
-    if (m < 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "m is %d; it must be 0 or more", m);
-    if (steps < 1)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "steps is %d; it must be at least 1", steps);
+    st = check_count(ctx, "limn_denoise", "m", m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st)
+        st = check_steps(ctx, "limn_denoise", steps, m + 1LL, "(m + 1) * steps");
+    if (st)
+        return st;
     series_run s;
     st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
     if (st)
@@ -350,16 +356,20 @@ limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
     limn_series_report local, *r = report;
     if (out)
         *out = NULL;
-    limn_status st = begin(ctx, mesh, options, &o, &local, &r);
+    limn_status st = begin(ctx, "limn_sharpen", mesh, options, &o, &local, &r);
     if (st)
         return st;
     if (!out)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_sharpen: out is NULL");
     if (from < 0 || to < from)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT,
-                         "the terms run from %d to %d; they need 0 <= from <= to", from, to);
-    if (steps < 1)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "steps is %d; it must be at least 1", steps);
+                         "limn_sharpen: the terms run from %d to %d; they need 0 <= from <= to",
+                         from, to);
+    st = check_count(ctx, "limn_sharpen", "to", to, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st)
+        st = check_steps(ctx, "limn_sharpen", steps, to, "to * steps");
+    if (st)
+        return st;
     series_run s;
     st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
     if (st)
@@ -422,8 +432,13 @@ limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
-    if (!from || !to || !fn)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_morph: NULL argument");
+    if (!fn)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_morph: the frame callback is NULL");
+    limn_status st = check_mesh_magnitude(ctx, "limn_morph", "FROM", from);
+    if (!st)
+        st = check_mesh_magnitude(ctx, "limn_morph", "TO", to);
+    if (st)
+        return st;
     limn_morph_options o;
     if (options)
         o = *options;
@@ -431,13 +446,20 @@ limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh
         limn_morph_options_default(&o);
     limn_series_report local, *r = report ? report : &local;
     series_report_init(r, from);
-    limn_status st = series_check_options(ctx, &o.series);
+    st = check_scheme(ctx, "limn_morph", o.series.scheme);
+    if (!st)
+        st = series_check_options(ctx, &o.series);
+    if (!st)
+        st = check_count(ctx, "limn_morph", "frames", o.frames, 2, LIMN_MAX_FRAMES,
+                         "LIMN_MAX_FRAMES");
+    if (!st && !o.linear)
+        st = check_count(ctx, "limn_morph", "m", o.m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st && !o.linear)
+        st = check_count(ctx, "limn_morph", "(m + 1) * (frames - 1)",
+                         (o.m + 1LL) * (o.frames - 1LL), 0, LIMN_MAX_PRODUCTS,
+                         "LIMN_MAX_PRODUCTS");
     if (st)
         return st;
-    if (o.frames < 2)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "frames is %d; it must be at least 2", o.frames);
-    if (!o.linear && o.m < 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "m is %d; it must be 0 or more", o.m);
     if (!o.linear && !(o.p > 0.0 && o.p < 1.0))
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
                          o.p);

@@ -12,6 +12,7 @@
  * stacked system (block diagonal), so one alpha and beta per step.
  */
 #include "solve.h"
+#include "check.h"
 #include "context.h"
 #include "scheme.h"
 
@@ -107,9 +108,9 @@ limn_status cg_watch_step(limn_context *ctx, cg_watch *w, double residual, solve
 {
     int k = w->steps++;
     *done = 0;
-    if (!isfinite(residual))
-        return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
-                         "conjugate gradients diverged (non-finite residual after %d steps)", k);
+    if (!isfinite(residual)) /* CG does not diverge on these operators: overflow */
+        return check_nonfinite_iteration(ctx, "the conjugate-gradient residual", k,
+                                         LIMN_SCHEME_AUTO, 0.0, 0);
     if (residual <= tol_abs) {
         *done = 1;
         return LIMN_OK;
@@ -137,6 +138,9 @@ limn_status cg_curvature(limn_context *ctx, double pq, solve_stats *stats)
 {
     if (pq > 0.0 && isfinite(pq))
         return LIMN_OK;
+    if (!isfinite(pq)) /* overflow, not a property of the operator */
+        return check_nonfinite_iteration(ctx, "p.Ap in conjugate gradients", stats->iterations,
+                                         LIMN_SCHEME_AUTO, 0.0, 0);
     return limn_fail(ctx, LIMN_ERR_SINGULAR,
                      "conjugate gradients broke down (p.Ap = %.3g): the limit operator is "
                      "not positive definite for this mesh%s; no result was written",
@@ -185,7 +189,8 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
     cg_watch watch = {0};
     while (!st) {
         int done = 0;
-        st = cg_watch_step(ctx, &watch, nz.max, stats, tol_abs, max_iter, &done);
+        st = cg_watch_step(ctx, &watch, check_norm_max(nz.max, nz.sum), stats, tol_abs,
+                           max_iter, &done);
         if (st || done)
             break;
         double pq;

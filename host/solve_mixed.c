@@ -8,6 +8,7 @@
  * gains up to INNER_REDUCTION, and the stop test is the double iteration's.
  */
 #include "solve_mixed.h"
+#include "check.h"
 #include "context.h"
 #include "solve.h"
 
@@ -78,7 +79,8 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
         }
         break;
     default:
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "unknown precision %d", (int)o->precision);
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate: unknown precision %d",
+                         (int)o->precision);
     }
     r->precision = limn_precision_name(*out);
     return LIMN_OK;
@@ -121,6 +123,7 @@ static limn_status inner_solve(limn_context *ctx, limn_operator *op, mixed_state
                                              (float)c1, (float)c2, &ns);
         if (st)
             return st;
+        ns.max = check_norm_max(ns.max, ns.sum);
         r->products += 1.0;
         r->products_float += 1.0;
         r->iterations++;
@@ -136,9 +139,8 @@ static limn_status inner_solve(limn_context *ctx, limn_operator *op, mixed_state
         if (s->method == LIMN_METHOD_CHEBYSHEV && ns.max > target)
             r->restarts += chebyshev_observe(&cheb, ns.max);
         if (!isfinite(ns.max))
-            return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
-                             "the float correction became non-finite; the iteration diverges "
-                             "for this mesh (for Catmull-Clark keep alpha <= 6/7)");
+            return check_nonfinite_iteration(ctx, "the float correction", r->iterations,
+                                             op->scheme, op->alpha, 1);
         cur = next;
         int stalled = j >= INNER_STALL_WINDOW &&
                       ns.max > 0.99 * history[j % INNER_STALL_WINDOW];
@@ -175,14 +177,13 @@ limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, 
         st = dev->ops->residual_f(dev, &op->device, m, p, s.r, &nr);
         if (st)
             break;
+        nr.max = check_norm_max(nr.max, nr.sum);
         r->products += 1.0;
         r->max_abs_error = nr.max;
         r->mean_abs_error = nr.sum / (double)n;
         if (!isfinite(nr.max)) {
-            st = limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
-                           "the residual became non-finite after %d iterations; the iteration "
-                           "diverges for this mesh (for Catmull-Clark keep alpha <= 6/7)",
-                           r->iterations);
+            st = check_nonfinite_iteration(ctx, "the residual", r->iterations, op->scheme,
+                                           op->alpha, 1);
             break;
         }
         if (nr.max <= tol_abs) {

@@ -13,6 +13,7 @@
  * Sweeps run colour by colour (sgs_table.c). Measured on the shared medium
  * meshes: 4-6 steps to 1e-6 where the seeds' iteration takes 23-82.
  */
+#include "check.h"
 #include "context.h"
 #include "sgs_table.h"
 #include "solve.h"
@@ -39,7 +40,8 @@ static limn_status run(limn_context *ctx, struct limn_device *dev, const device_
     cg_watch watch = {0};
     while (!st) {
         int done = 0;
-        st = cg_watch_step(ctx, &watch, norms.max, stats, tol_abs, max_iter, &done);
+        st = cg_watch_step(ctx, &watch, check_norm_max(norms.max, norms.sum), stats, tol_abs,
+                           max_iter, &done);
         if (st || done)
             break;
         device_norms dot = {0, 0, 0};

@@ -1,4 +1,5 @@
 /* limn_subdivide: refine the control mesh into the surface, on the device. */
+#include "check.h"
 #include "context.h"
 #include "device.h"
 #include "mesh.h"
@@ -47,6 +48,20 @@ static limn_status check_budget(limn_context *ctx, const limn_mesh *mesh, limn_s
     return LIMN_OK;
 }
 
+/* The options both entry points share: scheme, levels (<= LIMN_MAX_SUBDIVIDE_LEVELS), alpha. */
+static limn_status check_options(limn_context *ctx, const char *fn,
+                                 const limn_subdivide_options *o)
+{
+    limn_status st = check_scheme(ctx, fn, o->scheme);
+    if (!st)
+        st = check_count(ctx, fn, "levels", o->levels, 0, LIMN_MAX_SUBDIVIDE_LEVELS,
+                         "LIMN_MAX_SUBDIVIDE_LEVELS");
+    if (!st && !(o->alpha >= 0.0 && o->alpha <= 1.0))
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: alpha is %g; it must lie in [0, 1]", fn,
+                       o->alpha);
+    return st;
+}
+
 limn_status limn_subdivide_estimate(limn_context *ctx, const limn_mesh *mesh,
                                     const limn_subdivide_options *options, size_t *vertices,
                                     size_t *faces, size_t *peak_bytes)
@@ -55,12 +70,14 @@ limn_status limn_subdivide_estimate(limn_context *ctx, const limn_mesh *mesh,
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
     if (!mesh || !options || !vertices || !faces || !peak_bytes)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide_estimate: NULL argument");
-    if (options->levels < 0 || options->levels > 16)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "levels is %d; it must lie in 0..16",
-                         options->levels);
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide_estimate: %s is NULL",
+                         !mesh ? "mesh" : !options ? "options" : !vertices ? "vertices"
+                                        : !faces ? "faces" : "peak_bytes");
+    limn_status st = check_options(ctx, "limn_subdivide_estimate", options);
+    if (st)
+        return st;
     limn_scheme scheme;
-    limn_status st = operator_resolve_scheme(ctx, mesh, options->scheme, &scheme);
+    st = operator_resolve_scheme(ctx, mesh, options->scheme, &scheme);
     if (st)
         return st;
     return check_budget(ctx, mesh, scheme, options, vertices, faces, peak_bytes);
@@ -73,16 +90,17 @@ limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
-    if (!mesh || !surface)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide: mesh or surface is NULL");
+    if (!surface)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide: surface is NULL");
     *surface = NULL;
     limn_subdivide_options defaults;
     limn_subdivide_options_default(&defaults);
     const limn_subdivide_options *o = options ? options : &defaults;
-    if (o->levels < 0 || o->levels > 16)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "levels is %d; it must lie in 0..16", o->levels);
-    if (!(o->alpha >= 0.0 && o->alpha <= 1.0))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "alpha is %g; it must lie in [0, 1]", o->alpha);
+    limn_status st = check_mesh_magnitude(ctx, "limn_subdivide", NULL, mesh);
+    if (!st)
+        st = check_options(ctx, "limn_subdivide", o);
+    if (st)
+        return st;
     limn_subdivide_report local;
     limn_subdivide_report *r = report ? report : &local;
     memset(r, 0, sizeof *r);
@@ -91,7 +109,7 @@ limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
     r->levels = o->levels;
     r->limit = o->limit;
     limn_scheme scheme;
-    limn_status st = operator_resolve_scheme(ctx, mesh, o->scheme, &scheme);
+    st = operator_resolve_scheme(ctx, mesh, o->scheme, &scheme);
     if (st)
         return st;
     r->scheme = scheme;
@@ -131,6 +149,10 @@ limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
         free(lim);
         r->seconds_limit = limn_seconds() - t2;
     }
+    if (!st && mesh->colors && !out->colors)
+        limn_warn(ctx, "the input's vertex colours were dropped: limn_subdivide does not carry "
+                       "colours to the refined surface (%zu vertices), which has none",
+                  out->vertex_count);
     if (!st) {
         plan.meshes[plan.levels] = NULL; /* the caller owns it now */
         r->vertices = out->vertex_count;

@@ -9,6 +9,7 @@
  * exactly), normalise to [0, 1] and map through the uniform cubic B-spline
  * interpolating the user's colours.
  */
+#include "check.h"
 #include "context.h"
 #include "device.h"
 #include "mesh.h"
@@ -191,11 +192,15 @@ static limn_status solve_scalar(limn_context *ctx, series_run *s, double tol, in
         ++*products;
         if (st)
             break;
+        nr.max = check_norm_max(nr.max, nr.sum);
         if (nr.max <= tol) {
             *answer = p[k & 1];
             return LIMN_OK;
         }
-        if (!isfinite(nr.max) || k >= TEXTURE_MAX_ITER ||
+        if (!isfinite(nr.max))
+            return check_nonfinite_iteration(ctx, "the residual of the noise interpolation", k,
+                                             s->op.scheme, s->op.alpha, 0);
+        if (k >= TEXTURE_MAX_ITER ||
             (k >= STALL_WINDOW && nr.max > 0.99 * history[k % STALL_WINDOW]))
             return limn_fail(ctx, LIMN_ERR_SINGULAR,
                              "interpolating the noise of level %d stopped converging (residual "
@@ -211,13 +216,23 @@ static limn_status solve_scalar(limn_context *ctx, series_run *s, double tol, in
 
 static limn_status check_texture_options(limn_context *ctx, const limn_texture_options *o)
 {
-    limn_status st = series_check_options(ctx, &o->series);
+    limn_status st = check_scheme(ctx, "limn_texture", o->series.scheme);
+    if (!st)
+        st = series_check_options(ctx, &o->series);
+    if (!st)
+        st = check_count(ctx, "limn_texture", "levels", o->levels, 0, LIMN_MAX_TEXTURE_LEVELS,
+                         "LIMN_MAX_TEXTURE_LEVELS");
     if (st)
         return st;
-    if (o->levels < 0 || o->levels > 8)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "levels is %d; it must lie in 0..8", o->levels);
     if (!o->colors || o->color_count < 1)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "at least one colour is needed");
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_texture: at least one colour is needed "
+                                                 "(colors %s, color_count %zu)",
+                         o->colors ? "given" : "NULL", o->color_count);
+    if (o->color_count > LIMN_MAX_COLORS)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "limn_texture: color_count is %zu, over the cap of %d "
+                         "(LIMN_MAX_COLORS)",
+                         o->color_count, LIMN_MAX_COLORS);
     if (!(o->frequency > 0.0 && isfinite(o->frequency)))
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "frequency is %g; it must be positive",
                          o->frequency);
@@ -275,13 +290,17 @@ limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     limn_clear(ctx);
-    if (!mesh || !options || !out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_texture: NULL argument");
+    if (!options || !out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_texture: %s is NULL",
+                         !options ? "options" : "out");
     *out = NULL;
+    limn_status st = check_mesh_magnitude(ctx, "limn_texture", NULL, mesh);
+    if (st)
+        return st;
     const limn_texture_options *o = options;
     limn_series_report local, *r = report ? report : &local;
     series_report_init(r, mesh);
-    limn_status st = check_texture_options(ctx, o);
+    st = check_texture_options(ctx, o);
     if (st)
         return st;
     if (mesh->vertex_count == 0 || mesh->face_count == 0)

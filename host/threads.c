@@ -178,8 +178,13 @@ limn_status limn_context_set_threads(limn_context *ctx, int threads)
 
 limn_status limn_context_threads(const limn_context *ctx, int *threads, const char **source)
 {
-    if (!ctx || !threads || !source)
+    if (!ctx)
         return LIMN_ERR_ARGUMENT;
+    if (!threads || !source)
+        /* the message is the one field a const context may change: the caller
+           made ctx with limn_context_create, never const, so writing is defined */
+        return limn_fail((limn_context *)ctx, LIMN_ERR_ARGUMENT,
+                         "limn_context_threads: %s is NULL", !threads ? "threads" : "source");
     if (ctx->device && strcmp(ctx->device->ops->kind, "reference") == 0) {
         *threads = 1;
         *source = THREADS_SOURCE_REFERENCE;

@@ -113,7 +113,8 @@ typedef enum limn_backend {
  */
 LIMN_API limn_status limn_context_set_device(limn_context *ctx, const char *spec);
 
-/* Fills buf with one line per OpenCL device ("P.D  name  (platform)  type"). */
+/* Fills buf with one line per OpenCL device ("P.D  name  (platform)  type").
+   A NULL buf, a buf_size of 0 or a list that does not fit is refused. */
 LIMN_API limn_status limn_list_devices(limn_context *ctx, char *buf, size_t buf_size);
 
 /* The device that ran the last operation, in words ("" before any). */
@@ -173,7 +174,8 @@ LIMN_API limn_status limn_context_fall_back(limn_context *ctx, limn_status statu
 typedef struct limn_mesh limn_mesh;
 
 /*
- * Makes a mesh from caller arrays (copied). positions: 3 doubles per vertex.
+ * Makes a mesh from caller arrays (copied). positions: 3 doubles per vertex,
+ * all finite (else refused naming the first vertex, its axis and value).
  * face_offsets: face_count + 1 entries, face_offsets[0] = 0; face f uses
  * face_indices[face_offsets[f] .. face_offsets[f+1]). Indices are 0-based.
  */
@@ -187,6 +189,7 @@ LIMN_API void limn_mesh_destroy(limn_mesh *mesh);
 LIMN_API size_t limn_mesh_vertex_count(const limn_mesh *mesh);
 LIMN_API size_t limn_mesh_face_count(const limn_mesh *mesh);
 LIMN_API const double *limn_mesh_positions(const limn_mesh *mesh);     /* 3 per vertex */
+/* Positions written here are checked by the next call that uses them. */
 LIMN_API double *limn_mesh_positions_mutable(limn_mesh *mesh);
 LIMN_API const uint32_t *limn_mesh_face_offsets(const limn_mesh *mesh);
 LIMN_API const uint32_t *limn_mesh_face_indices(const limn_mesh *mesh);
@@ -269,6 +272,9 @@ LIMN_API limn_status limn_mesh_read_stream(limn_context *ctx, FILE *stream, cons
  * stays). "-" (or /dev/stdout) is standard output; a FIFO or a character
  * device is written straight through (not atomic). A directory is refused.
  * Numbers are written in the C locale whatever the process locale.
+ * Refused, with nothing written, what limn_mesh_read would not read back: a
+ * non-finite coordinate (naming the vertex), a mesh without vertices, and
+ * STL for a mesh without faces (STL holds nothing but triangles).
  */
 LIMN_API limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh,
                                      const char *path, limn_format format);
@@ -373,7 +379,7 @@ typedef struct limn_interpolate_options {
     limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
     double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
     double tolerance;         /* max |M - A P| / bbox diagonal; default 1e-6 */
-    int max_iterations;       /* default 1000 */
+    int max_iterations;       /* default 1000; at most LIMN_MAX_ITERATIONS */
     int reorder;              /* renumber vertices for locality (RCM) inside the
                                  solve; results stay in input order; default 1 */
     limn_method method;       /* default LIMN_METHOD_AUTO */
@@ -382,6 +388,10 @@ typedef struct limn_interpolate_options {
 } limn_interpolate_options;
 
 LIMN_API void limn_interpolate_options_default(limn_interpolate_options *options);
+
+/* The cap on max_iterations: a larger value is refused (LIMN_ERR_ARGUMENT,
+   naming it), as every count below is beyond its cap; no solve needs more. */
+#define LIMN_MAX_ITERATIONS 10000000
 
 typedef struct limn_report {
     size_t vertices, faces;
@@ -420,6 +430,12 @@ typedef struct limn_report {
 /*
  * Solves A P = M for the control mesh P whose limit surface passes through
  * every vertex of M (same topology as M). On success *control is a new mesh.
+ * Like every operation that computes with positions (subdivide, limit
+ * positions, the series, texture, render), it refuses with LIMN_ERR_ARGUMENT,
+ * naming the first vertex, a non-finite coordinate (e.g. written through
+ * limn_mesh_positions_mutable), and coordinates so large that their sum of
+ * squares or squared bbox diagonal exceeds DBL_MAX / 2^20 (overflow: one
+ * coordinate of 1.3e151, or a million of 1.3e148).
  * Fails with LIMN_ERR_SINGULAR or LIMN_ERR_NO_CONVERGENCE (and no mesh) when
  * the tolerance cannot be reached; the message says what to do.
  * report may be NULL.
@@ -443,12 +459,16 @@ LIMN_API limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mes
 typedef struct limn_subdivide_options {
     limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
     double alpha;             /* Catmull-Clark alpha of the first step; default 0 */
-    int levels;               /* uniform refinement levels, 0..16; default 1 */
+    int levels;               /* uniform refinement levels, 0..LIMN_MAX_SUBDIVIDE_LEVELS
+                                 (16); default 1 */
     int limit;                /* move the finest vertices to their limit points */
     size_t max_memory;        /* bytes; 0 = three quarters of physical memory */
 } limn_subdivide_options;
 
 LIMN_API void limn_subdivide_options_default(limn_subdivide_options *options);
+
+/* levels above this are refused; max_memory refuses most meshes well before */
+#define LIMN_MAX_SUBDIVIDE_LEVELS 16
 
 typedef struct limn_subdivide_report {
     size_t input_vertices, input_faces;
@@ -471,6 +491,7 @@ typedef struct limn_subdivide_report {
  * LIMN_ERR_MEMORY, before allocating, when the predicted peak exceeds
  * max_memory. report may be NULL.
  */
+/* Vertex colours are not carried to the refined vertices: a warning says so. */
 LIMN_API limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
                                     const limn_subdivide_options *options, limn_mesh **surface,
                                     limn_subdivide_report *report);
@@ -503,6 +524,20 @@ typedef struct limn_series_options {
 } limn_series_options;
 
 LIMN_API void limn_series_options_default(limn_series_options *options);
+
+/*
+ * Caps on the counts below, refused beyond with LIMN_ERR_ARGUMENT and a
+ * message naming the argument, its value and the cap (the terms shrink
+ * geometrically: far fewer than these already reach rounding):
+ * LIMN_MAX_TERMS for bands' count, smooth's terms, denoise's and morph's m
+ * and sharpen's `to`; LIMN_MAX_STEPS for denoise's and sharpen's steps;
+ * LIMN_MAX_PRODUCTS for a call's stencil products ((m + 1) * steps, to *
+ * steps, (m + 1) * (frames - 1)); LIMN_MAX_FRAMES for morph's frames.
+ */
+#define LIMN_MAX_TERMS 10000
+#define LIMN_MAX_STEPS 10000
+#define LIMN_MAX_PRODUCTS 10000000
+#define LIMN_MAX_FRAMES 100000
 
 typedef struct limn_series_report {
     size_t vertices, faces;
@@ -550,7 +585,7 @@ LIMN_API limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
 
 typedef struct limn_morph_options {
     limn_series_options series;
-    int frames;               /* frames written, FROM first; >= 2; default 30 */
+    int frames;               /* frames written, FROM first; 2..LIMN_MAX_FRAMES; default 30 */
     int m;                    /* terms of eq. 9 minus one; default 2 */
     double p;                 /* speed, 0 < p < 1 (smaller is faster); default 0.8 */
     int linear;               /* 1: the linear blend (1 - t) FROM + t TO, t = k / (frames - 1) */
@@ -618,9 +653,10 @@ LIMN_API limn_status limn_mesh_compare(limn_context *ctx, const limn_mesh *a, co
 
 typedef struct limn_texture_options {
     limn_series_options series;
-    int levels;               /* refinement levels G_1..G_levels; default 3 */
+    int levels;               /* refinement levels G_1..G_levels, 0..LIMN_MAX_TEXTURE_LEVELS;
+                                 default 3 */
     const uint8_t *colors;    /* RGB triples, interpolated in order; required */
-    size_t color_count;       /* >= 1 */
+    size_t color_count;       /* 1..LIMN_MAX_COLORS */
     uint64_t seed;            /* shuffles the noise's permutation; default 1 */
     double frequency;         /* noise cells across the bbox diagonal on G_0; default 4 */
     double tolerance;         /* of each level's scalar interpolation; default 1e-6 */
@@ -629,6 +665,9 @@ typedef struct limn_texture_options {
 } limn_texture_options;
 
 LIMN_API void limn_texture_options_default(limn_texture_options *options);
+
+#define LIMN_MAX_TEXTURE_LEVELS 8
+#define LIMN_MAX_COLORS 65536
 
 /*
  * Procedural texture (seed 000 §5): improved Perlin noise f(2^i p)/2^i on the

@@ -244,6 +244,28 @@ static void good_run_and_report(void **s)
     assert_non_null(strstr(text, "reference"));
 }
 
+/* Issue 11.4: subdivide drops vertex colours, and says so. */
+static void subdivide_warns_of_dropped_colours(void **s)
+{
+    (void)s;
+    const char *in = in_dir("in_rgb.ply");
+    assert_int_equal(test_write_text(in, "ply\nformat ascii 1.0\nelement vertex 4\n"
+                                         "property float x\nproperty float y\nproperty float z\n"
+                                         "property uchar red\nproperty uchar green\n"
+                                         "property uchar blue\nelement face 4\n"
+                                         "property list uchar int vertex_indices\nend_header\n"
+                                         "0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n"
+                                         "0 0 1 9 9 9\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"),
+                     0);
+    char args[1024];
+    snprintf(args, sizeof args, "subdivide '%s' -o '%s' -q", in, out_path);
+    assert_int_equal(limn(args), 0);
+    if (!strstr(text, "limn subdivide: warning: the input's vertex colours were dropped"))
+        fail_msg("no warning about the colours:\n%s", text);
+    unlink(out_path);
+    unlink(in);
+}
+
 static void subdivide_and_surface(void **s)
 {
     (void)s;
@@ -325,6 +347,7 @@ int main(void)
         cmocka_unit_test(singular_keeps_existing_output),
         cmocka_unit_test(good_run_and_report),
         cmocka_unit_test(subdivide_and_surface),
+        cmocka_unit_test(subdivide_warns_of_dropped_colours),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -325,7 +325,7 @@ static void refusals_write_nothing(void **s)
     REFUSED(ctx, limn_mesh_create(ctx, NV, pos_m, 1, offs, indices_m, &out),
             "face_offsets[0] is 1");
     REFUSED(ctx, limn_mesh_create(ctx, NV, NULL, NF, offsets_m, indices_m, &out),
-            "a required array is NULL");
+            "positions is NULL");
     REFUSED(ctx, limn_mesh_create(ctx, NV, pos_m, NF, offsets_m, indices_m, NULL), "out is NULL");
     limn_mesh_destroy(m);
     limn_context_destroy(ctx);

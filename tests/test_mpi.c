@@ -19,6 +19,7 @@
 
 #include "limn_mpi.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -352,6 +353,32 @@ static void errors(limn_context *ctx, const limn_mesh *quads)
     mo.root = size;
     st = limn_interpolate_mpi(ctx, MPI_COMM_WORLD, quads, &o, &out, NULL, &mo, NULL);
     CHECK(st == LIMN_ERR_ARGUMENT, "bad root: status %d", (int)st);
+
+    /* a NaN written on the root (issue 18.4) and counts over their caps:
+       every rank is refused with the root's message naming them */
+    limn_mesh *bad = NULL;
+    limn_mesh_copy(ctx, quads, &bad);
+    if (rank == 0)
+        limn_mesh_positions_mutable(bad)[3 * 2 + 1] = NAN;
+    st = limn_interpolate_mpi(ctx, MPI_COMM_WORLD, rank == 0 ? bad : NULL, &o,
+                              rank == 0 ? &out : NULL, NULL, NULL, NULL);
+    CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), "vertex 2"),
+          "NaN on the root: status %d, message '%s'", (int)st, limn_context_message(ctx));
+    st = limn_smooth_mpi(ctx, MPI_COMM_WORLD, rank == 0 ? bad : NULL, NULL, 2,
+                         rank == 0 ? &out : NULL, NULL, NULL, NULL);
+    CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), "vertex 2"),
+          "NaN on the root (smooth): status %d, message '%s'", (int)st,
+          limn_context_message(ctx));
+    st = limn_smooth_mpi(ctx, MPI_COMM_WORLD, rank == 0 ? quads : NULL, NULL, INT_MAX,
+                         rank == 0 ? &out : NULL, NULL, NULL, NULL);
+    CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), "LIMN_MAX_TERMS"),
+          "terms over the cap: status %d, message '%s'", (int)st, limn_context_message(ctx));
+    st = limn_denoise_mpi(ctx, MPI_COMM_WORLD, rank == 0 ? quads : NULL, NULL, 1, INT_MAX, 0,
+                          rank == 0 ? &out : NULL, NULL, NULL, NULL);
+    CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), "LIMN_MAX_STEPS"),
+          "steps over the cap: status %d, message '%s'", (int)st, limn_context_message(ctx));
+    CHECK(out == NULL, "no mesh after a failure");
+    limn_mesh_destroy(bad);
 }
 
 /* The device of each rank: the node's ranks take the matching devices in

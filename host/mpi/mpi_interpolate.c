@@ -8,6 +8,7 @@
  */
 #include "mpi_part.h"
 
+#include "check.h"
 #include "context.h"
 #include "mesh.h"
 #include "solve.h"
@@ -117,6 +118,8 @@ limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_me
     if (!st && p.rank == p.root && (!mesh || !control))
         st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
                        "limn_interpolate_mpi: the root rank needs the mesh and control");
+    if (!st && p.rank == p.root)
+        st = check_mesh_magnitude(ctx, "limn_interpolate_mpi", NULL, mesh);
     if (!st && o->method == LIMN_METHOD_SGS)
         st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
                        "method sgs is not available under MPI yet (its sweeps run colour by "

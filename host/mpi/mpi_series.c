@@ -8,6 +8,7 @@
  */
 #include "mpi_part.h"
 
+#include "check.h"
 #include "context.h"
 #include "measure.h"
 #include "mesh.h"
@@ -37,9 +38,10 @@ static void close_series(series_mpi *s)
 }
 
 /* Common start: checks, the distributed operator, four work vectors. */
-static limn_status open_series(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                               const limn_series_options *options, const limn_mpi_options *mpi,
-                               series_mpi *s, limn_series_report *r)
+static limn_status open_series(limn_context *ctx, const char *fn, MPI_Comm comm,
+                               const limn_mesh *mesh, const limn_series_options *options,
+                               const limn_mpi_options *mpi, series_mpi *s,
+                               limn_series_report *r)
 {
     memset(s, 0, sizeof *s);
     memset(r, 0, sizeof *r);
@@ -57,6 +59,8 @@ static limn_status open_series(limn_context *ctx, MPI_Comm comm, const limn_mesh
         else if (mesh->vertex_count == 0 || mesh->face_count == 0)
             st = limn_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
                            mesh->vertex_count ? "faces" : "vertices");
+        else
+            st = check_mesh_magnitude(ctx, fn, NULL, mesh);
     }
     st = mpi_agree(p, st);
     if (!st)
@@ -189,9 +193,10 @@ limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *m
         memset(result, 0, sizeof *result);
     limn_series_report local, *r = report ? report : &local;
     series_mpi s;
-    limn_status st = open_series(ctx, comm, mesh, options, mpi, &s, r);
-    if (!st && terms < 1)
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "terms is %d; it must be at least 1", terms);
+    limn_status st = open_series(ctx, "limn_smooth_mpi", comm, mesh, options, mpi, &s, r);
+    if (!st)
+        st = check_count(ctx, "limn_smooth_mpi", "terms", terms, 1, LIMN_MAX_TERMS,
+                         "LIMN_MAX_TERMS");
     if (!st && s.p.rank == s.p.root && !out)
         st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_smooth_mpi: out is NULL on the root");
     if (s.p.comm != MPI_COMM_NULL)
@@ -221,11 +226,11 @@ limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *
         memset(result, 0, sizeof *result);
     limn_series_report local, *r = report ? report : &local;
     series_mpi s;
-    limn_status st = open_series(ctx, comm, mesh, options, mpi, &s, r);
-    if (!st && m < 0)
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "m is %d; it must be 0 or more", m);
-    if (!st && steps < 1)
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "steps is %d; it must be at least 1", steps);
+    limn_status st = open_series(ctx, "limn_denoise_mpi", comm, mesh, options, mpi, &s, r);
+    if (!st)
+        st = check_count(ctx, "limn_denoise_mpi", "m", m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st)
+        st = check_steps(ctx, "limn_denoise_mpi", steps, m + 1LL, "(m + 1) * steps");
     if (!st && s.p.rank == s.p.root && !out)
         st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_denoise_mpi: out is NULL on the root");
     const topology *t = &s.p.global.topo;
@@ -275,6 +280,27 @@ static limn_status morph_frame(series_mpi *s, const limn_mesh *from, const limn_
     return mpi_agree(p, st);
 }
 
+/* The checks of limn_morph's operator path, run on the root. */
+static limn_status check_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                               const limn_morph_options *o)
+{
+    const char *fn = "limn_morph_mpi";
+    limn_status st = check_mesh_magnitude(ctx, fn, "FROM", from);
+    if (!st)
+        st = check_mesh_magnitude(ctx, fn, "TO", to);
+    if (!st)
+        st = check_count(ctx, fn, "frames", o->frames, 2, LIMN_MAX_FRAMES, "LIMN_MAX_FRAMES");
+    if (!st)
+        st = check_count(ctx, fn, "m", o->m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st)
+        st = check_count(ctx, fn, "(m + 1) * (frames - 1)", (o->m + 1LL) * (o->frames - 1LL), 0,
+                         LIMN_MAX_PRODUCTS, "LIMN_MAX_PRODUCTS");
+    if (!st && !(o->p > 0.0 && o->p < 1.0))
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
+                       o->p);
+    return st ? st : measure_same_topology(ctx, from, to, "FROM", "TO");
+}
+
 limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
                            const limn_mesh *to, const limn_morph_options *options,
                            limn_morph_frame_fn fn, void *user, limn_series_report *report,
@@ -300,16 +326,8 @@ limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *fr
             st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_morph_mpi: NULL argument on the root");
         else if (o.linear)
             st = limn_morph(ctx, from, to, &o, fn, user, r); /* no operator: the root alone */
-        else if (o.frames < 2)
-            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "frames is %d; it must be at least 2",
-                           o.frames);
-        else if (o.m < 0)
-            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "m is %d; it must be 0 or more", o.m);
-        else if (!(o.p > 0.0 && o.p < 1.0))
-            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
-                           o.p);
         else
-            st = measure_same_topology(ctx, from, to, "FROM", "TO");
+            st = check_morph(ctx, from, to, &o);
     }
     if (probe.comm != MPI_COMM_NULL)
         st = mpi_agree(&probe, st);
@@ -319,7 +337,7 @@ limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *fr
         return st;
 
     series_mpi s;
-    st = open_series(ctx, comm, from, &o.series, mpi, &s, r);
+    st = open_series(ctx, "limn_morph_mpi", comm, from, &o.series, mpi, &s, r);
     double diag = 0.0, lo[3], hi[3], *q = NULL;
     int closed = 0;
     if (!st && s.p.rank == s.p.root) {
