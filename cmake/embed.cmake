@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Turns a kernel source file into a C byte array (C11 -pedantic refuses
 # string literals over 4095 characters, so bytes it is).
 # Usage: cmake -DINPUT=x.cl -DOUTPUT=x.c -DSYMBOL=name -P embed.cmake

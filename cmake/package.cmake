@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # The installable limn: liblimn.so (only the LIMN_API functions exported)
 # and liblimn.a (internal symbols made local, so that they cannot clash with
 # an application's), both from limn_objects; limn.h; the limn CLI; a CMake

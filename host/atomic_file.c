@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Atomic file replacement: mkstemp + fsync + rename (+ fsync of the
    directory); straight-through outputs buffered until the commit. */
 #ifndef _DEFAULT_SOURCE

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Files that appear whole or not at all: a regular output is written under a
    temporary name beside its target (".NAME.limn-tmp.PID.XXXXXX", the target
    being the file a symlink chain names), synced, then renamed over it; on

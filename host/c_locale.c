@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Thread-local switches to the C locale (see c_locale.h). */
 #include "c_locale.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Numbers in mesh files and reports are read and written in the C locale,
  * whatever locale the host program set: under de_DE "%g" writes "0,5" and

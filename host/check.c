@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Checks of the values handed to public entry points: a bad value is refused
  * at the door with a message naming it, rather than surfacing later as a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Checks of the values handed to public entry points (README "Embedding
    limn"): each fails with LIMN_ERR_ARGUMENT and a message that starts with
    the function's name and names the offending value. */

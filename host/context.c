@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Context life cycle, error messages and warnings. */
 #include "context.h"
 #include "device.h"

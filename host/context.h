@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* The per-caller context: error message, warnings, device choice. */
 #ifndef LIMN_CONTEXT_H
 #define LIMN_CONTEXT_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Backend choice and the operations shared by both backends. */
 #include "device.h"
 #include "context.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The compute backend: a small table of operations over device buffers.
  * Two implementations: OpenCL (device_opencl.c) and plain C (device_ref.c).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* The OpenCL backend: context, queue, buffers, launches and the
    double-precision operations (the program: opencl_program.c; the float
    operations: device_opencl_mixed.c). */

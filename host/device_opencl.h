@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Internals of the OpenCL backend shared by its files: device_opencl.c
  * (context, buffers, double-precision operations), opencl_program.c (the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* The OpenCL side of the mixed-precision refinement (kernels/mixed.cl). */
 #include "context.h"
 #include "device_opencl.h"

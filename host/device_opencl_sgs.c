@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* The OpenCL side of the SGS-preconditioned conjugate gradients
    (kernels/sgs.cl): a sweep is one launch per colour, enqueued without
    waiting (the queue is in order); the forward sweep's partials land in one

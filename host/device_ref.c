@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The plain C reference backend. It does the same arithmetic in the same
  * order as kernels/stencil.cl (built with -ffp-contract=off, and the kernels

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Internals of the reference backend shared by device_ref.c,
    device_ref_mixed.c (the float operations of the mixed-precision solve) and
    device_ref_sgs.c (the SGS-preconditioned CG's sweeps). */

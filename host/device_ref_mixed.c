@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The reference twins of kernels/mixed.cl: the same float and double
  * operations in the same order (built with -ffp-contract=off; float

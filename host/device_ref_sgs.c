@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The reference backend's sweeps of the SGS-preconditioned conjugate
  * gradients: kernels/sgs.cl in plain C, the same operations in the same

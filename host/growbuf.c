@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Growable byte array (see growbuf.h). */
 #include "growbuf.h"
 

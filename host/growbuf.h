@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* A growable byte array for readers: amortised appends, checked sizes. */
 #ifndef LIMN_GROWBUF_H
 #define LIMN_GROWBUF_H

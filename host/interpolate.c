@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Progressive interpolation (seeds 002/003): P0 = M, P_{k+1} = P_k + (M - A P_k)
  * until max |M - A P_k| <= tol * bbox diagonal. The returned P is the one

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * limn_interpolate_estimate: the peak memory of limn_interpolate, predicted
  * before anything is allocated, so that a batch job refuses a mesh it cannot

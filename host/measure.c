@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Geometric measures of a mesh: signed volume (divergence theorem), area,
  * Newell face normals; comparisons of two meshes of one topology (vertex

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Geometric measures shared by the series drivers (internal side of
    limn_mesh_measure / limn_mesh_compare). */
 #ifndef LIMN_MEASURE_H

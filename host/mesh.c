@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Mesh container: creation from caller arrays, accessors, copies. */
 #include "mesh.h"
 #include "check.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* The polygon mesh container: positions, faces as CSR, optional colours. */
 #ifndef LIMN_MESH_H
 #define LIMN_MESH_H

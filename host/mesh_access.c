@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * A mesh's data to and from the caller's own buffers (embedding, README
  * "Embedding limn"): results copied out, new positions copied in. Sizes are

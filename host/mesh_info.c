@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn_mesh_info_compute: counts for `limn info` and for callers. */
 #include "check.h"
 #include "context.h"

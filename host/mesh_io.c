@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Mesh files: the public read/write entry points, format detection, the
  * atomic write (temporary file + fsync + rename) and the buffered reader and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Internals shared by the mesh file formats (mesh_obj.c, mesh_ply.c,
  * mesh_off.c, mesh_stl.c; the public entry points are in mesh_io.c).

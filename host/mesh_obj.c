@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Wavefront OBJ: `v x y z [w | r g b]` and `f` records (forms a, a/b, a//c,
  * a/b/c; negative indices count back from the last vertex defined). Every

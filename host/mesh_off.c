@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * OFF (Geomview and MeshLab): a header word [ST][C][N][4][n]OFF whose
  * prefixes may come in any order (MeshLab writes NCOFF, NSTOFF, ...), nOFF's

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * PLY (Stanford): ascii, binary little and big endian. Reads the vertex
  * element (x, y, z of any scalar type, optional uchar red/green/blue, other

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The PLY writer: binary little or big endian (doubles, lossless) or ascii
  * ("%.17g"), vertex colours when the mesh has them, the list count type

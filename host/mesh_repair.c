@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * limn_mesh_repair: the mesh-level repair step run after reading (DESIGN.md
  * §4; README "Meshes limn accepts"). What it changes, each with a warning:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * STL: ascii (solid / facet normal / outer loop / vertex / endloop / endfacet
  * / endsolid, keywords in any case, several solids in one file) and binary

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* OpenCL error codes as names, for messages a person can act on. */
 #include "opencl_errors.h"
 

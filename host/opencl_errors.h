@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 #ifndef LIMN_OPENCL_ERRORS_H
 #define LIMN_OPENCL_ERRORS_H
 #include <CL/cl.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * PoCL's kernel cache directory, checked when OpenCL finds no device or a
  * build fails: PoCL 3.1 drops its devices when it cannot create the cache

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 #ifndef LIMN_OPENCL_POCL_CACHE_H
 #define LIMN_OPENCL_POCL_CACHE_H
 #include <stddef.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The OpenCL program: kernels/stencil.cl, series.cl, solve.cl and mixed.cl
  * built as one program (the later files use stencil.cl's row_product), and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * OpenCL platform and device choice: the API's spec first, then the
  * environment (LIMN_PLATFORM, LIMN_DEVICE, LIMN_DEVICE_TYPE), then the first

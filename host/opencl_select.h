@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 #ifndef LIMN_OPENCL_SELECT_H
 #define LIMN_OPENCL_SELECT_H
 #include "limn.h"

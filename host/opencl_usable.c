@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Which OpenCL devices limn can run on, and which ones a choice matches.
  * The kernels need double precision (every operator is double; float is

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * What limn needs of an OpenCL device, and which devices a choice matches:
  * pure functions over a properties array (opencl_select.c fills it from the

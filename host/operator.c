@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Building the limit operator of a mesh on the context's device. */
 #include "operator.h"
 #include "check.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The limit operator A of one mesh: topology, host CSR table and its copy on
  * the device. Built once per (mesh topology, scheme, alpha) and reused by

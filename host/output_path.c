@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Output paths: classification, symlink resolution, temporary names, stale
    temporary files, rename preflight, the commit lock (see output_path.h). */
 #ifndef _DEFAULT_SOURCE

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Where an output really goes (README "Command line", output rules): "-" is
    standard output; a FIFO or a character device is written straight through;
    a symlink chain is followed to the file it names, which is the one

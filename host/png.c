@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * A small PNG writer (8-bit RGB) with its own deflate encoder (RFC 1951):
  * LZ77 with hash chains over a 32 KiB window, then dynamic Huffman blocks

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Uniform refinement, level by level: each step is a CSR table applied by the
  * device's spmv. Level by level rather than factorised to the base mesh

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Uniform refinement: the levels G_0 .. G_L of a mesh as topologies plus one
  * CSR table per step (rows: vertices of level k+1, columns: vertices of level

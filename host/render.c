@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * A headless picture of a mesh: orthographic view from an azimuth and an
  * elevation, z-buffer, Lambert shading (two-sided, one directional light

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Reverse Cuthill-McKee ordering and CSR permutation. */
 #include "reorder.h"
 #include "context.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Locality reordering of a mesh's vertices for the stencil products: reverse
  * Cuthill-McKee on the edge graph, so that the rows a work-item handles touch

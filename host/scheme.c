@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Limit masks of Loop and general Catmull-Clark (DESIGN.md §1). */
 #include "scheme.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Subdivision rules as weights over a vertex's neighbourhood: pure functions
  * of the topology, no I/O, no device. The masks are the closed forms of

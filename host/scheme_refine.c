@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Refinement masks of Catmull-Clark (with alpha) and Loop. */
 #include "scheme_refine.h"
 

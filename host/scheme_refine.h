@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Refinement masks: the weights that make one vertex of level k+1 from the
  * vertices of level k. Pure functions of the topology (see scheme.h for the

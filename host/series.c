@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The mesh series (seed 000 §3, §6, §7; DESIGN.md §1): bands, partial sums,
  * denoising (eq. 8), sharpening and morphing (eq. 9). Every driver builds the

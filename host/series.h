@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Internal pieces of the series drivers (series.c), shared with texture.c. */
 #ifndef LIMN_SERIES_H
 #define LIMN_SERIES_H

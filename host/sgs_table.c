@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The multicolour layout for the symmetric Gauss-Seidel sweeps. Gauss-Seidel
  * is sequential row by row; on a device it runs colour by colour, the rows

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* The multicolour layout of one solver block for the symmetric Gauss-Seidel
    sweeps (device.h device_sgs; kernels/sgs.cl). */
 #ifndef LIMN_SGS_TABLE_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Solvers for A P = M beyond the seeds' iteration (host/solve_*.c). */
 #ifndef LIMN_SOLVE_H
 #define LIMN_SOLVE_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Conjugate gradients for A P = M (DESIGN.md §1; derivation in README
  * "Solvers"). A is block triangular by vertex rule: pinned rows (corners,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Coefficients of the Chebyshev iteration for A P = M (Saad, Iterative
  * Methods for Sparse Linear Systems, Alg. 12.1, written on iterates):

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Mixed-precision iterative refinement for A P = M (README "Precision").
  * In float, r = M - A P loses about three of float's seven digits to

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Precision of the interpolation solve: the choice, and the mixed-precision
    refinement that runs the float kernels (solve_mixed.c). */
 #ifndef LIMN_SOLVE_MIXED_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Conjugate gradients preconditioned by symmetric Gauss-Seidel, for A P = M
  * (README "Solvers"). On each tier's block (solve_tiers), S = dinv A is

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* CSR tables built from the scheme's masks, rows sorted by column with
    repeated columns merged, so a table is a deterministic function of the
    topology. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* CSR stencil tables: row i holds the weights of the vertices that make
    output vertex i (a limit point, or a refined vertex). */
 #ifndef LIMN_STENCIL_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn_subdivide: refine the control mesh into the surface, on the device. */
 #include "check.h"
 #include "context.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Procedural texture (seed 000 §5, DESIGN.md §1). Refine the mesh G_0 into
  * G_1 .. G_L; on the vertices of G_i put improved Perlin noise

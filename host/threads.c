@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The OpenCL runtime's thread count from the process's CPU binding
  * (threads.h). setenv is process wide and PoCL reads its variables once, at

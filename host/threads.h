@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The OpenCL runtime's thread count (DESIGN.md §4): PoCL sizes its thread
  * pool from the whole machine and ignores the process's CPU binding, so

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Topology construction: edges by bucketing half-edges on their lower vertex. */
 #include "topology.h"
 #include "context.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Mesh topology: edges, vertex-face and vertex-edge incidence (ordered
  * around manifold vertices), boundary / non-manifold classification and the

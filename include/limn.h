@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * limn — interpolating subdivision surfaces and mesh series on OpenCL.
  *

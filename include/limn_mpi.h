@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * limn over MPI (optional, built with -DLIMN_MPI=ON): the interpolation and
  * the series filters of limn.h with the mesh's vertices split across the

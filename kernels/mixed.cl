@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Kernels of the mixed-precision refinement (host/solve_mixed.c), built into
  * the same program after stencil.cl (row_product_ahead, GATHER_AHEAD). The residual of P is

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Kernels for the mesh series (seed 000 §3, §5-7): one term of
  * M = sum_i (E - A)^i A M per launch, fused with the partial sums that the

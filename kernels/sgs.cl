@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Kernels of conjugate gradients preconditioned by multicolour symmetric
  * Gauss-Seidel (host/solve_sgs.c; the table: host/sgs_table.c, device.h

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Kernels of the conjugate-gradient solver (host/solve_cg.c), built into the
  * same program as stencil.cl (row_product). Same conventions: ROWS_PER_ITEM

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Stencil products for limn. Each work-item handles ROWS_PER_ITEM
  * consecutive rows (set with -D at build time) and writes one partial

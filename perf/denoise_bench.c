@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Issue 4's figures: limn denoise (seed 000 eq. 8) against Taubin lambda|mu
  * smoothing, and the series morph against the linear blend.

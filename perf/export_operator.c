@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Writes limn's limit operator A of a mesh, M, the vertex rules and the row
  * scales D (A = D S on the smooth block) as one raw little-endian file for the

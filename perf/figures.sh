@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # The README's before/after pictures of the series commands, made with
 # `limn render` (PNG, 400x300). Usage: bash perf/figures.sh [build/limn] [meshes dir]
 #   docs/denoise_noisy.png, docs/denoise_limn.png: bunny_closed with seeded

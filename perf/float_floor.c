@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * How far a pure-float iteration gets: the seeds' iteration run entirely in
  * float (P and M as float4, float weights: the float path's own kernel with

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Seed 003 Table 1, for limn: interpolate every shared small and medium mesh
 and print vertices, scheme, iterations, max/mean relative error and seconds per
 iteration, as a markdown table (and a CSV beside it).

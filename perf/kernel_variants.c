@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Times the variants of perf/kernel_variants.cl on an operator written by
  * perf/export_operator (add `rcm` there for the renumbered order): the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Variants of the solve loop's step, for perf/kernel_variants.c: the design
  * measurements behind README "Performance" (which layouts and work shapes

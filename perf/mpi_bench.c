@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Strong scaling of limn_interpolate_mpi (driven by perf/mpi_scaling.py).
  *

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Strong scaling of the MPI layer, 1 -> 2 ranks, and a projection to 64 ranks.
 
     bash scripts/build.sh -DLIMN_BUILD_PERF=ON && python3 perf/mpi_scaling.py

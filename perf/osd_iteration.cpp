@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // Benchmark anchor: the seeds' iteration P <- P + (M - A P) run on
 // OpenSubdiv 3.5's limit stencil table (double), what a user would build from
 // OpenSubdiv: adaptive refinement, a LimitStencilTable with one location per

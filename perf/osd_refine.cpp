@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // Benchmark anchor: OpenSubdiv 3.5 Far uniform refinement of a mesh in double
 // precision (TopologyRefiner + PrimvarRefinerReal<double>::Interpolate), the
 // route a user would otherwise take. Reads the mesh with limn's reader (only

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Stencil products to a tolerance, every method, on the shared medium meshes:
 the table of README "Solvers" and issue 5's products target (3x fewer than the
 paper's iteration for Loop, 4x for Catmull-Clark).

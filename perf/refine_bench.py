@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Uniform refinement: limn subdivide vs OpenSubdiv's Far refinement of the
 same mesh, side by side in one run (each in its own process, so peak memory is
 per implementation), plus limn's level-by-level tables against one composed

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Measures the design choice of host/refine.c: refinement level by level (one
  * small CSR table per step, applied in turn) against one table composed from

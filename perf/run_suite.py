@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """limn's performance suite: one command, one table, everything measured side
 by side in the same run.
 

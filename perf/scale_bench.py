@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """End to end at scale (issue 5, item 3): `limn interpolate` on igea and its
 Loop refinements up to 8.6M vertices, every stage timed and the peak memory
 measured.

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """SciPy anchors for the interpolation A P = M on limn's own operator (exported
 by perf/export_operator): the seeds' iteration on a SciPy CSR matrix, conjugate
 gradients on the symmetric form, and a SuperLU direct solve where it fits.

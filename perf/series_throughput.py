@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Denoise and morph throughput (issue 5, item 5), the series toolkit's two
 heavy users of the stencil product.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """A probe for issue 5's open products target: conjugate gradients on the
 symmetric form S = D^-1 A preconditioned by symmetric Gauss-Seidel (SSOR with
 omega = 1), in the natural vertex order, counting iterations to

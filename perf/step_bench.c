@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Times the solve loop's kernels alone, on the operator limn interpolate
  * builds (same reordering, same prefetch choice), repeated on resident

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * STREAM triad a[i] = b[i] + s * c[i] on doubles (McCalpin's kernel), the
  * memory-bandwidth yardstick of the perf suite. Counts 24 bytes per element

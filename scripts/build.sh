@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Configures and builds limn into build/ (RelWithDebInfo; LIMN_BUILD_DIR overrides).
 set -euo pipefail
 cd "$(dirname "$0")/.."

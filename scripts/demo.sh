@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # One command from a fresh Debian 12: install what is missing, build, and
 # interpolate the embedded Spot control mesh (Keenan Crane, public domain).
 # Writes out/spot_control.ply (the control mesh) and out/spot_control.json.

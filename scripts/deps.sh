@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Installs the Debian packages limn needs that are missing (as root, or via sudo).
 #   scripts/deps.sh          build + run dependencies
 #   scripts/deps.sh --test   also the test-only ones (cmocka, OpenSubdiv, clang

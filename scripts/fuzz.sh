@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Builds the libFuzzer targets of tests/fuzz (clang-14, ASan + UBSan) and runs
 # each reader's target for a bounded time, as many at once as there are cores,
 # starting from the committed seeds (tests/fuzz/corpus/TARGET). New inputs go

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Builds limn and its tests with AddressSanitizer + UndefinedBehaviorSanitizer
 # (-DLIMN_SANITIZE=ON) and runs the whole test suite once under them: any
 # memory error, leak (PoCL's and LLVM's own are suppressed, tests/lsan.supp)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # One command from a fresh Debian 12: install what is missing (test-only
 # packages included), build, and run everything CI checks:
 #   1. every reader's fuzz target for a bounded time (libFuzzer, ASan + UBSan;

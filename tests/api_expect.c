@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Helpers of the API checks' tests (api_expect.h). */
 #include "api_expect.h"
 

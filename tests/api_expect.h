@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Helpers of the API checks' tests (test_api_checks.c, test_api_limits.c):
    assertions on a refused call's status and message, a context on the
    reference backend, a scratch directory. */

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # The installable libraries export exactly limn.h's API: every function the
 # header marks LIMN_API is a defined global of liblimn.so (nm -D) and of
 # liblimn.a, and nothing else is (internal functions are hidden in the .so and

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Every kernel file states `#pragma OPENCL FP_CONTRACT OFF` itself (the
 # device's results equal the C reference's only without contraction, and a
 # file must not rely on being joined after another that says it).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Shared helpers for limn's tests: mesh locations, generated meshes,
    conversions to the oracles' face arrays. */
 #ifndef LIMN_TEST_SUPPORT_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Every public entry point checks its values (issue 18.4): non-finite
  * coordinates, from limn_mesh_create or written later through

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Limits of the API (issue 18.4, 18.5, 11.4): counts over their caps are
  * refused at once with a message naming the argument, its value and the cap

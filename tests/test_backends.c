@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The OpenCL backend against the C reference backend (the oracle for every
  * kernel): limit positions and interpolated control meshes agree — both do

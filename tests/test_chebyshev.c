@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The Chebyshev iteration (host/solve_chebyshev.c + the cheb_step kernel)
  * against its closed form. On a diagonal operator with eigenvalues lambda_i

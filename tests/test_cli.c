@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The limn command line as a user meets it: every class of bad input and bad
  * option gives its exit status and a message naming the file, line or element,

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # A build directory configured while MPI was missing picks the MPI layer up
 # once it is installed (scripts/demo.sh before scripts/test.sh, the README's
 # order): configure with MPI hidden, then again with it visible, in a fresh

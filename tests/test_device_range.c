@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Row ranges of a device CSR table (device_csr.row_begin) and partial buffer
  * reads/writes, on both backends: computing the rows [0, b) and [b, n)

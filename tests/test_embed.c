@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * limn as an embedded library: every operation reached from the caller's own
  * arrays (a torus made here, no file) with its results copied into the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * OpenCL faults (issue 6): no ICD / no platform, no device matching the
  * user's choice, a program that does not build, device memory exhausted, a

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # `cmake --install` into a fresh prefix, then examples/embed built against it
 # the four ways a user would: find_package with limn::limn and with
 # limn::limn_static, pkg-config with limn.pc and with limn-static.pc. Each

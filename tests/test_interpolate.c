@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Interpolation end to end: after limn_interpolate, the limit of the control
  * mesh P, computed by an independent route, reproduces M to the tolerance.

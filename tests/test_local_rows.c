@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The claim under the MPI layer's data layout (DESIGN.md §2, README "MPI"):
  * the limit-stencil row of a vertex depends only on the faces incident to it

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Locale independence (issue 11.2): a host that calls
  * setlocale(LC_ALL, "de_DE.UTF-8") (decimal comma) reads and writes exactly

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Limit masks against brute-force refinement: limn's limit position of every
  * vertex (A P) must equal where repeated uniform subdivision (an independent

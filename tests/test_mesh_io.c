@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Mesh file readers and writers: real files, round trips, malformed input,
    atomic writes. Real meshes come from $LIMN_SHARED_MESHES (default
    /work/shared/meshes); tests that need them are skipped when it is absent. */

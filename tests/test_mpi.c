@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The MPI layer against the single process, run under mpirun with 2 and 3
  * ranks (tests/CMakeLists.txt). On every mesh and method the distributed

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * `mpirun -np N limn ...` as a user meets it (2 and 3 ranks): interpolate,
  * smooth, denoise and morph write the very bytes of one process (paper

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Every kernel family of limn under Oclgrind (an OpenCL device simulator that
 # checks each memory access): `oclgrind --check-api --data-races limn ...` for
 # every --method and --precision, subdivide, the series commands and texture,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * OpenCL beyond PoCL (issue 11 item 3, issue 18 item 5):
  *  - device choice: the pure rule (opencl_pick, opencl_unusable) on fake

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Limit positions against OpenSubdiv 3.5 (Far, double precision; test-only,
  * tests/oracle/osd_oracle.cpp): Catmull-Clark alpha = 0 on every mesh, Loop on

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Where outputs go (README "Command line", output rules), through the limn
  * command line: a symlink's target replaced (the link kept), dangling links

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The float path (issue 5): mixed-precision refinement, residuals in double,
  * corrections in float (host/solve_mixed.c, kernels/mixed.cl).

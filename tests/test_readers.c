@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The readers against what other tools write and what a user may hand them
  * (issues 11.4, 18.1-18.3): a UTF-8 byte order mark, CR-only and CRLF line

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Uniform refinement (limn_subdivide) against OpenSubdiv's Far refinement
  * (test-only, tests/oracle): same vertex positions as point sets (1e-12 of the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Scan-grade robustness (issue 6), as a user meets it through the limn
  * command line and through the library:

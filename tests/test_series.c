@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The mesh series toolkit (issue 4) against independent routes:
  *  - bands and the filters against dense matrices built from the CSR table

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The series subcommands as a user meets them: bad options and bad inputs
  * give a message, exit status 2 (usage) or 1 (failure) and write nothing;

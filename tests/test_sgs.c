@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The pieces of the SGS-preconditioned conjugate gradients (--method sgs),
  * checked from outside:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The OpenCL runtime's thread count (host/threads.c): cores counted inside a
  * CPU set on synthetic hwloc topologies (SMT siblings, no core level); the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Topology counts against stats.jsonl of the shared meshes, which a separate
  * numpy/scipy script computed (see ../shared/meshes/README.md), and against

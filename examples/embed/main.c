@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Embedding limn: the application's own arrays in, results into its own
  * buffers, no files. It makes a bumpy torus (quads), computes the control

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* The limn command line: one file per subcommand, glue over the library. */
 #ifndef LIMN_CLI_H
 #define LIMN_CLI_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn bands: a mesh as bands of its series, one mesh per band. */
 #include "cli_series.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Shared CLI pieces: option values, errors, progress, JSON reports. */
 #include "cli.h"
 #include "atomic_file.h"

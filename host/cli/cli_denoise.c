@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn denoise: seed 000 eq. 8, with the volume change reported. */
 #include "cli_series.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn devices: the OpenCL devices and how to pick one. */
 #include "cli.h"
 

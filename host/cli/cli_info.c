@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn info: what a mesh is made of, as text or JSON on stdout. */
 #include "cli.h"
 #include "c_locale.h"

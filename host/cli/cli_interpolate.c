@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn interpolate: solve for the control mesh, write it and a report. */
 #include "cli.h"
 #include "atomic_file.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn morph: frames from FROM to TO by seed 000 eq. 9, or the linear blend. */
 #include "cli_series.h"
 

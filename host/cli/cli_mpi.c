@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * limn under mpirun (built with LIMN_MPI). main() calls cli_mpi_main when an
  * MPI launcher started the process; with one rank everything runs exactly as

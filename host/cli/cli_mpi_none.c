@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn built without MPI (LIMN_MPI off): always one rank (cli.h, "MPI"). */
 #include "cli.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn render: a headless PNG picture of a mesh. */
 #include "cli_series.h"
 #include "c_locale.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Shared option handling, loading and reports of the series subcommands. */
 #include "cli_series.h"
 #include "atomic_file.h"

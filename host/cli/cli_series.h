@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Pieces shared by the series subcommands (bands, smooth, denoise, sharpen,
    morph, texture, render): common options, loading, reports. */
 #ifndef LIMN_CLI_SERIES_H

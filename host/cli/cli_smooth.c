@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn smooth: the partial sum of the first N bands of the series. */
 #include "cli_series.h"
 

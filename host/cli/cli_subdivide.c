@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn subdivide: refine a control mesh into its subdivision surface. */
 #include "cli.h"
 #include "atomic_file.h"

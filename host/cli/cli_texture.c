@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn texture: procedural Perlin texture through the interpolation (seed 000 §5). */
 #include "cli_series.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* limn: command dispatch. */
 #include "cli.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The tiered, D-preconditioned conjugate gradients of solve_cg.c over MPI
  * ranks (the derivation is in README "Solvers"). A tier's block keeps every

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * What every distributed call shares: the communicator, agreement on a
  * status before each collective phase, global norms, vectors scattered from

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The root builds the global operator once and sends each rank its rows
  * (mpi_part.h has the local numbering). Why not build rows on each rank from

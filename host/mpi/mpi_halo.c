@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Ghost exchange for one stencil product. The values other ranks need are
  * one contiguous device range (mpi_part.h), read in one transfer, packed

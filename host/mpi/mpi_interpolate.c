@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * limn_interpolate over MPI: the iteration of interpolate.c (solve_iterate,
  * the same stop test, weights and messages) with each step run as an

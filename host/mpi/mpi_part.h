@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * One rank's share of a distributed limit operator (README "MPI").
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Vertex partition for the MPI ranks: METIS k-way on the graph whose edges
  * are the mesh's edges (the stencil of a row reaches one ring of faces, so

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Each rank's piece of a result, for output one file per rank: its owned
  * vertices, then the other vertices of the faces incident to them, and those

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The series filters over MPI: smooth, denoise and morph (seed 000 §3, §6,
  * §7; series.c is the single process). Each term (E - A)^i x is one

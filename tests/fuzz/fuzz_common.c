@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* The fuzz harness: see fuzz_common.h. */
 #ifndef _GNU_SOURCE
 #define _GNU_SOURCE /* memfd_create */

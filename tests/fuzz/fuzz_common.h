@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The fuzz harness shared by the libFuzzer targets (fuzz_target.c, built with
  * -DLIMN_FUZZ=ON and clang) and by the replay test (replay.c, part of the

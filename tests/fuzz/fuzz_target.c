@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* A libFuzzer entry point; FUZZ_TARGET names the reader (fuzz_common.h). */
 #include "fuzz_common.h"
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Writes the committed seed corpus of the fuzz targets (tests/fuzz/corpus).
 
 Hand-made edge cases of every format (deterministic), plus a few small real

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Replays files through the fuzz harness (fuzz_common.h) in the normal test
  * suite, without libFuzzer: every committed seed of tests/fuzz/corpus and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Test-only minimal OBJ reader; see obj_mini.h. */
 #include "obj_mini.h"
 

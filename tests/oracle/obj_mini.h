@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Test-only minimal Wavefront OBJ reader: `v x y z` and `f a b c ...` lines
  * (index forms a, a/b, a/b/c, a//c; negative = relative indices). Every other
  * line (vt, vn, g, s, o, usemtl, mtllib, t, comments, ...) is skipped.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Self-check of the test oracles (plain C, no test framework):
  *   1. brute-force refinement (refine_oracle) vs OpenSubdiv refinement (osd_oracle)
  *      at levels 1..3: same counts, vertex i of level k-1 at index i, same point

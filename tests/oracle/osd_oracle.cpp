@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // Test-only oracle: OpenSubdiv 3.5 Far API in double precision behind a C API.
 // See osd_oracle.h. Independent of limn's code.
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Test-only oracle: OpenSubdiv 3.5 (Far, double precision) limit positions and
  * uniform refinement, behind a plain C interface.
  *

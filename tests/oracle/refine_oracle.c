@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Test-only brute-force uniform Loop / Catmull-Clark refinement; see refine_oracle.h. */
 #include "refine_oracle.h"
 

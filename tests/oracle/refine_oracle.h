@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* Test-only brute-force uniform subdivision (plain C, no OpenSubdiv, independent
  * of limn's code). Manifold meshes with boundaries only.
  *
