@@ -9,7 +9,8 @@
 static const char *const help =
     "usage: limn bands INPUT --count N -o PREFIX [options]\n"
     "\n"
-    "Splits INPUT (M) into the bands of its series (seed 000 eq. 6):\n"
+    "Splits INPUT (M) into the bands of its series (eq. 6 of Lai & Cheng (2011),\n"
+    "'Fast Mesh Interpolation and Mesh Decomposition with Applications'):\n"
     "band i = (E - A)^i A M for i = 0..N-1, and the remainder (E - A)^N M;\n"
     "bands and remainder sum back to M. Band 0 (the limit points) is the overall\n"
     "shape, higher bands are finer detail.\n"

@@ -8,7 +8,8 @@
 static const char *const help =
     "usage: limn denoise INPUT -o OUTPUT [--m M] [--steps K] [options]\n"
     "\n"
-    "Smooths noise away with seed 000 eq. 8: T_0 = INPUT,\n"
+    "Smooths noise away with eq. 8 of Lai & Cheng (2011), 'Fast Mesh\n"
+    "Interpolation and Mesh Decomposition with Applications': T_0 = INPUT,\n"
     "T_{k+1} = sum_{i=0..m} (E - A)^i A T_k, K times ((m + 1) K stencil products).\n"
     "Smaller m smooths more; the paper uses m = 2-3 and K = 3-4. Every band gain\n"
     "is at most 1, so the mesh shrinks a little: the volume change is reported\n"

@@ -7,7 +7,8 @@
 static const char *const help =
     "usage: limn sharpen INPUT -o OUTPUT --from M --to N [--steps K] [options]\n"
     "\n"
-    "Adds high-frequency detail (seed 000 §6): T_0 = INPUT,\n"
+    "Adds high-frequency detail (Lai & Cheng (2011), 'Fast Mesh Interpolation\n"
+    "and Mesh Decomposition with Applications', section 6): T_0 = INPUT,\n"
     "T_{k+1} = T_k + sum_{i=M..N} (E - A)^i T_k, K times (N K stencil products).\n"
     "Terms with larger i are finer detail; M = 0 adds T itself (doubles the mesh\n"
     "about the origin), so M >= 1 is the useful range.\n"
