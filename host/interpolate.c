@@ -4,6 +4,7 @@
  * until max |M - A P_k| <= tol * bbox diagonal. The returned P is the one
  * whose residual was measured, so the reported error is exact, not a bound.
  */
+#include "abi.h"
 #include "check.h"
 #include "context.h"
 #include "device.h"
@@ -39,6 +40,8 @@ void limn_interpolate_options_default(limn_interpolate_options *o)
 {
     if (!o)
         return; /* no context to report to */
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
     o->scheme = LIMN_SCHEME_AUTO;
     o->alpha = 0.0;
     o->tolerance = 1e-6;
@@ -205,9 +208,10 @@ static limn_status step_local(void *user, int cur, const solve_step *sp, device_
                                     sp->omega, norms);
 }
 
-limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
-                             const limn_interpolate_options *options, limn_mesh **control,
-                             limn_report *report)
+/* limn_interpolate on options and report of this library's layout. */
+static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
+                                     const limn_interpolate_options *options, limn_mesh **control,
+                                     limn_report *report)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -338,4 +342,27 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     limn_progress(ctx, "solve", 1.0);
     *control = out;
     return LIMN_OK;
+}
+
+limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
+                             const limn_interpolate_options *options, limn_mesh **control,
+                             limn_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (control)
+        *control = NULL;
+    limn_interpolate_options o;
+    limn_interpolate_options_default(&o);
+    limn_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_interpolate", "options", &abi_interpolate_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_interpolate", "report", &abi_report, report, &r);
+    if (st)
+        return st;
+    st = interpolate_sized(ctx, mesh, options ? &o : NULL, control, report ? &r : NULL);
+    abi_report_end(&abi_report, report, &r);
+    return st;
 }

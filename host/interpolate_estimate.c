@@ -17,6 +17,7 @@
  *     +60 MB at both sizes (1.36 -> 1.42 and 0.87 -> 0.93 GiB).
  * A solver that keeps more vectors must update these figures.
  */
+#include "abi.h"
 #include "check.h"
 #include "context.h"
 #include "mesh.h"
@@ -42,7 +43,15 @@ limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
     limn_clear(ctx);
     if (!mesh)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate_estimate: mesh is NULL");
-    limn_status checked = options ? solve_check_options(ctx, options) : LIMN_OK;
+    limn_interpolate_options sized;
+    limn_interpolate_options_default(&sized);
+    limn_status checked = abi_options_in(ctx, "limn_interpolate_estimate", "options",
+                                         &abi_interpolate_options, options, &sized);
+    if (checked)
+        return checked;
+    if (options)
+        options = &sized;
+    checked = options ? solve_check_options(ctx, options) : LIMN_OK;
     if (checked)
         return checked;
     /* paper, weighted, chebyshev (and so auto) hold the same buffers; cg more;

@@ -6,6 +6,7 @@
  * reports, the tests and the benchmarks.
  */
 #include "measure.h"
+#include "abi.h"
 #include "check.h"
 #include "context.h"
 #include "mesh.h"
@@ -67,7 +68,8 @@ int measure_topology_closed(const topology *t)
            t->inconsistent_edges == 0;
 }
 
-limn_status limn_mesh_measure(limn_context *ctx, const limn_mesh *mesh, limn_mesh_measures *out)
+/* limn_mesh_measure into a result of this library's layout. */
+static limn_status measure_sized(limn_context *ctx, const limn_mesh *mesh, limn_mesh_measures *out)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -167,8 +169,9 @@ size_t measure_flipped(const limn_mesh *ref, const double *ref_pos, const double
     return flipped;
 }
 
-limn_status limn_mesh_compare(limn_context *ctx, const limn_mesh *a, const limn_mesh *b,
-                              limn_mesh_comparison *out)
+/* limn_mesh_compare into a result of this library's layout. */
+static limn_status compare_sized(limn_context *ctx, const limn_mesh *a, const limn_mesh *b,
+                                 limn_mesh_comparison *out)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -213,4 +216,34 @@ limn_status limn_mesh_compare(limn_context *ctx, const limn_mesh *a, const limn_
     out->mean_normal_angle = counted ? angles / (double)counted * (180.0 / 3.14159265358979323846)
                                      : 0.0;
     return LIMN_OK;
+}
+
+limn_status limn_mesh_measure(limn_context *ctx, const limn_mesh *mesh, limn_mesh_measures *out)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    limn_mesh_measures r;
+    limn_status st = abi_report_begin(ctx, "limn_mesh_measure", "out", &abi_mesh_measures, out, &r);
+    if (st)
+        return st;
+    st = measure_sized(ctx, mesh, out ? &r : NULL);
+    abi_report_end(&abi_mesh_measures, out, &r);
+    return st;
+}
+
+limn_status limn_mesh_compare(limn_context *ctx, const limn_mesh *a, const limn_mesh *b,
+                              limn_mesh_comparison *out)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    limn_mesh_comparison r;
+    limn_status st =
+        abi_report_begin(ctx, "limn_mesh_compare", "out", &abi_mesh_comparison, out, &r);
+    if (st)
+        return st;
+    st = compare_sized(ctx, a, b, out ? &r : NULL);
+    abi_report_end(&abi_mesh_comparison, out, &r);
+    return st;
 }

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn_mesh_info_compute: counts for `limn info` and for callers. */
+#include "abi.h"
 #include "check.h"
 #include "context.h"
 #include "mesh.h"
@@ -8,7 +9,8 @@
 
 #include <string.h>
 
-limn_status limn_mesh_info_compute(limn_context *ctx, const limn_mesh *mesh, limn_mesh_info *info)
+/* limn_mesh_info_compute into a result of this library's layout. */
+static limn_status info_sized(limn_context *ctx, const limn_mesh *mesh, limn_mesh_info *info)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -43,4 +45,19 @@ limn_status limn_mesh_info_compute(limn_context *ctx, const limn_mesh *mesh, lim
     info->bbox_diagonal = mesh_bbox_diagonal(mesh, info->bbox_min, info->bbox_max);
     topology_free(&t);
     return LIMN_OK;
+}
+
+limn_status limn_mesh_info_compute(limn_context *ctx, const limn_mesh *mesh, limn_mesh_info *info)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    limn_mesh_info r;
+    limn_status st =
+        abi_report_begin(ctx, "limn_mesh_info_compute", "info", &abi_mesh_info, info, &r);
+    if (st)
+        return st;
+    st = info_sized(ctx, mesh, info ? &r : NULL);
+    abi_report_end(&abi_mesh_info, info, &r);
+    return st;
 }

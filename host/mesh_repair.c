@@ -13,6 +13,7 @@
  * and pinned, OpenSubdiv's rules), vertices used by no face (they stay put).
  * Several components and boundaries are normal and give no warning.
  */
+#include "abi.h"
 #include "context.h"
 #include "mesh.h"
 #include "topology.h"
@@ -26,6 +27,8 @@ void limn_repair_options_default(limn_repair_options *o)
 {
     if (!o)
         return; /* no context to report to */
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
     o->repeated_vertices = 1;
     o->duplicate_faces = 0;
 }
@@ -265,8 +268,9 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
 
 /* ------------------------------------------------------------------ entry */
 
-limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repair_options *options,
-                             limn_repair_report *report)
+/* limn_mesh_repair on options and report of this library's layout. */
+static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
+                                const limn_repair_options *options, limn_repair_report *report)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -394,4 +398,24 @@ limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repa
                   r->unreferenced_vertices, r->unreferenced_vertices == 1 ? "ex" : "ices",
                   r->unreferenced_vertices == 1 ? "it stays" : "they stay");
     return LIMN_OK;
+}
+
+limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repair_options *options,
+                             limn_repair_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    limn_repair_options o;
+    limn_repair_options_default(&o);
+    limn_repair_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_mesh_repair", "options", &abi_repair_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_mesh_repair", "report", &abi_repair_report, report, &r);
+    if (st)
+        return st;
+    st = repair_sized(ctx, mesh, options ? &o : NULL, report ? &r : NULL);
+    abi_report_end(&abi_repair_report, report, &r);
+    return st;
 }

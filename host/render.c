@@ -6,6 +6,7 @@
  * normals ("flat"), vertex colours when the mesh has them, and supersampling
  * for anti-aliasing. Polygons are fan-triangulated. Plain C, deterministic.
  */
+#include "abi.h"
 #include "check.h"
 #include "context.h"
 #include "measure.h"
@@ -20,6 +21,7 @@ void limn_render_options_default(limn_render_options *o)
     if (!o)
         return; /* no context to report to */
     memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
     o->width = 400;
     o->height = 300;
     o->azimuth = 30.0;
@@ -122,10 +124,10 @@ limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
     if (checked)
         return checked;
     limn_render_options o;
-    if (options)
-        o = *options;
-    else
-        limn_render_options_default(&o);
+    limn_render_options_default(&o);
+    checked = abi_options_in(ctx, "limn_render", "options", &abi_render_options, options, &o);
+    if (checked)
+        return checked;
     if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "picture size %dx%d is outside 1..16384", o.width,
                          o.height);

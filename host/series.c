@@ -7,6 +7,7 @@
  * nothing but stencil products and vector updates is ever computed: no matrix
  * power is formed.
  */
+#include "abi.h"
 #include "check.h"
 #include "context.h"
 #include "device.h"
@@ -24,6 +25,8 @@ void limn_series_options_default(limn_series_options *o)
 {
     if (!o)
         return; /* no context to report to */
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
     o->scheme = LIMN_SCHEME_AUTO;
     o->alpha = 0.0;
 }
@@ -32,6 +35,8 @@ void limn_morph_options_default(limn_morph_options *o)
 {
     if (!o)
         return; /* no context to report to */
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
     limn_series_options_default(&o->series);
     o->frames = 30;
     o->m = 2;
@@ -176,10 +181,10 @@ static limn_status begin(limn_context *ctx, const char *fn, const limn_mesh *mes
     return st ? st : series_check_options(ctx, o);
 }
 
-
-limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh,
-                       const limn_series_options *options, int count, double *bands,
-                       double *energy, limn_series_report *report)
+/* limn_bands on options and report of this library's layout. */
+static limn_status bands_sized(limn_context *ctx, const limn_mesh *mesh,
+                               const limn_series_options *options, int count, double *bands,
+                               double *energy, limn_series_report *report)
 {
     limn_series_options o;
     limn_series_report local, *r = report;
@@ -241,9 +246,10 @@ static limn_status result_mesh(limn_context *ctx, series_run *s, device_buffer *
     return LIMN_OK;
 }
 
-limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
-                        const limn_series_options *options, int terms, limn_mesh **out,
-                        limn_series_report *report)
+/* limn_smooth on options and report of this library's layout. */
+static limn_status smooth_sized(limn_context *ctx, const limn_mesh *mesh,
+                                const limn_series_options *options, int terms, limn_mesh **out,
+                                limn_series_report *report)
 {
     limn_series_options o;
     limn_series_report local, *r = report;
@@ -294,9 +300,10 @@ limn_status series_keep_volume(limn_context *ctx, const limn_mesh *mesh, limn_me
     return LIMN_OK;
 }
 
-limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
-                         const limn_series_options *options, int m, int steps, int keep_volume,
-                         limn_mesh **out, limn_series_report *report)
+/* limn_denoise on options and report of this library's layout. */
+static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_series_options *options, int m, int steps,
+                                 int keep_volume, limn_mesh **out, limn_series_report *report)
 {
     limn_series_options o;
     limn_series_report local, *r = report;
@@ -349,9 +356,10 @@ limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
     return st;
 }
 
-limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
-                         const limn_series_options *options, int from, int to, int steps,
-                         limn_mesh **out, limn_series_report *report)
+/* limn_sharpen on options and report of this library's layout. */
+static limn_status sharpen_sized(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_series_options *options, int from, int to, int steps,
+                                 limn_mesh **out, limn_series_report *report)
 {
     limn_series_options o;
     limn_series_report local, *r = report;
@@ -426,9 +434,10 @@ limn_status series_emit_frame(const limn_mesh *from, const limn_mesh *to, int cl
     return fn(user, &fr);
 }
 
-limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
-                       const limn_morph_options *options, limn_morph_frame_fn fn, void *user,
-                       limn_series_report *report)
+/* limn_morph on options and report of this library's layout. */
+static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                               const limn_morph_options *options, limn_morph_frame_fn fn,
+                               void *user, limn_series_report *report)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -533,5 +542,114 @@ limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh
     r->seconds_compute = limn_seconds() - s.t0;
     series_close(&s);
     free(q);
+    return st;
+}
+
+limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *options,
+                       int count, double *bands, double *energy, limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    limn_series_options o;
+    limn_series_options_default(&o);
+    limn_series_report r;
+    limn_status st = abi_options_in(ctx, "limn_bands", "options", &abi_series_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_bands", "report", &abi_series_report, report, &r);
+    if (st)
+        return st;
+    st = bands_sized(ctx, mesh, options ? &o : NULL, count, bands, energy, report ? &r : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    return st;
+}
+
+limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
+                        const limn_series_options *options, int terms, limn_mesh **out,
+                        limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (out)
+        *out = NULL;
+    limn_series_options o;
+    limn_series_options_default(&o);
+    limn_series_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_smooth", "options", &abi_series_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_smooth", "report", &abi_series_report, report, &r);
+    if (st)
+        return st;
+    st = smooth_sized(ctx, mesh, options ? &o : NULL, terms, out, report ? &r : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    return st;
+}
+
+limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
+                         const limn_series_options *options, int m, int steps, int keep_volume,
+                         limn_mesh **out, limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (out)
+        *out = NULL;
+    limn_series_options o;
+    limn_series_options_default(&o);
+    limn_series_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_denoise", "options", &abi_series_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_denoise", "report", &abi_series_report, report, &r);
+    if (st)
+        return st;
+    st = denoise_sized(ctx, mesh, options ? &o : NULL, m, steps, keep_volume, out,
+                       report ? &r : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    return st;
+}
+
+limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
+                         const limn_series_options *options, int from, int to, int steps,
+                         limn_mesh **out, limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (out)
+        *out = NULL;
+    limn_series_options o;
+    limn_series_options_default(&o);
+    limn_series_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_sharpen", "options", &abi_series_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_sharpen", "report", &abi_series_report, report, &r);
+    if (st)
+        return st;
+    st = sharpen_sized(ctx, mesh, options ? &o : NULL, from, to, steps, out, report ? &r : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    return st;
+}
+
+limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                       const limn_morph_options *options, limn_morph_frame_fn fn, void *user,
+                       limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    limn_morph_options o;
+    limn_morph_options_default(&o);
+    limn_series_report r;
+    limn_status st = abi_options_in(ctx, "limn_morph", "options", &abi_morph_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_morph", "report", &abi_series_report, report, &r);
+    if (st)
+        return st;
+    st = morph_sized(ctx, from, to, options ? &o : NULL, fn, user, report ? &r : NULL);
+    abi_report_end(&abi_series_report, report, &r);
     return st;
 }

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn_subdivide: refine the control mesh into the surface, on the device. */
+#include "abi.h"
 #include "check.h"
 #include "context.h"
 #include "device.h"
@@ -16,6 +17,8 @@ void limn_subdivide_options_default(limn_subdivide_options *o)
 {
     if (!o)
         return; /* no context to report to */
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
     o->scheme = LIMN_SCHEME_AUTO;
     o->alpha = 0.0;
     o->levels = 1;
@@ -74,7 +77,14 @@ limn_status limn_subdivide_estimate(limn_context *ctx, const limn_mesh *mesh,
         return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide_estimate: %s is NULL",
                          !mesh ? "mesh" : !options ? "options" : !vertices ? "vertices"
                                         : !faces ? "faces" : "peak_bytes");
-    limn_status st = check_options(ctx, "limn_subdivide_estimate", options);
+    limn_subdivide_options sized;
+    limn_subdivide_options_default(&sized);
+    limn_status st = abi_options_in(ctx, "limn_subdivide_estimate", "options",
+                                    &abi_subdivide_options, options, &sized);
+    if (st)
+        return st;
+    options = &sized;
+    st = check_options(ctx, "limn_subdivide_estimate", options);
     if (st)
         return st;
     limn_scheme scheme;
@@ -84,9 +94,10 @@ limn_status limn_subdivide_estimate(limn_context *ctx, const limn_mesh *mesh,
     return check_budget(ctx, mesh, scheme, options, vertices, faces, peak_bytes);
 }
 
-limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
-                           const limn_subdivide_options *options, limn_mesh **surface,
-                           limn_subdivide_report *report)
+/* limn_subdivide on options and report of this library's layout. */
+static limn_status subdivide_sized(limn_context *ctx, const limn_mesh *mesh,
+                                   const limn_subdivide_options *options, limn_mesh **surface,
+                                   limn_subdivide_report *report)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -161,5 +172,28 @@ limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
         *surface = out;
     }
     refine_plan_free(&plan);
+    return st;
+}
+
+limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
+                           const limn_subdivide_options *options, limn_mesh **surface,
+                           limn_subdivide_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (surface)
+        *surface = NULL;
+    limn_subdivide_options o;
+    limn_subdivide_options_default(&o);
+    limn_subdivide_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_subdivide", "options", &abi_subdivide_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_subdivide", "report", &abi_subdivide_report, report, &r);
+    if (st)
+        return st;
+    st = subdivide_sized(ctx, mesh, options ? &o : NULL, surface, report ? &r : NULL);
+    abi_report_end(&abi_subdivide_report, report, &r);
     return st;
 }

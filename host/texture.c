@@ -10,6 +10,7 @@
  * exactly), normalise to [0, 1] and map through the uniform cubic B-spline
  * interpolating the user's colours.
  */
+#include "abi.h"
 #include "check.h"
 #include "context.h"
 #include "device.h"
@@ -168,6 +169,7 @@ void limn_texture_options_default(limn_texture_options *o)
     if (!o)
         return; /* no context to report to */
     memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
     limn_series_options_default(&o->series);
     o->levels = 3;
     o->seed = 1;
@@ -284,9 +286,10 @@ static limn_status level_positions(limn_context *ctx, refine_plan *plan)
     return st;
 }
 
-limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
-                         const limn_texture_options *options, limn_mesh **out,
-                         limn_series_report *report)
+/* limn_texture on options and report of this library's layout. */
+static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_texture_options *options, limn_mesh **out,
+                                 limn_series_report *report)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -456,4 +459,27 @@ limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
     }
     *out = result;
     return LIMN_OK;
+}
+
+limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
+                         const limn_texture_options *options, limn_mesh **out,
+                         limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (out)
+        *out = NULL;
+    limn_texture_options o;
+    limn_texture_options_default(&o);
+    limn_series_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_texture", "options", &abi_texture_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_texture", "report", &abi_series_report, report, &r);
+    if (st)
+        return st;
+    st = texture_sized(ctx, mesh, options ? &o : NULL, out, report ? &r : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    return st;
 }

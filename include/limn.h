@@ -23,6 +23,27 @@
  *    new colours (colours); limn_mesh_set_positions keeps them valid;
  *  - strings from a context (message, warnings, device name) are valid until
  *    its next call or its destruction.
+ *
+ * The ABI rule (README "Embedding limn"): every options and report struct
+ * the caller allocates begins with `size_t size`, its sizeof as the caller
+ * was compiled, so fields can be added at the end without breaking programs
+ * built against an older limn.h:
+ *  - options: fill them with their limn_*_options_default(), which sets
+ *    size, then change fields. The library refuses (LIMN_ERR_ARGUMENT,
+ *    naming the struct and the defaults function) a size of 0, one smaller
+ *    than the first released layout (this one) and one larger than its own
+ *    whose extra bytes are not all zero (an option it does not have); a
+ *    smaller older size gets the defaults for the fields it lacks. A struct
+ *    embedded in another (`series` in morph and texture options) has its
+ *    own size, set by the outer defaults function.
+ *  - reports and results (limn_report, limn_*_report, limn_mesh_info,
+ *    limn_mesh_measures, limn_mesh_comparison, limn_mpi_result): zero them
+ *    and set size before the call, e.g. `limn_report r = {.size = sizeof r};`
+ *    (limn_mpi_result: also stats.size). The library writes no byte past
+ *    size and zeroes the bytes beyond its own layout; a size of 0 or one
+ *    smaller than sizeof(size_t) is refused before any work.
+ *  - limn_morph_frame (made by the library for the callback) and limn_noise
+ *    carry no size: the first is read-only to the caller, the second fixed.
  */
 #ifndef LIMN_H
 #define LIMN_H
@@ -288,6 +309,7 @@ LIMN_API limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh,
  * let real scans through.
  */
 typedef struct limn_repair_options {
+    size_t size;              /* sizeof, set by limn_repair_options_default() */
     int repeated_vertices;    /* faces using a vertex twice: 1 repair (default), 0 refuse */
     int duplicate_faces;      /* faces with an earlier face's vertices: 0 keep (default), 1 remove */
 } limn_repair_options;
@@ -295,6 +317,7 @@ typedef struct limn_repair_options {
 LIMN_API void limn_repair_options_default(limn_repair_options *options);
 
 typedef struct limn_repair_report {
+    size_t size;              /* sizeof, set by the caller (see the top) */
     size_t faces_before, faces_after;
     size_t repeat_faces;      /* faces that used a vertex more than once, of which: */
     size_t repeats_removed;   /*   lost a repeated corner (a a -> a) */
@@ -327,6 +350,7 @@ LIMN_API limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh,
 /* ----------------------------------------------------------------- topology */
 
 typedef struct limn_mesh_info {
+    size_t size;              /* sizeof, set by the caller (see the top) */
     size_t vertices, faces, edges;
     size_t referenced_vertices;   /* used by at least one face */
     size_t boundary_edges, boundary_loops;
@@ -377,6 +401,7 @@ typedef enum limn_precision {
 LIMN_API const char *limn_precision_name(limn_precision precision);
 
 typedef struct limn_interpolate_options {
+    size_t size;              /* sizeof, set by limn_interpolate_options_default() */
     limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
     double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
     double tolerance;         /* max |M - A P| / bbox diagonal; default 1e-6 */
@@ -395,6 +420,7 @@ LIMN_API void limn_interpolate_options_default(limn_interpolate_options *options
 #define LIMN_MAX_ITERATIONS 10000000
 
 typedef struct limn_report {
+    size_t size;              /* sizeof, set by the caller (see the top) */
     size_t vertices, faces;
     limn_scheme scheme;       /* the scheme that ran (never AUTO) */
     double alpha;
@@ -458,6 +484,7 @@ LIMN_API limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mes
 /* -------------------------------------------------------------- subdivide */
 
 typedef struct limn_subdivide_options {
+    size_t size;              /* sizeof, set by limn_subdivide_options_default() */
     limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
     double alpha;             /* Catmull-Clark alpha of the first step; default 0 */
     int levels;               /* uniform refinement levels, 0..LIMN_MAX_SUBDIVIDE_LEVELS
@@ -472,6 +499,7 @@ LIMN_API void limn_subdivide_options_default(limn_subdivide_options *options);
 #define LIMN_MAX_SUBDIVIDE_LEVELS 16
 
 typedef struct limn_subdivide_report {
+    size_t size;              /* sizeof, set by the caller (see the top) */
     size_t input_vertices, input_faces;
     size_t vertices, faces;   /* of the surface written */
     limn_scheme scheme;
@@ -520,6 +548,7 @@ LIMN_API limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *me
  * applies it on the context's device; "products" counts applications of A.
  */
 typedef struct limn_series_options {
+    size_t size;              /* sizeof, set by limn_series_options_default() */
     limn_scheme scheme;       /* default LIMN_SCHEME_AUTO */
     double alpha;             /* Catmull-Clark alpha in [0, 1]; default 0 */
 } limn_series_options;
@@ -541,6 +570,7 @@ LIMN_API void limn_series_options_default(limn_series_options *options);
 #define LIMN_MAX_FRAMES 100000
 
 typedef struct limn_series_report {
+    size_t size;              /* sizeof, set by the caller (see the top) */
     size_t vertices, faces;
     limn_scheme scheme;       /* the scheme that ran (never AUTO) */
     double alpha;
@@ -585,6 +615,7 @@ LIMN_API limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
                                   limn_mesh **out, limn_series_report *report);
 
 typedef struct limn_morph_options {
+    size_t size;              /* sizeof, set by limn_morph_options_default() */
     limn_series_options series;
     int frames;               /* frames written, FROM first; 2..LIMN_MAX_FRAMES; default 30 */
     int m;                    /* terms of eq. 9 minus one; default 2 */
@@ -621,6 +652,7 @@ LIMN_API limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const 
 /* ----------------------------------------------------------------- measures */
 
 typedef struct limn_mesh_measures {
+    size_t size;              /* sizeof, set by the caller (see the top) */
     int closed;               /* every edge has two faces of agreeing orientation */
     double volume;            /* signed volume (divergence theorem); NaN when not closed */
     double area;              /* faces fan-triangulated from their first vertex */
@@ -641,6 +673,7 @@ LIMN_API limn_status limn_mesh_same_topology(limn_context *ctx, const limn_mesh 
                                              const limn_mesh *b);
 
 typedef struct limn_mesh_comparison {
+    size_t size;              /* sizeof, set by the caller (see the top) */
     double mean_distance, max_distance;   /* |a_i - b_i| over vertices */
     double mean_normal_angle;             /* degrees, between face normals (Newell) */
     size_t flipped_faces;                 /* faces whose normals differ by > 90 degrees */
@@ -653,6 +686,7 @@ LIMN_API limn_status limn_mesh_compare(limn_context *ctx, const limn_mesh *a, co
 /* ------------------------------------------------------------------ texture */
 
 typedef struct limn_texture_options {
+    size_t size;              /* sizeof, set by limn_texture_options_default() */
     limn_series_options series;
     int levels;               /* refinement levels G_1..G_levels, 0..LIMN_MAX_TEXTURE_LEVELS;
                                  default 3 */
@@ -692,6 +726,7 @@ LIMN_API double limn_noise_eval(const limn_noise *noise, double x, double y, dou
 /* ------------------------------------------------------------------- render */
 
 typedef struct limn_render_options {
+    size_t size;              /* sizeof, set by limn_render_options_default() */
     int width, height;        /* pixels; default 400 x 300 */
     double azimuth, elevation;/* view direction in degrees; default 30, 20 */
     int up_axis;              /* 0 = x, 1 = y, 2 = z up; default 1 */

@@ -19,6 +19,13 @@
  * message in every context, and nothing is left half done: no rank waits for
  * a message that will not come. The communicator is duplicated internally,
  * so these calls never match the caller's own messages.
+ *
+ * The structs here follow limn.h's ABI rule: limn_mpi_options from
+ * limn_mpi_options_default(), a limn_mpi_result zeroed with size and
+ * stats.size set (`limn_mpi_result r = {.size = sizeof r, .stats.size =
+ * sizeof r.stats};`). A size refused on one rank is refused on every rank (one
+ * Allreduce over comm before any other work). A result too short to hold the
+ * piece fields gets no piece.
  */
 #ifndef LIMN_MPI_H
 #define LIMN_MPI_H
@@ -31,6 +38,7 @@ extern "C" {
 #endif
 
 typedef struct limn_mpi_options {
+    size_t size;              /* sizeof, set by limn_mpi_options_default() */
     int root;                 /* rank holding the input and receiving the result; default 0 */
     int keep_piece;           /* 1: return this rank's piece in limn_mpi_result; default 0 */
 } limn_mpi_options;
@@ -39,6 +47,7 @@ void limn_mpi_options_default(limn_mpi_options *options);
 
 /* What one rank did (each rank fills its own). */
 typedef struct limn_mpi_stats {
+    size_t size;              /* sizeof, set by the caller (limn.h's ABI rule) */
     int ranks, rank;
     int local_rank;           /* among the ranks sharing this node */
     int neighbours;           /* ranks this one exchanges ghost values with */
@@ -60,6 +69,7 @@ typedef struct limn_mpi_stats {
 } limn_mpi_stats;
 
 typedef struct limn_mpi_result {
+    size_t size;              /* sizeof, set by the caller, and stats.size (limn.h's ABI rule) */
     limn_mpi_stats stats;
     /* With keep_piece: this rank's owned vertices (in input order), then the
        other vertices of the faces incident to them (in input order), with the

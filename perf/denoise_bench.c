@@ -175,8 +175,8 @@ static row measure_row(limn_context *ctx, const char *mesh, const char *method, 
                        const limn_mesh *clean, const limn_mesh *noisy, const limn_mesh *out,
                        double setup, double seconds, int applications)
 {
-    limn_mesh_comparison c;
-    limn_mesh_measures a, b;
+    limn_mesh_comparison c = {.size = sizeof c};
+    limn_mesh_measures a = {.size = sizeof a}, b = {.size = sizeof b};
     if (limn_mesh_compare(ctx, clean, out, &c) || limn_mesh_measure(ctx, noisy, &a) ||
         limn_mesh_measure(ctx, out, &b))
         die(ctx, "measuring");
@@ -222,7 +222,7 @@ static limn_status log_frame(void *user, const limn_morph_frame *f)
 static limn_mesh *spherized(limn_context *ctx, const limn_mesh *m)
 {
     limn_mesh *s = NULL;
-    limn_mesh_measures me;
+    limn_mesh_measures me = {.size = sizeof me};
     if (limn_mesh_copy(ctx, m, &s) || limn_mesh_measure(ctx, m, &me))
         die(ctx, "sphere");
     double *p = limn_mesh_positions_mutable(s), rsum = 0;
@@ -330,7 +330,7 @@ int main(int argc, char **argv)
                                 0);
             print_row(&r, csv);
             for (int v = 0; v < 2; v++) {
-                limn_series_report rep;
+                limn_series_report rep = {.size = sizeof rep};
                 double t0 = now();
                 if (limn_denoise(ctx, noisy, NULL, ms[v], ks[v], 0, &out, &rep))
                     die(ctx, "denoise");

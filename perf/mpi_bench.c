@@ -146,8 +146,8 @@ int main(int argc, char **argv)
         int iterations = 0;
         for (int k = 0; k < repeat && !rc; k++) {
             limn_mesh *control = NULL;
-            limn_report r;
-            limn_mpi_result res;
+            limn_report r = {.size = sizeof r};
+            limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
             limn_status st = limn_interpolate_mpi(ctx, MPI_COMM_WORLD, mesh, &o,
                                                   rank == 0 ? &control : NULL, &r, NULL, &res);
             if (st) {

@@ -103,12 +103,12 @@ static void mutable_edits_are_checked(void **s)
         ro.width = ro.height = 4;
         ro.supersample = 1;
         REFUSED(ctx, limn_render(ctx, m, &ro, rgb), "limn_render", "vertex 4", says);
-        limn_mesh_measures meas;
+        limn_mesh_measures meas = {.size = sizeof meas};
         REFUSED(ctx, limn_mesh_measure(ctx, m, &meas), "limn_mesh_measure", "vertex 4", says);
-        limn_mesh_comparison cmp;
+        limn_mesh_comparison cmp = {.size = sizeof cmp};
         REFUSED(ctx, limn_mesh_compare(ctx, good, m, &cmp), "limn_mesh_compare", "vertex 4",
                 says);
-        limn_mesh_info info;
+        limn_mesh_info info = {.size = sizeof info};
         REFUSED(ctx, limn_mesh_info_compute(ctx, m, &info), "limn_mesh_info_compute",
                 "vertex 4", says);
         const char *formats[] = {"m.obj", "m.ply", "m.off", "m.stl"};
@@ -272,9 +272,9 @@ static void every_error_has_a_message(void **s)
     uint8_t rgb[12];
     char text[8];
     int threads;
-    limn_mesh_info info;
-    limn_mesh_measures meas;
-    limn_mesh_comparison cmp;
+    limn_mesh_info info = {.size = sizeof info};
+    limn_mesh_measures meas = {.size = sizeof meas};
+    limn_mesh_comparison cmp = {.size = sizeof cmp};
     limn_interpolate_options io;
     limn_interpolate_options_default(&io);
     limn_subdivide_options so;

@@ -49,7 +49,7 @@ static void agree_on(const char *name, limn_mesh *m, limn_scheme scheme, double 
     o.scheme = scheme;
     o.alpha = alpha;
     limn_mesh *pa = NULL, *pb = NULL;
-    limn_report ra, rb;
+    limn_report ra = {.size = sizeof ra}, rb = {.size = sizeof rb};
     assert_int_equal(limn_interpolate(cl, m, &o, &pa, &ra), LIMN_OK);
     assert_int_equal(limn_interpolate(ref, m, &o, &pb, &rb), LIMN_OK);
     assert_int_equal(ra.iterations, rb.iterations);

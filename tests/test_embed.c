@@ -104,7 +104,7 @@ static void interpolate_into_own_buffers(void **s)
     limn_interpolate_options o;
     limn_interpolate_options_default(&o);
     o.tolerance = 1e-9;
-    limn_report r;
+    limn_report r = {.size = sizeof r};
     OK(ctx, limn_interpolate(ctx, m, &o, &p, &r));
     static double control[3 * NV], limit[3 * NV];
     OK(ctx, limn_mesh_copy_positions(ctx, p, control, NV));
@@ -347,9 +347,9 @@ static void null_arguments_everywhere(void **s)
     limn_mesh *m = make(ctx), *out = NULL;
     double d[3 * NV];
     uint8_t rgb[12];
-    limn_mesh_info info;
-    limn_mesh_measures meas;
-    limn_mesh_comparison cmp;
+    limn_mesh_info info = {.size = sizeof info};
+    limn_mesh_measures meas = {.size = sizeof meas};
+    limn_mesh_comparison cmp = {.size = sizeof cmp};
     size_t v, f, b;
     limn_subdivide_options so;
     limn_subdivide_options_default(&so);

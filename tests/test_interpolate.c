@@ -68,7 +68,7 @@ static void check_mesh(limn_context *ctx, const char *name, const limn_mesh *m, 
     o.scheme = scheme;
     o.alpha = alpha;
     limn_mesh *p = NULL;
-    limn_report r;
+    limn_report r = {.size = sizeof r};
     if (limn_interpolate(ctx, m, &o, &p, &r) != LIMN_OK)
         fail_msg("%s (%s, alpha %g): %s", name, limn_scheme_name(scheme), alpha,
                  limn_context_message(ctx));
@@ -124,7 +124,7 @@ static void folder(const char *sub)
         limn_mesh *m = NULL;
         assert_int_equal(limn_mesh_read(ctx, test_shared_path(names[i]), LIMN_FORMAT_AUTO, &m),
                          LIMN_OK);
-        limn_mesh_info info;
+        limn_mesh_info info = {.size = sizeof info};
         if (limn_mesh_info_compute(ctx, m, &info) != LIMN_OK) {
             printf("  %-36s refused: %s\n", names[i], limn_context_message(ctx));
             limn_mesh_destroy(m);
@@ -231,7 +231,7 @@ static void singular_cube(void **s)
     }
     o.method = LIMN_METHOD_AUTO;
     o.alpha = 0.5;
-    limn_report r;
+    limn_report r = {.size = sizeof r};
     assert_int_equal(limn_interpolate(ctx, cube, &o, &p, &r), LIMN_OK);
     limn_mesh_destroy(p);
     check_mesh(ctx, "perturbed cube", cube, LIMN_SCHEME_CATMARK, 0.5);

@@ -181,7 +181,7 @@ static void interpolate_case(limn_context *ctx, const char *name, const limn_mes
     o.alpha = alpha;
     o.method = method;
     limn_mesh *single = NULL, *dist = NULL;
-    limn_report rs, rd;
+    limn_report rs = {.size = sizeof rs}, rd = {.size = sizeof rd};
     limn_status ss = LIMN_OK;
     if (rank == 0) {
         ss = limn_interpolate(ctx, mesh, &o, &single, &rs);
@@ -190,7 +190,7 @@ static void interpolate_case(limn_context *ctx, const char *name, const limn_mes
     MPI_Bcast(&ss, 1, MPI_INT, 0, MPI_COMM_WORLD);
     if (ss != LIMN_OK)
         return;
-    limn_mpi_result res;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
     limn_status st = limn_interpolate_mpi(ctx, MPI_COMM_WORLD, rank == 0 ? mesh : NULL, &o,
                                           rank == 0 ? &dist : NULL, &rd, NULL, &res);
     CHECK(st == LIMN_OK, "%s: distributed: %s", name, limn_context_message(ctx));
@@ -237,7 +237,7 @@ static void series_case(limn_context *ctx, const char *name, const limn_mesh *me
         CHECK(limn_denoise(ctx, mesh, &o, 2, 3, 0, &d1, NULL) == LIMN_OK, "%s denoise: %s",
               name, limn_context_message(ctx));
     }
-    limn_mpi_result res;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
     limn_status st = limn_smooth_mpi(ctx, MPI_COMM_WORLD, rank == 0 ? mesh : NULL, &o, 3,
                                      rank == 0 ? &s2 : NULL, NULL, &mo, &res);
     CHECK(st == LIMN_OK, "%s smooth (MPI): %s", name, limn_context_message(ctx));
@@ -382,11 +382,57 @@ static void errors(limn_context *ctx, const limn_mesh *quads)
     limn_mesh_destroy(bad);
 }
 
+/* The size fields (limn.h's ABI rule) under MPI: a refusal on one rank only
+   is returned on every rank (none waits); a result too short for the piece
+   fields gets the stats and no piece (nothing leaks); the canary after it
+   stays intact. */
+static void abi_sizes(limn_context *ctx, const limn_mesh *mesh)
+{
+    limn_interpolate_options o;
+    limn_interpolate_options_default(&o);
+    limn_mpi_options mo;
+    limn_mpi_options_default(&mo);
+    CHECK(mo.size == sizeof mo, "limn_mpi_options_default sets size");
+    if (rank == size - 1)
+        mo.size = 0;
+    limn_mesh *out = NULL;
+    limn_status st = limn_interpolate_mpi(ctx, MPI_COMM_WORLD, rank == 0 ? mesh : NULL, &o,
+                                          rank == 0 ? &out : NULL, NULL, &mo, NULL);
+    const char *msg = limn_context_message(ctx);
+    CHECK(st == LIMN_ERR_ARGUMENT &&
+              strstr(msg, rank == size - 1 ? "mpi->size is 0: initialise mpi with "
+                                             "limn_mpi_options_default()"
+                                           : (size > 1 ? "another rank refused" : "mpi->size")),
+          "mpi->size 0 on the last rank: status %d, message '%s'", (int)st, msg);
+    CHECK(out == NULL, "no mesh after a refusal");
+
+    limn_mpi_options_default(&mo);
+    mo.keep_piece = 1;
+    struct {
+        limn_mpi_result r;
+        unsigned char canary[64];
+    } g;
+    memset(&g, 0xA5, sizeof g);
+    g.r.size = offsetof(limn_mpi_result, piece);
+    g.r.stats.size = sizeof g.r.stats;
+    st = limn_smooth_mpi(ctx, MPI_COMM_WORLD, rank == 0 ? mesh : NULL, NULL, 2,
+                         rank == 0 ? &out : NULL, NULL, &mo, &g.r);
+    CHECK(st == LIMN_OK, "short result: %s", limn_context_message(ctx));
+    CHECK(g.r.stats.ranks == size, "short result: stats.ranks %d", g.r.stats.ranks);
+    const unsigned char *tail = (const unsigned char *)&g.r + offsetof(limn_mpi_result, piece);
+    size_t spoilt = 0;
+    for (size_t i = 0; i < sizeof g - offsetof(limn_mpi_result, piece); i++)
+        spoilt += tail[i] != 0xA5;
+    CHECK(spoilt == 0, "short result: %zu bytes written past its size", spoilt);
+    limn_mpi_result_free(&g.r); /* too short for a piece: touches nothing */
+    limn_mesh_destroy(out);
+}
+
 /* The device of each rank: the node's ranks take the matching devices in
    turn (local rank % count); PoCL has one CPU device: 0.0 for everyone. */
 static void devices(limn_context *ctx, const limn_mesh *mesh)
 {
-    limn_mpi_result res;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
     limn_interpolate_options o;
     limn_interpolate_options_default(&o);
     limn_mesh *out = NULL;
@@ -427,6 +473,7 @@ int main(int argc, char **argv)
     series_case(ctx, "composite quad", quad);
     morph_case(ctx, "composite quad", quad);
     errors(ctx, quad);
+    abi_sizes(ctx, quad);
     devices(ctx, tri);
 
     /* tiny meshes: no more vertices than ranks (ranks without rows), and a

@@ -96,7 +96,7 @@ static void folder(const char *sub, const char *device)
         limn_mesh *m = NULL;
         if (limn_mesh_read(ctx, test_shared_path(names[i]), LIMN_FORMAT_AUTO, &m) != LIMN_OK)
             fail_msg("%s: %s", names[i], limn_context_message(ctx));
-        limn_mesh_info info;
+        limn_mesh_info info = {.size = sizeof info};
         if (limn_mesh_info_compute(ctx, m, &info) != LIMN_OK) {
             printf("  %-40s refused: %s\n", names[i], limn_context_message(ctx));
             limn_mesh_destroy(m);

@@ -179,7 +179,7 @@ static void solves_match_reference(void **s)
     limn_method methods[] = {LIMN_METHOD_PAPER, LIMN_METHOD_WEIGHTED, LIMN_METHOD_CHEBYSHEV};
     for (int i = 0; i < 2; i++)
         for (int k = 0; k < 3; k++) {
-            limn_report ra, rb;
+            limn_report ra = {.size = sizeof ra}, rb = {.size = sizeof rb};
             limn_mesh *a = solve(cl, meshes[i], LIMN_SCHEME_CATMARK, 1e-8, methods[k],
                                  LIMN_PRECISION_FLOAT, &ra);
             limn_mesh *b = solve(ref, meshes[i], LIMN_SCHEME_CATMARK, 1e-8, methods[k],
@@ -201,7 +201,7 @@ static void solves_match_reference(void **s)
         o.reorder = 0;
         o.precision = k ? LIMN_PRECISION_FLOAT : LIMN_PRECISION_DOUBLE;
         limn_mesh *a = NULL, *b = NULL;
-        limn_report ra, rb;
+        limn_report ra = {.size = sizeof ra}, rb = {.size = sizeof rb};
         assert_int_equal(limn_interpolate(cl, sh, &o, &a, &ra), LIMN_OK);
         assert_int_equal(limn_interpolate(ref, sh, &o, &b, &rb), LIMN_OK);
         assert_memory_equal(limn_mesh_positions(a), limn_mesh_positions(b),
@@ -276,7 +276,7 @@ static void medium_meshes_meet_tolerance(void **s)
         limn_method methods[2] = {LIMN_METHOD_AUTO, LIMN_METHOD_PAPER};
         for (int k = 0; k < (test_all_triangles(m) ? 4 : 2); k++)
             for (double tol = 1e-6; tol > 1e-9; tol *= 1e-2) {
-                limn_report r;
+                limn_report r = {.size = sizeof r};
                 limn_mesh *p = solve(ctx, m, schemes[k / 2], tol, methods[k % 2],
                                      LIMN_PRECISION_FLOAT, &r);
                 assert_string_equal(r.precision, "float");
@@ -302,7 +302,7 @@ static void choice_and_refusals(void **s)
     limn_context *ctx = limn_context_create();
     limn_mesh *g = test_mesh_grid(ctx, 6, 5, 0), *p = NULL;
     limn_interpolate_options o;
-    limn_report r;
+    limn_report r = {.size = sizeof r};
     limn_interpolate_options_default(&o);
     assert_int_equal(o.precision, LIMN_PRECISION_AUTO);
     o.precision = LIMN_PRECISION_FLOAT;
@@ -350,7 +350,7 @@ static void singular_cube_in_float(void **s)
     assert_null(p);
     assert_non_null(strstr(limn_context_message(ctx), "--alpha 0.5"));
     o.alpha = 0.5;
-    limn_report r;
+    limn_report r = {.size = sizeof r};
     assert_int_equal(limn_interpolate(ctx, cube, &o, &p, &r), LIMN_OK);
     assert_true(r.max_rel_error <= o.tolerance && r.products_float > 0);
     limn_mesh_destroy(p);
@@ -370,7 +370,7 @@ static void far_from_origin(void **s)
     double *pos = limn_mesh_positions_mutable(g), shift = 200.0 * test_bbox_diagonal(g);
     for (size_t i = 0; i < 3 * limn_mesh_vertex_count(g); i++)
         pos[i] += shift;
-    limn_report r;
+    limn_report r = {.size = sizeof r};
     limn_mesh *p = solve(ctx, g, LIMN_SCHEME_LOOP, 1e-8, LIMN_METHOD_PAPER,
                          LIMN_PRECISION_FLOAT, &r);
     assert_true(r.max_rel_error <= 1e-8 && r.products_float > 0);
@@ -392,7 +392,7 @@ static void setup_reported(void **s)
     assert_int_equal(limn_context_set_device(ctx, "opencl"), LIMN_OK);
     assert_int_equal(limn_context_set_device(ref, "reference"), LIMN_OK);
     limn_mesh *g = test_mesh_grid(ctx, 6, 5, 0);
-    limn_report r;
+    limn_report r = {.size = sizeof r};
     limn_mesh *p = solve(ctx, g, LIMN_SCHEME_CATMARK, 1e-6, LIMN_METHOD_PAPER,
                          LIMN_PRECISION_DOUBLE, &r);
     limn_mesh_destroy(p);

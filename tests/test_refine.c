@@ -183,7 +183,7 @@ static void against_osd(limn_context *ctx, const char *name, const limn_mesh *m,
     if (memcmp(a, b, nf * (size_t)width * 4) != 0)
         fail_msg("%s level %d: faces differ from OpenSubdiv's", name, levels);
     /* topology invariants */
-    limn_mesh_info before, after;
+    limn_mesh_info before = {.size = sizeof before}, after = {.size = sizeof after};
     assert_int_equal(limn_mesh_info_compute(ctx, m, &before), LIMN_OK);
     assert_int_equal(limn_mesh_info_compute(ctx, ours, &after), LIMN_OK);
     assert_int_equal(before.components, after.components);

@@ -604,7 +604,7 @@ static void repair_api(void **s)
     const uint32_t off[] = {0, 3, 7, 13, 16, 20};
     const uint32_t idx[] = {0, 1, 2, 3, 4, 4, 5, 6, 7, 8, 6, 9, 10, 8, 9, 8, 11, 12, 13, 11};
     limn_mesh *m = mesh_of(ctx, 14, 5, off, idx);
-    limn_repair_report r;
+    limn_repair_report r = {.size = sizeof r};
     assert_int_equal(limn_mesh_repair(ctx, m, NULL, &r), LIMN_OK);
     assert_int_equal(r.faces_before, 5);
     assert_int_equal(r.repeat_faces, 4);

@@ -358,7 +358,7 @@ static void bands_of(const char *name, limn_mesh *m, int count, int expect_decre
     size_t n3 = 3 * limn_mesh_vertex_count(m);
     double *bands = malloc((size_t)(count + 1) * n3 * sizeof *bands);
     double *energy = malloc((size_t)(count + 1) * sizeof *energy);
-    limn_series_report r;
+    limn_series_report r = {.size = sizeof r};
     CHECK_OK(ctx, limn_bands(ctx, m, NULL, count, bands, energy, &r));
     assert_int_equal(r.products, count);
     const double *pos = limn_mesh_positions(m);
@@ -413,9 +413,9 @@ static void denoise_one(limn_context *ctx, const char *name, limn_mesh *clean, d
     limn_mesh *noisy = NULL, *out = NULL;
     CHECK_OK(ctx, limn_mesh_copy(ctx, clean, &noisy));
     gaussian_noise(noisy, factor * mean_edge(clean), 2024);
-    limn_mesh_comparison before, after;
+    limn_mesh_comparison before = {.size = sizeof before}, after = {.size = sizeof after};
     CHECK_OK(ctx, limn_mesh_compare(ctx, clean, noisy, &before));
-    limn_series_report r;
+    limn_series_report r = {.size = sizeof r};
     CHECK_OK(ctx, limn_denoise(ctx, noisy, NULL, 2, 3, 0, &out, &r));
     assert_int_equal(r.products, 9);
     CHECK_OK(ctx, limn_mesh_compare(ctx, clean, out, &after));
@@ -430,7 +430,7 @@ static void denoise_one(limn_context *ctx, const char *name, limn_mesh *clean, d
         fail_msg("%s: denoising did not reduce the normal error", name);
     /* keep-volume restores the volume of the (noisy) input */
     limn_mesh *kept = NULL;
-    limn_mesh_measures mi, mo;
+    limn_mesh_measures mi = {.size = sizeof mi}, mo = {.size = sizeof mo};
     CHECK_OK(ctx, limn_mesh_measure(ctx, noisy, &mi));
     if (mi.closed) {
         CHECK_OK(ctx, limn_denoise(ctx, noisy, NULL, 2, 3, 1, &kept, NULL));
@@ -535,7 +535,7 @@ static void morph_to(limn_context *ctx, const char *name, limn_mesh *from, limn_
     o.linear = linear;
     frames fr = {.n3 = 3 * limn_mesh_vertex_count(from)};
     fr.pos = malloc(20 * fr.n3 * sizeof *fr.pos);
-    limn_series_report r;
+    limn_series_report r = {.size = sizeof r};
     CHECK_OK(ctx, limn_morph(ctx, from, to, &o, keep_frame, &fr, &r));
     assert_int_equal(fr.count, 20);
     assert_memory_equal(fr.pos, limn_mesh_positions(from), fr.n3 * sizeof(double));
@@ -558,7 +558,7 @@ static limn_mesh *spherized(limn_context *ctx, const limn_mesh *m)
 {
     limn_mesh *s = NULL;
     CHECK_OK(ctx, limn_mesh_copy(ctx, m, &s));
-    limn_mesh_measures me;
+    limn_mesh_measures me = {.size = sizeof me};
     CHECK_OK(ctx, limn_mesh_measure(ctx, m, &me));
     double *p = limn_mesh_positions_mutable(s), rsum = 0;
     size_t n = limn_mesh_vertex_count(s);
@@ -647,7 +647,7 @@ static void texture_colors(void **s)
     o.color_count = 4;
     o.levels = 2;
     limn_mesh *out = NULL, *again = NULL, *other = NULL;
-    limn_series_report r;
+    limn_series_report r = {.size = sizeof r};
     CHECK_OK(ctx, limn_texture(ctx, m, &o, &out, &r));
     CHECK_OK(ctx, limn_texture(ctx, m, &o, &again, NULL));
     o.seed = 99;
@@ -844,7 +844,7 @@ static void measures(void **s)
     limn_context *ctx = limn_context_create();
     limn_mesh *cube = test_mesh_cube(ctx), *grid = test_mesh_grid(ctx, 3, 3, 0);
     limn_mesh *sphere = icosphere(ctx, 5);
-    limn_mesh_measures me;
+    limn_mesh_measures me = {.size = sizeof me};
     CHECK_OK(ctx, limn_mesh_measure(ctx, cube, &me));
     assert_true(me.closed);
     assert_true(fabs(me.volume - 8.0) < 1e-12);
@@ -862,7 +862,7 @@ static void measures(void **s)
     double *p = limn_mesh_positions_mutable(mirror);
     for (size_t i = 0; i < 8; i++)
         p[3 * i] = -p[3 * i];
-    limn_mesh_comparison cmp;
+    limn_mesh_comparison cmp = {.size = sizeof cmp};
     CHECK_OK(ctx, limn_mesh_compare(ctx, cube, mirror, &cmp));
     /* n' = -M n for the mirror M: the y and z faces flip, the x faces do not */
     assert_int_equal(cmp.flipped_faces, 4);

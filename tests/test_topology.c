@@ -63,7 +63,7 @@ static void shared_meshes_match_stats(void **state)
         double degenerate = 0, manifold = 0;
         json_number(line, "degenerate_faces", &degenerate);
         json_number(line, "manifold", &manifold);
-        limn_mesh_info in;
+        limn_mesh_info in = {.size = sizeof in};
         st = limn_mesh_info_compute(ctx, m, &in);
         if (degenerate > 0) {
             /* Faces that repeat a vertex are refused, naming the face. */
@@ -99,7 +99,7 @@ static void generated_meshes_closed_forms(void **state)
 {
     (void)state;
     limn_context *ctx = limn_context_create();
-    limn_mesh_info in;
+    limn_mesh_info in = {.size = sizeof in};
     /* 4 x 3 quad grid: V = 20, E = 4*4 + 5*3 = 31, F = 12, boundary 14, one loop. */
     limn_mesh *g = test_mesh_grid(ctx, 4, 3, 0);
     assert_int_equal(limn_mesh_info_compute(ctx, g, &in), LIMN_OK);
@@ -138,7 +138,7 @@ static void nonmanifold_classes(void **state)
     static const uint32_t bow_idx[] = {0, 1, 2, 0, 3, 4};
     static const uint32_t bow_off[] = {0, 3, 6};
     limn_mesh *bow = NULL;
-    limn_mesh_info in;
+    limn_mesh_info in = {.size = sizeof in};
     assert_int_equal(limn_mesh_create(ctx, 5, pos, 2, bow_off, bow_idx, &bow), LIMN_OK);
     assert_int_equal(limn_mesh_info_compute(ctx, bow, &in), LIMN_OK);
     assert_int_equal(in.nonmanifold_vertices, 1);

@@ -70,7 +70,7 @@ int main(void)
     limn_interpolate_options opt;
     limn_interpolate_options_default(&opt);
     opt.tolerance = 1e-8;
-    limn_report report;
+    limn_report report = {.size = sizeof report};
     if ((st = limn_interpolate(ctx, torus, &opt, &p, &report)) ||
         (st = limn_mesh_copy_positions(ctx, p, control, NV))) {
         rc = failed(ctx, "interpolation", st);

@@ -137,8 +137,7 @@ int cli_bands(int argc, char **argv)
     series_seconds s = {.t0 = cli_now()};
     limn_context *ctx = NULL;
     limn_mesh *in[2] = {NULL, NULL}, *band = NULL;
-    limn_series_report r;
-    memset(&r, 0, sizeof r);
+    limn_series_report r = {.size = sizeof r};
     double *bands = NULL;
     int written = 0;
     limn_status st = series_cli_load(&c, &ctx, in);

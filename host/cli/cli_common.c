@@ -548,7 +548,7 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
         o.repeated_vertices = !r->off;
         o.duplicate_faces = r->drop_duplicates;
     }
-    limn_repair_report rep;
+    limn_repair_report rep = {.size = sizeof rep};
     st = limn_mesh_repair(ctx, *out, &o, &rep);
     cli_print_warnings(cmd, ctx);
     if (!st && need_faces && limn_mesh_face_count(*out) == 0)

@@ -96,8 +96,7 @@ int cli_denoise(int argc, char **argv)
     series_seconds s = {.t0 = cli_now()};
     limn_context *ctx = NULL;
     limn_mesh *in[2] = {NULL, NULL}, *out = NULL;
-    limn_series_report r;
-    memset(&r, 0, sizeof r);
+    limn_series_report r = {.size = sizeof r};
     limn_status st = series_cli_load(&c, &ctx, in);
     s.load = cli_now() - s.t0;
     if (!st) {
@@ -108,8 +107,8 @@ int cli_denoise(int argc, char **argv)
                                                 &out, &r);
         cli_progress_done();
     }
-    limn_mesh_measures a, b;
-    limn_mesh_comparison cmp;
+    limn_mesh_measures a = {.size = sizeof a}, b = {.size = sizeof b};
+    limn_mesh_comparison cmp = {.size = sizeof cmp};
     if (!st && out) /* under mpirun: rank 0 */
         st = limn_mesh_measure(ctx, in[0], &a);
     if (!st && out)

@@ -120,7 +120,7 @@ int cli_info(int argc, char **argv)
         return EXIT_FAILURE_RUN;
     limn_context_set_max_memory(ctx, max_memory);
     limn_mesh *mesh = NULL;
-    limn_mesh_info in;
+    limn_mesh_info in = {.size = sizeof in};
     limn_status st = cli_load_mesh("info", ctx, input, fmt, &repair, 0, &mesh);
     if (!st)
         st = limn_mesh_info_compute(ctx, mesh, &in);

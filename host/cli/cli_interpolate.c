@@ -369,10 +369,8 @@ int cli_interpolate(int argc, char **argv)
     }
     limn_context_set_max_memory(ctx, a.sub.max_memory); /* the reader's cap too */
     limn_mesh *mesh = NULL, *control = NULL, *surface = NULL, *piece = NULL;
-    limn_report r;
-    memset(&r, 0, sizeof r);
-    limn_subdivide_report sr;
-    memset(&sr, 0, sizeof sr);
+    limn_report r = {.size = sizeof r};
+    limn_subdivide_report sr = {.size = sizeof sr};
     double sec[3] = {0, 0, 0}, t0 = cli_now();
     limn_status st = limn_context_set_device(ctx, a.device);
     if (!st && a.fallback)

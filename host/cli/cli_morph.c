@@ -285,8 +285,7 @@ checked: /* under mpirun rank 0's checks decide for every rank */
         goto out_pattern;
     series_seconds s = {.t0 = cli_now()};
     limn_mesh *in[2] = {NULL, NULL};
-    limn_series_report r;
-    memset(&r, 0, sizeof r);
+    limn_series_report r = {.size = sizeof r};
     limn_status st = series_cli_load(&c, &ms.ctx, in);
     s.load = cli_now() - s.t0;
     mo.series = c.opt;

@@ -100,7 +100,7 @@ limn_status cli_mpi_interpolate(limn_context *ctx, const limn_mesh *mesh,
                                 limn_report *r, limn_mesh **piece)
 {
     limn_mpi_options mo = options();
-    limn_mpi_result res;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
     limn_status st = limn_interpolate_mpi(ctx, MPI_COMM_WORLD, mesh, o, control, r, &mo, &res);
     collect(&res);
     adopt_piece(&res, piece);
@@ -112,7 +112,7 @@ limn_status cli_mpi_smooth(limn_context *ctx, const limn_mesh *mesh,
                            limn_series_report *r, limn_mesh **piece)
 {
     limn_mpi_options mo = options();
-    limn_mpi_result res;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
     limn_status st = limn_smooth_mpi(ctx, MPI_COMM_WORLD, mesh, o, terms, out, r, &mo, &res);
     collect(&res);
     adopt_piece(&res, piece);
@@ -124,7 +124,7 @@ limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
                             limn_mesh **out, limn_series_report *r, limn_mesh **piece)
 {
     limn_mpi_options mo = options();
-    limn_mpi_result res;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
     limn_status st = limn_denoise_mpi(ctx, MPI_COMM_WORLD, mesh, o, m, steps, keep_volume, out, r,
                                       &mo, &res);
     collect(&res);
@@ -138,7 +138,7 @@ limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_m
 {
     limn_mpi_options mo = options();
     mo.keep_piece = 0;
-    limn_mpi_result res;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
     limn_status st = limn_morph_mpi(ctx, MPI_COMM_WORLD, from, to, o, fn, user, r, &mo, &res);
     collect(&res);
     limn_mpi_result_free(&res);

@@ -68,8 +68,7 @@ int cli_smooth(int argc, char **argv)
     series_seconds s = {.t0 = cli_now()};
     limn_context *ctx = NULL;
     limn_mesh *in[2] = {NULL, NULL}, *out = NULL;
-    limn_series_report r;
-    memset(&r, 0, sizeof r);
+    limn_series_report r = {.size = sizeof r};
     limn_status st = series_cli_load(&c, &ctx, in);
     s.load = cli_now() - s.t0;
     if (!st) {
@@ -79,7 +78,7 @@ int cli_smooth(int argc, char **argv)
                  : limn_smooth(ctx, in[0], &c.opt, e.terms, &out, &r);
         cli_progress_done();
     }
-    limn_mesh_comparison cmp;
+    limn_mesh_comparison cmp = {.size = sizeof cmp};
     if (!st && out && limn_mesh_compare(ctx, in[0], out, &cmp) == LIMN_OK)
         e.mean_displacement = cmp.mean_distance / (r.bbox_diagonal > 0 ? r.bbox_diagonal : 1.0);
     series_extra x = {json_extra, print_extra, &e};

@@ -123,7 +123,7 @@ int cli_subdivide(int argc, char **argv)
         return EXIT_FAILURE_RUN;
     limn_context_set_max_memory(ctx, o.max_memory); /* the reader's cap too */
     limn_mesh *mesh = NULL, *surface = NULL;
-    limn_subdivide_report r;
+    limn_subdivide_report r = {.size = sizeof r};
     double sec[3] = {0, 0, 0}, t0 = cli_now();
     limn_status st = limn_context_set_device(ctx, device);
     if (!st && fallback)

@@ -183,8 +183,7 @@ int cli_texture(int argc, char **argv)
     series_seconds s = {.t0 = cli_now()};
     limn_context *ctx = NULL;
     limn_mesh *in[2] = {NULL, NULL}, *out = NULL;
-    limn_series_report r;
-    memset(&r, 0, sizeof r);
+    limn_series_report r = {.size = sizeof r};
     limn_status st = series_cli_load(&c, &ctx, in);
     s.load = cli_now() - s.t0;
     if (!st) {

@@ -19,13 +19,73 @@
 
 void limn_mpi_options_default(limn_mpi_options *o)
 {
+    if (!o)
+        return; /* no context to report to */
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
     o->root = 0;
     o->keep_piece = 0;
 }
 
+#define ABI_END(type, field) (offsetof(type, field) + sizeof(((type *)0)->field))
+
+const abi_layout abi_mpi_options = {"limn_mpi_options", "limn_mpi_options_default()",
+                                    sizeof(limn_mpi_options), ABI_END(limn_mpi_options, keep_piece),
+                                    NULL};
+const abi_layout abi_mpi_stats = {"limn_mpi_stats", "sizeof(limn_mpi_stats)",
+                                  sizeof(limn_mpi_stats), ABI_END(limn_mpi_stats, device), NULL};
+const abi_layout abi_mpi_result = {"limn_mpi_result", "sizeof(limn_mpi_result)",
+                                   sizeof(limn_mpi_result),
+                                   ABI_END(limn_mpi_result, piece_vertices), &abi_mpi_stats};
+_Static_assert(offsetof(limn_mpi_result, stats) == sizeof(size_t), "stats first");
+_Static_assert(offsetof(limn_mpi_result, piece) == sizeof(size_t) + sizeof(limn_mpi_stats),
+               "piece after stats");
+
+limn_status mpi_abi_begin(limn_context *ctx, MPI_Comm comm, const char *fn, limn_status st,
+                          const limn_mpi_options *mpi, limn_mpi_options *mpi_sized,
+                          const limn_mpi_result *result, limn_mpi_result *result_sized)
+{
+    limn_mpi_options_default(mpi_sized);
+    if (!st)
+        st = abi_options_in(ctx, fn, "mpi", &abi_mpi_options, mpi, mpi_sized);
+    limn_status rs =
+        abi_report_begin(ctx, fn, "result", &abi_mpi_result, st ? NULL : result, result_sized);
+    if (!st)
+        st = rs;
+    int initialized = 0, finalized = 0;
+    MPI_Initialized(&initialized);
+    MPI_Finalized(&finalized);
+    if (!initialized || finalized || comm == MPI_COMM_NULL)
+        return st; /* mpi_part_begin refuses on every rank */
+    int bad = st != LIMN_OK, any = 0;
+    MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, comm);
+    if (any && !st)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                       "%s: another rank refused the size of its options, report or result "
+                       "(its message says which)",
+                       fn);
+    return st;
+}
+
+/* The end of the piece fields in this library's limn_mpi_result. */
+#define PIECE_END ABI_END(limn_mpi_result, piece_vertices)
+
+void mpi_abi_end(limn_mpi_result *result, limn_mpi_result *result_sized)
+{
+    if (!result || !abi_report_holds(&abi_mpi_result, result, PIECE_END)) {
+        limn_mesh_destroy(result_sized->piece);
+        free(result_sized->piece_vertices);
+        result_sized->piece = NULL;
+        result_sized->piece_vertices = NULL;
+        result_sized->piece_owned = 0;
+    }
+    abi_report_end(&abi_mpi_result, result, result_sized);
+}
+
 void limn_mpi_result_free(limn_mpi_result *r)
 {
-    if (!r)
+    /* a struct too short for the piece fields never received a piece */
+    if (!r || !abi_report_holds(&abi_mpi_result, r, PIECE_END))
         return;
     limn_mesh_destroy(r->piece);
     free(r->piece_vertices);

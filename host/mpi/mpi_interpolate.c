@@ -84,10 +84,11 @@ static limn_status iterate(mpi_part *p, const limn_interpolate_options *o, limn_
     return mpi_agree(p, st);
 }
 
-limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                                 const limn_interpolate_options *options, limn_mesh **control,
-                                 limn_report *report, const limn_mpi_options *mpi,
-                                 limn_mpi_result *result)
+/* limn_interpolate_mpi on structs of this library's layout. */
+static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                         const limn_interpolate_options *options,
+                                         limn_mesh **control, limn_report *report,
+                                         const limn_mpi_options *mpi, limn_mpi_result *result)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -216,4 +217,33 @@ limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_me
         limn_mesh_destroy(out);
     limn_progress(ctx, "solve", 1.0);
     return LIMN_OK;
+}
+
+limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                 const limn_interpolate_options *options, limn_mesh **control,
+                                 limn_report *report, const limn_mpi_options *mpi,
+                                 limn_mpi_result *result)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (control)
+        *control = NULL;
+    limn_interpolate_options o;
+    limn_interpolate_options_default(&o);
+    limn_report r;
+    limn_mpi_options mo;
+    limn_mpi_result res;
+    limn_status st = abi_options_in(ctx, "limn_interpolate_mpi", "options",
+                                    &abi_interpolate_options, options, &o);
+    limn_status rs = abi_report_begin(ctx, "limn_interpolate_mpi", "report", &abi_report,
+                                      st ? NULL : report, &r);
+    st = mpi_abi_begin(ctx, comm, "limn_interpolate_mpi", st ? st : rs, mpi, &mo, result, &res);
+    if (st)
+        return st;
+    st = interpolate_mpi_sized(ctx, comm, mesh, options ? &o : NULL, control, report ? &r : NULL,
+                               mpi ? &mo : NULL, result ? &res : NULL);
+    abi_report_end(&abi_report, report, &r);
+    mpi_abi_end(result, &res);
+    return st;
 }

@@ -25,6 +25,7 @@
 
 #include "limn_mpi.h"
 
+#include "abi.h"
 #include "device.h"
 #include "operator.h"
 #include "solve.h"
@@ -163,5 +164,23 @@ limn_status mpi_solve_cg(mpi_part *p, const double *m4, double tol_abs, int max_
    vertex): each rank gets its piece in result (may be NULL: dropped). */
 limn_status mpi_pieces(mpi_part *p, const limn_mesh *mesh_root, const double *xyz_root,
                        limn_mpi_result *result);
+
+/* The size fields of limn_mpi.h's structs (abi.h). */
+extern const abi_layout abi_mpi_options, abi_mpi_stats, abi_mpi_result;
+
+/*
+ * The size checks of a limn_*_mpi call, agreed over comm (one Allreduce on
+ * it) so that a rank refusing its structs does not leave the others waiting:
+ * every rank returns a refusal, the refusing ranks with their own message.
+ * Also reads mpi (may be NULL) into *mpi_sized and checks result (may be
+ * NULL) into *result_sized.
+ */
+limn_status mpi_abi_begin(limn_context *ctx, MPI_Comm comm, const char *fn, limn_status st,
+                          const limn_mpi_options *mpi, limn_mpi_options *mpi_sized,
+                          const limn_mpi_result *result, limn_mpi_result *result_sized);
+
+/* Copies the library-side result into the caller's, within its size; a
+   piece the caller's struct cannot hold is freed. */
+void mpi_abi_end(limn_mpi_result *result, limn_mpi_result *result_sized);
 
 #endif

@@ -180,10 +180,11 @@ static limn_status finish(series_mpi *s, limn_status st, const limn_mesh *mesh,
     return st;
 }
 
-limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                            const limn_series_options *options, int terms, limn_mesh **out,
-                            limn_series_report *report, const limn_mpi_options *mpi,
-                            limn_mpi_result *result)
+/* limn_smooth_mpi on structs of this library's layout. */
+static limn_status smooth_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                    const limn_series_options *options, int terms, limn_mesh **out,
+                                    limn_series_report *report, const limn_mpi_options *mpi,
+                                    limn_mpi_result *result)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -213,10 +214,11 @@ limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *m
     return finish(&s, st, mesh, mpi, result, out, r);
 }
 
-limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                             const limn_series_options *options, int m, int steps,
-                             int keep_volume, limn_mesh **out, limn_series_report *report,
-                             const limn_mpi_options *mpi, limn_mpi_result *result)
+/* limn_denoise_mpi on structs of this library's layout. */
+static limn_status denoise_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                     const limn_series_options *options, int m, int steps,
+                                     int keep_volume, limn_mesh **out, limn_series_report *report,
+                                     const limn_mpi_options *mpi, limn_mpi_result *result)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -302,10 +304,11 @@ static limn_status check_morph(limn_context *ctx, const limn_mesh *from, const l
     return st ? st : measure_same_topology(ctx, from, to, "FROM", "TO");
 }
 
-limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
-                           const limn_mesh *to, const limn_morph_options *options,
-                           limn_morph_frame_fn fn, void *user, limn_series_report *report,
-                           const limn_mpi_options *mpi, limn_mpi_result *result)
+/* limn_morph_mpi on structs of this library's layout. */
+static limn_status morph_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
+                                   const limn_mesh *to, const limn_morph_options *options,
+                                   limn_morph_frame_fn fn, void *user, limn_series_report *report,
+                                   const limn_mpi_options *mpi, limn_mpi_result *result)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
@@ -319,6 +322,7 @@ limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *fr
         limn_morph_options_default(&o);
     limn_series_report local, *r = report ? report : &local;
     memset(r, 0, sizeof *r);
+    r->size = sizeof *r; /* passed on to limn_morph */
     /* the checks of limn_morph, on the root; agreed before any work */
     mpi_part probe;
     limn_status st = mpi_part_begin(ctx, comm, mpi, &probe);
@@ -375,5 +379,90 @@ limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *fr
         result->stats = s.p.stats;
     free(q);
     close_series(&s);
+    return st;
+}
+
+limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                            const limn_series_options *options, int terms, limn_mesh **out,
+                            limn_series_report *report, const limn_mpi_options *mpi,
+                            limn_mpi_result *result)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (out)
+        *out = NULL;
+    limn_series_options o;
+    limn_series_options_default(&o);
+    limn_series_report r;
+    limn_mpi_options mo;
+    limn_mpi_result res;
+    limn_status st =
+        abi_options_in(ctx, "limn_smooth_mpi", "options", &abi_series_options, options, &o);
+    limn_status rs = abi_report_begin(ctx, "limn_smooth_mpi", "report", &abi_series_report,
+                                      st ? NULL : report, &r);
+    st = mpi_abi_begin(ctx, comm, "limn_smooth_mpi", st ? st : rs, mpi, &mo, result, &res);
+    if (st)
+        return st;
+    st = smooth_mpi_sized(ctx, comm, mesh, options ? &o : NULL, terms, out, report ? &r : NULL,
+                          mpi ? &mo : NULL, result ? &res : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    mpi_abi_end(result, &res);
+    return st;
+}
+
+limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                             const limn_series_options *options, int m, int steps, int keep_volume,
+                             limn_mesh **out, limn_series_report *report,
+                             const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (out)
+        *out = NULL;
+    limn_series_options o;
+    limn_series_options_default(&o);
+    limn_series_report r;
+    limn_mpi_options mo;
+    limn_mpi_result res;
+    limn_status st =
+        abi_options_in(ctx, "limn_denoise_mpi", "options", &abi_series_options, options, &o);
+    limn_status rs = abi_report_begin(ctx, "limn_denoise_mpi", "report", &abi_series_report,
+                                      st ? NULL : report, &r);
+    st = mpi_abi_begin(ctx, comm, "limn_denoise_mpi", st ? st : rs, mpi, &mo, result, &res);
+    if (st)
+        return st;
+    st = denoise_mpi_sized(ctx, comm, mesh, options ? &o : NULL, m, steps, keep_volume, out,
+                           report ? &r : NULL, mpi ? &mo : NULL, result ? &res : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    mpi_abi_end(result, &res);
+    return st;
+}
+
+limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
+                           const limn_mesh *to, const limn_morph_options *options,
+                           limn_morph_frame_fn fn, void *user, limn_series_report *report,
+                           const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    limn_morph_options o;
+    limn_morph_options_default(&o);
+    limn_series_report r;
+    limn_mpi_options mo;
+    limn_mpi_result res;
+    limn_status st =
+        abi_options_in(ctx, "limn_morph_mpi", "options", &abi_morph_options, options, &o);
+    limn_status rs = abi_report_begin(ctx, "limn_morph_mpi", "report", &abi_series_report,
+                                      st ? NULL : report, &r);
+    st = mpi_abi_begin(ctx, comm, "limn_morph_mpi", st ? st : rs, mpi, &mo, result, &res);
+    if (st)
+        return st;
+    st = morph_mpi_sized(ctx, comm, from, to, options ? &o : NULL, fn, user, report ? &r : NULL,
+                         mpi ? &mo : NULL, result ? &res : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    mpi_abi_end(result, &res);
     return st;
 }

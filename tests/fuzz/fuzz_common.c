@@ -193,13 +193,13 @@ int limn_fuzz_run(const char *name, const uint8_t *data, size_t size)
     limn_repair_options o;
     limn_repair_options_default(&o);
     o.duplicate_faces = size & 1; /* both policies, deterministically per input */
-    limn_repair_report r;
+    limn_repair_report r = {.size = sizeof r};
     st = limn_mesh_repair(ctx, m, &o, &r);
     if (st == LIMN_OK) {
         check_mesh(m, 1, limn_context_message(ctx));
         if (r.faces_after != limn_mesh_face_count(m))
             broken("the repair report's face count is wrong", NULL);
-        limn_mesh_info info;
+        limn_mesh_info info = {.size = sizeof info};
         st = limn_mesh_info_compute(ctx, m, &info);
         if (st != LIMN_OK && st != LIMN_ERR_MEMORY)
             broken("topology failed on a repaired mesh", limn_context_message(ctx));

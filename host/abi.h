@@ -1,0 +1,68 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The ABI rule of limn.h's options and report structs (limn.h's top
+ * comment): each begins with `size_t size`, the caller's sizeof of it. On
+ * entry the library copies the caller's options into a library-side struct
+ * holding the defaults, min(caller size, library size) bytes, and later
+ * copies its own full report out into the caller's, never past the caller's
+ * size. A struct embedding another one (morph's and texture's `series`,
+ * the MPI result's `stats`) embeds it right after its own size field, so the
+ * caller's layout is [size][inner, inner.size bytes][the rest]: each part is
+ * read or written by its own size.
+ */
+#ifndef LIMN_ABI_H
+#define LIMN_ABI_H
+
+#include "limn.h"
+
+#include <stddef.h>
+
+/* A caller struct of this library: its name, the defaults function that
+   sets its size, the library's sizeof and the first released size (options
+   smaller than that are refused; reports need only the size field). */
+typedef struct abi_layout {
+    const char *type;
+    const char *init; /* "limn_interpolate_options_default()" */
+    size_t size;
+    size_t min_size;
+    const struct abi_layout *inner; /* a struct embedded right after `size`, or NULL */
+} abi_layout;
+
+/*
+ * Reads the caller's options `src` (NULL: nothing, LIMN_OK) into `dst`,
+ * which holds the defaults already (layout->size bytes): checks the size
+ * fields and copies the bytes the caller has. fn and what name the call and
+ * the argument in messages ("limn_interpolate", "options"). On a refusal
+ * dst keeps its defaults and ctx has the message.
+ */
+limn_status abi_options_in(limn_context *ctx, const char *fn, const char *what,
+                           const abi_layout *layout, const void *src, void *dst);
+
+/*
+ * Checks the caller's report `dst` (NULL: LIMN_OK) before the call: its size
+ * is set and not below sizeof(size_t) (and so for an embedded struct); then
+ * zeroes the library-side `local` (layout->size bytes) and sets its size
+ * fields to the library's.
+ */
+limn_status abi_report_begin(limn_context *ctx, const char *fn, const char *what,
+                             const abi_layout *layout, const void *dst, void *local);
+
+/* Copies the library-side report into the caller's (NULL: nothing): the
+   bytes its size holds, zeroing those beyond the library's layout; the
+   caller's size fields stay as they are. */
+void abi_report_end(const abi_layout *layout, void *dst, const void *local);
+
+/* The caller's size field of any of these structs. */
+size_t abi_size_of(const void *p);
+
+/* Whether the caller's struct `p` (of this layout) holds the bytes up to
+   `end` of the library's layout (offsetof + sizeof of a field after the
+   embedded struct, or within a flat one). */
+int abi_report_holds(const abi_layout *layout, const void *p, size_t end);
+
+extern const abi_layout abi_repair_options, abi_repair_report, abi_mesh_info,
+    abi_interpolate_options, abi_report, abi_subdivide_options, abi_subdivide_report,
+    abi_series_options, abi_series_report, abi_morph_options, abi_mesh_measures,
+    abi_mesh_comparison, abi_texture_options, abi_render_options;
+
+#endif
