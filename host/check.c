@@ -5,7 +5,7 @@
  * non-finite result or a misleading convergence failure.
  */
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 #include "operator.h"
 

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Backend choice and the operations shared by both backends. */
 #include "device.h"
-#include "context.h"
+#include "base/context.h"
 
 #include <stdio.h>
 #include <stdlib.h>

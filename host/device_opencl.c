@@ -2,10 +2,10 @@
 /* The OpenCL backend: context, queue, buffers, launches and the
    double-precision operations (the program: opencl_program.c; the float
    operations: device_opencl_mixed.c). */
-#include "context.h"
+#include "base/context.h"
 #include "device_opencl.h"
 #include "opencl_select.h"
-#include "operator.h"
+#include "base/clock.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* The OpenCL side of the mixed-precision refinement (kernels/mixed.cl). */
-#include "context.h"
+#include "base/context.h"
 #include "device_opencl.h"
 
 limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_buffer *m,

@@ -3,7 +3,7 @@
    (kernels/sgs.cl): a sweep is one launch per colour, enqueued without
    waiting (the queue is in order); the forward sweep's partials land in one
    stretch of the partials buffer, colour after colour, and are read once. */
-#include "context.h"
+#include "base/context.h"
 #include "device_opencl.h"
 
 static limn_status set_table(struct limn_device *dev, cl_kernel k, cl_uint at,

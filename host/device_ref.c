@@ -4,7 +4,7 @@
  * order as kernels/stencil.cl (built with -ffp-contract=off, and the kernels
  * with FP_CONTRACT OFF), so it is the oracle for the OpenCL path.
  */
-#include "context.h"
+#include "base/context.h"
 #include "device_ref.h"
 
 #include <math.h>

@@ -5,7 +5,7 @@
  * expressions are evaluated in float on x86-64 and AArch64, FLT_EVAL_METHOD
  * 0), so the OpenCL float path is checked bit for bit, like the double one.
  */
-#include "context.h"
+#include "base/context.h"
 #include "device_ref.h"
 
 #include <math.h>

@@ -5,12 +5,13 @@
  * whose residual was measured, so the reported error is exact, not a bound.
  */
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "device.h"
 #include "mesh.h"
 #include "operator.h"
 #include "solve.h"
 #include "solve_mixed.h"
+#include "base/clock.h"
 
 #include <math.h>
 #include <stdio.h>

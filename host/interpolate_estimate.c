@@ -18,7 +18,7 @@
  * A solver that keeps more vectors must update these figures.
  */
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 #include "solve.h"
 #include "solve_mixed.h"

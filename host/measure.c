@@ -7,7 +7,7 @@
  */
 #include "measure.h"
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 #include "topology.h"
 

@@ -2,7 +2,7 @@
 /* Mesh container: creation from caller arrays, accessors, copies. */
 #include "mesh.h"
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 
 #include <stdlib.h>
 #include <string.h>

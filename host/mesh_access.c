@@ -6,7 +6,7 @@
  * buffer and the mesh as they were.
  */
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 
 #include <string.h>

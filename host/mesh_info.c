@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* limn_mesh_info_compute: counts for `limn info` and for callers. */
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 #include "operator.h"
 #include "topology.h"

@@ -8,10 +8,10 @@
 #define _POSIX_C_SOURCE 200809L /* mkstemp, fdopen, fileno, fchmod, fsync */
 #endif
 #include "mesh_io.h"
-#include "atomic_file.h"
-#include "c_locale.h"
+#include "base/atomic_file.h"
+#include "base/c_locale.h"
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 
 #include <errno.h>

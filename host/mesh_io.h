@@ -13,7 +13,7 @@
 #define LIMN_MESH_IO_H
 
 #include "limn.h"
-#include "growbuf.h"
+#include "base/growbuf.h"
 
 #include <stdint.h>
 #include <stdio.h>

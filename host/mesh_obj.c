@@ -5,7 +5,7 @@
  * other record is skipped. Written with "%.17g" so positions round-trip.
  */
 #include "mesh_io.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 
 #include <string.h>

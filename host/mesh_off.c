@@ -13,7 +13,7 @@
  * Vertex colours are kept (RGB; alpha dropped).
  */
 #include "mesh_io.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 
 #include <math.h>

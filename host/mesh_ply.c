@@ -8,7 +8,7 @@
  * anything is allocated. The writer is mesh_ply_write.c.
  */
 #include "mesh_io.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 
 #include <errno.h>

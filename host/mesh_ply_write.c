@@ -6,7 +6,7 @@
  * is mesh_ply.c.)
  */
 #include "mesh_io.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 
 #include <stdlib.h>

@@ -13,7 +13,7 @@
  * and pinned, OpenSubdiv's rules), vertices used by no face (they stay put).
  * Several components and boundaries are normal and give no warning.
  */
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 #include "topology.h"
 

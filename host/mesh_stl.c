@@ -18,7 +18,7 @@
  * Facet normals are ignored (they may be anything, "nan" included).
  */
 #include "mesh_io.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 
 #include <math.h>

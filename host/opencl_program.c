@@ -6,10 +6,10 @@
  * costs ~25 ms whatever the program's size, a cold one ~0.55 s (mostly
  * compiler start-up), so splitting would multiply the warm cost.
  */
-#include "context.h"
+#include "base/context.h"
 #include "device_opencl.h"
 #include "opencl_pocl_cache.h"
-#include "operator.h"
+#include "base/clock.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -6,7 +6,7 @@
  * warning, unless the choice named one, which is then an error saying why.
  */
 #include "opencl_select.h"
-#include "context.h"
+#include "base/context.h"
 #include "device.h"
 #include "opencl_errors.h"
 #include "opencl_pocl_cache.h"

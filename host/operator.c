@@ -2,21 +2,14 @@
 /* Building the limit operator of a mesh on the context's device. */
 #include "operator.h"
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 #include "reorder.h"
+#include "base/clock.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-double limn_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 double mesh_bbox_diagonal(const limn_mesh *mesh, double lo[3], double hi[3])
 {

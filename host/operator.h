@@ -47,7 +47,6 @@ limn_status operator_build(limn_context *ctx, const limn_mesh *mesh, limn_scheme
                            double alpha, limn_operator *out);
 void operator_free(limn_operator *op);
 
-double limn_seconds(void);
 double mesh_bbox_diagonal(const limn_mesh *mesh, double lo[3], double hi[3]);
 
 #endif

@@ -7,8 +7,8 @@
  * by default. No dependency: the pictures limn renders compress to about the
  * size zlib gives them, and nothing needs to be installed for it.
  */
-#include "atomic_file.h"
-#include "context.h"
+#include "base/atomic_file.h"
+#include "base/context.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -7,7 +7,7 @@
  * 4-9 entries a row; see README "Subdivision surfaces" for the measurement.
  */
 #include "refine.h"
-#include "context.h"
+#include "base/context.h"
 #include "device.h"
 #include "mesh.h"
 #include "operator.h"

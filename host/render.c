@@ -7,7 +7,7 @@
  * for anti-aliasing. Polygons are fan-triangulated. Plain C, deterministic.
  */
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "measure.h"
 #include "mesh.h"
 

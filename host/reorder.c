@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Reverse Cuthill-McKee ordering and CSR permutation. */
 #include "reorder.h"
-#include "context.h"
+#include "base/context.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -8,12 +8,13 @@
  * power is formed.
  */
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "device.h"
 #include "measure.h"
 #include "mesh.h"
 #include "operator.h"
 #include "series.h"
+#include "base/clock.h"
 
 #include <math.h>
 #include <stdio.h>

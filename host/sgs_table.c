@@ -10,7 +10,7 @@
  * Catmull-Clark).
  */
 #include "sgs_table.h"
-#include "context.h"
+#include "base/context.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -14,8 +14,9 @@
  */
 #include "solve.h"
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "scheme.h"
+#include "base/clock.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -10,8 +10,9 @@
  */
 #include "solve_mixed.h"
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "solve.h"
+#include "base/clock.h"
 
 #include <math.h>
 

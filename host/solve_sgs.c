@@ -15,9 +15,10 @@
  * meshes: 4-6 steps to 1e-6 where the seeds' iteration takes 23-82.
  */
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "sgs_table.h"
 #include "solve.h"
+#include "base/clock.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -3,7 +3,7 @@
    repeated columns merged, so a table is a deterministic function of the
    topology. */
 #include "stencil.h"
-#include "context.h"
+#include "base/context.h"
 #include "scheme.h"
 #include "topology.h"
 

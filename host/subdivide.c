@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /* limn_subdivide: refine the control mesh into the surface, on the device. */
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "device.h"
 #include "mesh.h"
 #include "operator.h"
 #include "refine.h"
+#include "base/clock.h"
 
 #include <stdio.h>
 #include <stdlib.h>

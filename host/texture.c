@@ -11,12 +11,13 @@
  * interpolating the user's colours.
  */
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "device.h"
 #include "mesh.h"
 #include "operator.h"
 #include "refine.h"
 #include "series.h"
+#include "base/clock.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -6,7 +6,7 @@
  * a lock and remembered; that record is the only state shared by contexts.
  */
 #include "threads.h"
-#include "context.h"
+#include "base/context.h"
 #include "device.h"
 
 #include <errno.h>

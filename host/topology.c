@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Topology construction: edges by bucketing half-edges on their lower vertex. */
 #include "topology.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 
 #include <stdlib.h>

@@ -13,7 +13,7 @@
  */
 #include "limn_mpi.h"
 
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 #include "operator.h"
 
 #include <stdio.h>

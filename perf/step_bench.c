@@ -27,6 +27,7 @@
 #include "limn.h"
 #include "mesh.h"
 #include "operator.h"
+#include "base/clock.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -17,7 +17,7 @@
  */
 #include "support.h"
 
-#include "context.h"
+#include "base/context.h"
 #include "device.h"
 #include "operator.h"
 #include "scheme.h"

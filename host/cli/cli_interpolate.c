@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* limn interpolate: solve for the control mesh, write it and a report. */
-#include "cli.h"
-#include "atomic_file.h"
+#include "cli/cli.h"
+#include "base/atomic_file.h"
 #include "mesh_io.h"
 
 #include <stdlib.h>

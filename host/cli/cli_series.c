@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Shared option handling, loading and reports of the series subcommands. */
-#include "cli_series.h"
-#include "atomic_file.h"
+#include "cli/cli_series.h"
+#include "base/atomic_file.h"
 #include "mesh_io.h"
 
 #include <stdlib.h>

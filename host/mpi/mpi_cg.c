@@ -11,9 +11,9 @@
  * rows, so the result differs from the single process's by rounding only
  * (README "MPI" gives the measured difference).
  */
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 
-#include "context.h"
+#include "base/context.h"
 #include "topology.h"
 
 #include <math.h>

@@ -7,10 +7,10 @@
  * reduction order, and every row is summed in the single process's order, so
  * the paper iteration gives the single process's bits and iteration count.
  */
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 
 #include "check.h"
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 #include "solve.h"
 

@@ -6,9 +6,9 @@
  * without edges and several components are just a disconnected graph: METIS
  * takes both. One part, or no more vertices than parts, needs no METIS.
  */
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 
-#include "context.h"
+#include "base/context.h"
 #include "mesh.h"
 
 #include <limits.h>

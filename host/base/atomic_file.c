@@ -4,8 +4,8 @@
 #ifndef _DEFAULT_SOURCE
 #define _DEFAULT_SOURCE /* fchown, fsync, fdopen, mkstemp */
 #endif
-#include "atomic_file.h"
-#include "context.h"
+#include "base/atomic_file.h"
+#include "base/context.h"
 
 #include <errno.h>
 #include <fcntl.h>

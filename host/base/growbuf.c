@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Growable byte array (see growbuf.h). */
-#include "growbuf.h"
+#include "base/growbuf.h"
 
 #include <stdlib.h>
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Thread-local switches to the C locale (see c_locale.h). */
-#include "c_locale.h"
+#include "base/c_locale.h"
 
 #include <errno.h>
 #include <stdlib.h>

@@ -4,8 +4,8 @@
 #ifndef _DEFAULT_SOURCE
 #define _DEFAULT_SOURCE /* readlink, lstat, flock, fstatat */
 #endif
-#include "output_path.h"
-#include "context.h"
+#include "base/output_path.h"
+#include "base/context.h"
 
 #include <ctype.h>
 #include <dirent.h>

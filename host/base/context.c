@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Context life cycle, error messages and warnings. */
-#include "context.h"
+#include "base/context.h"
 #include "device.h"
 
 #include <stdint.h>

@@ -11,7 +11,7 @@
 #define LIMN_ATOMIC_FILE_H
 
 #include "limn.h"
-#include "output_path.h"
+#include "base/output_path.h"
 #include <stdio.h>
 
 typedef struct atomic_file {
