@@ -4,10 +4,10 @@
  * until max |M - A P_k| <= tol * bbox diagonal. The returned P is the one
  * whose residual was measured, so the reported error is exact, not a bound.
  */
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
 #include "device.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "operator.h"
 #include "solve.h"
 #include "solve_mixed.h"

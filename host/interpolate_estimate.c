@@ -17,9 +17,9 @@
  *     +60 MB at both sizes (1.36 -> 1.42 and 0.87 -> 0.93 GiB).
  * A solver that keeps more vectors must update these figures.
  */
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "solve.h"
 #include "solve_mixed.h"
 

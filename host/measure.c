@@ -6,9 +6,9 @@
  * reports, the tests and the benchmarks.
  */
 #include "measure.h"
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "topology.h"
 
 #include <math.h>

@@ -1,9 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* limn_mesh_info_compute: counts for `limn info` and for callers. */
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
-#include "mesh.h"
-#include "operator.h"
+#include "mesh/mesh.h"
 #include "topology.h"
 
 #include <string.h>

@@ -10,9 +10,9 @@
 #include "mesh_io.h"
 #include "base/atomic_file.h"
 #include "base/c_locale.h"
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -14,7 +14,7 @@
  */
 #include "mesh_io.h"
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 
 #include <math.h>
 #include <stdlib.h>

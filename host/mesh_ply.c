@@ -9,7 +9,7 @@
  */
 #include "mesh_io.h"
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 
 #include <errno.h>
 #include <math.h>

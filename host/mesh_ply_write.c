@@ -7,7 +7,7 @@
  */
 #include "mesh_io.h"
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -14,7 +14,7 @@
  * Several components and boundaries are normal and give no warning.
  */
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "topology.h"
 
 #include <stdint.h>

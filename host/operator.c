@@ -1,31 +1,15 @@
 /* SPDX-License-Identifier: MIT */
 /* Building the limit operator of a mesh on the context's device. */
 #include "operator.h"
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "reorder.h"
 #include "base/clock.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-double mesh_bbox_diagonal(const limn_mesh *mesh, double lo[3], double hi[3])
-{
-    for (int c = 0; c < 3; c++) {
-        lo[c] = mesh->vertex_count ? mesh->positions[c] : 0.0;
-        hi[c] = lo[c];
-    }
-    for (size_t i = 0; i < mesh->vertex_count; i++)
-        for (int c = 0; c < 3; c++) {
-            double x = mesh->positions[3 * i + c];
-            lo[c] = x < lo[c] ? x : lo[c];
-            hi[c] = x > hi[c] ? x : hi[c];
-        }
-    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                (hi[2] - lo[2]) * (hi[2] - lo[2]));
-}
 
 const char *limn_scheme_name(limn_scheme s)
 {

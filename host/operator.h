@@ -47,6 +47,4 @@ limn_status operator_build(limn_context *ctx, const limn_mesh *mesh, limn_scheme
                            double alpha, limn_operator *out);
 void operator_free(limn_operator *op);
 
-double mesh_bbox_diagonal(const limn_mesh *mesh, double lo[3], double hi[3]);
-
 #endif

@@ -9,7 +9,7 @@
 #include "refine.h"
 #include "base/context.h"
 #include "device.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "operator.h"
 #include "scheme_refine.h"
 #include "topology.h"

@@ -6,10 +6,10 @@
  * normals ("flat"), vertex colours when the mesh has them, and supersampling
  * for anti-aliasing. Polygons are fan-triangulated. Plain C, deterministic.
  */
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
 #include "measure.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -7,11 +7,11 @@
  * nothing but stencil products and vector updates is ever computed: no matrix
  * power is formed.
  */
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
 #include "device.h"
 #include "measure.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "operator.h"
 #include "series.h"
 #include "base/clock.h"

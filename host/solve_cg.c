@@ -13,7 +13,7 @@
  * stacked system (block diagonal), so one alpha and beta per step.
  */
 #include "solve.h"
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
 #include "scheme.h"
 #include "base/clock.h"

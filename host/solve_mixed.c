@@ -9,7 +9,7 @@
  * gains up to INNER_REDUCTION, and the stop test is the double iteration's.
  */
 #include "solve_mixed.h"
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
 #include "solve.h"
 #include "base/clock.h"

@@ -14,7 +14,7 @@
  * Sweeps run colour by colour (sgs_table.c). Measured on the shared medium
  * meshes: 4-6 steps to 1e-6 where the seeds' iteration takes 23-82.
  */
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
 #include "sgs_table.h"
 #include "solve.h"

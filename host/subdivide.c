@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* limn_subdivide: refine the control mesh into the surface, on the device. */
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
 #include "device.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "operator.h"
 #include "refine.h"
 #include "base/clock.h"

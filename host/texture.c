@@ -10,10 +10,10 @@
  * exactly), normalise to [0, 1] and map through the uniform cubic B-spline
  * interpolating the user's colours.
  */
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
 #include "device.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "operator.h"
 #include "refine.h"
 #include "series.h"

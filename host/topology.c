@@ -2,7 +2,7 @@
 /* Topology construction: edges by bucketing half-edges on their lower vertex. */
 #include "topology.h"
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 
 #include <stdlib.h>
 #include <string.h>

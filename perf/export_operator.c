@@ -11,7 +11,7 @@
  * order, as a solve renumbers a mesh whose rows hop (README "Locality").
  */
 #include "limn.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "scheme.h"
 #include "stencil.h"
 #include "reorder.h"

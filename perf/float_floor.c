@@ -11,7 +11,7 @@
  */
 #include "device.h"
 #include "limn.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "operator.h"
 
 #include <stdio.h>

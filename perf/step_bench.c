@@ -25,7 +25,7 @@
  */
 #include "device.h"
 #include "limn.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "operator.h"
 #include "base/clock.h"
 

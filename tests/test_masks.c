@@ -17,7 +17,7 @@
 #include "scheme.h"
 #include "stencil.h"
 #include "topology.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 
 #include <math.h>
 #include <setjmp.h>

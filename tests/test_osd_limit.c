@@ -16,7 +16,7 @@
 #include "support.h"
 #include "osd_oracle.h"
 #include "topology.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 
 #include <math.h>
 #include <setjmp.h>

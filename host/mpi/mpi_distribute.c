@@ -11,7 +11,7 @@
 #include "mpi/mpi_part.h"
 
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "scheme.h"
 #include "topology.h"
 

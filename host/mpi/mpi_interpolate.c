@@ -9,9 +9,9 @@
  */
 #include "mpi/mpi_part.h"
 
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "solve.h"
 
 #include <math.h>

@@ -9,7 +9,7 @@
 #include "mpi/mpi_part.h"
 
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 
 #include <limits.h>
 #include <metis.h>

@@ -9,10 +9,10 @@
  */
 #include "mpi/mpi_part.h"
 
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
 #include "measure.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "series.h"
 
 #include <math.h>

@@ -4,10 +4,9 @@
  * at the door with a message naming it, rather than surfacing later as a
  * non-finite result or a misleading convergence failure.
  */
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
-#include "mesh.h"
-#include "operator.h"
+#include "mesh/mesh.h"
 
 #include <math.h>
 

@@ -19,4 +19,7 @@ struct limn_mesh {
 limn_status mesh_alloc(limn_context *ctx, size_t vertex_count, size_t face_count,
                        size_t index_count, limn_mesh **out);
 
+/* The bounding box (lo, hi; zeros for no vertices) and its diagonal. */
+double mesh_bbox_diagonal(const limn_mesh *mesh, double lo[3], double hi[3]);
+
 #endif

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* Mesh container: creation from caller arrays, accessors, copies. */
-#include "mesh.h"
-#include "check.h"
+#include "mesh/mesh.h"
+#include "mesh/check.h"
 #include "base/context.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -143,4 +144,20 @@ limn_status limn_mesh_set_colors(limn_context *ctx, limn_mesh *mesh, const uint8
     free(mesh->colors);
     mesh->colors = c;
     return LIMN_OK;
+}
+
+double mesh_bbox_diagonal(const limn_mesh *mesh, double lo[3], double hi[3])
+{
+    for (int c = 0; c < 3; c++) {
+        lo[c] = mesh->vertex_count ? mesh->positions[c] : 0.0;
+        hi[c] = lo[c];
+    }
+    for (size_t i = 0; i < mesh->vertex_count; i++)
+        for (int c = 0; c < 3; c++) {
+            double x = mesh->positions[3 * i + c];
+            lo[c] = x < lo[c] ? x : lo[c];
+            hi[c] = x > hi[c] ? x : hi[c];
+        }
+    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                (hi[2] - lo[2]) * (hi[2] - lo[2]));
 }

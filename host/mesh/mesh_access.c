@@ -5,9 +5,9 @@
  * checked before anything is written, so a refused call leaves the caller's
  * buffer and the mesh as they were.
  */
-#include "check.h"
+#include "mesh/check.h"
 #include "base/context.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 
 #include <string.h>
 
