@@ -2,7 +2,7 @@
 /* limn interpolate: solve for the control mesh, write it and a report. */
 #include "cli/cli.h"
 #include "base/atomic_file.h"
-#include "mesh_io.h"
+#include "mesh/io/dispatch.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -2,7 +2,7 @@
 /* Shared option handling, loading and reports of the series subcommands. */
 #include "cli/cli_series.h"
 #include "base/atomic_file.h"
-#include "mesh_io.h"
+#include "mesh/io/dispatch.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -2,7 +2,7 @@
 /* limn subdivide: refine a control mesh into its subdivision surface. */
 #include "cli/cli.h"
 #include "base/atomic_file.h"
-#include "mesh_io.h"
+#include "mesh/io/dispatch.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -17,9 +17,10 @@
  * vertex are kept; the repair step (limn_mesh_repair) removes them.
  * Facet normals are ignored (they may be anything, "nan" included).
  */
-#include "mesh_io.h"
+#include "mesh/io/formats.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "mesh/io/toolkit.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -7,9 +7,10 @@
  * element. Counts in the header are checked against the file size before
  * anything is allocated. The writer is mesh_ply_write.c.
  */
-#include "mesh_io.h"
+#include "mesh/io/formats.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "mesh/io/toolkit.h"
 
 #include <errno.h>
 #include <math.h>

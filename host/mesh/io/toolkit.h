@@ -1,35 +1,18 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Internals shared by the mesh file formats (mesh_obj.c, mesh_ply.c,
- * mesh_off.c, mesh_stl.c; the public entry points are in mesh_io.c).
- *
- * Readers get an open FILE* positioned at the start and the path (for
- * messages only). They return LIMN_OK and a new mesh, or a status with a
- * message "PATH:LINE: ..." (text) / "PATH: byte N: ..." (binary).
- * Writers get an open FILE* and the target path (for messages); every
- * stdio return value is checked.
+ * The reader toolkit shared by the mesh file formats (mesh_obj.c, mesh_ply.c,
+ * mesh_off.c, mesh_stl.c; their entry points are in formats.h, the public
+ * ones in dispatch.c): the buffered reader, number parsing, the mesh built
+ * from reader buffers, the write-failure message.
  */
-#ifndef LIMN_MESH_IO_H
-#define LIMN_MESH_IO_H
+#ifndef LIMN_MESH_IO_TOOLKIT_H
+#define LIMN_MESH_IO_TOOLKIT_H
 
 #include "limn.h"
 #include "base/growbuf.h"
 
 #include <stdint.h>
 #include <stdio.h>
-
-limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out);
-limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out);
-limn_status off_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out);
-limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out);
-
-limn_status obj_write(limn_context *ctx, const limn_mesh *mesh, const char *path, FILE *f);
-/* format: LIMN_FORMAT_PLY (binary little endian), _PLY_ASCII or _PLY_BINARY_BE. */
-limn_status ply_write(limn_context *ctx, const limn_mesh *mesh, const char *path, FILE *f,
-                      limn_format format);
-limn_status off_write(limn_context *ctx, const limn_mesh *mesh, const char *path, FILE *f);
-/* Binary STL: faces fan-triangulated, coordinates rounded to float. */
-limn_status stl_write(limn_context *ctx, const limn_mesh *mesh, const char *path, FILE *f);
 
 /* ------------------------------------------------------------ buffered reader
  * One buffer serves both text lines and binary bytes, so a PLY header can be
@@ -116,13 +99,6 @@ const char *mio_token(const char *s, char buf[64]);
    indices: uint32; colors: 3 bytes per vertex or an empty buffer. */
 limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, growbuf *indices,
                           growbuf *colors, limn_mesh **out);
-
-/* limn_mesh_write without the final rename: the mesh is complete and synced
-   in af's temporary file; atomic_file_commit makes it appear, _abort drops
-   it. Lets a command finish all its outputs before any of them appears. */
-struct atomic_file;
-limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const char *path,
-                              limn_format format, struct atomic_file *af);
 
 /* Message for a failed write (errno) to the target path; returns LIMN_ERR_IO. */
 limn_status mio_write_failed(limn_context *ctx, const char *path);

@@ -5,9 +5,10 @@
  * widened to uint only when a face has more than 255 corners. (The reader
  * is mesh_ply.c.)
  */
-#include "mesh_io.h"
+#include "mesh/io/formats.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "mesh/io/toolkit.h"
 
 #include <stdlib.h>
 #include <string.h>

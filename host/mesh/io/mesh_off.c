@@ -12,9 +12,10 @@
  * colour; MeshLab, whose header word names N before C, the colour first.
  * Vertex colours are kept (RGB; alpha dropped).
  */
-#include "mesh_io.h"
+#include "mesh/io/formats.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "mesh/io/toolkit.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -4,9 +4,10 @@
  * a/b/c; negative indices count back from the last vertex defined). Every
  * other record is skipped. Written with "%.17g" so positions round-trip.
  */
-#include "mesh_io.h"
+#include "mesh/io/formats.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "mesh/io/toolkit.h"
 
 #include <string.h>
 
