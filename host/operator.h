@@ -9,7 +9,7 @@
 
 #include "device.h"
 #include "stencil.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 typedef struct limn_operator {
     limn_scheme scheme;     /* resolved: LOOP or CATMARK */

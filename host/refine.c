@@ -12,7 +12,7 @@
 #include "mesh/mesh.h"
 #include "operator.h"
 #include "scheme_refine.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -9,7 +9,7 @@
 #define LIMN_REORDER_H
 
 #include "stencil.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 /* order[k] = the input vertex placed at position k; rank[v] = position of
    input vertex v. Both hold t->vertex_count entries (caller frees). */

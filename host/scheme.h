@@ -8,7 +8,7 @@
 #ifndef LIMN_SCHEME_H
 #define LIMN_SCHEME_H
 
-#include "topology.h"
+#include "topology/topology.h"
 
 /* Upper bound on the entries scheme_limit_mask writes for vertex v. */
 size_t scheme_limit_mask_bound(const topology *t, uint32_t v);

@@ -11,7 +11,7 @@
 #ifndef LIMN_SCHEME_REFINE_H
 #define LIMN_SCHEME_REFINE_H
 
-#include "topology.h"
+#include "topology/topology.h"
 
 /* Loop's vertex weight beta_n = (5/8 - (3/8 + cos(2 pi/n)/4)^2) / n. */
 double scheme_loop_refine_beta(uint32_t valence);

@@ -10,7 +10,7 @@
 #include "mesh/check.h"
 #include "base/context.h"
 #include "device.h"
-#include "measure.h"
+#include "topology/measure.h"
 #include "mesh/mesh.h"
 #include "operator.h"
 #include "series.h"

@@ -5,7 +5,7 @@
 #include "stencil.h"
 #include "base/context.h"
 #include "scheme.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <stdlib.h>
 #include <string.h>

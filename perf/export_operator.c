@@ -15,7 +15,7 @@
 #include "scheme.h"
 #include "stencil.h"
 #include "reorder.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -16,7 +16,7 @@
 #include "refine_oracle.h"
 #include "scheme.h"
 #include "stencil.h"
-#include "topology.h"
+#include "topology/topology.h"
 #include "mesh/mesh.h"
 
 #include <math.h>

@@ -15,7 +15,7 @@
  */
 #include "support.h"
 #include "osd_oracle.h"
-#include "topology.h"
+#include "topology/topology.h"
 #include "mesh/mesh.h"
 
 #include <math.h>

@@ -20,7 +20,7 @@
 #include "operator.h"
 #include "osd_oracle.h"
 #include "solve_mixed.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <math.h>
 #include <setjmp.h>

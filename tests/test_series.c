@@ -16,7 +16,7 @@
 #include "support.h"
 
 #include "stencil.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <math.h>
 #include <setjmp.h>

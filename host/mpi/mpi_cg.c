@@ -14,7 +14,7 @@
 #include "mpi/mpi_part.h"
 
 #include "base/context.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <math.h>
 #include <stdlib.h>

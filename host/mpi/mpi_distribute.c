@@ -13,7 +13,7 @@
 #include "base/context.h"
 #include "mesh/mesh.h"
 #include "scheme.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <limits.h>
 #include <stdlib.h>

@@ -11,7 +11,7 @@
 
 #include "mesh/check.h"
 #include "base/context.h"
-#include "measure.h"
+#include "topology/measure.h"
 #include "mesh/mesh.h"
 #include "series.h"
 

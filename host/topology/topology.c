@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Topology construction: edges by bucketing half-edges on their lower vertex. */
-#include "topology.h"
+#include "topology/topology.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
 

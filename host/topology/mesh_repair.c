@@ -15,7 +15,7 @@
  */
 #include "base/context.h"
 #include "mesh/mesh.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <stdint.h>
 #include <stdio.h>

@@ -5,11 +5,11 @@
  * distances, normal angles, flipped faces). Used by the series commands'
  * reports, the tests and the benchmarks.
  */
-#include "measure.h"
+#include "topology/measure.h"
 #include "mesh/check.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -3,7 +3,7 @@
 #include "mesh/check.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <string.h>
 
