@@ -11,7 +11,7 @@
 #include "device.h"
 #include "mesh/mesh.h"
 #include "operator.h"
-#include "scheme_refine.h"
+#include "scheme/scheme_refine.h"
 #include "topology/topology.h"
 
 #include <stdlib.h>

@@ -15,7 +15,7 @@
 #include "solve.h"
 #include "mesh/check.h"
 #include "base/context.h"
-#include "scheme.h"
+#include "scheme/scheme.h"
 #include "base/clock.h"
 
 #include <math.h>

@@ -4,7 +4,7 @@
    topology. */
 #include "stencil.h"
 #include "base/context.h"
-#include "scheme.h"
+#include "scheme/scheme.h"
 #include "topology/topology.h"
 
 #include <stdlib.h>

@@ -12,7 +12,7 @@
  */
 #include "limn.h"
 #include "mesh/mesh.h"
-#include "scheme.h"
+#include "scheme/scheme.h"
 #include "stencil.h"
 #include "reorder.h"
 #include "topology/topology.h"

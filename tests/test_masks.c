@@ -14,7 +14,7 @@
  */
 #include "support.h"
 #include "refine_oracle.h"
-#include "scheme.h"
+#include "scheme/scheme.h"
 #include "stencil.h"
 #include "topology/topology.h"
 #include "mesh/mesh.h"

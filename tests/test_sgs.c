@@ -20,7 +20,7 @@
 #include "base/context.h"
 #include "device.h"
 #include "operator.h"
-#include "scheme.h"
+#include "scheme/scheme.h"
 #include "sgs_table.h"
 
 #include <math.h>

@@ -12,7 +12,7 @@
 
 #include "base/context.h"
 #include "mesh/mesh.h"
-#include "scheme.h"
+#include "scheme/scheme.h"
 #include "topology/topology.h"
 
 #include <limits.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Limit masks of Loop and general Catmull-Clark (DESIGN.md §1). */
-#include "scheme.h"
+#include "scheme/scheme.h"
 
 #include <math.h>
 

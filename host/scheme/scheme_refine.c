@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Refinement masks of Catmull-Clark (with alpha) and Loop. */
-#include "scheme_refine.h"
+#include "scheme/scheme_refine.h"
 
 #include <math.h>
 
