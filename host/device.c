@@ -210,3 +210,39 @@ void device_norms_finish(const double *partials, size_t chunks, device_norms *ou
         out->sum_sq += partials[3 * i + 2];
     }
 }
+
+limn_status device_sgs_upload(struct limn_device *dev, const sgs_table *t, device_sgs *out)
+{
+    memset(out, 0, sizeof *out);
+    const device_ops *ops = dev->ops;
+    size_t n = t->rows, nnz = t->row_offsets[n];
+    out->rows = n;
+    out->colours = t->colours;
+    out->colour_begin = malloc((t->colours + 1) * sizeof *out->colour_begin);
+    if (!out->colour_begin)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for the Gauss-Seidel table");
+    memcpy(out->colour_begin, t->colour_begin, (t->colours + 1) * sizeof *out->colour_begin);
+    limn_status st = ops->buffer_create(dev, (n + 1) * sizeof(uint32_t), t->row_offsets,
+                                        &out->row_offsets);
+    if (!st)
+        st = ops->buffer_create(dev, n * sizeof(uint32_t), t->split, &out->split);
+    if (!st)
+        st = ops->buffer_create(dev, nnz * sizeof(uint32_t), t->columns, &out->columns);
+    if (!st)
+        st = ops->buffer_create(dev, nnz * sizeof(double), t->weights, &out->weights);
+    if (!st)
+        st = ops->buffer_create(dev, 4 * n * sizeof(double), t->info, &out->info);
+    if (st)
+        device_sgs_release(dev, out);
+    return st;
+}
+
+void device_sgs_release(struct limn_device *dev, device_sgs *d)
+{
+    device_buffer *bufs[] = {d->row_offsets, d->split, d->columns, d->weights, d->info};
+    for (int i = 0; i < 5; i++)
+        if (bufs[i])
+            dev->ops->buffer_release(dev, bufs[i]);
+    free(d->colour_begin);
+    memset(d, 0, sizeof *d);
+}

@@ -12,7 +12,8 @@
 #define LIMN_DEVICE_H
 
 #include "limn.h"
-#include "stencil.h"
+#include "stencil/sgs_table.h"
+#include "stencil/stencil.h"
 
 #define DEVICE_ROWS_PER_ITEM 256
 #define DEVICE_WORKGROUP 8
@@ -223,6 +224,11 @@ limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, 
    when present). */
 limn_status device_csr_add_float(struct limn_device *dev, device_csr *csr);
 void device_csr_release(struct limn_device *dev, device_csr *csr);
+
+/* Uploads a Gauss-Seidel table (sgs_table_build); releases it with
+   device_sgs_release. */
+limn_status device_sgs_upload(struct limn_device *dev, const sgs_table *t, device_sgs *out);
+void device_sgs_release(struct limn_device *dev, device_sgs *d);
 
 /* Finishes per-chunk partial norms in chunk order. */
 void device_norms_finish(const double *partials, size_t chunks, device_norms *out);

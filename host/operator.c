@@ -4,7 +4,7 @@
 #include "mesh/check.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
-#include "reorder.h"
+#include "stencil/reorder.h"
 #include "base/clock.h"
 
 #include <math.h>

@@ -8,7 +8,7 @@
 #define LIMN_OPERATOR_H
 
 #include "device.h"
-#include "stencil.h"
+#include "stencil/stencil.h"
 #include "topology/topology.h"
 
 typedef struct limn_operator {

@@ -14,7 +14,7 @@
 #define LIMN_REFINE_H
 
 #include "limn.h"
-#include "stencil.h"
+#include "stencil/stencil.h"
 
 typedef struct refine_plan {
     limn_scheme scheme;

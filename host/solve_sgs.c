@@ -16,7 +16,7 @@
  */
 #include "mesh/check.h"
 #include "base/context.h"
-#include "sgs_table.h"
+#include "stencil/sgs_table.h"
 #include "solve.h"
 #include "base/clock.h"
 

@@ -13,8 +13,8 @@
 #include "limn.h"
 #include "mesh/mesh.h"
 #include "scheme/scheme.h"
-#include "stencil.h"
-#include "reorder.h"
+#include "stencil/stencil.h"
+#include "stencil/reorder.h"
 #include "topology/topology.h"
 
 #include <stdio.h>

@@ -8,7 +8,7 @@
  */
 #include "limn.h"
 #include "refine.h"
-#include "stencil.h"
+#include "stencil/stencil.h"
 
 #include <stdio.h>
 #include <stdlib.h>

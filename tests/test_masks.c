@@ -15,7 +15,7 @@
 #include "support.h"
 #include "refine_oracle.h"
 #include "scheme/scheme.h"
-#include "stencil.h"
+#include "stencil/stencil.h"
 #include "topology/topology.h"
 #include "mesh/mesh.h"
 

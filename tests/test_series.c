@@ -15,7 +15,7 @@
  */
 #include "support.h"
 
-#include "stencil.h"
+#include "stencil/stencil.h"
 #include "topology/topology.h"
 
 #include <math.h>

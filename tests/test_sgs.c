@@ -21,7 +21,7 @@
 #include "device.h"
 #include "operator.h"
 #include "scheme/scheme.h"
-#include "sgs_table.h"
+#include "stencil/sgs_table.h"
 
 #include <math.h>
 #include <setjmp.h>

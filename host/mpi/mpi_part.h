@@ -28,7 +28,7 @@
 #include "device.h"
 #include "operator.h"
 #include "solve.h"
-#include "stencil.h"
+#include "stencil/stencil.h"
 
 #include <mpi.h>
 

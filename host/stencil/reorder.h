@@ -8,7 +8,7 @@
 #ifndef LIMN_REORDER_H
 #define LIMN_REORDER_H
 
-#include "stencil.h"
+#include "stencil/stencil.h"
 #include "topology/topology.h"
 
 /* order[k] = the input vertex placed at position k; rank[v] = position of

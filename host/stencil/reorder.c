@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Reverse Cuthill-McKee ordering and CSR permutation. */
-#include "reorder.h"
+#include "stencil/reorder.h"
 #include "base/context.h"
 
 #include <stdlib.h>

@@ -1,11 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* The multicolour layout of one solver block for the symmetric Gauss-Seidel
-   sweeps (device.h device_sgs; kernels/sgs.cl). */
+   sweeps (uploaded as device.h device_sgs; kernels/sgs.cl). */
 #ifndef LIMN_SGS_TABLE_H
 #define LIMN_SGS_TABLE_H
 
-#include "device.h"
-#include "stencil.h"
+#include "stencil/stencil.h"
 
 typedef struct sgs_table {
     size_t rows, colours;
@@ -30,8 +29,5 @@ typedef struct sgs_table {
 limn_status sgs_table_build(limn_context *ctx, const stencil_csr *a, const double *dinv,
                             sgs_table *out);
 void sgs_table_free(sgs_table *t);
-
-limn_status device_sgs_upload(struct limn_device *dev, const sgs_table *t, device_sgs *out);
-void device_sgs_release(struct limn_device *dev, device_sgs *d);
 
 #endif

@@ -2,7 +2,7 @@
 /* CSR tables built from the scheme's masks, rows sorted by column with
    repeated columns merged, so a table is a deterministic function of the
    topology. */
-#include "stencil.h"
+#include "stencil/stencil.h"
 #include "base/context.h"
 #include "scheme/scheme.h"
 #include "topology/topology.h"
