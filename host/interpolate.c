@@ -6,7 +6,7 @@
  */
 #include "mesh/check.h"
 #include "base/context.h"
-#include "device.h"
+#include "device/device.h"
 #include "mesh/mesh.h"
 #include "operator.h"
 #include "solve.h"

@@ -6,6 +6,7 @@
 #include "mesh/mesh.h"
 #include "stencil/reorder.h"
 #include "base/clock.h"
+#include "device/choice/choice.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -7,7 +7,7 @@
 #ifndef LIMN_OPERATOR_H
 #define LIMN_OPERATOR_H
 
-#include "device.h"
+#include "device/device.h"
 #include "stencil/stencil.h"
 #include "topology/topology.h"
 

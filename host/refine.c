@@ -8,11 +8,12 @@
  */
 #include "refine.h"
 #include "base/context.h"
-#include "device.h"
+#include "device/device.h"
 #include "mesh/mesh.h"
 #include "operator.h"
 #include "scheme/scheme_refine.h"
 #include "topology/topology.h"
+#include "device/choice/choice.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -9,7 +9,7 @@
  */
 #include "mesh/check.h"
 #include "base/context.h"
-#include "device.h"
+#include "device/device.h"
 #include "topology/measure.h"
 #include "mesh/mesh.h"
 #include "operator.h"

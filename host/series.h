@@ -3,7 +3,7 @@
 #ifndef LIMN_SERIES_H
 #define LIMN_SERIES_H
 
-#include "device.h"
+#include "device/device.h"
 #include "operator.h"
 
 #define SERIES_MAX_BUFFERS 6

@@ -2,11 +2,12 @@
 /* limn_subdivide: refine the control mesh into the surface, on the device. */
 #include "mesh/check.h"
 #include "base/context.h"
-#include "device.h"
+#include "device/device.h"
 #include "mesh/mesh.h"
 #include "operator.h"
 #include "refine.h"
 #include "base/clock.h"
+#include "device/choice/choice.h"
 
 #include <stdio.h>
 #include <stdlib.h>

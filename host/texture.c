@@ -12,12 +12,13 @@
  */
 #include "mesh/check.h"
 #include "base/context.h"
-#include "device.h"
+#include "device/device.h"
 #include "mesh/mesh.h"
 #include "operator.h"
 #include "refine.h"
 #include "series.h"
 #include "base/clock.h"
+#include "device/choice/choice.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -23,7 +23,7 @@
  * (counting it would add 32 or 16 bytes a row and flatter the rate).
  * Write-allocate traffic is not counted, as in STREAM.
  */
-#include "device.h"
+#include "device/device.h"
 #include "limn.h"
 #include "mesh/mesh.h"
 #include "operator.h"

@@ -12,8 +12,9 @@
  */
 #include "support.h"
 
-#include "device.h"
+#include "device/device.h"
 #include "solve.h"
+#include "device/choice/choice.h"
 
 #include <math.h>
 #include <setjmp.h>

@@ -9,7 +9,7 @@
  */
 #include "support.h"
 
-#include "device.h"
+#include "device/device.h"
 #include "operator.h"
 
 #include <math.h>

@@ -16,7 +16,7 @@
  *    reported; the command line.
  */
 #include "support.h"
-#include "device.h"
+#include "device/device.h"
 #include "operator.h"
 #include "osd_oracle.h"
 #include "solve_mixed.h"

@@ -18,7 +18,7 @@
 #include "support.h"
 
 #include "base/context.h"
-#include "device.h"
+#include "device/device.h"
 #include "operator.h"
 #include "scheme/scheme.h"
 #include "stencil/sgs_table.h"

@@ -10,7 +10,7 @@
  */
 #define _GNU_SOURCE /* sched_setaffinity, CPU_SET */
 #include "support.h"
-#include "threads.h"
+#include "device/threads.h"
 
 #include <sched.h>
 #include <setjmp.h>

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
-/* Context life cycle, error messages and warnings. */
+/* Context settings, error messages and warnings (its life cycle, which closes
+   the device, is in device/choice/choice.c). */
 #include "base/context.h"
-#include "device.h"
 
 #include <stdint.h>
 #include <stdio.h>
@@ -16,22 +16,6 @@ const char *limn_version(void)
 {
     return LIMN_STR(LIMN_VERSION_MAJOR) "." LIMN_STR(LIMN_VERSION_MINOR) "." LIMN_STR(
         LIMN_VERSION_PATCH);
-}
-
-limn_context *limn_context_create(void)
-{
-    limn_context *ctx = calloc(1, sizeof *ctx);
-    return ctx;
-}
-
-void limn_context_destroy(limn_context *ctx)
-{
-    if (!ctx)
-        return;
-    device_close(ctx->device);
-    free(ctx->long_message);
-    free(ctx->warnings);
-    free(ctx);
 }
 
 const char *limn_context_message(const limn_context *ctx)

@@ -9,6 +9,7 @@
 
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "device/choice/choice.h"
 
 #include <limits.h>
 #include <sched.h>

@@ -25,7 +25,7 @@
 
 #include "limn_mpi.h"
 
-#include "device.h"
+#include "device/device.h"
 #include "operator.h"
 #include "solve.h"
 #include "stencil/stencil.h"

@@ -6,7 +6,7 @@
  * 0), so the OpenCL float path is checked bit for bit, like the double one.
  */
 #include "base/context.h"
-#include "device_ref.h"
+#include "device/reference/device_ref.h"
 
 #include <math.h>
 #include <stdlib.h>

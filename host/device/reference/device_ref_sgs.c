@@ -5,7 +5,7 @@
  * order (built with -ffp-contract=off), the same chunks of rows for the
  * reductions, colour by colour, so both backends agree bit for bit.
  */
-#include "device_ref.h"
+#include "device/reference/device_ref.h"
 
 #include <math.h>
 

@@ -5,7 +5,7 @@
 #ifndef LIMN_DEVICE_REF_H
 #define LIMN_DEVICE_REF_H
 
-#include "device.h"
+#include "device/device.h"
 
 struct device_buffer {
     size_t bytes;

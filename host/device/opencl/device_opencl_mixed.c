@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* The OpenCL side of the mixed-precision refinement (kernels/mixed.cl). */
 #include "base/context.h"
-#include "device_opencl.h"
+#include "device/opencl/device_opencl.h"
 
 limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_buffer *m,
                           device_buffer *p, device_buffer *r_f, device_norms *norms)

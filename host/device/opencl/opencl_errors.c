@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* OpenCL error codes as names, for messages a person can act on. */
-#include "opencl_errors.h"
+#include "device/opencl/opencl_errors.h"
 
 const char *opencl_error_name(cl_int err)
 {

@@ -8,8 +8,8 @@
 #ifndef LIMN_DEVICE_OPENCL_H
 #define LIMN_DEVICE_OPENCL_H
 
-#include "device.h"
-#include "opencl_errors.h"
+#include "device/device.h"
+#include "device/opencl/opencl_errors.h"
 
 /* Every kernel of the program; each takes `uint rows` as its first argument. */
 typedef enum opencl_kernel_id {

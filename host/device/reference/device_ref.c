@@ -5,7 +5,8 @@
  * with FP_CONTRACT OFF), so it is the oracle for the OpenCL path.
  */
 #include "base/context.h"
-#include "device_ref.h"
+#include "device/reference/device_ref.h"
+#include "device/reference/ref_open.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -6,7 +6,7 @@
  * PoCL's rule: POCL_CACHE_DIR, else $XDG_CACHE_HOME/pocl/kcache, else
  * $HOME/.cache/pocl/kcache.
  */
-#include "opencl_pocl_cache.h"
+#include "device/opencl/opencl_pocl_cache.h"
 
 #include <errno.h>
 #include <stdio.h>

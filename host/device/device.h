@@ -206,17 +206,7 @@ device_setup_times device_setup_of(const limn_context *ctx);
 void device_setup_report(const limn_context *ctx, const device_setup_times *before,
                          limn_report *r);
 
-/* Opens the device named by ctx->device_spec (or the environment). With a
-   fallback allowed (limn_context_set_fallback, LIMN_FALLBACK=reference), an
-   OpenCL device that cannot be opened gives way to the reference backend,
-   with a warning. */
-limn_status device_open(limn_context *ctx, struct limn_device **out);
-/* The context's device, opened on first use. */
-limn_status device_get(limn_context *ctx, struct limn_device **out);
 void device_close(struct limn_device *dev);
-
-limn_status device_open_reference(limn_context *ctx, struct limn_device **out);
-limn_status device_open_opencl(limn_context *ctx, const char *spec, struct limn_device **out);
 
 /* Uploads a host CSR table; releases it with device_csr_release. */
 limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, device_csr *out);

@@ -5,13 +5,13 @@
  * device limn can use (opencl_usable.c): unusable ones are skipped with a
  * warning, unless the choice named one, which is then an error saying why.
  */
-#include "opencl_select.h"
+#include "device/opencl/opencl_select.h"
 #include "base/context.h"
-#include "device.h"
-#include "opencl_errors.h"
-#include "opencl_pocl_cache.h"
-#include "opencl_usable.h"
-#include "threads.h"
+#include "device/device.h"
+#include "device/opencl/opencl_errors.h"
+#include "device/opencl/opencl_pocl_cache.h"
+#include "device/opencl/opencl_usable.h"
+#include "device/threads.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -5,9 +5,9 @@
  * the first platform query, so the decision is taken once per process under
  * a lock and remembered; that record is the only state shared by contexts.
  */
-#include "threads.h"
+#include "device/threads.h"
 #include "base/context.h"
-#include "device.h"
+#include "device/device.h"
 
 #include <errno.h>
 #include <limits.h>

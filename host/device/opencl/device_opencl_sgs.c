@@ -4,7 +4,7 @@
    waiting (the queue is in order); the forward sweep's partials land in one
    stretch of the partials buffer, colour after colour, and are read once. */
 #include "base/context.h"
-#include "device_opencl.h"
+#include "device/opencl/device_opencl.h"
 
 static limn_status set_table(struct limn_device *dev, cl_kernel k, cl_uint at,
                              const device_sgs *a, int with_split)

@@ -6,8 +6,8 @@
  * and OpenCL 1.2 (clEnqueueFillBuffer, CL_PROGRAM_KERNEL_NAMES). Names match
  * as substrings, never exactly (PoCL's device names carry the CPU model).
  */
-#include "opencl_usable.h"
-#include "device.h"
+#include "device/opencl/opencl_usable.h"
+#include "device/device.h"
 
 #include <ctype.h>
 #include <stdio.h>

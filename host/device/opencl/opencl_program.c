@@ -7,8 +7,8 @@
  * compiler start-up), so splitting would multiply the warm cost.
  */
 #include "base/context.h"
-#include "device_opencl.h"
-#include "opencl_pocl_cache.h"
+#include "device/opencl/device_opencl.h"
+#include "device/opencl/opencl_pocl_cache.h"
 #include "base/clock.h"
 
 #include <stdio.h>

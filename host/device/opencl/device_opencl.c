@@ -3,9 +3,10 @@
    double-precision operations (the program: opencl_program.c; the float
    operations: device_opencl_mixed.c). */
 #include "base/context.h"
-#include "device_opencl.h"
-#include "opencl_select.h"
+#include "device/opencl/device_opencl.h"
+#include "device/opencl/opencl_select.h"
 #include "base/clock.h"
+#include "device/opencl/opencl_open.h"
 
 #include <stdio.h>
 #include <stdlib.h>
