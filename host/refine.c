@@ -10,7 +10,7 @@
 #include "base/context.h"
 #include "device/device.h"
 #include "mesh/mesh.h"
-#include "operator.h"
+#include "solve/operator.h"
 #include "scheme/scheme_refine.h"
 #include "topology/topology.h"
 #include "device/choice/choice.h"

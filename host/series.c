@@ -12,7 +12,7 @@
 #include "device/device.h"
 #include "topology/measure.h"
 #include "mesh/mesh.h"
-#include "operator.h"
+#include "solve/operator.h"
 #include "series.h"
 #include "base/clock.h"
 

@@ -4,7 +4,7 @@
 #define LIMN_SERIES_H
 
 #include "device/device.h"
-#include "operator.h"
+#include "solve/operator.h"
 
 #define SERIES_MAX_BUFFERS 6
 

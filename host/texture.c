@@ -14,7 +14,7 @@
 #include "base/context.h"
 #include "device/device.h"
 #include "mesh/mesh.h"
-#include "operator.h"
+#include "solve/operator.h"
 #include "refine.h"
 #include "series.h"
 #include "base/clock.h"

@@ -12,7 +12,7 @@
 #include "device/device.h"
 #include "limn.h"
 #include "mesh/mesh.h"
-#include "operator.h"
+#include "solve/operator.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -14,7 +14,7 @@
 #include "limn_mpi.h"
 
 #include "mpi/mpi_part.h"
-#include "operator.h"
+#include "solve/operator.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -26,7 +26,7 @@
 #include "device/device.h"
 #include "limn.h"
 #include "mesh/mesh.h"
-#include "operator.h"
+#include "solve/operator.h"
 #include "base/clock.h"
 
 #include <stdio.h>

@@ -13,7 +13,7 @@
 #include "support.h"
 
 #include "device/device.h"
-#include "solve.h"
+#include "solve/solve.h"
 #include "device/choice/choice.h"
 
 #include <math.h>

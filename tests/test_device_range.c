@@ -10,7 +10,7 @@
 #include "support.h"
 
 #include "device/device.h"
-#include "operator.h"
+#include "solve/operator.h"
 
 #include <math.h>
 #include <setjmp.h>

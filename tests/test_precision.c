@@ -17,9 +17,9 @@
  */
 #include "support.h"
 #include "device/device.h"
-#include "operator.h"
+#include "solve/operator.h"
 #include "osd_oracle.h"
-#include "solve_mixed.h"
+#include "solve/solve_mixed.h"
 #include "topology/topology.h"
 
 #include <math.h>

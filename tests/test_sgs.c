@@ -19,7 +19,7 @@
 
 #include "base/context.h"
 #include "device/device.h"
-#include "operator.h"
+#include "solve/operator.h"
 #include "scheme/scheme.h"
 #include "stencil/sgs_table.h"
 

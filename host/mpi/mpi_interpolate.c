@@ -12,7 +12,8 @@
 #include "mesh/check.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
-#include "solve.h"
+#include "solve/solve.h"
+#include "solve/iterate.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -26,8 +26,8 @@
 #include "limn_mpi.h"
 
 #include "device/device.h"
-#include "operator.h"
-#include "solve.h"
+#include "solve/operator.h"
+#include "solve/solve.h"
 #include "stencil/stencil.h"
 
 #include <mpi.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Building the limit operator of a mesh on the context's device. */
-#include "operator.h"
+#include "solve/operator.h"
 #include "mesh/check.h"
 #include "base/context.h"
 #include "mesh/mesh.h"

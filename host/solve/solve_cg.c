@@ -12,7 +12,7 @@
  * the stop test (max |z_i| <= tol) is free. The three coordinates are one
  * stacked system (block diagonal), so one alpha and beta per step.
  */
-#include "solve.h"
+#include "solve/solve.h"
 #include "mesh/check.h"
 #include "base/context.h"
 #include "scheme/scheme.h"

@@ -3,7 +3,8 @@
 #ifndef LIMN_SOLVE_H
 #define LIMN_SOLVE_H
 
-#include "operator.h"
+#include "solve/operator.h"
+#include "solve/iterate.h"
 
 typedef struct solve_stats {
     double products;     /* stencil products, in units of one full A x */
@@ -63,35 +64,6 @@ limn_status cg_watch_step(limn_context *ctx, cg_watch *w, double residual, solve
 /* LIMN_OK when p . S p is positive, else the breakdown message. */
 limn_status cg_curvature(limn_context *ctx, double pq, solve_stats *stats);
 
-/* The updates of solve_iterate. */
-typedef enum solve_kind { SOLVE_PAPER, SOLVE_WEIGHTED, SOLVE_CHEBYSHEV } solve_kind;
-solve_kind solve_kind_of(limn_method method); /* AUTO is resolved before */
-
-/* One step from P in buffer cur: chebyshev: P_next = P + c1 (P - P_prev) +
-   c2 (M - A P), P_prev in buffer 1 - cur in, P_next out; otherwise P_next =
-   P + omega (M - A P) into buffer 1 - cur. norms: of the residual M - A P
-   over all vertices. */
-typedef struct solve_step {
-    solve_kind kind;
-    double omega, c1, c2;
-} solve_step;
-typedef limn_status (*solve_step_fn)(void *user, int cur, const solve_step *step,
-                                     device_norms *norms);
-
-/*
- * The seeds' iteration, its weighted form and Chebyshev (interpolate.c), on
- * any way of running a step (one device, or MPI ranks): stop when max |r| <=
- * tol * diag, singular / cap / divergence detection with messages; *which
- * gets the buffer holding the answer. vertices: for the mean error; scheme
- * and alpha: for the Chebyshev interval and the messages. Every decision reads
- * the norms step() returns, so ranks given the same norms decide alike.
- */
-limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, size_t vertices,
-                          limn_scheme scheme, double alpha, const limn_interpolate_options *o,
-                          double diag, solve_kind kind, int *which, limn_report *r);
-
-/* Refuses bad interpolation options with a message (interpolate.c). */
-limn_status solve_check_options(limn_context *ctx, const limn_interpolate_options *o);
 /*
  * The Chebyshev iteration's schedule (solve_chebyshev.c): interval [a, 1],
  * coefficients of each fused step, and the restart rule when the residual

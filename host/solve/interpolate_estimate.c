@@ -20,8 +20,9 @@
 #include "mesh/check.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
-#include "solve.h"
-#include "solve_mixed.h"
+#include "solve/solve.h"
+#include "solve/solve_mixed.h"
+#include "solve/iterate.h"
 
 #include <unistd.h>
 

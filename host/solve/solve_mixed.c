@@ -8,11 +8,12 @@
  * float, where those seven digits are relative to r. Each outer step thus
  * gains up to INNER_REDUCTION, and the stop test is the double iteration's.
  */
-#include "solve_mixed.h"
+#include "solve/solve_mixed.h"
 #include "mesh/check.h"
 #include "base/context.h"
-#include "solve.h"
+#include "solve/solve.h"
 #include "base/clock.h"
+#include "solve/iterate.h"
 
 #include <math.h>
 

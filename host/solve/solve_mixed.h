@@ -4,7 +4,7 @@
 #ifndef LIMN_SOLVE_MIXED_H
 #define LIMN_SOLVE_MIXED_H
 
-#include "operator.h"
+#include "solve/operator.h"
 
 /* Below this many vertices `auto` runs in double (README "Precision": float
    measured 3-5% slower at 48k, 0-7% faster at 134k, 9-14% at 194k-2.1M). */

@@ -20,7 +20,7 @@
  * gives the eigenvalue that dominates; a is lowered below it and the
  * recurrence restarts from the current iterate.
  */
-#include "solve.h"
+#include "solve/solve.h"
 
 #include <math.h>
 #include <string.h>

@@ -17,7 +17,7 @@
 #include "mesh/check.h"
 #include "base/context.h"
 #include "stencil/sgs_table.h"
-#include "solve.h"
+#include "solve/solve.h"
 #include "base/clock.h"
 
 #include <math.h>
