@@ -15,7 +15,7 @@
 #include "device/device.h"
 #include "mesh/mesh.h"
 #include "solve/operator.h"
-#include "refine.h"
+#include "refine/refine.h"
 #include "series.h"
 #include "base/clock.h"
 #include "device/choice/choice.h"

@@ -7,7 +7,7 @@
  *   refine_factor MESH LEVELS loop|catmark
  */
 #include "limn.h"
-#include "refine.h"
+#include "refine/refine.h"
 #include "stencil/stencil.h"
 
 #include <stdio.h>

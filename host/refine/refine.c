@@ -6,7 +6,7 @@
  * depends on ever more base vertices) while the per-level tables stay at
  * 4-9 entries a row; see README "Subdivision surfaces" for the measurement.
  */
-#include "refine.h"
+#include "refine/refine.h"
 #include "base/context.h"
 #include "device/device.h"
 #include "mesh/mesh.h"
