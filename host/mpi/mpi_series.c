@@ -13,7 +13,7 @@
 #include "base/context.h"
 #include "topology/measure.h"
 #include "mesh/mesh.h"
-#include "series.h"
+#include "series/series.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -16,7 +16,7 @@
 #include "mesh/mesh.h"
 #include "solve/operator.h"
 #include "refine/refine.h"
-#include "series.h"
+#include "series/series.h"
 #include "base/clock.h"
 #include "device/choice/choice.h"
 

@@ -13,7 +13,7 @@
 #include "topology/measure.h"
 #include "mesh/mesh.h"
 #include "solve/operator.h"
-#include "series.h"
+#include "series/series.h"
 #include "base/clock.h"
 
 #include <math.h>
