@@ -44,31 +44,34 @@ done < <(find . -maxdepth 1 -type f \( -name '*.c' -o -name '*.h' \) -printf '%P
 declare -A seen=()
 while IFS= read -r -d '' f; do
     dir=$(dirname "$f")
-    if [[ -z ${rank[$dir]+x} ]]; then
-        [[ -n ${seen[$dir]+x} ]] || complain "folder host/$dir has no rank in tests/check_layers.sh"
+    if [[ -z ${rank[$dir]+x} && -z ${seen[$dir]+x} ]]; then
+        complain "folder host/$dir has no rank in tests/check_layers.sh"
         seen[$dir]=1
+    fi
+done < <(find . -mindepth 2 -type f \( -name '*.c' -o -name '*.h' \) -printf '%P\0')
+
+# every quoted include: FILE:LINE:TEXT
+while IFS= read -r hit; do
+    f=${hit%%:*} rest=${hit#*:}
+    n=${rest%%:*} line=${rest#*:}
+    f=${f#./} dir=$(dirname "$f")
+    [[ $dir != . && -n ${rank[$dir]+x} ]] || continue # reported above
+    [[ $line =~ ^[[:space:]]*#[[:space:]]*include[[:space:]]*\"([^\"]+)\" ]] || continue
+    inc=${BASH_REMATCH[1]}
+    case $inc in limn.h | limn_mpi.h) continue ;; esac
+    if [[ ! -f $inc ]]; then
+        complain "host/$f:$n: #include \"$inc\" is not a path from host/ to a file"
         continue
     fi
-    n=0
-    while IFS= read -r line; do
-        n=$((n + 1))
-        [[ $line =~ ^[[:space:]]*#[[:space:]]*include[[:space:]]*\"([^\"]+)\" ]] || continue
-        inc=${BASH_REMATCH[1]}
-        case $inc in limn.h | limn_mpi.h) continue ;; esac
-        if [[ ! -f $inc ]]; then
-            complain "host/$f:$n: #include \"$inc\" is not a path from host/ to a file"
-            continue
-        fi
-        to=$(dirname "$inc")
-        [[ $to == "$dir" ]] && continue
-        if [[ -z ${rank[$to]+x} ]]; then
-            complain "host/$f:$n: includes $inc from folder host/$to, which has no rank"
-        elif ((rank[$to] >= rank[$dir])); then
-            complain "host/$f:$n: $dir (rank ${rank[$dir]}) includes $inc of $to (rank ${rank[$to]}): a layer includes only lower ones"
-        fi
-        edges=$((edges + 1))
-    done <"$f"
-done < <(find . -mindepth 2 -type f \( -name '*.c' -o -name '*.h' \) -printf '%P\0' | sort -z)
+    to=$(dirname "$inc")
+    [[ $to == "$dir" ]] && continue
+    if [[ -z ${rank[$to]+x} ]]; then
+        complain "host/$f:$n: includes $inc from folder host/$to, which has no rank"
+    elif ((rank[$to] >= rank[$dir])); then
+        complain "host/$f:$n: $dir (rank ${rank[$dir]}) includes $inc of $to (rank ${rank[$to]}): a layer includes only lower ones"
+    fi
+    edges=$((edges + 1))
+done < <(grep -rnE --include='*.c' --include='*.h' '^[[:space:]]*#[[:space:]]*include[[:space:]]*"' . | sort)
 
 [[ $fail -eq 0 ]] || { echo "check_layers: $fail problem(s)" >&2; exit 1; }
 echo "check_layers: ${#rank[@]} layers, $edges includes across folders, every one downwards"
