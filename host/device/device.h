@@ -47,7 +47,7 @@ typedef struct device_norms {
     double sum_sq;    /* sum |r_i|^2 */
 } device_norms;
 
-/* The table of the multicolour symmetric Gauss-Seidel sweeps (host/sgs_table.c,
+/* The table of the multicolour symmetric Gauss-Seidel sweeps (host/stencil/sgs_table.c,
    kernels/sgs.cl) for S = D_A^-1 A on one solver block. Rows are in colour
    order, colour c owning rows [colour_begin[c], colour_begin[c + 1]); no
    entry joins two rows of one colour. Row i's off-diagonal entries are
@@ -64,7 +64,7 @@ typedef struct device_sgs {
     device_buffer *info;          /* 4 doubles a row */
 } device_sgs;
 
-/* The vectors of the SGS-preconditioned conjugate gradients (host/solve_sgs.c),
+/* The vectors of the SGS-preconditioned conjugate gradients (host/solve/solve_sgs.c),
    4 doubles a row: right-hand side b (of S x = b), iterate x, residual
    r = b - S x, the transformed residual rhat and direction phat, and the
    sweeps' t, u and st = S t. */
@@ -123,7 +123,7 @@ typedef struct device_ops {
     /* Norms of x (x, y, z of each of `rows` vectors), finished in chunk order. */
     limn_status (*norms)(struct limn_device *dev, size_t rows, device_buffer *x,
                          device_norms *out);
-    /* Mixed-precision refinement (kernels/mixed.cl, host/solve_mixed.c).
+    /* Mixed-precision refinement (kernels/mixed.cl, host/solve/solve_mixed.c).
        Float vectors are 4 floats per row. residual_f: r = m - A p in double,
        stored rounded to float in r_f; norms of the double r. */
     limn_status (*residual_f)(struct limn_device *dev, const device_csr *a, device_buffer *m,
@@ -141,7 +141,7 @@ typedef struct device_ops {
     /* w_f = w rounded to float, `count` values. */
     limn_status (*to_float)(struct limn_device *dev, size_t count, device_buffer *w,
                             device_buffer *w_f);
-    /* SGS-preconditioned CG (host/solve_sgs.c, kernels/sgs.cl; C = (D + L)
+    /* SGS-preconditioned CG (host/solve/solve_sgs.c, kernels/sgs.cl; C = (D + L)
        D^-1/2 with S = L + D + U, steps on C^-1 S C^-T).
        The backward sweep, colours high to low: phat = rhat + beta phat, then
        t = (D + U)^-1 D^1/2 phat. */

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * limn_interpolate over MPI: the iteration of interpolate.c (solve_iterate,
+ * limn_interpolate over MPI: the iteration of solve/iterate.c (solve_iterate,
  * the same stop test, weights and messages) with each step run as an
  * overlapped product on every rank's rows and the residual norms reduced
  * over the ranks. The stop test uses the maximum, which is exact under any

@@ -32,7 +32,7 @@
 /* An outer step that does not halve the double residual hands over to the
    double iteration, whose stall test then names a singular operator. */
 #define OUTER_GAIN 0.5
-/* Steps of the weighted method's probe of the contraction (interpolate.c). */
+/* Steps of the weighted method's probe of the contraction (solve/iterate.c). */
 #define WEIGHTED_PROBE 8
 
 const char *limn_precision_name(limn_precision p)
