@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""How the Chebyshev iteration's lower bound a was chosen (host/solve_chebyshev.c).
+"""How the Chebyshev iteration's lower bound a was chosen (host/solve/solve_chebyshev.c).
 
     bash scripts/build.sh -DLIMN_BUILD_PERF=ON      # builds build/perf/export_operator
     python3 perf/chebyshev_bounds.py [--build build] [MESH:SCHEME ...]

@@ -11,11 +11,11 @@
  * order, as a solve renumbers a mesh whose rows hop (README "Locality").
  */
 #include "limn.h"
-#include "mesh.h"
-#include "scheme.h"
-#include "stencil.h"
-#include "reorder.h"
-#include "topology.h"
+#include "mesh/mesh.h"
+#include "scheme/scheme.h"
+#include "stencil/stencil.h"
+#include "stencil/reorder.h"
+#include "topology/topology.h"
 
 #include <stdio.h>
 #include <stdlib.h>

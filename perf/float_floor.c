@@ -9,10 +9,10 @@
  * limn's float path refines in double rather than iterating P in float.
  *   float_floor MESH loop|catmark [steps, default 300]
  */
-#include "device.h"
+#include "device/device.h"
 #include "limn.h"
-#include "mesh.h"
-#include "operator.h"
+#include "mesh/mesh.h"
+#include "solve/operator.h"
 
 #include <stdio.h>
 #include <stdlib.h>

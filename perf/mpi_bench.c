@@ -13,8 +13,8 @@
  */
 #include "limn_mpi.h"
 
-#include "mpi_part.h"
-#include "operator.h"
+#include "mpi/mpi_part.h"
+#include "solve/operator.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,14 +1,14 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Measures the design choice of host/refine.c: refinement level by level (one
+ * Measures the design choice of host/refine/refine.c: refinement level by level (one
  * small CSR table per step, applied in turn) against one table composed from
  * the base mesh to the finest level ("factorised"). Prints entries, bytes and
  * seconds for both, as one JSON line.
  *   refine_factor MESH LEVELS loop|catmark
  */
 #include "limn.h"
-#include "refine.h"
-#include "stencil.h"
+#include "refine/refine.h"
+#include "stencil/stencil.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -23,10 +23,11 @@
  * (counting it would add 32 or 16 bytes a row and flatter the rate).
  * Write-allocate traffic is not counted, as in STREAM.
  */
-#include "device.h"
+#include "device/device.h"
 #include "limn.h"
-#include "mesh.h"
-#include "operator.h"
+#include "mesh/mesh.h"
+#include "solve/operator.h"
+#include "base/clock.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -8,7 +8,7 @@
  * caller's size (a canary after a truncated struct stays intact, also under
  * ASan: scripts/sanitize.sh).
  */
-#include "abi.h"
+#include "base/abi.h"
 #include "api_expect.h"
 
 #include <setjmp.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The Chebyshev iteration (host/solve_chebyshev.c + the cheb_step kernel)
+ * The Chebyshev iteration (host/solve/solve_chebyshev.c + the cheb_step kernel)
  * against its closed form. On a diagonal operator with eigenvalues lambda_i
  * the residual after k steps is exactly
  *     r_k(lambda) = T_k((theta - lambda) / delta) / T_k(sigma) * r_0(lambda),
@@ -12,8 +12,9 @@
  */
 #include "support.h"
 
-#include "device.h"
-#include "solve.h"
+#include "device/device.h"
+#include "solve/solve.h"
+#include "device/choice/choice.h"
 
 #include <math.h>
 #include <setjmp.h>

@@ -9,8 +9,8 @@
  */
 #include "support.h"
 
-#include "device.h"
-#include "operator.h"
+#include "device/device.h"
+#include "solve/operator.h"
 
 #include <math.h>
 #include <setjmp.h>

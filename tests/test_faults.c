@@ -6,7 +6,7 @@
  * what to do and no output; with the fallback allowed (--fallback reference
  * or LIMN_FALLBACK=reference) the run completes on the reference backend,
  * says so in a warning, and writes exactly the reference backend's bytes.
- * Faults are injected with the test-only LIMN_TEST_FAULT hook (host/device.h)
+ * Faults are injected with the test-only LIMN_TEST_FAULT hook (host/device/device.h)
  * and, for the missing ICD, for real with OCL_ICD_VENDORS naming an empty
  * directory.
  */

@@ -13,7 +13,7 @@
 #include "support.h"
 #include "osd_oracle.h"
 #include "refine_oracle.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <math.h>
 #include <setjmp.h>

@@ -14,7 +14,7 @@
  */
 #include "support.h"
 
-#include "operator.h"
+#include "solve/operator.h"
 
 #include <setjmp.h>
 #include <stdarg.h>

@@ -14,10 +14,10 @@
  */
 #include "support.h"
 #include "refine_oracle.h"
-#include "scheme.h"
-#include "stencil.h"
-#include "topology.h"
-#include "mesh.h"
+#include "scheme/scheme.h"
+#include "stencil/stencil.h"
+#include "topology/topology.h"
+#include "mesh/mesh.h"
 
 #include <math.h>
 #include <setjmp.h>

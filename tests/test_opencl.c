@@ -11,8 +11,8 @@
  *  - an unwritable PoCL kernel cache named as the cause of "no device".
  */
 #include "support.h"
-#include "device.h"
-#include "opencl_usable.h"
+#include "device/device.h"
+#include "device/opencl/opencl_usable.h"
 
 #include <setjmp.h>
 #include <stdarg.h>

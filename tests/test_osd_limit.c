@@ -15,8 +15,8 @@
  */
 #include "support.h"
 #include "osd_oracle.h"
-#include "topology.h"
-#include "mesh.h"
+#include "topology/topology.h"
+#include "mesh/mesh.h"
 
 #include <math.h>
 #include <setjmp.h>

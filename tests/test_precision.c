@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The float path (issue 5): mixed-precision refinement, residuals in double,
- * corrections in float (host/solve_mixed.c, kernels/mixed.cl).
- *  - Its kernels against their C twins (host/device_ref_mixed.c): the same
+ * corrections in float (host/solve/solve_mixed.c, kernels/mixed.cl).
+ *  - Its kernels against their C twins (host/device/reference/device_ref_mixed.c): the same
  *    IEEE operations in the same order with contraction off, and the norms
  *    summed in double with sqrt in double (correctly rounded on both), so
  *    the agreement bound is zero: bit-identical floats and doubles, one
@@ -16,11 +16,11 @@
  *    reported; the command line.
  */
 #include "support.h"
-#include "device.h"
-#include "operator.h"
+#include "device/device.h"
+#include "solve/operator.h"
 #include "osd_oracle.h"
-#include "solve_mixed.h"
-#include "topology.h"
+#include "solve/solve_mixed.h"
+#include "topology/topology.h"
 
 #include <math.h>
 #include <setjmp.h>

@@ -15,8 +15,8 @@
  */
 #include "support.h"
 
-#include "stencil.h"
-#include "topology.h"
+#include "stencil/stencil.h"
+#include "topology/topology.h"
 
 #include <math.h>
 #include <setjmp.h>

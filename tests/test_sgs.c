@@ -2,10 +2,10 @@
 /*
  * The pieces of the SGS-preconditioned conjugate gradients (--method sgs),
  * checked from outside:
- * - the multicolour table (host/sgs_table.c): its order is a permutation,
+ * - the multicolour table (host/stencil/sgs_table.c): its order is a permutation,
  *   no entry joins two rows of one colour, entries before split[i] have
  *   lower colours and the rest higher ones, and S = dinv A is symmetric;
- * - the sweeps (kernels/sgs.cl, host/device_ref_sgs.c) against the
+ * - the sweeps (kernels/sgs.cl, host/device/reference/device_ref_sgs.c) against the
  *   definitions, computed densely without Eisenstat's trick: the start sweep's
  *   r = b - S x, u = (D + L)^-1 r; a step's t = (D + U)^-1 D^1/2 phat and
  *   D^1/2 (t + u) = C^-1 S C^-T phat with C = (D + L) D^-1/2 (a backward
@@ -17,11 +17,11 @@
  */
 #include "support.h"
 
-#include "context.h"
-#include "device.h"
-#include "operator.h"
-#include "scheme.h"
-#include "sgs_table.h"
+#include "base/context.h"
+#include "device/device.h"
+#include "solve/operator.h"
+#include "scheme/scheme.h"
+#include "stencil/sgs_table.h"
 
 #include <math.h>
 #include <setjmp.h>

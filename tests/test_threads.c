@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The OpenCL runtime's thread count (host/threads.c): cores counted inside a
+ * The OpenCL runtime's thread count (host/device/threads.c): cores counted inside a
  * CPU set on synthetic hwloc topologies (SMT siblings, no core level); the
  * precedence of the user's variables, the API and the binding; the binding
  * of this process against an independent count from /sys; and end to end,
@@ -10,7 +10,7 @@
  */
 #define _GNU_SOURCE /* sched_setaffinity, CPU_SET */
 #include "support.h"
-#include "threads.h"
+#include "device/threads.h"
 
 #include <sched.h>
 #include <setjmp.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn bands: a mesh as bands of its series, one mesh per band. */
-#include "cli_series.h"
+#include "cli/cli_series.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* Shared CLI pieces: option values, errors, progress, JSON reports. */
-#include "cli.h"
-#include "atomic_file.h"
-#include "output_path.h"
-#include "c_locale.h"
-#include "context.h"
+#include "cli/cli.h"
+#include "base/atomic_file.h"
+#include "base/output_path.h"
+#include "base/c_locale.h"
+#include "base/context.h"
 
 #include <errno.h>
 #include <limits.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn denoise: seed 000 eq. 8, with the volume change reported. */
-#include "cli_series.h"
+#include "cli/cli_series.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn devices: the OpenCL devices and how to pick one. */
-#include "cli.h"
+#include "cli/cli.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* limn info: what a mesh is made of, as text or JSON on stdout. */
-#include "cli.h"
-#include "c_locale.h"
-#include "context.h"
+#include "cli/cli.h"
+#include "base/c_locale.h"
+#include "base/context.h"
 
 #include <string.h>
 

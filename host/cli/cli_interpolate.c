@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* limn interpolate: solve for the control mesh, write it and a report. */
-#include "cli.h"
-#include "atomic_file.h"
-#include "mesh_io.h"
+#include "cli/cli.h"
+#include "base/atomic_file.h"
+#include "mesh/io/dispatch.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn morph: frames from FROM to TO by seed 000 eq. 9, or the linear blend. */
-#include "cli_series.h"
+#include "cli/cli_series.h"
 
 #include <math.h>
 #include <stdlib.h>

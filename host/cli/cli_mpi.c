@@ -8,9 +8,9 @@
  * that all ranks exit with the same status and the message is printed once.
  * The other commands refuse to run on several ranks.
  */
-#include "cli.h"
+#include "cli/cli.h"
 
-#include "context.h"
+#include "base/context.h"
 #include "limn_mpi.h"
 
 #include <stdlib.h>

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* limn render: a headless PNG picture of a mesh. */
-#include "cli_series.h"
-#include "c_locale.h"
+#include "cli/cli_series.h"
+#include "base/c_locale.h"
 
 #include <ctype.h>
 #include <stdlib.h>

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* Shared option handling, loading and reports of the series subcommands. */
-#include "cli_series.h"
-#include "atomic_file.h"
-#include "mesh_io.h"
+#include "cli/cli_series.h"
+#include "base/atomic_file.h"
+#include "mesh/io/dispatch.h"
 
 #include <stdlib.h>
 #include <string.h>

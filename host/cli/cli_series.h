@@ -4,7 +4,7 @@
 #ifndef LIMN_CLI_SERIES_H
 #define LIMN_CLI_SERIES_H
 
-#include "cli.h"
+#include "cli/cli.h"
 
 typedef struct series_cli {
     const char *cmd;          /* "denoise" etc. */

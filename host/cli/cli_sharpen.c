@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn sharpen: T_{k+1} = T_k + sum_{i=m..n} (E - A)^i T_k (seed 000 §6). */
-#include "cli_series.h"
+#include "cli/cli_series.h"
 
 #include <string.h>
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn smooth: the partial sum of the first N bands of the series. */
-#include "cli_series.h"
+#include "cli/cli_series.h"
 
 #include <string.h>
 

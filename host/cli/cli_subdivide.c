@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* limn subdivide: refine a control mesh into its subdivision surface. */
-#include "cli.h"
-#include "atomic_file.h"
-#include "mesh_io.h"
+#include "cli/cli.h"
+#include "base/atomic_file.h"
+#include "mesh/io/dispatch.h"
 
 #include <stdlib.h>
 #include <string.h>

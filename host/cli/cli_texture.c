@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn texture: procedural Perlin texture through the interpolation (seed 000 §5). */
-#include "cli_series.h"
+#include "cli/cli_series.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn: command dispatch. */
-#include "cli.h"
+#include "cli/cli.h"
 
 #include <signal.h>
 #include <locale.h>

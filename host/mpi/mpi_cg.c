@@ -11,10 +11,10 @@
  * rows, so the result differs from the single process's by rounding only
  * (README "MPI" gives the measured difference).
  */
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 
-#include "context.h"
-#include "topology.h"
+#include "base/context.h"
+#include "topology/topology.h"
 
 #include <math.h>
 #include <stdlib.h>

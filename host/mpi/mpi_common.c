@@ -5,10 +5,11 @@
  * and gathered to the root, and the device of each rank.
  */
 #define _GNU_SOURCE /* sched_getaffinity: the cores this rank may use */
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 
-#include "context.h"
-#include "mesh.h"
+#include "base/context.h"
+#include "mesh/mesh.h"
+#include "device/choice/choice.h"
 
 #include <limits.h>
 #include <sched.h>

@@ -8,12 +8,12 @@
  * product bit for bit equal to the single process on any rank count. The
  * cost is a serial build on the root (measured in README "MPI").
  */
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 
-#include "context.h"
-#include "mesh.h"
-#include "scheme.h"
-#include "topology.h"
+#include "base/context.h"
+#include "mesh/mesh.h"
+#include "scheme/scheme.h"
+#include "topology/topology.h"
 
 #include <limits.h>
 #include <stdlib.h>

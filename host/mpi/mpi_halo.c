@@ -7,9 +7,9 @@
  * go to the device in one write. Rows free of ghost columns run between
  * posting and waiting.
  */
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 
-#include "context.h"
+#include "base/context.h"
 
 #include <stdlib.h>
 #include <string.h>

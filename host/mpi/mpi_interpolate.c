@@ -1,18 +1,19 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * limn_interpolate over MPI: the iteration of interpolate.c (solve_iterate,
+ * limn_interpolate over MPI: the iteration of solve/iterate.c (solve_iterate,
  * the same stop test, weights and messages) with each step run as an
  * overlapped product on every rank's rows and the residual norms reduced
  * over the ranks. The stop test uses the maximum, which is exact under any
  * reduction order, and every row is summed in the single process's order, so
  * the paper iteration gives the single process's bits and iteration count.
  */
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 
-#include "check.h"
-#include "context.h"
-#include "mesh.h"
-#include "solve.h"
+#include "mesh/check.h"
+#include "base/context.h"
+#include "mesh/mesh.h"
+#include "solve/solve.h"
+#include "solve/iterate.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -25,11 +25,11 @@
 
 #include "limn_mpi.h"
 
-#include "abi.h"
-#include "device.h"
-#include "operator.h"
-#include "solve.h"
-#include "stencil.h"
+#include "base/abi.h"
+#include "device/device.h"
+#include "solve/operator.h"
+#include "solve/solve.h"
+#include "stencil/stencil.h"
 
 #include <mpi.h>
 

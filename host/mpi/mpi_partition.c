@@ -6,10 +6,10 @@
  * without edges and several components are just a disconnected graph: METIS
  * takes both. One part, or no more vertices than parts, needs no METIS.
  */
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 
-#include "context.h"
-#include "mesh.h"
+#include "base/context.h"
+#include "mesh/mesh.h"
 
 #include <limits.h>
 #include <metis.h>

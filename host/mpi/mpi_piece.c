@@ -5,10 +5,10 @@
  * faces (a face on a partition boundary is in the piece of every rank owning
  * one of its vertices). Built on the root from the gathered result and sent.
  */
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 
-#include "context.h"
-#include "mesh.h"
+#include "base/context.h"
+#include "mesh/mesh.h"
 
 #include <limits.h>
 #include <stdlib.h>

@@ -7,13 +7,13 @@
  * order, so the results are the single process's bits. Measures that need
  * the whole mesh (volumes, frames) are taken on the root after a gather.
  */
-#include "mpi_part.h"
+#include "mpi/mpi_part.h"
 
-#include "check.h"
-#include "context.h"
-#include "measure.h"
-#include "mesh.h"
-#include "series.h"
+#include "mesh/check.h"
+#include "base/context.h"
+#include "topology/measure.h"
+#include "mesh/mesh.h"
+#include "series/series.h"
 
 #include <math.h>
 #include <stdio.h>

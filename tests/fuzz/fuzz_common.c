@@ -5,7 +5,7 @@
 #endif
 #include "fuzz_common.h"
 #include "limn.h"
-#include "mesh_io.h" /* ply_write into memory, for the round trip */
+#include "mesh/io/formats.h" /* ply_write into memory, for the round trip */
 
 #include <fcntl.h>
 #include <math.h>

@@ -1,0 +1,243 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The size fields of limn.h's options and report structs (abi.h, limn.h's
+ * top comment): checked on entry, options copied in over the defaults,
+ * reports copied out within the caller's size.
+ */
+#include "base/abi.h"
+
+#include "base/context.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+/* A size beyond this is no struct of limn's: an uninitialised field. */
+#define ABI_MAX_SIZE ((size_t)1 << 16)
+
+/* Bytes up to the end of a field: the first released layout ends at its
+   last field (padding after it not required). */
+#define ABI_END(type, field) (offsetof(type, field) + sizeof(((type *)0)->field))
+
+#define ABI_FLAT(name, type, init, last)                                                           \
+    const abi_layout name = {#type, init, sizeof(type), ABI_END(type, last), NULL}
+
+ABI_FLAT(abi_repair_options, limn_repair_options, "limn_repair_options_default()", duplicate_faces);
+ABI_FLAT(abi_repair_report, limn_repair_report, "sizeof(limn_repair_report)", boundary_loops);
+ABI_FLAT(abi_mesh_info, limn_mesh_info, "sizeof(limn_mesh_info)", bbox_diagonal);
+ABI_FLAT(abi_interpolate_options, limn_interpolate_options, "limn_interpolate_options_default()",
+         precision);
+ABI_FLAT(abi_report, limn_report, "sizeof(limn_report)", seconds_opencl_kernels);
+ABI_FLAT(abi_subdivide_options, limn_subdivide_options, "limn_subdivide_options_default()",
+         max_memory);
+ABI_FLAT(abi_subdivide_report, limn_subdivide_report, "sizeof(limn_subdivide_report)",
+         seconds_limit);
+ABI_FLAT(abi_series_options, limn_series_options, "limn_series_options_default()", alpha);
+ABI_FLAT(abi_series_report, limn_series_report, "sizeof(limn_series_report)", seconds_compute);
+ABI_FLAT(abi_mesh_measures, limn_mesh_measures, "sizeof(limn_mesh_measures)", centroid);
+ABI_FLAT(abi_mesh_comparison, limn_mesh_comparison, "sizeof(limn_mesh_comparison)", flipped_faces);
+ABI_FLAT(abi_render_options, limn_render_options, "limn_render_options_default()", color);
+const abi_layout abi_morph_options = {"limn_morph_options", "limn_morph_options_default()",
+                                      sizeof(limn_morph_options),
+                                      ABI_END(limn_morph_options, linear), &abi_series_options};
+const abi_layout abi_texture_options = {
+    "limn_texture_options", "limn_texture_options_default()", sizeof(limn_texture_options),
+    ABI_END(limn_texture_options, max_memory), &abi_series_options};
+
+/* The embedded struct sits right after the outer size and the outer fields
+   right after it, so the caller's layout follows from the inner size. */
+_Static_assert(offsetof(limn_morph_options, series) == sizeof(size_t), "series first");
+_Static_assert(offsetof(limn_morph_options, frames) == sizeof(size_t) + sizeof(limn_series_options),
+               "frames after series");
+_Static_assert(offsetof(limn_texture_options, series) == sizeof(size_t), "series first");
+_Static_assert(offsetof(limn_texture_options, levels) ==
+                   sizeof(size_t) + sizeof(limn_series_options),
+               "levels after series");
+
+static size_t size_at(const void *p)
+{
+    size_t n;
+    memcpy(&n, p, sizeof n);
+    return n;
+}
+
+/* The first non-zero byte of p[from, to), or SIZE_MAX. */
+static size_t first_set(const unsigned char *p, size_t from, size_t to)
+{
+    for (size_t i = from; i < to; i++)
+        if (p[i])
+            return i;
+    return SIZE_MAX;
+}
+
+/* The size field of the struct `what` in messages: "options->size", and
+   "options->series.size" for an embedded one. */
+static const char *size_name(char *buf, size_t cap, const char *what)
+{
+    snprintf(buf, cap, "%s%ssize", what, strstr(what, "->") ? "." : "->");
+    return buf;
+}
+
+/* Checks one struct's own size field (not its tail when it embeds one). */
+static limn_status check_size(limn_context *ctx, const char *fn, const char *what,
+                              const abi_layout *l, size_t n, int options)
+{
+    char field[112];
+    size_name(field, sizeof field, what);
+    const char *fix = options ? "initialise it with" : "set it to";
+    if (n == 0) {
+        if (options)
+            return limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is 0: initialise %s with %s", fn,
+                             field, what, l->init);
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is 0: set it to %s before the call", fn,
+                         field, l->init);
+    }
+    if (n > ABI_MAX_SIZE)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "%s: %s is %zu, no size of a %s (this library's is %zu): %s %s", fn, field,
+                         n, l->type, l->size, fix, l->init);
+    if (options && n < l->min_size)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "%s: %s is %zu, smaller than the first released %s (%zu bytes): %s %s", fn,
+                         field, n, l->type, l->min_size, fix, l->init);
+    size_t min = l->inner ? 2 * sizeof(size_t) : sizeof(size_t);
+    if (!options && n < min)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "%s: %s is %zu, smaller than its size field%s: set it to %s", fn, field, n,
+                         l->inner ? "s" : "", l->init);
+    return LIMN_OK;
+}
+
+/* The caller's bytes [0, have) read into the library's [0, lib), skipping
+   the leading size field: extra caller bytes must be zero. `at` is where
+   the piece starts in the caller's struct (for messages). */
+static limn_status piece_in(limn_context *ctx, const char *fn, const char *what,
+                            const abi_layout *l, size_t n, const unsigned char *src, size_t have,
+                            unsigned char *dst, size_t lib, size_t skip, size_t at)
+{
+    if (have > lib) {
+        size_t set = first_set(src, lib, have);
+        char field[112];
+        if (set != SIZE_MAX)
+            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                             "%s: %s is %zu but this liblimn %s knows %zu bytes of %s and "
+                             "byte %zu of the caller's is set: an option this library does not "
+                             "have (built against a newer limn.h than the library loaded?)",
+                             fn, size_name(field, sizeof field, what), n, limn_version(), l->size,
+                             l->type, at + set);
+    }
+    size_t copy = have < lib ? have : lib;
+    if (copy > skip)
+        memcpy(dst + skip, src + skip, copy - skip);
+    return LIMN_OK;
+}
+
+limn_status abi_options_in(limn_context *ctx, const char *fn, const char *what, const abi_layout *l,
+                           const void *src_v, void *dst_v)
+{
+    if (!src_v)
+        return LIMN_OK;
+    const unsigned char *src = src_v;
+    unsigned char *dst = dst_v;
+    size_t n = size_at(src);
+    limn_status st = check_size(ctx, fn, what, l, n, 1);
+    if (st || !l->inner)
+        return st ? st : piece_in(ctx, fn, what, l, n, src, n, dst, l->size, sizeof(size_t), 0);
+    /* [size][inner: inner.size bytes][tail] */
+    const abi_layout *in = l->inner;
+    char inner_what[96];
+    snprintf(inner_what, sizeof inner_what, "%s->series", what);
+    const unsigned char *isrc = src + sizeof(size_t);
+    size_t ni = size_at(isrc);
+    st = check_size(ctx, fn, inner_what, in, ni, 1);
+    size_t tail_at = sizeof(size_t) + ni;
+    size_t lib_tail_at = sizeof(size_t) + in->size;
+    size_t min_tail = l->min_size - (sizeof(size_t) + in->min_size);
+    if (!st && (n < tail_at || n - tail_at < min_tail))
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                       "%s: %s->size is %zu, smaller than the first released %s (%zu bytes "
+                       "with %s.size %zu): initialise it with %s",
+                       fn, what, n, l->type, tail_at + min_tail, inner_what, ni, l->init);
+    if (!st)
+        st = piece_in(ctx, fn, inner_what, in, ni, isrc, ni, dst + sizeof(size_t), in->size,
+                      sizeof(size_t), sizeof(size_t));
+    if (!st)
+        st = piece_in(ctx, fn, what, l, n, src + tail_at, n - tail_at, dst + lib_tail_at,
+                      l->size - lib_tail_at, 0, tail_at);
+    return st;
+}
+
+limn_status abi_report_begin(limn_context *ctx, const char *fn, const char *what,
+                             const abi_layout *l, const void *dst, void *local)
+{
+    /* the library's own copy is of its own layout (so it can be passed on) */
+    memset(local, 0, l->size);
+    memcpy(local, &l->size, sizeof(size_t));
+    if (l->inner)
+        memcpy((unsigned char *)local + sizeof(size_t), &l->inner->size, sizeof(size_t));
+    if (!dst)
+        return LIMN_OK;
+    size_t n = size_at(dst);
+    limn_status st = check_size(ctx, fn, what, l, n, 0);
+    if (st || !l->inner)
+        return st;
+    size_t ni = size_at((const unsigned char *)dst + sizeof(size_t));
+    char inner_what[96];
+    snprintf(inner_what, sizeof inner_what, "%s->stats", what);
+    st = check_size(ctx, fn, inner_what, l->inner, ni, 0);
+    if (!st && n - sizeof(size_t) < ni)
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                       "%s: %s->size is %zu, which cannot hold %s of %zu bytes: set both to "
+                       "their sizeof",
+                       fn, what, n, inner_what, ni);
+    return st;
+}
+
+/* Writes the library's [skip, lib) into the caller's [skip, have), zeroing
+   what the library does not have. */
+static void piece_out(unsigned char *dst, size_t have, const unsigned char *src, size_t lib,
+                      size_t skip)
+{
+    size_t copy = have < lib ? have : lib;
+    if (copy > skip)
+        memcpy(dst + skip, src + skip, copy - skip);
+    if (have > lib)
+        memset(dst + (lib > skip ? lib : skip), 0, have - (lib > skip ? lib : skip));
+}
+
+void abi_report_end(const abi_layout *l, void *dst_v, const void *local_v)
+{
+    if (!dst_v)
+        return;
+    unsigned char *dst = dst_v;
+    const unsigned char *src = local_v;
+    size_t n = size_at(dst);
+    if (!l->inner) {
+        piece_out(dst, n, src, l->size, sizeof(size_t));
+        return;
+    }
+    size_t ni = size_at(dst + sizeof(size_t));
+    piece_out(dst + sizeof(size_t), ni, src + sizeof(size_t), l->inner->size, sizeof(size_t));
+    size_t tail_at = sizeof(size_t) + ni, lib_tail_at = sizeof(size_t) + l->inner->size;
+    piece_out(dst + tail_at, n - tail_at, src + lib_tail_at, l->size - lib_tail_at, 0);
+}
+
+size_t abi_size_of(const void *p)
+{
+    return size_at(p);
+}
+
+int abi_report_holds(const abi_layout *l, const void *p_v, size_t end)
+{
+    const unsigned char *p = p_v;
+    size_t n = size_at(p);
+    if (!l->inner)
+        return n >= end;
+    if (n < 2 * sizeof(size_t))
+        return 0;
+    size_t tail_at = sizeof(size_t) + size_at(p + sizeof(size_t));
+    size_t lib_tail_at = sizeof(size_t) + l->inner->size;
+    if (n < tail_at)
+        return 0;
+    return end <= lib_tail_at || n - tail_at >= end - lib_tail_at;
+}

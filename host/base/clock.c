@@ -1,0 +1,12 @@
+/* SPDX-License-Identifier: MIT */
+/* The clock of every timing in reports (clock.h). */
+#include "base/clock.h"
+
+#include <time.h>
+
+double limn_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}

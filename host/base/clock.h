@@ -1,0 +1,8 @@
+/* SPDX-License-Identifier: MIT */
+/* The clock of every timing in reports: monotonic seconds. */
+#ifndef LIMN_CLOCK_H
+#define LIMN_CLOCK_H
+
+double limn_seconds(void);
+
+#endif

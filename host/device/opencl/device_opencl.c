@@ -1,0 +1,483 @@
+/* SPDX-License-Identifier: MIT */
+/* The OpenCL backend: context, queue, buffers, launches and the
+   double-precision operations (the program: opencl_program.c; the float
+   operations: device_opencl_mixed.c). */
+#include "base/context.h"
+#include "device/opencl/device_opencl.h"
+#include "device/opencl/opencl_select.h"
+#include "base/clock.h"
+#include "device/opencl/opencl_open.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static limn_status cl_buffer_create(struct limn_device *dev, size_t bytes, const void *init,
+                                    device_buffer **out)
+{
+    opencl_impl *im = impl_of(dev);
+    dev->ctx->device_failed = 1; /* cleared again on success */
+    if (bytes > im->max_alloc)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY,
+                         "a %.1f MiB buffer exceeds the device's limit of %.1f MiB per buffer "
+                         "(CL_DEVICE_MAX_MEM_ALLOC_SIZE; for PoCL raise POCL_MEMORY_LIMIT) — "
+                         "the mesh is too large for this device",
+                         (double)bytes / (1 << 20), (double)im->max_alloc / (1 << 20));
+    device_buffer *b = calloc(1, sizeof *b);
+    if (!b)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of host memory");
+    cl_int err;
+    size_t n = bytes ? bytes : 16;
+    cl_mem_flags flags = CL_MEM_READ_WRITE | (init && bytes ? CL_MEM_COPY_HOST_PTR : 0);
+    b->mem = clCreateBuffer(im->context, flags, n, init && bytes ? (void *)init : NULL, &err);
+    if (err == CL_SUCCESS && !init) {
+        /* PoCL does not zero new buffers; start from a defined state. Not
+           waited for: measured, waiting here (clFinish or a blocking read)
+           made a 1.4-2.1M-vertex float solve 50-70 ms slower. */
+        static const unsigned char zero = 0;
+        err = clEnqueueFillBuffer(im->queue, b->mem, &zero, 1, 0, n, 0, NULL, NULL);
+    }
+    if (err == CL_SUCCESS && device_test_fault("alloc"))
+        err = CL_MEM_OBJECT_ALLOCATION_FAILURE; /* test-only (device.h) */
+    if (err != CL_SUCCESS) {
+        if (b->mem)
+            clReleaseMemObject(b->mem);
+        free(b);
+        int memory = err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ||
+                     err == CL_OUT_OF_HOST_MEMORY;
+        return limn_fail(dev->ctx, memory ? LIMN_ERR_MEMORY : LIMN_ERR_DEVICE,
+                         "clCreateBuffer of %zu bytes on %s failed: %s%s", bytes, dev->name,
+                         opencl_error_name(err),
+                         memory ? ": the device is out of memory; use a device with more "
+                                  "(--device, see 'limn devices'), a smaller mesh, or --device "
+                                  "reference (or allow --fallback reference)"
+                                : "");
+    }
+    dev->ctx->device_failed = 0;
+    b->bytes = bytes;
+    *out = b;
+    return LIMN_OK;
+}
+
+static limn_status cl_buffer_write(struct limn_device *dev, device_buffer *buf, size_t bytes,
+                                   const void *src)
+{
+    if (bytes > buf->bytes)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+    CHECK(clEnqueueWriteBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, 0, bytes, src, 0, NULL,
+                               NULL),
+          "clEnqueueWriteBuffer");
+    return LIMN_OK;
+}
+
+static limn_status cl_buffer_read(struct limn_device *dev, device_buffer *buf, size_t bytes,
+                                  void *dst)
+{
+    if (bytes > buf->bytes)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+    CHECK(clEnqueueReadBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, 0, bytes, dst, 0, NULL,
+                              NULL),
+          "clEnqueueReadBuffer");
+    return LIMN_OK;
+}
+
+static limn_status cl_buffer_write_at(struct limn_device *dev, device_buffer *buf,
+                                      size_t offset, size_t bytes, const void *src)
+{
+    if (offset > buf->bytes || bytes > buf->bytes - offset)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+    if (bytes)
+        CHECK(clEnqueueWriteBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, offset, bytes, src, 0,
+                                   NULL, NULL),
+              "clEnqueueWriteBuffer");
+    return LIMN_OK;
+}
+
+static limn_status cl_buffer_read_at(struct limn_device *dev, device_buffer *buf, size_t offset,
+                                     size_t bytes, void *dst)
+{
+    if (offset > buf->bytes || bytes > buf->bytes - offset)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+    if (bytes)
+        CHECK(clEnqueueReadBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, offset, bytes, dst, 0,
+                                  NULL, NULL),
+              "clEnqueueReadBuffer");
+    return LIMN_OK;
+}
+
+static void cl_buffer_release(struct limn_device *dev, device_buffer *buf)
+{
+    (void)dev;
+    if (buf) {
+        clReleaseMemObject(buf->mem);
+        free(buf);
+    }
+}
+
+size_t opencl_work_items(size_t rows)
+{
+    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    return (chunks + DEVICE_WORKGROUP - 1) / DEVICE_WORKGROUP * DEVICE_WORKGROUP;
+}
+
+limn_status opencl_set_csr_args(struct limn_device *dev, cl_kernel k, const device_csr *a,
+                                device_buffer *weights)
+{
+    cl_uint rows = (cl_uint)(a->row_begin + a->rows); /* kernels stop at the range's end */
+    CHECK(clSetKernelArg(k, 0, sizeof rows, &rows), "clSetKernelArg(rows)");
+    CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &a->row_offsets->mem), "clSetKernelArg(offsets)");
+    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &a->columns->mem), "clSetKernelArg(columns)");
+    CHECK(clSetKernelArg(k, 3, sizeof(cl_mem), &weights->mem), "clSetKernelArg(weights)");
+    return LIMN_OK;
+}
+
+/* PoCL compiles a kernel's work-group function on its first launch (~55 ms
+   with a cold cache, nothing with a warm one). A launch over no rows first
+   triggers that compile alone, so it is timed as set-up (dev->setup.kernels)
+   rather than hidden in the first step; the kernels do nothing for rows = 0. */
+static limn_status compile_on_first_launch(struct limn_device *dev, opencl_kernel_id id,
+                                           size_t rows_arg)
+{
+    opencl_impl *im = impl_of(dev);
+    if (im->compiled[id])
+        return LIMN_OK;
+    double t0 = limn_seconds();
+    cl_kernel k = im->kernels[id];
+    cl_uint none = 0, all = (cl_uint)rows_arg; /* argument 0 restored after */
+    size_t size = DEVICE_WORKGROUP;
+    CHECK(clSetKernelArg(k, 0, sizeof none, &none), "clSetKernelArg(rows)");
+    cl_int err = clEnqueueNDRangeKernel(im->queue, k, 1, NULL, &size, &size, 0, NULL, NULL);
+    if (err == CL_SUCCESS)
+        err = clFinish(im->queue);
+    CHECK(clSetKernelArg(k, 0, sizeof all, &all), "clSetKernelArg(rows)");
+    if (err != CL_SUCCESS)
+        return LIMN_OK; /* the real launch reports it, with advice */
+    im->compiled[id] = 1;
+    dev->setup.kernels += limn_seconds() - t0;
+    return LIMN_OK;
+}
+
+/* A row range starting at row first_item * DEVICE_ROWS_PER_ITEM uses the
+   global work offset, so the kernels need no argument for it
+   (device_csr.row_begin). */
+limn_status opencl_launch(struct limn_device *dev, opencl_kernel_id id, size_t first_item,
+                          size_t rows)
+{
+    if (rows == 0)
+        return LIMN_OK;
+    limn_status st = compile_on_first_launch(dev, id, first_item * DEVICE_ROWS_PER_ITEM + rows);
+    if (st)
+        return st;
+    size_t global = opencl_work_items(rows), local = DEVICE_WORKGROUP, offset = first_item;
+    cl_int err = clEnqueueNDRangeKernel(impl_of(dev)->queue, impl_of(dev)->kernels[id], 1,
+                                        first_item ? &offset : NULL, &global, &local, 0, NULL,
+                                        NULL);
+    if (err == CL_SUCCESS && device_test_fault("enqueue"))
+        err = CL_OUT_OF_RESOURCES; /* test-only (device.h) */
+    if (err != CL_SUCCESS)
+        return limn_fail(dev->ctx, LIMN_ERR_DEVICE,
+                         "launching kernel %s on %s failed: %s (%d): the device could not run "
+                         "it; try another device (--device, see 'limn devices') or --device "
+                         "reference (or allow --fallback reference)",
+                         opencl_kernel_name(id), dev->name, opencl_error_name(err), err);
+    return LIMN_OK;
+}
+
+static limn_status cl_spmv(struct limn_device *dev, const device_csr *a, device_buffer *x,
+                           device_buffer *y)
+{
+    cl_kernel k = impl_of(dev)->kernels[K_SPMV];
+    limn_status st = opencl_set_csr_args(dev, k, a, a->weights);
+    if (st)
+        return st;
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
+    return opencl_launch(dev, K_SPMV, opencl_first_item(a), a->rows);
+}
+
+limn_status opencl_ensure_partials(struct limn_device *dev, size_t first_item, size_t rows)
+{
+    opencl_impl *im = impl_of(dev);
+    size_t items = first_item + opencl_work_items(rows) + 1;
+    if (items <= im->partials_items)
+        return LIMN_OK;
+    if (im->partials)
+        clReleaseMemObject(im->partials);
+    im->partials = NULL;
+    free(im->host_partials);
+    im->partials_items = 0;
+    im->host_partials = malloc(items * 3 * sizeof(double));
+    if (!im->host_partials)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+    cl_int err;
+    im->partials = clCreateBuffer(im->context, CL_MEM_READ_WRITE, items * 3 * sizeof(double),
+                                  NULL, &err);
+    CHECK(err, "clCreateBuffer(partials)");
+    im->partials_items = items;
+    return LIMN_OK;
+}
+
+limn_status opencl_begin_reduce(struct limn_device *dev, opencl_kernel_id id,
+                                const device_csr *a, device_buffer *weights, cl_kernel *k)
+{
+    *k = impl_of(dev)->kernels[id];
+    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
+    return st ? st : opencl_set_csr_args(dev, *k, a, weights);
+}
+
+limn_status opencl_end_reduce(struct limn_device *dev, opencl_kernel_id id, const device_csr *a,
+                              device_norms *out)
+{
+    limn_status st = opencl_launch(dev, id, opencl_first_item(a), a->rows);
+    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, out);
+}
+
+limn_status opencl_finish_partials(struct limn_device *dev, size_t first_item, size_t rows,
+                                   device_norms *out)
+{
+    opencl_impl *im = impl_of(dev);
+    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    if (chunks)
+        CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE,
+                                  first_item * 3 * sizeof(double), chunks * 3 * sizeof(double),
+                                  im->host_partials, 0, NULL, NULL),
+              "reading the reduction partials");
+    device_norms_finish(im->host_partials, chunks, out);
+    return LIMN_OK;
+}
+
+static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
+                                  device_buffer *m, device_buffer *p, device_buffer *p_next,
+                                  double omega, device_norms *norms)
+{
+    opencl_impl *im = impl_of(dev);
+    cl_kernel k;
+    limn_status st = opencl_begin_reduce(dev, K_INTERP_STEP, a, a->weights, &k);
+    if (st)
+        return st;
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &m->mem), "clSetKernelArg(m)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
+    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &p_next->mem), "clSetKernelArg(p_next)");
+    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    cl_uint ahead = (cl_uint)a->gather_ahead;
+    CHECK(clSetKernelArg(k, 8, sizeof omega, &omega), "clSetKernelArg(omega)");
+    CHECK(clSetKernelArg(k, 9, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
+    return opencl_end_reduce(dev, K_INTERP_STEP, a, norms);
+}
+
+static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
+                                  device_buffer *x, device_buffer *x_next, device_buffer *ax,
+                                  device_buffer *acc, int flags, int acc_mode,
+                                  device_norms *norms)
+{
+    opencl_impl *im = impl_of(dev);
+    cl_kernel k;
+    limn_status st = opencl_begin_reduce(dev, K_SERIES_STEP, a, a->weights, &k);
+    if (st)
+        return st;
+    /* buffers this launch does not use are bound to x and never touched */
+    cl_mem xn = (flags & SERIES_STORE_NEXT) ? x_next->mem : x->mem;
+    cl_mem axm = (flags & SERIES_STORE_AX) ? ax->mem : x->mem;
+    cl_mem accm = acc_mode != SERIES_ACC_NONE ? acc->mem : x->mem;
+    cl_int fl = flags, mode = acc_mode;
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &xn), "clSetKernelArg(x_next)");
+    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &axm), "clSetKernelArg(ax)");
+    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &accm), "clSetKernelArg(acc)");
+    CHECK(clSetKernelArg(k, 8, sizeof fl, &fl), "clSetKernelArg(flags)");
+    CHECK(clSetKernelArg(k, 9, sizeof mode, &mode), "clSetKernelArg(acc_mode)");
+    CHECK(clSetKernelArg(k, 10, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    return opencl_end_reduce(dev, K_SERIES_STEP, a, norms);
+}
+
+static limn_status cl_axpby(struct limn_device *dev, size_t rows, double a, device_buffer *x,
+                            double b, device_buffer *y, device_buffer *out)
+{
+    cl_kernel k = impl_of(dev)->kernels[K_AXPBY];
+    cl_uint r = (cl_uint)rows;
+    CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
+    CHECK(clSetKernelArg(k, 1, sizeof a, &a), "clSetKernelArg(a)");
+    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 3, sizeof b, &b), "clSetKernelArg(b)");
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &out->mem), "clSetKernelArg(out)");
+    return opencl_launch(dev, K_AXPBY, 0, rows);
+}
+
+static limn_status cl_norms(struct limn_device *dev, size_t rows, device_buffer *x,
+                            device_norms *out)
+{
+    opencl_impl *im = impl_of(dev);
+    limn_status st = opencl_ensure_partials(dev, 0, rows);
+    if (st)
+        return st;
+    cl_kernel k = im->kernels[K_NORMS];
+    cl_uint r = (cl_uint)rows;
+    CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
+    CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    st = opencl_launch(dev, K_NORMS, 0, rows);
+    if (st)
+        return st;
+    return opencl_finish_partials(dev, 0, rows, out);
+}
+
+static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, device_buffer *x,
+                               device_buffer *y, device_buffer *dinv, double *dot)
+{
+    opencl_impl *im = impl_of(dev);
+    cl_kernel k;
+    limn_status st = opencl_begin_reduce(dev, K_SPMV_DOT, a, a->weights, &k);
+    if (st)
+        return st;
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
+    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
+    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    device_norms n;
+    st = opencl_end_reduce(dev, K_SPMV_DOT, a, &n);
+    if (!st)
+        *dot = n.sum;
+    return st;
+}
+
+static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
+                                device_buffer *m, device_buffer *p, device_buffer *prev_next,
+                                double c1, double c2, device_norms *norms)
+{
+    opencl_impl *im = impl_of(dev);
+    cl_kernel k;
+    limn_status st = opencl_begin_reduce(dev, K_CHEB_STEP, a, a->weights, &k);
+    if (st)
+        return st;
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &m->mem), "clSetKernelArg(m)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
+    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &prev_next->mem), "clSetKernelArg(prev_next)");
+    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    CHECK(clSetKernelArg(k, 8, sizeof c1, &c1), "clSetKernelArg(c1)");
+    CHECK(clSetKernelArg(k, 9, sizeof c2, &c2), "clSetKernelArg(c2)");
+    cl_uint ahead = (cl_uint)a->gather_ahead;
+    CHECK(clSetKernelArg(k, 10, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
+    return opencl_end_reduce(dev, K_CHEB_STEP, a, norms);
+}
+
+static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double alpha,
+                                 device_buffer *p, device_buffer *q, device_buffer *x,
+                                 device_buffer *z, device_buffer *dinv, device_norms *norms)
+{
+    opencl_impl *im = impl_of(dev);
+    limn_status st = opencl_ensure_partials(dev, 0, rows);
+    if (st)
+        return st;
+    cl_kernel k = im->kernels[K_PCG_UPDATE];
+    cl_uint r = (cl_uint)rows;
+    CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
+    CHECK(clSetKernelArg(k, 1, sizeof alpha, &alpha), "clSetKernelArg(alpha)");
+    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
+    CHECK(clSetKernelArg(k, 3, sizeof(cl_mem), &q->mem), "clSetKernelArg(q)");
+    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
+    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &z->mem), "clSetKernelArg(z)");
+    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
+    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    st = opencl_launch(dev, K_PCG_UPDATE, 0, rows);
+    if (!st)
+        st = opencl_finish_partials(dev, 0, rows, norms);
+    return st;
+}
+
+static void cl_close(struct limn_device *dev)
+{
+    opencl_impl *im = impl_of(dev);
+    if (im) {
+        if (im->partials)
+            clReleaseMemObject(im->partials);
+        free(im->host_partials);
+        opencl_release_program(im);
+        if (im->queue)
+            clReleaseCommandQueue(im->queue);
+        if (im->context)
+            clReleaseContext(im->context);
+        free(im);
+    }
+    free(dev);
+}
+
+static const device_ops opencl_ops = {
+    .kind = "opencl",
+    .buffer_create = cl_buffer_create,
+    .buffer_write = cl_buffer_write,
+    .buffer_read = cl_buffer_read,
+    .buffer_release = cl_buffer_release,
+    .buffer_write_at = cl_buffer_write_at,
+    .buffer_read_at = cl_buffer_read_at,
+    .spmv = cl_spmv,
+    .interp_step = cl_interp_step,
+    .spmv_dot = cl_spmv_dot,
+    .pcg_update = cl_pcg_update,
+    .cheb_step = cl_cheb_step,
+    .series_step = cl_series_step,
+    .axpby = cl_axpby,
+    .norms = cl_norms,
+    .residual_f = cl_residual_f,
+    .step_f = cl_step_f,
+    .add_f = cl_add_f,
+    .to_float = cl_to_float,
+    .sgs_upper = cl_sgs_upper,
+    .sgs_lower = cl_sgs_lower,
+    .sgs_update = cl_sgs_update,
+    .close = cl_close,
+};
+
+static limn_status open_device(struct limn_device *dev, const char *spec)
+{
+    double t0 = limn_seconds();
+    opencl_choice choice;
+    limn_status st = opencl_select_device(dev->ctx, spec, &choice);
+    if (st)
+        return st;
+    snprintf(dev->name, sizeof dev->name, "%s", choice.name);
+    cl_device_fp_config fp64 = 0;
+    clGetDeviceInfo(choice.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, NULL);
+    if (!fp64)
+        return limn_fail(dev->ctx, LIMN_ERR_DEVICE,
+                         "OpenCL device %s has no double precision, which limn needs; choose "
+                         "another with --device (see 'limn devices') or use --device reference",
+                         dev->name);
+    opencl_impl *im = impl_of(dev);
+    im->device = choice.device;
+    CHECK(clGetDeviceInfo(choice.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof im->max_alloc,
+                          &im->max_alloc, NULL),
+          "clGetDeviceInfo(CL_DEVICE_MAX_MEM_ALLOC_SIZE)");
+    double t1 = limn_seconds();
+    dev->setup.platform += t1 - t0;
+    cl_int err;
+    cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)choice.platform,
+                                     0};
+    im->context = clCreateContext(props, 1, &choice.device, NULL, NULL, &err);
+    CHECK(err, "clCreateContext");
+    im->queue = clCreateCommandQueue(im->context, choice.device, 0, &err);
+    CHECK(err, "clCreateCommandQueue");
+    dev->setup.context += limn_seconds() - t1;
+    return opencl_build_program(dev);
+}
+
+limn_status device_open_opencl(limn_context *ctx, const char *spec, struct limn_device **out)
+{
+    struct limn_device *dev = calloc(1, sizeof *dev);
+    opencl_impl *im = calloc(1, sizeof *im);
+    if (!dev || !im) {
+        free(dev);
+        free(im);
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory opening OpenCL");
+    }
+    dev->ops = &opencl_ops;
+    dev->ctx = ctx;
+    dev->impl = im;
+    limn_status st = open_device(dev, spec);
+    if (st) {
+        cl_close(dev);
+        return st;
+    }
+    *out = dev;
+    return LIMN_OK;
+}

@@ -1,0 +1,166 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The OpenCL program: kernels/stencil.cl, series.cl, solve.cl and mixed.cl
+ * built as one program (the later files use stencil.cl's row_product), and
+ * its kernels. One build, not one per family: with PoCL a warm-cache build
+ * costs ~25 ms whatever the program's size, a cold one ~0.55 s (mostly
+ * compiler start-up), so splitting would multiply the warm cost.
+ */
+#include "base/context.h"
+#include "device/opencl/device_opencl.h"
+#include "device/opencl/opencl_pocl_cache.h"
+#include "base/clock.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+extern const unsigned char limn_kernel_stencil[];
+extern const size_t limn_kernel_stencil_size;
+extern const unsigned char limn_kernel_series[];
+extern const size_t limn_kernel_series_size;
+extern const unsigned char limn_kernel_solve[];
+extern const size_t limn_kernel_solve_size;
+extern const unsigned char limn_kernel_mixed[];
+extern const size_t limn_kernel_mixed_size;
+extern const unsigned char limn_kernel_sgs[];
+extern const size_t limn_kernel_sgs_size;
+
+static const char *const kernel_names[K_COUNT] = {
+    [K_SPMV] = "spmv",
+    [K_INTERP_STEP] = "interp_step",
+    [K_SERIES_STEP] = "series_step",
+    [K_AXPBY] = "axpby",
+    [K_NORMS] = "norms",
+    [K_SPMV_DOT] = "spmv_dot",
+    [K_PCG_UPDATE] = "pcg_update",
+    [K_CHEB_STEP] = "cheb_step",
+    [K_RESIDUAL_F] = "residual_f",
+    [K_STEP_F] = "step_f",
+    [K_ADD_F] = "add_f",
+    [K_TO_FLOAT] = "to_float",
+    [K_SGS_UPPER] = "sgs_upper",
+    [K_SGS_LOWER] = "sgs_lower",
+    [K_SGS_UPDATE] = "sgs_update",
+};
+
+const char *opencl_kernel_name(opencl_kernel_id id) { return kernel_names[id]; }
+
+/* The device's whole build log (asked for its size first), or a note saying
+   why there is none; heap, the caller frees it (NULL: out of memory). */
+static char *build_log(cl_program program, cl_device_id device)
+{
+    size_t size = 0;
+    cl_int err = clGetProgramBuildInfo(program, device, CL_PROGRAM_BUILD_LOG, 0, NULL, &size);
+    char *log = NULL;
+    if (err == CL_SUCCESS && size > 1 && (log = malloc(size + 1)) != NULL) {
+        err = clGetProgramBuildInfo(program, device, CL_PROGRAM_BUILD_LOG, size, log, NULL);
+        log[size] = '\0';
+        if (err == CL_SUCCESS && log[0])
+            return log;
+        free(log);
+    }
+    const char *fmt = err != CL_SUCCESS ? "(none: clGetProgramBuildInfo(CL_PROGRAM_BUILD_LOG) "
+                                          "failed: %s)"
+                                        : "(empty: the driver gave none%s; PoCL prints its "
+                                          "compiler's errors on stderr)";
+    size_t n = 160;
+    if ((log = malloc(n)) != NULL)
+        snprintf(log, n, fmt, err != CL_SUCCESS ? opencl_error_name(err) : "");
+    return log;
+}
+
+/* Builds with `options` and creates every kernel; on failure the message
+   names the failing call and carries the device's whole build log, and
+   *prefetch_suspect says whether prefetching may be the cause (the kernels
+   built but one cannot be created, or the log names it). */
+static limn_status build_with(struct limn_device *dev, const char *options, int *prefetch_suspect)
+{
+    *prefetch_suspect = 0;
+    opencl_impl *im = impl_of(dev);
+    const char *src[5] = {(const char *)limn_kernel_stencil, (const char *)limn_kernel_series,
+                          (const char *)limn_kernel_solve, (const char *)limn_kernel_mixed,
+                          (const char *)limn_kernel_sgs};
+    size_t len[5] = {limn_kernel_stencil_size, limn_kernel_series_size, limn_kernel_solve_size,
+                     limn_kernel_mixed_size, limn_kernel_sgs_size};
+    cl_int err;
+    im->program = clCreateProgramWithSource(im->context, 5, src, len, &err);
+    CHECK(err, "clCreateProgramWithSource");
+    err = clBuildProgram(im->program, 1, &im->device, options, NULL, NULL);
+    if (err != CL_SUCCESS) {
+        char *log = build_log(im->program, im->device);
+        *prefetch_suspect = log && strstr(log, "prefetch") != NULL;
+        char cache[1400] = "";
+        int cache_bad = opencl_pocl_cache_problem(cache, sizeof cache);
+        limn_status st = limn_fail(
+            dev->ctx, LIMN_ERR_DEVICE,
+            "building the OpenCL kernels for %s (clBuildProgram) failed: %s: the device's OpenCL "
+            "compiler rejected them; choose another device with --device (see 'limn devices') "
+            "or use --device reference (or allow --fallback reference)%s%s\n"
+            "build options: %s\nbuild log:\n%s",
+            dev->name, opencl_error_name(err), cache_bad ? "; " : "", cache, options,
+            log ? log : "(out of memory for it)");
+        free(log);
+        return st;
+    }
+    for (int k = 0; k < K_COUNT; k++) {
+        im->kernels[k] = clCreateKernel(im->program, kernel_names[k], &err);
+        /* test-only (device.h): a device that cannot run __builtin_prefetch */
+        if (err == CL_SUCCESS && k == K_INTERP_STEP && strstr(options, "LIMN_PREFETCH") &&
+            device_test_fault("prefetch"))
+            err = CL_INVALID_KERNEL_NAME;
+        *prefetch_suspect = err != CL_SUCCESS;
+        if (err != CL_SUCCESS)
+            return limn_fail(dev->ctx, LIMN_ERR_DEVICE,
+                             "clCreateKernel(%s) failed on %s: %s (%d); build options: %s",
+                             kernel_names[k], dev->name, opencl_error_name(err), err, options);
+    }
+    return LIMN_OK;
+}
+
+limn_status opencl_build_program(struct limn_device *dev)
+{
+    opencl_impl *im = impl_of(dev);
+    double t0 = limn_seconds();
+    /* gathers prefetched ahead on CPU devices whose compiler targets the
+       machine (kernels/stencil.cl: not SPIR, e.g. Oclgrind) */
+    cl_device_type type = 0;
+    clGetDeviceInfo(im->device, CL_DEVICE_TYPE, sizeof type, &type, NULL);
+    int prefetch = (type & CL_DEVICE_TYPE_CPU) != 0;
+    /* test-only: options appended to the build (tests/test_opencl.c) */
+    const char *extra = getenv("LIMN_TEST_EXTRA_BUILD_OPTIONS");
+    char options[512];
+    snprintf(options, sizeof options, "-D ROWS_PER_ITEM=%d%s%s%s", DEVICE_ROWS_PER_ITEM,
+             prefetch ? " -D LIMN_PREFETCH=96" : "", extra && *extra ? " " : "",
+             extra ? extra : "");
+    if (device_test_fault("build")) /* test-only (device.h): a genuine compile error */
+        snprintf(options, sizeof options, "-D ROWS_PER_ITEM=limn_test_fault_build");
+    int suspect;
+    limn_status st = build_with(dev, options, &suspect);
+    if (st && prefetch && suspect) {
+        /* a compiler that takes __builtin_prefetch but cannot run it: once
+           more without, so that prefetching never costs the device */
+        char first[sizeof dev->ctx->message];
+        snprintf(first, sizeof first, "%s", limn_context_message(dev->ctx));
+        opencl_release_program(im);
+        memset(im->kernels, 0, sizeof im->kernels);
+        im->program = NULL;
+        snprintf(options, sizeof options, "-D ROWS_PER_ITEM=%d%s%s", DEVICE_ROWS_PER_ITEM,
+                 extra && *extra ? " " : "", extra ? extra : "");
+        st = build_with(dev, options, &suspect);
+        if (!st)
+            limn_warn(dev->ctx, "%s: built without prefetching the gathers (with it: %.600s)",
+                      dev->name, first);
+    }
+    dev->setup.build += limn_seconds() - t0;
+    return st;
+}
+
+void opencl_release_program(opencl_impl *im)
+{
+    for (int k = 0; k < K_COUNT; k++)
+        if (im->kernels[k])
+            clReleaseKernel(im->kernels[k]);
+    if (im->program)
+        clReleaseProgram(im->program);
+}

@@ -1,0 +1,363 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The plain C reference backend. It does the same arithmetic in the same
+ * order as kernels/stencil.cl (built with -ffp-contract=off, and the kernels
+ * with FP_CONTRACT OFF), so it is the oracle for the OpenCL path.
+ */
+#include "base/context.h"
+#include "device/reference/device_ref.h"
+#include "device/reference/ref_open.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static limn_status ref_buffer_create(struct limn_device *dev, size_t bytes, const void *init,
+                                     device_buffer **out)
+{
+    device_buffer *b = calloc(1, sizeof *b);
+    void *data = malloc(bytes ? bytes : 1);
+    if (!b || !data) {
+        free(b);
+        free(data);
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for a %zu-byte buffer",
+                         bytes);
+    }
+    if (init)
+        memcpy(data, init, bytes);
+    else
+        memset(data, 0, bytes ? bytes : 1);
+    b->bytes = bytes;
+    b->data = data;
+    *out = b;
+    return LIMN_OK;
+}
+
+static limn_status ref_buffer_write(struct limn_device *dev, device_buffer *buf, size_t bytes,
+                                    const void *src)
+{
+    if (bytes > buf->bytes)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+    memcpy(buf->data, src, bytes);
+    return LIMN_OK;
+}
+
+static limn_status ref_buffer_read(struct limn_device *dev, device_buffer *buf, size_t bytes,
+                                   void *dst)
+{
+    if (bytes > buf->bytes)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+    memcpy(dst, buf->data, bytes);
+    return LIMN_OK;
+}
+
+static limn_status ref_buffer_write_at(struct limn_device *dev, device_buffer *buf,
+                                       size_t offset, size_t bytes, const void *src)
+{
+    if (offset > buf->bytes || bytes > buf->bytes - offset)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+    memcpy((char *)buf->data + offset, src, bytes);
+    return LIMN_OK;
+}
+
+static limn_status ref_buffer_read_at(struct limn_device *dev, device_buffer *buf, size_t offset,
+                                      size_t bytes, void *dst)
+{
+    if (offset > buf->bytes || bytes > buf->bytes - offset)
+        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+    memcpy(dst, (const char *)buf->data + offset, bytes);
+    return LIMN_OK;
+}
+
+static void ref_buffer_release(struct limn_device *dev, device_buffer *buf)
+{
+    (void)dev;
+    if (buf) {
+        free(buf->data);
+        free(buf);
+    }
+}
+
+/* acc = sum_k w_k x_{col_k}, component by component, in row order. */
+static inline void row_product(const device_csr *a, size_t i, const double *x, double acc[4])
+{
+    const uint32_t *ro = a->row_offsets->data;
+    const uint32_t *col = a->columns->data;
+    const double *w = a->weights->data;
+    acc[0] = acc[1] = acc[2] = acc[3] = 0.0;
+    for (uint32_t k = ro[i]; k < ro[i + 1]; k++) {
+        const double *p = x + 4 * (size_t)col[k];
+        double wk = w[k];
+        acc[0] += wk * p[0];
+        acc[1] += wk * p[1];
+        acc[2] += wk * p[2];
+        acc[3] += wk * p[3];
+    }
+}
+
+static limn_status ref_spmv(struct limn_device *dev, const device_csr *a, device_buffer *x,
+                            device_buffer *y)
+{
+    (void)dev;
+    const double *xs = x->data;
+    double *ys = y->data;
+    for (size_t i = a->row_begin; i < a->row_begin + a->rows; i++)
+        row_product(a, i, xs, ys + 4 * i);
+    return LIMN_OK;
+}
+
+/*
+ * The fused residual step of kernels/stencil.cl (interp_step) and
+ * kernels/solve.cl (cheb_step), in their order: r = m - A p and, per row,
+ * prev == NULL: next = p + c2 r (interp_step, c2 = omega);
+ * otherwise:    next = p + c1 (p - prev) + c2 r (cheb_step; next may be prev).
+ * Partial norms of r per chunk, finished in chunk order.
+ */
+static limn_status ref_fused_step(struct limn_device *dev, const device_csr *a,
+                                  const double *ms, const double *ps, const double *prev,
+                                  double *next, double c1, double c2, device_norms *norms)
+{
+    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
+    if (!partials)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+    for (size_t g = 0; g < chunks; g++) {
+        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > a->row_begin + a->rows)
+            end = a->row_begin + a->rows;
+        double mx = 0.0, sum = 0.0, sq = 0.0;
+        for (size_t i = begin; i < end; i++) {
+            double acc[4], r[3];
+            row_product(a, i, ps, acc);
+            for (int d = 0; d < 3; d++) {
+                r[d] = ms[4 * i + d] - acc[d];
+                double pi = ps[4 * i + d];
+                next[4 * i + d] = prev ? pi + c1 * (pi - prev[4 * i + d]) + c2 * r[d]
+                                       : pi + c2 * r[d];
+            }
+            next[4 * i + 3] = 0.0;
+            double r2sum = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+            double len = sqrt(r2sum);
+            mx = len > mx ? len : mx;
+            sum += len;
+            sq += r2sum;
+        }
+        partials[3 * g] = mx;
+        partials[3 * g + 1] = sum;
+        partials[3 * g + 2] = sq;
+    }
+    device_norms_finish(partials, chunks, norms);
+    free(partials);
+    return LIMN_OK;
+}
+
+static limn_status ref_interp_step(struct limn_device *dev, const device_csr *a,
+                                   device_buffer *m, device_buffer *p, device_buffer *p_next,
+                                   double omega, device_norms *norms)
+{
+    return ref_fused_step(dev, a, m->data, p->data, NULL, p_next->data, 0.0, omega, norms);
+}
+
+static limn_status ref_cheb_step(struct limn_device *dev, const device_csr *a, device_buffer *m,
+                                 device_buffer *p, device_buffer *prev_next, double c1,
+                                 double c2, device_norms *norms)
+{
+    return ref_fused_step(dev, a, m->data, p->data, prev_next->data, prev_next->data, c1, c2,
+                          norms);
+}
+
+/* Same order as kernels/series.cl: series_step. */
+static limn_status ref_series_step(struct limn_device *dev, const device_csr *a,
+                                   device_buffer *x, device_buffer *x_next, device_buffer *ax,
+                                   device_buffer *acc, int flags, int acc_mode,
+                                   device_norms *norms)
+{
+    const double *xs = x->data;
+    double *xn = x_next ? x_next->data : NULL, *axs = ax ? ax->data : NULL;
+    double *as = acc ? acc->data : NULL;
+    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
+    if (!partials)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+    for (size_t g = 0; g < chunks; g++) {
+        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > a->row_begin + a->rows)
+            end = a->row_begin + a->rows;
+        double mx = 0.0, sum = 0.0, sq = 0.0;
+        for (size_t i = begin; i < end; i++) {
+            double v[4];
+            row_product(a, i, xs, v);
+            const double *xi = xs + 4 * i;
+            if (flags & SERIES_STORE_AX)
+                for (int c = 0; c < 4; c++)
+                    axs[4 * i + c] = v[c];
+            if (flags & SERIES_STORE_NEXT)
+                for (int c = 0; c < 4; c++)
+                    xn[4 * i + c] = xi[c] - v[c];
+            if (acc_mode == SERIES_ACC_SET_AX)
+                for (int c = 0; c < 4; c++)
+                    as[4 * i + c] = v[c];
+            else if (acc_mode == SERIES_ACC_ADD_AX)
+                for (int c = 0; c < 4; c++)
+                    as[4 * i + c] = as[4 * i + c] + v[c];
+            else if (acc_mode == SERIES_ACC_ADD_X)
+                for (int c = 0; c < 4; c++)
+                    as[4 * i + c] = as[4 * i + c] + xi[c];
+            double s2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            double len = sqrt(s2);
+            mx = len > mx ? len : mx;
+            sum += len;
+            sq += s2;
+        }
+        partials[3 * g] = mx;
+        partials[3 * g + 1] = sum;
+        partials[3 * g + 2] = sq;
+    }
+    device_norms_finish(partials, chunks, norms);
+    free(partials);
+    return LIMN_OK;
+}
+
+static limn_status ref_axpby(struct limn_device *dev, size_t rows, double a, device_buffer *x,
+                             double b, device_buffer *y, device_buffer *out)
+{
+    (void)dev;
+    const double *xs = x->data, *ys = y->data;
+    double *os = out->data;
+    for (size_t i = 0; i < 4 * rows; i++)
+        os[i] = a * xs[i] + b * ys[i];
+    return LIMN_OK;
+}
+
+static limn_status ref_norms(struct limn_device *dev, size_t rows, device_buffer *x,
+                             device_norms *out)
+{
+    const double *xs = x->data;
+    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
+    if (!partials)
+        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+    for (size_t g = 0; g < chunks; g++) {
+        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > rows)
+            end = rows;
+        double mx = 0.0, sum = 0.0, sq = 0.0;
+        for (size_t i = begin; i < end; i++) {
+            const double *v = xs + 4 * i;
+            double s2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            double len = sqrt(s2);
+            mx = len > mx ? len : mx;
+            sum += len;
+            sq += s2;
+        }
+        partials[3 * g] = mx;
+        partials[3 * g + 1] = sum;
+        partials[3 * g + 2] = sq;
+    }
+    device_norms_finish(partials, chunks, out);
+    free(partials);
+    return LIMN_OK;
+}
+
+static limn_status ref_spmv_dot(struct limn_device *dev, const device_csr *a, device_buffer *x,
+                                device_buffer *y, device_buffer *dinv, double *dot)
+{
+    const double *xs = x->data, *dv = dinv->data;
+    double *ys = y->data;
+    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    double total = 0.0;
+    for (size_t g = 0; g < chunks; g++) {
+        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > a->row_begin + a->rows)
+            end = a->row_begin + a->rows;
+        double sum = 0.0;
+        for (size_t i = begin; i < end; i++) {
+            double *acc = ys + 4 * i;
+            row_product(a, i, xs, acc);
+            const double *xi = xs + 4 * i;
+            double d = xi[0] * acc[0] + xi[1] * acc[1] + xi[2] * acc[2];
+            sum += dv[i] * d;
+        }
+        total += sum;
+    }
+    (void)dev;
+    *dot = total;
+    return LIMN_OK;
+}
+
+static limn_status ref_pcg_update(struct limn_device *dev, size_t rows, double alpha,
+                                  device_buffer *p, device_buffer *q, device_buffer *x,
+                                  device_buffer *z, device_buffer *dinv, device_norms *norms)
+{
+    const double *ps = p->data, *qs = q->data, *dv = dinv->data;
+    double *xs = x->data, *zs = z->data;
+    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    norms->max = norms->sum = norms->sum_sq = 0.0;
+    for (size_t g = 0; g < chunks; g++) {
+        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
+        if (end > rows)
+            end = rows;
+        double mx = 0.0, rz = 0.0, sq = 0.0;
+        for (size_t i = begin; i < end; i++) {
+            for (int c = 0; c < 3; c++) {
+                xs[4 * i + c] = xs[4 * i + c] + alpha * ps[4 * i + c];
+                zs[4 * i + c] = zs[4 * i + c] - alpha * qs[4 * i + c];
+            }
+            xs[4 * i + 3] = zs[4 * i + 3] = 0.0;
+            const double *zi = zs + 4 * i;
+            double s = zi[0] * zi[0] + zi[1] * zi[1] + zi[2] * zi[2];
+            double len = sqrt(s);
+            mx = len > mx ? len : mx;
+            rz += dv[i] * s;
+            sq += s;
+        }
+        norms->max = mx > norms->max ? mx : norms->max;
+        norms->sum += rz;
+        norms->sum_sq += sq;
+    }
+    (void)dev;
+    return LIMN_OK;
+}
+
+static void ref_close(struct limn_device *dev)
+{
+    free(dev);
+}
+
+static const device_ops reference_ops = {
+    .kind = "reference",
+    .buffer_create = ref_buffer_create,
+    .buffer_write = ref_buffer_write,
+    .buffer_read = ref_buffer_read,
+    .buffer_release = ref_buffer_release,
+    .buffer_write_at = ref_buffer_write_at,
+    .buffer_read_at = ref_buffer_read_at,
+    .spmv = ref_spmv,
+    .interp_step = ref_interp_step,
+    .spmv_dot = ref_spmv_dot,
+    .pcg_update = ref_pcg_update,
+    .cheb_step = ref_cheb_step,
+    .series_step = ref_series_step,
+    .axpby = ref_axpby,
+    .norms = ref_norms,
+    .residual_f = ref_residual_f,
+    .step_f = ref_step_f,
+    .add_f = ref_add_f,
+    .to_float = ref_to_float,
+    .sgs_upper = ref_sgs_upper,
+    .sgs_lower = ref_sgs_lower,
+    .sgs_update = ref_sgs_update,
+    .close = ref_close,
+};
+
+limn_status device_open_reference(limn_context *ctx, struct limn_device **out)
+{
+    struct limn_device *dev = calloc(1, sizeof *dev);
+    if (!dev)
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory opening the reference backend");
+    dev->ops = &reference_ops;
+    dev->ctx = ctx;
+    strcpy(dev->name, "reference (plain C, 1 thread)");
+    *out = dev;
+    return LIMN_OK;
+}

@@ -1,0 +1,12 @@
+/* SPDX-License-Identifier: MIT */
+/* How the backend choice (device/choice/choice.c) opens the reference backend. */
+#ifndef LIMN_DEVICE_REF_OPEN_H
+#define LIMN_DEVICE_REF_OPEN_H
+
+#include "limn.h"
+
+struct limn_device;
+
+limn_status device_open_reference(limn_context *ctx, struct limn_device **out);
+
+#endif

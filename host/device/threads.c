@@ -1,0 +1,201 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The OpenCL runtime's thread count from the process's CPU binding
+ * (threads.h). setenv is process wide and PoCL reads its variables once, at
+ * the first platform query, so the decision is taken once per process under
+ * a lock and remembered; that record is the only state shared by contexts.
+ */
+#include "device/threads.h"
+#include "base/context.h"
+#include "device/device.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define THREADS_MAX 65536
+
+static pthread_mutex_t threads_lock = PTHREAD_MUTEX_INITIALIZER;
+static int threads_decided;
+static threads_plan threads_applied;
+static int threads_applied_request;
+
+static int is_set(const char *value) { return value && *value; }
+
+/* A whole positive decimal integer, 1..THREADS_MAX. */
+static int parse_count(const char *text, int *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (end == text || *end || errno == ERANGE || v < 1 || v > THREADS_MAX)
+        return 0;
+    *out = (int)v;
+    return 1;
+}
+
+void threads_plan_make(threads_plan *plan, const char *env_pthread, const char *env_cu,
+                       int request, int binding_cores, const char *why)
+{
+    memset(plan, 0, sizeof *plan);
+    if (is_set(env_pthread) || is_set(env_cu)) {
+        /* the user's variable wins; PoCL 3.x reads the first name, 4.x the second */
+        const char *name = is_set(env_pthread) ? THREADS_SOURCE_PTHREAD : THREADS_SOURCE_CU;
+        const char *value = is_set(env_pthread) ? env_pthread : env_cu;
+        snprintf(plan->source, sizeof plan->source, "%s", name);
+        if (!parse_count(value, &plan->count)) {
+            plan->count = 0;
+            snprintf(plan->warning, sizeof plan->warning,
+                     "%s='%.40s' is not a whole number from 1 to %d; left as it is, for the "
+                     "OpenCL runtime to interpret",
+                     name, value, THREADS_MAX);
+            return;
+        }
+        plan->set_pthread = !is_set(env_pthread);
+        plan->set_cu = !is_set(env_cu);
+        if (is_set(env_pthread) && is_set(env_cu) && strcmp(env_pthread, env_cu) != 0)
+            snprintf(plan->warning, sizeof plan->warning,
+                     "POCL_MAX_PTHREAD_COUNT=%.20s and POCL_CPU_MAX_CU_COUNT=%.20s differ: PoCL "
+                     "3.x uses the first, 4.x the second",
+                     env_pthread, env_cu);
+        else if (request != LIMN_THREADS_FROM_BINDING && request != LIMN_THREADS_RUNTIME_DEFAULT)
+            snprintf(plan->warning, sizeof plan->warning,
+                     "%s=%.20s from the environment takes precedence over "
+                     "limn_context_set_threads(%d)",
+                     name, value, request);
+        return;
+    }
+    if (request == LIMN_THREADS_RUNTIME_DEFAULT) {
+        snprintf(plan->source, sizeof plan->source, "%s", THREADS_SOURCE_RUNTIME);
+        return;
+    }
+    if (request > 0 || binding_cores > 0) {
+        plan->count = request > 0 ? request : binding_cores;
+        snprintf(plan->source, sizeof plan->source, "%s",
+                 request > 0 ? THREADS_SOURCE_API : THREADS_SOURCE_BINDING);
+        plan->set_pthread = plan->set_cu = 1;
+        return;
+    }
+    const char *reason = why && *why ? why : "no cores counted";
+    snprintf(plan->source, sizeof plan->source, "%s (hwloc: %.100s)", THREADS_SOURCE_RUNTIME,
+             reason);
+    snprintf(plan->warning, sizeof plan->warning,
+             "could not count the cores inside the CPU binding (%.100s): the OpenCL runtime "
+             "picks its own thread count",
+             reason);
+}
+
+unsigned threads_count_cores(hwloc_topology_t topo, hwloc_const_cpuset_t set)
+{
+    /* cores, not PUs: the kernels are memory bound (DESIGN.md §6), and SMT
+       siblings share one core's load/store bandwidth */
+    hwloc_obj_type_t type =
+        hwloc_get_type_depth(topo, HWLOC_OBJ_CORE) >= 0 ? HWLOC_OBJ_CORE : HWLOC_OBJ_PU;
+    unsigned n = 0;
+    for (hwloc_obj_t obj = NULL; (obj = hwloc_get_next_obj_by_type(topo, type, obj));)
+        n += hwloc_bitmap_intersects(obj->cpuset, set) ? 1u : 0u;
+    return n;
+}
+
+unsigned threads_binding_cores(char *why, size_t why_size)
+{
+    hwloc_topology_t topo;
+    if (hwloc_topology_init(&topo) != 0) {
+        snprintf(why, why_size, "hwloc_topology_init failed");
+        return 0;
+    }
+#if HWLOC_API_VERSION >= 0x00020100
+    /* hwloc's opencl plugin would query the OpenCL platforms itself, before
+       the environment is set: keep it out */
+    hwloc_topology_set_components(topo, HWLOC_TOPOLOGY_COMPONENTS_FLAG_BLACKLIST, "opencl");
+#endif
+    hwloc_topology_set_io_types_filter(topo, HWLOC_TYPE_FILTER_KEEP_NONE);
+    hwloc_topology_set_cache_types_filter(topo, HWLOC_TYPE_FILTER_KEEP_NONE);
+    hwloc_topology_set_icache_types_filter(topo, HWLOC_TYPE_FILTER_KEEP_NONE);
+    unsigned n = 0;
+    hwloc_cpuset_t set = NULL;
+    if (hwloc_topology_load(topo) != 0) {
+        snprintf(why, why_size, "hwloc_topology_load: %s", strerror(errno));
+    } else if (!(set = hwloc_bitmap_alloc())) {
+        snprintf(why, why_size, "out of memory");
+    } else if (hwloc_get_cpubind(topo, set, HWLOC_CPUBIND_PROCESS) != 0) {
+        snprintf(why, why_size, "hwloc_get_cpubind: %s", strerror(errno));
+    } else if ((n = threads_count_cores(topo, set)) == 0) {
+        snprintf(why, why_size, "the CPU binding holds no core that hwloc knows");
+    }
+    hwloc_bitmap_free(set);
+    hwloc_topology_destroy(topo);
+    return n;
+}
+
+void threads_apply(limn_context *ctx)
+{
+    int request = ctx ? ctx->threads_request : LIMN_THREADS_FROM_BINDING;
+    pthread_mutex_lock(&threads_lock);
+    if (!threads_decided) {
+        const char *p = getenv(THREADS_SOURCE_PTHREAD), *c = getenv(THREADS_SOURCE_CU);
+        char why[160] = "";
+        int cores = -1;
+        if (!is_set(p) && !is_set(c) && request == LIMN_THREADS_FROM_BINDING)
+            cores = (int)threads_binding_cores(why, sizeof why);
+        threads_plan_make(&threads_applied, p, c, request, cores, why);
+        char value[16];
+        snprintf(value, sizeof value, "%d", threads_applied.count);
+        /* overwrite = 0: a variable set meanwhile is the user's and stays */
+        if (threads_applied.set_pthread)
+            setenv(THREADS_SOURCE_PTHREAD, value, 0);
+        if (threads_applied.set_cu)
+            setenv(THREADS_SOURCE_CU, value, 0);
+        threads_applied_request = request;
+        threads_decided = 1;
+        if (threads_applied.warning[0])
+            limn_warn(ctx, "%s", threads_applied.warning);
+    } else if (request != threads_applied_request) {
+        limn_warn(ctx,
+                  "the OpenCL runtime's thread count was fixed at %d (%s) by the first device "
+                  "query in this process; this context's limn_context_set_threads(%d) has no "
+                  "effect",
+                  threads_applied.count, threads_applied.source, request);
+    }
+    pthread_mutex_unlock(&threads_lock);
+}
+
+limn_status limn_context_set_threads(limn_context *ctx, int threads)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (threads < LIMN_THREADS_RUNTIME_DEFAULT || threads > THREADS_MAX)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "limn_context_set_threads: %d is not a thread count (1..%d), "
+                         "LIMN_THREADS_FROM_BINDING (0) or LIMN_THREADS_RUNTIME_DEFAULT (-1)",
+                         threads, THREADS_MAX);
+    ctx->threads_request = threads;
+    return LIMN_OK;
+}
+
+limn_status limn_context_threads(const limn_context *ctx, int *threads, const char **source)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    if (!threads || !source)
+        /* the message is the one field a const context may change: the caller
+           made ctx with limn_context_create, never const, so writing is defined */
+        return limn_fail((limn_context *)ctx, LIMN_ERR_ARGUMENT,
+                         "limn_context_threads: %s is NULL", !threads ? "threads" : "source");
+    if (ctx->device && strcmp(ctx->device->ops->kind, "reference") == 0) {
+        *threads = 1;
+        *source = THREADS_SOURCE_REFERENCE;
+        return LIMN_OK;
+    }
+    pthread_mutex_lock(&threads_lock);
+    *threads = threads_decided ? threads_applied.count : 0;
+    /* the record never changes once decided, so the pointer stays valid */
+    *source = threads_decided ? threads_applied.source
+                              : "not decided yet: no OpenCL platform queried in this process";
+    pthread_mutex_unlock(&threads_lock);
+    return LIMN_OK;
+}

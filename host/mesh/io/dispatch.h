@@ -1,0 +1,15 @@
+/* SPDX-License-Identifier: MIT */
+/* The mesh files' entry points beyond the public ones (dispatch.c). */
+#ifndef LIMN_MESH_IO_DISPATCH_H
+#define LIMN_MESH_IO_DISPATCH_H
+
+#include "limn.h"
+
+/* limn_mesh_write without the final rename: the mesh is complete and synced
+   in af's temporary file; atomic_file_commit makes it appear, _abort drops
+   it. Lets a command finish all its outputs before any of them appears. */
+struct atomic_file;
+limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const char *path,
+                              limn_format format, struct atomic_file *af);
+
+#endif

@@ -1,0 +1,163 @@
+/* SPDX-License-Identifier: MIT */
+/* Mesh container: creation from caller arrays, accessors, copies. */
+#include "mesh/mesh.h"
+#include "mesh/check.h"
+#include "base/context.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+limn_status mesh_alloc(limn_context *ctx, size_t vertex_count, size_t face_count,
+                       size_t index_count, limn_mesh **out)
+{
+    *out = NULL;
+    if (vertex_count > SIZE_MAX / (3 * sizeof(double)) || face_count >= UINT32_MAX ||
+        index_count > UINT32_MAX)
+        return limn_fail(ctx, LIMN_ERR_MEMORY,
+                         "mesh too large: %zu vertices, %zu faces, %zu face indices",
+                         vertex_count, face_count, index_count);
+    limn_mesh *m = calloc(1, sizeof *m);
+    if (!m)
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a mesh");
+    m->vertex_count = vertex_count;
+    m->face_count = face_count;
+    m->positions = malloc((vertex_count ? vertex_count : 1) * 3 * sizeof(double));
+    m->face_offsets = malloc((face_count + 1) * sizeof(uint32_t));
+    m->face_indices = malloc((index_count ? index_count : 1) * sizeof(uint32_t));
+    if (!m->positions || !m->face_offsets || !m->face_indices) {
+        limn_mesh_destroy(m);
+        return limn_fail(ctx, LIMN_ERR_MEMORY,
+                         "out of memory for a mesh of %zu vertices and %zu faces",
+                         vertex_count, face_count);
+    }
+    m->face_offsets[0] = 0;
+    *out = m;
+    return LIMN_OK;
+}
+
+limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
+                             const double *positions, size_t face_count,
+                             const uint32_t *face_offsets,
+                             const uint32_t *face_indices, limn_mesh **out)
+{
+    limn_clear(ctx);
+    if (!out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_create: out is NULL");
+    *out = NULL;
+    if ((vertex_count && !positions) || !face_offsets || (face_count && !face_indices))
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_create: %s is NULL",
+                         vertex_count && !positions ? "positions"
+                         : !face_offsets            ? "face_offsets"
+                                                    : "face_indices");
+    if (face_offsets[0] != 0)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "limn_mesh_create: face_offsets[0] is %u, must be 0", face_offsets[0]);
+    for (size_t f = 0; f < face_count; f++) {
+        if ((uint64_t)face_offsets[f + 1] < (uint64_t)face_offsets[f] + 3)
+            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                             "limn_mesh_create: face %zu has %ld vertices (at least 3 needed)",
+                             f, (long)face_offsets[f + 1] - (long)face_offsets[f]);
+    }
+    size_t index_count = face_offsets[face_count];
+    for (size_t i = 0; i < index_count; i++)
+        if (face_indices[i] >= vertex_count)
+            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                             "limn_mesh_create: face index %zu is %u but there are %zu vertices",
+                             i, face_indices[i], vertex_count);
+    limn_status st = check_positions(ctx, "limn_mesh_create", positions, vertex_count);
+    if (st)
+        return st;
+    limn_mesh *m;
+    st = mesh_alloc(ctx, vertex_count, face_count, index_count, &m);
+    if (st)
+        return st;
+    if (vertex_count)
+        memcpy(m->positions, positions, vertex_count * 3 * sizeof(double));
+    memcpy(m->face_offsets, face_offsets, (face_count + 1) * sizeof(uint32_t));
+    if (index_count)
+        memcpy(m->face_indices, face_indices, index_count * sizeof(uint32_t));
+    *out = m;
+    return LIMN_OK;
+}
+
+limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh **out)
+{
+    /* no limn_clear: operations call this for their results, keeping their warnings */
+    if (out)
+        *out = NULL;
+    if (!mesh || !out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy: %s is NULL",
+                         !mesh ? "mesh" : "out");
+    limn_status st = mesh_alloc(ctx, mesh->vertex_count, mesh->face_count,
+                                mesh->face_offsets[mesh->face_count], out);
+    if (st)
+        return st;
+    limn_mesh *m = *out;
+    memcpy(m->positions, mesh->positions, mesh->vertex_count * 3 * sizeof(double));
+    memcpy(m->face_offsets, mesh->face_offsets, (mesh->face_count + 1) * sizeof(uint32_t));
+    memcpy(m->face_indices, mesh->face_indices,
+           mesh->face_offsets[mesh->face_count] * sizeof(uint32_t));
+    if (mesh->colors) {
+        st = limn_mesh_set_colors(ctx, m, mesh->colors);
+        if (st) {
+            limn_mesh_destroy(m);
+            *out = NULL;
+            return st;
+        }
+    }
+    return LIMN_OK;
+}
+
+void limn_mesh_destroy(limn_mesh *mesh)
+{
+    if (!mesh)
+        return;
+    free(mesh->positions);
+    free(mesh->face_offsets);
+    free(mesh->face_indices);
+    free(mesh->colors);
+    free(mesh);
+}
+
+size_t limn_mesh_vertex_count(const limn_mesh *mesh) { return mesh ? mesh->vertex_count : 0; }
+size_t limn_mesh_face_count(const limn_mesh *mesh) { return mesh ? mesh->face_count : 0; }
+const double *limn_mesh_positions(const limn_mesh *mesh) { return mesh ? mesh->positions : NULL; }
+double *limn_mesh_positions_mutable(limn_mesh *mesh) { return mesh ? mesh->positions : NULL; }
+const uint32_t *limn_mesh_face_offsets(const limn_mesh *mesh) { return mesh ? mesh->face_offsets : NULL; }
+const uint32_t *limn_mesh_face_indices(const limn_mesh *mesh) { return mesh ? mesh->face_indices : NULL; }
+const uint8_t *limn_mesh_colors(const limn_mesh *mesh) { return mesh ? mesh->colors : NULL; }
+
+limn_status limn_mesh_set_colors(limn_context *ctx, limn_mesh *mesh, const uint8_t *rgb)
+{
+    if (!mesh)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_set_colors: mesh is NULL");
+    if (!rgb) {
+        free(mesh->colors);
+        mesh->colors = NULL;
+        return LIMN_OK;
+    }
+    uint8_t *c = malloc(mesh->vertex_count ? mesh->vertex_count * 3 : 1);
+    if (!c)
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for vertex colours");
+    memcpy(c, rgb, mesh->vertex_count * 3);
+    free(mesh->colors);
+    mesh->colors = c;
+    return LIMN_OK;
+}
+
+double mesh_bbox_diagonal(const limn_mesh *mesh, double lo[3], double hi[3])
+{
+    for (int c = 0; c < 3; c++) {
+        lo[c] = mesh->vertex_count ? mesh->positions[c] : 0.0;
+        hi[c] = lo[c];
+    }
+    for (size_t i = 0; i < mesh->vertex_count; i++)
+        for (int c = 0; c < 3; c++) {
+            double x = mesh->positions[3 * i + c];
+            lo[c] = x < lo[c] ? x : lo[c];
+            hi[c] = x > hi[c] ? x : hi[c];
+        }
+    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}

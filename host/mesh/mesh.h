@@ -1,0 +1,25 @@
+/* SPDX-License-Identifier: MIT */
+/* The polygon mesh container: positions, faces as CSR, optional colours. */
+#ifndef LIMN_MESH_H
+#define LIMN_MESH_H
+
+#include "limn.h"
+
+struct limn_mesh {
+    size_t vertex_count;
+    double *positions;        /* 3 * vertex_count */
+    size_t face_count;
+    uint32_t *face_offsets;   /* face_count + 1 */
+    uint32_t *face_indices;   /* face_offsets[face_count] */
+    uint8_t *colors;          /* 3 * vertex_count, or NULL */
+};
+
+/* Allocates a mesh with room for the given counts (contents uninitialised,
+   face_offsets[0] = 0). Fails with a message on overflow or no memory. */
+limn_status mesh_alloc(limn_context *ctx, size_t vertex_count, size_t face_count,
+                       size_t index_count, limn_mesh **out);
+
+/* The bounding box (lo, hi; zeros for no vertices) and its diagonal. */
+double mesh_bbox_diagonal(const limn_mesh *mesh, double lo[3], double hi[3]);
+
+#endif

@@ -1,0 +1,236 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Uniform refinement, level by level: each step is a CSR table applied by the
+ * device's spmv. Level by level rather than factorised to the base mesh
+ * because the composed stencils grow with every level (a level-k vertex
+ * depends on ever more base vertices) while the per-level tables stay at
+ * 4-9 entries a row; see README "Subdivision surfaces" for the measurement.
+ */
+#include "refine/refine.h"
+#include "base/context.h"
+#include "device/device.h"
+#include "mesh/mesh.h"
+#include "solve/operator.h"
+#include "scheme/scheme_refine.h"
+#include "topology/topology.h"
+#include "device/choice/choice.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct step_rows {
+    const topology *t;
+    limn_scheme scheme;
+    double alpha;
+    size_t face_base, edge_base; /* first row of face points / edge points */
+} step_rows;
+
+static size_t step_bound(const void *user, size_t r)
+{
+    const step_rows *s = user;
+    if (r < s->face_base)
+        return scheme_refine_vertex_bound(s->t, (uint32_t)r);
+    if (r < s->edge_base)
+        return topology_face_size(s->t, (uint32_t)(r - s->face_base));
+    return scheme_refine_edge_bound(s->t, (uint32_t)(r - s->edge_base));
+}
+
+static size_t step_fill(const void *user, size_t r, uint32_t *cols, double *w)
+{
+    const step_rows *s = user;
+    if (r < s->face_base)
+        return scheme_refine_vertex_mask(s->t, s->scheme, s->alpha, (uint32_t)r, cols, w);
+    if (r < s->edge_base)
+        return scheme_refine_face_mask(s->t, (uint32_t)(r - s->face_base), cols, w);
+    return scheme_refine_edge_mask(s->t, s->scheme, (uint32_t)(r - s->edge_base), cols, w);
+}
+
+/* Faces of level k+1. Catmull-Clark: face f of d corners -> d quads
+   (v_j, e_j, face point, e_{j-1}); Loop: 3 corner triangles + the middle one.
+   Orientation is kept. */
+static limn_status child_faces(limn_context *ctx, const topology *t, limn_scheme scheme,
+                               size_t child_vertices, limn_mesh **out)
+{
+    size_t nf = scheme == LIMN_SCHEME_LOOP ? 4 * t->face_count : t->corner_count;
+    size_t ni = scheme == LIMN_SCHEME_LOOP ? 12 * t->face_count : 4 * t->corner_count;
+    limn_status st = mesh_alloc(ctx, child_vertices, nf, ni, out);
+    if (st)
+        return st;
+    limn_mesh *m = *out;
+    memset(m->positions, 0, child_vertices * 3 * sizeof(double));
+    uint32_t nv = (uint32_t)t->vertex_count;
+    uint32_t edge_base = scheme == LIMN_SCHEME_LOOP ? nv : nv + (uint32_t)t->face_count;
+    size_t f_out = 0, k = 0;
+    for (uint32_t f = 0; f < t->face_count; f++) {
+        uint32_t b = t->face_offsets[f], e = t->face_offsets[f + 1];
+        if (scheme == LIMN_SCHEME_LOOP) {
+            uint32_t v[3], ep[3];
+            for (uint32_t j = 0; j < 3; j++) {
+                v[j] = t->face_indices[b + j];
+                ep[j] = edge_base + t->corner_edge[b + j]; /* edge v[j] -> v[j+1] */
+            }
+            uint32_t tris[4][3] = {{v[0], ep[0], ep[2]},
+                                   {v[1], ep[1], ep[0]},
+                                   {v[2], ep[2], ep[1]},
+                                   {ep[0], ep[1], ep[2]}};
+            for (int q = 0; q < 4; q++) {
+                for (int j = 0; j < 3; j++)
+                    m->face_indices[k++] = tris[q][j];
+                m->face_offsets[++f_out] = (uint32_t)k;
+            }
+        } else {
+            uint32_t fp = nv + f;
+            for (uint32_t c = b; c < e; c++) {
+                uint32_t pc = topology_corner_prev(t, c);
+                m->face_indices[k++] = t->face_indices[c];
+                m->face_indices[k++] = edge_base + t->corner_edge[c];
+                m->face_indices[k++] = fp;
+                m->face_indices[k++] = edge_base + t->corner_edge[pc];
+                m->face_offsets[++f_out] = (uint32_t)k;
+            }
+        }
+    }
+    return LIMN_OK;
+}
+
+void refine_plan_free(refine_plan *plan)
+{
+    if (!plan)
+        return;
+    if (plan->meshes)
+        for (int k = 0; k <= plan->levels; k++)
+            limn_mesh_destroy(plan->meshes[k]);
+    if (plan->steps)
+        for (int k = 0; k < plan->levels; k++)
+            stencil_free(&plan->steps[k]);
+    free(plan->meshes);
+    free(plan->steps);
+    memset(plan, 0, sizeof *plan);
+}
+
+limn_status refine_plan_build(limn_context *ctx, const limn_mesh *base, limn_scheme scheme,
+                              double alpha, int levels, refine_plan *plan)
+{
+    memset(plan, 0, sizeof *plan);
+    if (levels < 0 || levels > 16)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "levels is %d; it must lie in 0..16", levels);
+    limn_status st = operator_resolve_scheme(ctx, base, scheme, &plan->scheme);
+    if (st)
+        return st;
+    plan->alpha = plan->scheme == LIMN_SCHEME_CATMARK ? alpha : 0.0;
+    plan->levels = levels;
+    plan->meshes = calloc((size_t)levels + 1, sizeof *plan->meshes);
+    plan->steps = calloc(levels ? (size_t)levels : 1, sizeof *plan->steps);
+    if (!plan->meshes || !plan->steps) {
+        refine_plan_free(plan);
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a refinement plan");
+    }
+    st = limn_mesh_copy(ctx, base, &plan->meshes[0]);
+    for (int k = 0; !st && k < levels; k++) {
+        topology t;
+        st = topology_build(ctx, plan->meshes[k], &t);
+        if (st)
+            break;
+        step_rows rows = {.t = &t, .scheme = plan->scheme, .alpha = k == 0 ? plan->alpha : 0.0};
+        rows.face_base = t.vertex_count;
+        rows.edge_base = t.vertex_count + (plan->scheme == LIMN_SCHEME_LOOP ? 0 : t.face_count);
+        size_t child_vertices = rows.edge_base + t.edge_count;
+        if (child_vertices > UINT32_MAX)
+            st = limn_fail(ctx, LIMN_ERR_MEMORY, "level %d would have %zu vertices (over 2^32)",
+                           k + 1, child_vertices);
+        if (!st)
+            st = stencil_build(ctx, child_vertices, t.vertex_count, step_bound, step_fill, &rows,
+                               &plan->steps[k]);
+        if (!st)
+            st = child_faces(ctx, &t, plan->scheme, child_vertices, &plan->meshes[k + 1]);
+        topology_free(&t);
+        limn_progress(ctx, "refine", (double)(k + 1) / (double)levels);
+    }
+    if (st)
+        refine_plan_free(plan);
+    return st;
+}
+
+limn_status refine_plan_apply(limn_context *ctx, const refine_plan *plan, int from, int channels,
+                              const double *in, double *out)
+{
+    if (from < 0 || from > plan->levels || channels < 1 || channels > 4)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "refine_plan_apply: bad level %d or channels %d",
+                         from, channels);
+    struct limn_device *dev;
+    limn_status st = device_get(ctx, &dev);
+    if (st)
+        return st;
+    size_t n = plan->meshes[from]->vertex_count;
+    size_t n_out = plan->meshes[plan->levels]->vertex_count;
+    double *buf = calloc(4 * (n_out > n ? n_out : n) + 4, sizeof *buf);
+    if (!buf)
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n_out);
+    for (size_t i = 0; i < n; i++)
+        memcpy(buf + 4 * i, in + (size_t)channels * i, (size_t)channels * sizeof(double));
+    device_buffer *x = NULL, *y = NULL;
+    st = dev->ops->buffer_create(dev, 4 * n * sizeof(double), buf, &x);
+    for (int k = from; !st && k < plan->levels; k++) {
+        device_csr a;
+        const stencil_csr *h = &plan->steps[k];
+        st = device_csr_upload(dev, h, &a);
+        if (!st)
+            st = dev->ops->buffer_create(dev, 4 * h->rows * sizeof(double), NULL, &y);
+        if (!st)
+            st = dev->ops->spmv(dev, &a, x, y);
+        if (!st) {
+            dev->ops->buffer_release(dev, x);
+            x = y;
+            y = NULL;
+        }
+        device_csr_release(dev, &a);
+    }
+    if (!st)
+        st = dev->ops->buffer_read(dev, x, 4 * n_out * sizeof(double), buf);
+    for (size_t i = 0; !st && i < n_out; i++)
+        memcpy(out + (size_t)channels * i, buf + 4 * i, (size_t)channels * sizeof(double));
+    if (x)
+        dev->ops->buffer_release(dev, x);
+    if (y)
+        dev->ops->buffer_release(dev, y);
+    free(buf);
+    return st;
+}
+
+void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, int limit,
+                     size_t *vertices, size_t *faces, size_t *indices, size_t *peak_bytes)
+{
+    /* Counts follow exactly from V, F, E and the corners of the base. */
+    double v = (double)base->vertex_count, f = (double)base->face_count;
+    double c = (double)base->face_offsets[base->face_count];
+    double e = c; /* an upper bound if the topology cannot be built */
+    topology t;
+    if (topology_build(NULL, base, &t) == LIMN_OK) {
+        e = (double)t.edge_count;
+        topology_free(&t);
+    }
+    double idx = c;
+    for (int k = 0; k < levels; k++) {
+        double nv, nf, ne, ni;
+        if (scheme == LIMN_SCHEME_LOOP) {
+            nv = v + e;
+            nf = 4 * f;
+            ne = 2 * e + 3 * f;
+            ni = 3 * nf;
+        } else {
+            nv = v + f + e;
+            nf = c;
+            ne = 2 * e + c;
+            ni = 4 * nf;
+        }
+        v = nv, f = nf, e = ne, idx = ni, c = ni;
+    }
+    *vertices = (size_t)v;
+    *faces = (size_t)f;
+    *indices = (size_t)idx;
+    /* Measured peaks (README "Subdivision surfaces"): 262-342 bytes per output
+       vertex without --limit, 645-700 with it (the finest level's topology and
+       limit table), plus ~100-150 MB for the OpenCL runtime; 20% margin. */
+    double per_vertex = limit ? 840.0 : 420.0;
+    *peak_bytes = (size_t)(per_vertex * v) + ((size_t)192 << 20);
+}

@@ -1,0 +1,201 @@
+/* SPDX-License-Identifier: MIT */
+/* limn_subdivide: refine the control mesh into the surface, on the device. */
+#include "base/abi.h"
+#include "mesh/check.h"
+#include "base/context.h"
+#include "device/device.h"
+#include "mesh/mesh.h"
+#include "solve/operator.h"
+#include "refine/refine.h"
+#include "base/clock.h"
+#include "device/choice/choice.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+void limn_subdivide_options_default(limn_subdivide_options *o)
+{
+    if (!o)
+        return; /* no context to report to */
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
+    o->scheme = LIMN_SCHEME_AUTO;
+    o->alpha = 0.0;
+    o->levels = 1;
+    o->limit = 0;
+    o->max_memory = 0;
+}
+
+static size_t physical_memory(void)
+{
+    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && size > 0 ? (size_t)pages * (size_t)size : (size_t)8 << 30;
+}
+
+static limn_status check_budget(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
+                                const limn_subdivide_options *o, size_t *vertices, size_t *faces,
+                                size_t *peak_bytes)
+{
+    size_t v, f, idx, peak;
+    refine_estimate(mesh, scheme, o->levels, o->limit, &v, &f, &idx, &peak);
+    *vertices = v;
+    *faces = f;
+    *peak_bytes = peak;
+    size_t budget = o->max_memory ? o->max_memory : physical_memory() / 4 * 3;
+    if (peak > budget)
+        return limn_fail(ctx, LIMN_ERR_MEMORY,
+                         "refining %zu vertices to level %d makes %zu vertices and %zu faces and "
+                         "needs about %.2f GiB, over the limit of %.2f GiB: lower --levels or "
+                         "raise --max-memory; nothing was written",
+                         mesh->vertex_count, o->levels, v, f, (double)peak / (1 << 30),
+                         (double)budget / (1 << 30));
+    return LIMN_OK;
+}
+
+/* The options both entry points share: scheme, levels (<= LIMN_MAX_SUBDIVIDE_LEVELS), alpha. */
+static limn_status check_options(limn_context *ctx, const char *fn,
+                                 const limn_subdivide_options *o)
+{
+    limn_status st = check_scheme(ctx, fn, o->scheme);
+    if (!st)
+        st = check_count(ctx, fn, "levels", o->levels, 0, LIMN_MAX_SUBDIVIDE_LEVELS,
+                         "LIMN_MAX_SUBDIVIDE_LEVELS");
+    if (!st && !(o->alpha >= 0.0 && o->alpha <= 1.0))
+        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: alpha is %g; it must lie in [0, 1]", fn,
+                       o->alpha);
+    return st;
+}
+
+limn_status limn_subdivide_estimate(limn_context *ctx, const limn_mesh *mesh,
+                                    const limn_subdivide_options *options, size_t *vertices,
+                                    size_t *faces, size_t *peak_bytes)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (!mesh || !options || !vertices || !faces || !peak_bytes)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide_estimate: %s is NULL",
+                         !mesh ? "mesh" : !options ? "options" : !vertices ? "vertices"
+                                        : !faces ? "faces" : "peak_bytes");
+    limn_subdivide_options sized;
+    limn_subdivide_options_default(&sized);
+    limn_status st = abi_options_in(ctx, "limn_subdivide_estimate", "options",
+                                    &abi_subdivide_options, options, &sized);
+    if (st)
+        return st;
+    options = &sized;
+    st = check_options(ctx, "limn_subdivide_estimate", options);
+    if (st)
+        return st;
+    limn_scheme scheme;
+    st = operator_resolve_scheme(ctx, mesh, options->scheme, &scheme);
+    if (st)
+        return st;
+    return check_budget(ctx, mesh, scheme, options, vertices, faces, peak_bytes);
+}
+
+/* limn_subdivide on options and report of this library's layout. */
+static limn_status subdivide_sized(limn_context *ctx, const limn_mesh *mesh,
+                                   const limn_subdivide_options *options, limn_mesh **surface,
+                                   limn_subdivide_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (!surface)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide: surface is NULL");
+    *surface = NULL;
+    limn_subdivide_options defaults;
+    limn_subdivide_options_default(&defaults);
+    const limn_subdivide_options *o = options ? options : &defaults;
+    limn_status st = check_mesh_magnitude(ctx, "limn_subdivide", NULL, mesh);
+    if (!st)
+        st = check_options(ctx, "limn_subdivide", o);
+    if (st)
+        return st;
+    limn_subdivide_report local;
+    limn_subdivide_report *r = report ? report : &local;
+    memset(r, 0, sizeof *r);
+    r->input_vertices = mesh->vertex_count;
+    r->input_faces = mesh->face_count;
+    r->levels = o->levels;
+    r->limit = o->limit;
+    limn_scheme scheme;
+    st = operator_resolve_scheme(ctx, mesh, o->scheme, &scheme);
+    if (st)
+        return st;
+    r->scheme = scheme;
+    r->alpha = scheme == LIMN_SCHEME_CATMARK ? o->alpha : 0.0;
+    size_t est_v, est_f;
+    st = check_budget(ctx, mesh, scheme, o, &est_v, &est_f, &r->estimated_bytes);
+    if (st)
+        return st;
+    struct limn_device *dev;
+    st = device_get(ctx, &dev);
+    if (st)
+        return st;
+    snprintf(r->device, sizeof r->device, "%s", dev->name);
+
+    double t0 = limn_seconds();
+    refine_plan plan;
+    st = refine_plan_build(ctx, mesh, scheme, r->alpha, o->levels, &plan);
+    if (st)
+        return st;
+    double t1 = limn_seconds();
+    r->seconds_plan = t1 - t0;
+    for (int k = 0; k < plan.levels; k++)
+        r->stencil_nonzeros += plan.steps[k].row_offsets[plan.steps[k].rows];
+    limn_mesh *out = plan.meshes[plan.levels];
+    st = refine_plan_apply(ctx, &plan, 0, 3, mesh->positions, out->positions);
+    double t2 = limn_seconds();
+    r->seconds_apply = t2 - t1;
+    if (!st && o->limit) {
+        double *lim = malloc((out->vertex_count ? out->vertex_count : 1) * 3 * sizeof *lim);
+        if (!lim)
+            st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for limit positions");
+        /* alpha acts on the first step only: past level 0 the limit is standard */
+        if (!st)
+            st = limn_limit_positions(ctx, out, scheme, plan.levels == 0 ? r->alpha : 0.0, lim);
+        if (!st)
+            memcpy(out->positions, lim, out->vertex_count * 3 * sizeof *lim);
+        free(lim);
+        r->seconds_limit = limn_seconds() - t2;
+    }
+    if (!st && mesh->colors && !out->colors)
+        limn_warn(ctx, "the input's vertex colours were dropped: limn_subdivide does not carry "
+                       "colours to the refined surface (%zu vertices), which has none",
+                  out->vertex_count);
+    if (!st) {
+        plan.meshes[plan.levels] = NULL; /* the caller owns it now */
+        r->vertices = out->vertex_count;
+        r->faces = out->face_count;
+        *surface = out;
+    }
+    refine_plan_free(&plan);
+    return st;
+}
+
+limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
+                           const limn_subdivide_options *options, limn_mesh **surface,
+                           limn_subdivide_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (surface)
+        *surface = NULL;
+    limn_subdivide_options o;
+    limn_subdivide_options_default(&o);
+    limn_subdivide_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_subdivide", "options", &abi_subdivide_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_subdivide", "report", &abi_subdivide_report, report, &r);
+    if (st)
+        return st;
+    st = subdivide_sized(ctx, mesh, options ? &o : NULL, surface, report ? &r : NULL);
+    abi_report_end(&abi_subdivide_report, report, &r);
+    return st;
+}

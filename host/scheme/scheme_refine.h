@@ -1,0 +1,30 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Refinement masks: the weights that make one vertex of level k+1 from the
+ * vertices of level k. Pure functions of the topology (see scheme.h for the
+ * limit masks). Rules: Catmull-Clark (face centroid; edge (a+b+f1+f2)/4;
+ * vertex (n-2)/n V + 1/n^2 sum(alpha V + (1-alpha) E_j) + 1/n^2 sum f_j) and
+ * Loop (edge 3/8, 3/8, 1/8, 1/8; vertex (1 - n beta) V + beta sum E_j); sharp
+ * edges (boundary, non-manifold) give midpoints, crease vertices
+ * (1, 6, 1)/8, corners and pinned vertices stay.
+ */
+#ifndef LIMN_SCHEME_REFINE_H
+#define LIMN_SCHEME_REFINE_H
+
+#include "topology/topology.h"
+
+/* Loop's vertex weight beta_n = (5/8 - (3/8 + cos(2 pi/n)/4)^2) / n. */
+double scheme_loop_refine_beta(uint32_t valence);
+
+/* Upper bounds on the entries of each mask. */
+size_t scheme_refine_vertex_bound(const topology *t, uint32_t v);
+size_t scheme_refine_edge_bound(const topology *t, uint32_t e);
+
+size_t scheme_refine_vertex_mask(const topology *t, limn_scheme scheme, double alpha, uint32_t v,
+                                 uint32_t *cols, double *w);
+size_t scheme_refine_edge_mask(const topology *t, limn_scheme scheme, uint32_t e, uint32_t *cols,
+                               double *w);
+/* Catmull-Clark face point: the centroid. */
+size_t scheme_refine_face_mask(const topology *t, uint32_t f, uint32_t *cols, double *w);
+
+#endif

@@ -1,0 +1,656 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The mesh series (seed 000 §3, §6, §7; DESIGN.md §1): bands, partial sums,
+ * denoising (eq. 8), sharpening and morphing (eq. 9). Every driver builds the
+ * limit operator A once and runs the terms (E - A)^i x on the device with the
+ * fused series_step (one stencil product per term, plus the running sum), so
+ * nothing but stencil products and vector updates is ever computed: no matrix
+ * power is formed.
+ */
+#include "base/abi.h"
+#include "mesh/check.h"
+#include "base/context.h"
+#include "device/device.h"
+#include "topology/measure.h"
+#include "mesh/mesh.h"
+#include "solve/operator.h"
+#include "series/series.h"
+#include "base/clock.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void limn_series_options_default(limn_series_options *o)
+{
+    if (!o)
+        return; /* no context to report to */
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
+    o->scheme = LIMN_SCHEME_AUTO;
+    o->alpha = 0.0;
+}
+
+void limn_morph_options_default(limn_morph_options *o)
+{
+    if (!o)
+        return; /* no context to report to */
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
+    limn_series_options_default(&o->series);
+    o->frames = 30;
+    o->m = 2;
+    o->p = 0.8;
+    o->linear = 0;
+}
+
+limn_status series_check_options(limn_context *ctx, const limn_series_options *o)
+{
+    if (o->scheme != LIMN_SCHEME_AUTO && o->scheme != LIMN_SCHEME_LOOP &&
+        o->scheme != LIMN_SCHEME_CATMARK)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "unknown scheme %d", (int)o->scheme);
+    if (!(o->alpha >= 0.0 && o->alpha <= 1.0))
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "alpha is %g; it must lie in [0, 1]", o->alpha);
+    return LIMN_OK;
+}
+
+void series_report_init(limn_series_report *r, const limn_mesh *mesh)
+{
+    memset(r, 0, sizeof *r);
+    r->vertices = mesh->vertex_count;
+    r->faces = mesh->face_count;
+}
+
+void series_report_operator(limn_series_report *r, const limn_operator *op)
+{
+    r->scheme = op->scheme;
+    r->alpha = op->alpha;
+    r->seconds_topology += op->seconds_topology;
+    r->seconds_stencil += op->seconds_stencil;
+    r->stencil_nonzeros = op->host.row_offsets[op->host.rows];
+    r->bbox_diagonal = op->bbox_diagonal;
+    snprintf(r->device, sizeof r->device, "%s", op->dev->name);
+}
+
+limn_status series_open(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
+                        double alpha, int buffers, series_run *s, limn_series_report *r)
+{
+    memset(s, 0, sizeof *s);
+    if (mesh->vertex_count == 0 || mesh->face_count == 0)
+        return limn_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
+                         mesh->vertex_count ? "faces" : "vertices");
+    if (buffers > SERIES_MAX_BUFFERS)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "series_open: too many buffers");
+    limn_status st = operator_build(ctx, mesh, scheme, alpha, &s->op);
+    if (st)
+        return st;
+    s->open = 1;
+    s->dev = s->op.dev;
+    s->n = mesh->vertex_count;
+    if (r)
+        series_report_operator(r, &s->op);
+    s->host = calloc(4 * s->n, sizeof *s->host);
+    if (!s->host)
+        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", s->n);
+    for (int b = 0; !st && b < buffers; b++)
+        st = s->dev->ops->buffer_create(s->dev, 4 * s->n * sizeof(double), NULL, &s->buf[b]);
+    if (st)
+        series_close(s);
+    s->t0 = limn_seconds();
+    return st;
+}
+
+void series_close(series_run *s)
+{
+    for (int b = 0; b < SERIES_MAX_BUFFERS; b++)
+        if (s->buf[b])
+            s->dev->ops->buffer_release(s->dev, s->buf[b]);
+    free(s->host);
+    if (s->open)
+        operator_free(&s->op);
+    memset(s, 0, sizeof *s);
+}
+
+limn_status series_upload(series_run *s, device_buffer *b, const double *xyz)
+{
+    for (size_t i = 0; i < s->n; i++) {
+        memcpy(s->host + 4 * i, xyz + 3 * i, 3 * sizeof(double));
+        s->host[4 * i + 3] = 0.0;
+    }
+    return s->dev->ops->buffer_write(s->dev, b, 4 * s->n * sizeof(double), s->host);
+}
+
+limn_status series_download(series_run *s, device_buffer *b, double *xyz)
+{
+    limn_status st = s->dev->ops->buffer_read(s->dev, b, 4 * s->n * sizeof(double), s->host);
+    for (size_t i = 0; !st && i < s->n; i++)
+        memcpy(xyz + 3 * i, s->host + 4 * i, 3 * sizeof(double));
+    return st;
+}
+
+limn_status series_partial_sum(series_run *s, device_buffer *x, device_buffer *acc,
+                               device_buffer *ra, device_buffer *rb, int m, long long *products)
+{
+    device_buffer *cur = x;
+    for (int i = 0; i <= m; i++) {
+        device_buffer *next = cur == ra ? rb : ra;
+        device_norms nr;
+        limn_status st = s->dev->ops->series_step(
+            s->dev, &s->op.device, cur, next, NULL, acc, i < m ? SERIES_STORE_NEXT : 0,
+            i == 0 ? SERIES_ACC_SET_AX : SERIES_ACC_ADD_AX, &nr);
+        if (st)
+            return st;
+        ++*products;
+        cur = next;
+    }
+    return LIMN_OK;
+}
+
+/* Checks that a result is finite (a diverging filter, e.g. sharpening far too
+   hard, must not be written as if it were a mesh). */
+limn_status series_check_finite(limn_context *ctx, const double *xyz, size_t n, const char *what)
+{
+    for (size_t i = 0; i < 3 * n; i++)
+        if (!isfinite(xyz[i]))
+            return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+                             "%s produced a non-finite coordinate at vertex %zu; nothing was "
+                             "written (use fewer steps or terms)",
+                             what, i / 3);
+    return LIMN_OK;
+}
+
+/* Common start of the public drivers (fn: the caller's name, for messages). */
+static limn_status begin(limn_context *ctx, const char *fn, const limn_mesh *mesh,
+                         const limn_series_options *in, limn_series_options *o,
+                         limn_series_report *local, limn_series_report **r)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    limn_status st = check_mesh_magnitude(ctx, fn, NULL, mesh);
+    if (st)
+        return st;
+    if (in)
+        *o = *in;
+    else
+        limn_series_options_default(o);
+    if (!*r)
+        *r = local;
+    series_report_init(*r, mesh);
+    st = check_scheme(ctx, fn, o->scheme);
+    return st ? st : series_check_options(ctx, o);
+}
+
+/* limn_bands on options and report of this library's layout. */
+static limn_status bands_sized(limn_context *ctx, const limn_mesh *mesh,
+                               const limn_series_options *options, int count, double *bands,
+                               double *energy, limn_series_report *report)
+{
+    limn_series_options o;
+    limn_series_report local, *r = report;
+    limn_status st = begin(ctx, "limn_bands", mesh, options, &o, &local, &r);
+    if (!st)
+        st = check_count(ctx, "limn_bands", "count", count, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (st)
+        return st;
+    series_run s;
+    /* 0: M, then ping-pong remainders 1, 2; 3: the band */
+    st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
+    if (st)
+        return st;
+    size_t n3 = 3 * s.n;
+    st = series_upload(&s, s.buf[0], mesh->positions);
+    device_buffer *cur = s.buf[0];
+    for (int i = 0; !st && i < count; i++) {
+        device_buffer *next = cur == s.buf[1] ? s.buf[2] : s.buf[1];
+        device_norms nr;
+        st = s.dev->ops->series_step(s.dev, &s.op.device, cur, next, s.buf[3], NULL,
+                                     SERIES_STORE_AX | SERIES_STORE_NEXT, SERIES_ACC_NONE, &nr);
+        r->products++;
+        if (!st && energy)
+            energy[i] = nr.sum_sq;
+        if (!st && bands)
+            st = series_download(&s, s.buf[3], bands + (size_t)i * n3);
+        cur = next;
+        if (count > 1)
+            limn_progress(ctx, "bands", (double)(i + 1) / count);
+    }
+    if (!st && energy) {
+        device_norms nr;
+        st = s.dev->ops->norms(s.dev, s.n, cur, &nr);
+        if (!st)
+            energy[count] = nr.sum_sq;
+    }
+    if (!st && bands)
+        st = series_download(&s, cur, bands + (size_t)count * n3);
+    r->seconds_compute = limn_seconds() - s.t0;
+    series_close(&s);
+    return st;
+}
+
+/* Reads buffer b into a copy of mesh (positions replaced): the result. */
+static limn_status result_mesh(limn_context *ctx, series_run *s, device_buffer *b,
+                               const limn_mesh *mesh, const char *what, limn_mesh **out)
+{
+    limn_mesh *m = NULL;
+    limn_status st = limn_mesh_copy(ctx, mesh, &m);
+    if (!st)
+        st = series_download(s, b, m->positions);
+    if (!st)
+        st = series_check_finite(ctx, m->positions, m->vertex_count, what);
+    if (st) {
+        limn_mesh_destroy(m);
+        return st;
+    }
+    *out = m;
+    return LIMN_OK;
+}
+
+/* limn_smooth on options and report of this library's layout. */
+static limn_status smooth_sized(limn_context *ctx, const limn_mesh *mesh,
+                                const limn_series_options *options, int terms, limn_mesh **out,
+                                limn_series_report *report)
+{
+    limn_series_options o;
+    limn_series_report local, *r = report;
+    if (out)
+        *out = NULL;
+    limn_status st = begin(ctx, "limn_smooth", mesh, options, &o, &local, &r);
+    if (st)
+        return st;
+    if (!out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_smooth: out is NULL");
+    st = check_count(ctx, "limn_smooth", "terms", terms, 1, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (st)
+        return st;
+    series_run s;
+    st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
+    if (st)
+        return st;
+    st = series_upload(&s, s.buf[0], mesh->positions);
+    if (!st)
+        st = series_partial_sum(&s, s.buf[0], s.buf[1], s.buf[2], s.buf[3], terms - 1,
+                                &r->products);
+    if (!st)
+        st = result_mesh(ctx, &s, s.buf[1], mesh, "smoothing", out);
+    r->seconds_compute = limn_seconds() - s.t0;
+    series_close(&s);
+    return st;
+}
+
+limn_status series_keep_volume(limn_context *ctx, const limn_mesh *mesh, limn_mesh *out)
+{
+    double v0, v1, a;
+    measure_volume_area(mesh, mesh->positions, &v0, &a);
+    measure_volume_area(out, out->positions, &v1, &a);
+    if (!(v1 != 0.0 && (v0 > 0.0) == (v1 > 0.0)))
+        return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+                         "cannot keep the volume: it went from %.6g to %.6g", v0, v1);
+    double scale = cbrt(v0 / v1), c[3] = {0, 0, 0};
+    double *p = out->positions;
+    size_t n = out->vertex_count;
+    for (size_t i = 0; i < n; i++)
+        for (int j = 0; j < 3; j++)
+            c[j] += p[3 * i + j];
+    for (int j = 0; j < 3; j++)
+        c[j] /= (double)n;
+    for (size_t i = 0; i < n; i++)
+        for (int j = 0; j < 3; j++)
+            p[3 * i + j] = c[j] + scale * (p[3 * i + j] - c[j]);
+    return LIMN_OK;
+}
+
+/* limn_denoise on options and report of this library's layout. */
+static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_series_options *options, int m, int steps,
+                                 int keep_volume, limn_mesh **out, limn_series_report *report)
+{
+    limn_series_options o;
+    limn_series_report local, *r = report;
+    if (out)
+        *out = NULL;
+    limn_status st = begin(ctx, "limn_denoise", mesh, options, &o, &local, &r);
+    if (st)
+        return st;
+    if (!out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_denoise: out is NULL");
+    st = check_count(ctx, "limn_denoise", "m", m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st)
+        st = check_steps(ctx, "limn_denoise", steps, m + 1LL, "(m + 1) * steps");
+    if (st)
+        return st;
+    series_run s;
+    st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
+    if (st)
+        return st;
+    if (keep_volume && !measure_topology_closed(&s.op.topo)) {
+        st = limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+                       "keeping the volume needs a closed mesh, and this one has %zu boundary, "
+                       "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
+                       "not defined",
+                       s.op.topo.boundary_edges, s.op.topo.nonmanifold_edges,
+                       s.op.topo.inconsistent_edges);
+        series_close(&s);
+        return st;
+    }
+    device_buffer *t = s.buf[0], *acc = s.buf[1];
+    st = series_upload(&s, t, mesh->positions);
+    for (int k = 0; !st && k < steps; k++) {
+        st = series_partial_sum(&s, t, acc, s.buf[2], s.buf[3], m, &r->products);
+        device_buffer *tmp = t;
+        t = acc;
+        acc = tmp;
+        limn_progress(ctx, "denoise", (double)(k + 1) / steps);
+    }
+    if (!st)
+        st = result_mesh(ctx, &s, t, mesh, "denoising", out);
+    if (!st && keep_volume) {
+        st = series_keep_volume(ctx, mesh, *out);
+        if (st) {
+            limn_mesh_destroy(*out);
+            *out = NULL;
+        }
+    }
+    r->seconds_compute = limn_seconds() - s.t0;
+    series_close(&s);
+    return st;
+}
+
+/* limn_sharpen on options and report of this library's layout. */
+static limn_status sharpen_sized(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_series_options *options, int from, int to, int steps,
+                                 limn_mesh **out, limn_series_report *report)
+{
+    limn_series_options o;
+    limn_series_report local, *r = report;
+    if (out)
+        *out = NULL;
+    limn_status st = begin(ctx, "limn_sharpen", mesh, options, &o, &local, &r);
+    if (st)
+        return st;
+    if (!out)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_sharpen: out is NULL");
+    if (from < 0 || to < from)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "limn_sharpen: the terms run from %d to %d; they need 0 <= from <= to",
+                         from, to);
+    st = check_count(ctx, "limn_sharpen", "to", to, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st)
+        st = check_steps(ctx, "limn_sharpen", steps, to, "to * steps");
+    if (st)
+        return st;
+    series_run s;
+    st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
+    if (st)
+        return st;
+    device_buffer *t = s.buf[0], *acc = s.buf[1];
+    st = series_upload(&s, t, mesh->positions);
+    for (int k = 0; !st && k < steps; k++) {
+        /* acc = T; r_0 = T, r_{i+1} = (E - A) r_i; acc += r_i for from <= i <= to */
+        st = s.dev->ops->axpby(s.dev, s.n, 1.0, t, 0.0, t, acc);
+        device_buffer *cur = t;
+        for (int i = 0; !st && i < to; i++) {
+            device_buffer *next = cur == s.buf[2] ? s.buf[3] : s.buf[2];
+            device_norms nr;
+            st = s.dev->ops->series_step(s.dev, &s.op.device, cur, next, NULL, acc,
+                                         SERIES_STORE_NEXT,
+                                         i >= from ? SERIES_ACC_ADD_X : SERIES_ACC_NONE, &nr);
+            r->products++;
+            cur = next;
+        }
+        if (!st)
+            st = s.dev->ops->axpby(s.dev, s.n, 1.0, acc, 1.0, cur, acc);
+        device_buffer *tmp = t;
+        t = acc;
+        acc = tmp;
+        limn_progress(ctx, "sharpen", (double)(k + 1) / steps);
+    }
+    if (!st)
+        st = result_mesh(ctx, &s, t, mesh, "sharpening", out);
+    r->seconds_compute = limn_seconds() - s.t0;
+    series_close(&s);
+    return st;
+}
+
+/* Fills a frame's measures and calls the user's callback. */
+limn_status series_emit_frame(const limn_mesh *from, const limn_mesh *to, int closed,
+                              double diag, int index, const double *pos, limn_morph_frame_fn fn,
+                              void *user)
+{
+    limn_morph_frame fr;
+    fr.index = index;
+    fr.positions = pos;
+    double vol;
+    measure_volume_area(from, pos, &vol, &fr.area);
+    fr.volume = closed ? vol : NAN;
+    fr.flipped_faces = measure_flipped(from, from->positions, pos);
+    double sum = 0.0;
+    for (size_t i = 0; i < from->vertex_count; i++) {
+        const double *p = pos + 3 * i, *q = to->positions + 3 * i;
+        sum += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                    (p[2] - q[2]) * (p[2] - q[2]));
+    }
+    fr.mean_distance_to_target = sum / (double)from->vertex_count / (diag > 0 ? diag : 1.0);
+    return fn(user, &fr);
+}
+
+/* limn_morph on options and report of this library's layout. */
+static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                               const limn_morph_options *options, limn_morph_frame_fn fn,
+                               void *user, limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (!fn)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_morph: the frame callback is NULL");
+    limn_status st = check_mesh_magnitude(ctx, "limn_morph", "FROM", from);
+    if (!st)
+        st = check_mesh_magnitude(ctx, "limn_morph", "TO", to);
+    if (st)
+        return st;
+    limn_morph_options o;
+    if (options)
+        o = *options;
+    else
+        limn_morph_options_default(&o);
+    limn_series_report local, *r = report ? report : &local;
+    series_report_init(r, from);
+    st = check_scheme(ctx, "limn_morph", o.series.scheme);
+    if (!st)
+        st = series_check_options(ctx, &o.series);
+    if (!st)
+        st = check_count(ctx, "limn_morph", "frames", o.frames, 2, LIMN_MAX_FRAMES,
+                         "LIMN_MAX_FRAMES");
+    if (!st && !o.linear)
+        st = check_count(ctx, "limn_morph", "m", o.m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st && !o.linear)
+        st = check_count(ctx, "limn_morph", "(m + 1) * (frames - 1)",
+                         (o.m + 1LL) * (o.frames - 1LL), 0, LIMN_MAX_PRODUCTS,
+                         "LIMN_MAX_PRODUCTS");
+    if (st)
+        return st;
+    if (!o.linear && !(o.p > 0.0 && o.p < 1.0))
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
+                         o.p);
+    st = measure_same_topology(ctx, from, to, "FROM", "TO");
+    if (st)
+        return st;
+    if (from->vertex_count == 0 || from->face_count == 0)
+        return limn_fail(ctx, LIMN_ERR_TOPOLOGY, "the meshes have no %s",
+                         from->vertex_count ? "faces" : "vertices");
+    size_t n = from->vertex_count, n3 = 3 * n;
+    double lo[3], hi[3], diag = mesh_bbox_diagonal(to, lo, hi);
+    double *q = malloc(n3 * sizeof *q);
+    if (!q)
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+
+    if (o.linear) {
+        /* the comparison: no operator, the blend on the host */
+        topology t;
+        st = topology_build(ctx, from, &t);
+        int closed = !st && measure_topology_closed(&t);
+        if (!st) {
+            r->scheme = LIMN_SCHEME_AUTO;
+            st = operator_resolve_scheme(ctx, from, o.series.scheme, &r->scheme);
+            r->alpha = r->scheme == LIMN_SCHEME_CATMARK ? o.series.alpha : 0.0;
+            r->bbox_diagonal = mesh_bbox_diagonal(from, lo, hi);
+            snprintf(r->device, sizeof r->device, "none (linear blend on the host)");
+            topology_free(&t);
+        }
+        double t0 = limn_seconds();
+        for (int k = 0; !st && k < o.frames; k++) {
+            double u = (double)k / (double)(o.frames - 1);
+            for (size_t i = 0; i < n3; i++)
+                q[i] = (1.0 - u) * from->positions[i] + u * to->positions[i];
+            st = series_emit_frame(from, to, closed, diag, k, q, fn, user);
+        }
+        r->seconds_compute = limn_seconds() - t0;
+        free(q);
+        return st;
+    }
+
+    series_run s;
+    /* 0: D = Q_k - TO, 1: the partial sum, 2, 3: remainders */
+    st = series_open(ctx, from, o.series.scheme, o.series.alpha, 4, &s, r);
+    if (st) {
+        free(q);
+        return st;
+    }
+    int closed = measure_topology_closed(&s.op.topo);
+    for (size_t i = 0; i < n3; i++)
+        q[i] = from->positions[i] - to->positions[i];
+    st = series_upload(&s, s.buf[0], q);
+    if (!st)
+        st = series_emit_frame(from, to, closed, diag, 0, from->positions, fn, user);
+    for (int k = 1; !st && k < o.frames; k++) {
+        /* D_{k} = p sum_{i=0..m} (E - A)^i A D_{k-1}; Q_k = TO + D_k */
+        st = series_partial_sum(&s, s.buf[0], s.buf[1], s.buf[2], s.buf[3], o.m, &r->products);
+        if (!st)
+            st = s.dev->ops->axpby(s.dev, s.n, o.p, s.buf[1], 0.0, s.buf[1], s.buf[0]);
+        if (!st)
+            st = series_download(&s, s.buf[0], q);
+        if (!st) {
+            for (size_t i = 0; i < n3; i++)
+                q[i] = to->positions[i] + q[i];
+            st = series_check_finite(ctx, q, n, "the morph");
+        }
+        if (!st)
+            st = series_emit_frame(from, to, closed, diag, k, q, fn, user);
+        limn_progress(ctx, "morph", (double)k / (double)(o.frames - 1));
+    }
+    r->seconds_compute = limn_seconds() - s.t0;
+    series_close(&s);
+    free(q);
+    return st;
+}
+
+limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *options,
+                       int count, double *bands, double *energy, limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    limn_series_options o;
+    limn_series_options_default(&o);
+    limn_series_report r;
+    limn_status st = abi_options_in(ctx, "limn_bands", "options", &abi_series_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_bands", "report", &abi_series_report, report, &r);
+    if (st)
+        return st;
+    st = bands_sized(ctx, mesh, options ? &o : NULL, count, bands, energy, report ? &r : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    return st;
+}
+
+limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
+                        const limn_series_options *options, int terms, limn_mesh **out,
+                        limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (out)
+        *out = NULL;
+    limn_series_options o;
+    limn_series_options_default(&o);
+    limn_series_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_smooth", "options", &abi_series_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_smooth", "report", &abi_series_report, report, &r);
+    if (st)
+        return st;
+    st = smooth_sized(ctx, mesh, options ? &o : NULL, terms, out, report ? &r : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    return st;
+}
+
+limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
+                         const limn_series_options *options, int m, int steps, int keep_volume,
+                         limn_mesh **out, limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (out)
+        *out = NULL;
+    limn_series_options o;
+    limn_series_options_default(&o);
+    limn_series_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_denoise", "options", &abi_series_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_denoise", "report", &abi_series_report, report, &r);
+    if (st)
+        return st;
+    st = denoise_sized(ctx, mesh, options ? &o : NULL, m, steps, keep_volume, out,
+                       report ? &r : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    return st;
+}
+
+limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
+                         const limn_series_options *options, int from, int to, int steps,
+                         limn_mesh **out, limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (out)
+        *out = NULL;
+    limn_series_options o;
+    limn_series_options_default(&o);
+    limn_series_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_sharpen", "options", &abi_series_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_sharpen", "report", &abi_series_report, report, &r);
+    if (st)
+        return st;
+    st = sharpen_sized(ctx, mesh, options ? &o : NULL, from, to, steps, out, report ? &r : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    return st;
+}
+
+limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                       const limn_morph_options *options, limn_morph_frame_fn fn, void *user,
+                       limn_series_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    limn_morph_options o;
+    limn_morph_options_default(&o);
+    limn_series_report r;
+    limn_status st = abi_options_in(ctx, "limn_morph", "options", &abi_morph_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_morph", "report", &abi_series_report, report, &r);
+    if (st)
+        return st;
+    st = morph_sized(ctx, from, to, options ? &o : NULL, fn, user, report ? &r : NULL);
+    abi_report_end(&abi_series_report, report, &r);
+    return st;
+}

@@ -1,0 +1,227 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Mixed-precision iterative refinement for A P = M (README "Precision").
+ * In float, r = M - A P loses about three of float's seven digits to
+ * cancellation (DESIGN.md §6), so a float iteration on P itself stalls near
+ * 1e-7 of the coordinates. Here the residual of P is always taken in double;
+ * only the correction d (A d = r, of the size of r, not of P) is iterated in
+ * float, where those seven digits are relative to r. Each outer step thus
+ * gains up to INNER_REDUCTION, and the stop test is the double iteration's.
+ */
+#include "solve/solve_mixed.h"
+#include "mesh/check.h"
+#include "base/context.h"
+#include "solve/solve.h"
+#include "base/clock.h"
+#include "solve/iterate.h"
+
+#include <math.h>
+
+/* A float solve aims at the tolerance or at this reduction of its
+   right-hand side, whichever is larger. Its floor (float weights and float
+   rounding of d) measured 0.9e-7 of r on horse/Loop, so 1e-6 stays clear of
+   it; then one float solve reaches 1e-8 on every shared medium mesh, and
+   1e-10 takes two. Its estimate of the new residual is good to ~1e-7 of r,
+   and the correction returned is one step past the one measured, so no
+   margin below the tolerance is needed (none of 78 measured solves needed a
+   second outer step for it). */
+#define INNER_REDUCTION 1e-6
+/* A float solve whose residual shrinks by less than 1% over this many steps
+   has reached its floor (or A is singular): it ends there. */
+#define INNER_STALL_WINDOW 10
+/* An outer step that does not halve the double residual hands over to the
+   double iteration, whose stall test then names a singular operator. */
+#define OUTER_GAIN 0.5
+/* Steps of the weighted method's probe of the contraction (solve/iterate.c). */
+#define WEIGHTED_PROBE 8
+
+const char *limn_precision_name(limn_precision p)
+{
+    switch (p) {
+    case LIMN_PRECISION_AUTO: return "auto";
+    case LIMN_PRECISION_DOUBLE: return "double";
+    case LIMN_PRECISION_FLOAT: return "float";
+    }
+    return "unknown";
+}
+
+limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_options *o,
+                                   limn_method method, size_t vertices, limn_precision *out,
+                                   limn_report *r)
+{
+    int iterative = method == LIMN_METHOD_PAPER || method == LIMN_METHOD_WEIGHTED ||
+                    method == LIMN_METHOD_CHEBYSHEV;
+    switch (o->precision) {
+    case LIMN_PRECISION_DOUBLE:
+        *out = LIMN_PRECISION_DOUBLE;
+        r->precision_reason = "chosen by the caller";
+        break;
+    case LIMN_PRECISION_FLOAT:
+        if (!iterative)
+            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                             "precision float runs the chebyshev, paper or weighted iteration; "
+                             "method %s runs in double: use another --method, or --precision "
+                             "double or auto",
+                             limn_method_name(method));
+        *out = LIMN_PRECISION_FLOAT;
+        r->precision_reason = "chosen by the caller";
+        break;
+    case LIMN_PRECISION_AUTO:
+        if (!iterative) {
+            *out = LIMN_PRECISION_DOUBLE;
+            r->precision_reason = "auto: the method runs in double only";
+        } else if (vertices < SOLVE_FLOAT_MIN_VERTICES) {
+            *out = LIMN_PRECISION_DOUBLE;
+            r->precision_reason = "auto: double below 200,000 vertices, where the float "
+                                  "path's extra double product and set-up cost about what "
+                                  "its cheaper products save";
+        } else {
+            *out = LIMN_PRECISION_FLOAT;
+            r->precision_reason = "auto: float corrections from 200,000 vertices, measured "
+                                  "9-25% faster to the same tolerance";
+        }
+        break;
+    default:
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate: unknown precision %d",
+                         (int)o->precision);
+    }
+    r->precision = limn_precision_name(*out);
+    return LIMN_OK;
+}
+
+typedef struct mixed_state {
+    struct limn_device *dev;
+    limn_method method;        /* paper, weighted or chebyshev */
+    device_buffer *r, *d[2];   /* float4 rows: right-hand side, corrections */
+    double omega;              /* weighted: set after the probe of the first solve */
+    double probe;              /* |s|_2 at the probe's start */
+    double cheb_a;             /* chebyshev: lower bound, kept across float solves */
+} mixed_state;
+
+/*
+ * One float solve of A d = r; *out: the buffer holding d. Its first iterate
+ * d = r costs nothing (the seeds' step from d = 0), so step j here is step
+ * j + 1 of the double iteration from P = M, and Chebyshev starts after that
+ * step, as the double one does after its lead step. Iterates: x_0 = r,
+ * x_k (k >= 1) in d[(k - 1) & 1]; step j reads x_j and x_{j-1} and writes
+ * x_{j+1} over x_{j-1} (each row reads it first).
+ */
+static limn_status inner_solve(limn_context *ctx, limn_operator *op, mixed_state *s,
+                               double target, int probing, int max_iter, device_buffer **out,
+                               limn_report *r)
+{
+    double history[INNER_STALL_WINDOW];
+    chebyshev cheb;
+    chebyshev_init(&cheb, s->cheb_a, 0);
+    device_buffer *cur = s->r;
+    for (int j = 0;; j++) {
+        device_norms ns;
+        double c1 = 0.0, c2 = s->omega;
+        if (s->method == LIMN_METHOD_CHEBYSHEV)
+            chebyshev_coefficients(&cheb, &c1, &c2);
+        /* c1 = 0 reads no previous iterate: pass cur, whose lines are loaded anyway */
+        device_buffer *next = s->d[j & 1];
+        device_buffer *prev = c1 == 0.0 ? cur : j == 1 ? s->r : next;
+        limn_status st = s->dev->ops->step_f(s->dev, &op->device, s->r, cur, prev, next,
+                                             (float)c1, (float)c2, &ns);
+        if (st)
+            return st;
+        ns.max = check_norm_max(ns.max, ns.sum);
+        r->products += 1.0;
+        r->products_float += 1.0;
+        r->iterations++;
+        if (s->method == LIMN_METHOD_WEIGHTED && probing && j == 1)
+            s->probe = sqrt(ns.sum_sq);
+        if (s->method == LIMN_METHOD_WEIGHTED && probing && j == WEIGHTED_PROBE - 1 &&
+            s->probe > 0) {
+            double rho = pow(sqrt(ns.sum_sq) / s->probe, 1.0 / (WEIGHTED_PROBE - 2));
+            double lambda = rho < 1.0 ? 1.0 - rho : 1.0;
+            s->omega = 2.0 / (lambda + 1.0);
+            r->omega = s->omega;
+        }
+        if (s->method == LIMN_METHOD_CHEBYSHEV && ns.max > target)
+            r->restarts += chebyshev_observe(&cheb, ns.max);
+        if (!isfinite(ns.max))
+            return check_nonfinite_iteration(ctx, "the float correction", r->iterations,
+                                             op->scheme, op->alpha, 1);
+        cur = next;
+        int stalled = j >= INNER_STALL_WINDOW &&
+                      ns.max > 0.99 * history[j % INNER_STALL_WINDOW];
+        if (ns.max <= target || stalled || r->iterations >= max_iter)
+            break;
+        history[j % INNER_STALL_WINDOW] = ns.max;
+    }
+    s->cheb_a = cheb.a;
+    if (s->method == LIMN_METHOD_CHEBYSHEV)
+        r->spectrum_lower = cheb.a;
+    *out = cur;
+    return LIMN_OK;
+}
+
+limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, device_buffer *p,
+                        const limn_interpolate_options *o, double diag, limn_method method,
+                        int *converged, limn_report *r)
+{
+    struct limn_device *dev = op->dev;
+    size_t n = op->vertex_count ? op->vertex_count : 1;
+    double tol_abs = o->tolerance * diag, first = -1.0, prev = INFINITY;
+    mixed_state s = {.dev = dev, .method = method, .omega = 1.0,
+                     .cheb_a = chebyshev_prior(op->scheme)};
+    *converged = 0;
+    r->omega = 1.0;
+    limn_status st = device_csr_add_float(dev, &op->device);
+    if (!st)
+        st = dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &s.r);
+    for (int i = 0; i < 2 && !st; i++)
+        st = dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &s.d[i]);
+    double t_loop = limn_seconds(), compiles = dev->setup.kernels; /* first launches */
+    for (int outer = 0; !st; outer++) {
+        device_norms nr;
+        st = dev->ops->residual_f(dev, &op->device, m, p, s.r, &nr);
+        if (st)
+            break;
+        nr.max = check_norm_max(nr.max, nr.sum);
+        r->products += 1.0;
+        r->max_abs_error = nr.max;
+        r->mean_abs_error = nr.sum / (double)n;
+        if (!isfinite(nr.max)) {
+            st = check_nonfinite_iteration(ctx, "the residual", r->iterations, op->scheme,
+                                           op->alpha, 1);
+            break;
+        }
+        if (nr.max <= tol_abs) {
+            *converged = 1;
+            break;
+        }
+        if (nr.max > OUTER_GAIN * prev) {
+            r->precision_reason = "float corrections stopped gaining; finished in double";
+            break;
+        }
+        if (r->iterations >= o->max_iterations) {
+            double rate = pow(nr.max / first, 1.0 / (double)r->iterations);
+            st = limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+                           "no convergence in %d iterations: max relative error %.3g, "
+                           "tolerance %.3g; the error shrinks by %.4f per iteration: raise "
+                           "--max-iter or loosen --tol",
+                           r->iterations, diag > 0 ? nr.max / diag : nr.max, o->tolerance, rate);
+            break;
+        }
+        if (first < 0.0)
+            first = nr.max;
+        else if (first > tol_abs)
+            limn_progress(ctx, "solve", log(first / nr.max) / log(first / tol_abs));
+        prev = nr.max;
+        device_buffer *d = NULL;
+        double target = fmax(tol_abs, INNER_REDUCTION * nr.max);
+        st = inner_solve(ctx, op, &s, target, outer == 0, o->max_iterations, &d, r);
+        if (!st)
+            st = dev->ops->add_f(dev, op->vertex_count, p, d);
+    }
+    r->seconds_iterations += limn_seconds() - t_loop - (dev->setup.kernels - compiles);
+    for (int i = 0; i < 2; i++)
+        if (s.d[i])
+            dev->ops->buffer_release(dev, s.d[i]);
+    if (s.r)
+        dev->ops->buffer_release(dev, s.r);
+    return st;
+}

@@ -1,0 +1,130 @@
+/* SPDX-License-Identifier: MIT */
+/* CSR tables built from the scheme's masks, rows sorted by column with
+   repeated columns merged, so a table is a deterministic function of the
+   topology. */
+#include "stencil/stencil.h"
+#include "base/context.h"
+#include "scheme/scheme.h"
+#include "topology/topology.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void stencil_free(stencil_csr *csr)
+{
+    if (!csr)
+        return;
+    free(csr->row_offsets);
+    free(csr->columns);
+    free(csr->weights);
+    memset(csr, 0, sizeof *csr);
+}
+
+/* Sorts (col, weight) pairs by column and merges repeats; returns the new count. */
+static size_t sort_merge(uint32_t *cols, double *w, size_t n)
+{
+    for (size_t i = 1; i < n; i++) {
+        uint32_t c = cols[i];
+        double x = w[i];
+        size_t j = i;
+        while (j > 0 && cols[j - 1] > c) {
+            cols[j] = cols[j - 1];
+            w[j] = w[j - 1];
+            j--;
+        }
+        cols[j] = c;
+        w[j] = x;
+    }
+    size_t m = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (m > 0 && cols[m - 1] == cols[i]) {
+            w[m - 1] += w[i];
+        } else {
+            cols[m] = cols[i];
+            w[m] = w[i];
+            m++;
+        }
+    }
+    return m;
+}
+
+limn_status stencil_build(limn_context *ctx, size_t rows, size_t cols, stencil_row_bound bound,
+                          stencil_row_fill fill, const void *user, stencil_csr *out)
+{
+    memset(out, 0, sizeof *out);
+    size_t total = 0;
+    for (size_t r = 0; r < rows; r++)
+        total += bound(user, r);
+    if (total > UINT32_MAX)
+        return limn_fail(ctx, LIMN_ERR_MEMORY,
+                         "a stencil table would hold %zu entries, more than 2^32", total);
+    out->rows = rows;
+    out->cols = cols;
+    out->row_offsets = malloc((rows + 1) * sizeof *out->row_offsets);
+    out->columns = malloc((total ? total : 1) * sizeof *out->columns);
+    out->weights = malloc((total ? total : 1) * sizeof *out->weights);
+    if (!out->row_offsets || !out->columns || !out->weights) {
+        stencil_free(out);
+        return limn_fail(ctx, LIMN_ERR_MEMORY,
+                         "out of memory for a stencil table of %zu entries", total);
+    }
+    size_t k = 0;
+    out->row_offsets[0] = 0;
+    for (size_t r = 0; r < rows; r++) {
+        size_t n = fill(user, r, out->columns + k, out->weights + k);
+        k += sort_merge(out->columns + k, out->weights + k, n);
+        out->row_offsets[r + 1] = (uint32_t)k;
+        if ((r & 0xFFFFF) == 0xFFFFF)
+            limn_progress(ctx, "stencil", (double)r / (double)rows);
+    }
+    /* Shrink to the merged size (keeps the old block if realloc fails). */
+    uint32_t *c = realloc(out->columns, (k ? k : 1) * sizeof *c);
+    if (c)
+        out->columns = c;
+    double *w = realloc(out->weights, (k ? k : 1) * sizeof *w);
+    if (w)
+        out->weights = w;
+    return LIMN_OK;
+}
+
+typedef struct limit_rows {
+    const topology *t;
+    limn_scheme scheme;
+    double alpha;
+} limit_rows;
+
+static size_t limit_bound(const void *user, size_t r)
+{
+    const limit_rows *lr = user;
+    return scheme_limit_mask_bound(lr->t, (uint32_t)r);
+}
+
+static size_t limit_fill(const void *user, size_t r, uint32_t *cols, double *w)
+{
+    const limit_rows *lr = user;
+    return scheme_limit_mask(lr->t, lr->scheme, lr->alpha, (uint32_t)r, cols, w);
+}
+
+limn_status stencil_limit_build(limn_context *ctx, const topology *t, limn_scheme scheme,
+                                double alpha, stencil_csr *out)
+{
+    limit_rows lr = {t, scheme, alpha};
+    return stencil_build(ctx, t->vertex_count, t->vertex_count, limit_bound, limit_fill, &lr, out);
+}
+
+void stencil_apply3(const stencil_csr *a, const double *x, double *y)
+{
+    for (size_t i = 0; i < a->rows; i++) {
+        double s0 = 0, s1 = 0, s2 = 0;
+        for (uint32_t k = a->row_offsets[i]; k < a->row_offsets[i + 1]; k++) {
+            const double *p = x + 3 * (size_t)a->columns[k];
+            double wk = a->weights[k];
+            s0 += wk * p[0];
+            s1 += wk * p[1];
+            s2 += wk * p[2];
+        }
+        y[3 * i] = s0;
+        y[3 * i + 1] = s1;
+        y[3 * i + 2] = s2;
+    }
+}

@@ -1,0 +1,421 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * limn_mesh_repair: the mesh-level repair step run after reading (DESIGN.md
+ * §4; README "Meshes limn accepts"). What it changes, each with a warning:
+ *  - faces that use a vertex more than once: consecutive repeats (a a, also
+ *    across the end of the face) are removed; a face that still visits a
+ *    vertex twice (a b c a d e) is split there into loops with distinct
+ *    vertices (a b c) (a d e), keeping the corner order and so the
+ *    orientation; loops with fewer than 3 vertices are dropped;
+ *  - duplicate faces (the vertex set of an earlier face), only on request.
+ * What it leaves as it is, with a warning saying how it is treated:
+ * non-manifold edges and vertices, edges of inconsistent orientation (sharp
+ * and pinned, OpenSubdiv's rules), vertices used by no face (they stay put).
+ * Several components and boundaries are normal and give no warning.
+ */
+#include "base/abi.h"
+#include "base/context.h"
+#include "mesh/mesh.h"
+#include "topology/topology.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void limn_repair_options_default(limn_repair_options *o)
+{
+    if (!o)
+        return; /* no context to report to */
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
+    o->repeated_vertices = 1;
+    o->duplicate_faces = 0;
+}
+
+/* ---------------------------------------------------------------- repeats */
+
+typedef struct face_out {
+    uint32_t *offsets;   /* room for max_faces + 1 */
+    uint32_t *indices;   /* room for the input's corner count */
+    size_t faces, corners;
+} face_out;
+
+static void emit(face_out *o, const uint32_t *v, size_t n)
+{
+    memcpy(o->indices + o->corners, v, n * sizeof *v);
+    o->corners += n;
+    o->faces++;
+    o->offsets[o->faces] = (uint32_t)o->corners;
+}
+
+/* Rebuilds the faces without repeated vertices (see the file comment). */
+static limn_status fix_repeats(limn_context *ctx, limn_mesh *m, limn_repair_report *r)
+{
+    size_t nf = m->face_count, nc = m->face_offsets[nf], nv = m->vertex_count;
+    /* every output face has >= 3 corners taken from the input's corners */
+    size_t max_faces = nf + nc / 3 + 1;
+    face_out o = {0};
+    o.offsets = malloc((max_faces + 1) * sizeof *o.offsets);
+    o.indices = malloc((nc ? nc : 1) * sizeof *o.indices);
+    uint32_t *pos = calloc(nv ? nv : 1, sizeof *pos);     /* stack index + 1 */
+    uint32_t *stack = malloc((nc ? nc : 1) * sizeof *stack);
+    uint32_t *w = malloc((nc ? nc : 1) * sizeof *w);
+    if (!o.offsets || !o.indices || !pos || !stack || !w) {
+        free(o.offsets);
+        free(o.indices);
+        free(pos);
+        free(stack);
+        free(w);
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory repairing faces");
+    }
+    o.offsets[0] = 0;
+    for (size_t f = 0; f < nf; f++) {
+        const uint32_t *v = m->face_indices + m->face_offsets[f];
+        size_t d = m->face_offsets[f + 1] - m->face_offsets[f];
+        /* 1. consecutive repeats, cyclically */
+        size_t n = 0;
+        for (size_t i = 0; i < d; i++)
+            if (n == 0 || w[n - 1] != v[i])
+                w[n++] = v[i];
+        while (n > 1 && w[n - 1] == w[0])
+            n--;
+        int collapsed = n != d;
+        /* 2. split where a vertex comes back: the stack holds distinct vertices */
+        size_t top = 0, loops = 0, dropped = 0;
+        for (size_t i = 0; i < n; i++) {
+            uint32_t x = w[i];
+            if (pos[x]) {
+                size_t p = pos[x] - 1, len = top - p;
+                if (len >= 3) {
+                    emit(&o, stack + p, len);
+                    loops++;
+                } else {
+                    dropped++;
+                }
+                for (size_t k = p + 1; k < top; k++)
+                    pos[stack[k]] = 0;
+                top = p + 1;
+            } else {
+                stack[top++] = x;
+                pos[x] = (uint32_t)top;
+            }
+        }
+        int split = loops > 0 || dropped > 0;
+        if (top >= 3) {
+            emit(&o, stack, top);
+            loops++;
+        } else if (split || collapsed || top < d) {
+            dropped++;
+        }
+        for (size_t k = 0; k < top; k++)
+            pos[stack[k]] = 0;
+        if (!collapsed && !split)
+            continue;
+        r->repeat_faces++;
+        if (loops == 0)
+            r->degenerate_removed++;
+        else if (loops > 1)
+            r->faces_split++;
+        else
+            r->repeats_removed++;
+    }
+    free(pos);
+    free(stack);
+    free(w);
+    free(m->face_offsets);
+    free(m->face_indices);
+    uint32_t *off = realloc(o.offsets, (o.faces + 1) * sizeof *off);
+    uint32_t *idx = realloc(o.indices, (o.corners ? o.corners : 1) * sizeof *idx);
+    m->face_offsets = off ? off : o.offsets;
+    m->face_indices = idx ? idx : o.indices;
+    m->face_count = o.faces;
+    return LIMN_OK;
+}
+
+/* ------------------------------------------------------------- duplicates */
+
+static uint64_t mix(uint64_t h)
+{
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdULL;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ULL;
+    h ^= h >> 33;
+    return h;
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The vertices of face f in increasing order, into buf (room for its size). */
+static const uint32_t *sorted_face(const limn_mesh *m, uint32_t f, uint32_t *buf, uint32_t *d)
+{
+    uint32_t b = m->face_offsets[f];
+    *d = m->face_offsets[f + 1] - b;
+    memcpy(buf, m->face_indices + b, *d * sizeof *buf);
+    if (*d <= 8) {
+        for (uint32_t i = 1; i < *d; i++)
+            for (uint32_t j = i; j > 0 && buf[j - 1] > buf[j]; j--) {
+                uint32_t t = buf[j];
+                buf[j] = buf[j - 1];
+                buf[j - 1] = t;
+            }
+    } else {
+        qsort(buf, *d, sizeof *buf, cmp_u32);
+    }
+    return buf;
+}
+
+typedef struct keyed {
+    uint64_t hash;   /* of the sorted vertex list */
+    uint32_t face;
+} keyed;
+
+/* Faces with the vertex set of an earlier face: every face's sorted vertex
+   list is hashed, the hashes are radix-sorted (stable, so faces stay in order
+   among equal hashes and "earlier" is the first copy), and equal hashes are
+   compared list by list. Removes the later copies when asked. */
+static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
+                                   limn_repair_report *r)
+{
+    size_t nf = m->face_count;
+    if (nf < 2)
+        return LIMN_OK;
+    uint32_t maxd = 0;
+    for (size_t f = 0; f < nf; f++)
+        if (m->face_offsets[f + 1] - m->face_offsets[f] > maxd)
+            maxd = m->face_offsets[f + 1] - m->face_offsets[f];
+    keyed *k = malloc(nf * sizeof *k), *tmp = malloc(nf * sizeof *tmp);
+    uint32_t *buf = malloc(2 * (size_t)maxd * sizeof *buf);
+    uint8_t *dup = calloc(nf, 1);
+    if (!k || !tmp || !buf || !dup) {
+        free(k);
+        free(tmp);
+        free(buf);
+        free(dup);
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
+    }
+    for (size_t f = 0; f < nf; f++) {
+        uint32_t d;
+        const uint32_t *v = sorted_face(m, (uint32_t)f, buf, &d);
+        uint64_t h = mix(d);
+        for (uint32_t i = 0; i < d; i++)
+            h = mix(h ^ (v[i] + 0x9e3779b97f4a7c15ULL));
+        k[f].hash = h;
+        k[f].face = (uint32_t)f;
+    }
+    /* LSD radix sort on the high 32 bits of the hash, 8 bits a pass */
+    for (int shift = 32; shift < 64; shift += 8) {
+        size_t count[257] = {0};
+        for (size_t i = 0; i < nf; i++)
+            count[((k[i].hash >> shift) & 255) + 1]++;
+        for (int b = 0; b < 256; b++)
+            count[b + 1] += count[b];
+        for (size_t i = 0; i < nf; i++)
+            tmp[count[(k[i].hash >> shift) & 255]++] = k[i];
+        keyed *t = k;
+        k = tmp;
+        tmp = t;
+    }
+    for (size_t i = 0; i < nf;) {
+        size_t j = i + 1;
+        while (j < nf && (k[j].hash >> 32) == (k[i].hash >> 32))
+            j++;
+        /* a run of equal high bits: usually one face; faces in increasing order */
+        for (size_t x = i + 1; x < j; x++)
+            for (size_t y = i; y < x; y++) {
+                if (k[y].hash != k[x].hash || dup[k[y].face])
+                    continue;
+                uint32_t dx, dy;
+                const uint32_t *vx = sorted_face(m, k[x].face, buf, &dx);
+                const uint32_t *vy = sorted_face(m, k[y].face, buf + maxd, &dy);
+                if (dx != dy || memcmp(vx, vy, dx * sizeof *vx) != 0)
+                    continue;
+                uint32_t f = k[x].face;
+                dup[f] = 1;
+                r->duplicate_faces++;
+                if (r->first_duplicate_face == SIZE_MAX || f < r->first_duplicate_face) {
+                    r->first_duplicate_face = f;
+                    r->first_duplicate_of = k[y].face;
+                }
+                break;
+            }
+        i = j;
+    }
+    free(k);
+    free(tmp);
+    free(buf);
+    if (remove && r->duplicate_faces) {
+        size_t out = 0, w = 0;
+        for (size_t f = 0; f < nf; f++) {
+            uint32_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
+            if (dup[f])
+                continue;
+            memmove(m->face_indices + w, m->face_indices + b, (e - b) * sizeof(uint32_t));
+            w += e - b;
+            m->face_offsets[++out] = (uint32_t)w;
+        }
+        m->face_count = out;
+        r->duplicates_removed = r->duplicate_faces;
+    }
+    free(dup);
+    return LIMN_OK;
+}
+
+/* ------------------------------------------------------------------ entry */
+
+/* limn_mesh_repair on options and report of this library's layout. */
+static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
+                                const limn_repair_options *options, limn_repair_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    if (!mesh)
+        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_repair: mesh is NULL");
+    limn_repair_options defaults;
+    limn_repair_options_default(&defaults);
+    const limn_repair_options *o = options ? options : &defaults;
+    limn_repair_report local;
+    limn_repair_report *r = report ? report : &local;
+    memset(r, 0, sizeof *r);
+    r->first_duplicate_face = SIZE_MAX;
+    r->faces_before = mesh->face_count;
+    size_t nv = mesh->vertex_count, nf = mesh->face_count;
+    for (size_t i = 0; i < mesh->face_offsets[nf]; i++)
+        if (mesh->face_indices[i] >= nv)
+            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+                             "limn_mesh_repair: face index %zu is %u but there are %zu vertices",
+                             i, mesh->face_indices[i], nv);
+
+    /* faces that use a vertex twice */
+    uint32_t *mark = calloc(nv ? nv : 1, sizeof *mark);
+    if (!mark)
+        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory repairing the mesh");
+    size_t first = SIZE_MAX;
+    uint32_t first_v = 0;
+    for (size_t f = 0; f < nf && first == SIZE_MAX; f++)
+        for (uint32_t c = mesh->face_offsets[f]; c < mesh->face_offsets[f + 1]; c++) {
+            uint32_t v = mesh->face_indices[c];
+            if (mark[v] == f + 1) {
+                first = f;
+                first_v = v;
+                break;
+            }
+            mark[v] = (uint32_t)(f + 1);
+        }
+    free(mark);
+    limn_status st = LIMN_OK;
+    if (first != SIZE_MAX) {
+        if (!o->repeated_vertices)
+            return limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+                             "face %zu uses vertex %u twice (a degenerate face) and repair is off: "
+                             "remove the face, or allow the repair (drop --no-repair)",
+                             first, first_v);
+        r->first_repeat_face = first;
+        r->first_repeat_vertex = first_v;
+        st = fix_repeats(ctx, mesh, r);
+        if (st)
+            return st;
+        char parts[3][96];
+        size_t np = 0;
+        if (r->repeats_removed)
+            snprintf(parts[np++], sizeof parts[0], "%zu lost a repeated corner",
+                     r->repeats_removed);
+        if (r->faces_split)
+            snprintf(parts[np++], sizeof parts[0], "%zu %s split where a vertex comes back",
+                     r->faces_split, r->faces_split == 1 ? "was" : "were");
+        if (r->degenerate_removed)
+            snprintf(parts[np++], sizeof parts[0],
+                     "%zu with fewer than 3 distinct vertices %s removed", r->degenerate_removed,
+                     r->degenerate_removed == 1 ? "was" : "were");
+        limn_warn(ctx,
+                  "repaired %zu face%s that use%s a vertex more than once (first: face %zu, "
+                  "vertex %u): %s%s%s%s%s; %zu faces remain (later messages number the faces "
+                  "of the repaired mesh)",
+                  r->repeat_faces, r->repeat_faces == 1 ? "" : "s",
+                  r->repeat_faces == 1 ? "s" : "", r->first_repeat_face, r->first_repeat_vertex,
+                  np > 0 ? parts[0] : "", np > 1 ? ", " : "", np > 1 ? parts[1] : "",
+                  np > 2 ? ", " : "", np > 2 ? parts[2] : "", mesh->face_count);
+    }
+
+    st = find_duplicates(ctx, mesh, o->duplicate_faces, r);
+    if (st)
+        return st;
+    if (r->duplicate_faces) {
+        if (r->duplicates_removed)
+            limn_warn(ctx,
+                      "removed %zu duplicate face%s (faces with the vertices of an earlier face; "
+                      "first: face %zu, a copy of face %zu)",
+                      r->duplicates_removed, r->duplicates_removed == 1 ? "" : "s",
+                      r->first_duplicate_face, r->first_duplicate_of);
+        else
+            limn_warn(ctx,
+                      "%zu duplicate face%s (the vertices of an earlier face; first: face %zu, a "
+                      "copy of face %zu) kept: their edges are non-manifold, hence sharp, as in "
+                      "OpenSubdiv (--drop-duplicate-faces removes them)",
+                      r->duplicate_faces, r->duplicate_faces == 1 ? "" : "s",
+                      r->first_duplicate_face, r->first_duplicate_of);
+    }
+    r->faces_after = mesh->face_count;
+    if (r->first_duplicate_face == SIZE_MAX)
+        r->first_duplicate_face = 0;
+
+    /* what stays as it is */
+    topology t;
+    st = topology_build(ctx, mesh, &t);
+    if (st)
+        return st;
+    size_t nm_edges = t.nonmanifold_edges - t.inconsistent_edges;
+    r->nonmanifold_edges = nm_edges;
+    r->nonmanifold_vertices = t.nonmanifold_vertices;
+    r->inconsistent_edges = t.inconsistent_edges;
+    r->unreferenced_vertices = nv - t.referenced_vertices;
+    r->components = t.components;
+    r->boundary_loops = t.boundary_loops;
+    topology_free(&t);
+    if (nm_edges)
+        limn_warn(ctx,
+                  "%zu non-manifold edge%s (more than two faces) kept: sharp, as in OpenSubdiv",
+                  nm_edges, nm_edges == 1 ? "" : "s");
+    if (r->nonmanifold_vertices)
+        limn_warn(ctx,
+                  "%zu non-manifold vert%s (on such edges, or where faces meet in several fans) "
+                  "kept: pinned (or a crease along a fin), as in OpenSubdiv",
+                  r->nonmanifold_vertices, r->nonmanifold_vertices == 1 ? "ex" : "ices");
+    if (r->inconsistent_edges)
+        limn_warn(ctx,
+                  "%zu edge%s where two faces disagree on orientation kept (faces are not "
+                  "re-oriented): %s sharp, as in OpenSubdiv",
+                  r->inconsistent_edges, r->inconsistent_edges == 1 ? "" : "s",
+                  r->inconsistent_edges == 1 ? "it is" : "they are");
+    if (r->unreferenced_vertices)
+        limn_warn(ctx, "%zu vert%s used by no face kept: %s unchanged in the output",
+                  r->unreferenced_vertices, r->unreferenced_vertices == 1 ? "ex" : "ices",
+                  r->unreferenced_vertices == 1 ? "it stays" : "they stay");
+    return LIMN_OK;
+}
+
+limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repair_options *options,
+                             limn_repair_report *report)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_clear(ctx);
+    limn_repair_options o;
+    limn_repair_options_default(&o);
+    limn_repair_report r;
+    limn_status st =
+        abi_options_in(ctx, "limn_mesh_repair", "options", &abi_repair_options, options, &o);
+    if (!st)
+        st = abi_report_begin(ctx, "limn_mesh_repair", "report", &abi_repair_report, report, &r);
+    if (st)
+        return st;
+    st = repair_sized(ctx, mesh, options ? &o : NULL, report ? &r : NULL);
+    abi_report_end(&abi_repair_report, report, &r);
+    return st;
+}
