@@ -71,7 +71,7 @@ static int dispatch(int argc, char **argv)
         printf("limn %s\n", limn_version());
         return 0;
     }
-    fprintf(stderr, "limn: unknown command '%s'\n\n", cmd);
+    fprintf(stderr, "limn: error: unknown command '%s'\n\n", cmd);
     usage(stderr);
     return EXIT_USAGE;
 }
