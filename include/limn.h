@@ -748,6 +748,60 @@ LIMN_API limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
 LIMN_API limn_status limn_png_write(limn_context *ctx, const char *path, int width, int height,
                                     const uint8_t *rgb);
 
+/* ------------------------------------------------------------------ outputs
+ * Every file limn writes appears whole or not at all (README "Command line",
+ * output rules): written under a temporary name beside its target, synced,
+ * then renamed over it; "-" (standard output), FIFOs and character devices
+ * are written straight through, last. A symlink's target is replaced.
+ */
+
+/* Is path standard output ("-", /dev/stdout, /dev/fd/1, /proc/self/fd/1)? */
+LIMN_API int limn_output_is_stdout(const char *path);
+
+/*
+ * Checks an output before any work, so that a long run does not fail at its
+ * end: refuses (LIMN_ERR_IO or LIMN_ERR_ARGUMENT, the message naming path) a
+ * directory, a missing or unwritable directory, a name over the directory's
+ * NAME_MAX, a link loop, another kind of special file, a replacement that a
+ * sticky directory would not allow, a closed standard output. With input
+ * non-NULL, also refuses (LIMN_ERR_ARGUMENT) an output that is the same
+ * existing file as input, so that an input is never overwritten. Creates
+ * nothing (a probe temporary file is made and removed).
+ */
+LIMN_API limn_status limn_output_check(limn_context *ctx, const char *path, const char *input);
+
+/*
+ * A set of outputs staged together and made to appear together: each add
+ * writes one output completely (synced, under its temporary name) without
+ * making it appear; limn_output_set_commit then renames them all in the
+ * order added (under a flock of their directories, so that concurrent runs
+ * never interleave their sets) and writes the straight-through ones. After
+ * a failure nothing more appears and the staged files are removed; a
+ * destroyed set that was not committed leaves every target as it was.
+ *
+ * Ownership: the set belongs to the caller (limn_output_set_destroy, also
+ * after a commit); the data of an add is read during the call only. A set
+ * holds at most 16 outputs. A set is used with one context at a time.
+ */
+typedef struct limn_output_set limn_output_set;
+
+LIMN_API limn_status limn_output_set_create(limn_context *ctx, limn_output_set **out);
+/* Stages mesh as limn_mesh_write would write it (format AUTO: from path). */
+LIMN_API limn_status limn_output_set_add_mesh(limn_context *ctx, limn_output_set *set,
+                                              const limn_mesh *mesh, const char *path,
+                                              limn_format format);
+/* Stages size bytes (a report, a document of the caller's own) as path. */
+LIMN_API limn_status limn_output_set_add_bytes(limn_context *ctx, limn_output_set *set,
+                                               const char *path, const void *data,
+                                               size_t size);
+/* Number of outputs staged and not yet committed. */
+LIMN_API int limn_output_set_count(const limn_output_set *set);
+/* Makes every staged output appear; returns the first failure (the outputs
+   after it are dropped). The set is left empty and may be reused. */
+LIMN_API limn_status limn_output_set_commit(limn_context *ctx, limn_output_set *set);
+/* Drops whatever is staged (targets untouched) and frees the set; NULL is fine. */
+LIMN_API void limn_output_set_destroy(limn_output_set *set);
+
 #ifdef __cplusplus
 }
 #endif

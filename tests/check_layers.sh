@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The folders of host/ are the layers of limn (README "How it is built"): a
+# The folders of host/ are the layers of limn (docs/layout.md): a
 # folder includes only itself, lower folders and the public headers
 # (include/limn.h, limn_mpi.h). Fails when
 #   - a .c or .h lies loose directly in host/;
@@ -9,7 +9,8 @@
 #   - an #include "..." is not a path from host/ (the one include root, so
 #     the layer of every include shows) naming an existing file;
 #   - a folder includes a higher folder, or another folder of its own rank
-#     (the two backends stay apart).
+#     (the two backends stay apart);
+#   - the CLI (host/cli) includes anything but the public headers and its own.
 #   check_layers.sh SOURCE_DIR
 set -euo pipefail
 cd "$1/host"
@@ -59,6 +60,13 @@ while IFS= read -r hit; do
     [[ $line =~ ^[[:space:]]*#[[:space:]]*include[[:space:]]*\"([^\"]+)\" ]] || continue
     inc=${BASH_REMATCH[1]}
     case $inc in limn.h | limn_mpi.h) continue ;; esac
+    if [[ $dir == cli ]]; then
+        # the CLI is a client of the public API (built without host/ on its
+        # include path): its own headers by name, nothing of the library's
+        [[ $inc != */* && -f cli/$inc ]] ||
+            complain "host/$f:$n: #include \"$inc\": the CLI includes only limn.h, limn_mpi.h and its own headers"
+        continue
+    fi
     if [[ ! -f $inc ]]; then
         complain "host/$f:$n: #include \"$inc\" is not a path from host/ to a file"
         continue

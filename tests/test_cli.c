@@ -122,6 +122,82 @@ static void malformed_inputs(void **s)
                    "in_trunc.stl:4: facet 0: the file ends inside the facet (truncated)");
 }
 
+/* Reads a whole small file into buf (NUL-terminated); returns its length. */
+static size_t slurp(const char *path, char *buf, size_t cap)
+{
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    size_t n = fread(buf, 1, cap - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+    return n;
+}
+
+/* getopt_long in every command: "--tol=1e-8" is "--tol 1e-8" (same report
+   tolerance, same mesh), an unknown option gets the nearest long one, and
+   every message has the one prefix "limn COMMAND: error: ". */
+static void option_spellings(void **s)
+{
+    (void)s;
+    char spot[512], args[2048];
+    snprintf(spot, sizeof spot, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
+    static char mesh[2][1 << 16], report[2][1 << 14];
+    size_t mesh_len[2];
+    const char *spelling[2] = {"--tol=1e-8", "--tol 1e-8"};
+    for (int k = 0; k < 2; k++) {
+        snprintf(args, sizeof args,
+                 "interpolate '%s' -o '%s/in_eq%d.obj' --report='%s/in_eq%d.json' %s -q", spot,
+                 dir, k, dir, k, spelling[k]);
+        if (limn(args) != 0)
+            fail_msg("%s: %s", spelling[k], text);
+        char path[512];
+        snprintf(path, sizeof path, "%s/in_eq%d.obj", dir, k);
+        mesh_len[k] = slurp(path, mesh[k], sizeof mesh[k]);
+        snprintf(path, sizeof path, "%s/in_eq%d.json", dir, k);
+        slurp(path, report[k], sizeof report[k]);
+        if (!strstr(report[k], "\"tolerance\": 1e-08,"))
+            fail_msg("%s: the report's tolerance is not 1e-08:\n%s", spelling[k], report[k]);
+    }
+    assert_int_equal(mesh_len[0], mesh_len[1]);
+    assert_memory_equal(mesh[0], mesh[1], mesh_len[0]);
+    /* an unambiguous prefix is the option */
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s/in_eq2.obj' --max-it 3 -q", spot, dir);
+    int rc = limn(args); /* 1 when 3 iterations do not converge */
+    if (rc == 2 || strstr(text, "unknown option"))
+        fail_msg("--max-it was not taken for --max-iter: exit %d, %s", rc, text);
+
+    struct {
+        const char *args;
+        const char *message;
+    } cases[] = {
+        {"interpolate '%s' -o out.ply --tl 1e-6",
+         "limn interpolate: error: unknown option '--tl'; did you mean --tol? (see 'limn "
+         "interpolate --help')\n"},
+        {"interpolate '%s' -o out.ply --tl=1e-6", "unknown option '--tl=1e-6'; did you mean --tol?"},
+        {"interpolate '%s' -o out.ply --frobnicate", "limn interpolate: error: unknown option "
+                                                     "'--frobnicate' (see"},
+        {"interpolate '%s' -o out.ply --quiet=yes", "limn interpolate: error: --quiet takes no value"},
+        {"interpolate '%s' -o out.ply --alpha=x", "limn interpolate: error: --alpha expects a number"},
+        {"subdivide '%s' -o out.ply --levles 2", "did you mean --levels?"},
+        {"smooth '%s' -o out.ply --trems 3", "limn smooth: error: unknown option '--trems'; did you "
+                                             "mean --terms?"},
+        {"info '%s' --jsno", "limn info: error: unknown option '--jsno'; did you mean --json?"},
+        {"render '%s' -o r.png --sise 64x64", "did you mean --size?"},
+        {"interpolate '%s' -o out.ply --s 1", "option '--s' is ambiguous: --scheme, --surface"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+        char line[1024];
+        snprintf(line, sizeof line, cases[i].args, spot);
+        snprintf(args, sizeof args, "%s", line);
+        int rc = limn(args);
+        if (rc != 2 || !strstr(text, cases[i].message))
+            fail_msg("limn %s: exit %d, output:\n%s\nwanted exit 2 and: %s", line, rc, text,
+                     cases[i].message);
+    }
+    assert_int_equal(limn("frobnicate"), 2);
+    assert_non_null(strstr(text, "limn: error: unknown command 'frobnicate'"));
+}
+
 static void bad_usage(void **s)
 {
     (void)s;
@@ -345,6 +421,7 @@ int main(void)
         cmocka_unit_test(version_and_help),
         cmocka_unit_test(malformed_inputs),
         cmocka_unit_test(bad_usage),
+        cmocka_unit_test(option_spellings),
         cmocka_unit_test(singular_keeps_existing_output),
         cmocka_unit_test(good_run_and_report),
         cmocka_unit_test(subdivide_and_surface),

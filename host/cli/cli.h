@@ -3,8 +3,12 @@
 #ifndef LIMN_CLI_H
 #define LIMN_CLI_H
 
-#include "limn.h"
+#include <getopt.h>
+#include <limn.h>
 #include <stdio.h>
+
+/* The CLI is a client of the public API only (include/limn.h, limn_mpi.h):
+   it builds against an installed prefix (tests/test_cli_installed.sh). */
 
 enum { EXIT_USAGE = 2, EXIT_FAILURE_RUN = 1 };
 
@@ -64,7 +68,7 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
    1 (run the operation again); else returns 0. */
 int cli_fall_back(const char *cmd, limn_context *ctx, limn_status *st);
 /* Fails before any work (exit status 1, message printed) when the output
-   cannot be written (atomic_file_check): a missing or unwritable directory,
+   cannot be written (limn_output_check): a missing or unwritable directory,
    a directory, a name too long, a rename the directory would not allow.
    Returns 0 or 1. */
 int cli_check_writable(const char *cmd, const char *output);
@@ -73,6 +77,24 @@ int cli_check_writable(const char *cmd, const char *output);
 int cli_check_outputs(const char *cmd, const char *const *outputs, int n);
 /* Peak resident memory of this process so far, in bytes. */
 size_t cli_peak_rss(void);
+/* Every command first passes its arguments through cli_options: getopt_long
+   over the command's long options (longopts, ending with a zeroed entry;
+   flag and val are ignored) and short ones (shortopts, getopt's syntax, e.g.
+   "ho:q"). "--opt=value", "--opt value" and an unambiguous prefix of opt all
+   become "--opt" "value" in the new *argc / *argv (kept until the next call),
+   in the order given, for the command's own parser and messages. An option
+   that is none of them is refused here: "unknown option '--tl'; did you mean
+   --tol?" (the nearest long option at edit distance 2 or less), exit status
+   2. Also names the command for the messages of cli_parse_*. Returns 0 or an
+   exit status. */
+int cli_options(const char *cmd, const struct option *longopts, const char *shortopts, int *argc,
+                char ***argv);
+void cli_set_command(const char *cmd);
+/* Table entries: an option with a value, a flag. */
+#define CLI_VALUE(name) {name, required_argument, NULL, 0}
+#define CLI_FLAG(name) {name, no_argument, NULL, 0}
+#define CLI_OPTIONS_END {NULL, 0, NULL, 0}
+#define CLI_REPAIR_OPTIONS                                                                         CLI_FLAG("no-repair"), CLI_FLAG("repair"), CLI_FLAG("drop-duplicate-faces")
 /* "--opt value": returns the value or prints an error when it is missing. */
 const char *cli_value(int argc, char **argv, int *i);
 int cli_usage_error(const char *cmd, const char *fmt, ...)
@@ -80,13 +102,37 @@ int cli_usage_error(const char *cmd, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
-/* Prints "limn CMD: <message>" for a failed library call; returns exit status. */
+/* The CLI's own failure messages (the library's stay in the context):
+   records the message for the next cli_fail and returns status, for
+   `return cli_error(LIMN_ERR_..., ...)`. */
+limn_status cli_error(limn_status status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+/* The message cli_fail would print: the CLI's own when one is recorded, else
+   the context's (ctx may be NULL). */
+const char *cli_message(const limn_context *ctx);
+/* Prints "limn CMD: error: <message>" (cli_message) for a failed call,
+   forgets the CLI's own message; returns the exit status. */
 int cli_fail(const char *cmd, limn_context *ctx, limn_status st);
 void cli_print_warnings(const char *cmd, limn_context *ctx);
 
 /* Progress on a terminal (stderr is a tty and not quiet); silent otherwise. */
 void cli_progress_enable(limn_context *ctx, int quiet);
 void cli_progress_done(void);
+
+/* Numbers on the command line and in the text the CLI prints use the C
+   locale whatever the user's (main() sets it): the calling thread is
+   switched (uselocale) and back. cli_locale_enter returns 0, nothing
+   changed, when no C locale object can be made. */
+typedef struct cli_locale {
+    void *c, *prev; /* locale_t */
+} cli_locale;
+int cli_locale_enter(cli_locale *s);
+void cli_locale_leave(cli_locale *s);
+/* strtod in the C locale (errno is strtod's). */
+double cli_strtod(const char *text, char **end);
 
 /* Monotonic wall clock in seconds. */
 double cli_now(void);
@@ -117,57 +163,14 @@ void json_element_array_begin(json_out *j); /* ends with json_array_end */
 limn_status json_print(limn_context *ctx, json_out *j, FILE *f);
 /* Writes the document atomically; frees j in any case. */
 limn_status json_commit(limn_context *ctx, json_out *j, const char *path);
-/* The same without the final rename (see atomic_file_finish): the report is
-   complete in af's temporary file; frees j in any case. */
-struct atomic_file;
-limn_status json_stage(limn_context *ctx, json_out *j, const char *path, struct atomic_file *af);
-/* Makes the n staged outputs appear (atomic_file_commit, in order) when st is
-   LIMN_OK, else drops them all; returns the first failure. A command stages
-   every output first, so a failure writes nothing. */
-limn_status cli_commit_outputs(limn_context *ctx, limn_status st, struct atomic_file *staged,
-                               int n);
-
-/* ---------------------------------------------------------------------- MPI
- * Under mpirun with several ranks (cli_mpi.c; cli_mpi_none.c without
- * LIMN_MPI: always one rank), interpolate, smooth, denoise and morph run
- * distributed: rank 0 reads, writes and prints; every rank computes its share
- * (include/limn_mpi.h). With one rank everything is as without MPI. */
-int cli_mpi_launched(void);   /* an MPI launcher started this process */
-/* main(): MPI_Init, the command (refused on several ranks unless distributed),
-   the same exit status on every rank, MPI_Finalize. */
-int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **));
-int cli_mpi_ranks(void);      /* 1 without MPI */
-int cli_mpi_rank(void);       /* 0 without MPI */
-/* Every rank gets the lowest failing rank's status and message (collective). */
-limn_status cli_mpi_agree(limn_context *ctx, limn_status st);
-/* Rank 0's exit status on every rank (after parsing: usage errors are its). */
-int cli_mpi_root_rc(int rc);
-/* --per-rank-output: each rank writes its piece to cli_mpi_rank_path(OUTPUT). */
-void cli_mpi_set_per_rank(int on);
-int cli_mpi_per_rank(void);
-/* OUTPUT with ".rNNN" before the extension (this rank's number); caller frees. */
-char *cli_mpi_rank_path(const char *path);
-/* The distributed calls; *piece (may be NULL): with --per-rank-output, this
-   rank's owned vertices and their faces. Every rank's statistics are kept
-   for cli_mpi_json (the report's "mpi" object) and cli_mpi_print. */
-limn_status cli_mpi_interpolate(limn_context *ctx, const limn_mesh *mesh,
-                                const limn_interpolate_options *o, limn_mesh **control,
-                                limn_report *r, limn_mesh **piece);
-limn_status cli_mpi_smooth(limn_context *ctx, const limn_mesh *mesh,
-                           const limn_series_options *o, int terms, limn_mesh **out,
-                           limn_series_report *r, limn_mesh **piece);
-limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
-                            const limn_series_options *o, int m, int steps, int keep_volume,
-                            limn_mesh **out, limn_series_report *r, limn_mesh **piece);
-limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
-                          const limn_morph_options *o, limn_morph_frame_fn fn, void *user,
-                          limn_series_report *r);
-void cli_mpi_json(json_out *j);
-void cli_mpi_print(void);
-#define CLI_MPI_HELP                                                                           \
-    "  --per-rank-output      under mpirun: each rank writes its owned vertices\n"             \
-    "                         and their faces to OUTPUT.rN.EXT instead of rank 0\n"           \
-    "                         writing OUTPUT\n"
+/* The same without the final rename: the report is complete and staged in
+   set (limn_output_set_add_bytes); frees j in any case. */
+limn_status json_stage(limn_context *ctx, json_out *j, const char *path, limn_output_set *set);
+/* Makes set's staged outputs appear (limn_output_set_commit, in order) when
+   st is LIMN_OK (on every rank under mpirun), else drops them all; destroys
+   set in any case (NULL is fine); returns the first failure. A command
+   stages every output first, so a failure writes nothing. */
+limn_status cli_commit_outputs(limn_context *ctx, limn_status st, limn_output_set *set);
 
 /* ---------------------------------------------------------------------- MPI
  * Under mpirun with several ranks (cli_mpi.c; cli_mpi_none.c without

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn bands: a mesh as bands of its series, one mesh per band. */
-#include "cli/cli_series.h"
+#include "cli_series.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -78,6 +78,11 @@ int cli_bands(int argc, char **argv)
     series_cli c = {.cmd = "bands", .help = help, .inputs_wanted = 1};
     limn_series_options_default(&c.opt);
     extra e = {.count = -1};
+    static const struct option longopts[] = {
+        SERIES_OPTIONS, CLI_VALUE("count"), CLI_OPTIONS_END};
+    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
+    if (orc)
+        return orc;
     for (int i = 1; i < argc; i++) {
         int rc, k = series_cli_arg(&c, argc, argv, &i, &rc);
         if (k == SERIES_ARG_EXIT)
@@ -119,7 +124,7 @@ int cli_bands(int argc, char **argv)
             snprintf(e.names[i], plen, "%s_energy.json", c.output);
     }
     if (!e.names || !energy_path || !e.names[e.count + 1]) {
-        fprintf(stderr, "limn bands: out of memory\n");
+        fprintf(stderr, "limn bands: error: out of memory\n");
         rc = EXIT_FAILURE_RUN;
         goto out_names;
     }
@@ -146,7 +151,7 @@ int cli_bands(int argc, char **argv)
     e.energy = calloc((size_t)e.count + 1, sizeof *e.energy);
     if (!st && (n3 / 3 > ((size_t)1 << 40) / 24 / ((size_t)e.count + 1) ||
                 !(bands = malloc(((size_t)e.count + 1) * n3 * sizeof *bands)) || !e.energy)) {
-        fprintf(stderr, "limn bands: out of memory for %d bands of %zu vertices\n", e.count + 1,
+        fprintf(stderr, "limn bands: error: out of memory for %d bands of %zu vertices\n", e.count + 1,
                 n3 / 3);
         st = LIMN_ERR_MEMORY;
         limn_context_destroy(ctx);

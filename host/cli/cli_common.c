@@ -1,13 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* Shared CLI pieces: option values, errors, progress, JSON reports. */
-#include "cli/cli.h"
-#include "base/atomic_file.h"
-#include "base/output_path.h"
-#include "base/c_locale.h"
-#include "base/context.h"
+#include "cli.h"
 
 #include <errno.h>
 #include <limits.h>
+#include <locale.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -17,13 +14,72 @@
 #include <time.h>
 #include <unistd.h>
 
+/* The CLI's own message (cli_error); "" when none is recorded. */
+static char cli_own_message[2048];
+
+limn_status cli_error(limn_status status, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(cli_own_message, sizeof cli_own_message, fmt, ap);
+    va_end(ap);
+    return status;
+}
+
+const char *cli_message(const limn_context *ctx)
+{
+    if (cli_own_message[0] || !ctx)
+        return cli_own_message;
+    return limn_context_message(ctx);
+}
+
+int cli_locale_enter(cli_locale *s)
+{
+    /* glibc hands out its static C locale here: no allocation, cheap per call */
+    locale_t c = newlocale(LC_ALL_MASK, "C", (locale_t)0);
+    s->c = NULL;
+    s->prev = NULL;
+    if (c == (locale_t)0)
+        return 0;
+    s->c = (void *)c;
+    s->prev = (void *)uselocale(c);
+    return 1;
+}
+
+void cli_locale_leave(cli_locale *s)
+{
+    if (!s->c)
+        return;
+    uselocale((locale_t)s->prev);
+    freelocale((locale_t)s->c);
+    s->c = NULL;
+}
+
+double cli_strtod(const char *text, char **end)
+{
+    cli_locale s;
+    int entered = cli_locale_enter(&s);
+    errno = 0;
+    double v = strtod(text, end);
+    int e = errno; /* ERANGE is the caller's to see */
+    if (entered)
+        cli_locale_leave(&s);
+    errno = e;
+    return v;
+}
+
+/* The command running (cli_options), for the messages of cli_parse_*. */
+static const char *current_command;
+
+void cli_set_command(const char *cmd) { current_command = cmd; }
+
 int cli_usage_error(const char *cmd, const char *fmt, ...)
 {
     if (cli_mpi_rank() != 0) /* under mpirun: printed once, by rank 0 */
         return EXIT_USAGE;
     va_list ap;
     va_start(ap, fmt);
-    fprintf(stderr, "limn %s: ", cmd);
+    fprintf(stderr, "limn %s: error: ", cmd);
     vfprintf(stderr, fmt, ap);
     fprintf(stderr, " (see 'limn %s --help')\n", cmd);
     va_end(ap);
@@ -37,12 +93,21 @@ const char *cli_value(int argc, char **argv, int *i)
     return argv[++*i];
 }
 
+/* "limn CMD: error: OPT expects WHAT, got 'TEXT' (see ...)", a usage error. */
+static void value_error(const char *opt, const char *what, const char *text)
+{
+    if (current_command)
+        cli_usage_error(current_command, "%s expects %s, got '%s'", opt, what, text);
+    else if (cli_mpi_rank() == 0)
+        fprintf(stderr, "limn: error: %s expects %s, got '%s'\n", opt, what, text);
+}
+
 int cli_parse_double(const char *opt, const char *text, double *out)
 {
     char *end;
-    double v = c_strtod(text, &end); /* "0.5" whatever the locale */
+    double v = cli_strtod(text, &end); /* "0.5" whatever the locale */
     if (end == text || *end || errno == ERANGE || !isfinite(v)) {
-        fprintf(stderr, "limn: %s expects a number, got '%s'\n", opt, text);
+        value_error(opt, "a number", text);
         return 0;
     }
     *out = v;
@@ -55,7 +120,7 @@ int cli_parse_int(const char *opt, const char *text, int *out)
     errno = 0;
     long v = strtol(text, &end, 10);
     if (end == text || *end || errno == ERANGE || v < INT_MIN || v > INT_MAX) {
-        fprintf(stderr, "limn: %s expects an integer, got '%s'\n", opt, text);
+        value_error(opt, "an integer", text);
         return 0;
     }
     *out = (int)v;
@@ -65,7 +130,8 @@ int cli_parse_int(const char *opt, const char *text, int *out)
 int cli_fail(const char *cmd, limn_context *ctx, limn_status st)
 {
     if (cli_mpi_rank() == 0)
-        fprintf(stderr, "limn %s: error: %s\n", cmd, limn_context_message(ctx));
+        fprintf(stderr, "limn %s: error: %s\n", cmd, cli_message(ctx));
+    cli_own_message[0] = '\0';
     return st == LIMN_ERR_ARGUMENT ? EXIT_USAGE : EXIT_FAILURE_RUN;
 }
 
@@ -277,13 +343,13 @@ static void put_number(json_out *j, double v)
 {
     char buf[64] = "null";
     if (isfinite(v)) {
-        c_locale_scope loc;
-        int entered = c_locale_enter(&loc);
+        cli_locale loc;
+        int entered = cli_locale_enter(&loc);
         snprintf(buf, sizeof buf, "%.15g", v);
         if (strtod(buf, NULL) != v)
             snprintf(buf, sizeof buf, "%.17g", v);
         if (entered)
-            c_locale_leave(&loc);
+            cli_locale_leave(&loc);
         else if (strchr(buf, ','))
             *strchr(buf, ',') = '.'; /* no C locale object: mend the decimal comma */
     }
@@ -346,41 +412,30 @@ void json_element_array_begin(json_out *j)
 
 limn_status json_print(limn_context *ctx, json_out *j, FILE *f)
 {
+    (void)ctx; /* the messages are the CLI's own (cli_error) */
     limn_status st = LIMN_OK;
     while (j->depth > 0)
         json_object_end(j);
     puts_(j, "\n");
     if (j->failed)
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing JSON");
+        st = cli_error(LIMN_ERR_MEMORY, "out of memory writing JSON");
     else if (fwrite(j->text, 1, j->len, f) != j->len || fflush(f) != 0)
-        st = limn_fail(ctx, LIMN_ERR_IO, "cannot write JSON: %s", strerror(errno));
+        st = cli_error(LIMN_ERR_IO, "cannot write JSON: %s", strerror(errno));
     free(j->text);
     free(j);
     return st;
 }
 
-limn_status json_stage(limn_context *ctx, json_out *j, const char *path, atomic_file *af)
+limn_status json_stage(limn_context *ctx, json_out *j, const char *path, limn_output_set *set)
 {
     limn_status st = LIMN_OK;
-    memset(af, 0, sizeof *af);
     while (j->depth > 0)
         json_object_end(j);
     puts_(j, "\n");
-    if (j->failed) {
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing the report %s", path);
-    } else {
-        st = atomic_file_open(ctx, path, af);
-        if (!st) {
-            if (fwrite(j->text, 1, j->len, af->f) != j->len) {
-                int e = errno;
-                atomic_file_abort(af);
-                st = limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path,
-                               e ? strerror(e) : "write error");
-            } else {
-                st = atomic_file_finish(ctx, af);
-            }
-        }
-    }
+    if (j->failed)
+        st = cli_error(LIMN_ERR_MEMORY, "out of memory writing the report %s", path);
+    else
+        st = limn_output_set_add_bytes(ctx, set, path, j->text, j->len);
     free(j->text);
     free(j);
     return st;
@@ -388,19 +443,27 @@ limn_status json_stage(limn_context *ctx, json_out *j, const char *path, atomic_
 
 limn_status json_commit(limn_context *ctx, json_out *j, const char *path)
 {
-    atomic_file af;
-    limn_status st = json_stage(ctx, j, path, &af);
-    return st ? st : atomic_file_commit(ctx, &af);
+    limn_output_set *set = NULL;
+    limn_status st = limn_output_set_create(ctx, &set);
+    if (st) {
+        free(j->text);
+        free(j);
+        return st;
+    }
+    st = json_stage(ctx, j, path, set);
+    if (!st)
+        st = limn_output_set_commit(ctx, set);
+    limn_output_set_destroy(set);
+    return st;
 }
 
-limn_status cli_commit_outputs(limn_context *ctx, limn_status st, atomic_file *staged, int n)
+limn_status cli_commit_outputs(limn_context *ctx, limn_status st, limn_output_set *set)
 {
     /* under mpirun: every rank's outputs are staged before any appears */
     st = cli_mpi_agree(ctx, st);
-    if (!st)
-        return atomic_file_commit_all(ctx, staged, n);
-    for (int i = 0; i < n; i++)
-        atomic_file_abort(&staged[i]);
+    if (!st && set)
+        st = limn_output_set_commit(ctx, set);
+    limn_output_set_destroy(set); /* drops whatever was not committed */
     return st;
 }
 
@@ -429,7 +492,7 @@ int cli_parse_scheme(const char *cmd, const char *text, limn_scheme *out)
 int cli_parse_size(const char *opt, const char *text, size_t *out)
 {
     char *end;
-    double v = c_strtod(text, &end);
+    double v = cli_strtod(text, &end);
     double unit = 1;
     if (end != text && *end && !end[1]) {
         switch (*end) {
@@ -441,7 +504,7 @@ int cli_parse_size(const char *opt, const char *text, size_t *out)
         }
     }
     if (end == text || *end || errno == ERANGE || !(v > 0) || v * unit >= 1.8e19) {
-        fprintf(stderr, "limn: %s expects a size such as 512M or 4G, got '%s'\n", opt, text);
+        value_error(opt, "a size such as 512M or 4G", text);
         return 0;
     }
     *out = (size_t)(v * unit);
@@ -452,7 +515,7 @@ int cli_check_output(const char *cmd, const char *input, const char *output, lim
                      int overwrite_input)
 {
     limn_format f;
-    if (format == LIMN_FORMAT_AUTO && output_is_stdout(output))
+    if (format == LIMN_FORMAT_AUTO && limn_output_is_stdout(output))
         return cli_usage_error(cmd, "writing a mesh to standard output ('%s') needs --format, "
                                     "since there is no extension to tell it",
                                output);
@@ -474,7 +537,7 @@ int cli_check_writable(const char *cmd, const char *output)
     limn_context *ctx = limn_context_create();
     if (!ctx)
         return EXIT_FAILURE_RUN;
-    limn_status st = atomic_file_check(ctx, output);
+    limn_status st = limn_output_check(ctx, output, NULL);
     /* every refusal here is the run's failure (1), a usage error or not */
     int rc = st ? (cli_fail(cmd, ctx, st), EXIT_FAILURE_RUN) : 0;
     limn_context_destroy(ctx);
@@ -487,7 +550,7 @@ int cli_check_outputs(const char *cmd, const char *const *outputs, int n)
     for (int i = 0; i < n; i++) {
         if (!outputs[i])
             continue;
-        if (output_is_stdout(outputs[i])) {
+        if (limn_output_is_stdout(outputs[i])) {
             if (first)
                 return cli_usage_error(cmd,
                                        "'%s' and '%s' both go to standard output; at most one "
@@ -533,7 +596,7 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
     if (strcmp(path, "-") != 0)
         st = limn_mesh_read(ctx, path, format, out);
     else if (format == LIMN_FORMAT_AUTO)
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        st = cli_error(LIMN_ERR_ARGUMENT,
                        "reading standard input ('-') needs --input-format (obj, ply, off, "
                        "stl), since there is no extension to tell the format (a file named "
                        "'-' is ./-)");
@@ -553,11 +616,11 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
     cli_print_warnings(cmd, ctx);
     if (!st && need_faces && limn_mesh_face_count(*out) == 0)
         st = rep.faces_before
-                 ? limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+                 ? cli_error(LIMN_ERR_TOPOLOGY,
                                      "%s: no faces are left after the repair (all %zu were "
                                      "degenerate): nothing to %s",
                                      path, rep.faces_before, cmd)
-                 : limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+                 : cli_error(LIMN_ERR_TOPOLOGY,
                                      "%s: the mesh has no faces (a point cloud?): nothing to %s",
                                      path, cmd);
     if (st) {

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn denoise: seed 000 eq. 8, with the volume change reported. */
-#include "cli/cli_series.h"
+#include "cli_series.h"
 
 #include <math.h>
 #include <string.h>
@@ -70,6 +70,12 @@ int cli_denoise(int argc, char **argv)
     series_cli c = {.cmd = "denoise", .help = help, .inputs_wanted = 1};
     limn_series_options_default(&c.opt);
     extra e = {.m = 2, .steps = 3};
+    static const struct option longopts[] = {
+        SERIES_OPTIONS, CLI_FLAG("per-rank-output"), CLI_FLAG("keep-volume"), CLI_VALUE("m"),
+        CLI_VALUE("steps"), CLI_OPTIONS_END};
+    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
+    if (orc)
+        return orc;
     for (int i = 1; i < argc; i++) {
         int rc, k = series_cli_arg(&c, argc, argv, &i, &rc);
         if (k == SERIES_ARG_EXIT)

@@ -1,12 +1,16 @@
 /* SPDX-License-Identifier: MIT */
 /* limn devices: the OpenCL devices and how to pick one. */
-#include "cli/cli.h"
+#include "cli.h"
 
 #include <stdlib.h>
 #include <string.h>
 
 int cli_devices(int argc, char **argv)
 {
+    static const struct option longopts[] = {CLI_FLAG("help"), CLI_OPTIONS_END};
+    int orc = cli_options("devices", longopts, "h", &argc, &argv);
+    if (orc)
+        return orc;
     if (argc > 1 && (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0)) {
         puts("usage: limn devices\n\nLists OpenCL devices as P.D (platform.device); pick one "
              "with --device opencl:P.D,\n--device opencl:NAME, or LIMN_PLATFORM / LIMN_DEVICE / "

@@ -1,8 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn info: what a mesh is made of, as text or JSON on stdout. */
-#include "cli/cli.h"
-#include "base/c_locale.h"
-#include "base/context.h"
+#include "cli.h"
 
 #include <string.h>
 
@@ -23,7 +21,7 @@ static limn_status print_json(limn_context *ctx, const char *input, const limn_m
 {
     json_out *j = json_begin_line();
     if (!j)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing JSON");
+        return cli_error(LIMN_ERR_MEMORY, "out of memory writing JSON");
     json_string(j, "file", input);
     const struct { const char *key; size_t value; } counts[] = {
         {"vertices", in->vertices},
@@ -88,6 +86,12 @@ int cli_info(int argc, char **argv)
     limn_format fmt = LIMN_FORMAT_AUTO;
     cli_repair repair = {0, 0};
     size_t max_memory = 0;
+    static const struct option longopts[] = {CLI_FLAG("help"), CLI_FLAG("json"),
+                                             CLI_VALUE("input-format"), CLI_VALUE("max-memory"),
+                                             CLI_REPAIR_OPTIONS, CLI_OPTIONS_END};
+    int orc = cli_options("info", longopts, "h", &argc, &argv);
+    if (orc)
+        return orc;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) {
             fputs(help, stdout);
@@ -134,11 +138,11 @@ int cli_info(int argc, char **argv)
     if (json) {
         st = print_json(ctx, input, &in, scheme);
     } else {
-        c_locale_scope loc; /* "%g" with a '.', as in the files, whatever the locale */
-        int entered = c_locale_enter(&loc);
+        cli_locale loc; /* "%g" with a '.', as in the files, whatever the locale */
+        int entered = cli_locale_enter(&loc);
         print_text(input, &in, scheme);
         if (entered)
-            c_locale_leave(&loc);
+            cli_locale_leave(&loc);
     }
     if (st) {
         int rc = cli_fail("info", ctx, st);

@@ -1,8 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn interpolate: solve for the control mesh, write it and a report. */
-#include "cli/cli.h"
-#include "base/atomic_file.h"
-#include "mesh/io/dispatch.h"
+#include "cli.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -71,6 +69,17 @@ static int parse(int argc, char **argv, args *a)
     limn_interpolate_options_default(&a->opt);
     limn_subdivide_options_default(&a->sub);
     a->sub.levels = 2;
+    static const struct option longopts[] = {
+        CLI_FLAG("help"), CLI_VALUE("output"), CLI_VALUE("scheme"), CLI_VALUE("alpha"),
+        CLI_VALUE("tol"), CLI_VALUE("max-iter"), CLI_VALUE("report"), CLI_VALUE("device"),
+        CLI_VALUE("fallback"), CLI_VALUE("format"), CLI_VALUE("input-format"),
+        CLI_VALUE("surface"), CLI_VALUE("levels"), CLI_FLAG("limit"), CLI_VALUE("max-memory"),
+        CLI_VALUE("method"), CLI_VALUE("precision"), CLI_FLAG("no-reorder"),
+        CLI_FLAG("overwrite-input"), CLI_FLAG("per-rank-output"), CLI_FLAG("quiet"),
+        CLI_REPAIR_OPTIONS, CLI_OPTIONS_END};
+    int orc = cli_options("interpolate", longopts, "ho:q", &argc, &argv);
+    if (orc)
+        return orc;
     for (int i = 1; i < argc; i++) {
         const char *s = argv[i];
         const char *v = NULL;
@@ -249,7 +258,7 @@ static void print_summary(limn_context *ctx, const args *a, const limn_report *r
 
 static limn_status write_report(limn_context *ctx, const args *a, const limn_report *r,
                                 const limn_subdivide_report *sr, const double sec[3],
-                                atomic_file *af)
+                                limn_output_set *set)
 {
     json_out *j = json_begin();
     if (!j)
@@ -316,7 +325,7 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_number(j, "build", r->seconds_opencl_build);
     json_number(j, "kernels", r->seconds_opencl_kernels);
     json_object_end(j);
-    return json_stage(ctx, j, a->report, af);
+    return json_stage(ctx, j, a->report, set);
 }
 
 
@@ -364,7 +373,7 @@ int cli_interpolate(int argc, char **argv)
     cli_mpi_set_per_rank(a.per_rank);
     limn_context *ctx = limn_context_create();
     if (!ctx) {
-        fprintf(stderr, "limn interpolate: out of memory\n");
+        fprintf(stderr, "limn interpolate: error: out of memory\n");
         return EXIT_FAILURE_RUN;
     }
     limn_context_set_max_memory(ctx, a.sub.max_memory); /* the reader's cap too */
@@ -391,32 +400,28 @@ int cli_interpolate(int argc, char **argv)
     if (!st)
         st = solve(&a, ctx, mesh, &control, &surface, &piece, &r, &sr);
     /* every output is complete (staged) before any appears: a failure writes nothing */
-    atomic_file staged[3];
-    int nstaged = 0;
+    limn_output_set *set = NULL;
+    if (!st)
+        st = limn_output_set_create(ctx, &set);
     if (!st) {
         double t1 = cli_now();
         if (a.per_rank) {
             char *path = cli_mpi_rank_path(a.output);
-            st = path ? mesh_write_staged(ctx, piece, path, a.out_format, &staged[nstaged])
-                      : LIMN_ERR_MEMORY;
+            st = path ? limn_output_set_add_mesh(ctx, set, piece, path, a.out_format)
+                      : cli_error(LIMN_ERR_MEMORY, "out of memory");
             free(path);
-            nstaged += !st;
         } else if (root) {
-            st = mesh_write_staged(ctx, control, a.output, a.out_format, &staged[nstaged]);
-            nstaged += !st;
+            st = limn_output_set_add_mesh(ctx, set, control, a.output, a.out_format);
         }
         if (!st && root && a.surface) {
-            st = mesh_write_staged(ctx, surface, a.surface, a.out_format, &staged[nstaged]);
-            nstaged += !st;
+            st = limn_output_set_add_mesh(ctx, set, surface, a.surface, a.out_format);
         }
         sec[1] = cli_now() - t1;
         sec[2] = cli_now() - t0;
     }
-    if (!st && root && a.report) {
-        st = write_report(ctx, &a, &r, a.surface ? &sr : NULL, sec, &staged[nstaged]);
-        nstaged += !st;
-    }
-    st = cli_commit_outputs(ctx, st, staged, nstaged);
+    if (!st && root && a.report)
+        st = write_report(ctx, &a, &r, a.surface ? &sr : NULL, sec, set);
+    st = cli_commit_outputs(ctx, st, set);
     if (st)
         rc = cli_fail("interpolate", ctx, st);
     else if (!a.quiet) {

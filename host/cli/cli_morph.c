@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn morph: frames from FROM to TO by seed 000 eq. 9, or the linear blend. */
-#include "cli/cli_series.h"
+#include "cli_series.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -188,6 +188,11 @@ int cli_morph(int argc, char **argv)
     limn_series_options_default(&c.opt);
     limn_morph_options mo;
     limn_morph_options_default(&mo);
+    static const struct option longopts[] = {
+        SERIES_OPTIONS, CLI_VALUE("frames"), CLI_FLAG("linear"), CLI_VALUE("m"), CLI_VALUE("p"), CLI_OPTIONS_END};
+    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
+    if (orc)
+        return orc;
     for (int i = 1; i < argc; i++) {
         int rc, k = series_cli_arg(&c, argc, argv, &i, &rc);
         if (k == SERIES_ARG_EXIT)
@@ -232,7 +237,7 @@ int cli_morph(int argc, char **argv)
     ms.distance = calloc((size_t)mo.frames, sizeof *ms.distance);
     ms.flipped = calloc((size_t)mo.frames, sizeof *ms.flipped);
     if (!ms.name || !ms.volume || !ms.area || !ms.distance || !ms.flipped) {
-        fprintf(stderr, "limn morph: out of memory\n");
+        fprintf(stderr, "limn morph: error: out of memory\n");
         rc = EXIT_FAILURE_RUN;
         goto checked;
     }

@@ -8,10 +8,9 @@
  * that all ranks exit with the same status and the message is printed once.
  * The other commands refuse to run on several ranks.
  */
-#include "cli/cli.h"
+#include "cli.h"
 
-#include "base/context.h"
-#include "limn_mpi.h"
+#include <limn_mpi.h>
 
 #include <stdlib.h>
 #include <string.h>
@@ -46,12 +45,12 @@ limn_status cli_mpi_agree(limn_context *ctx, limn_status st)
         return LIMN_OK;
     int status = (int)st;
     char message[2048] = "";
-    if (g.rank == first && ctx)
-        snprintf(message, sizeof message, "%s", limn_context_message(ctx));
+    if (g.rank == first)
+        snprintf(message, sizeof message, "%s", cli_message(ctx));
     MPI_Bcast(&status, 1, MPI_INT, first, MPI_COMM_WORLD);
     MPI_Bcast(message, (int)sizeof message, MPI_CHAR, first, MPI_COMM_WORLD);
-    if (g.rank != first && ctx)
-        limn_fail(ctx, (limn_status)status, "%s", message);
+    if (g.rank != first)
+        cli_error((limn_status)status, "%s", message);
     return (limn_status)status;
 }
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn built without MPI (LIMN_MPI off): always one rank (cli.h, "MPI"). */
-#include "cli/cli.h"
+#include "cli.h"
 
 int cli_mpi_launched(void) { return 0; }
 int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **))

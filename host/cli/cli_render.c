@@ -1,7 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn render: a headless PNG picture of a mesh. */
-#include "cli/cli_series.h"
-#include "base/c_locale.h"
+#include "cli_series.h"
 
 #include <ctype.h>
 #include <stdlib.h>
@@ -49,6 +48,12 @@ int cli_render(int argc, char **argv)
     series_cli c = {.cmd = "render", .help = help, .inputs_wanted = 1};
     limn_render_options o;
     limn_render_options_default(&o);
+    static const struct option longopts[] = {
+        SERIES_BASE_OPTIONS, CLI_FLAG("flat"), CLI_VALUE("view"), CLI_VALUE("size"), CLI_VALUE("up"),
+        CLI_VALUE("supersample"), CLI_VALUE("color"), CLI_VALUE("background"), CLI_OPTIONS_END};
+    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
+    if (orc)
+        return orc;
     for (int i = 1; i < argc; i++) {
         const char *s = argv[i], *v;
         if (strcmp(s, "--scheme") == 0 || strcmp(s, "--alpha") == 0 ||
@@ -72,8 +77,8 @@ int cli_render(int argc, char **argv)
         if (strcmp(s, "--view") == 0) {
             char *end, *end2;
             /* C locale: under de_DE strtod would read "30,20" as 30.2 */
-            double az = c_strtod(v, &end), el = 0;
-            if (end == v || *end != ',' || (el = c_strtod(end + 1, &end2), end2 == end + 1) ||
+            double az = cli_strtod(v, &end), el = 0;
+            if (end == v || *end != ',' || (el = cli_strtod(end + 1, &end2), end2 == end + 1) ||
                 *end2 || !(el >= -90 && el <= 90) || !(az > -1e6 && az < 1e6))
                 return cli_usage_error(c.cmd,
                                        "--view '%s' is not AZIMUTH,ELEVATION in degrees "
@@ -124,7 +129,7 @@ int cli_render(int argc, char **argv)
     limn_status st = series_cli_load(&c, &ctx, in);
     load = cli_now() - t0;
     if (!st && !(rgb = malloc(3 * (size_t)o.width * (size_t)o.height))) {
-        fprintf(stderr, "limn render: out of memory for a %dx%d picture\n", o.width, o.height);
+        fprintf(stderr, "limn render: error: out of memory for a %dx%d picture\n", o.width, o.height);
         limn_mesh_destroy(in[0]);
         limn_context_destroy(ctx);
         return EXIT_FAILURE_RUN;

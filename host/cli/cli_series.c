@@ -1,8 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Shared option handling, loading and reports of the series subcommands. */
-#include "cli/cli_series.h"
-#include "base/atomic_file.h"
-#include "mesh/io/dispatch.h"
+#include "cli_series.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -135,7 +133,7 @@ limn_status series_cli_load(series_cli *c, limn_context **ctx, limn_mesh **meshe
 {
     *ctx = limn_context_create();
     if (!*ctx) {
-        fprintf(stderr, "limn %s: out of memory\n", c->cmd);
+        fprintf(stderr, "limn %s: error: out of memory\n", c->cmd);
         return LIMN_ERR_MEMORY;
     }
     limn_status st = limn_context_set_device(*ctx, c->device);
@@ -173,14 +171,21 @@ json_out *series_json_begin(const series_cli *c, const limn_series_report *r)
 limn_status series_json_finish(limn_context *ctx, json_out *j, const series_cli *c,
                                const limn_series_report *r, const series_seconds *s)
 {
-    atomic_file af;
-    limn_status st = series_json_stage(ctx, j, c, r, s, &af);
-    return st ? st : atomic_file_commit(ctx, &af);
+    limn_output_set *set = NULL;
+    limn_status st = limn_output_set_create(ctx, &set);
+    /* frees j in any case (a NULL set is refused, on no context) */
+    limn_status staged = series_json_stage(st ? NULL : ctx, j, c, r, s, set);
+    if (!st)
+        st = staged;
+    if (!st)
+        st = limn_output_set_commit(ctx, set);
+    limn_output_set_destroy(set);
+    return st;
 }
 
 limn_status series_json_stage(limn_context *ctx, json_out *j, const series_cli *c,
                               const limn_series_report *r, const series_seconds *s,
-                              atomic_file *af)
+                              limn_output_set *set)
 {
     json_object_begin(j, "seconds");
     json_number(j, "load", s->load);
@@ -190,7 +195,7 @@ limn_status series_json_stage(limn_context *ctx, json_out *j, const series_cli *
     json_number(j, "write", s->write);
     json_number(j, "total", s->total);
     json_object_end(j);
-    return json_stage(ctx, j, c->report, af);
+    return json_stage(ctx, j, c->report, set);
 }
 
 void series_print_head(const series_cli *c, const limn_series_report *r)
@@ -216,18 +221,17 @@ int series_cli_finish(series_cli *c, limn_context *ctx, limn_status st, const li
 {
     /* the mesh and the report are both complete (staged) before either appears:
        a failure writes nothing and leaves an existing output as it was */
-    atomic_file staged[2];
-    int nstaged = 0;
+    limn_output_set *set = NULL;
+    if (!st)
+        st = limn_output_set_create(ctx, &set);
     double t = cli_now();
     if (!st && c->per_rank) { /* every rank: its piece */
         char *path = cli_mpi_rank_path(c->output);
-        st = path ? mesh_write_staged(ctx, c->piece, path, c->out_format, &staged[nstaged])
-                  : LIMN_ERR_MEMORY;
+        st = path ? limn_output_set_add_mesh(ctx, set, c->piece, path, c->out_format)
+                  : cli_error(LIMN_ERR_MEMORY, "out of memory");
         free(path);
-        nstaged += !st;
     } else if (!st && result) {
-        st = mesh_write_staged(ctx, result, c->output, c->out_format, &staged[nstaged]);
-        nstaged += !st;
+        st = limn_output_set_add_mesh(ctx, set, result, c->output, c->out_format);
     }
     s->write = cli_now() - t;
     limn_mesh_destroy(c->piece);
@@ -240,11 +244,10 @@ int series_cli_finish(series_cli *c, limn_context *ctx, limn_status st, const li
         } else {
             if (x && x->json)
                 x->json(j, x->user);
-            st = series_json_stage(ctx, j, c, r, s, &staged[nstaged]);
-            nstaged += !st;
+            st = series_json_stage(ctx, j, c, r, s, set);
         }
     }
-    st = cli_commit_outputs(ctx, st, staged, nstaged);
+    st = cli_commit_outputs(ctx, st, set);
     if (st)
         return ctx ? cli_fail(c->cmd, ctx, st) : EXIT_FAILURE_RUN;
     if (!c->quiet) {

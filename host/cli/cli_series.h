@@ -4,7 +4,7 @@
 #ifndef LIMN_CLI_SERIES_H
 #define LIMN_CLI_SERIES_H
 
-#include "cli/cli.h"
+#include "cli.h"
 
 typedef struct series_cli {
     const char *cmd;          /* "denoise" etc. */
@@ -19,6 +19,17 @@ typedef struct series_cli {
     int per_rank;             /* --per-rank-output (smooth, denoise; under mpirun) */
     limn_mesh *piece;         /* this rank's piece for it; series_cli_finish frees */
 } series_cli;
+
+/* The long options series_cli_arg takes (cli_options tables): render has
+   no scheme, alpha, device or format; smooth and denoise add
+   per-rank-output. */
+#define SERIES_BASE_OPTIONS                                                                    \
+    CLI_FLAG("help"), CLI_VALUE("output"), CLI_VALUE("report"), CLI_VALUE("input-format"),     \
+        CLI_FLAG("overwrite-input"), CLI_FLAG("quiet"), CLI_REPAIR_OPTIONS
+#define SERIES_OPTIONS                                                                         \
+    SERIES_BASE_OPTIONS, CLI_VALUE("scheme"), CLI_VALUE("alpha"), CLI_VALUE("device"),         \
+        CLI_VALUE("format")
+#define SERIES_SHORT "ho:q"
 
 enum { SERIES_ARG_NOT_MINE = 0, SERIES_ARG_TAKEN = 1, SERIES_ARG_EXIT = 2 };
 
@@ -51,12 +62,10 @@ typedef struct series_seconds {
 /* The report's shared keys (command, input, output, vertices, faces, scheme,
    alpha, device, stencil_nonzeros, products, bbox_diagonal). */
 json_out *series_json_begin(const series_cli *c, const limn_series_report *r);
-/* The seconds object, then the report staged in af (atomic_file_commit makes
-   it appear; see json_stage). */
-struct atomic_file;
+/* The seconds object, then the report staged in set (see json_stage). */
 limn_status series_json_stage(limn_context *ctx, json_out *j, const series_cli *c,
                               const limn_series_report *r, const series_seconds *s,
-                              struct atomic_file *af);
+                              limn_output_set *set);
 /* The seconds object, then writes the report atomically. */
 limn_status series_json_finish(limn_context *ctx, json_out *j, const series_cli *c,
                                const limn_series_report *r, const series_seconds *s);

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn sharpen: T_{k+1} = T_k + sum_{i=m..n} (E - A)^i T_k (seed 000 §6). */
-#include "cli/cli_series.h"
+#include "cli_series.h"
 
 #include <string.h>
 
@@ -50,6 +50,11 @@ int cli_sharpen(int argc, char **argv)
     series_cli c = {.cmd = "sharpen", .help = help, .inputs_wanted = 1};
     limn_series_options_default(&c.opt);
     extra e = {.from = -1, .to = -1, .steps = 1};
+    static const struct option longopts[] = {
+        SERIES_OPTIONS, CLI_VALUE("from"), CLI_VALUE("to"), CLI_VALUE("steps"), CLI_OPTIONS_END};
+    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
+    if (orc)
+        return orc;
     for (int i = 1; i < argc; i++) {
         int rc, k = series_cli_arg(&c, argc, argv, &i, &rc);
         if (k == SERIES_ARG_EXIT)

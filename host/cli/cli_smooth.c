@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn smooth: the partial sum of the first N bands of the series. */
-#include "cli/cli_series.h"
+#include "cli_series.h"
 
 #include <string.h>
 
@@ -46,6 +46,11 @@ int cli_smooth(int argc, char **argv)
     series_cli c = {.cmd = "smooth", .help = help, .inputs_wanted = 1};
     limn_series_options_default(&c.opt);
     extra e = {.terms = 0};
+    static const struct option longopts[] = {
+        SERIES_OPTIONS, CLI_FLAG("per-rank-output"), CLI_VALUE("terms"), CLI_OPTIONS_END};
+    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
+    if (orc)
+        return orc;
     for (int i = 1; i < argc; i++) {
         int rc, k = series_cli_arg(&c, argc, argv, &i, &rc);
         if (k == SERIES_ARG_EXIT)

@@ -1,8 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn subdivide: refine a control mesh into its subdivision surface. */
-#include "cli/cli.h"
-#include "base/atomic_file.h"
-#include "mesh/io/dispatch.h"
+#include "cli.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -36,6 +34,14 @@ int cli_subdivide(int argc, char **argv)
     limn_subdivide_options_default(&o);
     int quiet = 0, overwrite_input = 0;
     cli_repair repair = {0, 0};
+    static const struct option longopts[] = {
+        CLI_FLAG("help"), CLI_VALUE("output"), CLI_VALUE("scheme"), CLI_VALUE("alpha"),
+        CLI_VALUE("device"), CLI_VALUE("fallback"), CLI_VALUE("format"), CLI_VALUE("input-format"),
+        CLI_VALUE("levels"), CLI_FLAG("limit"), CLI_VALUE("max-memory"), CLI_FLAG("overwrite-input"),
+        CLI_FLAG("quiet"), CLI_VALUE("report"), CLI_REPAIR_OPTIONS, CLI_OPTIONS_END};
+    int orc = cli_options("subdivide", longopts, "ho:q", &argc, &argv);
+    if (orc)
+        return orc;
     for (int i = 1; i < argc; i++) {
         const char *s = argv[i], *v = NULL;
 #define VALUE()                                                                                \
@@ -141,12 +147,12 @@ int cli_subdivide(int argc, char **argv)
             break;
     }
     /* the surface and the report are both complete before either appears */
-    atomic_file staged[2];
-    int nstaged = 0;
+    limn_output_set *set = NULL;
+    if (!st)
+        st = limn_output_set_create(ctx, &set);
     if (!st) {
         double t1 = cli_now();
-        st = mesh_write_staged(ctx, surface, output, out_format, &staged[nstaged]);
-        nstaged += !st;
+        st = limn_output_set_add_mesh(ctx, set, surface, output, out_format);
         sec[1] = cli_now() - t1;
         sec[2] = cli_now() - t0;
     }
@@ -175,10 +181,9 @@ int cli_subdivide(int argc, char **argv)
         json_number(j, "write", sec[1]);
         json_number(j, "total", sec[2]);
         json_object_end(j);
-        st = json_stage(ctx, j, report, &staged[nstaged]);
-        nstaged += !st;
+        st = json_stage(ctx, j, report, set);
     }
-    st = cli_commit_outputs(ctx, st, staged, nstaged);
+    st = cli_commit_outputs(ctx, st, set);
     if (st)
         rc = cli_fail("subdivide", ctx, st);
     else if (!quiet)

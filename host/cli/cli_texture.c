@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn texture: procedural Perlin texture through the interpolation (seed 000 §5). */
-#include "cli/cli_series.h"
+#include "cli_series.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -124,6 +124,12 @@ int cli_texture(int argc, char **argv)
     memset(&e, 0, sizeof e);
     limn_texture_options_default(&e.t);
     uint8_t colors[3 * MAX_COLORS];
+    static const struct option longopts[] = {
+        SERIES_OPTIONS, CLI_VALUE("colors"), CLI_VALUE("colours"), CLI_VALUE("frequency"),
+        CLI_VALUE("levels"), CLI_VALUE("max-memory"), CLI_VALUE("seed"), CLI_VALUE("tol"), CLI_OPTIONS_END};
+    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
+    if (orc)
+        return orc;
     for (int i = 1; i < argc; i++) {
         int rc, k = series_cli_arg(&c, argc, argv, &i, &rc);
         if (k == SERIES_ARG_EXIT)

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* limn: command dispatch. */
-#include "cli/cli.h"
+#include "cli.h"
 
 #include <signal.h>
 #include <locale.h>
@@ -71,7 +71,7 @@ static int dispatch(int argc, char **argv)
         printf("limn %s\n", limn_version());
         return 0;
     }
-    fprintf(stderr, "limn: unknown command '%s'\n\n", cmd);
+    fprintf(stderr, "limn: error: unknown command '%s'\n\n", cmd);
     usage(stderr);
     return EXIT_USAGE;
 }
