@@ -28,14 +28,14 @@ int main(int argc, char **argv)
     limn_scheme scheme = strcmp(argv[2], "loop") == 0 ? LIMN_SCHEME_LOOP : LIMN_SCHEME_CATMARK;
     limn_context *ctx = limn_context_create();
     limn_mesh *mesh = NULL;
-    limn_operator op;
+    stencil_operator op;
     if (limn_mesh_read(ctx, argv[1], LIMN_FORMAT_AUTO, &mesh) ||
         operator_build_ex(ctx, mesh, scheme, 0.0, OPERATOR_REORDER, &op)) {
         fprintf(stderr, "float_floor: %s\n", limn_context_message(ctx));
         return 1;
     }
     size_t n = op.vertex_count;
-    struct limn_device *dev = op.dev;
+    struct device *dev = op.dev;
     double *m4 = malloc(4 * n * sizeof *m4), *zero = calloc(4 * n, sizeof *zero);
     float *f4 = malloc(4 * n * sizeof *f4);
     operator_pack(&op, mesh->positions, m4);

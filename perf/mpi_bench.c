@@ -40,7 +40,7 @@ static void print_stats(const limn_mpi_stats *s, int iterations)
 /* The partition into `parts` and each part's halo, from the stencil rows. */
 static int partition_only(limn_context *ctx, const limn_mesh *mesh, int parts)
 {
-    limn_operator op;
+    stencil_operator op;
     if (operator_build_ex(ctx, mesh, LIMN_SCHEME_AUTO, 0.0, OPERATOR_HOST_ONLY, &op)) {
         fprintf(stderr, "mpi_bench: %s\n", limn_context_message(ctx));
         return 1;

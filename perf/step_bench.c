@@ -39,7 +39,7 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static void report(const char *precision, const char *method, const struct limn_device *dev,
+static void report(const char *precision, const char *method, const struct device *dev,
                    size_t n, size_t nnz, double *times, int repeats, double bytes)
 {
     qsort(times, repeats, sizeof *times, cmp_double);
@@ -69,14 +69,14 @@ int main(int argc, char **argv)
     limn_scheme scheme = strcmp(argv[2], "loop") == 0 ? LIMN_SCHEME_LOOP : LIMN_SCHEME_CATMARK;
     limn_context *ctx = limn_context_create();
     limn_mesh *mesh = NULL;
-    limn_operator op;
+    stencil_operator op;
     if (limn_mesh_read(ctx, argv[1], LIMN_FORMAT_AUTO, &mesh) ||
         operator_build_ex(ctx, mesh, scheme, 0.0, OPERATOR_REORDER, &op)) {
         fprintf(stderr, "step_bench: %s\n", limn_context_message(ctx));
         return 1;
     }
     size_t n = op.vertex_count, nnz = op.host.row_offsets[n];
-    struct limn_device *dev = op.dev;
+    struct device *dev = op.dev;
     double *buf = malloc(4 * n * sizeof *buf), *times = malloc(repeats * sizeof *times);
     float *fbuf = malloc(4 * n * sizeof *fbuf);
     operator_pack(&op, mesh->positions, buf);
@@ -102,7 +102,7 @@ int main(int argc, char **argv)
         /* two untimed steps: first touch and kernel compilation */
         for (int k = 0; k < repeats + 2 && !st; k++) {
             int c = k & 1; /* x_k in [c], x_{k-1} in and x_{k+1} out in [1 - c] */
-            double t = limn_seconds();
+            double t = clock_seconds();
             if (kind == 0)
                 st = dev->ops->interp_step(dev, &op.device, m, p[c], p[1 - c], 1.0, &nr);
             else if (kind == 1)
@@ -114,7 +114,7 @@ int main(int argc, char **argv)
                 st = dev->ops->step_f(dev, &op.device, b, d[c], d[1 - c], d[1 - c],
                                       (float)BENCH_C1, (float)BENCH_C2, &nr);
             if (k >= 2)
-                times[k - 2] = limn_seconds() - t;
+                times[k - 2] = clock_seconds() - t;
         }
         double per_nnz = kind < 2 ? 12.0 : 8.0;
         if (!st)

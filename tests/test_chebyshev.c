@@ -44,7 +44,7 @@ static double chebyshev_t(int k, double x)
 }
 
 typedef struct diag_system {
-    struct limn_device *dev;
+    struct device *dev;
     device_csr a;
     device_buffer *m, *p[2];
     double lambda[N];

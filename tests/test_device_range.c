@@ -24,7 +24,7 @@
 typedef struct fixture {
     limn_context *ctx;
     limn_mesh *mesh;
-    limn_operator op;
+    stencil_operator op;
     size_t n;
     double *host;
 } fixture;
@@ -95,7 +95,7 @@ static void ranges_on(const char *device, int triangles)
     fixture f;
     open_fixture(&f, device, triangles);
     const device_ops *ops = f.op.dev->ops;
-    struct limn_device *dev = f.op.dev;
+    struct device *dev = f.op.dev;
     device_csr lo, hi;
     split(&f, 2 * DEVICE_ROWS_PER_ITEM, &lo, &hi);
 

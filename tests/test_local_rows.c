@@ -70,7 +70,7 @@ static size_t compare_rows(const char *name, const limn_mesh *mesh, const uint8_
     limn_mesh *sub = NULL;
     assert_int_equal(limn_mesh_create(ctx, nv2, pos, nf2, off2, idx2, &sub), LIMN_OK);
     assert_int_equal(limn_context_set_device(ctx, "reference"), LIMN_OK);
-    limn_operator a, b;
+    stencil_operator a, b;
     if (operator_build(ctx, mesh, scheme, alpha, &a) || operator_build(ctx, sub, scheme, alpha, &b))
         fail_msg("%s: %s", name, limn_context_message(ctx));
     size_t rows = 0;

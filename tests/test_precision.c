@@ -48,10 +48,10 @@ static void ops_on(const char *name, const limn_mesh *mesh, limn_scheme scheme, 
     float *out_d[2] = {malloc(4 * n * sizeof(float)), malloc(4 * n * sizeof(float))};
     device_norms nr[2], ns[2];
     for (int k = 0; k < 2; k++) {
-        limn_operator op;
+        stencil_operator op;
         if (operator_build(ctx[k], mesh, scheme, 0.0, &op) != LIMN_OK)
             fail_msg("%s: %s", name, limn_context_message(ctx[k]));
-        struct limn_device *dev = op.dev;
+        struct device *dev = op.dev;
         assert_int_equal(op.device.gather_ahead, ahead);
         operator_pack(&op, limn_mesh_positions(mesh), m4);
         for (size_t i = 0; i < 4 * n; i++) {

@@ -156,7 +156,7 @@ static double scaled_max(const sgs_table *t, const double *r, size_t n)
     return worst;
 }
 
-static void read_back(struct limn_device *dev, device_buffer *b, size_t n, double **out)
+static void read_back(struct device *dev, device_buffer *b, size_t n, double **out)
 {
     *out = vec4(n);
     assert_int_equal(dev->ops->buffer_read(dev, b, 4 * n * sizeof(double), *out), LIMN_OK);
@@ -170,7 +170,7 @@ static void run_backend(const char *device, const limn_mesh *mesh, limn_scheme s
     limn_context *ctx = limn_context_create();
     if (device)
         assert_int_equal(limn_context_set_device(ctx, device), LIMN_OK);
-    limn_operator op;
+    stencil_operator op;
     assert_int_equal(operator_build_ex(ctx, mesh, scheme, 0.0, OPERATOR_REORDER, &op), LIMN_OK);
     size_t n = op.host.rows;
     double *dinv = malloc(n * sizeof *dinv);
@@ -181,7 +181,7 @@ static void run_backend(const char *device, const limn_mesh *mesh, limn_scheme s
     assert_int_equal(sgs_table_build(ctx, &op.host, dinv, &t), LIMN_OK);
     assert_true(t.colours >= 3 && t.colours <= 12);
     double *s = check_table(&t);
-    struct limn_device *dev = op.dev;
+    struct device *dev = op.dev;
     const device_ops *ops = dev->ops;
     device_sgs da;
     assert_int_equal(device_sgs_upload(dev, &t, &da), LIMN_OK);

@@ -87,22 +87,22 @@ static limn_status check_size(limn_context *ctx, const char *fn, const char *wha
     const char *fix = options ? "initialise it with" : "set it to";
     if (n == 0) {
         if (options)
-            return limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is 0: initialise %s with %s", fn,
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is 0: initialise %s with %s", fn,
                              field, what, l->init);
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is 0: set it to %s before the call", fn,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is 0: set it to %s before the call", fn,
                          field, l->init);
     }
     if (n > ABI_MAX_SIZE)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "%s: %s is %zu, no size of a %s (this library's is %zu): %s %s", fn, field,
                          n, l->type, l->size, fix, l->init);
     if (options && n < l->min_size)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "%s: %s is %zu, smaller than the first released %s (%zu bytes): %s %s", fn,
                          field, n, l->type, l->min_size, fix, l->init);
     size_t min = l->inner ? 2 * sizeof(size_t) : sizeof(size_t);
     if (!options && n < min)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "%s: %s is %zu, smaller than its size field%s: set it to %s", fn, field, n,
                          l->inner ? "s" : "", l->init);
     return LIMN_OK;
@@ -119,7 +119,7 @@ static limn_status piece_in(limn_context *ctx, const char *fn, const char *what,
         size_t set = first_set(src, lib, have);
         char field[112];
         if (set != SIZE_MAX)
-            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                              "%s: %s is %zu but this liblimn %s knows %zu bytes of %s and "
                              "byte %zu of the caller's is set: an option this library does not "
                              "have (built against a newer limn.h than the library loaded?)",
@@ -154,7 +154,7 @@ limn_status abi_options_in(limn_context *ctx, const char *fn, const char *what, 
     size_t lib_tail_at = sizeof(size_t) + in->size;
     size_t min_tail = l->min_size - (sizeof(size_t) + in->min_size);
     if (!st && (n < tail_at || n - tail_at < min_tail))
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                        "%s: %s->size is %zu, smaller than the first released %s (%zu bytes "
                        "with %s.size %zu): initialise it with %s",
                        fn, what, n, l->type, tail_at + min_tail, inner_what, ni, l->init);
@@ -186,7 +186,7 @@ limn_status abi_report_begin(limn_context *ctx, const char *fn, const char *what
     snprintf(inner_what, sizeof inner_what, "%s->stats", what);
     st = check_size(ctx, fn, inner_what, l->inner, ni, 0);
     if (!st && n - sizeof(size_t) < ni)
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                        "%s: %s->size is %zu, which cannot hold %s of %zu bytes: set both to "
                        "their sizeof",
                        fn, what, n, inner_what, ni);

@@ -41,7 +41,7 @@ static mode_t current_umask(void)
 
 static limn_status write_failed(limn_context *ctx, const char *path, int e)
 {
-    return limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path, e ? strerror(e) : "write error");
+    return ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path, e ? strerror(e) : "write error");
 }
 
 /* The new file gets the replaced one's owner, group and mode where the
@@ -66,11 +66,11 @@ static limn_status temp_failed(limn_context *ctx, atomic_file *af, int e)
     const char *dir = af->out.dir;
     limn_status st =
         !strchr(af->out.target, '/')
-            ? limn_fail(ctx, LIMN_ERR_IO,
+            ? ctx_fail(ctx, LIMN_ERR_IO,
                         "cannot write %s: cannot create a temporary file in the current "
                         "directory: %s",
                         af->path, strerror(e))
-            : limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot create a temporary file in %s%s: %s",
+            : ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot create a temporary file in %s%s: %s",
                         af->path, dir, strcmp(dir, "/") ? "/" : "", strerror(e));
     atomic_file_abort(af);
     return st;
@@ -87,7 +87,7 @@ static limn_status open_regular(limn_context *ctx, atomic_file *af)
     af->tmp_path = output_temp_template(&af->out);
     if (!af->tmp_path) {
         atomic_file_abort(af);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
     }
     int fd = mkstemp(af->tmp_path);
     if (fd < 0)
@@ -110,7 +110,7 @@ limn_status atomic_file_open(limn_context *ctx, const char *path, atomic_file *a
         return st;
     if (!(af->path = strdup(path))) {
         atomic_file_abort(af);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
     }
     if (af->out.kind == OUTPUT_FILE) {
         if ((st = open_regular(ctx, af)))
@@ -119,7 +119,7 @@ limn_status atomic_file_open(limn_context *ctx, const char *path, atomic_file *a
         /* unlinked at once: nothing is left behind, whatever happens */
         int e = errno;
         atomic_file_abort(af);
-        return limn_fail(ctx, LIMN_ERR_IO,
+        return ctx_fail(ctx, LIMN_ERR_IO,
                          "cannot write %s: cannot create a buffer file in %s: %s", path, P_tmpdir,
                          strerror(e));
     }
@@ -134,7 +134,7 @@ limn_status atomic_file_check(limn_context *ctx, const char *path)
     if (output_is_stdout(path)) {
         int fl = fcntl(STDOUT_FILENO, F_GETFL);
         if (fl < 0 || (fl & O_ACCMODE) == O_RDONLY)
-            return limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: standard output is %s", path,
+            return ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: standard output is %s", path,
                              fl < 0 ? "closed" : "not open for writing");
         return LIMN_OK;
     }
@@ -183,7 +183,7 @@ limn_status atomic_file_finish(limn_context *ctx, atomic_file *af)
 static limn_status rename_over(limn_context *ctx, atomic_file *af)
 {
     if (rename(af->tmp_path, af->out.target) != 0) {
-        limn_status st = limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot rename %s over it: %s",
+        limn_status st = ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot rename %s over it: %s",
                                    af->path, af->tmp_path, strerror(errno));
         atomic_file_abort(af);
         return st;

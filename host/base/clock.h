@@ -3,6 +3,6 @@
 #ifndef LIMN_CLOCK_H
 #define LIMN_CLOCK_H
 
-double limn_seconds(void);
+double clock_seconds(void);
 
 #endif

@@ -61,7 +61,7 @@ const char *limn_context_device_name(const limn_context *ctx)
     return ctx ? ctx->device_name : "";
 }
 
-limn_status limn_fail(limn_context *ctx, limn_status status, const char *fmt, ...)
+limn_status ctx_fail(limn_context *ctx, limn_status status, const char *fmt, ...)
 {
     if (!ctx)
         return status;
@@ -83,7 +83,7 @@ limn_status limn_fail(limn_context *ctx, limn_status status, const char *fmt, ..
     return status;
 }
 
-void limn_warn(limn_context *ctx, const char *fmt, ...)
+void ctx_warn(limn_context *ctx, const char *fmt, ...)
 {
     if (!ctx)
         return;
@@ -105,7 +105,7 @@ void limn_warn(limn_context *ctx, const char *fmt, ...)
     ctx->warnings_len += len + 1;
 }
 
-void limn_clear(limn_context *ctx)
+void ctx_clear(limn_context *ctx)
 {
     if (!ctx)
         return;
@@ -118,7 +118,7 @@ void limn_clear(limn_context *ctx)
     ctx->warnings_len = 0;
 }
 
-void limn_progress(limn_context *ctx, const char *stage, double fraction)
+void ctx_progress(limn_context *ctx, const char *stage, double fraction)
 {
     if (ctx && ctx->progress)
         ctx->progress(ctx->progress_user, stage, fraction);

@@ -6,7 +6,7 @@
 #include "limn.h"
 #include <stdarg.h>
 
-struct limn_device;
+struct device;
 
 struct limn_context {
     char message[2048];
@@ -17,7 +17,7 @@ struct limn_context {
     limn_progress_fn progress;
     void *progress_user;
     char device_spec[256];    /* "" = from the environment */
-    struct limn_device *device; /* opened lazily */
+    struct device *device; /* opened lazily */
     char device_name[256];
     int fallback;             /* 0: from LIMN_FALLBACK; 1: none; 2: the reference backend */
     int device_failed;        /* the last LIMN_ERR_MEMORY came from the OpenCL device */
@@ -27,21 +27,21 @@ struct limn_context {
     size_t max_memory;        /* limn_context_set_max_memory; 0 = 3/4 of physical memory */
 };
 
-/* Records a failure message and returns status (for `return limn_fail(...)`). */
-limn_status limn_fail(limn_context *ctx, limn_status status, const char *fmt, ...)
+/* Records a failure message and returns status (for `return ctx_fail(...)`). */
+limn_status ctx_fail(limn_context *ctx, limn_status status, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
 /* Appends one warning line. */
-void limn_warn(limn_context *ctx, const char *fmt, ...)
+void ctx_warn(limn_context *ctx, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
 /* Clears message and warnings at the start of a public call. */
-void limn_clear(limn_context *ctx);
-void limn_progress(limn_context *ctx, const char *stage, double fraction);
+void ctx_clear(limn_context *ctx);
+void ctx_progress(limn_context *ctx, const char *stage, double fraction);
 /* The readers' memory limit in bytes: the context's setting, else three
    quarters of physical memory (SIZE_MAX when that is unknown). */
 size_t context_max_memory(const limn_context *ctx);

@@ -64,14 +64,14 @@ static limn_status follow_links(limn_context *ctx, const char *path, char **p, s
                 *exists = 0;
                 return LIMN_OK;
             }
-            return limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path, strerror(errno));
+            return ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path, strerror(errno));
         }
         if (!S_ISLNK(sb->st_mode)) {
             *exists = 1;
             return LIMN_OK;
         }
         if (hops == LINK_HOPS)
-            return limn_fail(ctx, LIMN_ERR_IO,
+            return ctx_fail(ctx, LIMN_ERR_IO,
                              "cannot write %s: more than %d symbolic links to follow (a loop?)",
                              path, LINK_HOPS);
         size_t cap = sb->st_size > 0 ? (size_t)sb->st_size + 1 : PATH_MAX;
@@ -80,7 +80,7 @@ static limn_status follow_links(limn_context *ctx, const char *path, char **p, s
         if (n < 0 || (size_t)n >= cap) {
             int e = link ? errno : ENOMEM;
             free(link);
-            return limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot read the link %s: %s",
+            return ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: cannot read the link %s: %s",
                              path, *p, n < 0 ? strerror(e) : "it changed while read");
         }
         link[n] = '\0';
@@ -88,7 +88,7 @@ static limn_status follow_links(limn_context *ctx, const char *path, char **p, s
         char *next = link[0] == '/' ? strdup(link) : join_beside(*p, link);
         free(link);
         if (!next)
-            return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
+            return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
         free(*p);
         *p = next;
     }
@@ -101,11 +101,11 @@ static limn_status split_target(limn_context *ctx, const char *path, output_path
     char *slash = strrchr(op->target, '/');
     op->base = slash ? slash + 1 : op->target;
     if (!*op->base || strcmp(op->base, ".") == 0 || strcmp(op->base, "..") == 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "cannot write %s: it names a directory", path);
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "cannot write %s: it names a directory", path);
     size_t dirlen = slash ? (slash == op->target ? 1 : (size_t)(slash - op->target)) : 1;
     op->dir = malloc(dirlen + 1);
     if (!op->dir)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
     memcpy(op->dir, slash ? op->target : ".", dirlen);
     op->dir[dirlen] = '\0';
     errno = 0;
@@ -113,7 +113,7 @@ static limn_status split_target(limn_context *ctx, const char *path, output_path
     op->name_max = nm > 0 ? nm : NAME_MAX;
     size_t len = strlen(op->base);
     if (len > (size_t)op->name_max)
-        return limn_fail(ctx, LIMN_ERR_IO,
+        return ctx_fail(ctx, LIMN_ERR_IO,
                          "cannot write %s: its name is %zu bytes long, over the %ld a file "
                          "name may have in %s",
                          path, len, op->name_max, op->dir);
@@ -124,23 +124,23 @@ limn_status output_path_resolve(limn_context *ctx, const char *path, output_path
 {
     memset(op, 0, sizeof *op);
     if (!path || !*path)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "empty output file name");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "empty output file name");
     if (output_is_stdout(path)) {
         op->kind = OUTPUT_STDOUT;
         return LIMN_OK;
     }
     op->target = strdup(path);
     if (!op->target)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory");
     struct stat sb;
     limn_status st = follow_links(ctx, path, &op->target, &sb, &op->exists);
     if (!st && op->exists) {
         if (S_ISDIR(sb.st_mode))
-            st = limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: it is a directory", path);
+            st = ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: it is a directory", path);
         else if (S_ISFIFO(sb.st_mode) || S_ISCHR(sb.st_mode))
             op->kind = OUTPUT_DEVICE;
         else if (!S_ISREG(sb.st_mode))
-            st = limn_fail(ctx, LIMN_ERR_IO,
+            st = ctx_fail(ctx, LIMN_ERR_IO,
                            "cannot write %s: it is neither a regular file, a FIFO nor a "
                            "character device",
                            path);
@@ -231,7 +231,7 @@ limn_status output_check_rename(limn_context *ctx, const char *path, const outpu
     /* in a sticky directory only the owner of the file or of the directory
        (or root) may replace it: rename would fail with EPERM at the end */
     if ((ds.st_mode & S_ISVTX) && me != 0 && ds.st_uid != me && op->old_uid != me)
-        return limn_fail(ctx, LIMN_ERR_IO,
+        return ctx_fail(ctx, LIMN_ERR_IO,
                          "cannot write %s: %s belongs to another user in the sticky directory "
                          "%s (not ours either), so it cannot be replaced",
                          path, op->target, op->dir);

@@ -47,7 +47,7 @@ void device_setup_report(const limn_context *ctx, const device_setup_times *befo
     r->seconds_solve -= r->seconds_opencl_kernels;
 }
 
-void device_close(struct limn_device *dev)
+void device_close(struct device *dev)
 {
     if (dev)
         dev->ops->close(dev);
@@ -67,7 +67,7 @@ static int gathers_scatter(const stencil_csr *a)
     return far * 10 > seen;
 }
 
-limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, device_csr *out)
+limn_status device_csr_upload(struct device *dev, const stencil_csr *host, device_csr *out)
 {
     memset(out, 0, sizeof *out);
     out->rows = host->rows;
@@ -86,7 +86,7 @@ limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, 
     return st;
 }
 
-limn_status device_csr_add_float(struct limn_device *dev, device_csr *csr)
+limn_status device_csr_add_float(struct device *dev, device_csr *csr)
 {
     if (csr->weights_f)
         return LIMN_OK;
@@ -97,7 +97,7 @@ limn_status device_csr_add_float(struct limn_device *dev, device_csr *csr)
     return st;
 }
 
-void device_csr_release(struct limn_device *dev, device_csr *csr)
+void device_csr_release(struct device *dev, device_csr *csr)
 {
     if (csr->row_offsets)
         dev->ops->buffer_release(dev, csr->row_offsets);
@@ -123,7 +123,7 @@ void device_norms_finish(const double *partials, size_t chunks, device_norms *ou
     }
 }
 
-limn_status device_sgs_upload(struct limn_device *dev, const sgs_table *t, device_sgs *out)
+limn_status device_sgs_upload(struct device *dev, const sgs_table *t, device_sgs *out)
 {
     memset(out, 0, sizeof *out);
     const device_ops *ops = dev->ops;
@@ -132,7 +132,7 @@ limn_status device_sgs_upload(struct limn_device *dev, const sgs_table *t, devic
     out->colours = t->colours;
     out->colour_begin = malloc((t->colours + 1) * sizeof *out->colour_begin);
     if (!out->colour_begin)
-        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for the Gauss-Seidel table");
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for the Gauss-Seidel table");
     memcpy(out->colour_begin, t->colour_begin, (t->colours + 1) * sizeof *out->colour_begin);
     limn_status st = ops->buffer_create(dev, (n + 1) * sizeof(uint32_t), t->row_offsets,
                                         &out->row_offsets);
@@ -149,7 +149,7 @@ limn_status device_sgs_upload(struct limn_device *dev, const sgs_table *t, devic
     return st;
 }
 
-void device_sgs_release(struct limn_device *dev, device_sgs *d)
+void device_sgs_release(struct device *dev, device_sgs *d)
 {
     device_buffer *bufs[] = {d->row_offsets, d->split, d->columns, d->weights, d->info};
     for (int i = 0; i < 5; i++)

@@ -19,7 +19,7 @@
 #define DEVICE_WORKGROUP 8
 
 typedef struct device_buffer device_buffer;
-struct limn_device;
+struct device;
 
 /* A CSR table resident on the device. An op computes the rows
    [row_begin, row_begin + rows); row_begin is 0 for a whole table. A row range
@@ -74,38 +74,38 @@ typedef struct sgs_vectors {
 
 typedef struct device_ops {
     const char *kind;   /* "opencl" or "reference" */
-    limn_status (*buffer_create)(struct limn_device *dev, size_t bytes, const void *init,
+    limn_status (*buffer_create)(struct device *dev, size_t bytes, const void *init,
                                  device_buffer **out);
-    limn_status (*buffer_write)(struct limn_device *dev, device_buffer *buf, size_t bytes,
+    limn_status (*buffer_write)(struct device *dev, device_buffer *buf, size_t bytes,
                                 const void *src);
-    limn_status (*buffer_read)(struct limn_device *dev, device_buffer *buf, size_t bytes,
+    limn_status (*buffer_read)(struct device *dev, device_buffer *buf, size_t bytes,
                                void *dst);
-    void (*buffer_release)(struct limn_device *dev, device_buffer *buf);
+    void (*buffer_release)(struct device *dev, device_buffer *buf);
     /* Part of a buffer: bytes at byte offset `offset` (MPI halo rows). */
-    limn_status (*buffer_write_at)(struct limn_device *dev, device_buffer *buf, size_t offset,
+    limn_status (*buffer_write_at)(struct device *dev, device_buffer *buf, size_t offset,
                                    size_t bytes, const void *src);
-    limn_status (*buffer_read_at)(struct limn_device *dev, device_buffer *buf, size_t offset,
+    limn_status (*buffer_read_at)(struct device *dev, device_buffer *buf, size_t offset,
                                   size_t bytes, void *dst);
     /* y = A x */
-    limn_status (*spmv)(struct limn_device *dev, const device_csr *a, device_buffer *x,
+    limn_status (*spmv)(struct device *dev, const device_csr *a, device_buffer *x,
                         device_buffer *y);
     /* r = m - A p; p_next = p + omega r; norms of r (over all rows).
        omega = 1 is the seeds' iteration, bit for bit. */
-    limn_status (*interp_step)(struct limn_device *dev, const device_csr *a,
+    limn_status (*interp_step)(struct device *dev, const device_csr *a,
                                device_buffer *m, device_buffer *p, device_buffer *p_next,
                                double omega, device_norms *norms);
     /* r = m - A p; prev_next = p + c1 (p - prev_next) + c2 r (x_{k-1} in,
        x_{k+1} out: the Chebyshev recurrence); norms of r. c1 = 0, c2 = omega
        gives interp_step's update (kernels/solve.cl). */
-    limn_status (*cheb_step)(struct limn_device *dev, const device_csr *a, device_buffer *m,
+    limn_status (*cheb_step)(struct device *dev, const device_csr *a, device_buffer *m,
                              device_buffer *p, device_buffer *prev_next, double c1, double c2,
                              device_norms *norms);
     /* y = A x and dot = sum_i dinv_i (x_i . y_i) (kernels/solve.cl). */
-    limn_status (*spmv_dot)(struct limn_device *dev, const device_csr *a, device_buffer *x,
+    limn_status (*spmv_dot)(struct device *dev, const device_csr *a, device_buffer *x,
                             device_buffer *y, device_buffer *dinv, double *dot);
     /* x += alpha p; z -= alpha q; norms->max = max |z_i|, norms->sum =
        sum dinv_i |z_i|^2, norms->sum_sq = sum |z_i|^2. */
-    limn_status (*pcg_update)(struct limn_device *dev, size_t rows, double alpha,
+    limn_status (*pcg_update)(struct device *dev, size_t rows, double alpha,
                               device_buffer *p, device_buffer *q, device_buffer *x,
                               device_buffer *z, device_buffer *dinv, device_norms *norms);
     /* One term of the series (seed 000 eq. 6; kernels/series.cl): ax = A x and
@@ -113,52 +113,52 @@ typedef struct device_ops {
        x_next when SERIES_STORE_NEXT (unused buffers may be NULL); acc is
        updated by acc_mode (SERIES_ACC_*; acc may be NULL with ACC_NONE).
        norms: of ax (max, sum of lengths, sum of squares over x, y, z). */
-    limn_status (*series_step)(struct limn_device *dev, const device_csr *a, device_buffer *x,
+    limn_status (*series_step)(struct device *dev, const device_csr *a, device_buffer *x,
                                device_buffer *x_next, device_buffer *ax, device_buffer *acc,
                                int flags, int acc_mode, device_norms *norms);
     /* out = a x + b y over `rows` 4-vectors ((a x) + (b y), all four
        components); out may be x or y. */
-    limn_status (*axpby)(struct limn_device *dev, size_t rows, double a, device_buffer *x,
+    limn_status (*axpby)(struct device *dev, size_t rows, double a, device_buffer *x,
                          double b, device_buffer *y, device_buffer *out);
     /* Norms of x (x, y, z of each of `rows` vectors), finished in chunk order. */
-    limn_status (*norms)(struct limn_device *dev, size_t rows, device_buffer *x,
+    limn_status (*norms)(struct device *dev, size_t rows, device_buffer *x,
                          device_norms *out);
     /* Mixed-precision refinement (kernels/mixed.cl, host/solve/solve_mixed.c).
        Float vectors are 4 floats per row. residual_f: r = m - A p in double,
        stored rounded to float in r_f; norms of the double r. */
-    limn_status (*residual_f)(struct limn_device *dev, const device_csr *a, device_buffer *m,
+    limn_status (*residual_f)(struct device *dev, const device_csr *a, device_buffer *m,
                               device_buffer *p, device_buffer *r_f, device_norms *norms);
     /* One float step on the correction system A d = b with the float weights:
        s = b - A_f d and next = d + c1 (d - prev) + c2 s in float (Chebyshev;
        c1 = 0, c2 = omega: the seeds' or weighted step); norms of s in double.
        prev and next may be one buffer, prev may be d; next is not d. */
-    limn_status (*step_f)(struct limn_device *dev, const device_csr *a, device_buffer *b,
+    limn_status (*step_f)(struct device *dev, const device_csr *a, device_buffer *b,
                           device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
                           float c2, device_norms *norms);
     /* p += d over `rows` (d float, widened exactly to double). */
-    limn_status (*add_f)(struct limn_device *dev, size_t rows, device_buffer *p,
+    limn_status (*add_f)(struct device *dev, size_t rows, device_buffer *p,
                          device_buffer *d);
     /* w_f = w rounded to float, `count` values. */
-    limn_status (*to_float)(struct limn_device *dev, size_t count, device_buffer *w,
+    limn_status (*to_float)(struct device *dev, size_t count, device_buffer *w,
                             device_buffer *w_f);
     /* SGS-preconditioned CG (host/solve/solve_sgs.c, kernels/sgs.cl; C = (D + L)
        D^-1/2 with S = L + D + U, steps on C^-1 S C^-T).
        The backward sweep, colours high to low: phat = rhat + beta phat, then
        t = (D + U)^-1 D^1/2 phat. */
-    limn_status (*sgs_upper)(struct limn_device *dev, const device_sgs *a, double beta,
+    limn_status (*sgs_upper)(struct device *dev, const device_sgs *a, double beta,
                              const sgs_vectors *v);
     /* The forward sweep, colours low to high. start: r = b - S x, u =
        (D + L)^-1 r, rhat = D^1/2 u; out->max = max scale_i |r_i| (the
        residual of A), out->sum = rhat . rhat. Otherwise u = (D + L)^-1
        (D^1/2 phat - D t), st = S t, out->sum = phat . q with q = D^1/2
        (t + u). Each entry is read once either way. */
-    limn_status (*sgs_lower)(struct limn_device *dev, const device_sgs *a, int start,
+    limn_status (*sgs_lower)(struct device *dev, const device_sgs *a, int start,
                              const sgs_vectors *v, device_norms *out);
     /* x += alpha t; r -= alpha st; rhat -= alpha q; norms->max = max scale_i
        |r_i|, norms->sum = rhat . rhat. */
-    limn_status (*sgs_update)(struct limn_device *dev, const device_sgs *a, double alpha,
+    limn_status (*sgs_update)(struct device *dev, const device_sgs *a, double alpha,
                               const sgs_vectors *v, device_norms *norms);
-    void (*close)(struct limn_device *dev);
+    void (*close)(struct device *dev);
 } device_ops;
 
 /* series_step flags and accumulation modes. */
@@ -178,7 +178,7 @@ typedef struct device_setup_times {
     double platform, context, build, kernels;
 } device_setup_times;
 
-struct limn_device {
+struct device {
     const device_ops *ops;
     limn_context *ctx;        /* for error messages */
     char name[256];
@@ -206,19 +206,19 @@ device_setup_times device_setup_of(const limn_context *ctx);
 void device_setup_report(const limn_context *ctx, const device_setup_times *before,
                          limn_report *r);
 
-void device_close(struct limn_device *dev);
+void device_close(struct device *dev);
 
 /* Uploads a host CSR table; releases it with device_csr_release. */
-limn_status device_csr_upload(struct limn_device *dev, const stencil_csr *host, device_csr *out);
+limn_status device_csr_upload(struct device *dev, const stencil_csr *host, device_csr *out);
 /* Adds the float copy of the weights, made on the device (once; a no-op
    when present). */
-limn_status device_csr_add_float(struct limn_device *dev, device_csr *csr);
-void device_csr_release(struct limn_device *dev, device_csr *csr);
+limn_status device_csr_add_float(struct device *dev, device_csr *csr);
+void device_csr_release(struct device *dev, device_csr *csr);
 
 /* Uploads a Gauss-Seidel table (sgs_table_build); releases it with
    device_sgs_release. */
-limn_status device_sgs_upload(struct limn_device *dev, const sgs_table *t, device_sgs *out);
-void device_sgs_release(struct limn_device *dev, device_sgs *d);
+limn_status device_sgs_upload(struct device *dev, const sgs_table *t, device_sgs *out);
+void device_sgs_release(struct device *dev, device_sgs *d);
 
 /* Finishes per-chunk partial norms in chunk order. */
 void device_norms_finish(const double *partials, size_t chunks, device_norms *out);

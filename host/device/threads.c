@@ -152,9 +152,9 @@ void threads_apply(limn_context *ctx)
         threads_applied_request = request;
         threads_decided = 1;
         if (threads_applied.warning[0])
-            limn_warn(ctx, "%s", threads_applied.warning);
+            ctx_warn(ctx, "%s", threads_applied.warning);
     } else if (request != threads_applied_request) {
-        limn_warn(ctx,
+        ctx_warn(ctx,
                   "the OpenCL runtime's thread count was fixed at %d (%s) by the first device "
                   "query in this process; this context's limn_context_set_threads(%d) has no "
                   "effect",
@@ -167,9 +167,9 @@ limn_status limn_context_set_threads(limn_context *ctx, int threads)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (threads < LIMN_THREADS_RUNTIME_DEFAULT || threads > THREADS_MAX)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_context_set_threads: %d is not a thread count (1..%d), "
                          "LIMN_THREADS_FROM_BINDING (0) or LIMN_THREADS_RUNTIME_DEFAULT (-1)",
                          threads, THREADS_MAX);
@@ -184,7 +184,7 @@ limn_status limn_context_threads(const limn_context *ctx, int *threads, const ch
     if (!threads || !source)
         /* the message is the one field a const context may change: the caller
            made ctx with limn_context_create, never const, so writing is defined */
-        return limn_fail((limn_context *)ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail((limn_context *)ctx, LIMN_ERR_ARGUMENT,
                          "limn_context_threads: %s is NULL", !threads ? "threads" : "source");
     if (ctx->device && strcmp(ctx->device->ops->kind, "reference") == 0) {
         *threads = 1;

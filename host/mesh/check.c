@@ -15,7 +15,7 @@ static limn_status finite(limn_context *ctx, const char *fn, const char *name, c
 {
     for (size_t i = 0; i < 3 * n; i++)
         if (!isfinite(xyz[i]))
-            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                              "%s: %s%svertex %zu has a non-finite coordinate (%c = %g); nothing "
                              "was computed or written",
                              fn, name ? name : "", name ? ": " : "", i / 3, "xyz"[i % 3],
@@ -31,7 +31,7 @@ limn_status check_positions(limn_context *ctx, const char *fn, const double *xyz
 limn_status check_mesh(limn_context *ctx, const char *fn, const char *name, const limn_mesh *mesh)
 {
     if (!mesh)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is NULL", fn, name ? name : "the mesh");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is NULL", fn, name ? name : "the mesh");
     return finite(ctx, fn, name, mesh->positions, mesh->vertex_count);
 }
 
@@ -55,7 +55,7 @@ limn_status check_mesh_magnitude(limn_context *ctx, const char *fn, const char *
     if (sum <= CHECK_SQUARES_MAX && diag2 <= CHECK_SQUARES_MAX)
         return LIMN_OK;
     int by_sum = !(sum <= CHECK_SQUARES_MAX);
-    return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+    return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                      "%s: coordinates too large (overflow): the %s is %.3g, over the %.3g "
                      "that sums of squares can hold here (largest coordinate: vertex %zu, "
                      "%c = %.3g); scale %s down; nothing was computed",
@@ -69,7 +69,7 @@ limn_status check_scheme(limn_context *ctx, const char *fn, limn_scheme scheme)
     if (scheme == LIMN_SCHEME_AUTO || scheme == LIMN_SCHEME_LOOP ||
         scheme == LIMN_SCHEME_CATMARK)
         return LIMN_OK;
-    return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+    return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                      "%s: unknown scheme %d (LIMN_SCHEME_AUTO 0, LIMN_SCHEME_LOOP 1, "
                      "LIMN_SCHEME_CATMARK 2)",
                      fn, (int)scheme);
@@ -79,7 +79,7 @@ limn_status check_format(limn_context *ctx, const char *fn, limn_format format)
 {
     if (format >= LIMN_FORMAT_AUTO && format <= LIMN_FORMAT_STL)
         return LIMN_OK;
-    return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+    return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                      "%s: unknown format %d (LIMN_FORMAT_AUTO 0 .. LIMN_FORMAT_STL %d)", fn,
                      (int)format, (int)LIMN_FORMAT_STL);
 }
@@ -88,10 +88,10 @@ limn_status check_count(limn_context *ctx, const char *fn, const char *arg, long
                         long long min, long long cap, const char *cap_name)
 {
     if (value < min)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is %lld; it must be at least %lld", fn,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is %lld; it must be at least %lld", fn,
                          arg, value, min);
     if (value > cap)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "%s: %s is %lld, over the cap of %lld (%s): no use needs more, and "
                          "it would run for hours",
                          fn, arg, value, cap, cap_name);
@@ -111,12 +111,12 @@ limn_status check_nonfinite_iteration(limn_context *ctx, const char *what, int k
                                       limn_scheme scheme, double alpha, int in_float)
 {
     if (scheme == LIMN_SCHEME_CATMARK && alpha > 6.0 / 7.0)
-        return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+        return ctx_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
                          "%s became non-finite after %d iteration(s): with alpha %g over 6/7 "
                          "the iteration diverges for Catmull-Clark; keep alpha <= 6/7 (0.5 is "
                          "a good choice)",
                          what, k, alpha);
-    return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+    return ctx_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
                      "non-finite values in the iteration (overflow?): %s became non-finite "
                      "after %d iteration%s%s; nothing was written",
                      what, k, k == 1 ? "" : "s",
@@ -133,25 +133,25 @@ limn_status check_mesh_writable(limn_context *ctx, const limn_mesh *mesh, limn_f
         return st;
     /* limn_mesh_read refuses a file without vertices, so none is written */
     if (mesh->vertex_count == 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_write: the mesh has no vertices, and a mesh file without "
                          "vertices is not read back; nothing was written");
     /* what the format drops, said rather than done silently (the file still
        reads back, as a mesh with less in it) */
     if (mesh->colors && format != LIMN_FORMAT_PLY && format != LIMN_FORMAT_PLY_ASCII &&
         format != LIMN_FORMAT_PLY_BINARY_BE)
-        limn_warn(ctx, "limn_mesh_write: %s holds no vertex colours: the mesh's are not "
+        ctx_warn(ctx, "limn_mesh_write: %s holds no vertex colours: the mesh's are not "
                        "written (PLY holds them)",
                   format == LIMN_FORMAT_OBJ ? "OBJ" : format == LIMN_FORMAT_OFF ? "OFF" : "STL");
     size_t polygons = 0;
     for (size_t f = 0; format == LIMN_FORMAT_STL && f < mesh->face_count; f++)
         polygons += mesh->face_offsets[f + 1] - mesh->face_offsets[f] > 3;
     if (polygons)
-        limn_warn(ctx, "limn_mesh_write: STL holds triangles only: %zu faces with more than 3 "
+        ctx_warn(ctx, "limn_mesh_write: STL holds triangles only: %zu faces with more than 3 "
                        "vertices are written fan-triangulated",
                   polygons);
     if (format == LIMN_FORMAT_STL && mesh->face_count == 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_write: STL holds triangles only, and the mesh has %zu "
                          "vertices but no faces: write OBJ, PLY or OFF instead; nothing was "
                          "written",

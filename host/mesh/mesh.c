@@ -14,12 +14,12 @@ limn_status mesh_alloc(limn_context *ctx, size_t vertex_count, size_t face_count
     *out = NULL;
     if (vertex_count > SIZE_MAX / (3 * sizeof(double)) || face_count >= UINT32_MAX ||
         index_count > UINT32_MAX)
-        return limn_fail(ctx, LIMN_ERR_MEMORY,
+        return ctx_fail(ctx, LIMN_ERR_MEMORY,
                          "mesh too large: %zu vertices, %zu faces, %zu face indices",
                          vertex_count, face_count, index_count);
     limn_mesh *m = calloc(1, sizeof *m);
     if (!m)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a mesh");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a mesh");
     m->vertex_count = vertex_count;
     m->face_count = face_count;
     m->positions = malloc((vertex_count ? vertex_count : 1) * 3 * sizeof(double));
@@ -27,7 +27,7 @@ limn_status mesh_alloc(limn_context *ctx, size_t vertex_count, size_t face_count
     m->face_indices = malloc((index_count ? index_count : 1) * sizeof(uint32_t));
     if (!m->positions || !m->face_offsets || !m->face_indices) {
         limn_mesh_destroy(m);
-        return limn_fail(ctx, LIMN_ERR_MEMORY,
+        return ctx_fail(ctx, LIMN_ERR_MEMORY,
                          "out of memory for a mesh of %zu vertices and %zu faces",
                          vertex_count, face_count);
     }
@@ -41,28 +41,28 @@ limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
                              const uint32_t *face_offsets,
                              const uint32_t *face_indices, limn_mesh **out)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_create: out is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_create: out is NULL");
     *out = NULL;
     if ((vertex_count && !positions) || !face_offsets || (face_count && !face_indices))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_create: %s is NULL",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_create: %s is NULL",
                          vertex_count && !positions ? "positions"
                          : !face_offsets            ? "face_offsets"
                                                     : "face_indices");
     if (face_offsets[0] != 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_create: face_offsets[0] is %u, must be 0", face_offsets[0]);
     for (size_t f = 0; f < face_count; f++) {
         if ((uint64_t)face_offsets[f + 1] < (uint64_t)face_offsets[f] + 3)
-            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                              "limn_mesh_create: face %zu has %ld vertices (at least 3 needed)",
                              f, (long)face_offsets[f + 1] - (long)face_offsets[f]);
     }
     size_t index_count = face_offsets[face_count];
     for (size_t i = 0; i < index_count; i++)
         if (face_indices[i] >= vertex_count)
-            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                              "limn_mesh_create: face index %zu is %u but there are %zu vertices",
                              i, face_indices[i], vertex_count);
     limn_status st = check_positions(ctx, "limn_mesh_create", positions, vertex_count);
@@ -83,11 +83,11 @@ limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
 
 limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh **out)
 {
-    /* no limn_clear: operations call this for their results, keeping their warnings */
+    /* no ctx_clear: operations call this for their results, keeping their warnings */
     if (out)
         *out = NULL;
     if (!mesh || !out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy: %s is NULL",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy: %s is NULL",
                          !mesh ? "mesh" : "out");
     limn_status st = mesh_alloc(ctx, mesh->vertex_count, mesh->face_count,
                                 mesh->face_offsets[mesh->face_count], out);
@@ -131,7 +131,7 @@ const uint8_t *limn_mesh_colors(const limn_mesh *mesh) { return mesh ? mesh->col
 limn_status limn_mesh_set_colors(limn_context *ctx, limn_mesh *mesh, const uint8_t *rgb)
 {
     if (!mesh)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_set_colors: mesh is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_set_colors: mesh is NULL");
     if (!rgb) {
         free(mesh->colors);
         mesh->colors = NULL;
@@ -139,7 +139,7 @@ limn_status limn_mesh_set_colors(limn_context *ctx, limn_mesh *mesh, const uint8
     }
     uint8_t *c = malloc(mesh->vertex_count ? mesh->vertex_count * 3 : 1);
     if (!c)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for vertex colours");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for vertex colours");
     memcpy(c, rgb, mesh->vertex_count * 3);
     free(mesh->colors);
     mesh->colors = c;

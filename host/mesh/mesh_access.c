@@ -19,12 +19,12 @@ size_t limn_mesh_index_count(const limn_mesh *mesh)
 limn_status limn_mesh_copy_positions(limn_context *ctx, const limn_mesh *mesh, double *dst,
                                      size_t capacity_vertices)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!mesh || !dst)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy_positions: %s is NULL",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy_positions: %s is NULL",
                          !mesh ? "mesh" : "dst");
     if (capacity_vertices < mesh->vertex_count)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_copy_positions: the buffer holds %zu vertices but the mesh "
                          "has %zu; nothing was copied",
                          capacity_vertices, mesh->vertex_count);
@@ -36,13 +36,13 @@ limn_status limn_mesh_copy_faces(limn_context *ctx, const limn_mesh *mesh, uint3
                                  size_t offsets_capacity, uint32_t *indices,
                                  size_t indices_capacity)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!mesh || !offsets || !indices)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy_faces: %s is NULL",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy_faces: %s is NULL",
                          !mesh ? "mesh" : !offsets ? "offsets" : "indices");
     size_t n_off = mesh->face_count + 1, n_idx = mesh->face_offsets[mesh->face_count];
     if (offsets_capacity < n_off || indices_capacity < n_idx)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_copy_faces: the buffers hold %zu offsets and %zu indices but "
                          "the mesh needs %zu (face_count + 1) and %zu "
                          "(limn_mesh_index_count); nothing was copied",
@@ -55,15 +55,15 @@ limn_status limn_mesh_copy_faces(limn_context *ctx, const limn_mesh *mesh, uint3
 limn_status limn_mesh_copy_colors(limn_context *ctx, const limn_mesh *mesh, uint8_t *dst,
                                   size_t capacity_vertices)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!mesh || !dst)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy_colors: %s is NULL",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy_colors: %s is NULL",
                          !mesh ? "mesh" : "dst");
     if (!mesh->colors)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_copy_colors: the mesh has no colours; nothing was copied");
     if (capacity_vertices < mesh->vertex_count)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_copy_colors: the buffer holds %zu vertices but the mesh has "
                          "%zu; nothing was copied",
                          capacity_vertices, mesh->vertex_count);
@@ -74,12 +74,12 @@ limn_status limn_mesh_copy_colors(limn_context *ctx, const limn_mesh *mesh, uint
 limn_status limn_mesh_set_positions(limn_context *ctx, limn_mesh *mesh, const double *positions,
                                     size_t vertex_count)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!mesh || (!positions && vertex_count))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_set_positions: %s is NULL",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_set_positions: %s is NULL",
                          !mesh ? "mesh" : "positions");
     if (vertex_count != mesh->vertex_count)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_set_positions: %zu vertices given but the mesh has %zu; "
                          "nothing was changed",
                          vertex_count, mesh->vertex_count);

@@ -21,7 +21,7 @@
 #include <string.h>
 
 typedef struct cg_rows {
-    struct limn_device *dev;
+    struct device *dev;
     device_buffer *in, *out, *dinv;
 } cg_rows;
 
@@ -56,7 +56,7 @@ static limn_status pcg(mpi_part *p, const device_csr *table, const double *b4, d
                        solve_stats *stats)
 {
     const device_ops *ops = p->dev->ops;
-    struct limn_device *dev = p->dev;
+    struct device *dev = p->dev;
     size_t no = p->n_owned, nl = p->n_owned + p->n_ghost, row = 4 * sizeof(double);
     device_buffer *b = NULL, *x = NULL, *z = NULL, *d = NULL, *q = NULL, *dinv = NULL;
     limn_status st = ops->buffer_create(dev, no * row, b4, &b);
@@ -176,7 +176,7 @@ static limn_status make_block(mpi_part *p, const int8_t *tier, int t, const doub
     bl->x4 = calloc(nl ? 4 * nl : 4, sizeof *bl->x4);
     bl->dinv = calloc(no ? no : 1, sizeof *bl->dinv);
     if (!bl->s.row_offsets || !bl->s.columns || !bl->s.weights || !bl->b4 || !bl->x4 || !bl->dinv)
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for a solver block");
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for a solver block");
     size_t k2 = 0;
     bl->s.row_offsets[0] = 0;
     for (size_t i = 0; i < no; i++) {
@@ -208,7 +208,7 @@ limn_status mpi_solve_cg(mpi_part *p, const double *m4, double tol_abs, int max_
 {
     size_t no = p->n_owned, nl = no + p->n_ghost;
     int8_t *tier = malloc(nl ? nl : 1);
-    limn_status st = tier ? LIMN_OK : limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    limn_status st = tier ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     double count[3] = {0, 0, 0};
     for (size_t i = 0; !st && i < nl; i++) {
         tier[i] = (int8_t)tier_of(i < no ? p->owned_rule[i] : p->ghost_rule[i - no]);

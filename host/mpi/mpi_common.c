@@ -61,7 +61,7 @@ limn_status mpi_abi_begin(limn_context *ctx, MPI_Comm comm, const char *fn, limn
     int bad = st != LIMN_OK, any = 0;
     MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, comm);
     if (any && !st)
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                        "%s: another rank refused the size of its options, report or result "
                        "(its message says which)",
                        fn);
@@ -105,11 +105,11 @@ limn_status mpi_part_begin(limn_context *ctx, MPI_Comm comm, const limn_mpi_opti
     MPI_Initialized(&initialized);
     MPI_Finalized(&finalized);
     if (!initialized || finalized)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "MPI is not running (call MPI_Init before the limn_*_mpi calls, and "
                          "MPI_Finalize after)");
     if (comm == MPI_COMM_NULL)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "the communicator is MPI_COMM_NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "the communicator is MPI_COMM_NULL");
     /* a private copy: our messages never match the caller's */
     MPI_Comm_dup(comm, &p->comm);
     MPI_Comm_rank(p->comm, &p->rank);
@@ -124,7 +124,7 @@ limn_status mpi_part_begin(limn_context *ctx, MPI_Comm comm, const limn_mpi_opti
     p->root = mpi ? mpi->root : 0;
     limn_status st = LIMN_OK;
     if (p->root < 0 || p->root >= p->size)
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "the root rank is %d; the communicator has %d",
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "the root rank is %d; the communicator has %d",
                        p->root, p->size);
     return mpi_agree(p, st);
 }
@@ -226,7 +226,7 @@ limn_status mpi_reduce_norms(mpi_part *p, limn_status local, const device_norms 
         return local;
     if (v[RED_FAIL] > 0.0) {
         p->echo = 1;
-        return limn_fail(p->ctx, LIMN_ERR_DEVICE, "another rank failed");
+        return ctx_fail(p->ctx, LIMN_ERR_DEVICE, "another rank failed");
     }
     return LIMN_OK;
 }
@@ -250,7 +250,7 @@ static limn_status root_counts(mpi_part *p, int **counts, int **displs)
     *counts = malloc((size_t)p->size * sizeof **counts);
     *displs = malloc((size_t)p->size * sizeof **displs);
     if (!*counts || !*displs)
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %d ranks", p->size);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %d ranks", p->size);
     for (int r = 0; r < p->size; r++) {
         (*counts)[r] = (int)(3 * (p->root_off[r + 1] - p->root_off[r]));
         (*displs)[r] = (int)(3 * p->root_off[r]);
@@ -264,7 +264,7 @@ limn_status mpi_scatter_rows(mpi_part *p, const double *xyz_root, double *rows4)
     limn_status st = root_counts(p, &counts, &displs);
     double *mine = malloc((p->n_owned ? 3 * p->n_owned : 1) * sizeof *mine);
     if (!mine)
-        st = limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_owned);
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_owned);
     st = mpi_agree(p, st);
     if (!st) {
         if (p->rank == p->root)
@@ -290,7 +290,7 @@ limn_status mpi_gather_rows(mpi_part *p, const double *rows4, double *xyz_root)
     limn_status st = root_counts(p, &counts, &displs);
     double *mine = malloc((p->n_owned ? 3 * p->n_owned : 1) * sizeof *mine);
     if (!mine)
-        st = limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_owned);
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_owned);
     st = mpi_agree(p, st);
     if (!st) {
         for (size_t i = 0; i < p->n_owned; i++)

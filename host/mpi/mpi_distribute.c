@@ -28,7 +28,7 @@ enum { H_STATUS, H_N, H_FACES, H_NNZ_GLOBAL, H_CUT, H_SCHEME, H_REORDERED, H_OWN
 
 /* The root's view of every rank. */
 typedef struct plan {
-    const limn_operator *g;
+    const stencil_operator *g;
     const uint32_t *part;
     uint32_t *lidx;           /* local number of each vertex on its owner */
     uint32_t *loc;            /* scratch: local number on the rank being built */
@@ -53,11 +53,11 @@ static void plan_free(plan *pl)
     free(pl->run_cnt);
 }
 
-static uint32_t vert(const limn_operator *g, size_t row)
+static uint32_t vert(const stencil_operator *g, size_t row)
 {
     return g->order ? g->order[row] : (uint32_t)row;
 }
-static uint32_t row_of(const limn_operator *g, uint32_t v) { return g->rank ? g->rank[v] : v; }
+static uint32_t row_of(const stencil_operator *g, uint32_t v) { return g->rank ? g->rank[v] : v; }
 
 static int cmp_u64(const void *a, const void *b)
 {
@@ -79,7 +79,7 @@ static limn_status plan_classes(mpi_part *p, plan *pl)
     if (!flag || !cursor || !pl->cls_off || !pl->lidx || !p->root_off || !p->root_ids) {
         free(flag);
         free(cursor);
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory partitioning %zu rows", n);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory partitioning %zu rows", n);
     }
     /* bit 0: the row has a ghost column; bit 1: another rank's row needs it */
     for (size_t k = 0; k < n; k++) {
@@ -128,7 +128,7 @@ static limn_status plan_ghosts(mpi_part *p, plan *pl)
     limn_status st = LIMN_OK;
     if (!stamp || !pl->ghost_off || !pl->run_off || !pl->ghosts || !pl->run_owner ||
         !pl->run_begin || !pl->run_cnt || !pl->loc)
-        st = limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the ghost lists");
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the ghost lists");
     for (size_t r = 0; !st && r < R; r++) {
         size_t start = used;
         for (size_t i = p->root_off[r]; !st && i < p->root_off[r + 1]; i++) {
@@ -141,7 +141,7 @@ static limn_status plan_ghosts(mpi_part *p, plan *pl)
                 if (used == cap) {
                     uint32_t *grown = realloc(pl->ghosts, 2 * cap * sizeof *grown);
                     if (!grown) {
-                        st = limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for ghosts");
+                        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for ghosts");
                         break;
                     }
                     pl->ghosts = grown;
@@ -153,7 +153,7 @@ static limn_status plan_ghosts(mpi_part *p, plan *pl)
         size_t count = used - start;
         uint64_t *grown = st ? NULL : realloc(keys, (count ? count : 1) * sizeof *keys);
         if (!st && !grown)
-            st = limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for ghosts");
+            st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for ghosts");
         if (st)
             break;
         keys = grown;
@@ -178,7 +178,7 @@ static limn_status plan_ghosts(mpi_part *p, plan *pl)
                     if (c)
                         pl->run_cnt = c;
                     if (!o || !b || !c) {
-                        st = limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for ghosts");
+                        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for ghosts");
                         break;
                     }
                 }
@@ -200,7 +200,7 @@ static limn_status plan_ghosts(mpi_part *p, plan *pl)
    part that is sent and freed). */
 static limn_status build_rows(mpi_part *p, plan *pl, int r, mpi_part *dst)
 {
-    const limn_operator *g = pl->g;
+    const stencil_operator *g = pl->g;
     const stencil_csr *a = &g->host;
     size_t o0 = p->root_off[r], no = p->root_off[r + 1] - o0;
     size_t g0 = pl->ghost_off[r], ng = pl->ghost_off[r + 1] - g0;
@@ -244,9 +244,9 @@ static limn_status build_rows(mpi_part *p, plan *pl, int r, mpi_part *dst)
         !dst->ghost_rule || !dst->host.row_offsets ||
         !dst->host.columns || !dst->host.weights || !h->recv_rank || !h->recv_off ||
         !h->recv_cnt || !h->send_rank || !h->send_off || !h->send_cnt || !h->send_idx)
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the rows of rank %d", r);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the rows of rank %d", r);
     if (nnz > INT_MAX || 3 * no > INT_MAX || 3 * ng > INT_MAX || 3 * n_idx > INT_MAX)
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY,
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                          "rank %d would hold %zu rows and %zu entries: too many for one MPI "
                          "message; use more ranks",
                          r, no, nnz);
@@ -383,7 +383,7 @@ static limn_status recv_rows(mpi_part *p)
     MPI_Recv(dh, 2, MPI_DOUBLE, p->root, TAG_HEADER, p->comm, MPI_STATUS_IGNORE);
     if (h[H_STATUS]) {
         p->echo = 1;
-        return limn_fail(p->ctx, (limn_status)h[H_STATUS], "the root failed");
+        return ctx_fail(p->ctx, (limn_status)h[H_STATUS], "the root failed");
     }
     p->n_global = h[H_N];
     p->faces_global = h[H_FACES];
@@ -448,7 +448,7 @@ static limn_status recv_rows(mpi_part *p)
         }
     }
     if (!ok)
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu rows", no);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu rows", no);
     p->host.rows = no;
     p->host.cols = no + ng;
     hl->n_recv = n_recv;
@@ -471,7 +471,7 @@ static limn_status root_prepare(mpi_part *p, const limn_mesh *mesh, limn_scheme 
     if (st)
         return st;
     p->has_global = 1;
-    const limn_operator *g = &p->global;
+    const stencil_operator *g = &p->global;
     p->scheme = g->scheme;
     p->alpha = g->alpha;
     p->diag = g->bbox_diagonal;
@@ -480,13 +480,13 @@ static limn_status root_prepare(mpi_part *p, const limn_mesh *mesh, limn_scheme 
     p->nnz_global = g->host.row_offsets[g->host.rows];
     p->reordered = g->order != NULL;
     if (3 * p->n_global > INT_MAX) /* MPI_Scatterv's displacements are ints */
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY,
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                          "%zu vertices are more than the MPI layer can scatter (%d at most)",
                          p->n_global, INT_MAX / 3);
     p->part_of = malloc((p->n_global ? p->n_global : 1) * sizeof *p->part_of);
     p->root_buf = malloc((p->n_global ? 3 * p->n_global : 1) * sizeof *p->root_buf);
     if (!p->part_of || !p->root_buf)
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_global);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_global);
     st = mpi_partition(p->ctx, mesh, p->size, p->part_of, &p->edge_cut);
     pl->g = g;
     pl->part = p->part_of;
@@ -510,7 +510,7 @@ static limn_status open_rows(mpi_part *p)
     h->ghost4 = calloc(p->n_ghost ? 4 * p->n_ghost : 1, sizeof *h->ghost4);
     h->req = malloc((size_t)(h->n_recv + h->n_send + 1) * sizeof *h->req);
     if (!h->stage4 || !h->send3 || !h->recv3 || !h->ghost4 || !h->req)
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the halo buffers");
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the halo buffers");
     p->n_split = p->n_interior / DEVICE_ROWS_PER_ITEM * DEVICE_ROWS_PER_ITEM;
     p->stats.owned = p->n_owned;
     p->stats.ghosts = p->n_ghost;

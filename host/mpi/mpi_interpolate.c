@@ -30,7 +30,7 @@ typedef struct mpi_solve {
 static limn_status rows_step(void *user, const device_csr *rows, device_norms *norms)
 {
     mpi_solve *s = user;
-    struct limn_device *dev = s->p->dev;
+    struct device *dev = s->p->dev;
     if (s->step.kind == SOLVE_CHEBYSHEV)
         return dev->ops->cheb_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->step.c1,
                                    s->step.c2, norms);
@@ -52,7 +52,7 @@ static limn_status step(void *user, int cur, const solve_step *sp, device_norms 
 
 static void release(mpi_solve *s)
 {
-    struct limn_device *dev = s->p->dev;
+    struct device *dev = s->p->dev;
     device_buffer *all[] = {s->m, s->x[0], s->x[1]};
     for (int k = 0; k < 3; k++)
         if (all[k])
@@ -93,7 +93,7 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (control)
         *control = NULL;
     if (result)
@@ -113,18 +113,18 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
     st = solve_check_options(ctx, o);
     /* the float path (solve_mixed.c) is single-process for now */
     if (!st && o->precision == LIMN_PRECISION_FLOAT)
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                        "precision float is not available under MPI yet: use --precision double "
                        "or auto");
     r->precision = "double";
     r->precision_reason = "MPI runs in double";
     if (!st && p.rank == p.root && (!mesh || !control))
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                        "limn_interpolate_mpi: the root rank needs the mesh and control");
     if (!st && p.rank == p.root)
         st = check_mesh_magnitude(ctx, "limn_interpolate_mpi", NULL, mesh);
     if (!st && o->method == LIMN_METHOD_SGS)
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                        "method sgs is not available under MPI yet (its sweeps run colour by "
                        "colour over the whole mesh): use --method chebyshev, cg or auto");
     st = mpi_agree(&p, st);
@@ -159,7 +159,7 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
         if (p.rank == p.root)
             xyz = malloc((p.n_global ? 3 * p.n_global : 1) * sizeof *xyz);
         if (!m4 || !p4 || (p.rank == p.root && !xyz))
-            st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
+            st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
         st = mpi_agree(&p, st);
     }
     if (!st)
@@ -172,7 +172,7 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
         solve_stats stats = {.catmark_alpha0 = p.scheme == LIMN_SCHEME_CATMARK && p.alpha == 0.0};
         st = mpi_solve_cg(&p, m4, o->tolerance * p.diag, o->max_iterations, p4, &stats);
         if (st == LIMN_ERR_TOPOLOGY) {
-            limn_warn(ctx, "conjugate gradients need the limit operator to be block triangular "
+            ctx_warn(ctx, "conjugate gradients need the limit operator to be block triangular "
                            "by vertex rule, which this mesh's is not: used the seeds' iteration");
             method = LIMN_METHOD_PAPER;
             r->method = limn_method_name(method);
@@ -216,7 +216,7 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
         *control = out;
     else
         limn_mesh_destroy(out);
-    limn_progress(ctx, "solve", 1.0);
+    ctx_progress(ctx, "solve", 1.0);
     return LIMN_OK;
 }
 
@@ -227,7 +227,7 @@ limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_me
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (control)
         *control = NULL;
     limn_interpolate_options o;

@@ -62,13 +62,13 @@ typedef struct mpi_part {
     uint8_t *owned_rule, *ghost_rule; /* vertex_rule of each row / ghost (CG tiers) */
     double *owned_scale;          /* scheme_limit_row_scale of each owned row (CG) */
     stencil_csr host;             /* owned rows, local columns */
-    struct limn_device *dev;
+    struct device *dev;
     device_csr all;               /* the owned rows on the device */
     mpi_halo halo;
     limn_mpi_stats stats;
     int echo;                     /* the last failure was another rank's */
     /* root only */
-    limn_operator global;         /* host table and topology, no device copy */
+    stencil_operator global;         /* host table and topology, no device copy */
     int has_global;
     size_t *root_off;             /* rank r owns root_ids[root_off[r] .. root_off[r+1]) */
     uint32_t *root_ids;           /* in each rank's local order */

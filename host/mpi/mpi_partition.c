@@ -28,7 +28,7 @@ static limn_status edge_graph(limn_context *ctx, const limn_mesh *mesh, idx_t **
 {
     size_t n = mesh->vertex_count, corners = mesh->face_offsets[mesh->face_count];
     if (2 * corners > (size_t)INT32_MAX)
-        return limn_fail(ctx, LIMN_ERR_MEMORY,
+        return ctx_fail(ctx, LIMN_ERR_MEMORY,
                          "the mesh has %zu face corners: too many for METIS's 32-bit indices",
                          corners);
     idx_t *xadj = calloc(n + 1, sizeof *xadj), *adj = malloc((2 * corners + 1) * sizeof *adj);
@@ -37,7 +37,7 @@ static limn_status edge_graph(limn_context *ctx, const limn_mesh *mesh, idx_t **
         free(xadj);
         free(adj);
         free(fill);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the graph of %zu vertices", n);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the graph of %zu vertices", n);
     }
     /* each face edge in both directions (an interior edge twice: merged below) */
     for (size_t f = 0; f < mesh->face_count; f++)
@@ -103,7 +103,7 @@ limn_status mpi_partition(limn_context *ctx, const limn_mesh *mesh, int parts,
             for (size_t v = 0; v < n; v++)
                 part_of[v] = (uint32_t)part[v];
         } else {
-            st = limn_fail(ctx, rc == METIS_ERROR_MEMORY ? LIMN_ERR_MEMORY : LIMN_ERR_ARGUMENT,
+            st = ctx_fail(ctx, rc == METIS_ERROR_MEMORY ? LIMN_ERR_MEMORY : LIMN_ERR_ARGUMENT,
                            "METIS could not partition the %zu vertices into %d parts (%s)", n,
                            parts,
                            rc == METIS_ERROR_MEMORY  ? "out of memory"

@@ -45,7 +45,7 @@ static limn_status face_lists(mpi_part *p, const limn_mesh *mesh, size_t **off_o
     size_t R = (size_t)p->size, total = 0;
     size_t *off = calloc(R + 1, sizeof *off);
     if (!off)
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the pieces");
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the pieces");
     for (int pass = 0; pass < 2; pass++) {
         uint32_t *faces = NULL;
         size_t *fill = NULL;
@@ -59,7 +59,7 @@ static limn_status face_lists(mpi_part *p, const limn_mesh *mesh, size_t **off_o
                 free(faces);
                 free(fill);
                 free(off);
-                return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the pieces");
+                return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the pieces");
             }
             memcpy(fill, off, R * sizeof *fill);
         }
@@ -100,7 +100,7 @@ static limn_status build_piece(mpi_part *p, const limn_mesh *mesh, const double 
     pc->off = malloc((nf + 1) * sizeof *pc->off);
     pc->idx = malloc((corners + 1) * sizeof *pc->idx);
     if (!pc->ids || !pc->off || !pc->idx)
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the piece of rank %d", r);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the piece of rank %d", r);
     memcpy(pc->ids, p->root_ids + p->root_off[r], no * sizeof *pc->ids);
     qsort(pc->ids, no, sizeof *pc->ids, cmp_u32);
     for (size_t i = 0; i < no; i++)
@@ -121,7 +121,7 @@ static limn_status build_piece(mpi_part *p, const limn_mesh *mesh, const double 
         loc[pc->ids[i]] = (uint32_t)i;
     pc->pos = malloc((nv ? 3 * nv : 1) * sizeof *pc->pos);
     if (!pc->pos)
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the piece of rank %d", r);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the piece of rank %d", r);
     for (size_t i = 0; i < nv; i++)
         memcpy(pc->pos + 3 * i, xyz + 3 * (size_t)pc->ids[i], 3 * sizeof(double));
     size_t k2 = 0;
@@ -140,7 +140,7 @@ static limn_status build_piece(mpi_part *p, const limn_mesh *mesh, const double 
     pc->h[P_FACES] = nf;
     pc->h[P_INDICES] = k2;
     if (3 * nv > INT_MAX || k2 > INT_MAX)
-        return limn_fail(p->ctx, LIMN_ERR_MEMORY, "the piece of rank %d is too large for MPI", r);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "the piece of rank %d is too large for MPI", r);
     return LIMN_OK;
 }
 
@@ -162,7 +162,7 @@ static limn_status recv_piece(mpi_part *p, piece *pc)
     MPI_Recv(pc->h, P_WIDTH, MPI_UINT64_T, p->root, TAG_PIECE, p->comm, MPI_STATUS_IGNORE);
     if (pc->h[P_STATUS]) {
         p->echo = 1;
-        return limn_fail(p->ctx, (limn_status)pc->h[P_STATUS], "the root failed");
+        return ctx_fail(p->ctx, (limn_status)pc->h[P_STATUS], "the root failed");
     }
     size_t nv = pc->h[P_VERTICES], nf = pc->h[P_FACES], ni = pc->h[P_INDICES];
     pc->ids = malloc((nv ? nv : 1) * sizeof *pc->ids);
@@ -183,7 +183,7 @@ static limn_status recv_piece(mpi_part *p, piece *pc)
                  MPI_STATUS_IGNORE);
         free(scratch);
     }
-    return ok ? LIMN_OK : limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for this rank's piece");
+    return ok ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for this rank's piece");
 }
 
 /* The piece as the caller's result. */
@@ -212,7 +212,7 @@ limn_status mpi_pieces(mpi_part *p, const limn_mesh *mesh_root, const double *xy
         uint32_t *faces = NULL;
         uint32_t *loc = malloc((p->n_global ? p->n_global : 1) * sizeof *loc);
         st = loc ? face_lists(p, mesh_root, &face_off, &faces)
-                 : limn_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the pieces");
+                 : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the pieces");
         for (size_t v = 0; loc && v < p->n_global; v++)
             loc[v] = UINT32_MAX;
         for (int r = 0; r < p->size; r++) {

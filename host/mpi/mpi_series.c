@@ -56,9 +56,9 @@ static limn_status open_series(limn_context *ctx, const char *fn, MPI_Comm comm,
     st = series_check_options(ctx, o);
     if (!st && p->rank == p->root) {
         if (!mesh)
-            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "the root rank needs the mesh");
+            st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "the root rank needs the mesh");
         else if (mesh->vertex_count == 0 || mesh->face_count == 0)
-            st = limn_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
+            st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
                            mesh->vertex_count ? "faces" : "vertices");
         else
             st = check_mesh_magnitude(ctx, fn, NULL, mesh);
@@ -73,7 +73,7 @@ static limn_status open_series(limn_context *ctx, const char *fn, MPI_Comm comm,
     if (p->rank == p->root)
         s->xyz = malloc(3 * p->n_global * sizeof *s->xyz);
     if (!s->rows4 || (p->rank == p->root && !s->xyz))
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
     for (int b = 0; !st && b < 4; b++)
         st = p->dev->ops->buffer_create(p->dev, 4 * nl * sizeof(double), NULL, &s->buf[b]);
     r->vertices = p->n_global;
@@ -112,7 +112,7 @@ static limn_status download(series_mpi *s, device_buffer *b)
 }
 
 typedef struct term {
-    struct limn_device *dev;
+    struct device *dev;
     device_buffer *x, *next, *acc;
     int flags, mode;
 } term;
@@ -188,7 +188,7 @@ static limn_status smooth_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (out)
         *out = NULL;
     if (result)
@@ -200,7 +200,7 @@ static limn_status smooth_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn
         st = check_count(ctx, "limn_smooth_mpi", "terms", terms, 1, LIMN_MAX_TERMS,
                          "LIMN_MAX_TERMS");
     if (!st && s.p.rank == s.p.root && !out)
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_smooth_mpi: out is NULL on the root");
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_smooth_mpi: out is NULL on the root");
     if (s.p.comm != MPI_COMM_NULL)
         st = mpi_agree(&s.p, st);
     if (!st)
@@ -222,7 +222,7 @@ static limn_status denoise_mpi_sized(limn_context *ctx, MPI_Comm comm, const lim
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (out)
         *out = NULL;
     if (result)
@@ -235,10 +235,10 @@ static limn_status denoise_mpi_sized(limn_context *ctx, MPI_Comm comm, const lim
     if (!st)
         st = check_steps(ctx, "limn_denoise_mpi", steps, m + 1LL, "(m + 1) * steps");
     if (!st && s.p.rank == s.p.root && !out)
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_denoise_mpi: out is NULL on the root");
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_denoise_mpi: out is NULL on the root");
     const topology *t = &s.p.global.topo;
     if (!st && keep_volume && s.p.rank == s.p.root && !measure_topology_closed(t))
-        st = limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+        st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
                        "keeping the volume needs a closed mesh, and this one has %zu boundary, "
                        "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
                        "not defined",
@@ -253,7 +253,7 @@ static limn_status denoise_mpi_sized(limn_context *ctx, MPI_Comm comm, const lim
         device_buffer *tmp = x;
         x = acc;
         acc = tmp;
-        limn_progress(ctx, "denoise", (double)(k + 1) / steps);
+        ctx_progress(ctx, "denoise", (double)(k + 1) / steps);
     }
     if (!st)
         st = download(&s, x);
@@ -299,7 +299,7 @@ static limn_status check_morph(limn_context *ctx, const limn_mesh *from, const l
         st = check_count(ctx, fn, "(m + 1) * (frames - 1)", (o->m + 1LL) * (o->frames - 1LL), 0,
                          LIMN_MAX_PRODUCTS, "LIMN_MAX_PRODUCTS");
     if (!st && !(o->p > 0.0 && o->p < 1.0))
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
                        o->p);
     return st ? st : measure_same_topology(ctx, from, to, "FROM", "TO");
 }
@@ -312,7 +312,7 @@ static limn_status morph_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (result)
         memset(result, 0, sizeof *result);
     limn_morph_options o;
@@ -328,7 +328,7 @@ static limn_status morph_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_
     limn_status st = mpi_part_begin(ctx, comm, mpi, &probe);
     if (!st && probe.rank == probe.root) {
         if (!from || !to || !fn)
-            st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_morph_mpi: NULL argument on the root");
+            st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_morph_mpi: NULL argument on the root");
         else if (o.linear)
             st = limn_morph(ctx, from, to, &o, fn, user, r); /* no operator: the root alone */
         else
@@ -350,7 +350,7 @@ static limn_status morph_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_
         closed = measure_topology_closed(&s.p.global.topo);
         q = malloc(3 * s.p.n_global * sizeof *q);
         if (!q)
-            st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", s.p.n_global);
+            st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", s.p.n_global);
         for (size_t i = 0; q && i < 3 * s.p.n_global; i++)
             q[i] = from->positions[i] - to->positions[i];
     }
@@ -372,7 +372,7 @@ static limn_status morph_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_
             st = download(&s, s.buf[0]);
         if (!st)
             st = morph_frame(&s, from, to, closed, diag, k, q, fn, user);
-        limn_progress(ctx, "morph", (double)k / (double)(o.frames - 1));
+        ctx_progress(ctx, "morph", (double)k / (double)(o.frames - 1));
     }
     r->seconds_compute = MPI_Wtime() - s.t0;
     if (result)
@@ -389,7 +389,7 @@ limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *m
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (out)
         *out = NULL;
     limn_series_options o;
@@ -418,7 +418,7 @@ limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (out)
         *out = NULL;
     limn_series_options o;
@@ -447,7 +447,7 @@ limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *fr
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     limn_morph_options o;
     limn_morph_options_default(&o);
     limn_series_report r;

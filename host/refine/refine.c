@@ -113,7 +113,7 @@ limn_status refine_plan_build(limn_context *ctx, const limn_mesh *base, limn_sch
 {
     memset(plan, 0, sizeof *plan);
     if (levels < 0 || levels > 16)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "levels is %d; it must lie in 0..16", levels);
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "levels is %d; it must lie in 0..16", levels);
     limn_status st = operator_resolve_scheme(ctx, base, scheme, &plan->scheme);
     if (st)
         return st;
@@ -123,7 +123,7 @@ limn_status refine_plan_build(limn_context *ctx, const limn_mesh *base, limn_sch
     plan->steps = calloc(levels ? (size_t)levels : 1, sizeof *plan->steps);
     if (!plan->meshes || !plan->steps) {
         refine_plan_free(plan);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a refinement plan");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a refinement plan");
     }
     st = limn_mesh_copy(ctx, base, &plan->meshes[0]);
     for (int k = 0; !st && k < levels; k++) {
@@ -136,7 +136,7 @@ limn_status refine_plan_build(limn_context *ctx, const limn_mesh *base, limn_sch
         rows.edge_base = t.vertex_count + (plan->scheme == LIMN_SCHEME_LOOP ? 0 : t.face_count);
         size_t child_vertices = rows.edge_base + t.edge_count;
         if (child_vertices > UINT32_MAX)
-            st = limn_fail(ctx, LIMN_ERR_MEMORY, "level %d would have %zu vertices (over 2^32)",
+            st = ctx_fail(ctx, LIMN_ERR_MEMORY, "level %d would have %zu vertices (over 2^32)",
                            k + 1, child_vertices);
         if (!st)
             st = stencil_build(ctx, child_vertices, t.vertex_count, step_bound, step_fill, &rows,
@@ -144,7 +144,7 @@ limn_status refine_plan_build(limn_context *ctx, const limn_mesh *base, limn_sch
         if (!st)
             st = child_faces(ctx, &t, plan->scheme, child_vertices, &plan->meshes[k + 1]);
         topology_free(&t);
-        limn_progress(ctx, "refine", (double)(k + 1) / (double)levels);
+        ctx_progress(ctx, "refine", (double)(k + 1) / (double)levels);
     }
     if (st)
         refine_plan_free(plan);
@@ -155,9 +155,9 @@ limn_status refine_plan_apply(limn_context *ctx, const refine_plan *plan, int fr
                               const double *in, double *out)
 {
     if (from < 0 || from > plan->levels || channels < 1 || channels > 4)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "refine_plan_apply: bad level %d or channels %d",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "refine_plan_apply: bad level %d or channels %d",
                          from, channels);
-    struct limn_device *dev;
+    struct device *dev;
     limn_status st = device_get(ctx, &dev);
     if (st)
         return st;
@@ -165,7 +165,7 @@ limn_status refine_plan_apply(limn_context *ctx, const refine_plan *plan, int fr
     size_t n_out = plan->meshes[plan->levels]->vertex_count;
     double *buf = calloc(4 * (n_out > n ? n_out : n) + 4, sizeof *buf);
     if (!buf)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n_out);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n_out);
     for (size_t i = 0; i < n; i++)
         memcpy(buf + 4 * i, in + (size_t)channels * i, (size_t)channels * sizeof(double));
     device_buffer *x = NULL, *y = NULL;

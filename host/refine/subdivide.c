@@ -45,7 +45,7 @@ static limn_status check_budget(limn_context *ctx, const limn_mesh *mesh, limn_s
     *peak_bytes = peak;
     size_t budget = o->max_memory ? o->max_memory : physical_memory() / 4 * 3;
     if (peak > budget)
-        return limn_fail(ctx, LIMN_ERR_MEMORY,
+        return ctx_fail(ctx, LIMN_ERR_MEMORY,
                          "refining %zu vertices to level %d makes %zu vertices and %zu faces and "
                          "needs about %.2f GiB, over the limit of %.2f GiB: lower --levels or "
                          "raise --max-memory; nothing was written",
@@ -63,7 +63,7 @@ static limn_status check_options(limn_context *ctx, const char *fn,
         st = check_count(ctx, fn, "levels", o->levels, 0, LIMN_MAX_SUBDIVIDE_LEVELS,
                          "LIMN_MAX_SUBDIVIDE_LEVELS");
     if (!st && !(o->alpha >= 0.0 && o->alpha <= 1.0))
-        st = limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: alpha is %g; it must lie in [0, 1]", fn,
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: alpha is %g; it must lie in [0, 1]", fn,
                        o->alpha);
     return st;
 }
@@ -74,9 +74,9 @@ limn_status limn_subdivide_estimate(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!mesh || !options || !vertices || !faces || !peak_bytes)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide_estimate: %s is NULL",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide_estimate: %s is NULL",
                          !mesh ? "mesh" : !options ? "options" : !vertices ? "vertices"
                                         : !faces ? "faces" : "peak_bytes");
     limn_subdivide_options sized;
@@ -103,9 +103,9 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!surface)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide: surface is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide: surface is NULL");
     *surface = NULL;
     limn_subdivide_options defaults;
     limn_subdivide_options_default(&defaults);
@@ -132,39 +132,39 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mesh *mesh,
     st = check_budget(ctx, mesh, scheme, o, &est_v, &est_f, &r->estimated_bytes);
     if (st)
         return st;
-    struct limn_device *dev;
+    struct device *dev;
     st = device_get(ctx, &dev);
     if (st)
         return st;
     snprintf(r->device, sizeof r->device, "%s", dev->name);
 
-    double t0 = limn_seconds();
+    double t0 = clock_seconds();
     refine_plan plan;
     st = refine_plan_build(ctx, mesh, scheme, r->alpha, o->levels, &plan);
     if (st)
         return st;
-    double t1 = limn_seconds();
+    double t1 = clock_seconds();
     r->seconds_plan = t1 - t0;
     for (int k = 0; k < plan.levels; k++)
         r->stencil_nonzeros += plan.steps[k].row_offsets[plan.steps[k].rows];
     limn_mesh *out = plan.meshes[plan.levels];
     st = refine_plan_apply(ctx, &plan, 0, 3, mesh->positions, out->positions);
-    double t2 = limn_seconds();
+    double t2 = clock_seconds();
     r->seconds_apply = t2 - t1;
     if (!st && o->limit) {
         double *lim = malloc((out->vertex_count ? out->vertex_count : 1) * 3 * sizeof *lim);
         if (!lim)
-            st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for limit positions");
+            st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for limit positions");
         /* alpha acts on the first step only: past level 0 the limit is standard */
         if (!st)
             st = limn_limit_positions(ctx, out, scheme, plan.levels == 0 ? r->alpha : 0.0, lim);
         if (!st)
             memcpy(out->positions, lim, out->vertex_count * 3 * sizeof *lim);
         free(lim);
-        r->seconds_limit = limn_seconds() - t2;
+        r->seconds_limit = clock_seconds() - t2;
     }
     if (!st && mesh->colors && !out->colors)
-        limn_warn(ctx, "the input's vertex colours were dropped: limn_subdivide does not carry "
+        ctx_warn(ctx, "the input's vertex colours were dropped: limn_subdivide does not carry "
                        "colours to the refined surface (%zu vertices), which has none",
                   out->vertex_count);
     if (!st) {
@@ -183,7 +183,7 @@ limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (surface)
         *surface = NULL;
     limn_subdivide_options o;

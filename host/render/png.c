@@ -415,19 +415,19 @@ limn_status limn_png_write(limn_context *ctx, const char *path, int width, int h
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!path || !*path || !rgb)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_png_write: %s",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_png_write: %s",
                          !rgb ? "rgb is NULL" : "no file name");
     if (width < 1 || height < 1 || width > 65535 || height > 65535)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_png_write: picture size %dx%d is outside 1..65535", width, height);
     size_t stride = 3 * (size_t)width, raw_len = (stride + 1) * (size_t)height;
     uint8_t *raw = malloc(raw_len), *trial = malloc(5 * stride);
     bytes z = {0}, png = {0};
     limn_status st = LIMN_OK;
     if (!raw || !trial) {
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a %dx%d picture", width, height);
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a %dx%d picture", width, height);
         goto done;
     }
     for (int y = 0; y < height; y++) {
@@ -461,7 +461,7 @@ limn_status limn_png_write(limn_context *ctx, const char *path, int width, int h
     put_byte(&z, 0x78);
     put_byte(&z, 0x9C);
     if (!deflate_bytes(raw, raw_len, &z)) {
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory compressing the picture");
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory compressing the picture");
         goto done;
     }
     uint32_t s1 = 1, s2 = 0;
@@ -481,7 +481,7 @@ limn_status limn_png_write(limn_context *ctx, const char *path, int width, int h
     chunk(&png, "IDAT", z.data, z.len);
     chunk(&png, "IEND", NULL, 0);
     if (png.failed || z.failed) {
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing the picture");
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing the picture");
         goto done;
     }
     atomic_file af;
@@ -489,7 +489,7 @@ limn_status limn_png_write(limn_context *ctx, const char *path, int width, int h
     if (!st) {
         if (fwrite(png.data, 1, png.len, af.f) != png.len) {
             atomic_file_abort(&af);
-            st = limn_fail(ctx, LIMN_ERR_IO, "%s: write failed", path);
+            st = ctx_fail(ctx, LIMN_ERR_IO, "%s: write failed", path);
         } else {
             st = atomic_file_commit(ctx, &af);
         }

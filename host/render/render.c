@@ -117,9 +117,9 @@ limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!rgb)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_render: rgb is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_render: rgb is NULL");
     limn_status checked = check_mesh_magnitude(ctx, "limn_render", NULL, mesh);
     if (checked)
         return checked;
@@ -129,15 +129,15 @@ limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
     if (checked)
         return checked;
     if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "picture size %dx%d is outside 1..16384", o.width,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "picture size %dx%d is outside 1..16384", o.width,
                          o.height);
     if (o.supersample < 1 || o.supersample > 4)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "supersampling %d is outside 1..4",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "supersampling %d is outside 1..4",
                          o.supersample);
     if (o.up_axis < 0 || o.up_axis > 2)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "up axis %d is not 0, 1 or 2", o.up_axis);
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "up axis %d is not 0, 1 or 2", o.up_axis);
     if (!isfinite(o.azimuth) || !isfinite(o.elevation))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "the view angles must be finite");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "the view angles must be finite");
 
     int ss = o.supersample;
     raster r = {.w = o.width * ss, .h = o.height * ss};
@@ -149,7 +149,7 @@ limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
         free(r.depth);
         free(r.color);
         free(v);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a %dx%d picture", o.width,
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a %dx%d picture", o.width,
                          o.height);
     }
     for (size_t k = 0; k < samples; k++) {
@@ -180,7 +180,7 @@ limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
         free(r.depth);
         free(r.color);
         free(v);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
     }
     for (size_t f = 0; f < mesh->face_count; f++) {
         double fn[3];

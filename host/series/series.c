@@ -49,9 +49,9 @@ limn_status series_check_options(limn_context *ctx, const limn_series_options *o
 {
     if (o->scheme != LIMN_SCHEME_AUTO && o->scheme != LIMN_SCHEME_LOOP &&
         o->scheme != LIMN_SCHEME_CATMARK)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "unknown scheme %d", (int)o->scheme);
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "unknown scheme %d", (int)o->scheme);
     if (!(o->alpha >= 0.0 && o->alpha <= 1.0))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "alpha is %g; it must lie in [0, 1]", o->alpha);
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "alpha is %g; it must lie in [0, 1]", o->alpha);
     return LIMN_OK;
 }
 
@@ -62,7 +62,7 @@ void series_report_init(limn_series_report *r, const limn_mesh *mesh)
     r->faces = mesh->face_count;
 }
 
-void series_report_operator(limn_series_report *r, const limn_operator *op)
+void series_report_operator(limn_series_report *r, const stencil_operator *op)
 {
     r->scheme = op->scheme;
     r->alpha = op->alpha;
@@ -78,10 +78,10 @@ limn_status series_open(limn_context *ctx, const limn_mesh *mesh, limn_scheme sc
 {
     memset(s, 0, sizeof *s);
     if (mesh->vertex_count == 0 || mesh->face_count == 0)
-        return limn_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
+        return ctx_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
                          mesh->vertex_count ? "faces" : "vertices");
     if (buffers > SERIES_MAX_BUFFERS)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "series_open: too many buffers");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "series_open: too many buffers");
     limn_status st = operator_build(ctx, mesh, scheme, alpha, &s->op);
     if (st)
         return st;
@@ -92,12 +92,12 @@ limn_status series_open(limn_context *ctx, const limn_mesh *mesh, limn_scheme sc
         series_report_operator(r, &s->op);
     s->host = calloc(4 * s->n, sizeof *s->host);
     if (!s->host)
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", s->n);
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", s->n);
     for (int b = 0; !st && b < buffers; b++)
         st = s->dev->ops->buffer_create(s->dev, 4 * s->n * sizeof(double), NULL, &s->buf[b]);
     if (st)
         series_close(s);
-    s->t0 = limn_seconds();
+    s->t0 = clock_seconds();
     return st;
 }
 
@@ -153,7 +153,7 @@ limn_status series_check_finite(limn_context *ctx, const double *xyz, size_t n, 
 {
     for (size_t i = 0; i < 3 * n; i++)
         if (!isfinite(xyz[i]))
-            return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+            return ctx_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
                              "%s produced a non-finite coordinate at vertex %zu; nothing was "
                              "written (use fewer steps or terms)",
                              what, i / 3);
@@ -167,7 +167,7 @@ static limn_status begin(limn_context *ctx, const char *fn, const limn_mesh *mes
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     limn_status st = check_mesh_magnitude(ctx, fn, NULL, mesh);
     if (st)
         return st;
@@ -214,7 +214,7 @@ static limn_status bands_sized(limn_context *ctx, const limn_mesh *mesh,
             st = series_download(&s, s.buf[3], bands + (size_t)i * n3);
         cur = next;
         if (count > 1)
-            limn_progress(ctx, "bands", (double)(i + 1) / count);
+            ctx_progress(ctx, "bands", (double)(i + 1) / count);
     }
     if (!st && energy) {
         device_norms nr;
@@ -224,7 +224,7 @@ static limn_status bands_sized(limn_context *ctx, const limn_mesh *mesh,
     }
     if (!st && bands)
         st = series_download(&s, cur, bands + (size_t)count * n3);
-    r->seconds_compute = limn_seconds() - s.t0;
+    r->seconds_compute = clock_seconds() - s.t0;
     series_close(&s);
     return st;
 }
@@ -260,7 +260,7 @@ static limn_status smooth_sized(limn_context *ctx, const limn_mesh *mesh,
     if (st)
         return st;
     if (!out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_smooth: out is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_smooth: out is NULL");
     st = check_count(ctx, "limn_smooth", "terms", terms, 1, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
     if (st)
         return st;
@@ -274,7 +274,7 @@ static limn_status smooth_sized(limn_context *ctx, const limn_mesh *mesh,
                                 &r->products);
     if (!st)
         st = result_mesh(ctx, &s, s.buf[1], mesh, "smoothing", out);
-    r->seconds_compute = limn_seconds() - s.t0;
+    r->seconds_compute = clock_seconds() - s.t0;
     series_close(&s);
     return st;
 }
@@ -285,7 +285,7 @@ limn_status series_keep_volume(limn_context *ctx, const limn_mesh *mesh, limn_me
     measure_volume_area(mesh, mesh->positions, &v0, &a);
     measure_volume_area(out, out->positions, &v1, &a);
     if (!(v1 != 0.0 && (v0 > 0.0) == (v1 > 0.0)))
-        return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+        return ctx_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
                          "cannot keep the volume: it went from %.6g to %.6g", v0, v1);
     double scale = cbrt(v0 / v1), c[3] = {0, 0, 0};
     double *p = out->positions;
@@ -314,7 +314,7 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
     if (st)
         return st;
     if (!out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_denoise: out is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_denoise: out is NULL");
     st = check_count(ctx, "limn_denoise", "m", m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
     if (!st)
         st = check_steps(ctx, "limn_denoise", steps, m + 1LL, "(m + 1) * steps");
@@ -325,7 +325,7 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
     if (st)
         return st;
     if (keep_volume && !measure_topology_closed(&s.op.topo)) {
-        st = limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+        st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
                        "keeping the volume needs a closed mesh, and this one has %zu boundary, "
                        "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
                        "not defined",
@@ -341,7 +341,7 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
         device_buffer *tmp = t;
         t = acc;
         acc = tmp;
-        limn_progress(ctx, "denoise", (double)(k + 1) / steps);
+        ctx_progress(ctx, "denoise", (double)(k + 1) / steps);
     }
     if (!st)
         st = result_mesh(ctx, &s, t, mesh, "denoising", out);
@@ -352,7 +352,7 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
             *out = NULL;
         }
     }
-    r->seconds_compute = limn_seconds() - s.t0;
+    r->seconds_compute = clock_seconds() - s.t0;
     series_close(&s);
     return st;
 }
@@ -370,9 +370,9 @@ static limn_status sharpen_sized(limn_context *ctx, const limn_mesh *mesh,
     if (st)
         return st;
     if (!out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_sharpen: out is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_sharpen: out is NULL");
     if (from < 0 || to < from)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_sharpen: the terms run from %d to %d; they need 0 <= from <= to",
                          from, to);
     st = check_count(ctx, "limn_sharpen", "to", to, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
@@ -404,11 +404,11 @@ static limn_status sharpen_sized(limn_context *ctx, const limn_mesh *mesh,
         device_buffer *tmp = t;
         t = acc;
         acc = tmp;
-        limn_progress(ctx, "sharpen", (double)(k + 1) / steps);
+        ctx_progress(ctx, "sharpen", (double)(k + 1) / steps);
     }
     if (!st)
         st = result_mesh(ctx, &s, t, mesh, "sharpening", out);
-    r->seconds_compute = limn_seconds() - s.t0;
+    r->seconds_compute = clock_seconds() - s.t0;
     series_close(&s);
     return st;
 }
@@ -442,9 +442,9 @@ static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const l
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!fn)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_morph: the frame callback is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_morph: the frame callback is NULL");
     limn_status st = check_mesh_magnitude(ctx, "limn_morph", "FROM", from);
     if (!st)
         st = check_mesh_magnitude(ctx, "limn_morph", "TO", to);
@@ -472,19 +472,19 @@ static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const l
     if (st)
         return st;
     if (!o.linear && !(o.p > 0.0 && o.p < 1.0))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
                          o.p);
     st = measure_same_topology(ctx, from, to, "FROM", "TO");
     if (st)
         return st;
     if (from->vertex_count == 0 || from->face_count == 0)
-        return limn_fail(ctx, LIMN_ERR_TOPOLOGY, "the meshes have no %s",
+        return ctx_fail(ctx, LIMN_ERR_TOPOLOGY, "the meshes have no %s",
                          from->vertex_count ? "faces" : "vertices");
     size_t n = from->vertex_count, n3 = 3 * n;
     double lo[3], hi[3], diag = mesh_bbox_diagonal(to, lo, hi);
     double *q = malloc(n3 * sizeof *q);
     if (!q)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
 
     if (o.linear) {
         /* the comparison: no operator, the blend on the host */
@@ -499,14 +499,14 @@ static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const l
             snprintf(r->device, sizeof r->device, "none (linear blend on the host)");
             topology_free(&t);
         }
-        double t0 = limn_seconds();
+        double t0 = clock_seconds();
         for (int k = 0; !st && k < o.frames; k++) {
             double u = (double)k / (double)(o.frames - 1);
             for (size_t i = 0; i < n3; i++)
                 q[i] = (1.0 - u) * from->positions[i] + u * to->positions[i];
             st = series_emit_frame(from, to, closed, diag, k, q, fn, user);
         }
-        r->seconds_compute = limn_seconds() - t0;
+        r->seconds_compute = clock_seconds() - t0;
         free(q);
         return st;
     }
@@ -538,9 +538,9 @@ static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const l
         }
         if (!st)
             st = series_emit_frame(from, to, closed, diag, k, q, fn, user);
-        limn_progress(ctx, "morph", (double)k / (double)(o.frames - 1));
+        ctx_progress(ctx, "morph", (double)k / (double)(o.frames - 1));
     }
-    r->seconds_compute = limn_seconds() - s.t0;
+    r->seconds_compute = clock_seconds() - s.t0;
     series_close(&s);
     free(q);
     return st;
@@ -551,7 +551,7 @@ limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh, const limn_seri
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     limn_series_options o;
     limn_series_options_default(&o);
     limn_series_report r;
@@ -571,7 +571,7 @@ limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (out)
         *out = NULL;
     limn_series_options o;
@@ -594,7 +594,7 @@ limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (out)
         *out = NULL;
     limn_series_options o;
@@ -618,7 +618,7 @@ limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (out)
         *out = NULL;
     limn_series_options o;
@@ -641,7 +641,7 @@ limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     limn_morph_options o;
     limn_morph_options_default(&o);
     limn_series_report r;

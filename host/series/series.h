@@ -10,9 +10,9 @@
 
 /* One operator on the device with work vectors (4 doubles per vertex). */
 typedef struct series_run {
-    limn_operator op;
+    stencil_operator op;
     int open;
-    struct limn_device *dev;
+    struct device *dev;
     size_t n;
     device_buffer *buf[SERIES_MAX_BUFFERS];
     double *host;             /* 4 * n staging doubles */
@@ -21,7 +21,7 @@ typedef struct series_run {
 
 limn_status series_check_options(limn_context *ctx, const limn_series_options *o);
 void series_report_init(limn_series_report *r, const limn_mesh *mesh);
-void series_report_operator(limn_series_report *r, const limn_operator *op);
+void series_report_operator(limn_series_report *r, const stencil_operator *op);
 
 /* Builds A for mesh and `buffers` zeroed device vectors; r may be NULL. */
 limn_status series_open(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,

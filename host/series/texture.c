@@ -207,7 +207,7 @@ static limn_status solve_scalar(limn_context *ctx, series_run *s, double tol, in
                                              s->op.scheme, s->op.alpha, 0);
         if (k >= TEXTURE_MAX_ITER ||
             (k >= STALL_WINDOW && nr.max > 0.99 * history[k % STALL_WINDOW]))
-            return limn_fail(ctx, LIMN_ERR_SINGULAR,
+            return ctx_fail(ctx, LIMN_ERR_SINGULAR,
                              "interpolating the noise of level %d stopped converging (residual "
                              "%.3g after %d iterations)%s",
                              level, nr.max, k,
@@ -230,19 +230,19 @@ static limn_status check_texture_options(limn_context *ctx, const limn_texture_o
     if (st)
         return st;
     if (!o->colors || o->color_count < 1)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_texture: at least one colour is needed "
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_texture: at least one colour is needed "
                                                  "(colors %s, color_count %zu)",
                          o->colors ? "given" : "NULL", o->color_count);
     if (o->color_count > LIMN_MAX_COLORS)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_texture: color_count is %zu, over the cap of %d "
                          "(LIMN_MAX_COLORS)",
                          o->color_count, LIMN_MAX_COLORS);
     if (!(o->frequency > 0.0 && isfinite(o->frequency)))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "frequency is %g; it must be positive",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "frequency is %g; it must be positive",
                          o->frequency);
     if (!(o->tolerance > 0.0 && isfinite(o->tolerance)))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "tolerance is %g; it must be positive",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "tolerance is %g; it must be positive",
                          o->tolerance);
     return LIMN_OK;
 }
@@ -250,14 +250,14 @@ static limn_status check_texture_options(limn_context *ctx, const limn_texture_o
 /* Positions of every level: level k+1 = step k applied to level k, on the device. */
 static limn_status level_positions(limn_context *ctx, refine_plan *plan)
 {
-    struct limn_device *dev;
+    struct device *dev;
     limn_status st = device_get(ctx, &dev);
     if (st)
         return st;
     size_t nmax = plan->meshes[plan->levels]->vertex_count;
     double *buf = calloc(4 * nmax + 4, sizeof *buf);
     if (!buf)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nmax);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nmax);
     device_buffer *x = NULL, *y = NULL;
     const limn_mesh *g0 = plan->meshes[0];
     for (size_t i = 0; i < g0->vertex_count; i++)
@@ -295,9 +295,9 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!options || !out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_texture: %s is NULL",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_texture: %s is NULL",
                          !options ? "options" : "out");
     *out = NULL;
     limn_status st = check_mesh_magnitude(ctx, "limn_texture", NULL, mesh);
@@ -310,7 +310,7 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
     if (st)
         return st;
     if (mesh->vertex_count == 0 || mesh->face_count == 0)
-        return limn_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
+        return ctx_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
                          mesh->vertex_count ? "faces" : "vertices");
 
     /* refuse before any work when the levels would not fit in memory (the
@@ -328,11 +328,11 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
         return st;
     int levels = o->levels;
     refine_plan plan;
-    double t0 = limn_seconds();
+    double t0 = clock_seconds();
     st = refine_plan_build(ctx, mesh, o->series.scheme, o->series.alpha, levels, &plan);
     if (st)
         return st;
-    r->seconds_topology += limn_seconds() - t0;
+    r->seconds_topology += clock_seconds() - t0;
     st = level_positions(ctx, &plan);
     limn_mesh *fine = plan.meshes[levels];
     size_t nf = fine->vertex_count;
@@ -340,7 +340,7 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
     double *field = calloc(nf > mesh->vertex_count ? nf : mesh->vertex_count, sizeof *field);
     uint8_t *rgb = malloc(3 * nf);
     if (!st && (!sum || !carried || !field || !rgb))
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nf);
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nf);
     double lo[3], hi[3], diag = mesh_bbox_diagonal(mesh, lo, hi);
     double scale = diag > 0 ? o->frequency / diag : 1.0;
     limn_noise noise;
@@ -370,7 +370,7 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
             r->seconds_topology += s.op.seconds_topology;
             r->seconds_stencil += s.op.seconds_stencil;
         }
-        double tc = limn_seconds();
+        double tc = clock_seconds();
         for (size_t v = 0; v < g->vertex_count; v++) {
             s.host[4 * v] = field[v];
             s.host[4 * v + 1] = s.host[4 * v + 2] = s.host[4 * v + 3] = 0.0;
@@ -389,14 +389,14 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
             st = refine_plan_apply(ctx, &plan, i, 1, field, carried);
         for (size_t v = 0; !st && v < nf; v++)
             sum[v] += carried[v];
-        r->seconds_compute += limn_seconds() - tc;
+        r->seconds_compute += clock_seconds() - tc;
         if (i < levels)
             series_close(&s);
-        limn_progress(ctx, "texture", (double)(i + 1) / (levels + 1));
+        ctx_progress(ctx, "texture", (double)(i + 1) / (levels + 1));
     }
     if (!st) {
         /* G_L's operator (still open): limit points and the field there */
-        double tc = limn_seconds();
+        double tc = clock_seconds();
         st = limn_mesh_copy(ctx, fine, &result);
         device_norms nr;
         if (!st)
@@ -426,7 +426,7 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
             size_t k = o->color_count;
             double *d = malloc((k + 2) * 3 * sizeof *d);
             if (!d) {
-                st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the colour spline");
+                st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the colour spline");
             } else {
                 uint8_t clo[3] = {255, 255, 255}, chi[3] = {0, 0, 0};
                 for (size_t j = 0; j < k; j++)
@@ -444,7 +444,7 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
                 st = limn_mesh_set_colors(ctx, result, rgb);
             }
         }
-        r->seconds_compute += limn_seconds() - tc;
+        r->seconds_compute += clock_seconds() - tc;
     }
     r->vertices = mesh->vertex_count;
     r->faces = mesh->face_count;
@@ -469,7 +469,7 @@ limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (out)
         *out = NULL;
     limn_texture_options o;

@@ -36,7 +36,7 @@ void limn_interpolate_options_default(limn_interpolate_options *o)
 }
 
 typedef struct solve_state {
-    struct limn_device *dev;
+    struct device *dev;
     device_buffer *m, *p[2];
 } solve_state;
 
@@ -51,7 +51,7 @@ static void solve_release(solve_state *s)
 
 /* One step of the single process: the whole table in one launch. */
 typedef struct local_step {
-    const limn_operator *op;
+    const stencil_operator *op;
     solve_state *s;
 } local_step;
 
@@ -73,9 +73,9 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!control)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate: control is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate: control is NULL");
     *control = NULL;
     limn_interpolate_options defaults;
     limn_interpolate_options_default(&defaults);
@@ -107,7 +107,7 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
         return st;
     device_setup_times setup = device_setup_of(ctx);
 
-    limn_operator op;
+    stencil_operator op;
     st = operator_build_ex(ctx, mesh, o->scheme, o->alpha, o->reorder ? OPERATOR_REORDER : 0, &op);
     if (st)
         return st;
@@ -124,9 +124,9 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
     size_t n = mesh->vertex_count;
     solve_state s = {.dev = op.dev};
     double *buf = calloc(n ? 4 * n : 4, sizeof *buf);
-    double t0 = limn_seconds();
+    double t0 = clock_seconds();
     if (!buf)
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
     else
         operator_pack(&op, mesh->positions, buf);
     if (!st)
@@ -137,13 +137,13 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
         double *p4 = malloc((n ? n : 1) * 4 * sizeof *p4);
         solve_stats stats = {.catmark_alpha0 = op.scheme == LIMN_SCHEME_CATMARK && op.alpha == 0.0};
         if (!p4)
-            st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+            st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
         else if (method == LIMN_METHOD_SGS)
             st = solve_sgs(ctx, &op, buf, o->tolerance * diag, o->max_iterations, p4, &stats);
         else
             st = solve_cg(ctx, &op, buf, o->tolerance * diag, o->max_iterations, p4, &stats);
         if (st == LIMN_ERR_TOPOLOGY) {
-            limn_warn(ctx, "%s needs the limit operator to be block triangular by vertex rule "
+            ctx_warn(ctx, "%s needs the limit operator to be block triangular by vertex rule "
                            "with symmetric, positive blocks, which this mesh's is not: used the "
                            "seeds' iteration",
                       method == LIMN_METHOD_SGS ? "sgs (Gauss-Seidel-preconditioned CG)"
@@ -169,12 +169,12 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
         st = solve_mixed(ctx, &op, s.m, s.p[0], o, diag, method, &done, r);
     if (!st && !done)
         st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), NULL, &s.p[1]);
-    double t_loop = limn_seconds(), compiles = s.dev->setup.kernels; /* first launches */
+    double t_loop = clock_seconds(), compiles = s.dev->setup.kernels; /* first launches */
     local_step ls = {&op, &s};
     if (!st && !done)
         st = solve_iterate(ctx, step_local, &ls, op.vertex_count, op.scheme, op.alpha, o, diag,
                            solve_kind_of(method), &which, r);
-    r->seconds_iterations += limn_seconds() - t_loop - (s.dev->setup.kernels - compiles);
+    r->seconds_iterations += clock_seconds() - t_loop - (s.dev->setup.kernels - compiles);
     if (!st)
         st = s.dev->ops->buffer_read(s.dev, s.p[which], 4 * n * sizeof(double), buf);
     limn_mesh *out = NULL;
@@ -186,7 +186,7 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
     if (!st && check_positions(NULL, "", out->positions, n))
         st = check_nonfinite_iteration(ctx, "the control mesh", r->iterations, op.scheme,
                                        op.alpha, precision == LIMN_PRECISION_FLOAT);
-    r->seconds_solve = limn_seconds() - t0;
+    r->seconds_solve = clock_seconds() - t0;
     device_setup_report(ctx, &setup, r);
     r->max_rel_error = diag > 0 ? r->max_abs_error / diag : r->max_abs_error;
     r->mean_rel_error = diag > 0 ? r->mean_abs_error / diag : r->mean_abs_error;
@@ -197,7 +197,7 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
         limn_mesh_destroy(out);
         return st;
     }
-    limn_progress(ctx, "solve", 1.0);
+    ctx_progress(ctx, "solve", 1.0);
     *control = out;
     return LIMN_OK;
 }
@@ -208,7 +208,7 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (control)
         *control = NULL;
     limn_interpolate_options o;

@@ -41,9 +41,9 @@ limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!mesh)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate_estimate: mesh is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate_estimate: mesh is NULL");
     limn_interpolate_options sized;
     limn_interpolate_options_default(&sized);
     limn_status checked = abi_options_in(ctx, "limn_interpolate_estimate", "options",
@@ -75,7 +75,7 @@ limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
         *peak_bytes = bytes;
     size_t budget = max_memory ? max_memory : physical_memory() / 4 * 3;
     if (bytes > budget)
-        return limn_fail(ctx, LIMN_ERR_MEMORY,
+        return ctx_fail(ctx, LIMN_ERR_MEMORY,
                          "interpolating %zu vertices and %zu faces needs about %.2f GiB, over the "
                          "limit of %.2f GiB: raise --max-memory or use a machine with more "
                          "memory; nothing was written",

@@ -43,25 +43,25 @@ limn_status solve_check_options(limn_context *ctx, const limn_interpolate_option
     if (st)
         return st;
     if (!(o->alpha >= 0.0 && o->alpha <= 1.0))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "alpha is %g; it must lie in [0, 1] (6/7 or less keeps the iteration "
                          "convergent; 0.5 is a good choice)",
                          o->alpha);
     if (!(o->tolerance > 0.0 && isfinite(o->tolerance)))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "tolerance is %g; it must be a positive number",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "tolerance is %g; it must be a positive number",
                          o->tolerance);
     if (o->method < LIMN_METHOD_AUTO || o->method > LIMN_METHOD_SGS)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_interpolate: unknown method %d (LIMN_METHOD_AUTO 0 .. "
                          "LIMN_METHOD_SGS %d)",
                          (int)o->method, (int)LIMN_METHOD_SGS);
     if (o->precision < LIMN_PRECISION_AUTO || o->precision > LIMN_PRECISION_FLOAT)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_interpolate: unknown precision %d (LIMN_PRECISION_AUTO 0, "
                          "LIMN_PRECISION_DOUBLE 1, LIMN_PRECISION_FLOAT 2)",
                          (int)o->precision);
     if (o->max_iterations < 1)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "max iterations is %d; it must be at least 1",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "max iterations is %d; it must be at least 1",
                          o->max_iterations);
     return check_count(ctx, "limn_interpolate", "max_iterations", o->max_iterations, 1,
                        LIMN_MAX_ITERATIONS, "LIMN_MAX_ITERATIONS");
@@ -128,7 +128,7 @@ limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, siz
         if (first < 0.0)
             first = nr.max;
         if (k >= STALL_WINDOW && nr.max > STALL_FACTOR * history[k % STALL_WINDOW]) {
-            return limn_fail(
+            return ctx_fail(
                 ctx, LIMN_ERR_SINGULAR,
                 "the residual stopped shrinking: %.3g (relative %.3g) after %d iterations, "
                 "%.3g %d iterations earlier. The limit operator is singular or nearly so for "
@@ -144,14 +144,14 @@ limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, siz
         if (k >= o->max_iterations) {
             double rate = pow(nr.max / first, 1.0 / (double)k);
             double more = rate < 1.0 ? log(tol_abs / nr.max) / log(rate) : INFINITY;
-            return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+            return ctx_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
                              "no convergence in %d iterations: max relative error %.3g, "
                              "tolerance %.3g; the error shrinks by %.4f per iteration, so about "
                              "%.0f more are needed: raise --max-iter or loosen --tol",
                              k, diag > 0 ? nr.max / diag : nr.max, o->tolerance, rate, more);
         }
         if ((k & 7) == 0 && first > tol_abs && nr.max < first)
-            limn_progress(ctx, "solve", log(first / nr.max) / log(first / tol_abs));
+            ctx_progress(ctx, "solve", log(first / nr.max) / log(first / tol_abs));
         cur = 1 - cur;
     }
 }

@@ -37,7 +37,7 @@ limn_status operator_resolve_scheme(limn_context *ctx, const limn_mesh *mesh, li
         want = first_other == SIZE_MAX && mesh->face_count > 0 ? LIMN_SCHEME_LOOP
                                                                 : LIMN_SCHEME_CATMARK;
     if (want == LIMN_SCHEME_LOOP && first_other != SIZE_MAX)
-        return limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+        return ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
                          "face %zu has %u vertices but Loop subdivision needs triangles only: "
                          "use --scheme catmark (or auto), or triangulate the mesh",
                          first_other,
@@ -47,12 +47,12 @@ limn_status operator_resolve_scheme(limn_context *ctx, const limn_mesh *mesh, li
 }
 
 limn_status operator_build(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
-                           double alpha, limn_operator *op)
+                           double alpha, stencil_operator *op)
 {
     return operator_build_ex(ctx, mesh, scheme, alpha, 0, op);
 }
 
-void operator_pack(const limn_operator *op, const double *xyz, double *rows4)
+void operator_pack(const stencil_operator *op, const double *xyz, double *rows4)
 {
     for (size_t k = 0; k < op->vertex_count; k++) {
         const double *src = xyz + 3 * (size_t)(op->order ? op->order[k] : k);
@@ -64,7 +64,7 @@ void operator_pack(const limn_operator *op, const double *xyz, double *rows4)
     }
 }
 
-void operator_unpack(const limn_operator *op, const double *rows4, double *xyz)
+void operator_unpack(const stencil_operator *op, const double *rows4, double *xyz)
 {
     for (size_t k = 0; k < op->vertex_count; k++)
         memcpy(xyz + 3 * (size_t)(op->order ? op->order[k] : k), rows4 + 4 * k,
@@ -72,7 +72,7 @@ void operator_unpack(const limn_operator *op, const double *rows4, double *xyz)
 }
 
 limn_status operator_build_ex(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
-                              double alpha, int flags, limn_operator *op)
+                              double alpha, int flags, stencil_operator *op)
 {
     memset(op, 0, sizeof *op);
     limn_status st = operator_resolve_scheme(ctx, mesh, scheme, &op->scheme);
@@ -83,14 +83,14 @@ limn_status operator_build_ex(limn_context *ctx, const limn_mesh *mesh, limn_sch
     double lo[3], hi[3];
     op->bbox_diagonal = mesh_bbox_diagonal(mesh, lo, hi);
 
-    double t0 = limn_seconds();
+    double t0 = clock_seconds();
     st = topology_build(ctx, mesh, &op->topo);
     if (st)
         return st;
-    double t1 = limn_seconds();
+    double t1 = clock_seconds();
     op->seconds_topology = t1 - t0;
     st = stencil_limit_build(ctx, &op->topo, op->scheme, op->alpha, &op->host);
-    double t2 = limn_seconds();
+    double t2 = clock_seconds();
     op->seconds_stencil = t2 - t1;
     /* Renumber only when rows hop around memory: a mean jump of the first
        column above 256 rows (8 KiB of vertex records) per row. Refined meshes
@@ -104,7 +104,7 @@ limn_status operator_build_ex(limn_context *ctx, const limn_mesh *mesh, limn_sch
             stencil_free(&op->host);
             op->host = permuted;
         }
-        op->seconds_reorder = limn_seconds() - t2;
+        op->seconds_reorder = clock_seconds() - t2;
     }
     if (!st && !(flags & OPERATOR_HOST_ONLY))
         st = device_get(ctx, &op->dev);
@@ -115,7 +115,7 @@ limn_status operator_build_ex(limn_context *ctx, const limn_mesh *mesh, limn_sch
     return st;
 }
 
-void operator_free(limn_operator *op)
+void operator_free(stencil_operator *op)
 {
     if (op->dev)
         device_csr_release(op->dev, &op->device);
@@ -131,18 +131,18 @@ limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *mesh, limn_
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_limit_positions: out is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_limit_positions: out is NULL");
     limn_status st = check_mesh_magnitude(ctx, "limn_limit_positions", NULL, mesh);
     if (!st)
         st = check_scheme(ctx, "limn_limit_positions", scheme);
     if (st)
         return st;
     if (!(alpha >= 0.0 && alpha <= 1.0))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_limit_positions: alpha is %g; it must lie in [0, 1]", alpha);
-    limn_operator op;
+    stencil_operator op;
     st = operator_build(ctx, mesh, scheme, alpha, &op);
     if (st)
         return st;
@@ -150,7 +150,7 @@ limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *mesh, limn_
     double *buf = calloc(n ? 4 * n : 4, sizeof *buf);
     device_buffer *x = NULL, *y = NULL;
     if (!buf)
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
     for (size_t i = 0; !st && i < n; i++)
         memcpy(buf + 4 * i, mesh->positions + 3 * i, 3 * sizeof(double));
     if (!st)

@@ -38,7 +38,7 @@ static void block_free(block *bl)
     memset(bl, 0, sizeof *bl);
 }
 
-static int tier_of(const limn_operator *op, size_t row)
+static int tier_of(const stencil_operator *op, size_t row)
 {
     uint32_t v = op->order ? op->order[row] : (uint32_t)row;
     switch ((vertex_rule)op->topo.vertex_rule[v]) {
@@ -50,7 +50,7 @@ static int tier_of(const limn_operator *op, size_t row)
 
 /* Extracts the tier's block and its right-hand side b = M_T - A_T,other P.
    Fails (returns 1) if a row references a column of a later tier. */
-static limn_status make_block(limn_context *ctx, const limn_operator *op, const int *tier,
+static limn_status make_block(limn_context *ctx, const stencil_operator *op, const int *tier,
                               const uint32_t *local, int t, const double *m4, const double *p4,
                               size_t count, block *bl)
 {
@@ -72,7 +72,7 @@ static limn_status make_block(limn_context *ctx, const limn_operator *op, const 
     if (!bl->s.row_offsets || !bl->s.columns || !bl->s.weights || !bl->rows || !bl->b ||
         !bl->x0 || !bl->dinv) {
         block_free(bl);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a solver block");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a solver block");
     }
     size_t i = 0, k2 = 0;
     bl->s.row_offsets[0] = 0;
@@ -118,7 +118,7 @@ limn_status cg_watch_step(limn_context *ctx, cg_watch *w, double residual, solve
         return LIMN_OK;
     }
     if (k >= CG_STALL_WINDOW && residual > 0.99 * w->history[k % CG_STALL_WINDOW])
-        return limn_fail(ctx, LIMN_ERR_SINGULAR,
+        return ctx_fail(ctx, LIMN_ERR_SINGULAR,
                          "the residual stopped shrinking under conjugate gradients: %.3g after "
                          "%d steps, %.3g %d steps earlier. The limit operator is singular or "
                          "nearly so for this mesh%s; no result was written",
@@ -129,7 +129,7 @@ limn_status cg_watch_step(limn_context *ctx, cg_watch *w, double residual, solve
                              : "");
     w->history[k % CG_STALL_WINDOW] = residual;
     if (stats->iterations >= max_iter)
-        return limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+        return ctx_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
                          "no convergence in %d conjugate-gradient steps: max error %.3g, "
                          "tolerance %.3g: raise --max-iter or loosen --tol",
                          stats->iterations, residual, tol_abs);
@@ -143,7 +143,7 @@ limn_status cg_curvature(limn_context *ctx, double pq, solve_stats *stats)
     if (!isfinite(pq)) /* overflow, not a property of the operator */
         return check_nonfinite_iteration(ctx, "p.Ap in conjugate gradients", stats->iterations,
                                          LIMN_SCHEME_AUTO, 0.0, 0);
-    return limn_fail(ctx, LIMN_ERR_SINGULAR,
+    return ctx_fail(ctx, LIMN_ERR_SINGULAR,
                      "conjugate gradients broke down (p.Ap = %.3g): the limit operator is "
                      "not positive definite for this mesh%s; no result was written",
                      pq,
@@ -153,7 +153,7 @@ limn_status cg_curvature(limn_context *ctx, double pq, solve_stats *stats)
 
 /* PCG on one block whose matrix is on the device (s, n rows): b and x0 are
    4 doubles a row, dinv one; the answer returns in x0. */
-static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_csr *sp,
+static limn_status pcg(limn_context *ctx, struct device *dev, const device_csr *sp,
                        size_t n, const double *b_host, double *x0, const double *dinv_host,
                        double tol_abs, int max_iter, double n_total, solve_stats *stats)
 {
@@ -176,7 +176,7 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
         st = ops->buffer_create(dev, n * sizeof(double), dinv_host, &dinv);
     double share = (double)n / n_total, rz = 0;
     device_norms nz;
-    double t_loop = limn_seconds(), compiles = dev->setup.kernels;
+    double t_loop = clock_seconds(), compiles = dev->setup.kernels;
     /* z = b - S x0 (one product); p = z; norms of z through a zero update */
     if (!st)
         st = ops->spmv(dev, &s, x, q);
@@ -212,7 +212,7 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
         rz = nz.sum;
         st = ops->axpby(dev, n, 1.0, z, beta, p, p);
     }
-    stats->seconds_loop += limn_seconds() - t_loop - (dev->setup.kernels - compiles);
+    stats->seconds_loop += clock_seconds() - t_loop - (dev->setup.kernels - compiles);
     if (!st)
         st = ops->buffer_read(dev, x, bytes, x0);
     device_buffer *bufs[] = {b, x, z, p, q, dinv};
@@ -224,7 +224,7 @@ static limn_status pcg(limn_context *ctx, struct limn_device *dev, const device_
 
 /* The D-preconditioned block solve (solve_block_fn): the block's table is
    uploaded unless it is the operator's own. */
-limn_status solve_block_jacobi(limn_context *ctx, struct limn_device *dev, const stencil_csr *a,
+limn_status solve_block_jacobi(limn_context *ctx, struct device *dev, const stencil_csr *a,
                                const device_csr *on_device, const double *b, double *x0,
                                const double *dinv, double tol_abs, int max_iter, double n_total,
                                solve_stats *stats)
@@ -242,14 +242,14 @@ limn_status solve_block_jacobi(limn_context *ctx, struct limn_device *dev, const
 
 /* Every row smooth (closed manifold meshes): the operator's own table is the
    block, already on the device; b = x0 = M. */
-static limn_status solve_single_block(limn_context *ctx, const limn_operator *op,
+static limn_status solve_single_block(limn_context *ctx, const stencil_operator *op,
                                       const double *m4, double tol_abs, int max_iter, double *p4,
                                       solve_block_fn solve_block, solve_stats *stats)
 {
     size_t n = op->host.rows;
     double *dinv = malloc((n ? n : 1) * sizeof *dinv);
     if (!dinv)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the solver");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the solver");
     for (size_t r = 0; r < n; r++)
         dinv[r] = 1.0 / scheme_limit_row_scale(&op->topo, op->scheme,
                                                op->order ? op->order[r] : (uint32_t)r);
@@ -260,7 +260,7 @@ static limn_status solve_single_block(limn_context *ctx, const limn_operator *op
     return st;
 }
 
-limn_status solve_tiers(limn_context *ctx, const limn_operator *op, const double *m4,
+limn_status solve_tiers(limn_context *ctx, const stencil_operator *op, const double *m4,
                         double tol_abs, int max_iter, double *p4, solve_block_fn solve_block,
                         solve_stats *stats)
 {
@@ -270,7 +270,7 @@ limn_status solve_tiers(limn_context *ctx, const limn_operator *op, const double
     if (!tier || !local) {
         free(tier);
         free(local);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the solver");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the solver");
     }
     size_t count[3] = {0, 0, 0};
     for (size_t r = 0; r < n; r++) {
@@ -307,7 +307,7 @@ limn_status solve_tiers(limn_context *ctx, const limn_operator *op, const double
     return st;
 }
 
-limn_status solve_cg(limn_context *ctx, const limn_operator *op, const double *m4,
+limn_status solve_cg(limn_context *ctx, const stencil_operator *op, const double *m4,
                      double tol_abs, int max_iter, double *p4, solve_stats *stats)
 {
     return solve_tiers(ctx, op, m4, tol_abs, max_iter, p4, solve_block_jacobi, stats);

@@ -58,7 +58,7 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
         break;
     case LIMN_PRECISION_FLOAT:
         if (!iterative)
-            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                              "precision float runs the chebyshev, paper or weighted iteration; "
                              "method %s runs in double: use another --method, or --precision "
                              "double or auto",
@@ -82,7 +82,7 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
         }
         break;
     default:
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate: unknown precision %d",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate: unknown precision %d",
                          (int)o->precision);
     }
     r->precision = limn_precision_name(*out);
@@ -90,7 +90,7 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
 }
 
 typedef struct mixed_state {
-    struct limn_device *dev;
+    struct device *dev;
     limn_method method;        /* paper, weighted or chebyshev */
     device_buffer *r, *d[2];   /* float4 rows: right-hand side, corrections */
     double omega;              /* weighted: set after the probe of the first solve */
@@ -106,7 +106,7 @@ typedef struct mixed_state {
  * x_k (k >= 1) in d[(k - 1) & 1]; step j reads x_j and x_{j-1} and writes
  * x_{j+1} over x_{j-1} (each row reads it first).
  */
-static limn_status inner_solve(limn_context *ctx, limn_operator *op, mixed_state *s,
+static limn_status inner_solve(limn_context *ctx, stencil_operator *op, mixed_state *s,
                                double target, int probing, int max_iter, device_buffer **out,
                                limn_report *r)
 {
@@ -158,11 +158,11 @@ static limn_status inner_solve(limn_context *ctx, limn_operator *op, mixed_state
     return LIMN_OK;
 }
 
-limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, device_buffer *p,
+limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *m, device_buffer *p,
                         const limn_interpolate_options *o, double diag, limn_method method,
                         int *converged, limn_report *r)
 {
-    struct limn_device *dev = op->dev;
+    struct device *dev = op->dev;
     size_t n = op->vertex_count ? op->vertex_count : 1;
     double tol_abs = o->tolerance * diag, first = -1.0, prev = INFINITY;
     mixed_state s = {.dev = dev, .method = method, .omega = 1.0,
@@ -174,7 +174,7 @@ limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, 
         st = dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &s.r);
     for (int i = 0; i < 2 && !st; i++)
         st = dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &s.d[i]);
-    double t_loop = limn_seconds(), compiles = dev->setup.kernels; /* first launches */
+    double t_loop = clock_seconds(), compiles = dev->setup.kernels; /* first launches */
     for (int outer = 0; !st; outer++) {
         device_norms nr;
         st = dev->ops->residual_f(dev, &op->device, m, p, s.r, &nr);
@@ -199,7 +199,7 @@ limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, 
         }
         if (r->iterations >= o->max_iterations) {
             double rate = pow(nr.max / first, 1.0 / (double)r->iterations);
-            st = limn_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
+            st = ctx_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
                            "no convergence in %d iterations: max relative error %.3g, "
                            "tolerance %.3g; the error shrinks by %.4f per iteration: raise "
                            "--max-iter or loosen --tol",
@@ -209,7 +209,7 @@ limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, 
         if (first < 0.0)
             first = nr.max;
         else if (first > tol_abs)
-            limn_progress(ctx, "solve", log(first / nr.max) / log(first / tol_abs));
+            ctx_progress(ctx, "solve", log(first / nr.max) / log(first / tol_abs));
         prev = nr.max;
         device_buffer *d = NULL;
         double target = fmax(tol_abs, INNER_REDUCTION * nr.max);
@@ -217,7 +217,7 @@ limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, 
         if (!st)
             st = dev->ops->add_f(dev, op->vertex_count, p, d);
     }
-    r->seconds_iterations += limn_seconds() - t_loop - (dev->setup.kernels - compiles);
+    r->seconds_iterations += clock_seconds() - t_loop - (dev->setup.kernels - compiles);
     for (int i = 0; i < 2; i++)
         if (s.d[i])
             dev->ops->buffer_release(dev, s.d[i]);

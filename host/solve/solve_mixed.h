@@ -31,7 +31,7 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
  * tolerance near double's rounding), and the caller goes on in double from
  * p, whose own stall test then speaks.
  */
-limn_status solve_mixed(limn_context *ctx, limn_operator *op, device_buffer *m, device_buffer *p,
+limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *m, device_buffer *p,
                         const limn_interpolate_options *o, double diag, limn_method method,
                         int *converged, limn_report *r);
 

@@ -26,7 +26,7 @@
 
 enum { V_B, V_X, V_R, V_RHAT, V_PHAT, V_T, V_U, V_ST, V_COUNT };
 
-static limn_status run(limn_context *ctx, struct limn_device *dev, const device_sgs *a,
+static limn_status run(limn_context *ctx, struct device *dev, const device_sgs *a,
                        const sgs_vectors *v, double tol_abs, int max_iter, double share,
                        const sgs_table *t, solve_stats *stats)
 {
@@ -64,7 +64,7 @@ static limn_status run(limn_context *ctx, struct limn_device *dev, const device_
     return st;
 }
 
-limn_status solve_block_sgs(limn_context *ctx, struct limn_device *dev, const stencil_csr *a,
+limn_status solve_block_sgs(limn_context *ctx, struct device *dev, const stencil_csr *a,
                             const device_csr *on_device, const double *b, double *x0,
                             const double *dinv, double tol_abs, int max_iter, double n_total,
                             solve_stats *stats)
@@ -83,7 +83,7 @@ limn_status solve_block_sgs(limn_context *ctx, struct limn_device *dev, const st
         free(bs);
         free(xs);
         sgs_table_free(&t);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the solver");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the solver");
     }
     for (size_t i = 0; i < n; i++) {
         uint32_t o = t.order[i];
@@ -103,9 +103,9 @@ limn_status solve_block_sgs(limn_context *ctx, struct limn_device *dev, const st
     if (!st) {
         sgs_vectors v = {vec[V_B], vec[V_X], vec[V_R], vec[V_RHAT],
                          vec[V_PHAT], vec[V_T], vec[V_U], vec[V_ST]};
-        double t_loop = limn_seconds(), compiles = dev->setup.kernels;
+        double t_loop = clock_seconds(), compiles = dev->setup.kernels;
         st = run(ctx, dev, &da, &v, tol_abs, max_iter, (double)n / n_total, &t, stats);
-        stats->seconds_loop += limn_seconds() - t_loop - (dev->setup.kernels - compiles);
+        stats->seconds_loop += clock_seconds() - t_loop - (dev->setup.kernels - compiles);
         if (!st)
             st = ops->buffer_read(dev, vec[V_X], 4 * n * sizeof(double), xs);
         for (size_t i = 0; !st && i < n; i++)
@@ -122,7 +122,7 @@ limn_status solve_block_sgs(limn_context *ctx, struct limn_device *dev, const st
     return st;
 }
 
-limn_status solve_sgs(limn_context *ctx, const limn_operator *op, const double *m4,
+limn_status solve_sgs(limn_context *ctx, const stencil_operator *op, const double *m4,
                       double tol_abs, int max_iter, double *p4, solve_stats *stats)
 {
     return solve_tiers(ctx, op, m4, tol_abs, max_iter, p4, solve_block_sgs, stats);

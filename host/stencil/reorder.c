@@ -48,7 +48,7 @@ limn_status reorder_rcm(limn_context *ctx, const topology *t, uint32_t **order_o
     unsigned char *placed = calloc(n ? n : 1, 1);
     if (!order || !rank || !queue || !mark || !placed) {
         free(order), free(rank), free(queue), free(mark), free(placed);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory reordering %zu vertices", n);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory reordering %zu vertices", n);
     }
     size_t count = 0;
     uint32_t stamp = 1;

@@ -82,7 +82,7 @@ limn_status sgs_table_build(limn_context *ctx, const stencil_csr *a, const doubl
         free(where);
         free(next);
         sgs_table_free(out);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the Gauss-Seidel table");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the Gauss-Seidel table");
     }
     out->colours = colours;
     for (size_t i = 0; i < n; i++)

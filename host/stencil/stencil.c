@@ -56,7 +56,7 @@ limn_status stencil_build(limn_context *ctx, size_t rows, size_t cols, stencil_r
     for (size_t r = 0; r < rows; r++)
         total += bound(user, r);
     if (total > UINT32_MAX)
-        return limn_fail(ctx, LIMN_ERR_MEMORY,
+        return ctx_fail(ctx, LIMN_ERR_MEMORY,
                          "a stencil table would hold %zu entries, more than 2^32", total);
     out->rows = rows;
     out->cols = cols;
@@ -65,7 +65,7 @@ limn_status stencil_build(limn_context *ctx, size_t rows, size_t cols, stencil_r
     out->weights = malloc((total ? total : 1) * sizeof *out->weights);
     if (!out->row_offsets || !out->columns || !out->weights) {
         stencil_free(out);
-        return limn_fail(ctx, LIMN_ERR_MEMORY,
+        return ctx_fail(ctx, LIMN_ERR_MEMORY,
                          "out of memory for a stencil table of %zu entries", total);
     }
     size_t k = 0;
@@ -75,7 +75,7 @@ limn_status stencil_build(limn_context *ctx, size_t rows, size_t cols, stencil_r
         k += sort_merge(out->columns + k, out->weights + k, n);
         out->row_offsets[r + 1] = (uint32_t)k;
         if ((r & 0xFFFFF) == 0xFFFFF)
-            limn_progress(ctx, "stencil", (double)r / (double)rows);
+            ctx_progress(ctx, "stencil", (double)r / (double)rows);
     }
     /* Shrink to the merged size (keeps the old block if realloc fails). */
     uint32_t *c = realloc(out->columns, (k ? k : 1) * sizeof *c);

@@ -73,9 +73,9 @@ static limn_status measure_sized(limn_context *ctx, const limn_mesh *mesh, limn_
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_measure: out is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_measure: out is NULL");
     memset(out, 0, sizeof *out);
     limn_status st = check_mesh(ctx, "limn_mesh_measure", NULL, mesh);
     if (st)
@@ -112,7 +112,7 @@ limn_status measure_same_topology(limn_context *ctx, const limn_mesh *a, const l
                                   const char *name_a, const char *name_b)
 {
     if (a->vertex_count != b->vertex_count)
-        return limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+        return ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
                          "%s and %s differ in topology: %s has %zu vertices, %s has %zu",
                          name_a, name_b, name_a, a->vertex_count, name_b, b->vertex_count);
     size_t nf = a->face_count < b->face_count ? a->face_count : b->face_count;
@@ -132,14 +132,14 @@ limn_status measure_same_topology(limn_context *ctx, const limn_mesh *a, const l
             for (uint32_t k = 0; k < sb && lb + 12 < sizeof fb; k++)
                 lb += (size_t)snprintf(fb + lb, sizeof fb - lb, "%s%u", k ? " " : "",
                                        b->face_indices[b->face_offsets[f] + k]);
-            return limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+            return ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
                              "%s and %s differ in topology: face %zu is (%s) in %s but (%s) in "
                              "%s (0-based vertex indices); both meshes need the same faces",
                              name_a, name_b, f, fa, name_a, fb, name_b);
         }
     }
     if (a->face_count != b->face_count)
-        return limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+        return ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
                          "%s and %s differ in topology: %s has %zu faces, %s has %zu (face %zu "
                          "is the first one only one of them has)",
                          name_a, name_b, name_a, a->face_count, name_b, b->face_count, nf);
@@ -150,9 +150,9 @@ limn_status limn_mesh_same_topology(limn_context *ctx, const limn_mesh *a, const
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!a || !b)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_same_topology: the %s mesh is NULL",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_same_topology: the %s mesh is NULL",
                          !a ? "first" : "second");
     return measure_same_topology(ctx, a, b, "the first mesh", "the second mesh");
 }
@@ -175,9 +175,9 @@ static limn_status compare_sized(limn_context *ctx, const limn_mesh *a, const li
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_compare: out is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_compare: out is NULL");
     memset(out, 0, sizeof *out);
     limn_status st = check_mesh(ctx, "limn_mesh_compare", "the first mesh", a);
     if (!st)
@@ -222,7 +222,7 @@ limn_status limn_mesh_measure(limn_context *ctx, const limn_mesh *mesh, limn_mes
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     limn_mesh_measures r;
     limn_status st = abi_report_begin(ctx, "limn_mesh_measure", "out", &abi_mesh_measures, out, &r);
     if (st)
@@ -237,7 +237,7 @@ limn_status limn_mesh_compare(limn_context *ctx, const limn_mesh *a, const limn_
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     limn_mesh_comparison r;
     limn_status st =
         abi_report_begin(ctx, "limn_mesh_compare", "out", &abi_mesh_comparison, out, &r);

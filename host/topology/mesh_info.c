@@ -13,9 +13,9 @@ static limn_status info_sized(limn_context *ctx, const limn_mesh *mesh, limn_mes
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!info)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_info_compute: info is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_info_compute: info is NULL");
     limn_status st = check_mesh(ctx, "limn_mesh_info_compute", NULL, mesh);
     if (st)
         return st;
@@ -50,7 +50,7 @@ limn_status limn_mesh_info_compute(limn_context *ctx, const limn_mesh *mesh, lim
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     limn_mesh_info r;
     limn_status st =
         abi_report_begin(ctx, "limn_mesh_info_compute", "info", &abi_mesh_info, info, &r);

@@ -67,7 +67,7 @@ static limn_status fix_repeats(limn_context *ctx, limn_mesh *m, limn_repair_repo
         free(pos);
         free(stack);
         free(w);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory repairing faces");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory repairing faces");
     }
     o.offsets[0] = 0;
     for (size_t f = 0; f < nf; f++) {
@@ -197,7 +197,7 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
         free(tmp);
         free(buf);
         free(dup);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
     }
     for (size_t f = 0; f < nf; f++) {
         uint32_t d;
@@ -274,9 +274,9 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!mesh)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_repair: mesh is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_repair: mesh is NULL");
     limn_repair_options defaults;
     limn_repair_options_default(&defaults);
     const limn_repair_options *o = options ? options : &defaults;
@@ -288,14 +288,14 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
     size_t nv = mesh->vertex_count, nf = mesh->face_count;
     for (size_t i = 0; i < mesh->face_offsets[nf]; i++)
         if (mesh->face_indices[i] >= nv)
-            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                              "limn_mesh_repair: face index %zu is %u but there are %zu vertices",
                              i, mesh->face_indices[i], nv);
 
     /* faces that use a vertex twice */
     uint32_t *mark = calloc(nv ? nv : 1, sizeof *mark);
     if (!mark)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory repairing the mesh");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory repairing the mesh");
     size_t first = SIZE_MAX;
     uint32_t first_v = 0;
     for (size_t f = 0; f < nf && first == SIZE_MAX; f++)
@@ -312,7 +312,7 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
     limn_status st = LIMN_OK;
     if (first != SIZE_MAX) {
         if (!o->repeated_vertices)
-            return limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+            return ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
                              "face %zu uses vertex %u twice (a degenerate face) and repair is off: "
                              "remove the face, or allow the repair (drop --no-repair)",
                              first, first_v);
@@ -333,7 +333,7 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
             snprintf(parts[np++], sizeof parts[0],
                      "%zu with fewer than 3 distinct vertices %s removed", r->degenerate_removed,
                      r->degenerate_removed == 1 ? "was" : "were");
-        limn_warn(ctx,
+        ctx_warn(ctx,
                   "repaired %zu face%s that use%s a vertex more than once (first: face %zu, "
                   "vertex %u): %s%s%s%s%s; %zu faces remain (later messages number the faces "
                   "of the repaired mesh)",
@@ -348,13 +348,13 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
         return st;
     if (r->duplicate_faces) {
         if (r->duplicates_removed)
-            limn_warn(ctx,
+            ctx_warn(ctx,
                       "removed %zu duplicate face%s (faces with the vertices of an earlier face; "
                       "first: face %zu, a copy of face %zu)",
                       r->duplicates_removed, r->duplicates_removed == 1 ? "" : "s",
                       r->first_duplicate_face, r->first_duplicate_of);
         else
-            limn_warn(ctx,
+            ctx_warn(ctx,
                       "%zu duplicate face%s (the vertices of an earlier face; first: face %zu, a "
                       "copy of face %zu) kept: their edges are non-manifold, hence sharp, as in "
                       "OpenSubdiv (--drop-duplicate-faces removes them)",
@@ -379,22 +379,22 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
     r->boundary_loops = t.boundary_loops;
     topology_free(&t);
     if (nm_edges)
-        limn_warn(ctx,
+        ctx_warn(ctx,
                   "%zu non-manifold edge%s (more than two faces) kept: sharp, as in OpenSubdiv",
                   nm_edges, nm_edges == 1 ? "" : "s");
     if (r->nonmanifold_vertices)
-        limn_warn(ctx,
+        ctx_warn(ctx,
                   "%zu non-manifold vert%s (on such edges, or where faces meet in several fans) "
                   "kept: pinned (or a crease along a fin), as in OpenSubdiv",
                   r->nonmanifold_vertices, r->nonmanifold_vertices == 1 ? "ex" : "ices");
     if (r->inconsistent_edges)
-        limn_warn(ctx,
+        ctx_warn(ctx,
                   "%zu edge%s where two faces disagree on orientation kept (faces are not "
                   "re-oriented): %s sharp, as in OpenSubdiv",
                   r->inconsistent_edges, r->inconsistent_edges == 1 ? "" : "s",
                   r->inconsistent_edges == 1 ? "it is" : "they are");
     if (r->unreferenced_vertices)
-        limn_warn(ctx, "%zu vert%s used by no face kept: %s unchanged in the output",
+        ctx_warn(ctx, "%zu vert%s used by no face kept: %s unchanged in the output",
                   r->unreferenced_vertices, r->unreferenced_vertices == 1 ? "ex" : "ices",
                   r->unreferenced_vertices == 1 ? "it stays" : "they stay");
     return LIMN_OK;
@@ -405,7 +405,7 @@ limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repa
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     limn_repair_options o;
     limn_repair_options_default(&o);
     limn_repair_report r;

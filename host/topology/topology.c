@@ -41,7 +41,7 @@ static limn_status check_faces(limn_context *ctx, topology *t, uint32_t *mark)
         for (uint32_t c = b; c < e; c++) {
             uint32_t v = t->face_indices[c];
             if (mark[v] == f + 1)
-                return limn_fail(ctx, LIMN_ERR_TOPOLOGY,
+                return ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
                                  "face %u uses vertex %u twice (a degenerate face); remove it "
                                  "or repair the mesh",
                                  f, v);
@@ -70,7 +70,7 @@ static limn_status build_edges(limn_context *ctx, topology *t)
     if (!bucket_off || !bucket) {
         free(bucket_off);
         free(bucket);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory building edges");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory building edges");
     }
     for (size_t c = 0; c < nc; c++) {
         uint32_t a = t->face_indices[c], b = t->face_indices[topology_corner_next(t, (uint32_t)c)];
@@ -82,7 +82,7 @@ static limn_status build_edges(limn_context *ctx, topology *t)
     if (!fill) {
         free(bucket_off);
         free(bucket);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory building edges");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory building edges");
     }
     memcpy(fill, bucket_off, nv * sizeof *fill);
     for (size_t c = 0; c < nc; c++) {
@@ -98,7 +98,7 @@ static limn_status build_edges(limn_context *ctx, topology *t)
     if (!t->edge_vertices || !t->edge_corner_offsets || !t->edge_corners) {
         free(bucket_off);
         free(bucket);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory building edges");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory building edges");
     }
     size_t ne = 0, k = 0;
     for (size_t v = 0; v < nv; v++) {
@@ -161,7 +161,7 @@ static limn_status build_vertex_incidence(limn_context *ctx, topology *t)
     if (!t->vertex_corner_offsets || !t->vertex_corners || !t->vertex_edge_offsets ||
         !t->vertex_edges || !fill) {
         free(fill);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory building vertex rings");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory building vertex rings");
     }
     for (size_t c = 0; c < t->corner_count; c++)
         t->vertex_corner_offsets[t->face_indices[c] + 1]++;
@@ -300,7 +300,7 @@ static limn_status count_components(limn_context *ctx, topology *t)
     size_t nv = t->vertex_count;
     uint32_t *parent = malloc((nv ? nv : 1) * sizeof *parent);
     if (!parent)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory counting components");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory counting components");
     for (uint32_t v = 0; v < nv; v++)
         parent[v] = v;
     for (size_t e = 0; e < t->edge_count; e++)
@@ -338,7 +338,7 @@ limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *t
     limn_status st = LIMN_OK;
     if (!scratch || !t->corner_face || !t->corner_edge || !t->vertex_flags || !t->vertex_rule ||
         !t->crease_neighbors)
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the topology of %zu vertices", nv);
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the topology of %zu vertices", nv);
     if (!st)
         st = check_faces(ctx, t, scratch);
     if (!st)
@@ -346,7 +346,7 @@ limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *t
     if (!st) {
         t->edge_flags = malloc(t->edge_count ? t->edge_count : 1);
         if (!t->edge_flags)
-            st = limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for edge flags");
+            st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for edge flags");
     }
     if (!st) {
         classify_edges(t);

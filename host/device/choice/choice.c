@@ -32,15 +32,15 @@ limn_status limn_context_set_device(limn_context *ctx, const char *spec)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!spec)
         spec = "";
     if (strlen(spec) >= sizeof ctx->device_spec)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "device spec is too long (%zu characters)",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "device spec is too long (%zu characters)",
                          strlen(spec));
     if (spec[0] && strcmp(spec, "reference") != 0 && strcmp(spec, "ref") != 0 &&
         strcmp(spec, "opencl") != 0 && strncmp(spec, "opencl:", 7) != 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "unknown device '%s': use 'reference', 'opencl', 'opencl:P.D' or "
                          "'opencl:NAME' (see 'limn devices')",
                          spec);
@@ -51,7 +51,7 @@ limn_status limn_context_set_device(limn_context *ctx, const char *spec)
     return LIMN_OK;
 }
 
-limn_status device_open(limn_context *ctx, struct limn_device **out)
+limn_status device_open(limn_context *ctx, struct device **out)
 {
     const char *spec = ctx->device_spec;
     const char *env = getenv("LIMN_DEVICE");
@@ -68,13 +68,13 @@ limn_status limn_context_set_fallback(limn_context *ctx, const char *backend)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!backend || strcmp(backend, "none") == 0)
         ctx->fallback = 1;
     else if (strcmp(backend, "reference") == 0 || strcmp(backend, "ref") == 0)
         ctx->fallback = 2;
     else
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "unknown fallback '%s': use 'reference' or 'none'", backend);
     return LIMN_OK;
 }
@@ -92,18 +92,18 @@ limn_status limn_context_fall_back(limn_context *ctx, limn_status status)
     strcpy(ctx->device_spec, "reference");
     ctx->device_name[0] = '\0';
     ctx->device_failed = 0;
-    limn_warn(ctx, "the OpenCL device failed (%.900s); running again on the reference backend "
+    ctx_warn(ctx, "the OpenCL device failed (%.900s); running again on the reference backend "
                    "(the fallback was allowed)",
               why);
     return LIMN_OK;
 }
 
-limn_status device_get(limn_context *ctx, struct limn_device **out)
+limn_status device_get(limn_context *ctx, struct device **out)
 {
     if (!ctx->device) {
         limn_status st = device_open(ctx, &ctx->device);
         if (st == LIMN_ERR_DEVICE && device_fallback_allowed(ctx)) {
-            limn_warn(ctx, "%.900s; using the reference backend instead (the fallback was "
+            ctx_warn(ctx, "%.900s; using the reference backend instead (the fallback was "
                            "allowed)",
                       ctx->message);
             ctx->message[0] = '\0';

@@ -12,20 +12,20 @@
 #include <stdlib.h>
 #include <string.h>
 
-static limn_status cl_buffer_create(struct limn_device *dev, size_t bytes, const void *init,
+static limn_status cl_buffer_create(struct device *dev, size_t bytes, const void *init,
                                     device_buffer **out)
 {
     opencl_impl *im = impl_of(dev);
     dev->ctx->device_failed = 1; /* cleared again on success */
     if (bytes > im->max_alloc)
-        return limn_fail(dev->ctx, LIMN_ERR_MEMORY,
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY,
                          "a %.1f MiB buffer exceeds the device's limit of %.1f MiB per buffer "
                          "(CL_DEVICE_MAX_MEM_ALLOC_SIZE; for PoCL raise POCL_MEMORY_LIMIT) — "
                          "the mesh is too large for this device",
                          (double)bytes / (1 << 20), (double)im->max_alloc / (1 << 20));
     device_buffer *b = calloc(1, sizeof *b);
     if (!b)
-        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of host memory");
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of host memory");
     cl_int err;
     size_t n = bytes ? bytes : 16;
     cl_mem_flags flags = CL_MEM_READ_WRITE | (init && bytes ? CL_MEM_COPY_HOST_PTR : 0);
@@ -45,7 +45,7 @@ static limn_status cl_buffer_create(struct limn_device *dev, size_t bytes, const
         free(b);
         int memory = err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ||
                      err == CL_OUT_OF_HOST_MEMORY;
-        return limn_fail(dev->ctx, memory ? LIMN_ERR_MEMORY : LIMN_ERR_DEVICE,
+        return ctx_fail(dev->ctx, memory ? LIMN_ERR_MEMORY : LIMN_ERR_DEVICE,
                          "clCreateBuffer of %zu bytes on %s failed: %s%s", bytes, dev->name,
                          opencl_error_name(err),
                          memory ? ": the device is out of memory; use a device with more "
@@ -59,33 +59,33 @@ static limn_status cl_buffer_create(struct limn_device *dev, size_t bytes, const
     return LIMN_OK;
 }
 
-static limn_status cl_buffer_write(struct limn_device *dev, device_buffer *buf, size_t bytes,
+static limn_status cl_buffer_write(struct device *dev, device_buffer *buf, size_t bytes,
                                    const void *src)
 {
     if (bytes > buf->bytes)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
     CHECK(clEnqueueWriteBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, 0, bytes, src, 0, NULL,
                                NULL),
           "clEnqueueWriteBuffer");
     return LIMN_OK;
 }
 
-static limn_status cl_buffer_read(struct limn_device *dev, device_buffer *buf, size_t bytes,
+static limn_status cl_buffer_read(struct device *dev, device_buffer *buf, size_t bytes,
                                   void *dst)
 {
     if (bytes > buf->bytes)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
     CHECK(clEnqueueReadBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, 0, bytes, dst, 0, NULL,
                               NULL),
           "clEnqueueReadBuffer");
     return LIMN_OK;
 }
 
-static limn_status cl_buffer_write_at(struct limn_device *dev, device_buffer *buf,
+static limn_status cl_buffer_write_at(struct device *dev, device_buffer *buf,
                                       size_t offset, size_t bytes, const void *src)
 {
     if (offset > buf->bytes || bytes > buf->bytes - offset)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
     if (bytes)
         CHECK(clEnqueueWriteBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, offset, bytes, src, 0,
                                    NULL, NULL),
@@ -93,11 +93,11 @@ static limn_status cl_buffer_write_at(struct limn_device *dev, device_buffer *bu
     return LIMN_OK;
 }
 
-static limn_status cl_buffer_read_at(struct limn_device *dev, device_buffer *buf, size_t offset,
+static limn_status cl_buffer_read_at(struct device *dev, device_buffer *buf, size_t offset,
                                      size_t bytes, void *dst)
 {
     if (offset > buf->bytes || bytes > buf->bytes - offset)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
     if (bytes)
         CHECK(clEnqueueReadBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, offset, bytes, dst, 0,
                                   NULL, NULL),
@@ -105,7 +105,7 @@ static limn_status cl_buffer_read_at(struct limn_device *dev, device_buffer *buf
     return LIMN_OK;
 }
 
-static void cl_buffer_release(struct limn_device *dev, device_buffer *buf)
+static void cl_buffer_release(struct device *dev, device_buffer *buf)
 {
     (void)dev;
     if (buf) {
@@ -120,7 +120,7 @@ size_t opencl_work_items(size_t rows)
     return (chunks + DEVICE_WORKGROUP - 1) / DEVICE_WORKGROUP * DEVICE_WORKGROUP;
 }
 
-limn_status opencl_set_csr_args(struct limn_device *dev, cl_kernel k, const device_csr *a,
+limn_status opencl_set_csr_args(struct device *dev, cl_kernel k, const device_csr *a,
                                 device_buffer *weights)
 {
     cl_uint rows = (cl_uint)(a->row_begin + a->rows); /* kernels stop at the range's end */
@@ -135,13 +135,13 @@ limn_status opencl_set_csr_args(struct limn_device *dev, cl_kernel k, const devi
    with a cold cache, nothing with a warm one). A launch over no rows first
    triggers that compile alone, so it is timed as set-up (dev->setup.kernels)
    rather than hidden in the first step; the kernels do nothing for rows = 0. */
-static limn_status compile_on_first_launch(struct limn_device *dev, opencl_kernel_id id,
+static limn_status compile_on_first_launch(struct device *dev, opencl_kernel_id id,
                                            size_t rows_arg)
 {
     opencl_impl *im = impl_of(dev);
     if (im->compiled[id])
         return LIMN_OK;
-    double t0 = limn_seconds();
+    double t0 = clock_seconds();
     cl_kernel k = im->kernels[id];
     cl_uint none = 0, all = (cl_uint)rows_arg; /* argument 0 restored after */
     size_t size = DEVICE_WORKGROUP;
@@ -153,14 +153,14 @@ static limn_status compile_on_first_launch(struct limn_device *dev, opencl_kerne
     if (err != CL_SUCCESS)
         return LIMN_OK; /* the real launch reports it, with advice */
     im->compiled[id] = 1;
-    dev->setup.kernels += limn_seconds() - t0;
+    dev->setup.kernels += clock_seconds() - t0;
     return LIMN_OK;
 }
 
 /* A row range starting at row first_item * DEVICE_ROWS_PER_ITEM uses the
    global work offset, so the kernels need no argument for it
    (device_csr.row_begin). */
-limn_status opencl_launch(struct limn_device *dev, opencl_kernel_id id, size_t first_item,
+limn_status opencl_launch(struct device *dev, opencl_kernel_id id, size_t first_item,
                           size_t rows)
 {
     if (rows == 0)
@@ -175,7 +175,7 @@ limn_status opencl_launch(struct limn_device *dev, opencl_kernel_id id, size_t f
     if (err == CL_SUCCESS && device_test_fault("enqueue"))
         err = CL_OUT_OF_RESOURCES; /* test-only (device.h) */
     if (err != CL_SUCCESS)
-        return limn_fail(dev->ctx, LIMN_ERR_DEVICE,
+        return ctx_fail(dev->ctx, LIMN_ERR_DEVICE,
                          "launching kernel %s on %s failed: %s (%d): the device could not run "
                          "it; try another device (--device, see 'limn devices') or --device "
                          "reference (or allow --fallback reference)",
@@ -183,7 +183,7 @@ limn_status opencl_launch(struct limn_device *dev, opencl_kernel_id id, size_t f
     return LIMN_OK;
 }
 
-static limn_status cl_spmv(struct limn_device *dev, const device_csr *a, device_buffer *x,
+static limn_status cl_spmv(struct device *dev, const device_csr *a, device_buffer *x,
                            device_buffer *y)
 {
     cl_kernel k = impl_of(dev)->kernels[K_SPMV];
@@ -195,7 +195,7 @@ static limn_status cl_spmv(struct limn_device *dev, const device_csr *a, device_
     return opencl_launch(dev, K_SPMV, opencl_first_item(a), a->rows);
 }
 
-limn_status opencl_ensure_partials(struct limn_device *dev, size_t first_item, size_t rows)
+limn_status opencl_ensure_partials(struct device *dev, size_t first_item, size_t rows)
 {
     opencl_impl *im = impl_of(dev);
     size_t items = first_item + opencl_work_items(rows) + 1;
@@ -208,7 +208,7 @@ limn_status opencl_ensure_partials(struct limn_device *dev, size_t first_item, s
     im->partials_items = 0;
     im->host_partials = malloc(items * 3 * sizeof(double));
     if (!im->host_partials)
-        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
     cl_int err;
     im->partials = clCreateBuffer(im->context, CL_MEM_READ_WRITE, items * 3 * sizeof(double),
                                   NULL, &err);
@@ -217,7 +217,7 @@ limn_status opencl_ensure_partials(struct limn_device *dev, size_t first_item, s
     return LIMN_OK;
 }
 
-limn_status opencl_begin_reduce(struct limn_device *dev, opencl_kernel_id id,
+limn_status opencl_begin_reduce(struct device *dev, opencl_kernel_id id,
                                 const device_csr *a, device_buffer *weights, cl_kernel *k)
 {
     *k = impl_of(dev)->kernels[id];
@@ -225,14 +225,14 @@ limn_status opencl_begin_reduce(struct limn_device *dev, opencl_kernel_id id,
     return st ? st : opencl_set_csr_args(dev, *k, a, weights);
 }
 
-limn_status opencl_end_reduce(struct limn_device *dev, opencl_kernel_id id, const device_csr *a,
+limn_status opencl_end_reduce(struct device *dev, opencl_kernel_id id, const device_csr *a,
                               device_norms *out)
 {
     limn_status st = opencl_launch(dev, id, opencl_first_item(a), a->rows);
     return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, out);
 }
 
-limn_status opencl_finish_partials(struct limn_device *dev, size_t first_item, size_t rows,
+limn_status opencl_finish_partials(struct device *dev, size_t first_item, size_t rows,
                                    device_norms *out)
 {
     opencl_impl *im = impl_of(dev);
@@ -246,7 +246,7 @@ limn_status opencl_finish_partials(struct limn_device *dev, size_t first_item, s
     return LIMN_OK;
 }
 
-static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
+static limn_status cl_interp_step(struct device *dev, const device_csr *a,
                                   device_buffer *m, device_buffer *p, device_buffer *p_next,
                                   double omega, device_norms *norms)
 {
@@ -265,7 +265,7 @@ static limn_status cl_interp_step(struct limn_device *dev, const device_csr *a,
     return opencl_end_reduce(dev, K_INTERP_STEP, a, norms);
 }
 
-static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
+static limn_status cl_series_step(struct device *dev, const device_csr *a,
                                   device_buffer *x, device_buffer *x_next, device_buffer *ax,
                                   device_buffer *acc, int flags, int acc_mode,
                                   device_norms *norms)
@@ -290,7 +290,7 @@ static limn_status cl_series_step(struct limn_device *dev, const device_csr *a,
     return opencl_end_reduce(dev, K_SERIES_STEP, a, norms);
 }
 
-static limn_status cl_axpby(struct limn_device *dev, size_t rows, double a, device_buffer *x,
+static limn_status cl_axpby(struct device *dev, size_t rows, double a, device_buffer *x,
                             double b, device_buffer *y, device_buffer *out)
 {
     cl_kernel k = impl_of(dev)->kernels[K_AXPBY];
@@ -304,7 +304,7 @@ static limn_status cl_axpby(struct limn_device *dev, size_t rows, double a, devi
     return opencl_launch(dev, K_AXPBY, 0, rows);
 }
 
-static limn_status cl_norms(struct limn_device *dev, size_t rows, device_buffer *x,
+static limn_status cl_norms(struct device *dev, size_t rows, device_buffer *x,
                             device_norms *out)
 {
     opencl_impl *im = impl_of(dev);
@@ -322,7 +322,7 @@ static limn_status cl_norms(struct limn_device *dev, size_t rows, device_buffer 
     return opencl_finish_partials(dev, 0, rows, out);
 }
 
-static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, device_buffer *x,
+static limn_status cl_spmv_dot(struct device *dev, const device_csr *a, device_buffer *x,
                                device_buffer *y, device_buffer *dinv, double *dot)
 {
     opencl_impl *im = impl_of(dev);
@@ -341,7 +341,7 @@ static limn_status cl_spmv_dot(struct limn_device *dev, const device_csr *a, dev
     return st;
 }
 
-static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
+static limn_status cl_cheb_step(struct device *dev, const device_csr *a,
                                 device_buffer *m, device_buffer *p, device_buffer *prev_next,
                                 double c1, double c2, device_norms *norms)
 {
@@ -361,7 +361,7 @@ static limn_status cl_cheb_step(struct limn_device *dev, const device_csr *a,
     return opencl_end_reduce(dev, K_CHEB_STEP, a, norms);
 }
 
-static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double alpha,
+static limn_status cl_pcg_update(struct device *dev, size_t rows, double alpha,
                                  device_buffer *p, device_buffer *q, device_buffer *x,
                                  device_buffer *z, device_buffer *dinv, device_norms *norms)
 {
@@ -385,7 +385,7 @@ static limn_status cl_pcg_update(struct limn_device *dev, size_t rows, double al
     return st;
 }
 
-static void cl_close(struct limn_device *dev)
+static void cl_close(struct device *dev)
 {
     opencl_impl *im = impl_of(dev);
     if (im) {
@@ -428,9 +428,9 @@ static const device_ops opencl_ops = {
     .close = cl_close,
 };
 
-static limn_status open_device(struct limn_device *dev, const char *spec)
+static limn_status open_device(struct device *dev, const char *spec)
 {
-    double t0 = limn_seconds();
+    double t0 = clock_seconds();
     opencl_choice choice;
     limn_status st = opencl_select_device(dev->ctx, spec, &choice);
     if (st)
@@ -439,7 +439,7 @@ static limn_status open_device(struct limn_device *dev, const char *spec)
     cl_device_fp_config fp64 = 0;
     clGetDeviceInfo(choice.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, NULL);
     if (!fp64)
-        return limn_fail(dev->ctx, LIMN_ERR_DEVICE,
+        return ctx_fail(dev->ctx, LIMN_ERR_DEVICE,
                          "OpenCL device %s has no double precision, which limn needs; choose "
                          "another with --device (see 'limn devices') or use --device reference",
                          dev->name);
@@ -448,7 +448,7 @@ static limn_status open_device(struct limn_device *dev, const char *spec)
     CHECK(clGetDeviceInfo(choice.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof im->max_alloc,
                           &im->max_alloc, NULL),
           "clGetDeviceInfo(CL_DEVICE_MAX_MEM_ALLOC_SIZE)");
-    double t1 = limn_seconds();
+    double t1 = clock_seconds();
     dev->setup.platform += t1 - t0;
     cl_int err;
     cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)choice.platform,
@@ -457,18 +457,18 @@ static limn_status open_device(struct limn_device *dev, const char *spec)
     CHECK(err, "clCreateContext");
     im->queue = clCreateCommandQueue(im->context, choice.device, 0, &err);
     CHECK(err, "clCreateCommandQueue");
-    dev->setup.context += limn_seconds() - t1;
+    dev->setup.context += clock_seconds() - t1;
     return opencl_build_program(dev);
 }
 
-limn_status device_open_opencl(limn_context *ctx, const char *spec, struct limn_device **out)
+limn_status device_open_opencl(limn_context *ctx, const char *spec, struct device **out)
 {
-    struct limn_device *dev = calloc(1, sizeof *dev);
+    struct device *dev = calloc(1, sizeof *dev);
     opencl_impl *im = calloc(1, sizeof *im);
     if (!dev || !im) {
         free(dev);
         free(im);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory opening OpenCL");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory opening OpenCL");
     }
     dev->ops = &opencl_ops;
     dev->ctx = ctx;

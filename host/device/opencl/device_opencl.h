@@ -53,26 +53,26 @@ typedef struct opencl_impl {
     do {                                                                                       \
         cl_int err_ = (call);                                                                  \
         if (err_ != CL_SUCCESS)                                                                \
-            return limn_fail(dev->ctx, LIMN_ERR_DEVICE, "%s failed: %s (%d)", what,            \
+            return ctx_fail(dev->ctx, LIMN_ERR_DEVICE, "%s failed: %s (%d)", what,            \
                              opencl_error_name(err_), err_);                                   \
     } while (0)
 
-static inline opencl_impl *impl_of(struct limn_device *dev) { return dev->impl; }
+static inline opencl_impl *impl_of(struct device *dev) { return dev->impl; }
 
 /* Builds the program (all kernels, one build: PoCL's warm-cache cost hardly
    depends on its size) and creates its kernels; times dev->setup.build. */
-limn_status opencl_build_program(struct limn_device *dev);
+limn_status opencl_build_program(struct device *dev);
 void opencl_release_program(opencl_impl *im);
 const char *opencl_kernel_name(opencl_kernel_id id);
 
 /* Work-items for `rows` rows: one per chunk, rounded up to work-groups. */
 size_t opencl_work_items(size_t rows);
 /* Binds rows and the CSR table to arguments 0-3. */
-limn_status opencl_set_csr_args(struct limn_device *dev, cl_kernel k, const device_csr *a,
+limn_status opencl_set_csr_args(struct device *dev, cl_kernel k, const device_csr *a,
                                 device_buffer *weights);
 /* Enqueues kernel `id` over `rows` rows from work-item first_item (arguments
    already set). */
-limn_status opencl_launch(struct limn_device *dev, opencl_kernel_id id, size_t first_item,
+limn_status opencl_launch(struct device *dev, opencl_kernel_id id, size_t first_item,
                           size_t rows);
 /* A row range's first work-item (device_csr.row_begin is a multiple of
    DEVICE_ROWS_PER_ITEM). */
@@ -81,31 +81,31 @@ static inline size_t opencl_first_item(const device_csr *a)
     return a->row_begin / DEVICE_ROWS_PER_ITEM;
 }
 /* Makes room for the partial norms of `rows` rows from work-item first_item. */
-limn_status opencl_ensure_partials(struct limn_device *dev, size_t first_item, size_t rows);
+limn_status opencl_ensure_partials(struct device *dev, size_t first_item, size_t rows);
 /* Reads those partial norms and finishes them in chunk order. */
-limn_status opencl_finish_partials(struct limn_device *dev, size_t first_item, size_t rows,
+limn_status opencl_finish_partials(struct device *dev, size_t first_item, size_t rows,
                                    device_norms *out);
 /* For a reducing kernel over table a: room for its partials, the table bound
    as arguments 0-3 (with `weights`); *k is the kernel for its own arguments. */
-limn_status opencl_begin_reduce(struct limn_device *dev, opencl_kernel_id id,
+limn_status opencl_begin_reduce(struct device *dev, opencl_kernel_id id,
                                 const device_csr *a, device_buffer *weights, cl_kernel *k);
 /* Launches it over a's rows and finishes its partial norms into out. */
-limn_status opencl_end_reduce(struct limn_device *dev, opencl_kernel_id id, const device_csr *a,
+limn_status opencl_end_reduce(struct device *dev, opencl_kernel_id id, const device_csr *a,
                               device_norms *out);
 
-limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_buffer *m,
+limn_status cl_residual_f(struct device *dev, const device_csr *a, device_buffer *m,
                           device_buffer *p, device_buffer *r_f, device_norms *norms);
-limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
+limn_status cl_step_f(struct device *dev, const device_csr *a, device_buffer *b,
                       device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
                       float c2, device_norms *norms);
-limn_status cl_add_f(struct limn_device *dev, size_t rows, device_buffer *p, device_buffer *d);
-limn_status cl_to_float(struct limn_device *dev, size_t count, device_buffer *w,
+limn_status cl_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d);
+limn_status cl_to_float(struct device *dev, size_t count, device_buffer *w,
                         device_buffer *w_f);
-limn_status cl_sgs_upper(struct limn_device *dev, const device_sgs *a, double beta,
+limn_status cl_sgs_upper(struct device *dev, const device_sgs *a, double beta,
                          const sgs_vectors *v);
-limn_status cl_sgs_lower(struct limn_device *dev, const device_sgs *a, int start,
+limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
                          const sgs_vectors *v, device_norms *out);
-limn_status cl_sgs_update(struct limn_device *dev, const device_sgs *a, double alpha,
+limn_status cl_sgs_update(struct device *dev, const device_sgs *a, double alpha,
                           const sgs_vectors *v, device_norms *norms);
 
 #endif

@@ -3,7 +3,7 @@
 #include "base/context.h"
 #include "device/opencl/device_opencl.h"
 
-limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_buffer *m,
+limn_status cl_residual_f(struct device *dev, const device_csr *a, device_buffer *m,
                           device_buffer *p, device_buffer *r_f, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
@@ -20,13 +20,13 @@ limn_status cl_residual_f(struct limn_device *dev, const device_csr *a, device_b
     return opencl_end_reduce(dev, K_RESIDUAL_F, a, norms);
 }
 
-limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
+limn_status cl_step_f(struct device *dev, const device_csr *a, device_buffer *b,
                       device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
                       float c2, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
     if (!a->weights_f)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "step_f: no float weights");
+        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "step_f: no float weights");
     cl_kernel k;
     limn_status st = opencl_begin_reduce(dev, K_STEP_F, a, a->weights_f, &k);
     if (st)
@@ -43,7 +43,7 @@ limn_status cl_step_f(struct limn_device *dev, const device_csr *a, device_buffe
     return opencl_end_reduce(dev, K_STEP_F, a, norms);
 }
 
-limn_status cl_add_f(struct limn_device *dev, size_t rows, device_buffer *p, device_buffer *d)
+limn_status cl_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d)
 {
     cl_kernel k = impl_of(dev)->kernels[K_ADD_F];
     cl_uint r = (cl_uint)rows;
@@ -53,7 +53,7 @@ limn_status cl_add_f(struct limn_device *dev, size_t rows, device_buffer *p, dev
     return opencl_launch(dev, K_ADD_F, 0, rows);
 }
 
-limn_status cl_to_float(struct limn_device *dev, size_t count, device_buffer *w,
+limn_status cl_to_float(struct device *dev, size_t count, device_buffer *w,
                         device_buffer *w_f)
 {
     cl_kernel k = impl_of(dev)->kernels[K_TO_FLOAT];

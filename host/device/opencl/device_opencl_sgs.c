@@ -6,7 +6,7 @@
 #include "base/context.h"
 #include "device/opencl/device_opencl.h"
 
-static limn_status set_table(struct limn_device *dev, cl_kernel k, cl_uint at,
+static limn_status set_table(struct device *dev, cl_kernel k, cl_uint at,
                              const device_sgs *a, int with_split)
 {
     CHECK(clSetKernelArg(k, at, sizeof(cl_mem), &a->row_offsets->mem), "clSetKernelArg(offsets)");
@@ -19,13 +19,13 @@ static limn_status set_table(struct limn_device *dev, cl_kernel k, cl_uint at,
     return LIMN_OK;
 }
 
-static limn_status set_mem(struct limn_device *dev, cl_kernel k, cl_uint at, device_buffer *b)
+static limn_status set_mem(struct device *dev, cl_kernel k, cl_uint at, device_buffer *b)
 {
     CHECK(clSetKernelArg(k, at, sizeof(cl_mem), &b->mem), "clSetKernelArg(vector)");
     return LIMN_OK;
 }
 
-static limn_status set_rows(struct limn_device *dev, cl_kernel k, size_t rows, size_t first)
+static limn_status set_rows(struct device *dev, cl_kernel k, size_t rows, size_t first)
 {
     cl_uint r = (cl_uint)rows, f = (cl_uint)first;
     CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
@@ -33,7 +33,7 @@ static limn_status set_rows(struct limn_device *dev, cl_kernel k, size_t rows, s
     return LIMN_OK;
 }
 
-limn_status cl_sgs_upper(struct limn_device *dev, const device_sgs *a, double beta,
+limn_status cl_sgs_upper(struct device *dev, const device_sgs *a, double beta,
                          const sgs_vectors *v)
 {
     cl_kernel k = impl_of(dev)->kernels[K_SGS_UPPER];
@@ -53,7 +53,7 @@ limn_status cl_sgs_upper(struct limn_device *dev, const device_sgs *a, double be
     return st;
 }
 
-limn_status cl_sgs_lower(struct limn_device *dev, const device_sgs *a, int start,
+limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
                          const sgs_vectors *v, device_norms *out)
 {
     opencl_impl *im = impl_of(dev);
@@ -103,7 +103,7 @@ limn_status cl_sgs_lower(struct limn_device *dev, const device_sgs *a, int start
     return LIMN_OK;
 }
 
-limn_status cl_sgs_update(struct limn_device *dev, const device_sgs *a, double alpha,
+limn_status cl_sgs_update(struct device *dev, const device_sgs *a, double alpha,
                           const sgs_vectors *v, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);

@@ -6,8 +6,8 @@
 
 #include "limn.h"
 
-struct limn_device;
+struct device;
 
-limn_status device_open_opencl(limn_context *ctx, const char *spec, struct limn_device **out);
+limn_status device_open_opencl(limn_context *ctx, const char *spec, struct device **out);
 
 #endif

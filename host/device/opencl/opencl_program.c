@@ -15,16 +15,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-extern const unsigned char limn_kernel_stencil[];
-extern const size_t limn_kernel_stencil_size;
-extern const unsigned char limn_kernel_series[];
-extern const size_t limn_kernel_series_size;
-extern const unsigned char limn_kernel_solve[];
-extern const size_t limn_kernel_solve_size;
-extern const unsigned char limn_kernel_mixed[];
-extern const size_t limn_kernel_mixed_size;
-extern const unsigned char limn_kernel_sgs[];
-extern const size_t limn_kernel_sgs_size;
+extern const unsigned char kernel_source_stencil[];
+extern const size_t kernel_source_stencil_size;
+extern const unsigned char kernel_source_series[];
+extern const size_t kernel_source_series_size;
+extern const unsigned char kernel_source_solve[];
+extern const size_t kernel_source_solve_size;
+extern const unsigned char kernel_source_mixed[];
+extern const size_t kernel_source_mixed_size;
+extern const unsigned char kernel_source_sgs[];
+extern const size_t kernel_source_sgs_size;
 
 static const char *const kernel_names[K_COUNT] = {
     [K_SPMV] = "spmv",
@@ -74,15 +74,15 @@ static char *build_log(cl_program program, cl_device_id device)
    names the failing call and carries the device's whole build log, and
    *prefetch_suspect says whether prefetching may be the cause (the kernels
    built but one cannot be created, or the log names it). */
-static limn_status build_with(struct limn_device *dev, const char *options, int *prefetch_suspect)
+static limn_status build_with(struct device *dev, const char *options, int *prefetch_suspect)
 {
     *prefetch_suspect = 0;
     opencl_impl *im = impl_of(dev);
-    const char *src[5] = {(const char *)limn_kernel_stencil, (const char *)limn_kernel_series,
-                          (const char *)limn_kernel_solve, (const char *)limn_kernel_mixed,
-                          (const char *)limn_kernel_sgs};
-    size_t len[5] = {limn_kernel_stencil_size, limn_kernel_series_size, limn_kernel_solve_size,
-                     limn_kernel_mixed_size, limn_kernel_sgs_size};
+    const char *src[5] = {(const char *)kernel_source_stencil, (const char *)kernel_source_series,
+                          (const char *)kernel_source_solve, (const char *)kernel_source_mixed,
+                          (const char *)kernel_source_sgs};
+    size_t len[5] = {kernel_source_stencil_size, kernel_source_series_size, kernel_source_solve_size,
+                     kernel_source_mixed_size, kernel_source_sgs_size};
     cl_int err;
     im->program = clCreateProgramWithSource(im->context, 5, src, len, &err);
     CHECK(err, "clCreateProgramWithSource");
@@ -92,7 +92,7 @@ static limn_status build_with(struct limn_device *dev, const char *options, int 
         *prefetch_suspect = log && strstr(log, "prefetch") != NULL;
         char cache[1400] = "";
         int cache_bad = opencl_pocl_cache_problem(cache, sizeof cache);
-        limn_status st = limn_fail(
+        limn_status st = ctx_fail(
             dev->ctx, LIMN_ERR_DEVICE,
             "building the OpenCL kernels for %s (clBuildProgram) failed: %s: the device's OpenCL "
             "compiler rejected them; choose another device with --device (see 'limn devices') "
@@ -111,17 +111,17 @@ static limn_status build_with(struct limn_device *dev, const char *options, int 
             err = CL_INVALID_KERNEL_NAME;
         *prefetch_suspect = err != CL_SUCCESS;
         if (err != CL_SUCCESS)
-            return limn_fail(dev->ctx, LIMN_ERR_DEVICE,
+            return ctx_fail(dev->ctx, LIMN_ERR_DEVICE,
                              "clCreateKernel(%s) failed on %s: %s (%d); build options: %s",
                              kernel_names[k], dev->name, opencl_error_name(err), err, options);
     }
     return LIMN_OK;
 }
 
-limn_status opencl_build_program(struct limn_device *dev)
+limn_status opencl_build_program(struct device *dev)
 {
     opencl_impl *im = impl_of(dev);
-    double t0 = limn_seconds();
+    double t0 = clock_seconds();
     /* gathers prefetched ahead on CPU devices whose compiler targets the
        machine (kernels/stencil.cl: not SPIR, e.g. Oclgrind) */
     cl_device_type type = 0;
@@ -149,10 +149,10 @@ limn_status opencl_build_program(struct limn_device *dev)
                  extra && *extra ? " " : "", extra ? extra : "");
         st = build_with(dev, options, &suspect);
         if (!st)
-            limn_warn(dev->ctx, "%s: built without prefetching the gathers (with it: %.600s)",
+            ctx_warn(dev->ctx, "%s: built without prefetching the gathers (with it: %.600s)",
                       dev->name, first);
     }
-    dev->setup.build += limn_seconds() - t0;
+    dev->setup.build += clock_seconds() - t0;
     return st;
 }
 

@@ -26,14 +26,14 @@ static limn_status platforms(limn_context *ctx, cl_platform_id *ids, cl_uint *co
     cl_int err = device_test_fault("no-platform") ? -1001
                                                   : clGetPlatformIDs(MAX_PLATFORMS, ids, count);
     if (err == -1001 || (err == CL_SUCCESS && *count == 0))
-        return limn_fail(ctx, LIMN_ERR_DEVICE,
+        return ctx_fail(ctx, LIMN_ERR_DEVICE,
                          "no OpenCL platform found (clGetPlatformIDs: %s): install an OpenCL "
                          "driver, e.g. 'apt-get install pocl-opencl-icd' (the ICD loader finds "
                          "drivers through /etc/OpenCL/vendors or OCL_ICD_VENDORS), or run with "
                          "--device reference, or allow --fallback reference",
                          err == -1001 ? opencl_error_name(err) : "no platforms");
     if (err != CL_SUCCESS)
-        return limn_fail(ctx, LIMN_ERR_DEVICE, "clGetPlatformIDs failed: %s",
+        return ctx_fail(ctx, LIMN_ERR_DEVICE, "clGetPlatformIDs failed: %s",
                          opencl_error_name(err));
     if (*count > MAX_PLATFORMS)
         *count = MAX_PLATFORMS;
@@ -62,7 +62,7 @@ static limn_status all_devices(limn_context *ctx, opencl_device_props *devs, siz
         if (err == CL_DEVICE_NOT_FOUND || device_test_fault("no-device"))
             continue;
         if (err != CL_SUCCESS)
-            return limn_fail(ctx, LIMN_ERR_DEVICE, "clGetDeviceIDs on platform %u (%s) failed: %s",
+            return ctx_fail(ctx, LIMN_ERR_DEVICE, "clGetDeviceIDs on platform %u (%s) failed: %s",
                              p, pname, opencl_error_name(err));
         for (cl_uint d = 0; d < nd && d < MAX_DEVICES && *count < MAX_DEVICES; d++)
             opencl_read_props(plats[p], ids[d], p, d, pname, &devs[(*count)++]);
@@ -120,11 +120,11 @@ static limn_status no_device(limn_context *ctx, cl_uint np)
     char cache[1400] = "";
     int cache_bad = opencl_pocl_cache_problem(cache, sizeof cache);
     if (cache_bad)
-        return limn_fail(ctx, LIMN_ERR_DEVICE,
+        return ctx_fail(ctx, LIMN_ERR_DEVICE,
                          "no OpenCL device found (%u platform%s, no device); likely cause: %s "
                          "(or use --device reference, or allow --fallback reference)",
                          np, np == 1 ? "" : "s", cache);
-    return limn_fail(ctx, LIMN_ERR_DEVICE,
+    return ctx_fail(ctx, LIMN_ERR_DEVICE,
                      "no OpenCL device found (%u platform%s, no device): check the driver "
                      "with 'limn devices' or clinfo, or use --device reference, or allow "
                      "--fallback reference",
@@ -167,7 +167,7 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
         }
         type = parse_type(env_type, &type_ok);
         if (!type_ok)
-            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                              "LIMN_DEVICE_TYPE='%s' is not one of cpu, gpu, accelerator, all",
                              env_type);
         if (env_type && *env_type && strcmp(source, "the first device") == 0) {
@@ -181,7 +181,7 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
     if (!devs || !usable) {
         free(devs);
         free(usable);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of host memory");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of host memory");
     }
     size_t *bad = usable + MAX_DEVICES;
     cl_uint np = 0;
@@ -199,7 +199,7 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
             char name[300], why[160];
             describe(&devs[bad[i]], name, sizeof name);
             opencl_unusable(&devs[bad[i]], why, sizeof why);
-            limn_warn(ctx, "skipping OpenCL device %s: limn cannot use it: %s", name, why);
+            ctx_warn(ctx, "skipping OpenCL device %s: limn cannot use it: %s", name, why);
         }
         out->platform = d->platform_id;
         out->device = d->id;
@@ -208,12 +208,12 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
         char list[1500];
         reasons(devs, bad, n_bad, list, sizeof list);
         if (explicit_choice)
-            st = limn_fail(ctx, LIMN_ERR_DEVICE,
+            st = ctx_fail(ctx, LIMN_ERR_DEVICE,
                            "the OpenCL device chosen by %s='%s' cannot run limn: %s; choose "
                            "another (see 'limn devices') or use --device reference",
                            source, value, list);
         else
-            st = limn_fail(ctx, LIMN_ERR_DEVICE,
+            st = ctx_fail(ctx, LIMN_ERR_DEVICE,
                            "no OpenCL device can run limn: %s; install a driver whose device "
                            "has double precision (e.g. pocl-opencl-icd), or use --device "
                            "reference, or allow --fallback reference",
@@ -221,7 +221,7 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
     } else if (!st && n == 0 && !*value) {
         st = no_device(ctx, np);
     } else if (!st) {
-        st = limn_fail(ctx, LIMN_ERR_DEVICE,
+        st = ctx_fail(ctx, LIMN_ERR_DEVICE,
                        "no OpenCL device matches %s%s%s%s: run 'limn devices' to list them, or "
                        "use --device reference",
                        source, *value ? "='" : "", value, *value ? "'" : "");
@@ -235,15 +235,15 @@ limn_status limn_list_devices(limn_context *ctx, char *buf, size_t size)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!buf || size == 0)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_list_devices: %s",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_list_devices: %s",
                          !buf ? "buf is NULL"
                               : "buf_size is 0: the buffer cannot hold even the terminating NUL");
     buf[0] = '\0';
     opencl_device_props *devs = malloc(MAX_DEVICES * sizeof *devs);
     if (!devs)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of host memory");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of host memory");
     size_t n = 0, used = 0;
     cl_uint np = 0;
     limn_status st = all_devices(ctx, devs, &n, &np);
@@ -260,7 +260,7 @@ limn_status limn_list_devices(limn_context *ctx, char *buf, size_t size)
                          (double)d->alloc / (1 << 30), d->fp64 ? "yes" : "NO", d->max_work_group,
                          bad ? "NO, " : "usable", bad ? why : "");
         if (w < 0 || (size_t)w >= size - used)
-            st = limn_fail(ctx, LIMN_ERR_ARGUMENT,
+            st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                            "limn_list_devices: the buffer of %zu bytes is too small for "
                            "the device list",
                            size);
@@ -270,7 +270,7 @@ limn_status limn_list_devices(limn_context *ctx, char *buf, size_t size)
     if (!st && n == 0) {
         char cache[1400];
         if (opencl_pocl_cache_problem(cache, sizeof cache))
-            limn_warn(ctx, "no OpenCL device found (%u platform%s); likely cause: %s", np,
+            ctx_warn(ctx, "no OpenCL device found (%u platform%s); likely cause: %s", np,
                       np == 1 ? "" : "s", cache);
     }
     free(devs);

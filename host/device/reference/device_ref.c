@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static limn_status ref_buffer_create(struct limn_device *dev, size_t bytes, const void *init,
+static limn_status ref_buffer_create(struct device *dev, size_t bytes, const void *init,
                                      device_buffer **out)
 {
     device_buffer *b = calloc(1, sizeof *b);
@@ -20,7 +20,7 @@ static limn_status ref_buffer_create(struct limn_device *dev, size_t bytes, cons
     if (!b || !data) {
         free(b);
         free(data);
-        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for a %zu-byte buffer",
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for a %zu-byte buffer",
                          bytes);
     }
     if (init)
@@ -33,43 +33,43 @@ static limn_status ref_buffer_create(struct limn_device *dev, size_t bytes, cons
     return LIMN_OK;
 }
 
-static limn_status ref_buffer_write(struct limn_device *dev, device_buffer *buf, size_t bytes,
+static limn_status ref_buffer_write(struct device *dev, device_buffer *buf, size_t bytes,
                                     const void *src)
 {
     if (bytes > buf->bytes)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
     memcpy(buf->data, src, bytes);
     return LIMN_OK;
 }
 
-static limn_status ref_buffer_read(struct limn_device *dev, device_buffer *buf, size_t bytes,
+static limn_status ref_buffer_read(struct device *dev, device_buffer *buf, size_t bytes,
                                    void *dst)
 {
     if (bytes > buf->bytes)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
     memcpy(dst, buf->data, bytes);
     return LIMN_OK;
 }
 
-static limn_status ref_buffer_write_at(struct limn_device *dev, device_buffer *buf,
+static limn_status ref_buffer_write_at(struct device *dev, device_buffer *buf,
                                        size_t offset, size_t bytes, const void *src)
 {
     if (offset > buf->bytes || bytes > buf->bytes - offset)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
+        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
     memcpy((char *)buf->data + offset, src, bytes);
     return LIMN_OK;
 }
 
-static limn_status ref_buffer_read_at(struct limn_device *dev, device_buffer *buf, size_t offset,
+static limn_status ref_buffer_read_at(struct device *dev, device_buffer *buf, size_t offset,
                                       size_t bytes, void *dst)
 {
     if (offset > buf->bytes || bytes > buf->bytes - offset)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
+        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
     memcpy(dst, (const char *)buf->data + offset, bytes);
     return LIMN_OK;
 }
 
-static void ref_buffer_release(struct limn_device *dev, device_buffer *buf)
+static void ref_buffer_release(struct device *dev, device_buffer *buf)
 {
     (void)dev;
     if (buf) {
@@ -95,7 +95,7 @@ static inline void row_product(const device_csr *a, size_t i, const double *x, d
     }
 }
 
-static limn_status ref_spmv(struct limn_device *dev, const device_csr *a, device_buffer *x,
+static limn_status ref_spmv(struct device *dev, const device_csr *a, device_buffer *x,
                             device_buffer *y)
 {
     (void)dev;
@@ -113,14 +113,14 @@ static limn_status ref_spmv(struct limn_device *dev, const device_csr *a, device
  * otherwise:    next = p + c1 (p - prev) + c2 r (cheb_step; next may be prev).
  * Partial norms of r per chunk, finished in chunk order.
  */
-static limn_status ref_fused_step(struct limn_device *dev, const device_csr *a,
+static limn_status ref_fused_step(struct device *dev, const device_csr *a,
                                   const double *ms, const double *ps, const double *prev,
                                   double *next, double c1, double c2, device_norms *norms)
 {
     size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
     double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
     if (!partials)
-        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
     for (size_t g = 0; g < chunks; g++) {
         size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
         if (end > a->row_begin + a->rows)
@@ -151,14 +151,14 @@ static limn_status ref_fused_step(struct limn_device *dev, const device_csr *a,
     return LIMN_OK;
 }
 
-static limn_status ref_interp_step(struct limn_device *dev, const device_csr *a,
+static limn_status ref_interp_step(struct device *dev, const device_csr *a,
                                    device_buffer *m, device_buffer *p, device_buffer *p_next,
                                    double omega, device_norms *norms)
 {
     return ref_fused_step(dev, a, m->data, p->data, NULL, p_next->data, 0.0, omega, norms);
 }
 
-static limn_status ref_cheb_step(struct limn_device *dev, const device_csr *a, device_buffer *m,
+static limn_status ref_cheb_step(struct device *dev, const device_csr *a, device_buffer *m,
                                  device_buffer *p, device_buffer *prev_next, double c1,
                                  double c2, device_norms *norms)
 {
@@ -167,7 +167,7 @@ static limn_status ref_cheb_step(struct limn_device *dev, const device_csr *a, d
 }
 
 /* Same order as kernels/series.cl: series_step. */
-static limn_status ref_series_step(struct limn_device *dev, const device_csr *a,
+static limn_status ref_series_step(struct device *dev, const device_csr *a,
                                    device_buffer *x, device_buffer *x_next, device_buffer *ax,
                                    device_buffer *acc, int flags, int acc_mode,
                                    device_norms *norms)
@@ -178,7 +178,7 @@ static limn_status ref_series_step(struct limn_device *dev, const device_csr *a,
     size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
     double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
     if (!partials)
-        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
     for (size_t g = 0; g < chunks; g++) {
         size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
         if (end > a->row_begin + a->rows)
@@ -218,7 +218,7 @@ static limn_status ref_series_step(struct limn_device *dev, const device_csr *a,
     return LIMN_OK;
 }
 
-static limn_status ref_axpby(struct limn_device *dev, size_t rows, double a, device_buffer *x,
+static limn_status ref_axpby(struct device *dev, size_t rows, double a, device_buffer *x,
                              double b, device_buffer *y, device_buffer *out)
 {
     (void)dev;
@@ -229,14 +229,14 @@ static limn_status ref_axpby(struct limn_device *dev, size_t rows, double a, dev
     return LIMN_OK;
 }
 
-static limn_status ref_norms(struct limn_device *dev, size_t rows, device_buffer *x,
+static limn_status ref_norms(struct device *dev, size_t rows, device_buffer *x,
                              device_norms *out)
 {
     const double *xs = x->data;
     size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
     double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
     if (!partials)
-        return limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
     for (size_t g = 0; g < chunks; g++) {
         size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
         if (end > rows)
@@ -259,7 +259,7 @@ static limn_status ref_norms(struct limn_device *dev, size_t rows, device_buffer
     return LIMN_OK;
 }
 
-static limn_status ref_spmv_dot(struct limn_device *dev, const device_csr *a, device_buffer *x,
+static limn_status ref_spmv_dot(struct device *dev, const device_csr *a, device_buffer *x,
                                 device_buffer *y, device_buffer *dinv, double *dot)
 {
     const double *xs = x->data, *dv = dinv->data;
@@ -285,7 +285,7 @@ static limn_status ref_spmv_dot(struct limn_device *dev, const device_csr *a, de
     return LIMN_OK;
 }
 
-static limn_status ref_pcg_update(struct limn_device *dev, size_t rows, double alpha,
+static limn_status ref_pcg_update(struct device *dev, size_t rows, double alpha,
                                   device_buffer *p, device_buffer *q, device_buffer *x,
                                   device_buffer *z, device_buffer *dinv, device_norms *norms)
 {
@@ -319,7 +319,7 @@ static limn_status ref_pcg_update(struct limn_device *dev, size_t rows, double a
     return LIMN_OK;
 }
 
-static void ref_close(struct limn_device *dev)
+static void ref_close(struct device *dev)
 {
     free(dev);
 }
@@ -350,11 +350,11 @@ static const device_ops reference_ops = {
     .close = ref_close,
 };
 
-limn_status device_open_reference(limn_context *ctx, struct limn_device **out)
+limn_status device_open_reference(limn_context *ctx, struct device **out)
 {
-    struct limn_device *dev = calloc(1, sizeof *dev);
+    struct device *dev = calloc(1, sizeof *dev);
     if (!dev)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory opening the reference backend");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory opening the reference backend");
     dev->ops = &reference_ops;
     dev->ctx = ctx;
     strcpy(dev->name, "reference (plain C, 1 thread)");

@@ -17,12 +17,12 @@ typedef struct chunk_norms {
     size_t chunks;
 } chunk_norms;
 
-static limn_status chunks_begin(struct limn_device *dev, size_t rows, chunk_norms *c)
+static limn_status chunks_begin(struct device *dev, size_t rows, chunk_norms *c)
 {
     c->chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
     c->partials = malloc((c->chunks ? c->chunks : 1) * 3 * sizeof *c->partials);
     return c->partials ? LIMN_OK
-                       : limn_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
+                       : ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
 }
 
 static void chunks_end(chunk_norms *c, device_norms *out)
@@ -40,7 +40,7 @@ static inline void accumulate_norms(double v0, double v1, double v2, double n[3]
     n[2] += s;
 }
 
-limn_status ref_residual_f(struct limn_device *dev, const device_csr *a, device_buffer *m,
+limn_status ref_residual_f(struct device *dev, const device_csr *a, device_buffer *m,
                            device_buffer *p, device_buffer *r_f, device_norms *norms)
 {
     const uint32_t *ro = a->row_offsets->data, *col = a->columns->data;
@@ -74,12 +74,12 @@ limn_status ref_residual_f(struct limn_device *dev, const device_csr *a, device_
     return LIMN_OK;
 }
 
-limn_status ref_step_f(struct limn_device *dev, const device_csr *a, device_buffer *b,
+limn_status ref_step_f(struct device *dev, const device_csr *a, device_buffer *b,
                        device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
                        float c2, device_norms *norms)
 {
     if (!a->weights_f)
-        return limn_fail(dev->ctx, LIMN_ERR_ARGUMENT, "step_f: no float weights");
+        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "step_f: no float weights");
     const uint32_t *ro = a->row_offsets->data, *col = a->columns->data;
     const float *w = a->weights_f->data, *bs = b->data, *ds = d->data;
     const float *qs = prev->data;
@@ -112,7 +112,7 @@ limn_status ref_step_f(struct limn_device *dev, const device_csr *a, device_buff
     return LIMN_OK;
 }
 
-limn_status ref_add_f(struct limn_device *dev, size_t rows, device_buffer *p, device_buffer *d)
+limn_status ref_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d)
 {
     (void)dev;
     double *ps = p->data;
@@ -125,7 +125,7 @@ limn_status ref_add_f(struct limn_device *dev, size_t rows, device_buffer *p, de
     return LIMN_OK;
 }
 
-limn_status ref_to_float(struct limn_device *dev, size_t count, device_buffer *w,
+limn_status ref_to_float(struct device *dev, size_t count, device_buffer *w,
                          device_buffer *w_f)
 {
     (void)dev;

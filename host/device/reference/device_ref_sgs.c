@@ -42,7 +42,7 @@ static size_t chunks_of(size_t rows)
     return (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
 }
 
-limn_status ref_sgs_upper(struct limn_device *dev, const device_sgs *a, double beta,
+limn_status ref_sgs_upper(struct device *dev, const device_sgs *a, double beta,
                           const sgs_vectors *v)
 {
     sgs_view s = view_of(a);
@@ -119,7 +119,7 @@ static double step_row(const sgs_view *s, size_t i, const sgs_vectors *v)
     return dot3(p, q);
 }
 
-limn_status ref_sgs_lower(struct limn_device *dev, const device_sgs *a, int start,
+limn_status ref_sgs_lower(struct device *dev, const device_sgs *a, int start,
                           const sgs_vectors *v, device_norms *out)
 {
     sgs_view s = view_of(a);
@@ -150,7 +150,7 @@ limn_status ref_sgs_lower(struct limn_device *dev, const device_sgs *a, int star
     return LIMN_OK;
 }
 
-limn_status ref_sgs_update(struct limn_device *dev, const device_sgs *a, double alpha,
+limn_status ref_sgs_update(struct device *dev, const device_sgs *a, double alpha,
                            const sgs_vectors *v, device_norms *norms)
 {
     sgs_view s = view_of(a);

@@ -5,8 +5,8 @@
 
 #include "limn.h"
 
-struct limn_device;
+struct device;
 
-limn_status device_open_reference(limn_context *ctx, struct limn_device **out);
+limn_status device_open_reference(limn_context *ctx, struct device **out);
 
 #endif

@@ -67,12 +67,12 @@ static limn_status format_from_path(limn_context *ctx, const char *path, limn_fo
             *out = LIMN_FORMAT_STL;
             return LIMN_OK;
         }
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "%s: unknown mesh file extension '%.20s' (accepted: .obj, .ply, .off, "
                          ".stl)",
                          path, dot);
     }
-    return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+    return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                      "%s: no file extension to tell the mesh format (accepted: .obj, .ply, .off, "
                      ".stl)",
                      path);
@@ -82,7 +82,7 @@ static limn_status format_from_path(limn_context *ctx, const char *path, limn_fo
    read only when its format is named. */
 static limn_status not_regular(limn_context *ctx, const char *path, mode_t mode)
 {
-    return limn_fail(ctx, LIMN_ERR_IO,
+    return ctx_fail(ctx, LIMN_ERR_IO,
                      "%s: not a regular file (a %s: its size is unknown): name its format "
                      "(--input-format) to read it as a stream", path,
                      S_ISFIFO(mode)   ? "pipe"
@@ -97,11 +97,11 @@ static limn_status read_open(limn_context *ctx, const char *path, limn_format fo
 {
     struct stat sb;
     if (fstat(fileno(f), &sb) != 0)
-        return limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: %s", path, strerror(errno));
+        return ctx_fail(ctx, LIMN_ERR_IO, "cannot read %s: %s", path, strerror(errno));
     if (S_ISDIR(sb.st_mode))
-        return limn_fail(ctx, LIMN_ERR_IO, "cannot read %s: it is a directory", path);
+        return ctx_fail(ctx, LIMN_ERR_IO, "cannot read %s: it is a directory", path);
     if (S_ISREG(sb.st_mode) && sb.st_size == 0)
-        return limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file is empty", path);
+        return ctx_fail(ctx, LIMN_ERR_FORMAT, "%s: the file is empty", path);
     if (!S_ISREG(sb.st_mode) && !format_given)
         return not_regular(ctx, path, sb.st_mode);
     if (format == LIMN_FORMAT_OBJ)
@@ -121,7 +121,7 @@ static limn_status read_checked(limn_context *ctx, const char *path, limn_format
     if (st == LIMN_OK && (*out)->vertex_count == 0) {
         limn_mesh_destroy(*out);
         *out = NULL;
-        st = limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
+        st = ctx_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
     }
     if (st != LIMN_OK && *out) {
         limn_mesh_destroy(*out);
@@ -141,11 +141,11 @@ static limn_status mesh_read(limn_context *ctx, const char *path, limn_format fo
     if (!given && (st = format_from_path(ctx, path, &format)))
         return st;
     if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: unknown format %d",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: unknown format %d",
                          (int)format);
     FILE *f = fopen(path, "rb");
     if (!f)
-        return limn_fail(ctx, LIMN_ERR_IO, "cannot open %s: %s", path, strerror(errno));
+        return ctx_fail(ctx, LIMN_ERR_IO, "cannot open %s: %s", path, strerror(errno));
     st = read_checked(ctx, path, format, given, f, out);
     fclose(f);
     return st;
@@ -154,15 +154,15 @@ static limn_status mesh_read(limn_context *ctx, const char *path, limn_format fo
 limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format format,
                            limn_mesh **out)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: out is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: out is NULL");
     *out = NULL;
     if (!path || !*path)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: no file name");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read: no file name");
     c_locale_scope loc;
     if (!c_locale_enter(&loc))
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for the C locale", path);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for the C locale", path);
     limn_status st = mesh_read(ctx, path, format, out);
     c_locale_leave(&loc);
     return st;
@@ -171,26 +171,26 @@ limn_status limn_mesh_read(limn_context *ctx, const char *path, limn_format form
 limn_status limn_mesh_read_stream(limn_context *ctx, FILE *stream, const char *name,
                                   limn_format format, limn_mesh **out)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read_stream: out is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read_stream: out is NULL");
     *out = NULL;
     if (!name || !*name)
         name = "(stream)";
     if (!stream)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read_stream: %s: stream is NULL",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read_stream: %s: stream is NULL",
                          name);
     if (format == LIMN_FORMAT_AUTO)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "%s: a stream has no file extension to tell the mesh format: name "
                          "the format (obj, ply, off, stl)",
                          name);
     if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read_stream: unknown format %d",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_read_stream: unknown format %d",
                          (int)format);
     c_locale_scope loc;
     if (!c_locale_enter(&loc))
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for the C locale", name);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for the C locale", name);
     limn_status st = read_checked(ctx, name, format, 1, stream, out);
     c_locale_leave(&loc);
     return st;
@@ -203,13 +203,13 @@ limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const ch
 {
     memset(af, 0, sizeof *af);
     if (!mesh || !path || !*path)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: %s is NULL or empty",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: %s is NULL or empty",
                          !mesh ? "mesh" : "path");
     limn_status st;
     if (format == LIMN_FORMAT_AUTO && (st = format_from_path(ctx, path, &format)))
         return st;
     if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: unknown format %d",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: unknown format %d",
                          (int)format);
     st = check_mesh_writable(ctx, mesh, format); /* before any file exists */
     if (st)
@@ -219,7 +219,7 @@ limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const ch
         return st;
     c_locale_scope loc; /* "%.17g" with a '.', whatever the host's locale */
     if (!c_locale_enter(&loc))
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for the C locale", path);
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for the C locale", path);
     else if (format == LIMN_FORMAT_OBJ)
         st = obj_write(ctx, mesh, path, af->f);
     else if (format == LIMN_FORMAT_OFF)
@@ -239,7 +239,7 @@ limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const ch
 limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh, const char *path,
                             limn_format format)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     atomic_file af;
     limn_status st = mesh_write_staged(ctx, mesh, path, format, &af);
     return st ? st : atomic_file_commit(ctx, &af);

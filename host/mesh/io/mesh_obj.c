@@ -44,20 +44,20 @@ static limn_status obj_vertex(obj_state *o, char *s)
     for (int k = 0; k < 3; k++) {
         s = mio_skip_space(s);
         if (!*s)
-            return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+            return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                              "%s:%lu: vertex %zu has %d coordinates (3 needed)", r->path,
                              r->line, o->vertices + 1, k);
         int rc = mio_parse_double(&s, &c[k]);
         if (rc != 1)
-            return limn_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: vertex %zu: coordinate %s is %s",
+            return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: vertex %zu: coordinate %s is %s",
                              r->path, r->line, o->vertices + 1, mio_token(s, tok),
                              rc == 2 ? "not finite" : "not a number");
     }
     if (o->vertices >= UINT32_MAX - 1)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many vertices (limit %u)",
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many vertices (limit %u)",
                          r->path, r->line, (unsigned)(UINT32_MAX - 1));
     if (!growbuf_push_3d(&o->pos, c[0], c[1], c[2]))
-        return limn_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory for %zu vertices",
+        return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory for %zu vertices",
                          r->path, r->line, o->vertices + 1);
     o->vertices++;
     return LIMN_OK;
@@ -89,13 +89,13 @@ static limn_status obj_face(obj_state *o, char *s)
         char *start = s;
         long long v;
         if (!mio_parse_ll(&s, &v, '/') || !obj_skip_refs(&s))
-            return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+            return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                              "%s:%lu: face: %s is not a vertex reference (a, a/b, a//c or a/b/c)",
                              r->path, r->line, mio_token(start, tok));
         uint32_t index;
         if (v > 0) {
             if (v >= (long long)UINT32_MAX)
-                return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+                return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                                  "%s:%lu: face references vertex %lld but only %zu vertices "
                                  "are defined", r->path, r->line, v, o->vertices);
             if ((unsigned long long)v > o->vertices && v > o->max_ref) {
@@ -105,30 +105,30 @@ static limn_status obj_face(obj_state *o, char *s)
             index = (uint32_t)(v - 1);
         } else if (v < 0) {
             if ((unsigned long long)(-(v + 1)) >= o->vertices)
-                return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+                return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                                  "%s:%lu: face references vertex %lld but only %zu vertices "
                                  "are defined before it", r->path, r->line, v, o->vertices);
             index = (uint32_t)((long long)o->vertices + v);
         } else {
-            return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+            return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                              "%s:%lu: face references vertex 0 (OBJ indices start at 1)",
                              r->path, r->line);
         }
         if (o->indices.len / sizeof(uint32_t) >= UINT32_MAX)
-            return limn_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many face indices",
+            return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many face indices",
                              r->path, r->line);
         if (!growbuf_push_u32(&o->indices, index))
-            return limn_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory for faces",
+            return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory for faces",
                              r->path, r->line);
         n++;
     }
     if (n < 3)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                          "%s:%lu: face has %zu vertices (at least 3 needed)", r->path, r->line, n);
     if (o->offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many faces", r->path, r->line);
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many faces", r->path, r->line);
     if (!growbuf_push_u32(&o->offsets, (uint32_t)(o->indices.len / sizeof(uint32_t))))
-        return limn_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory for faces", r->path,
+        return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory for faces", r->path,
                          r->line);
     return LIMN_OK;
 }
@@ -146,7 +146,7 @@ limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     limn_status st = LIMN_OK;
     size_t unknown = 0;
     if (!growbuf_push_u32(&o.offsets, 0)) {
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
         goto done;
     }
     size_t len;
@@ -163,7 +163,7 @@ limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
                 n++;
             if (!obj_is_skipped(s, n) && unknown++ == 0) {
                 char tok[64];
-                limn_warn(ctx, "%s:%lu: unknown OBJ record %s ignored", path, r->line,
+                ctx_warn(ctx, "%s:%lu: unknown OBJ record %s ignored", path, r->line,
                           mio_token(s, tok));
             }
         }
@@ -175,19 +175,19 @@ limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         goto done;
     }
     if (unknown > 1)
-        limn_warn(ctx, "%s: %zu unknown OBJ records ignored in all", path, unknown);
+        ctx_warn(ctx, "%s: %zu unknown OBJ records ignored in all", path, unknown);
     if (r->unterminated)
-        limn_warn(ctx, "%s:%lu: the last line does not end with a new line: the file may be "
+        ctx_warn(ctx, "%s:%lu: the last line does not end with a new line: the file may be "
                        "truncated (OBJ has no counts to check)",
                   path, r->line);
     if (o.max_ref > 0 && (unsigned long long)o.max_ref > o.vertices) {
-        st = limn_fail(ctx, LIMN_ERR_FORMAT,
+        st = ctx_fail(ctx, LIMN_ERR_FORMAT,
                        "%s:%lu: face references vertex %lld but only %zu vertices are defined",
                        path, o.max_ref_line, o.max_ref, o.vertices);
         goto done;
     }
     if (o.vertices == 0) {
-        st = limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
+        st = ctx_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
         goto done;
     }
     growbuf nocolors = {0};

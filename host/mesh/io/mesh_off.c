@@ -99,51 +99,51 @@ static limn_status off_header(off_state *o)
     char *s = off_line(r);
     if (!s)
         return r->error ? mio_read_failed(r)
-                        : limn_fail(r->ctx, LIMN_ERR_FORMAT, "%s: no OFF header", r->path);
+                        : ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s: no OFF header", r->path);
     size_t n = 0;
     while (s[n] && !mio_space(s[n]))
         n++;
     const char *bad = off_header_word(o, s, n);
     if (bad)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: %s (found %s)", r->path, r->line, bad,
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: %s (found %s)", r->path, r->line, bad,
                          mio_token(s, tok));
     s = mio_skip_space(s + n);
     if (strncmp(s, "BINARY", 6) == 0)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: binary OFF files are not supported",
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: binary OFF files are not supported",
                          r->path, r->line);
     long long dim = 3, ne = 0;
     if (o->ndim) {
         char *d = s = off_more(r, s);
         if (!s || !mio_parse_ll(&s, &dim, 0))
             return r->error ? mio_read_failed(r)
-                            : limn_fail(r->ctx, LIMN_ERR_FORMAT,
+                            : ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                                         "%s:%lu: nOFF: expected the dimension, found %s",
                                         r->path, r->line, d ? mio_token(d, tok) : "the end");
         if (dim != 3)
-            return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+            return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                              "%s:%lu: nOFF of dimension %lld: only 3-D vertices are supported",
                              r->path, r->line, dim);
     }
     if (!(s = off_more(r, s)))
         return r->error ? mio_read_failed(r)
-                        : limn_fail(r->ctx, LIMN_ERR_FORMAT,
+                        : ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                                     "%s:%lu: the file ends before the vertex and face counts",
                                     r->path, r->line);
     char *c1 = s;
     if (!mio_parse_ll(&s, &o->nv, 0) || (s = mio_skip_space(s), !mio_parse_ll(&s, &o->nf, 0)) ||
         (s = mio_skip_space(s), *s && !mio_parse_ll(&s, &ne, 0)))
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                          "%s:%lu: expected the counts 'vertices faces [edges]', found %s",
                          r->path, r->line, mio_token(c1, tok));
     if (o->nv < 0 || o->nf < 0 || o->nv >= (long long)UINT32_MAX ||
         o->nf >= (long long)UINT32_MAX - 1)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                          "%s:%lu: invalid counts: %lld vertices, %lld faces", r->path, r->line,
                          o->nv, o->nf);
     /* every vertex line takes >= 6 bytes ("0 0 0\n"), every face >= 8 */
     uint64_t need = (uint64_t)o->nv * 6 + (uint64_t)o->nf * 8, left = mio_remaining(r);
     if (need > left)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                          "%s:%lu: the header declares %lld vertices and %lld faces (at least "
                          "%llu bytes) but only %llu bytes follow", r->path, r->line, o->nv,
                          o->nf, (unsigned long long)need, (unsigned long long)left);
@@ -188,35 +188,35 @@ static limn_status off_vertices(off_state *o)
         char *s = off_line(r);
         if (!s)
             return r->error ? mio_read_failed(r)
-                            : limn_fail(r->ctx, LIMN_ERR_FORMAT,
+                            : ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                                         "%s:%lu: the file ends after %lld of %lld vertices",
                                         r->path, r->line, v, o->nv);
         double c[3];
         for (int k = 0; k < 3; k++) {
             s = mio_skip_space(s);
             if (!*s)
-                return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+                return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                                  "%s:%lu: vertex %lld has %d coordinates (3 needed)", r->path,
                                  r->line, v, k);
             int rc = mio_parse_double(&s, &c[k]);
             if (rc != 1)
-                return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+                return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                                  "%s:%lu: vertex %lld: coordinate %s is %s", r->path, r->line, v,
                                  mio_token(s, tok), rc == 2 ? "not finite" : "not a number");
         }
         if (!growbuf_push_3d(&o->pos, c[0], c[1], c[2]))
-            return limn_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
+            return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
         if (!o->c)
             continue;
         double x[OFF_MAX_EXTRA];
         unsigned char rgb[3];
         if (!off_colour(o, x, off_extras(s, x), rgb)) {
-            limn_warn(r->ctx, "%s:%lu: vertex %lld has no RGB colour that can be read: the "
+            ctx_warn(r->ctx, "%s:%lu: vertex %lld has no RGB colour that can be read: the "
                               "colours of the file are ignored", r->path, r->line, v);
             o->c = 0;
             growbuf_free(&o->col);
         } else if (!growbuf_append(&o->col, rgb, 3)) {
-            return limn_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
+            return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
         }
     }
     return LIMN_OK;
@@ -247,37 +247,37 @@ static limn_status off_face(off_state *o, char *s, long long fc)
     long long k, idx;
     char *t = s;
     if (!mio_parse_ll(&s, &k, 0))
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                          "%s:%lu: face %lld: vertex count %s is not an integer", r->path, r->line,
                          fc, mio_token(t, tok));
     if (k < 3)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                          "%s:%lu: face %lld has %lld vertices (at least 3 needed)", r->path,
                          r->line, fc, k);
     for (long long i = 0; i < k; i++) {
         s = mio_skip_space(s);
         t = s;
         if (!*s)
-            return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+            return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                              "%s:%lu: face %lld declares %lld vertices but lists %lld", r->path,
                              r->line, fc, k, i);
         if (!mio_parse_ll(&s, &idx, 0))
-            return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+            return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                              "%s:%lu: face %lld: vertex index %s is not an integer", r->path,
                              r->line, fc, mio_token(t, tok));
         if (idx < 0 || idx >= o->nv)
-            return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+            return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                              "%s:%lu: face %lld references vertex %lld but only %lld vertices "
                              "are defined", r->path, r->line, fc, idx, o->nv);
         if (o->indices.len / sizeof(uint32_t) >= UINT32_MAX)
-            return limn_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many face indices", r->path,
+            return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many face indices", r->path,
                              r->line);
         if (!growbuf_push_u32(&o->indices, (uint32_t)idx))
-            return limn_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
+            return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
     }
     off_face_rest(o, s, fc, k);
     if (!growbuf_push_u32(&o->offsets, (uint32_t)(o->indices.len / sizeof(uint32_t))))
-        return limn_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
+        return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
     return LIMN_OK;
 }
 
@@ -288,12 +288,12 @@ static limn_status off_faces_end(off_state *o, long long fc)
     if (r->error)
         return mio_read_failed(r);
     if (o->crowded_face >= 0)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                          "%s:%lu: face %lld has %lld indices declared but the line holds %lld "
                          "values (two faces on one line?); the file ends after %lld of %lld "
                          "faces", r->path, o->crowded_line, o->crowded_face, o->crowded_declared,
                          o->crowded_values, fc, o->nf);
-    return limn_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: the file ends after %lld of %lld faces",
+    return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: the file ends after %lld of %lld faces",
                      r->path, r->line, fc, o->nf);
 }
 
@@ -306,7 +306,7 @@ static limn_status off_body(off_state *o)
         !growbuf_reserve(&o->offsets, (rf + 1) * sizeof(uint32_t)) ||
         !growbuf_reserve(&o->indices, rf * 3 * sizeof(uint32_t)) ||
         !growbuf_push_u32(&o->offsets, 0))
-        return limn_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
+        return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
     limn_status st = off_vertices(o);
     for (long long fc = 0; fc < o->nf && !st; fc++) {
         char *s = off_line(r);
@@ -315,11 +315,11 @@ static limn_status off_body(off_state *o)
     if (st)
         return st;
     if (off_line(r))
-        limn_warn(r->ctx, "%s:%lu: data after the last face ignored", r->path, r->line);
+        ctx_warn(r->ctx, "%s:%lu: data after the last face ignored", r->path, r->line);
     if (r->error)
         return mio_read_failed(r);
     if (o->nv == 0)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", r->path);
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", r->path);
     return LIMN_OK;
 }
 
@@ -327,7 +327,7 @@ limn_status off_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
 {
     off_state *o = calloc(1, sizeof *o);
     if (!o)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
     if (!mio_init(&o->r, ctx, path, f)) {
         free(o);
         return LIMN_ERR_MEMORY;

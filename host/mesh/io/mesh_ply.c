@@ -90,8 +90,8 @@ static limn_status ply_err(ply *p, limn_status st, const char *fmt, ...)
     if (p->elem)
         snprintf(where, sizeof where, "%s %llu: ", p->elem->name, (unsigned long long)p->index);
     if (p->format == F_ASCII || p->in_header)
-        return limn_fail(p->ctx, st, "%s:%lu: %s%s", p->path, p->r.line, where, msg);
-    return limn_fail(p->ctx, st, "%s: byte %llu: %s%s", p->path, (unsigned long long)p->at,
+        return ctx_fail(p->ctx, st, "%s:%lu: %s%s", p->path, p->r.line, where, msg);
+    return ctx_fail(p->ctx, st, "%s: byte %llu: %s%s", p->path, (unsigned long long)p->at,
                      where, msg);
 }
 
@@ -291,7 +291,7 @@ static limn_status ply_property(ply *p, char **w, int nw)
         if (pr.role >= R_X && pr.role <= R_Z && list)
             return ply_err(p, LIMN_ERR_FORMAT, "vertex property '%s' is a list", name);
         if (pr.role >= R_RED && (list || pr.type != T_U8)) {
-            limn_warn(p->ctx, "%s:%lu: vertex colour '%s' is not uchar; colours ignored",
+            ctx_warn(p->ctx, "%s:%lu: vertex colour '%s' is not uchar; colours ignored",
                       p->path, p->r.line, name);
             pr.role = R_OTHER;
         }
@@ -326,7 +326,7 @@ static limn_status ply_header(ply *p)
     if (!magic || memcmp(magic, "ply", 3) != 0 || !(line = mio_line(r, &len)) ||
         *mio_skip_space(line))
         return r->error ? mio_read_failed(r)
-                        : limn_fail(p->ctx, LIMN_ERR_FORMAT,
+                        : ctx_fail(p->ctx, LIMN_ERR_FORMAT,
                                     "%s:1: not a PLY file (the first line is not 'ply')", p->path);
     for (;;) {
         if (!(line = mio_line(r, &len)))
@@ -404,7 +404,7 @@ static limn_status ply_header(ply *p)
     if (p->format == F_NONE)
         return ply_err(p, LIMN_ERR_FORMAT, "the header has no format line");
     if (p->ndropped)
-        limn_warn(p->ctx, "%s: %zu vertex %s dropped (limn keeps x, y, z and red, green, "
+        ctx_warn(p->ctx, "%s: %zu vertex %s dropped (limn keeps x, y, z and red, green, "
                           "blue): %s", p->path, p->ndropped,
                   p->ndropped == 1 ? "property" : "properties", p->dropped);
     return LIMN_OK;
@@ -419,21 +419,21 @@ static limn_status ply_check(ply *p)
         if (e->kind == E_VERTEX)
             v = e;
         if ((e->kind == E_FACE || e->kind == E_TRISTRIPS) && !e->roles[R_INDICES])
-            return limn_fail(p->ctx, LIMN_ERR_FORMAT,
+            return ctx_fail(p->ctx, LIMN_ERR_FORMAT,
                              "%s: the '%s' element has no 'vertex_indices' list", p->path,
                              e->name);
     }
     if (!v)
-        return limn_fail(p->ctx, LIMN_ERR_FORMAT, "%s: the header has no 'vertex' element",
+        return ctx_fail(p->ctx, LIMN_ERR_FORMAT, "%s: the header has no 'vertex' element",
                          p->path);
     for (int r = R_X; r <= R_Z; r++)
         if (!v->roles[r])
-            return limn_fail(p->ctx, LIMN_ERR_FORMAT,
+            return ctx_fail(p->ctx, LIMN_ERR_FORMAT,
                              "%s: the 'vertex' element has no '%s' property", p->path,
                              role_names[r]);
     p->colors = v->roles[R_RED] && v->roles[R_GREEN] && v->roles[R_BLUE];
     if (v->count >= UINT32_MAX)
-        return limn_fail(p->ctx, LIMN_ERR_FORMAT, "%s: too many vertices (%llu)", p->path,
+        return ctx_fail(p->ctx, LIMN_ERR_FORMAT, "%s: too many vertices (%llu)", p->path,
                          (unsigned long long)v->count);
     p->nv = v->count;
     uint64_t left = mio_remaining(&p->r), need = 0;
@@ -443,7 +443,7 @@ static limn_status ply_check(ply *p)
         const ply_elem *e = &p->elems[i];
         if (e->min_size && (e->count > (UINT64_MAX - need) / e->min_size ||
                             need + e->count * e->min_size > left))
-            return limn_fail(p->ctx, LIMN_ERR_FORMAT,
+            return ctx_fail(p->ctx, LIMN_ERR_FORMAT,
                              "%s: the header declares %llu '%s' records (at least %llu bytes "
                              "each) but only %llu bytes follow the header", p->path,
                              (unsigned long long)e->count, e->name,
@@ -570,7 +570,7 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
 {
     ply *p = calloc(1, sizeof *p);
     if (!p)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
     p->ctx = ctx;
     p->path = path;
     limn_status st;
@@ -590,7 +590,7 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     if (!growbuf_reserve(&p->pos, reserve * 3 * sizeof(double)) ||
         (p->colors && !growbuf_reserve(&p->col, reserve * 3)) ||
         !growbuf_push_u32(&p->offsets, 0)) {
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for %llu vertices", path,
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for %llu vertices", path,
                        (unsigned long long)p->nv);
         goto done;
     }
@@ -628,11 +628,11 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         goto done;
     left = mio_remaining(&p->r);
     if (p->format == F_ASCII ? ply_token(p) != NULL : left > 0 && left != UINT64_MAX)
-        limn_warn(ctx, "%s: data after the last element ignored", path);
+        ctx_warn(ctx, "%s: data after the last element ignored", path);
     if (!has_faces)
-        limn_warn(ctx, "%s: the file has no faces", path);
+        ctx_warn(ctx, "%s: the file has no faces", path);
     if (p->nv == 0) {
-        st = limn_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
+        st = ctx_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
         goto done;
     }
     st = mio_make_mesh(ctx, &p->pos, &p->offsets, &p->indices, &p->col, out);

@@ -89,7 +89,7 @@ limn_status ply_write(limn_context *ctx, const limn_mesh *m, const char *path, F
     }
     ply_out *o = malloc(sizeof *o);
     if (!o)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing %s", path);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing %s", path);
     o->f = f;
     o->n = 0;
     o->big = format == LIMN_FORMAT_PLY_BINARY_BE;

@@ -132,39 +132,39 @@ static limn_status stl_binary(stl *s)
     const unsigned char *h = mio_bytes(r, STL_HEADER);
     if (!h)
         return r->error ? mio_read_failed(r)
-                        : limn_fail(s->ctx, LIMN_ERR_FORMAT,
+                        : ctx_fail(s->ctx, LIMN_ERR_FORMAT,
                                     "%s: binary STL: the file ends inside the 84-byte header",
                                     s->path);
     uint32_t count = (uint32_t)h[80] | (uint32_t)h[81] << 8 | (uint32_t)h[82] << 16 |
                      (uint32_t)h[83] << 24;
     uint64_t need = STL_HEADER + (uint64_t)STL_RECORD * count, size = r->file_size;
     if (size && size < need)
-        return limn_fail(s->ctx, LIMN_ERR_FORMAT,
+        return ctx_fail(s->ctx, LIMN_ERR_FORMAT,
                          "%s: binary STL: the header declares %lu triangles (%llu bytes) but the "
                          "file has %llu bytes (truncated?)",
                          s->path, (unsigned long)count, (unsigned long long)need,
                          (unsigned long long)size);
     if (count == 0)
-        return limn_fail(s->ctx, LIMN_ERR_FORMAT, "%s: binary STL: the header declares no triangles",
+        return ctx_fail(s->ctx, LIMN_ERR_FORMAT, "%s: binary STL: the header declares no triangles",
                          s->path);
     if (count > (UINT32_MAX - 2) / 3)
-        return limn_fail(s->ctx, LIMN_ERR_FORMAT, "%s: binary STL: too many triangles (%lu)",
+        return ctx_fail(s->ctx, LIMN_ERR_FORMAT, "%s: binary STL: too many triangles (%lu)",
                          s->path, (unsigned long)count);
     if (size > need)
-        limn_warn(s->ctx, "%s: %llu bytes after the last of %lu triangles ignored", s->path,
+        ctx_warn(s->ctx, "%s: %llu bytes after the last of %lu triangles ignored", s->path,
                   (unsigned long long)(size - need), (unsigned long)count);
     size_t reserve = size || count <= 65536 ? count : 65536;
     if (!growbuf_reserve(&s->offsets, (reserve + 1) * sizeof(uint32_t)) ||
         !growbuf_reserve(&s->indices, reserve * 3 * sizeof(uint32_t)) ||
         !growbuf_reserve(&s->pos, reserve / 2 * 3 * sizeof(double)))
-        return limn_fail(s->ctx, LIMN_ERR_MEMORY, "%s: out of memory for %lu triangles", s->path,
+        return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s: out of memory for %lu triangles", s->path,
                          (unsigned long)count);
     for (uint32_t t = 0; t < count; t++) {
         uint64_t at = mio_offset(r);
         const unsigned char *b = mio_bytes(r, STL_RECORD);
         if (!b)
             return r->error ? mio_read_failed(r)
-                            : limn_fail(s->ctx, LIMN_ERR_FORMAT,
+                            : ctx_fail(s->ctx, LIMN_ERR_FORMAT,
                                         "%s: byte %llu: triangle %lu: the file ends early "
                                         "(truncated)",
                                         s->path, (unsigned long long)at, (unsigned long)t);
@@ -174,17 +174,17 @@ static limn_status stl_binary(stl *s)
             for (int j = 0; j < 3; j++)
                 c[j] = le_float(b + 12 + 12 * k + 4 * j);
             if (!isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2]))
-                return limn_fail(s->ctx, LIMN_ERR_FORMAT,
+                return ctx_fail(s->ctx, LIMN_ERR_FORMAT,
                                  "%s: byte %llu: triangle %lu: vertex %d has a non-finite "
                                  "coordinate",
                                  s->path, (unsigned long long)(at + 12 + 12 * (unsigned)k),
                                  (unsigned long)t, k);
             if (!weld(s, c, &v[k]))
-                return limn_fail(s->ctx, LIMN_ERR_MEMORY, "%s: out of memory at triangle %lu",
+                return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s: out of memory at triangle %lu",
                                  s->path, (unsigned long)t);
         }
         if (!add_face(s, v, 3))
-            return limn_fail(s->ctx, LIMN_ERR_MEMORY, "%s: out of memory at triangle %lu",
+            return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s: out of memory at triangle %lu",
                              s->path, (unsigned long)t);
     }
     return LIMN_OK;
@@ -226,10 +226,10 @@ static limn_status unexpected(stl *s, const char *t, const char *wanted, unsigne
     if (facet)
         snprintf(where, sizeof where, "facet %lu: ", facet - 1);
     if (!t)
-        return limn_fail(s->ctx, LIMN_ERR_FORMAT, "%s:%lu: %sthe file ends %s(truncated)",
+        return ctx_fail(s->ctx, LIMN_ERR_FORMAT, "%s:%lu: %sthe file ends %s(truncated)",
                          s->path, s->r.line, where,
                          facet ? "inside the facet " : "without 'endsolid' ");
-    return limn_fail(s->ctx, LIMN_ERR_FORMAT, "%s:%lu: %sexpected %s, found %s", s->path,
+    return ctx_fail(s->ctx, LIMN_ERR_FORMAT, "%s:%lu: %sexpected %s, found %s", s->path,
                      s->r.line, where, wanted, mio_token(t, tok));
 }
 
@@ -283,14 +283,14 @@ static limn_status stl_ascii(stl *s)
                 }
                 int rc = mio_parse_double(&p, &c[k]);
                 if (rc != 1)
-                    st = limn_fail(s->ctx, LIMN_ERR_FORMAT,
+                    st = ctx_fail(s->ctx, LIMN_ERR_FORMAT,
                                    "%s:%lu: facet %lu: coordinate %s is %s", s->path, s->r.line,
                                    f - 1, mio_token(p, tok),
                                    rc == 2 ? "not finite" : "not a number");
             }
             uint32_t v;
             if (!st && (!weld(s, c, &v) || !growbuf_push_u32(&loop, v)))
-                st = limn_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", s->path,
+                st = ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", s->path,
                                s->r.line);
             if (st)
                 break;
@@ -303,7 +303,7 @@ static limn_status stl_ascii(stl *s)
         }
         size_t n = loop.len / sizeof(uint32_t);
         if (n < 3) {
-            st = limn_fail(s->ctx, LIMN_ERR_FORMAT,
+            st = ctx_fail(s->ctx, LIMN_ERR_FORMAT,
                            "%s:%lu: facet %lu has %zu vertices (at least 3 needed)", s->path,
                            s->r.line, f - 1, n);
             break;
@@ -313,7 +313,7 @@ static limn_status stl_ascii(stl *s)
             break;
         }
         if (!add_face(s, (const uint32_t *)loop.data, n)) {
-            st = limn_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory or too many facets",
+            st = ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory or too many facets",
                            s->path, s->r.line);
             break;
         }
@@ -322,7 +322,7 @@ static limn_status stl_ascii(stl *s)
     if (!st && s->r.error)
         st = mio_read_failed(&s->r);
     if (!st && facets == 0)
-        st = limn_fail(s->ctx, LIMN_ERR_FORMAT, "%s: the STL file has no facets", s->path);
+        st = ctx_fail(s->ctx, LIMN_ERR_FORMAT, "%s: the STL file has no facets", s->path);
     return st;
 }
 
@@ -352,7 +352,7 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
 {
     stl *s = calloc(1, sizeof *s);
     if (!s)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
     s->ctx = ctx;
     s->path = path;
     if (!mio_init(&s->r, ctx, path, f)) {
@@ -375,7 +375,7 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     if (avail < STL_HEADER) {
         binary = 0;
         if (!solid) {
-            st = limn_fail(ctx, LIMN_ERR_FORMAT,
+            st = ctx_fail(ctx, LIMN_ERR_FORMAT,
                            "%s: not an STL file: %zu bytes, too short for a binary STL (84-byte "
                            "header), and it does not start with 'solid'",
                            path, avail);
@@ -388,7 +388,7 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         binary = exact || !solid || !all_text(head, STL_HEADER);
     }
     if (!growbuf_push_u32(&s->offsets, 0)) {
-        st = limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
         goto done;
     }
     if (!binary)
@@ -397,7 +397,7 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     if (st)
         goto done;
     size_t faces = s->offsets.len / sizeof(uint32_t) - 1;
-    limn_warn(ctx,
+    ctx_warn(ctx,
               "%s: %zu %s, %llu corners welded into %zu vertices (exactly equal coordinates)",
               path, faces, binary ? "triangles" : "facets", (unsigned long long)s->corners, s->nv);
     growbuf nocolors = {0};
@@ -437,11 +437,11 @@ limn_status stl_write(limn_context *ctx, const limn_mesh *m, const char *path, F
     for (size_t fc = 0; fc < m->face_count; fc++)
         count += m->face_offsets[fc + 1] - m->face_offsets[fc] - 2;
     if (count > UINT32_MAX)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "cannot write %s: %llu triangles do not fit STL",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "cannot write %s: %llu triangles do not fit STL",
                          path, (unsigned long long)count);
     for (size_t i = 0; i < 3 * m->vertex_count; i++)
         if (!isfinite((float)m->positions[i]))
-            return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                              "cannot write %s: vertex %zu does not fit STL's 32-bit floats", path,
                              i / 3);
     unsigned char head[STL_HEADER];

@@ -32,23 +32,23 @@ static int same_file(const char *a, const char *b)
 
 limn_status limn_output_check(limn_context *ctx, const char *path, const char *input)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!path || !*path)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_output_check: path is NULL or empty");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_output_check: path is NULL or empty");
     if (input && same_file(input, path))
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "output '%s' is the input file; refusing to overwrite it", path);
     return atomic_file_check(ctx, path);
 }
 
 limn_status limn_output_set_create(limn_context *ctx, limn_output_set **out)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!out)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_output_set_create: out is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_output_set_create: out is NULL");
     *out = calloc(1, sizeof **out);
     if (!*out)
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for an output set");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for an output set");
     return LIMN_OK;
 }
 
@@ -57,11 +57,11 @@ static limn_status next_slot(limn_context *ctx, const char *fn, const limn_outpu
                              const char *path)
 {
     if (!set)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: set is NULL", fn);
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: set is NULL", fn);
     if (!path || !*path)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: path is NULL or empty", fn);
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: path is NULL or empty", fn);
     if (set->n >= OUTPUT_SET_MAX)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "%s: a set holds at most %d outputs", fn,
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: a set holds at most %d outputs", fn,
                          OUTPUT_SET_MAX);
     return LIMN_OK;
 }
@@ -70,7 +70,7 @@ limn_status limn_output_set_add_mesh(limn_context *ctx, limn_output_set *set,
                                      const limn_mesh *mesh, const char *path,
                                      limn_format format)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     limn_status st = next_slot(ctx, "limn_output_set_add_mesh", set, path);
     if (!st)
         st = mesh_write_staged(ctx, mesh, path, format, &set->staged[set->n]);
@@ -82,12 +82,12 @@ limn_status limn_output_set_add_mesh(limn_context *ctx, limn_output_set *set,
 limn_status limn_output_set_add_bytes(limn_context *ctx, limn_output_set *set,
                                       const char *path, const void *data, size_t size)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     limn_status st = next_slot(ctx, "limn_output_set_add_bytes", set, path);
     if (st)
         return st;
     if (!data && size)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_output_set_add_bytes: data is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_output_set_add_bytes: data is NULL");
     atomic_file *af = &set->staged[set->n];
     st = atomic_file_open(ctx, path, af);
     if (st)
@@ -96,7 +96,7 @@ limn_status limn_output_set_add_bytes(limn_context *ctx, limn_output_set *set,
     if (size && fwrite(data, 1, size, af->f) != size) {
         int e = errno;
         atomic_file_abort(af);
-        return limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path,
+        return ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path,
                          e ? strerror(e) : "write error");
     }
     st = atomic_file_finish(ctx, af);
@@ -109,9 +109,9 @@ int limn_output_set_count(const limn_output_set *set) { return set ? set->n : 0;
 
 limn_status limn_output_set_commit(limn_context *ctx, limn_output_set *set)
 {
-    limn_clear(ctx);
+    ctx_clear(ctx);
     if (!set)
-        return limn_fail(ctx, LIMN_ERR_ARGUMENT, "limn_output_set_commit: set is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_output_set_commit: set is NULL");
     limn_status st = set->n ? atomic_file_commit_all(ctx, set->staged, set->n) : LIMN_OK;
     set->n = 0;
     return st;

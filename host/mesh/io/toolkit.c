@@ -32,14 +32,14 @@ int mio_init(mio_reader *r, limn_context *ctx, const char *path, FILE *f)
     r->cap = MIO_BUFFER;
     r->budget.limit = context_max_memory(ctx);
     if (!growbuf_budget_take(&r->budget, r->cap)) {
-        limn_fail(ctx, LIMN_ERR_MEMORY,
+        ctx_fail(ctx, LIMN_ERR_MEMORY,
                   "%s: the memory limit of %zu bytes does not hold the %zu-byte read buffer: "
                   "raise --max-memory (limn_context_set_max_memory)", path, r->budget.limit,
                   r->cap);
         return 0;
     }
     if (!(r->buf = malloc(r->cap))) {
-        limn_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for a read buffer", path);
+        ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for a read buffer", path);
         return 0;
     }
     struct stat st;
@@ -112,7 +112,7 @@ static size_t mio_fill(mio_reader *r)
     }
     r->end += n;
     if (n && r->file_size)
-        limn_progress(r->ctx, "read", (double)(r->buf_offset + r->end) / (double)r->file_size);
+        ctx_progress(r->ctx, "read", (double)(r->buf_offset + r->end) / (double)r->file_size);
     return n;
 }
 
@@ -264,18 +264,18 @@ static double mib(size_t bytes) { return (double)bytes / (1024.0 * 1024.0); }
 limn_status mio_read_failed(mio_reader *r)
 {
     if (r->error == MIO_ERR_NUL)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                          "%s:%lu: a NUL byte: binary data in a text file (wrong format or "
                          "--input-format?)", r->path, r->error_line);
     if (r->error == MIO_ERR_LONG_LINE)
-        return limn_fail(r->ctx, LIMN_ERR_FORMAT,
+        return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                          "%s:%lu: a line longer than %.0f MiB: not a text mesh file (wrong "
                          "format or --input-format?)", r->path, r->error_line, mib(MIO_MAX_LINE));
     if (r->error == ENOMEM && r->budget.exceeded)
         return mio_finish(r, LIMN_ERR_MEMORY, 0);
     if (r->error == ENOMEM)
-        return limn_fail(r->ctx, LIMN_ERR_MEMORY, "%s: out of memory while reading", r->path);
-    return limn_fail(r->ctx, LIMN_ERR_IO, "%s: read error: %s", r->path,
+        return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s: out of memory while reading", r->path);
+    return ctx_fail(r->ctx, LIMN_ERR_IO, "%s: read error: %s", r->path,
                      r->error > 0 ? strerror(r->error) : "unknown error");
 }
 
@@ -288,7 +288,7 @@ limn_status mio_finish(mio_reader *r, limn_status st, int binary)
         snprintf(where, sizeof where, ": byte %llu", (unsigned long long)mio_offset(r));
     else
         snprintf(where, sizeof where, ":%lu", r->line ? r->line : 1);
-    return limn_fail(r->ctx, LIMN_ERR_MEMORY,
+    return ctx_fail(r->ctx, LIMN_ERR_MEMORY,
                      "%s%s: reading stopped at the memory limit of %.1f MiB (%.1f MiB held): "
                      "the file needs more; raise --max-memory (limn_context_set_max_memory) "
                      "if it is really this large", r->path, where, mib(r->budget.limit),
@@ -367,7 +367,7 @@ limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, gro
     m->face_count = nf;
     if (!m->positions || !m->face_offsets || !m->face_indices) {
         limn_mesh_destroy(m);
-        return limn_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a mesh");
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a mesh");
     }
     *out = m;
     return LIMN_OK;
@@ -376,6 +376,6 @@ limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, gro
 limn_status mio_write_failed(limn_context *ctx, const char *path)
 {
     int e = errno;
-    return limn_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path,
+    return ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path,
                      e ? strerror(e) : "write error");
 }
