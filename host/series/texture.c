@@ -16,6 +16,7 @@
 #include "device/device.h"
 #include "mesh/mesh.h"
 #include "solve/operator.h"
+#include "solve/monitor.h"
 #include "refine/refine.h"
 #include "series/series.h"
 #include "base/clock.h"
@@ -180,7 +181,6 @@ void limn_texture_options_default(limn_texture_options *o)
 }
 
 #define TEXTURE_MAX_ITER 2000
-#define STALL_WINDOW 25
 
 /* Solves A P = N for a scalar field (channel x) by the paper's iteration on
    the operator of s; buf[0] holds N, the answer ends in *answer. */
@@ -189,7 +189,10 @@ static limn_status solve_scalar(limn_context *ctx, series_run *s, double tol, in
 {
     device_buffer *p[2] = {s->buf[1], s->buf[2]};
     limn_status st = s->dev->ops->axpby(s->dev, s->n, 1.0, s->buf[0], 0.0, s->buf[0], p[0]);
-    double history[STALL_WINDOW];
+    monitor mon;
+    monitor_init(&mon, tol, TEXTURE_MAX_ITER, MONITOR_STALL_WINDOW, MONITOR_STALL_RATIO);
+    monitor_words words = {MONITOR_LOOP_TEXTURE, "the residual of the noise interpolation", 0.0,
+                           0.0, s->op.scheme, s->op.alpha, 0, 0, level};
     for (int k = 0; !st; k++) {
         device_norms nr;
         st = s->dev->ops->interp_step(s->dev, &s->op.device, s->buf[0], p[k & 1],
@@ -198,23 +201,13 @@ static limn_status solve_scalar(limn_context *ctx, series_run *s, double tol, in
         if (st)
             break;
         nr.max = check_norm_max(nr.max, nr.sum);
-        if (nr.max <= tol) {
+        monitor_verdict v = monitor_step(&mon, nr.max, k);
+        if (v == MONITOR_CONVERGED) {
             *answer = p[k & 1];
             return LIMN_OK;
         }
-        if (!isfinite(nr.max))
-            return check_nonfinite_iteration(ctx, "the residual of the noise interpolation", k,
-                                             s->op.scheme, s->op.alpha, 0);
-        if (k >= TEXTURE_MAX_ITER ||
-            (k >= STALL_WINDOW && nr.max > 0.99 * history[k % STALL_WINDOW]))
-            return ctx_fail(ctx, LIMN_ERR_SINGULAR,
-                             "interpolating the noise of level %d stopped converging (residual "
-                             "%.3g after %d iterations)%s",
-                             level, nr.max, k,
-                             s->op.scheme == LIMN_SCHEME_CATMARK && s->op.alpha == 0.0
-                                 ? ": the operator is singular for this mesh; use --alpha 0.5"
-                                 : "");
-        history[k % STALL_WINDOW] = nr.max;
+        if (v != MONITOR_CONTINUE) /* a stall: LIMN_ERR_SINGULAR; the cap: NO_CONVERGENCE */
+            return monitor_fail(ctx, &mon, v, &words);
     }
     return st;
 }

@@ -3,19 +3,15 @@
  * The iteration every stationary method runs (iterate.h): the paper's
  * P_{k+1} = P_k + (M - A P_k), its weighted form and Chebyshev, over any way
  * of running a step (one device in interpolate.c, or MPI ranks), with the
- * stop, stall, cap and divergence rules; and the checks of the options.
+ * stop, stall, cap and divergence rules of the monitor (monitor.c); and the checks of the options.
  */
 #include "solve/iterate.h"
 #include "mesh/check.h"
 #include "base/context.h"
 #include "solve/solve.h"
+#include "solve/monitor.h"
 
 #include <math.h>
-
-/* Iterations over which a residual must shrink by STALL_FACTOR, else the
-   operator is treated as singular (e.g. alpha = 0 on an all-valence-3 cube). */
-#define STALL_WINDOW 25
-#define STALL_FACTOR 0.99
 
 const char *limn_method_name(limn_method m)
 {
@@ -67,10 +63,6 @@ limn_status solve_check_options(limn_context *ctx, const limn_interpolate_option
                        LIMN_MAX_ITERATIONS, "LIMN_MAX_ITERATIONS");
 }
 
-/* Iterations of the weighted method spent estimating lambda_min from the
-   contraction of the seeds' iteration (power iteration on E - A). */
-#define WEIGHTED_PROBE 8
-
 /*
  * Runs the stationary or semi-iterative update from buffer 0 through step()
  * (one device, or MPI ranks); on success *which is the buffer holding the
@@ -87,9 +79,12 @@ limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, siz
                           double diag, solve_kind kind, int *which, limn_report *r)
 {
     double tol_abs = o->tolerance * diag;
-    double history[STALL_WINDOW];
-    double first = -1.0, omega = 1.0, l2_probe = 0.0;
+    double omega = 1.0, l2_probe = 0.0;
     int cur = 0, start = r->iterations;
+    monitor mon;
+    monitor_init(&mon, tol_abs, o->max_iterations, MONITOR_STALL_WINDOW, MONITOR_STALL_RATIO);
+    monitor_words words = {MONITOR_LOOP_STATIONARY, "the residual", diag, o->tolerance, scheme,
+                           alpha, 0, 0, 0};
     chebyshev cheb;
     chebyshev_init(&cheb, chebyshev_prior(scheme), chebyshev_lead_steps(scheme));
     r->omega = 1.0;
@@ -107,9 +102,7 @@ limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, siz
         if (kind == SOLVE_WEIGHTED && k == 2)
             l2_probe = sqrt(nr.sum_sq);
         if (kind == SOLVE_WEIGHTED && k == WEIGHTED_PROBE && l2_probe > 0) {
-            double rho = pow(sqrt(nr.sum_sq) / l2_probe, 1.0 / (WEIGHTED_PROBE - 2));
-            double lambda = rho < 1.0 ? 1.0 - rho : 1.0;
-            omega = 2.0 / (lambda + 1.0);
+            omega = monitor_weighted_omega(l2_probe, sqrt(nr.sum_sq));
             r->omega = omega;
         }
         if (kind == SOLVE_CHEBYSHEV && nr.max > tol_abs)
@@ -119,39 +112,15 @@ limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, siz
         r->iterations = start + k;
         r->max_abs_error = nr.max;
         r->mean_abs_error = nr.sum / (double)n;
-        if (!isfinite(nr.max))
-            return check_nonfinite_iteration(ctx, "the residual", k, scheme, alpha, 0);
-        if (nr.max <= tol_abs) {
+        monitor_verdict v = monitor_step(&mon, nr.max, k);
+        if (v == MONITOR_CONVERGED) {
             *which = cur;
             return LIMN_OK;
         }
-        if (first < 0.0)
-            first = nr.max;
-        if (k >= STALL_WINDOW && nr.max > STALL_FACTOR * history[k % STALL_WINDOW]) {
-            return ctx_fail(
-                ctx, LIMN_ERR_SINGULAR,
-                "the residual stopped shrinking: %.3g (relative %.3g) after %d iterations, "
-                "%.3g %d iterations earlier. The limit operator is singular or nearly so for "
-                "this mesh%s; no result was written",
-                nr.max, diag > 0 ? nr.max / diag : nr.max, k,
-                history[k % STALL_WINDOW], STALL_WINDOW,
-                scheme == LIMN_SCHEME_CATMARK && alpha == 0.0
-                    ? " (alpha = 0 with valence-3 vertices, e.g. a cube, has a zero "
-                      "eigenvalue): run again with --alpha 0.5"
-                    : "");
-        }
-        history[k % STALL_WINDOW] = nr.max;
-        if (k >= o->max_iterations) {
-            double rate = pow(nr.max / first, 1.0 / (double)k);
-            double more = rate < 1.0 ? log(tol_abs / nr.max) / log(rate) : INFINITY;
-            return ctx_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
-                             "no convergence in %d iterations: max relative error %.3g, "
-                             "tolerance %.3g; the error shrinks by %.4f per iteration, so about "
-                             "%.0f more are needed: raise --max-iter or loosen --tol",
-                             k, diag > 0 ? nr.max / diag : nr.max, o->tolerance, rate, more);
-        }
-        if ((k & 7) == 0 && first > tol_abs && nr.max < first)
-            ctx_progress(ctx, "solve", log(first / nr.max) / log(first / tol_abs));
+        if (v != MONITOR_CONTINUE)
+            return monitor_fail(ctx, &mon, v, &words);
+        if ((k & 7) == 0 && mon.first > tol_abs && nr.max < mon.first)
+            ctx_progress(ctx, "solve", log(mon.first / nr.max) / log(mon.first / tol_abs));
         cur = 1 - cur;
     }
 }

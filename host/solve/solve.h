@@ -5,6 +5,7 @@
 
 #include "solve/operator.h"
 #include "solve/iterate.h"
+#include "solve/monitor.h"
 
 typedef struct solve_stats {
     double products;     /* stencil products, in units of one full A x */
@@ -54,10 +55,8 @@ limn_status solve_tiers(limn_context *ctx, const stencil_operator *op, const dou
 /* The guards of a CG-type loop (solve_cg.c): cg_watch_step sees the max
    residual before each step and sets *done when it meets tol_abs, or fails
    with a message on divergence, stalling (singular operator) or the step cap. */
-#define CG_STALL_WINDOW 25
 typedef struct cg_watch {
-    int steps;
-    double history[CG_STALL_WINDOW];
+    monitor mon; /* set up by the first cg_watch_step (zero-initialise the watch) */
 } cg_watch;
 limn_status cg_watch_step(limn_context *ctx, cg_watch *w, double residual, solve_stats *stats,
                           double tol_abs, int max_iter, int *done);

@@ -108,32 +108,14 @@ static limn_status make_block(limn_context *ctx, const stencil_operator *op, con
 limn_status cg_watch_step(limn_context *ctx, cg_watch *w, double residual, solve_stats *stats,
                           double tol_abs, int max_iter, int *done)
 {
-    int k = w->steps++;
-    *done = 0;
-    if (!isfinite(residual)) /* CG does not diverge on these operators: overflow */
-        return check_nonfinite_iteration(ctx, "the conjugate-gradient residual", k,
-                                         LIMN_SCHEME_AUTO, 0.0, 0);
-    if (residual <= tol_abs) {
-        *done = 1;
-        return LIMN_OK;
-    }
-    if (k >= CG_STALL_WINDOW && residual > 0.99 * w->history[k % CG_STALL_WINDOW])
-        return ctx_fail(ctx, LIMN_ERR_SINGULAR,
-                         "the residual stopped shrinking under conjugate gradients: %.3g after "
-                         "%d steps, %.3g %d steps earlier. The limit operator is singular or "
-                         "nearly so for this mesh%s; no result was written",
-                         residual, k, w->history[k % CG_STALL_WINDOW], CG_STALL_WINDOW,
-                         stats->catmark_alpha0
-                             ? " (alpha = 0 with valence-3 vertices, e.g. a cube, has a zero "
-                               "eigenvalue): run again with --alpha 0.5"
-                             : "");
-    w->history[k % CG_STALL_WINDOW] = residual;
-    if (stats->iterations >= max_iter)
-        return ctx_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
-                         "no convergence in %d conjugate-gradient steps: max error %.3g, "
-                         "tolerance %.3g: raise --max-iter or loosen --tol",
-                         stats->iterations, residual, tol_abs);
-    return LIMN_OK;
+    if (w->mon.steps == 0)
+        monitor_init(&w->mon, tol_abs, max_iter, MONITOR_STALL_WINDOW, MONITOR_STALL_RATIO);
+    monitor_verdict v = monitor_step(&w->mon, residual, stats->iterations);
+    /* CG does not diverge on these operators: a non-finite residual is overflow */
+    monitor_words words = {MONITOR_LOOP_CG, "the conjugate-gradient residual", 0.0, 0.0,
+                           LIMN_SCHEME_AUTO, 0.0, stats->catmark_alpha0, 0, 0};
+    *done = v == MONITOR_CONVERGED;
+    return monitor_fail(ctx, &w->mon, v, &words);
 }
 
 limn_status cg_curvature(limn_context *ctx, double pq, solve_stats *stats)

@@ -32,8 +32,6 @@
 /* An outer step that does not halve the double residual hands over to the
    double iteration, whose stall test then names a singular operator. */
 #define OUTER_GAIN 0.5
-/* Steps of the weighted method's probe of the contraction (solve/iterate.c). */
-#define WEIGHTED_PROBE 8
 
 const char *limn_precision_name(limn_precision p)
 {
@@ -110,7 +108,10 @@ static limn_status inner_solve(limn_context *ctx, stencil_operator *op, mixed_st
                                double target, int probing, int max_iter, device_buffer **out,
                                limn_report *r)
 {
-    double history[INNER_STALL_WINDOW];
+    monitor mon;
+    monitor_init(&mon, target, max_iter, INNER_STALL_WINDOW, MONITOR_STALL_RATIO);
+    monitor_words words = {MONITOR_LOOP_MIXED, "the float correction", 0.0, 0.0, op->scheme,
+                           op->alpha, 0, 1, 0};
     chebyshev cheb;
     chebyshev_init(&cheb, s->cheb_a, 0);
     device_buffer *cur = s->r;
@@ -134,22 +135,18 @@ static limn_status inner_solve(limn_context *ctx, stencil_operator *op, mixed_st
             s->probe = sqrt(ns.sum_sq);
         if (s->method == LIMN_METHOD_WEIGHTED && probing && j == WEIGHTED_PROBE - 1 &&
             s->probe > 0) {
-            double rho = pow(sqrt(ns.sum_sq) / s->probe, 1.0 / (WEIGHTED_PROBE - 2));
-            double lambda = rho < 1.0 ? 1.0 - rho : 1.0;
-            s->omega = 2.0 / (lambda + 1.0);
+            s->omega = monitor_weighted_omega(s->probe, sqrt(ns.sum_sq));
             r->omega = s->omega;
         }
         if (s->method == LIMN_METHOD_CHEBYSHEV && ns.max > target)
             r->restarts += chebyshev_observe(&cheb, ns.max);
-        if (!isfinite(ns.max))
-            return check_nonfinite_iteration(ctx, "the float correction", r->iterations,
-                                             op->scheme, op->alpha, 1);
+        /* converged, stalled or capped: the outer loop decides */
+        monitor_verdict v = monitor_step(&mon, ns.max, r->iterations);
+        if (v == MONITOR_NON_FINITE)
+            return monitor_fail(ctx, &mon, v, &words);
         cur = next;
-        int stalled = j >= INNER_STALL_WINDOW &&
-                      ns.max > 0.99 * history[j % INNER_STALL_WINDOW];
-        if (ns.max <= target || stalled || r->iterations >= max_iter)
+        if (v != MONITOR_CONTINUE)
             break;
-        history[j % INNER_STALL_WINDOW] = ns.max;
     }
     s->cheb_a = cheb.a;
     if (s->method == LIMN_METHOD_CHEBYSHEV)
@@ -164,7 +161,13 @@ limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *
 {
     struct device *dev = op->dev;
     size_t n = op->vertex_count ? op->vertex_count : 1;
-    double tol_abs = o->tolerance * diag, first = -1.0, prev = INFINITY;
+    double tol_abs = o->tolerance * diag;
+    /* the stall test, window 1 and ratio OUTER_GAIN, is the float corrections'
+       gain: a stall finishes in double */
+    monitor mon;
+    monitor_init(&mon, tol_abs, o->max_iterations, 1, OUTER_GAIN);
+    monitor_words words = {MONITOR_LOOP_MIXED, "the residual", diag, o->tolerance, op->scheme,
+                           op->alpha, 0, 1, 0};
     mixed_state s = {.dev = dev, .method = method, .omega = 1.0,
                      .cheb_a = chebyshev_prior(op->scheme)};
     *converged = 0;
@@ -184,33 +187,21 @@ limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *
         r->products += 1.0;
         r->max_abs_error = nr.max;
         r->mean_abs_error = nr.sum / (double)n;
-        if (!isfinite(nr.max)) {
-            st = check_nonfinite_iteration(ctx, "the residual", r->iterations, op->scheme,
-                                           op->alpha, 1);
-            break;
-        }
-        if (nr.max <= tol_abs) {
+        monitor_verdict v = monitor_step(&mon, nr.max, r->iterations);
+        if (v == MONITOR_CONVERGED) {
             *converged = 1;
             break;
         }
-        if (nr.max > OUTER_GAIN * prev) {
+        if (v == MONITOR_STALLED) {
             r->precision_reason = "float corrections stopped gaining; finished in double";
             break;
         }
-        if (r->iterations >= o->max_iterations) {
-            double rate = pow(nr.max / first, 1.0 / (double)r->iterations);
-            st = ctx_fail(ctx, LIMN_ERR_NO_CONVERGENCE,
-                           "no convergence in %d iterations: max relative error %.3g, "
-                           "tolerance %.3g; the error shrinks by %.4f per iteration: raise "
-                           "--max-iter or loosen --tol",
-                           r->iterations, diag > 0 ? nr.max / diag : nr.max, o->tolerance, rate);
+        if (v != MONITOR_CONTINUE) {
+            st = monitor_fail(ctx, &mon, v, &words);
             break;
         }
-        if (first < 0.0)
-            first = nr.max;
-        else if (first > tol_abs)
-            ctx_progress(ctx, "solve", log(first / nr.max) / log(first / tol_abs));
-        prev = nr.max;
+        if (mon.k > 0 && mon.first > tol_abs)
+            ctx_progress(ctx, "solve", log(mon.first / nr.max) / log(mon.first / tol_abs));
         device_buffer *d = NULL;
         double target = fmax(tol_abs, INNER_REDUCTION * nr.max);
         st = inner_solve(ctx, op, &s, target, outer == 0, o->max_iterations, &d, r);
