@@ -205,6 +205,14 @@ static void piece_out(unsigned char *dst, size_t have, const unsigned char *src,
         memset(dst + (lib > skip ? lib : skip), 0, have - (lib > skip ? lib : skip));
 }
 
+limn_status abi_call_begin(limn_context *ctx, const char *fn, const abi_layout *options_layout,
+                           const void *options, void *o, const abi_layout *report_layout,
+                           const void *report, void *r)
+{
+    limn_status st = abi_options_in(ctx, fn, "options", options_layout, options, o);
+    return st ? st : abi_report_begin(ctx, fn, "report", report_layout, report, r);
+}
+
 void abi_report_end(const abi_layout *l, void *dst_v, const void *local_v)
 {
     if (!dst_v)

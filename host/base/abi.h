@@ -47,6 +47,13 @@ limn_status abi_options_in(limn_context *ctx, const char *fn, const char *what,
 limn_status abi_report_begin(limn_context *ctx, const char *fn, const char *what,
                              const abi_layout *layout, const void *dst, void *local);
 
+/* The usual entry of a public call taking options and a report:
+   abi_options_in(options into o), then abi_report_begin(report, r); the
+   first refusal is returned. */
+limn_status abi_call_begin(limn_context *ctx, const char *fn, const abi_layout *options_layout,
+                           const void *options, void *o, const abi_layout *report_layout,
+                           const void *report, void *r);
+
 /* Copies the library-side report into the caller's (NULL: nothing): the
    bytes its size holds, zeroing those beyond the library's layout; the
    caller's size fields stay as they are. */

@@ -189,10 +189,8 @@ limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
     limn_subdivide_options o;
     limn_subdivide_options_default(&o);
     limn_subdivide_report r;
-    limn_status st =
-        abi_options_in(ctx, "limn_subdivide", "options", &abi_subdivide_options, options, &o);
-    if (!st)
-        st = abi_report_begin(ctx, "limn_subdivide", "report", &abi_subdivide_report, report, &r);
+    limn_status st = abi_call_begin(ctx, "limn_subdivide", &abi_subdivide_options, options, &o,
+                                    &abi_subdivide_report, report, &r);
     if (st)
         return st;
     st = subdivide_sized(ctx, mesh, options ? &o : NULL, surface, report ? &r : NULL);

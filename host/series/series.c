@@ -555,9 +555,8 @@ limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh, const limn_seri
     limn_series_options o;
     limn_series_options_default(&o);
     limn_series_report r;
-    limn_status st = abi_options_in(ctx, "limn_bands", "options", &abi_series_options, options, &o);
-    if (!st)
-        st = abi_report_begin(ctx, "limn_bands", "report", &abi_series_report, report, &r);
+    limn_status st = abi_call_begin(ctx, "limn_bands", &abi_series_options, options, &o,
+                                    &abi_series_report, report, &r);
     if (st)
         return st;
     st = bands_sized(ctx, mesh, options ? &o : NULL, count, bands, energy, report ? &r : NULL);
@@ -577,10 +576,8 @@ limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
     limn_series_options o;
     limn_series_options_default(&o);
     limn_series_report r;
-    limn_status st =
-        abi_options_in(ctx, "limn_smooth", "options", &abi_series_options, options, &o);
-    if (!st)
-        st = abi_report_begin(ctx, "limn_smooth", "report", &abi_series_report, report, &r);
+    limn_status st = abi_call_begin(ctx, "limn_smooth", &abi_series_options, options, &o,
+                                    &abi_series_report, report, &r);
     if (st)
         return st;
     st = smooth_sized(ctx, mesh, options ? &o : NULL, terms, out, report ? &r : NULL);
@@ -600,10 +597,8 @@ limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
     limn_series_options o;
     limn_series_options_default(&o);
     limn_series_report r;
-    limn_status st =
-        abi_options_in(ctx, "limn_denoise", "options", &abi_series_options, options, &o);
-    if (!st)
-        st = abi_report_begin(ctx, "limn_denoise", "report", &abi_series_report, report, &r);
+    limn_status st = abi_call_begin(ctx, "limn_denoise", &abi_series_options, options, &o,
+                                    &abi_series_report, report, &r);
     if (st)
         return st;
     st = denoise_sized(ctx, mesh, options ? &o : NULL, m, steps, keep_volume, out,
@@ -624,10 +619,8 @@ limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
     limn_series_options o;
     limn_series_options_default(&o);
     limn_series_report r;
-    limn_status st =
-        abi_options_in(ctx, "limn_sharpen", "options", &abi_series_options, options, &o);
-    if (!st)
-        st = abi_report_begin(ctx, "limn_sharpen", "report", &abi_series_report, report, &r);
+    limn_status st = abi_call_begin(ctx, "limn_sharpen", &abi_series_options, options, &o,
+                                    &abi_series_report, report, &r);
     if (st)
         return st;
     st = sharpen_sized(ctx, mesh, options ? &o : NULL, from, to, steps, out, report ? &r : NULL);
@@ -645,9 +638,8 @@ limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh
     limn_morph_options o;
     limn_morph_options_default(&o);
     limn_series_report r;
-    limn_status st = abi_options_in(ctx, "limn_morph", "options", &abi_morph_options, options, &o);
-    if (!st)
-        st = abi_report_begin(ctx, "limn_morph", "report", &abi_series_report, report, &r);
+    limn_status st = abi_call_begin(ctx, "limn_morph", &abi_morph_options, options, &o,
+                                    &abi_series_report, report, &r);
     if (st)
         return st;
     st = morph_sized(ctx, from, to, options ? &o : NULL, fn, user, report ? &r : NULL);

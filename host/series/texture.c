@@ -468,10 +468,8 @@ limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
     limn_texture_options o;
     limn_texture_options_default(&o);
     limn_series_report r;
-    limn_status st =
-        abi_options_in(ctx, "limn_texture", "options", &abi_texture_options, options, &o);
-    if (!st)
-        st = abi_report_begin(ctx, "limn_texture", "report", &abi_series_report, report, &r);
+    limn_status st = abi_call_begin(ctx, "limn_texture", &abi_texture_options, options, &o,
+                                    &abi_series_report, report, &r);
     if (st)
         return st;
     st = texture_sized(ctx, mesh, options ? &o : NULL, out, report ? &r : NULL);

@@ -214,10 +214,8 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
     limn_interpolate_options o;
     limn_interpolate_options_default(&o);
     limn_report r;
-    limn_status st =
-        abi_options_in(ctx, "limn_interpolate", "options", &abi_interpolate_options, options, &o);
-    if (!st)
-        st = abi_report_begin(ctx, "limn_interpolate", "report", &abi_report, report, &r);
+    limn_status st = abi_call_begin(ctx, "limn_interpolate", &abi_interpolate_options, options, &o,
+                                    &abi_report, report, &r);
     if (st)
         return st;
     st = interpolate_sized(ctx, mesh, options ? &o : NULL, control, report ? &r : NULL);

@@ -409,10 +409,8 @@ limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repa
     limn_repair_options o;
     limn_repair_options_default(&o);
     limn_repair_report r;
-    limn_status st =
-        abi_options_in(ctx, "limn_mesh_repair", "options", &abi_repair_options, options, &o);
-    if (!st)
-        st = abi_report_begin(ctx, "limn_mesh_repair", "report", &abi_repair_report, report, &r);
+    limn_status st = abi_call_begin(ctx, "limn_mesh_repair", &abi_repair_options, options, &o,
+                                    &abi_repair_report, report, &r);
     if (st)
         return st;
     st = repair_sized(ctx, mesh, options ? &o : NULL, report ? &r : NULL);
