@@ -201,3 +201,18 @@ limn_status cli_args_stage_mesh(const cli_args *a, limn_context *ctx, limn_outpu
     }
     return mesh ? limn_output_set_add_mesh(ctx, set, mesh, a->output, a->out_format) : LIMN_OK;
 }
+
+json_out *cli_args_report(const cli_args *a, size_t vertices, size_t faces)
+{
+    json_out *j = json_begin();
+    if (!j)
+        return NULL;
+    json_string(j, "command", a->cmd);
+    json_string(j, "input", a->inputs[0]);
+    if (a->input_count > 1)
+        json_string(j, "target", a->inputs[1]);
+    json_string(j, "output", a->output);
+    json_integer(j, "vertices", (long long)vertices);
+    json_integer(j, "faces", (long long)faces);
+    return j;
+}

@@ -79,5 +79,8 @@ limn_status cli_args_open(cli_args *a, limn_context *ctx, size_t max_memory, int
    at cli_mpi_rank_path(OUTPUT), else mesh (when not NULL) at OUTPUT. */
 limn_status cli_args_stage_mesh(const cli_args *a, limn_context *ctx, limn_output_set *set,
                                 const limn_mesh *mesh, const limn_mesh *piece);
+/* A report's first keys (json_begin): command, input, target (the second
+   input, when there is one), output, vertices, faces; NULL when out of memory. */
+json_out *cli_args_report(const cli_args *a, size_t vertices, size_t faces);
 
 #endif

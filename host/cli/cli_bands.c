@@ -23,13 +23,9 @@ static const char *const help =
     "  -o, --output PREFIX    prefix of the files written\n"
     "  --count N              number of bands, N >= 0\n"
     "  --format F             mesh format: ply (default), ply-ascii, ply-be, obj, off\n"
-    "  --scheme S             auto, loop or catmark                  [auto]\n"
-    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"
-    "  --report FILE.json     also write the report as JSON\n"
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    SERIES_HELP
     "  --input-format F / --overwrite-input / -q\n"
-    "\n"
-    "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
+    SERIES_HELP_EXIT;
 
 typedef struct extra {
     int count;
@@ -217,8 +213,7 @@ static int run(series_cli *c, extra *e)
             remove(e->names[i]);
     free(bands);
     free(e->energy);
-    limn_mesh_destroy(in[0]);
-    limn_context_destroy(ctx);
+    series_cli_unload(ctx, in);
     return rc;
 }
 

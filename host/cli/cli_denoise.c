@@ -21,14 +21,10 @@ static const char *const help =
     "  --steps K              iterations, K >= 1                         [3]\n"
     "  --keep-volume          scale the result about the mean of its vertices\n"
     "                         back to the input's volume (closed meshes only)\n"
-    "  --scheme S             auto, loop or catmark                  [auto]\n"
-    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"
-    "  --report FILE.json     also write the report as JSON\n"
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
     CLI_MPI_HELP
-    "\n"
-    "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
+    SERIES_HELP_EXIT;
 
 typedef struct extra {
     int m, steps, keep_volume, closed;

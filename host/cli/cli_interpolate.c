@@ -193,14 +193,9 @@ static limn_status write_report(limn_context *ctx, const args *x, const limn_rep
                                 const limn_subdivide_report *sr, const double sec[3],
                                 limn_output_set *set)
 {
-    json_out *j = json_begin();
+    json_out *j = cli_args_report(&x->a, r->vertices, r->faces);
     if (!j)
         return LIMN_ERR_MEMORY;
-    json_string(j, "command", "interpolate");
-    json_string(j, "input", x->a.inputs[0]);
-    json_string(j, "output", x->a.output);
-    json_integer(j, "vertices", (long long)r->vertices);
-    json_integer(j, "faces", (long long)r->faces);
     json_string(j, "scheme", limn_scheme_name(r->scheme));
     json_number(j, "alpha", r->alpha);
     json_string(j, "method", r->method);

@@ -29,10 +29,7 @@ static const char *const help =
     "  --m M                  highest term of eq. 9, M >= 0              [2]\n"
     "  --p P                  speed, 0 < P < 1 (smaller is faster)       [0.8]\n"
     "  --linear               the linear blend instead\n"
-    "  --scheme S             auto, loop or catmark                  [auto]\n"
-    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"
-    "  --report FILE.json     also write the report as JSON\n"
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
     "\n"
     "Every frame is written whole or not at all; on failure the frames written\n"
@@ -318,10 +315,8 @@ static int run(series_cli *c, limn_morph_options *mo, morph_state *ms)
             frame_name(&ms->pat, k, ms->name, ms->name_size);
             remove(ms->name);
         }
-    limn_mesh_destroy(in[0]);
-    limn_mesh_destroy(in[1]);
     limn_mesh_destroy(ms->frame);
-    limn_context_destroy(ms->ctx);
+    series_cli_unload(ms->ctx, in);
     return rc;
 }
 

@@ -24,8 +24,7 @@ static const char *const help =
     "  --background #rrggbb   background colour                          [#ffffff]\n"
     "  --report FILE.json     also write a JSON report\n"
     "  --input-format F / --overwrite-input / -q\n"
-    "\n"
-    "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
+    SERIES_HELP_EXIT;
 
 static int parse_hex_color(const char *v, uint8_t rgb[3])
 {
@@ -125,14 +124,9 @@ typedef struct render_seconds {
 static limn_status write_report(limn_context *ctx, const cli_args *a, const limn_mesh *mesh,
                                 const limn_render_options *o, const render_seconds *sec)
 {
-    json_out *j = json_begin();
+    json_out *j = cli_args_report(a, limn_mesh_vertex_count(mesh), limn_mesh_face_count(mesh));
     if (!j)
         return LIMN_ERR_MEMORY;
-    json_string(j, "command", "render");
-    json_string(j, "input", a->inputs[0]);
-    json_string(j, "output", a->output);
-    json_integer(j, "vertices", (long long)limn_mesh_vertex_count(mesh));
-    json_integer(j, "faces", (long long)limn_mesh_face_count(mesh));
     json_integer(j, "width", o->width);
     json_integer(j, "height", o->height);
     json_number(j, "azimuth", o->azimuth);
@@ -179,8 +173,7 @@ static int run(series_cli *c, const limn_render_options *o)
     if (!st && !(rgb = malloc(3 * (size_t)o->width * (size_t)o->height))) {
         fprintf(stderr, "limn render: error: out of memory for a %dx%d picture\n", o->width,
                 o->height);
-        limn_mesh_destroy(in[0]);
-        limn_context_destroy(ctx);
+        series_cli_unload(ctx, in);
         return EXIT_FAILURE_RUN;
     }
     if (!st)
@@ -195,8 +188,7 @@ static int run(series_cli *c, const limn_render_options *o)
                 o->flat ? "flat" : "smooth", limn_mesh_colors(in[0]) ? ", vertex colours" : "",
                 sec.load, sec.draw, sec.write);
     free(rgb);
-    limn_mesh_destroy(in[0]);
-    limn_context_destroy(ctx);
+    series_cli_unload(ctx, in);
     return rc;
 }
 

@@ -55,18 +55,18 @@ limn_status series_cli_load(series_cli *c, limn_context **ctx, limn_mesh **meshe
     return cli_mpi_agree(*ctx, st);
 }
 
+void series_cli_unload(limn_context *ctx, limn_mesh **meshes)
+{
+    limn_mesh_destroy(meshes[0]);
+    limn_mesh_destroy(meshes[1]);
+    limn_context_destroy(ctx);
+}
+
 static json_out *series_json_begin(const series_cli *c, const limn_series_report *r)
 {
-    json_out *j = json_begin();
+    json_out *j = cli_args_report(&c->a, r->vertices, r->faces);
     if (!j)
         return NULL;
-    json_string(j, "command", c->a.cmd);
-    json_string(j, "input", c->a.inputs[0]);
-    if (c->a.input_count > 1)
-        json_string(j, "target", c->a.inputs[1]);
-    json_string(j, "output", c->a.output);
-    json_integer(j, "vertices", (long long)r->vertices);
-    json_integer(j, "faces", (long long)r->faces);
     json_string(j, "scheme", limn_scheme_name(r->scheme));
     json_number(j, "alpha", r->alpha);
     json_string(j, "device", r->device);
@@ -176,8 +176,7 @@ int series_cli_filter(series_cli *c, const series_filter *f)
     if (!st && out && f->displacement)
         series_mean_displacement(ctx, in[0], out, &r, f->displacement);
     int rc = series_cli_finish(c, ctx, st, out, &r, &s, &f->x);
-    limn_mesh_destroy(in[0]);
     limn_mesh_destroy(out);
-    limn_context_destroy(ctx);
+    series_cli_unload(ctx, in);
     return rc;
 }

@@ -6,6 +6,14 @@
 
 #include "cli_args.h"
 
+/* The help lines of the series commands' shared options, and the last line. */
+#define SERIES_HELP                                                                            \
+    "  --scheme S             auto, loop or catmark                  [auto]\n"                  \
+    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"                    \
+    "  --report FILE.json     also write the report as JSON\n"                                 \
+    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+#define SERIES_HELP_EXIT "\nExit status: 0 success, 1 failure (nothing written), 2 bad usage.\n"
+
 typedef struct series_cli {
     cli_args a;               /* the shared options (cli_args.h) */
     limn_series_options opt;  /* --scheme, --alpha */
@@ -23,6 +31,9 @@ int series_cli_check(series_cli *c, int mesh_output);
 /* Creates the context, sets the device, reads the input meshes (under
    mpirun: on rank 0 only, and a failure there stops every rank). */
 limn_status series_cli_load(series_cli *c, limn_context **ctx, limn_mesh **meshes);
+
+/* Destroys what series_cli_load made (the meshes, then the context). */
+void series_cli_unload(limn_context *ctx, limn_mesh **meshes);
 
 typedef struct series_seconds {
     double load, write, total, t0;

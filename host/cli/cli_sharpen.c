@@ -17,13 +17,9 @@ static const char *const help =
     "  -o, --output FILE      mesh to write (.obj, .ply binary, .off)\n"
     "  --from M, --to N       the terms added, 0 <= M <= N\n"
     "  --steps K              iterations, K >= 1                         [1]\n"
-    "  --scheme S             auto, loop or catmark                  [auto]\n"
-    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"
-    "  --report FILE.json     also write the report as JSON\n"
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
-    "\n"
-    "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
+    SERIES_HELP_EXIT;
 
 typedef struct extra {
     int from, to, steps;

@@ -14,14 +14,10 @@ static const char *const help =
     "\n"
     "  -o, --output FILE      mesh to write (.obj, .ply binary, .off)\n"
     "  --terms N              number of bands summed, N >= 1\n"
-    "  --scheme S             auto, loop or catmark                  [auto]\n"
-    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"
-    "  --report FILE.json     also write the report as JSON\n"
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
     CLI_MPI_HELP
-    "\n"
-    "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
+    SERIES_HELP_EXIT;
 
 typedef struct extra {
     int terms;

@@ -52,12 +52,9 @@ static limn_status write_report(limn_context *ctx, const cli_args *a,
                                 const limn_subdivide_report *r, const double sec[3],
                                 limn_output_set *set)
 {
-    json_out *j = json_begin();
-    json_string(j, "command", "subdivide");
-    json_string(j, "input", a->inputs[0]);
-    json_string(j, "output", a->output);
-    json_integer(j, "vertices", (long long)r->input_vertices);
-    json_integer(j, "faces", (long long)r->input_faces);
+    json_out *j = cli_args_report(a, r->input_vertices, r->input_faces);
+    if (!j)
+        return LIMN_ERR_MEMORY;
     json_integer(j, "output_vertices", (long long)r->vertices);
     json_integer(j, "output_faces", (long long)r->faces);
     json_string(j, "scheme", limn_scheme_name(r->scheme));

@@ -30,13 +30,9 @@ static const char *const help =
     "                         to the level's largest noise value         [1e-6]\n"
     "  --max-memory SIZE      refuse when the predicted peak is larger (512M, 4G)\n"
     "                         [three quarters of physical memory]\n"
-    "  --scheme S             auto, loop or catmark                  [auto]\n"
-    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"
-    "  --report FILE.json     also write the report as JSON\n"
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    SERIES_HELP
     "  --input-format F / --overwrite-input / -q\n"
-    "\n"
-    "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
+    SERIES_HELP_EXIT;
 
 #define MAX_COLORS 256
 
