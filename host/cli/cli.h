@@ -125,7 +125,8 @@ void cli_progress_done(void);
 /* Numbers on the command line and in the text the CLI prints use the C
    locale whatever the user's (main() sets it): the calling thread is
    switched (uselocale) and back. cli_locale_enter returns 0, nothing
-   changed, when no C locale object can be made. */
+   changed, when no C locale object can be made (cli_locale_leave is then a
+   no-op); cli_locale_leave keeps errno as the call in between left it. */
 typedef struct cli_locale {
     void *c, *prev; /* locale_t */
 } cli_locale;

@@ -2,6 +2,7 @@
 /* limn bands: a mesh as bands of its series, one mesh per band. */
 #include "cli_series.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,13 +23,9 @@ static const char *const help =
     "  -o, --output PREFIX    prefix of the files written\n"
     "  --count N              number of bands, N >= 0\n"
     "  --format F             mesh format: ply (default), ply-ascii, ply-be, obj, off\n"
-    "  --scheme S             auto, loop or catmark                  [auto]\n"
-    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"
-    "  --report FILE.json     also write the report as JSON\n"
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    SERIES_HELP
     "  --input-format F / --overwrite-input / -q\n"
-    "\n"
-    "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
+    SERIES_HELP_EXIT;
 
 typedef struct extra {
     int count;
@@ -73,142 +70,174 @@ static const char *extension(limn_format f)
     return f == LIMN_FORMAT_OBJ ? "obj" : f == LIMN_FORMAT_OFF ? "off" : "ply";
 }
 
-int cli_bands(int argc, char **argv)
+static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
 {
-    series_cli c = {.cmd = "bands", .help = help, .inputs_wanted = 1};
-    limn_series_options_default(&c.opt);
-    extra e = {.count = -1};
-    static const struct option longopts[] = {
-        SERIES_OPTIONS, CLI_VALUE("count"), CLI_OPTIONS_END};
-    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
-    if (orc)
-        return orc;
-    for (int i = 1; i < argc; i++) {
-        int rc, k = series_cli_arg(&c, argc, argv, &i, &rc);
-        if (k == SERIES_ARG_EXIT)
-            return rc < 0 ? 0 : rc;
-        if (k == SERIES_ARG_TAKEN)
-            continue;
-        if (strcmp(argv[i], "--count") == 0) {
-            const char *v = series_cli_value(&c, argc, argv, &i);
-            if (!v)
-                return EXIT_USAGE;
-            if ((rc = series_cli_int(&c, "--count", v, 0, &e.count)) != 0)
-                return rc;
-            if (e.count > 10000)
-                return cli_usage_error(c.cmd, "--count %s: at most 10000 bands", v);
-        } else {
-            return cli_usage_error(c.cmd, "unknown option '%s'", argv[i]);
-        }
-    }
-    if (e.count < 0)
-        return cli_usage_error(c.cmd, "--count N is required");
-    int rc = series_cli_check(&c, 0);
-    if (rc)
-        return rc;
-    if (c.out_format == LIMN_FORMAT_AUTO)
-        c.out_format = LIMN_FORMAT_PLY;
-    /* the file names, checked before any work */
-    size_t plen = strlen(c.output) + 32;
-    e.names = calloc((size_t)e.count + 2, sizeof *e.names);
-    char *energy_path = malloc(plen);
-    for (int i = 0; e.names && i <= e.count + 1; i++) {
-        e.names[i] = malloc(plen);
-        if (!e.names[i])
-            break;
-        if (i < e.count)
-            snprintf(e.names[i], plen, "%s_band%d.%s", c.output, i, extension(c.out_format));
-        else if (i == e.count)
-            snprintf(e.names[i], plen, "%s_remainder.%s", c.output, extension(c.out_format));
-        else
-            snprintf(e.names[i], plen, "%s_energy.json", c.output);
-    }
-    if (!e.names || !energy_path || !e.names[e.count + 1]) {
-        fprintf(stderr, "limn bands: error: out of memory\n");
-        rc = EXIT_FAILURE_RUN;
-        goto out_names;
-    }
-    snprintf(energy_path, plen, "%s", e.names[e.count + 1]);
-    e.energy_path = energy_path;
-    for (int i = 0; i <= e.count + 1; i++)
-        if (!c.overwrite_input && cli_same_file(c.inputs[0], e.names[i])) {
-            rc = cli_usage_error(c.cmd, "output '%s' is the input file; refusing to overwrite it",
-                                 e.names[i]);
-            goto out_names;
-        }
-    if ((rc = cli_check_outputs(c.cmd, (const char *const *)e.names, e.count + 2)))
-        goto out_names;
+    extra *e = user;
+    if (strcmp(argv[*i], "--count") != 0)
+        return CLI_OWN_UNKNOWN;
+    int rc = cli_args_int(a, argc, argv, i, 0, INT_MAX, &e->count);
+    if (!rc && e->count > 10000)
+        rc = cli_usage_error(a->cmd, "--count %s: at most 10000 bands", argv[*i]);
+    return rc;
+}
 
+/* PREFIX_band0.EXT .. PREFIX_remainder.EXT, PREFIX_energy.json in e->names
+   (e->count + 2 of them, freed by free_names); 0 or an exit status. */
+static int make_names(const series_cli *c, extra *e)
+{
+    size_t plen = strlen(c->a.output) + 32;
+    const char *ext = extension(c->a.out_format);
+    e->names = calloc((size_t)e->count + 2, sizeof *e->names);
+    for (int i = 0; e->names && i <= e->count + 1; i++) {
+        e->names[i] = malloc(plen);
+        if (!e->names[i])
+            break;
+        if (i < e->count)
+            snprintf(e->names[i], plen, "%s_band%d.%s", c->a.output, i, ext);
+        else if (i == e->count)
+            snprintf(e->names[i], plen, "%s_remainder.%s", c->a.output, ext);
+        else
+            snprintf(e->names[i], plen, "%s_energy.json", c->a.output);
+    }
+    if (!e->names || !e->names[e->count + 1]) {
+        fprintf(stderr, "limn bands: error: out of memory\n");
+        return EXIT_FAILURE_RUN;
+    }
+    e->energy_path = e->names[e->count + 1];
+    return 0;
+}
+
+static void free_names(extra *e)
+{
+    for (int i = 0; e->names && i <= e->count + 1; i++)
+        free(e->names[i]);
+    free(e->names);
+}
+
+/* The file names, checked before any work: none is the input, all can be
+   written. 0 or an exit status. */
+static int check_names(const series_cli *c, const extra *e)
+{
+    for (int i = 0; i <= e->count + 1; i++)
+        if (!c->a.overwrite_input && cli_same_file(c->a.inputs[0], e->names[i]))
+            return cli_usage_error(c->a.cmd,
+                                   "output '%s' is the input file; refusing to overwrite it",
+                                   e->names[i]);
+    return cli_check_outputs(c->a.cmd, (const char *const *)e->names, e->count + 2);
+}
+
+/* The bands of in into bands[(count + 1) * n3] and e->energy, and how
+   exactly they sum back to the input. */
+static limn_status compute(series_cli *c, limn_context *ctx, const limn_mesh *in, double *bands,
+                           extra *e, limn_series_report *r)
+{
+    cli_progress_enable(ctx, c->a.quiet);
+    limn_status st = limn_bands(ctx, in, &c->opt, e->count, bands, e->energy, r);
+    cli_progress_done();
+    if (st)
+        return st;
+    size_t n3 = 3 * limn_mesh_vertex_count(in);
+    const double *m = limn_mesh_positions(in);
+    for (size_t k = 0; k < n3; k++) {
+        double sum = 0.0;
+        for (int i = 0; i <= e->count; i++)
+            sum += bands[(size_t)i * n3 + k];
+        e->max_sum_error = fmax(e->max_sum_error, fabs(sum - m[k]));
+        e->input_energy += m[k] * m[k];
+    }
+    e->max_sum_error /= r->bbox_diagonal > 0 ? r->bbox_diagonal : 1.0;
+    return LIMN_OK;
+}
+
+/* Each band as in's faces with the band's vectors as positions, then the
+   energy file; *written counts the files that appeared. */
+static limn_status write_bands(series_cli *c, limn_context *ctx, const limn_mesh *in,
+                               const double *bands, const extra *e, const limn_series_report *r,
+                               int *written)
+{
+    size_t n3 = 3 * limn_mesh_vertex_count(in);
+    limn_mesh *band = NULL;
+    limn_status st = limn_mesh_copy(ctx, in, &band);
+    for (int i = 0; !st && i <= e->count; i++) {
+        memcpy(limn_mesh_positions_mutable(band), bands + (size_t)i * n3, n3 * sizeof *bands);
+        st = limn_mesh_write(ctx, band, e->names[i], c->a.out_format);
+        *written += !st;
+    }
+    limn_mesh_destroy(band);
+    if (st)
+        return st;
+    json_out *j = json_begin();
+    if (!j)
+        return LIMN_ERR_MEMORY;
+    json_string(j, "input", c->a.inputs[0]);
+    json_string(j, "scheme", limn_scheme_name(r->scheme));
+    json_number(j, "alpha", r->alpha);
+    json_energy(j, e);
+    st = json_commit(ctx, j, e->energy_path);
+    *written += !st;
+    return st;
+}
+
+/* Loads, computes and writes; the exit status (what was written is taken
+   back on failure). */
+static int run(series_cli *c, extra *e)
+{
     series_seconds s = {.t0 = cli_now()};
     limn_context *ctx = NULL;
-    limn_mesh *in[2] = {NULL, NULL}, *band = NULL;
+    limn_mesh *in[2] = {NULL, NULL};
     limn_series_report r = {.size = sizeof r};
     double *bands = NULL;
     int written = 0;
-    limn_status st = series_cli_load(&c, &ctx, in);
+    limn_status st = series_cli_load(c, &ctx, in);
     s.load = cli_now() - s.t0;
     size_t n3 = in[0] ? 3 * limn_mesh_vertex_count(in[0]) : 0;
-    e.energy = calloc((size_t)e.count + 1, sizeof *e.energy);
-    if (!st && (n3 / 3 > ((size_t)1 << 40) / 24 / ((size_t)e.count + 1) ||
-                !(bands = malloc(((size_t)e.count + 1) * n3 * sizeof *bands)) || !e.energy)) {
-        fprintf(stderr, "limn bands: error: out of memory for %d bands of %zu vertices\n", e.count + 1,
-                n3 / 3);
+    e->energy = calloc((size_t)e->count + 1, sizeof *e->energy);
+    if (!st && (n3 / 3 > ((size_t)1 << 40) / 24 / ((size_t)e->count + 1) ||
+                !(bands = malloc(((size_t)e->count + 1) * n3 * sizeof *bands)) || !e->energy)) {
+        fprintf(stderr, "limn bands: error: out of memory for %d bands of %zu vertices\n",
+                e->count + 1, n3 / 3);
         st = LIMN_ERR_MEMORY;
         limn_context_destroy(ctx);
         ctx = NULL;
     }
-    if (!st) {
-        cli_progress_enable(ctx, c.quiet);
-        st = limn_bands(ctx, in[0], &c.opt, e.count, bands, e.energy, &r);
-        cli_progress_done();
-    }
-    if (!st) {
-        /* how exactly the written bands sum back to the input */
-        const double *m = limn_mesh_positions(in[0]);
-        for (size_t k = 0; k < n3; k++) {
-            double sum = 0.0;
-            for (int i = 0; i <= e.count; i++)
-                sum += bands[(size_t)i * n3 + k];
-            e.max_sum_error = fmax(e.max_sum_error, fabs(sum - m[k]));
-            e.input_energy += m[k] * m[k];
-        }
-        e.max_sum_error /= r.bbox_diagonal > 0 ? r.bbox_diagonal : 1.0;
-        st = limn_mesh_copy(ctx, in[0], &band);
-    }
+    if (!st)
+        st = compute(c, ctx, in[0], bands, e, &r);
     double t = cli_now();
-    for (int i = 0; !st && i <= e.count; i++) {
-        memcpy(limn_mesh_positions_mutable(band), bands + (size_t)i * n3, n3 * sizeof *bands);
-        st = limn_mesh_write(ctx, band, e.names[i], c.out_format);
-        written += !st;
-    }
-    if (!st) {
-        json_out *j = json_begin();
-        if (!j) {
-            st = LIMN_ERR_MEMORY;
-        } else {
-            json_string(j, "input", c.inputs[0]);
-            json_string(j, "scheme", limn_scheme_name(r.scheme));
-            json_number(j, "alpha", r.alpha);
-            json_energy(j, &e);
-            st = json_commit(ctx, j, energy_path);
-        }
-        written += !st;
-    }
+    if (!st)
+        st = write_bands(c, ctx, in[0], bands, e, &r, &written);
     s.write = cli_now() - t;
-    series_extra x = {json_extra, print_extra, &e};
-    rc = series_cli_finish(&c, ctx, st, NULL, &r, &s, &x);
+    series_extra x = {json_extra, print_extra, e};
+    int rc = series_cli_finish(c, ctx, st, NULL, &r, &s, &x);
     if (rc) /* nothing written: take back what this run wrote */
         for (int i = 0; i < written; i++)
-            remove(e.names[i]);
+            remove(e->names[i]);
     free(bands);
-    free(e.energy);
-    limn_mesh_destroy(band);
-    limn_mesh_destroy(in[0]);
-    limn_context_destroy(ctx);
-out_names:
-    for (int i = 0; e.names && i <= e.count + 1; i++)
-        free(e.names[i]);
-    free(e.names);
-    free(energy_path);
+    free(e->energy);
+    series_cli_unload(ctx, in);
+    return rc;
+}
+
+int cli_bands(int argc, char **argv)
+{
+    series_cli c;
+    series_cli_init(&c, "bands", help, 1);
+    extra e = {.count = -1};
+    static const struct option longopts[] = {CLI_ARGS_OPTIONS, CLI_VALUE("count"),
+                                             CLI_OPTIONS_END};
+    int rc = cli_args_parse(&c.a, longopts, argc, argv, own_option, &e);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    if (e.count < 0)
+        return cli_usage_error(c.a.cmd, "--count N is required");
+    if ((rc = series_cli_check(&c, 0)))
+        return rc;
+    if (c.a.out_format == LIMN_FORMAT_AUTO)
+        c.a.out_format = LIMN_FORMAT_PLY;
+    rc = make_names(&c, &e);
+    if (!rc)
+        rc = check_names(&c, &e);
+    if (!rc)
+        rc = run(&c, &e);
+    free_names(&e);
     return rc;
 }

@@ -2,6 +2,7 @@
 /* limn denoise: seed 000 eq. 8, with the volume change reported. */
 #include "cli_series.h"
 
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -20,14 +21,10 @@ static const char *const help =
     "  --steps K              iterations, K >= 1                         [3]\n"
     "  --keep-volume          scale the result about the mean of its vertices\n"
     "                         back to the input's volume (closed meshes only)\n"
-    "  --scheme S             auto, loop or catmark                  [auto]\n"
-    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"
-    "  --report FILE.json     also write the report as JSON\n"
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
     CLI_MPI_HELP
-    "\n"
-    "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
+    SERIES_HELP_EXIT;
 
 typedef struct extra {
     int m, steps, keep_volume, closed;
@@ -65,74 +62,61 @@ static void print_extra(void *user)
                 e->area_in, e->area_out);
 }
 
+static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
+{
+    extra *e = user;
+    const char *s = argv[*i];
+    if (strcmp(s, "--keep-volume") == 0) {
+        e->keep_volume = 1;
+        return 0;
+    }
+    if (strcmp(s, "--m") == 0)
+        return cli_args_int(a, argc, argv, i, 0, INT_MAX, &e->m);
+    if (strcmp(s, "--steps") == 0)
+        return cli_args_int(a, argc, argv, i, 1, INT_MAX, &e->steps);
+    return CLI_OWN_UNKNOWN;
+}
+
+static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, limn_mesh **out,
+                       limn_series_report *r, void *user)
+{
+    extra *e = user;
+    if (cli_mpi_ranks() > 1)
+        return cli_mpi_denoise(ctx, in, &c->opt, e->m, e->steps, e->keep_volume, out, r,
+                               &c->piece);
+    return limn_denoise(ctx, in, &c->opt, e->m, e->steps, e->keep_volume, out, r);
+}
+
+/* The volume and area before and after, and the displacement. */
+static limn_status measure(limn_context *ctx, const limn_mesh *in, const limn_mesh *out,
+                           const limn_series_report *r, void *user)
+{
+    extra *e = user;
+    limn_mesh_measures a = {.size = sizeof a};
+    limn_status st = limn_mesh_measure(ctx, in, &a);
+    if (st)
+        return st;
+    e->closed = a.closed;
+    e->volume_in = a.volume;
+    e->area_in = a.area;
+    limn_mesh_volume_area(out, &e->volume_out, &e->area_out); /* same topology as the input */
+    return series_mean_displacement(ctx, in, out, r, &e->mean_displacement);
+}
+
 int cli_denoise(int argc, char **argv)
 {
-    series_cli c = {.cmd = "denoise", .help = help, .inputs_wanted = 1};
-    limn_series_options_default(&c.opt);
+    series_cli c;
+    series_cli_init(&c, "denoise", help, 1);
     extra e = {.m = 2, .steps = 3};
     static const struct option longopts[] = {
-        SERIES_OPTIONS, CLI_FLAG("per-rank-output"), CLI_FLAG("keep-volume"), CLI_VALUE("m"),
+        CLI_ARGS_OPTIONS, CLI_FLAG("per-rank-output"), CLI_FLAG("keep-volume"), CLI_VALUE("m"),
         CLI_VALUE("steps"), CLI_OPTIONS_END};
-    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
-    if (orc)
-        return orc;
-    for (int i = 1; i < argc; i++) {
-        int rc, k = series_cli_arg(&c, argc, argv, &i, &rc);
-        if (k == SERIES_ARG_EXIT)
-            return rc < 0 ? 0 : rc;
-        if (k == SERIES_ARG_TAKEN)
-            continue;
-        const char *s = argv[i];
-        if (strcmp(s, "--m") == 0 || strcmp(s, "--steps") == 0) {
-            const char *v = series_cli_value(&c, argc, argv, &i);
-            if (!v)
-                return EXIT_USAGE;
-            rc = series_cli_int(&c, s, v, s[2] == 'm' ? 0 : 1, s[2] == 'm' ? &e.m : &e.steps);
-            if (rc)
-                return rc;
-        } else if (strcmp(s, "--keep-volume") == 0) {
-            e.keep_volume = 1;
-        } else {
-            return cli_usage_error(c.cmd, "unknown option '%s'", s);
-        }
-    }
-    int rc = cli_mpi_root_rc(series_cli_check(&c, 1));
+    int rc = cli_args_parse(&c.a, longopts, argc, argv, own_option, &e);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    rc = cli_mpi_root_rc(series_cli_check(&c, 1));
     if (rc)
         return rc;
-    series_seconds s = {.t0 = cli_now()};
-    limn_context *ctx = NULL;
-    limn_mesh *in[2] = {NULL, NULL}, *out = NULL;
-    limn_series_report r = {.size = sizeof r};
-    limn_status st = series_cli_load(&c, &ctx, in);
-    s.load = cli_now() - s.t0;
-    if (!st) {
-        cli_progress_enable(ctx, c.quiet);
-        st = cli_mpi_ranks() > 1 ? cli_mpi_denoise(ctx, in[0], &c.opt, e.m, e.steps,
-                                                   e.keep_volume, &out, &r, &c.piece)
-                                 : limn_denoise(ctx, in[0], &c.opt, e.m, e.steps, e.keep_volume,
-                                                &out, &r);
-        cli_progress_done();
-    }
-    limn_mesh_measures a = {.size = sizeof a}, b = {.size = sizeof b};
-    limn_mesh_comparison cmp = {.size = sizeof cmp};
-    if (!st && out) /* under mpirun: rank 0 */
-        st = limn_mesh_measure(ctx, in[0], &a);
-    if (!st && out)
-        limn_mesh_volume_area(out, &b.volume, &b.area); /* same topology as the input */
-    if (!st && out)
-        st = limn_mesh_compare(ctx, in[0], out, &cmp);
-    if (!st && out) {
-        e.closed = a.closed;
-        e.volume_in = a.volume;
-        e.volume_out = b.volume;
-        e.area_in = a.area;
-        e.area_out = b.area;
-        e.mean_displacement = cmp.mean_distance / (r.bbox_diagonal > 0 ? r.bbox_diagonal : 1.0);
-    }
-    series_extra x = {json_extra, print_extra, &e};
-    rc = series_cli_finish(&c, ctx, st, out, &r, &s, &x);
-    limn_mesh_destroy(in[0]);
-    limn_mesh_destroy(out);
-    limn_context_destroy(ctx);
-    return rc;
+    series_filter f = {run, measure, NULL, {json_extra, print_extra, &e}};
+    return series_cli_filter(&c, &f);
 }

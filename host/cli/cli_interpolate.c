@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* limn interpolate: solve for the control mesh, write it and a report. */
-#include "cli.h"
+#include "cli_args.h"
 
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,181 +57,113 @@ static const char *const help =
     "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
 
 typedef struct args {
-    const char *input, *output, *report, *device, *surface, *fallback;
-    limn_format in_format, out_format;
+    cli_args a; /* a.inputs[0] is INPUT */
+    const char *surface;
     limn_interpolate_options opt;
     limn_subdivide_options sub;
-    int quiet, overwrite_input, levels_given, per_rank;
-    cli_repair repair;
+    int levels_given;
 } args;
 
-static int parse(int argc, char **argv, args *a)
+/* --method M / --precision P. */
+static int choice_option(args *x, const char *opt, const char *v)
 {
-    limn_interpolate_options_default(&a->opt);
-    limn_subdivide_options_default(&a->sub);
-    a->sub.levels = 2;
-    static const struct option longopts[] = {
-        CLI_FLAG("help"), CLI_VALUE("output"), CLI_VALUE("scheme"), CLI_VALUE("alpha"),
-        CLI_VALUE("tol"), CLI_VALUE("max-iter"), CLI_VALUE("report"), CLI_VALUE("device"),
-        CLI_VALUE("fallback"), CLI_VALUE("format"), CLI_VALUE("input-format"),
-        CLI_VALUE("surface"), CLI_VALUE("levels"), CLI_FLAG("limit"), CLI_VALUE("max-memory"),
-        CLI_VALUE("method"), CLI_VALUE("precision"), CLI_FLAG("no-reorder"),
-        CLI_FLAG("overwrite-input"), CLI_FLAG("per-rank-output"), CLI_FLAG("quiet"),
-        CLI_REPAIR_OPTIONS, CLI_OPTIONS_END};
-    int orc = cli_options("interpolate", longopts, "ho:q", &argc, &argv);
-    if (orc)
-        return orc;
-    for (int i = 1; i < argc; i++) {
-        const char *s = argv[i];
-        const char *v = NULL;
-#define VALUE()                                                                                \
-    do {                                                                                       \
-        if (!(v = cli_value(argc, argv, &i)))                                                  \
-            return cli_usage_error("interpolate", "%s needs a value", s);                      \
-    } while (0)
-        if (strcmp(s, "-h") == 0 || strcmp(s, "--help") == 0) {
-            if (cli_mpi_rank() == 0)
-                fputs(help, stdout);
-            return -1;
-        } else if (strcmp(s, "-o") == 0 || strcmp(s, "--output") == 0) {
-            VALUE();
-            a->output = v;
-        } else if (strcmp(s, "--scheme") == 0) {
-            VALUE();
-            if (!cli_parse_scheme("interpolate", v, &a->opt.scheme))
-                return EXIT_USAGE;
-        } else if (strcmp(s, "--alpha") == 0) {
-            VALUE();
-            if (!cli_parse_double(s, v, &a->opt.alpha))
-                return EXIT_USAGE;
-            if (!(a->opt.alpha >= 0 && a->opt.alpha <= 1))
-                return cli_usage_error("interpolate", "--alpha %s is outside [0, 1]", v);
-        } else if (strcmp(s, "--tol") == 0) {
-            VALUE();
-            if (!cli_parse_double(s, v, &a->opt.tolerance))
-                return EXIT_USAGE;
-            if (!(a->opt.tolerance > 0))
-                return cli_usage_error("interpolate", "--tol %s must be positive", v);
-        } else if (strcmp(s, "--max-iter") == 0) {
-            VALUE();
-            if (!cli_parse_int(s, v, &a->opt.max_iterations))
-                return EXIT_USAGE;
-            if (a->opt.max_iterations < 1)
-                return cli_usage_error("interpolate", "--max-iter %s must be at least 1", v);
-        } else if (strcmp(s, "--report") == 0) {
-            VALUE();
-            a->report = v;
-        } else if (strcmp(s, "--device") == 0) {
-            VALUE();
-            a->device = v;
-        } else if (strcmp(s, "--fallback") == 0) {
-            VALUE();
-            a->fallback = v;
-        } else if (strcmp(s, "--format") == 0 || strcmp(s, "--input-format") == 0) {
-            VALUE();
-            limn_format f;
-            if (!limn_format_from_name(v, &f))
-                return cli_usage_error("interpolate",
-                                       "%s '%s' is not one of obj, ply, ply-ascii, ply-be, off, stl", s,
-                                       v);
-            if (s[2] == 'f')
-                a->out_format = f;
-            else
-                a->in_format = f;
-        } else if (strcmp(s, "--surface") == 0) {
-            VALUE();
-            a->surface = v;
-        } else if (strcmp(s, "--levels") == 0) {
-            VALUE();
-            if (!cli_parse_int(s, v, &a->sub.levels))
-                return EXIT_USAGE;
-            if (a->sub.levels < 0 || a->sub.levels > 16)
-                return cli_usage_error("interpolate", "--levels %s is outside 0..16", v);
-            a->levels_given = 1;
-        } else if (strcmp(s, "--limit") == 0) {
-            a->sub.limit = 1;
-        } else if (strcmp(s, "--max-memory") == 0) {
-            VALUE();
-            if (!cli_parse_size(s, v, &a->sub.max_memory))
-                return EXIT_USAGE;
-        } else if (strcmp(s, "--method") == 0) {
-            VALUE();
-            if (strcmp(v, "auto") == 0)
-                a->opt.method = LIMN_METHOD_AUTO;
-            else if (strcmp(v, "paper") == 0)
-                a->opt.method = LIMN_METHOD_PAPER;
-            else if (strcmp(v, "weighted") == 0)
-                a->opt.method = LIMN_METHOD_WEIGHTED;
-            else if (strcmp(v, "cg") == 0)
-                a->opt.method = LIMN_METHOD_CG;
-            else if (strcmp(v, "chebyshev") == 0)
-                a->opt.method = LIMN_METHOD_CHEBYSHEV;
-            else if (strcmp(v, "sgs") == 0)
-                a->opt.method = LIMN_METHOD_SGS;
-            else
-                return cli_usage_error("interpolate",
-                                       "--method '%s' is not one of auto, paper, weighted, "
-                                       "chebyshev, cg, sgs",
-                                       v);
-        } else if (strcmp(s, "--precision") == 0) {
-            VALUE();
-            if (strcmp(v, "auto") == 0)
-                a->opt.precision = LIMN_PRECISION_AUTO;
-            else if (strcmp(v, "double") == 0)
-                a->opt.precision = LIMN_PRECISION_DOUBLE;
-            else if (strcmp(v, "float") == 0)
-                a->opt.precision = LIMN_PRECISION_FLOAT;
-            else
-                return cli_usage_error("interpolate",
-                                       "--precision '%s' is not one of auto, double, float", v);
-        } else if (strcmp(s, "--no-reorder") == 0) {
-            a->opt.reorder = 0;
-        } else if (strcmp(s, "--overwrite-input") == 0) {
-            a->overwrite_input = 1;
-        } else if (strcmp(s, "--per-rank-output") == 0) {
-            a->per_rank = 1;
-        } else if (cli_repair_arg(s, &a->repair)) {
-        } else if (strcmp(s, "-q") == 0 || strcmp(s, "--quiet") == 0) {
-            a->quiet = 1;
-        } else if (s[0] == '-' && s[1]) {
-            return cli_usage_error("interpolate", "unknown option '%s'", s);
-        } else if (!a->input) {
-            a->input = s;
-        } else {
-            return cli_usage_error("interpolate", "unexpected argument '%s'", s);
-        }
-#undef VALUE
-    }
-    if (!a->input)
-        return cli_usage_error("interpolate", "no INPUT mesh given");
-    if (!a->output)
-        return cli_usage_error("interpolate", "no output given (-o OUTPUT)");
-    if (a->opt.precision == LIMN_PRECISION_FLOAT &&
-        (a->opt.method == LIMN_METHOD_CG || a->opt.method == LIMN_METHOD_SGS))
-        return cli_usage_error("interpolate", "--precision float runs the chebyshev, paper or "
-                                              "weighted iteration; cg and sgs run in double");
-    if ((a->levels_given || a->sub.limit) && !a->surface)
-        return cli_usage_error("interpolate", "--levels and --limit need --surface FILE");
-    if (a->per_rank && cli_mpi_ranks() == 1)
-        return cli_usage_error("interpolate", "--per-rank-output needs several MPI ranks "
-                                              "(mpirun -np N limn interpolate ...)");
-    int rc = cli_check_output("interpolate", a->input, a->output, a->out_format,
-                              a->overwrite_input);
-    if (!rc && a->surface)
-        rc = cli_check_output("interpolate", a->input, a->surface, a->out_format,
-                              a->overwrite_input);
-    if (!rc && a->report)
-        rc = cli_check_output("interpolate", a->input, a->report, LIMN_FORMAT_OBJ,
-                              a->overwrite_input);
-    const char *outputs[] = {a->output, a->surface, a->report};
-    if (!rc)
-        rc = cli_check_outputs("interpolate", outputs, 3);
-    if (rc)
-        return rc;
+    static const char *const methods[] = {"auto", "paper", "weighted", "chebyshev", "cg", "sgs"};
+    static const limn_method method_values[] = {LIMN_METHOD_AUTO,      LIMN_METHOD_PAPER,
+                                                LIMN_METHOD_WEIGHTED,  LIMN_METHOD_CHEBYSHEV,
+                                                LIMN_METHOD_CG,        LIMN_METHOD_SGS};
+    static const char *const precisions[] = {"auto", "double", "float"};
+    static const limn_precision precision_values[] = {
+        LIMN_PRECISION_AUTO, LIMN_PRECISION_DOUBLE, LIMN_PRECISION_FLOAT};
+    int method = strcmp(opt, "--method") == 0;
+    int k = method ? cli_args_choice(&x->a, opt, v, methods, 6)
+                   : cli_args_choice(&x->a, opt, v, precisions, 3);
+    if (k < 0)
+        return EXIT_USAGE;
+    if (method)
+        x->opt.method = method_values[k];
+    else
+        x->opt.precision = precision_values[k];
     return 0;
 }
 
-static void print_summary(limn_context *ctx, const args *a, const limn_report *r,
+static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
+{
+    args *x = user;
+    const char *s = argv[*i], *v;
+    if (strcmp(s, "--tol") == 0)
+        return cli_args_positive(a, argc, argv, i, &x->opt.tolerance);
+    if (strcmp(s, "--max-iter") == 0)
+        return cli_args_int(a, argc, argv, i, 1, INT_MAX, &x->opt.max_iterations);
+    if (strcmp(s, "--limit") == 0) {
+        x->sub.limit = 1;
+        return 0;
+    }
+    if (strcmp(s, "--no-reorder") == 0) {
+        x->opt.reorder = 0;
+        return 0;
+    }
+    if (strcmp(s, "--surface") != 0 && strcmp(s, "--levels") != 0 &&
+        strcmp(s, "--max-memory") != 0 && strcmp(s, "--method") != 0 &&
+        strcmp(s, "--precision") != 0)
+        return CLI_OWN_UNKNOWN;
+    if (!(v = cli_args_value(a, argc, argv, i)))
+        return EXIT_USAGE;
+    if (strcmp(s, "--surface") == 0) {
+        x->surface = v;
+    } else if (strcmp(s, "--levels") == 0) {
+        if (!cli_parse_int(s, v, &x->sub.levels))
+            return EXIT_USAGE;
+        if (x->sub.levels < 0 || x->sub.levels > 16)
+            return cli_usage_error(a->cmd, "--levels %s is outside 0..16", v);
+        x->levels_given = 1;
+    } else if (strcmp(s, "--max-memory") == 0) {
+        if (!cli_parse_size(s, v, &x->sub.max_memory))
+            return EXIT_USAGE;
+    } else {
+        return choice_option(x, s, v);
+    }
+    return 0;
+}
+
+/* After parsing: what the options need of each other, then the outputs. */
+static int check(args *x)
+{
+    int rc = cli_args_required(&x->a);
+    if (rc)
+        return rc;
+    if (x->opt.precision == LIMN_PRECISION_FLOAT &&
+        (x->opt.method == LIMN_METHOD_CG || x->opt.method == LIMN_METHOD_SGS))
+        return cli_usage_error("interpolate", "--precision float runs the chebyshev, paper or "
+                                              "weighted iteration; cg and sgs run in double");
+    if ((x->levels_given || x->sub.limit) && !x->surface)
+        return cli_usage_error("interpolate", "--levels and --limit need --surface FILE");
+    rc = cli_args_check_per_rank(&x->a);
+    return rc ? rc : cli_args_check_meshes(&x->a, x->surface);
+}
+
+/* 0, -1 (help printed: exit status 0) or an exit status. */
+static int parse(int argc, char **argv, args *x)
+{
+    x->a.cmd = "interpolate";
+    x->a.help = help;
+    x->a.inputs_wanted = 1;
+    x->a.formats = "obj, ply, ply-ascii, ply-be, off, stl";
+    limn_interpolate_options_default(&x->opt);
+    x->a.scheme = &x->opt.scheme;
+    x->a.alpha = &x->opt.alpha;
+    limn_subdivide_options_default(&x->sub);
+    x->sub.levels = 2;
+    static const struct option longopts[] = {
+        CLI_ARGS_OPTIONS,          CLI_VALUE("tol"),        CLI_VALUE("max-iter"),
+        CLI_VALUE("fallback"),     CLI_VALUE("surface"),    CLI_VALUE("levels"),
+        CLI_FLAG("limit"),         CLI_VALUE("max-memory"), CLI_VALUE("method"),
+        CLI_VALUE("precision"),    CLI_FLAG("no-reorder"),  CLI_FLAG("per-rank-output"),
+        CLI_OPTIONS_END};
+    int rc = cli_args_parse(&x->a, longopts, argc, argv, own_option, x);
+    return rc ? rc : check(x);
+}
+
+static void print_summary(limn_context *ctx, const args *x, const limn_report *r,
                           const double sec[3])
 {
     int threads;
@@ -245,7 +178,7 @@ static void print_summary(limn_context *ctx, const args *a, const limn_report *r
             "  device: %s; threads %d (%s)\n"
             "  seconds: load %.3f, opencl setup %.3f, topology %.3f, stencil %.3f, solve %.3f "
             "(%.3g per iteration), write %.3f\n",
-            a->input, a->output, r->vertices, r->faces, limn_scheme_name(r->scheme), r->alpha,
+            x->a.inputs[0], x->a.output, r->vertices, r->faces, limn_scheme_name(r->scheme), r->alpha,
             r->method, r->precision ? r->precision : "double", r->reordered ? "rcm" : "input",
             r->iterations,
             r->max_rel_error, r->mean_rel_error, r->bbox_diagonal, r->device, threads,
@@ -256,18 +189,13 @@ static void print_summary(limn_context *ctx, const args *a, const limn_report *r
             r->seconds_solve / (r->iterations + 1), sec[1]);
 }
 
-static limn_status write_report(limn_context *ctx, const args *a, const limn_report *r,
+static limn_status write_report(limn_context *ctx, const args *x, const limn_report *r,
                                 const limn_subdivide_report *sr, const double sec[3],
                                 limn_output_set *set)
 {
-    json_out *j = json_begin();
+    json_out *j = cli_args_report(&x->a, r->vertices, r->faces);
     if (!j)
         return LIMN_ERR_MEMORY;
-    json_string(j, "command", "interpolate");
-    json_string(j, "input", a->input);
-    json_string(j, "output", a->output);
-    json_integer(j, "vertices", (long long)r->vertices);
-    json_integer(j, "faces", (long long)r->faces);
     json_string(j, "scheme", limn_scheme_name(r->scheme));
     json_number(j, "alpha", r->alpha);
     json_string(j, "method", r->method);
@@ -283,7 +211,7 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
         json_number(j, "spectrum_lower", r->spectrum_lower);
         json_integer(j, "restarts", r->restarts);
     }
-    json_number(j, "tolerance", a->opt.tolerance);
+    json_number(j, "tolerance", x->opt.tolerance);
     json_number(j, "max_rel_error", r->max_rel_error);
     json_number(j, "mean_rel_error", r->mean_rel_error);
     json_number(j, "max_abs_error", r->max_abs_error);
@@ -298,7 +226,7 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_integer(j, "threads", threads);
     json_string(j, "threads_source", threads_source);
     if (sr) {
-        json_string(j, "surface", a->surface);
+        json_string(j, "surface", x->surface);
         json_integer(j, "surface_vertices", (long long)sr->vertices);
         json_integer(j, "surface_faces", (long long)sr->faces);
         json_integer(j, "levels", sr->levels);
@@ -325,7 +253,7 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
     json_number(j, "build", r->seconds_opencl_build);
     json_number(j, "kernels", r->seconds_opencl_kernels);
     json_object_end(j);
-    return json_stage(ctx, j, a->report, set);
+    return json_stage(ctx, j, x->a.report, set);
 }
 
 
@@ -334,23 +262,23 @@ static limn_status write_report(limn_context *ctx, const args *a, const limn_rep
    surface on rank 0. A device failure runs again on the reference backend
    when that is allowed (one process only: under MPI a rank's device falls
    back when it opens, see --fallback). */
-static limn_status solve(args *a, limn_context *ctx, const limn_mesh *mesh, limn_mesh **control,
+static limn_status solve(args *x, limn_context *ctx, const limn_mesh *mesh, limn_mesh **control,
                          limn_mesh **surface, limn_mesh **piece, limn_report *r,
                          limn_subdivide_report *sr)
 {
     limn_status st = LIMN_OK;
     for (int attempt = 0; attempt < 2; attempt++) {
-        cli_progress_enable(ctx, a->quiet);
+        cli_progress_enable(ctx, x->a.quiet);
         if (cli_mpi_ranks() > 1)
-            st = cli_mpi_interpolate(ctx, mesh, &a->opt, control, r, a->per_rank ? piece : NULL);
+            st = cli_mpi_interpolate(ctx, mesh, &x->opt, control, r, x->a.per_rank ? piece : NULL);
         else
-            st = limn_interpolate(ctx, mesh, &a->opt, control, r);
+            st = limn_interpolate(ctx, mesh, &x->opt, control, r);
         cli_progress_done();
         cli_print_warnings("interpolate", ctx);
-        if (!st && a->surface && *control) {
-            a->sub.scheme = r->scheme;
-            cli_progress_enable(ctx, a->quiet);
-            st = limn_subdivide(ctx, *control, &a->sub, surface, sr);
+        if (!st && x->surface && *control) {
+            x->sub.scheme = r->scheme;
+            cli_progress_enable(ctx, x->a.quiet);
+            st = limn_subdivide(ctx, *control, &x->sub, surface, sr);
             cli_progress_done();
             cli_print_warnings("interpolate", ctx);
         }
@@ -364,71 +292,58 @@ static limn_status solve(args *a, limn_context *ctx, const limn_mesh *mesh, limn
 
 int cli_interpolate(int argc, char **argv)
 {
-    args a = {0};
-    int rc = cli_mpi_root_rc(parse(argc, argv, &a));
+    args x = {0};
+    int rc = cli_mpi_root_rc(parse(argc, argv, &x));
     if (rc)
         return rc < 0 ? 0 : rc;
     int root = cli_mpi_rank() == 0;
-    a.quiet |= !root; /* under mpirun rank 0 prints */
-    cli_mpi_set_per_rank(a.per_rank);
+    x.a.quiet |= !root; /* under mpirun rank 0 prints */
+    cli_mpi_set_per_rank(x.a.per_rank);
     limn_context *ctx = limn_context_create();
     if (!ctx) {
         fprintf(stderr, "limn interpolate: error: out of memory\n");
         return EXIT_FAILURE_RUN;
     }
-    limn_context_set_max_memory(ctx, a.sub.max_memory); /* the reader's cap too */
     limn_mesh *mesh = NULL, *control = NULL, *surface = NULL, *piece = NULL;
     limn_report r = {.size = sizeof r};
     limn_subdivide_report sr = {.size = sizeof sr};
     double sec[3] = {0, 0, 0}, t0 = cli_now();
-    limn_status st = limn_context_set_device(ctx, a.device);
-    if (!st && a.fallback)
-        st = limn_context_set_fallback(ctx, a.fallback);
-    if (!st && root)
-        st = cli_load_mesh("interpolate", ctx, a.input, a.in_format, &a.repair, 1, &mesh);
+    limn_status st = cli_args_open(&x.a, ctx, x.sub.max_memory, root, &mesh);
     sec[0] = cli_now() - t0;
     if (!st && root)
-        st = limn_interpolate_estimate(ctx, mesh, &a.opt, a.sub.max_memory, NULL);
-    if (!st && root && a.surface) {
+        st = limn_interpolate_estimate(ctx, mesh, &x.opt, x.sub.max_memory, NULL);
+    if (!st && root && x.surface) {
         /* refuse an oversize surface before solving */
         size_t v, f, bytes;
-        a.sub.scheme = a.opt.scheme;
-        a.sub.alpha = a.opt.alpha;
-        st = limn_subdivide_estimate(ctx, mesh, &a.sub, &v, &f, &bytes);
+        x.sub.scheme = x.opt.scheme;
+        x.sub.alpha = x.opt.alpha;
+        st = limn_subdivide_estimate(ctx, mesh, &x.sub, &v, &f, &bytes);
     }
     st = cli_mpi_agree(ctx, st); /* a bad input stops every rank, one message */
     if (!st)
-        st = solve(&a, ctx, mesh, &control, &surface, &piece, &r, &sr);
+        st = solve(&x, ctx, mesh, &control, &surface, &piece, &r, &sr);
     /* every output is complete (staged) before any appears: a failure writes nothing */
     limn_output_set *set = NULL;
     if (!st)
         st = limn_output_set_create(ctx, &set);
     if (!st) {
         double t1 = cli_now();
-        if (a.per_rank) {
-            char *path = cli_mpi_rank_path(a.output);
-            st = path ? limn_output_set_add_mesh(ctx, set, piece, path, a.out_format)
-                      : cli_error(LIMN_ERR_MEMORY, "out of memory");
-            free(path);
-        } else if (root) {
-            st = limn_output_set_add_mesh(ctx, set, control, a.output, a.out_format);
-        }
-        if (!st && root && a.surface) {
-            st = limn_output_set_add_mesh(ctx, set, surface, a.surface, a.out_format);
-        }
+        st = cli_args_stage_mesh(&x.a, ctx, set, root ? control : NULL, piece);
+        if (!st && root && x.surface)
+            st = limn_output_set_add_mesh(ctx, set, surface, x.surface, x.a.out_format);
         sec[1] = cli_now() - t1;
         sec[2] = cli_now() - t0;
     }
-    if (!st && root && a.report)
-        st = write_report(ctx, &a, &r, a.surface ? &sr : NULL, sec, set);
+    if (!st && root && x.a.report)
+        st = write_report(ctx, &x, &r, x.surface ? &sr : NULL, sec, set);
     st = cli_commit_outputs(ctx, st, set);
     if (st)
         rc = cli_fail("interpolate", ctx, st);
-    else if (!a.quiet) {
-        print_summary(ctx, &a, &r, sec);
-        if (a.surface)
+    else if (!x.a.quiet) {
+        print_summary(ctx, &x, &r, sec);
+        if (x.surface)
             fprintf(stderr, "  surface: %s, %zu vertices, %zu faces (%d levels%s), %.3f s\n",
-                    a.surface, sr.vertices, sr.faces, sr.levels,
+                    x.surface, sr.vertices, sr.faces, sr.levels,
                     sr.limit ? ", limit positions" : "",
                     sr.seconds_plan + sr.seconds_apply + sr.seconds_limit);
         cli_mpi_print();

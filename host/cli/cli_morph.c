@@ -2,6 +2,7 @@
 /* limn morph: frames from FROM to TO by seed 000 eq. 9, or the linear blend. */
 #include "cli_series.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,10 +29,7 @@ static const char *const help =
     "  --m M                  highest term of eq. 9, M >= 0              [2]\n"
     "  --p P                  speed, 0 < P < 1 (smaller is faster)       [0.8]\n"
     "  --linear               the linear blend instead\n"
-    "  --scheme S             auto, loop or catmark                  [auto]\n"
-    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"
-    "  --report FILE.json     also write the report as JSON\n"
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
     "\n"
     "Every frame is written whole or not at all; on failure the frames written\n"
@@ -127,7 +125,7 @@ static limn_status write_frame(void *user, const limn_morph_frame *f)
     memcpy(limn_mesh_positions_mutable(s->frame), f->positions,
            3 * limn_mesh_vertex_count(s->frame) * sizeof(double));
     frame_name(&s->pat, f->index, s->name, s->name_size);
-    limn_status st = limn_mesh_write(s->ctx, s->frame, s->name, s->c->out_format);
+    limn_status st = limn_mesh_write(s->ctx, s->frame, s->name, s->c->a.out_format);
     s->written += !st;
     s->volume[f->index] = f->volume;
     s->area[f->index] = f->area;
@@ -182,147 +180,167 @@ static void print_extra(void *user)
         fprintf(stderr, "  volume not defined (the mesh is not closed)\n");
 }
 
-int cli_morph(int argc, char **argv)
+static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
 {
-    series_cli c = {.cmd = "morph", .help = help, .inputs_wanted = 2};
-    limn_series_options_default(&c.opt);
-    limn_morph_options mo;
-    limn_morph_options_default(&mo);
-    static const struct option longopts[] = {
-        SERIES_OPTIONS, CLI_VALUE("frames"), CLI_FLAG("linear"), CLI_VALUE("m"), CLI_VALUE("p"), CLI_OPTIONS_END};
-    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
-    if (orc)
-        return orc;
-    for (int i = 1; i < argc; i++) {
-        int rc, k = series_cli_arg(&c, argc, argv, &i, &rc);
-        if (k == SERIES_ARG_EXIT)
-            return rc < 0 ? 0 : rc;
-        if (k == SERIES_ARG_TAKEN)
-            continue;
-        const char *s = argv[i], *v;
-        if (strcmp(s, "--linear") == 0) {
-            mo.linear = 1;
-        } else if (strcmp(s, "--frames") == 0 || strcmp(s, "--m") == 0) {
-            if (!(v = series_cli_value(&c, argc, argv, &i)))
-                return EXIT_USAGE;
-            int frames = s[2] == 'f';
-            if ((rc = series_cli_int(&c, s, v, frames ? 2 : 0, frames ? &mo.frames : &mo.m)))
-                return rc;
-            if (frames && mo.frames > 1000000)
-                return cli_usage_error(c.cmd, "--frames %s: at most 1000000", v);
-        } else if (strcmp(s, "--p") == 0) {
-            if (!(v = series_cli_value(&c, argc, argv, &i)))
-                return EXIT_USAGE;
-            if ((rc = series_cli_number(&c, s, v, &mo.p)))
-                return rc;
-            if (!(mo.p > 0 && mo.p < 1))
-                return cli_usage_error(c.cmd, "--p %s must lie strictly between 0 and 1", v);
-        } else {
-            return cli_usage_error(c.cmd, "unknown option '%s'", s);
-        }
+    limn_morph_options *mo = user;
+    const char *s = argv[*i];
+    if (strcmp(s, "--linear") == 0) {
+        mo->linear = 1;
+        return 0;
     }
-    int rc = cli_mpi_root_rc(series_cli_check(&c, 0));
-    if (rc)
-        return rc;
-    morph_state ms = {.c = &c, .frames = mo.frames, .m = mo.m, .p = mo.p, .linear = mo.linear};
-    char why[512];
-    if (!parse_pattern(c.output, &ms.pat, why, sizeof why)) {
-        rc = cli_usage_error(c.cmd, "-o %s", why);
-        goto checked;
-    }
-    ms.name_size = strlen(c.output) + 64;
-    ms.name = malloc(ms.name_size);
-    ms.volume = calloc((size_t)mo.frames, sizeof *ms.volume);
-    ms.area = calloc((size_t)mo.frames, sizeof *ms.area);
-    ms.distance = calloc((size_t)mo.frames, sizeof *ms.distance);
-    ms.flipped = calloc((size_t)mo.frames, sizeof *ms.flipped);
-    if (!ms.name || !ms.volume || !ms.area || !ms.distance || !ms.flipped) {
-        fprintf(stderr, "limn morph: error: out of memory\n");
-        rc = EXIT_FAILURE_RUN;
-        goto checked;
-    }
-    /* the frames' names: a known format, distinct, not an input, in a directory */
-    frame_name(&ms.pat, 0, ms.name, ms.name_size);
-    {
-        char *second = malloc(ms.name_size);
-        if (second)
-            frame_name(&ms.pat, 1, second, ms.name_size);
-        int same = second && strcmp(second, ms.name) == 0;
-        free(second);
-        if (same) {
-            rc = cli_usage_error(c.cmd, "-o '%s' gives every frame the same name", c.output);
-            goto checked;
-        }
-    }
-    for (int k = 0; k < 2; k++)
-        if ((rc = cli_check_output(c.cmd, c.inputs[k], ms.name, c.out_format,
-                                   c.overwrite_input)))
-            goto checked;
-    for (int k = 0; k < mo.frames && !c.overwrite_input; k++) {
-        frame_name(&ms.pat, k, ms.name, ms.name_size);
-        if (cli_same_file(ms.name, c.inputs[0]) || cli_same_file(ms.name, c.inputs[1])) {
-            rc = cli_usage_error(c.cmd, "frame %d would overwrite the input '%s'", k, ms.name);
-            goto checked;
-        }
-    }
-    {
-        char *dir = strdup(ms.name);
-        char *slash = dir ? strrchr(dir, '/') : NULL;
-        struct stat sb;
-        if (slash && slash != dir) {
-            *slash = '\0';
-            if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode)) {
-                fprintf(stderr, "limn morph: error: the frames' directory '%s' does not exist\n",
-                        dir);
-                free(dir);
-                rc = EXIT_FAILURE_RUN;
-                goto checked;
-            }
-        }
-        free(dir);
-    }
-    if (c.out_format == LIMN_FORMAT_AUTO)
-        limn_format_from_path(ms.name, &c.out_format);
+    if (strcmp(s, "--frames") == 0)
+        return cli_args_int(a, argc, argv, i, 2, 1000000, &mo->frames);
+    if (strcmp(s, "--m") == 0)
+        return cli_args_int(a, argc, argv, i, 0, INT_MAX, &mo->m);
+    if (strcmp(s, "--p") != 0)
+        return CLI_OWN_UNKNOWN;
+    int rc = cli_args_number(a, argc, argv, i, &mo->p);
+    if (!rc && !(mo->p > 0 && mo->p < 1))
+        rc = cli_usage_error(a->cmd, "--p %s must lie strictly between 0 and 1", argv[*i]);
+    return rc;
+}
 
-checked: /* under mpirun rank 0's checks decide for every rank */
-    rc = cli_mpi_root_rc(rc);
-    if (rc)
-        goto out_pattern;
+/* The name buffer and the per-frame arrays; 0 or an exit status. */
+static int allocate(morph_state *ms, const char *output, int frames)
+{
+    ms->name_size = strlen(output) + 64;
+    ms->name = malloc(ms->name_size);
+    ms->volume = calloc((size_t)frames, sizeof *ms->volume);
+    ms->area = calloc((size_t)frames, sizeof *ms->area);
+    ms->distance = calloc((size_t)frames, sizeof *ms->distance);
+    ms->flipped = calloc((size_t)frames, sizeof *ms->flipped);
+    if (!ms->name || !ms->volume || !ms->area || !ms->distance || !ms->flipped) {
+        fprintf(stderr, "limn morph: error: out of memory\n");
+        return EXIT_FAILURE_RUN;
+    }
+    return 0;
+}
+
+static void release(morph_state *ms)
+{
+    free(ms->pat.prefix);
+    free(ms->pat.suffix);
+    free(ms->name);
+    free(ms->volume);
+    free(ms->area);
+    free(ms->distance);
+    free(ms->flipped);
+}
+
+/* The frames' directory exists (checked on frame 0's name); 0 or 1. */
+static int check_directory(const char *name)
+{
+    char *dir = strdup(name);
+    char *slash = dir ? strrchr(dir, '/') : NULL;
+    struct stat sb;
+    int rc = 0;
+    if (slash && slash != dir) {
+        *slash = '\0';
+        if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode)) {
+            fprintf(stderr, "limn morph: error: the frames' directory '%s' does not exist\n",
+                    dir);
+            rc = EXIT_FAILURE_RUN;
+        }
+    }
+    free(dir);
+    return rc;
+}
+
+/* The frames' names: a known format, distinct, not an input, in a
+   directory; 0 or an exit status. Leaves frame 0's name in ms->name. */
+static int check_frames(series_cli *c, morph_state *ms)
+{
+    frame_name(&ms->pat, 0, ms->name, ms->name_size);
+    char *second = malloc(ms->name_size);
+    if (second)
+        frame_name(&ms->pat, 1, second, ms->name_size);
+    int same = second && strcmp(second, ms->name) == 0;
+    free(second);
+    if (same)
+        return cli_usage_error(c->a.cmd, "-o '%s' gives every frame the same name", c->a.output);
+    for (int k = 0; k < 2; k++) {
+        int rc = cli_check_output(c->a.cmd, c->a.inputs[k], ms->name, c->a.out_format,
+                                  c->a.overwrite_input);
+        if (rc)
+            return rc;
+    }
+    for (int k = 0; k < ms->frames && !c->a.overwrite_input; k++) {
+        frame_name(&ms->pat, k, ms->name, ms->name_size);
+        if (cli_same_file(ms->name, c->a.inputs[0]) || cli_same_file(ms->name, c->a.inputs[1]))
+            return cli_usage_error(c->a.cmd, "frame %d would overwrite the input '%s'", k,
+                                   ms->name);
+    }
+    return check_directory(ms->name);
+}
+
+/* Everything about the output pattern, before any work; 0 or an exit status. */
+static int check(series_cli *c, morph_state *ms)
+{
+    char why[512];
+    if (!parse_pattern(c->a.output, &ms->pat, why, sizeof why))
+        return cli_usage_error(c->a.cmd, "-o %s", why);
+    int rc = allocate(ms, c->a.output, ms->frames);
+    if (!rc)
+        rc = check_frames(c, ms);
+    if (!rc && c->a.out_format == LIMN_FORMAT_AUTO)
+        limn_format_from_path(ms->name, &c->a.out_format);
+    return rc;
+}
+
+/* Loads FROM and TO, writes the frames as they come, the report and the
+   summary; the exit status (the frames written are taken back on failure). */
+static int run(series_cli *c, limn_morph_options *mo, morph_state *ms)
+{
     series_seconds s = {.t0 = cli_now()};
     limn_mesh *in[2] = {NULL, NULL};
     limn_series_report r = {.size = sizeof r};
-    limn_status st = series_cli_load(&c, &ms.ctx, in);
+    limn_status st = series_cli_load(c, &ms->ctx, in);
     s.load = cli_now() - s.t0;
-    mo.series = c.opt;
+    mo->series = c->opt;
     if (!st && in[0]) /* rank 0 writes the frames */
-        st = limn_mesh_copy(ms.ctx, in[0], &ms.frame);
+        st = limn_mesh_copy(ms->ctx, in[0], &ms->frame);
     if (!st) {
-        cli_progress_enable(ms.ctx, c.quiet);
+        cli_progress_enable(ms->ctx, c->a.quiet);
         st = cli_mpi_ranks() > 1
-                 ? cli_mpi_morph(ms.ctx, in[0], in[1], &mo, write_frame, &ms, &r)
-                 : limn_morph(ms.ctx, in[0], in[1], &mo, write_frame, &ms, &r);
+                 ? cli_mpi_morph(ms->ctx, in[0], in[1], mo, write_frame, ms, &r)
+                 : limn_morph(ms->ctx, in[0], in[1], mo, write_frame, ms, &r);
         cli_progress_done();
     }
-    r.seconds_compute -= ms.write_seconds;
-    s.write = ms.write_seconds;
-    series_extra x = {json_extra, print_extra, &ms};
-    rc = series_cli_finish(&c, ms.ctx, st, NULL, &r, &s, &x);
+    r.seconds_compute -= ms->write_seconds;
+    s.write = ms->write_seconds;
+    series_extra x = {json_extra, print_extra, ms};
+    int rc = series_cli_finish(c, ms->ctx, st, NULL, &r, &s, &x);
     if (rc) /* nothing written: take back the frames this run wrote */
-        for (int k = 0; k < ms.written; k++) {
-            frame_name(&ms.pat, k, ms.name, ms.name_size);
-            remove(ms.name);
+        for (int k = 0; k < ms->written; k++) {
+            frame_name(&ms->pat, k, ms->name, ms->name_size);
+            remove(ms->name);
         }
-    limn_mesh_destroy(in[0]);
-    limn_mesh_destroy(in[1]);
-    limn_mesh_destroy(ms.frame);
-    limn_context_destroy(ms.ctx);
-out_pattern:
-    free(ms.pat.prefix);
-    free(ms.pat.suffix);
-    free(ms.name);
-    free(ms.volume);
-    free(ms.area);
-    free(ms.distance);
-    free(ms.flipped);
+    limn_mesh_destroy(ms->frame);
+    series_cli_unload(ms->ctx, in);
+    return rc;
+}
+
+int cli_morph(int argc, char **argv)
+{
+    series_cli c;
+    series_cli_init(&c, "morph", help, 2);
+    limn_morph_options mo;
+    limn_morph_options_default(&mo);
+    static const struct option longopts[] = {
+        CLI_ARGS_OPTIONS, CLI_VALUE("frames"), CLI_FLAG("linear"), CLI_VALUE("m"),
+        CLI_VALUE("p"),   CLI_OPTIONS_END};
+    int rc = cli_args_parse(&c.a, longopts, argc, argv, own_option, &mo);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    rc = cli_mpi_root_rc(series_cli_check(&c, 0));
+    if (rc)
+        return rc;
+    morph_state ms = {
+        .c = &c, .frames = mo.frames, .m = mo.m, .p = mo.p, .linear = mo.linear};
+    /* under mpirun rank 0's checks decide for every rank */
+    rc = cli_mpi_root_rc(check(&c, &ms));
+    if (!rc)
+        rc = run(&c, &mo, &ms);
+    release(&ms);
     return rc;
 }

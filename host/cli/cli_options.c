@@ -67,22 +67,73 @@ static int unknown(const char *cmd, const char *arg, const struct option *longop
     return cli_usage_error(cmd, "unknown option '%s'", arg);
 }
 
+/* The normalised arguments being built: out[0..k), their spelled options
+   in store (80 bytes an argument at most). */
+typedef struct normal {
+    char **out;
+    char *store;
+    size_t used;
+    int k;
+} normal;
+
 /* "--NAME" or "-C" in the next 80 bytes of store. */
-static char *spell(char *store, size_t *used, const char *name, int c)
+static char *spell(normal *nm, const char *name, int c)
 {
-    char *p = store + *used;
+    char *p = nm->store + nm->used;
     if (name)
         snprintf(p, 80, "--%.76s", name);
     else
         snprintf(p, 80, "-%c", c);
-    *used += strlen(p) + 1;
+    nm->used += strlen(p) + 1;
     return p;
+}
+
+/* A copy of longopts (count entries) whose options return 256 + their
+   index, so that a short one never collides; NULL when out of memory. */
+static struct option *numbered(const struct option *longopts, int count)
+{
+    struct option *lo = calloc((size_t)count + 1, sizeof *lo);
+    for (int i = 0; lo && i < count; i++) {
+        lo[i] = longopts[i];
+        lo[i].flag = NULL;
+        lo[i].val = 256 + i;
+    }
+    return lo;
+}
+
+/* One getopt_long result c into nm; 0 or an exit status. */
+static int take(const char *cmd, int c, char **in, const struct option *lo,
+                const struct option *longopts, normal *nm)
+{
+    if (c == 1) {
+        nm->out[nm->k++] = optarg;
+    } else if (c >= 256) {
+        /* "--name=value" and "--name value" (and an unambiguous prefix of
+           name) all become "--name" "value" for the command's parser */
+        nm->out[nm->k++] = spell(nm, lo[c - 256].name, 0);
+        if (optarg)
+            nm->out[nm->k++] = optarg;
+    } else if (c == ':') {
+        /* the command's parser says "OPT needs a value" */
+        nm->out[nm->k++] = optopt >= 256 ? spell(nm, lo[optopt - 256].name, 0)
+                                         : spell(nm, NULL, optopt);
+    } else if (c == '?') {
+        const char *arg = in[optind - 1];
+        if (optopt >= 256)
+            return cli_usage_error(cmd, "--%s takes no value ('%s')", lo[optopt - 256].name, arg);
+        return unknown(cmd, optopt ? spell(nm, NULL, optopt) : arg, longopts);
+    } else {
+        nm->out[nm->k++] = spell(nm, NULL, c);
+        if (optarg)
+            nm->out[nm->k++] = optarg;
+    }
+    return 0;
 }
 
 int cli_options(const char *cmd, const struct option *longopts, const char *shortopts, int *argc,
                 char ***argv)
 {
-    static char **normal; /* the previous call's arrays (one command a process) */
+    static char **normal_out; /* the previous call's arrays (one command a process) */
     static char *normal_store;
     cli_set_command(cmd);
     int n = *argc;
@@ -94,73 +145,39 @@ int cli_options(const char *cmd, const struct option *longopts, const char *shor
     int count = 0;
     while (longopts[count].name)
         count++;
-    struct option *lo = calloc((size_t)count + 1, sizeof *lo);
-    char **out = calloc(2 * (size_t)n + 2, sizeof *out);
-    char *store = malloc((size_t)n * 80 + 1);
-    size_t used = 0;
-    if (!lo || !out || !store) {
+    struct option *lo = numbered(longopts, count);
+    normal nm = {calloc(2 * (size_t)n + 2, sizeof(char *)), malloc((size_t)n * 80 + 1), 0, 0};
+    if (!lo || !nm.out || !nm.store) {
         free(lo);
-        free(out);
-        free(store);
+        free(nm.out);
+        free(nm.store);
         fprintf(stderr, "limn %s: error: out of memory\n", cmd);
         return EXIT_FAILURE_RUN;
     }
-    /* long options return 256 + their index, so that a short one never collides */
-    for (int i = 0; i < count; i++) {
-        lo[i] = longopts[i];
-        lo[i].flag = NULL;
-        lo[i].val = 256 + i;
-    }
-    int k = 0, c, idx, rc = 0, before = 1;
-    out[k++] = in[0];
+    int c, idx, rc = 0, before = 1;
+    nm.out[nm.k++] = in[0];
     opterr = 0;
     optind = 0; /* glibc: start afresh */
     while (!rc && (before = optind > 0 ? optind : 1,
-                   (c = getopt_long(n, in, optstring, lo, &idx)) != -1)) {
-        if (c == 1) {
-            out[k++] = optarg;
-        } else if (c >= 256) {
-            /* "--name=value" and "--name value" (and an unambiguous prefix of
-               name) all become "--name" "value" for the command's parser */
-            out[k++] = spell(store, &used, lo[c - 256].name, 0);
-            if (optarg)
-                out[k++] = optarg;
-        } else if (c == ':') {
-            /* the command's parser says "OPT needs a value" */
-            out[k++] = optopt >= 256 ? spell(store, &used, lo[optopt - 256].name, 0)
-                                     : spell(store, &used, NULL, optopt);
-        } else if (c == '?') {
-            const char *arg = in[optind - 1];
-            if (optopt >= 256)
-                rc = cli_usage_error(cmd, "--%s takes no value ('%s')", lo[optopt - 256].name,
-                                     arg);
-            else if (optopt)
-                rc = unknown(cmd, spell(store, &used, NULL, optopt), longopts);
-            else
-                rc = unknown(cmd, arg, longopts);
-        } else {
-            out[k++] = spell(store, &used, NULL, c);
-            if (optarg)
-                out[k++] = optarg;
-        }
-    }
+                   (c = getopt_long(n, in, optstring, lo, &idx)) != -1))
+        rc = take(cmd, c, in, lo, longopts, &nm);
     /* a "--" that ended the options is kept (the commands refuse it, as before) */
     if (!rc && optind == before + 1 && optind <= n && strcmp(in[before], "--") == 0)
-        out[k++] = in[before];
+        nm.out[nm.k++] = in[before];
     for (int i = optind; !rc && i < n; i++)
-        out[k++] = in[i];
-    out[k] = NULL;
+        nm.out[nm.k++] = in[i];
+    nm.out[nm.k] = NULL;
     free(lo);
     if (rc) {
-        free(out);
-        free(store);
+        free(nm.out);
+        free(nm.store);
         return rc;
     }
-    free(normal);
+    free(normal_out);
     free(normal_store);
-    normal = out;
-    normal_store = store;
-    *argc = k;
-    *argv = out;
+    normal_out = nm.out;
+    normal_store = nm.store;
+    *argc = nm.k;
+    *argv = nm.out;
     return 0;
 }

@@ -2,6 +2,7 @@
 /* limn sharpen: T_{k+1} = T_k + sum_{i=m..n} (E - A)^i T_k (seed 000 §6). */
 #include "cli_series.h"
 
+#include <limits.h>
 #include <string.h>
 
 static const char *const help =
@@ -16,13 +17,9 @@ static const char *const help =
     "  -o, --output FILE      mesh to write (.obj, .ply binary, .off)\n"
     "  --from M, --to N       the terms added, 0 <= M <= N\n"
     "  --steps K              iterations, K >= 1                         [1]\n"
-    "  --scheme S             auto, loop or catmark                  [auto]\n"
-    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"
-    "  --report FILE.json     also write the report as JSON\n"
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
-    "\n"
-    "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
+    SERIES_HELP_EXIT;
 
 typedef struct extra {
     int from, to, steps;
@@ -45,64 +42,46 @@ static void print_extra(void *user)
             e->from, e->to, e->steps, e->mean_displacement);
 }
 
+static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
+{
+    extra *e = user;
+    const char *s = argv[*i];
+    int *target = strcmp(s, "--from") == 0    ? &e->from
+                  : strcmp(s, "--to") == 0    ? &e->to
+                  : strcmp(s, "--steps") == 0 ? &e->steps
+                                              : NULL;
+    if (!target)
+        return CLI_OWN_UNKNOWN;
+    return cli_args_int(a, argc, argv, i, target == &e->steps ? 1 : 0, INT_MAX, target);
+}
+
+static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, limn_mesh **out,
+                       limn_series_report *r, void *user)
+{
+    extra *e = user;
+    if (e->from == 0 && !c->a.quiet)
+        fprintf(stderr, "limn sharpen: warning: --from 0 adds the mesh itself: it is scaled "
+                        "by 2 about the origin\n");
+    return limn_sharpen(ctx, in, &c->opt, e->from, e->to, e->steps, out, r);
+}
+
 int cli_sharpen(int argc, char **argv)
 {
-    series_cli c = {.cmd = "sharpen", .help = help, .inputs_wanted = 1};
-    limn_series_options_default(&c.opt);
+    series_cli c;
+    series_cli_init(&c, "sharpen", help, 1);
     extra e = {.from = -1, .to = -1, .steps = 1};
     static const struct option longopts[] = {
-        SERIES_OPTIONS, CLI_VALUE("from"), CLI_VALUE("to"), CLI_VALUE("steps"), CLI_OPTIONS_END};
-    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
-    if (orc)
-        return orc;
-    for (int i = 1; i < argc; i++) {
-        int rc, k = series_cli_arg(&c, argc, argv, &i, &rc);
-        if (k == SERIES_ARG_EXIT)
-            return rc < 0 ? 0 : rc;
-        if (k == SERIES_ARG_TAKEN)
-            continue;
-        const char *s = argv[i];
-        int *target = strcmp(s, "--from") == 0    ? &e.from
-                      : strcmp(s, "--to") == 0    ? &e.to
-                      : strcmp(s, "--steps") == 0 ? &e.steps
-                                                  : NULL;
-        if (!target)
-            return cli_usage_error(c.cmd, "unknown option '%s'", s);
-        const char *v = series_cli_value(&c, argc, argv, &i);
-        if (!v)
-            return EXIT_USAGE;
-        rc = series_cli_int(&c, s, v, target == &e.steps ? 1 : 0, target);
-        if (rc)
-            return rc;
-    }
+        CLI_ARGS_OPTIONS, CLI_VALUE("from"), CLI_VALUE("to"), CLI_VALUE("steps"), CLI_OPTIONS_END};
+    int rc = cli_args_parse(&c.a, longopts, argc, argv, own_option, &e);
+    if (rc)
+        return rc < 0 ? 0 : rc;
     if (e.from < 0 || e.to < 0)
-        return cli_usage_error(c.cmd, "--from M and --to N are required");
+        return cli_usage_error(c.a.cmd, "--from M and --to N are required");
     if (e.to < e.from)
-        return cli_usage_error(c.cmd, "--to %d is below --from %d", e.to, e.from);
-    int rc = series_cli_check(&c, 1);
+        return cli_usage_error(c.a.cmd, "--to %d is below --from %d", e.to, e.from);
+    rc = series_cli_check(&c, 1);
     if (rc)
         return rc;
-    series_seconds s = {.t0 = cli_now()};
-    limn_context *ctx = NULL;
-    limn_mesh *in[2] = {NULL, NULL}, *out = NULL;
-    limn_series_report r = {.size = sizeof r};
-    limn_status st = series_cli_load(&c, &ctx, in);
-    s.load = cli_now() - s.t0;
-    if (!st) {
-        if (e.from == 0 && !c.quiet)
-            fprintf(stderr, "limn sharpen: warning: --from 0 adds the mesh itself: it is scaled "
-                            "by 2 about the origin\n");
-        cli_progress_enable(ctx, c.quiet);
-        st = limn_sharpen(ctx, in[0], &c.opt, e.from, e.to, e.steps, &out, &r);
-        cli_progress_done();
-    }
-    limn_mesh_comparison cmp = {.size = sizeof cmp};
-    if (!st && limn_mesh_compare(ctx, in[0], out, &cmp) == LIMN_OK)
-        e.mean_displacement = cmp.mean_distance / (r.bbox_diagonal > 0 ? r.bbox_diagonal : 1.0);
-    series_extra x = {json_extra, print_extra, &e};
-    rc = series_cli_finish(&c, ctx, st, out, &r, &s, &x);
-    limn_mesh_destroy(in[0]);
-    limn_mesh_destroy(out);
-    limn_context_destroy(ctx);
-    return rc;
+    series_filter f = {run, NULL, &e.mean_displacement, {json_extra, print_extra, &e}};
+    return series_cli_filter(&c, &f);
 }

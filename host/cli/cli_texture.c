@@ -30,13 +30,9 @@ static const char *const help =
     "                         to the level's largest noise value         [1e-6]\n"
     "  --max-memory SIZE      refuse when the predicted peak is larger (512M, 4G)\n"
     "                         [three quarters of physical memory]\n"
-    "  --scheme S             auto, loop or catmark                  [auto]\n"
-    "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"
-    "  --report FILE.json     also write the report as JSON\n"
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    SERIES_HELP
     "  --input-format F / --overwrite-input / -q\n"
-    "\n"
-    "Exit status: 0 success, 1 failure (nothing written), 2 bad usage.\n";
+    SERIES_HELP_EXIT;
 
 #define MAX_COLORS 256
 
@@ -92,6 +88,7 @@ static int parse_colors(const char *text, uint8_t *rgb, size_t *count, char *why
 
 typedef struct extra {
     limn_texture_options t;
+    uint8_t rgb[3 * MAX_COLORS];
     size_t out_vertices, out_faces;
     const char *colors;
 } extra;
@@ -116,95 +113,96 @@ static void print_extra(void *user)
             e->out_faces);
 }
 
+/* --seed S: a non-negative integer. */
+static int seed_option(cli_args *a, const char *v, extra *e)
+{
+    char *end;
+    errno = 0;
+    unsigned long long seed = strtoull(v, &end, 10);
+    if (end == v || *end || errno || v[0] == '-')
+        return cli_usage_error(a->cmd, "--seed expects a non-negative integer, got '%s'", v);
+    e->t.seed = seed;
+    return 0;
+}
+
+static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
+{
+    extra *e = user;
+    const char *s = argv[*i], *v;
+    if (strcmp(s, "--levels") == 0)
+        return cli_args_int(a, argc, argv, i, 0, 8, &e->t.levels);
+    if (strcmp(s, "--tol") == 0)
+        return cli_args_positive(a, argc, argv, i, &e->t.tolerance);
+    if (strcmp(s, "--frequency") == 0)
+        return cli_args_positive(a, argc, argv, i, &e->t.frequency);
+    if (strcmp(s, "--colors") != 0 && strcmp(s, "--colours") != 0 && strcmp(s, "--seed") != 0 &&
+        strcmp(s, "--max-memory") != 0)
+        return CLI_OWN_UNKNOWN;
+    if (!(v = cli_args_value(a, argc, argv, i)))
+        return EXIT_USAGE;
+    if (strcmp(s, "--seed") == 0)
+        return seed_option(a, v, e);
+    if (strcmp(s, "--max-memory") == 0)
+        return cli_parse_size(s, v, &e->t.max_memory) ? 0 : EXIT_USAGE;
+    char why[256];
+    if (!parse_colors(v, e->rgb, &e->t.color_count, why, sizeof why))
+        return cli_usage_error(a->cmd, "--colors: %s", why);
+    e->colors = v;
+    return 0;
+}
+
+/* After the shared checks: colours given, a PLY output. */
+static int check(series_cli *c, const extra *e)
+{
+    if (!e->colors)
+        return cli_usage_error(c->a.cmd, "--colors '#hex,#hex,...' is required");
+    int rc = series_cli_check(c, 1);
+    if (rc)
+        return rc;
+    limn_format f = c->a.out_format;
+    if (f == LIMN_FORMAT_AUTO)
+        limn_format_from_path(c->a.output, &f);
+    if (f != LIMN_FORMAT_PLY && f != LIMN_FORMAT_PLY_ASCII && f != LIMN_FORMAT_PLY_BINARY_BE)
+        return cli_usage_error(c->a.cmd, "'%s': vertex colours are written in PLY only",
+                               c->a.output);
+    return 0;
+}
+
+static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, limn_mesh **out,
+                       limn_series_report *r, void *user)
+{
+    extra *e = user;
+    e->t.colors = e->rgb;
+    e->t.series = c->opt;
+    return limn_texture(ctx, in, &e->t, out, r);
+}
+
+static limn_status measure(limn_context *ctx, const limn_mesh *in, const limn_mesh *out,
+                           const limn_series_report *r, void *user)
+{
+    (void)ctx, (void)in, (void)r;
+    extra *e = user;
+    e->out_vertices = limn_mesh_vertex_count(out);
+    e->out_faces = limn_mesh_face_count(out);
+    return LIMN_OK;
+}
+
 int cli_texture(int argc, char **argv)
 {
-    series_cli c = {.cmd = "texture", .help = help, .inputs_wanted = 1};
-    limn_series_options_default(&c.opt);
+    series_cli c;
+    series_cli_init(&c, "texture", help, 1);
     extra e;
     memset(&e, 0, sizeof e);
     limn_texture_options_default(&e.t);
-    uint8_t colors[3 * MAX_COLORS];
     static const struct option longopts[] = {
-        SERIES_OPTIONS, CLI_VALUE("colors"), CLI_VALUE("colours"), CLI_VALUE("frequency"),
-        CLI_VALUE("levels"), CLI_VALUE("max-memory"), CLI_VALUE("seed"), CLI_VALUE("tol"), CLI_OPTIONS_END};
-    int orc = cli_options(c.cmd, longopts, SERIES_SHORT, &argc, &argv);
-    if (orc)
-        return orc;
-    for (int i = 1; i < argc; i++) {
-        int rc, k = series_cli_arg(&c, argc, argv, &i, &rc);
-        if (k == SERIES_ARG_EXIT)
-            return rc < 0 ? 0 : rc;
-        if (k == SERIES_ARG_TAKEN)
-            continue;
-        const char *s = argv[i], *v;
-        if (strcmp(s, "--colors") != 0 && strcmp(s, "--colours") != 0 &&
-            strcmp(s, "--levels") != 0 && strcmp(s, "--seed") != 0 &&
-            strcmp(s, "--frequency") != 0 && strcmp(s, "--tol") != 0 &&
-            strcmp(s, "--max-memory") != 0)
-            return cli_usage_error(c.cmd, "unknown option '%s'", s);
-        if (!(v = series_cli_value(&c, argc, argv, &i)))
-            return EXIT_USAGE;
-        if (strncmp(s, "--colo", 6) == 0) {
-            char why[256];
-            if (!parse_colors(v, colors, &e.t.color_count, why, sizeof why))
-                return cli_usage_error(c.cmd, "--colors: %s", why);
-            e.colors = v;
-        } else if (strcmp(s, "--levels") == 0) {
-            if ((rc = series_cli_int(&c, s, v, 0, &e.t.levels)))
-                return rc;
-            if (e.t.levels > 8)
-                return cli_usage_error(c.cmd, "--levels %s: at most 8", v);
-        } else if (strcmp(s, "--max-memory") == 0) {
-            if (!cli_parse_size(s, v, &e.t.max_memory))
-                return EXIT_USAGE;
-        } else if (strcmp(s, "--seed") == 0) {
-            char *end;
-            errno = 0;
-            unsigned long long seed = strtoull(v, &end, 10);
-            if (end == v || *end || errno || v[0] == '-')
-                return cli_usage_error(c.cmd, "--seed expects a non-negative integer, got '%s'",
-                                       v);
-            e.t.seed = seed;
-        } else {
-            double *d = strcmp(s, "--tol") == 0 ? &e.t.tolerance : &e.t.frequency;
-            if ((rc = series_cli_number(&c, s, v, d)))
-                return rc;
-            if (!(*d > 0))
-                return cli_usage_error(c.cmd, "%s %s must be positive", s, v);
-        }
-    }
-    if (!e.colors)
-        return cli_usage_error(c.cmd, "--colors '#hex,#hex,...' is required");
-    int rc = series_cli_check(&c, 1);
+        CLI_ARGS_OPTIONS,     CLI_VALUE("colors"), CLI_VALUE("colours"), CLI_VALUE("frequency"),
+        CLI_VALUE("levels"),  CLI_VALUE("max-memory"), CLI_VALUE("seed"), CLI_VALUE("tol"),
+        CLI_OPTIONS_END};
+    int rc = cli_args_parse(&c.a, longopts, argc, argv, own_option, &e);
     if (rc)
+        return rc < 0 ? 0 : rc;
+    if ((rc = check(&c, &e)))
         return rc;
-    limn_format f = c.out_format;
-    if (f == LIMN_FORMAT_AUTO)
-        limn_format_from_path(c.output, &f);
-    if (f != LIMN_FORMAT_PLY && f != LIMN_FORMAT_PLY_ASCII && f != LIMN_FORMAT_PLY_BINARY_BE)
-        return cli_usage_error(c.cmd, "'%s': vertex colours are written in PLY only", c.output);
-    e.t.colors = colors;
-    e.t.series = c.opt;
-
-    series_seconds s = {.t0 = cli_now()};
-    limn_context *ctx = NULL;
-    limn_mesh *in[2] = {NULL, NULL}, *out = NULL;
-    limn_series_report r = {.size = sizeof r};
-    limn_status st = series_cli_load(&c, &ctx, in);
-    s.load = cli_now() - s.t0;
-    if (!st) {
-        cli_progress_enable(ctx, c.quiet);
-        st = limn_texture(ctx, in[0], &e.t, &out, &r);
-        cli_progress_done();
-    }
-    if (!st) {
-        e.out_vertices = limn_mesh_vertex_count(out);
-        e.out_faces = limn_mesh_face_count(out);
-    }
-    series_extra x = {json_extra, print_extra, &e};
-    rc = series_cli_finish(&c, ctx, st, out, &r, &s, &x);
-    limn_mesh_destroy(in[0]);
-    limn_mesh_destroy(out);
-    limn_context_destroy(ctx);
-    return rc;
+    series_filter f = {run, measure, NULL, {json_extra, print_extra, &e}};
+    return series_cli_filter(&c, &f);
 }
