@@ -26,6 +26,7 @@ typedef struct abi_layout {
     size_t size;
     size_t min_size;
     const struct abi_layout *inner; /* a struct embedded right after `size`, or NULL */
+    const void *defaults;           /* options: what limn_*_default() gives; reports: NULL */
 } abi_layout;
 
 /*
@@ -47,12 +48,48 @@ limn_status abi_options_in(limn_context *ctx, const char *fn, const char *what,
 limn_status abi_report_begin(limn_context *ctx, const char *fn, const char *what,
                              const abi_layout *layout, const void *dst, void *local);
 
-/* The usual entry of a public call taking options and a report:
-   abi_options_in(options into o), then abi_report_begin(report, r); the
-   first refusal is returned. */
-limn_status abi_call_begin(limn_context *ctx, const char *fn, const abi_layout *options_layout,
-                           const void *options, void *o, const abi_layout *report_layout,
-                           const void *report, void *r);
+/* limn_*_options_default(): o (NULL: nothing) gets the layout's defaults. */
+void abi_default(const abi_layout *layout, void *o);
+
+/* The start of a public call: LIMN_ERR_ARGUMENT, no message, without a
+   context (nowhere to put one); else ctx cleared and, where `what` is
+   given, the pointer p required ("fn: what is NULL"). */
+limn_status abi_begin(limn_context *ctx, const char *fn, const char *what, const void *p);
+
+/*
+ * A public call taking options and a report, around its *_sized function:
+ *     abi_call c = {ctx, "limn_x", &abi_x_options, options, &o, &abi_x_report, report, &r};
+ *     limn_status st = abi_enter(&c, out);
+ *     return st ? st : abi_leave(&c, x_sized(ctx, ..., abi_sized_options(&c), ...));
+ */
+typedef struct abi_call {
+    limn_context *ctx;
+    const char *fn;
+    const abi_layout *options_layout;
+    const void *options; /* the caller's, may be NULL */
+    void *o;             /* the library-side copy */
+    const abi_layout *report_layout;
+    void *report; /* the caller's, may be NULL */
+    void *r;      /* the library-side copy */
+} abi_call;
+
+/* abi_begin (no pointer required), *out = NULL (out may be NULL), o set to
+   the defaults and the caller's options read over them, the report checked;
+   the first refusal is returned. */
+limn_status abi_enter(abi_call *c, limn_mesh **out);
+/* After an entered call: the report copied out; returns st. */
+limn_status abi_leave(const abi_call *c, limn_status st);
+
+/* What the *_sized function takes: the library-side copies where the caller
+   passed a struct, else NULL. */
+static inline const void *abi_sized_options(const abi_call *c)
+{
+    return c->options ? c->o : NULL;
+}
+static inline void *abi_sized_report(const abi_call *c)
+{
+    return c->report ? c->r : NULL;
+}
 
 /* Copies the library-side report into the caller's (NULL: nothing): the
    bytes its size holds, zeroing those beyond the library's layout; the

@@ -365,27 +365,18 @@ limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *m
                             limn_series_report *report, const limn_mpi_options *mpi,
                             limn_mpi_result *result)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
     limn_series_options o;
-    limn_series_options_default(&o);
     limn_series_report r;
-    limn_mpi_options mo;
-    limn_mpi_result res;
-    limn_status st =
-        abi_options_in(ctx, "limn_smooth_mpi", "options", &abi_series_options, options, &o);
-    limn_status rs = abi_report_begin(ctx, "limn_smooth_mpi", "report", &abi_series_report,
-                                      st ? NULL : report, &r);
-    st = mpi_abi_begin(ctx, comm, "limn_smooth_mpi", st ? st : rs, mpi, &mo, result, &res);
-    if (st)
-        return st;
-    st = smooth_mpi_sized(ctx, comm, mesh, options ? &o : NULL, terms, out, report ? &r : NULL,
-                          mpi ? &mo : NULL, result ? &res : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    mpi_abi_end(result, &res);
+    mpi_call c = {.abi = {ctx, "limn_smooth_mpi", &abi_series_options, options, &o,
+                          &abi_series_report, report, &r},
+                  .comm = comm,
+                  .mpi = mpi,
+                  .result = result};
+    limn_status st = mpi_enter(&c, out);
+    if (!st)
+        st = mpi_leave(&c, smooth_mpi_sized(ctx, comm, mesh, abi_sized_options(&c.abi), terms, out,
+                                            abi_sized_report(&c.abi), mpi_sized_options(&c),
+                                            mpi_sized_result(&c)));
     return st;
 }
 
@@ -394,27 +385,18 @@ limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *
                              limn_mesh **out, limn_series_report *report,
                              const limn_mpi_options *mpi, limn_mpi_result *result)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
     limn_series_options o;
-    limn_series_options_default(&o);
     limn_series_report r;
-    limn_mpi_options mo;
-    limn_mpi_result res;
-    limn_status st =
-        abi_options_in(ctx, "limn_denoise_mpi", "options", &abi_series_options, options, &o);
-    limn_status rs = abi_report_begin(ctx, "limn_denoise_mpi", "report", &abi_series_report,
-                                      st ? NULL : report, &r);
-    st = mpi_abi_begin(ctx, comm, "limn_denoise_mpi", st ? st : rs, mpi, &mo, result, &res);
-    if (st)
-        return st;
-    st = denoise_mpi_sized(ctx, comm, mesh, options ? &o : NULL, m, steps, keep_volume, out,
-                           report ? &r : NULL, mpi ? &mo : NULL, result ? &res : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    mpi_abi_end(result, &res);
+    mpi_call c = {.abi = {ctx, "limn_denoise_mpi", &abi_series_options, options, &o,
+                          &abi_series_report, report, &r},
+                  .comm = comm,
+                  .mpi = mpi,
+                  .result = result};
+    limn_status st = mpi_enter(&c, out);
+    if (!st)
+        st = mpi_leave(&c, denoise_mpi_sized(ctx, comm, mesh, abi_sized_options(&c.abi), m, steps,
+                                             keep_volume, out, abi_sized_report(&c.abi),
+                                             mpi_sized_options(&c), mpi_sized_result(&c)));
     return st;
 }
 
@@ -423,24 +405,17 @@ limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *fr
                            limn_morph_frame_fn fn, void *user, limn_series_report *report,
                            const limn_mpi_options *mpi, limn_mpi_result *result)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
     limn_morph_options o;
-    limn_morph_options_default(&o);
     limn_series_report r;
-    limn_mpi_options mo;
-    limn_mpi_result res;
-    limn_status st =
-        abi_options_in(ctx, "limn_morph_mpi", "options", &abi_morph_options, options, &o);
-    limn_status rs = abi_report_begin(ctx, "limn_morph_mpi", "report", &abi_series_report,
-                                      st ? NULL : report, &r);
-    st = mpi_abi_begin(ctx, comm, "limn_morph_mpi", st ? st : rs, mpi, &mo, result, &res);
-    if (st)
-        return st;
-    st = morph_mpi_sized(ctx, comm, from, to, options ? &o : NULL, fn, user, report ? &r : NULL,
-                         mpi ? &mo : NULL, result ? &res : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    mpi_abi_end(result, &res);
+    mpi_call c = {.abi = {ctx, "limn_morph_mpi", &abi_morph_options, options, &o,
+                          &abi_series_report, report, &r},
+                  .comm = comm,
+                  .mpi = mpi,
+                  .result = result};
+    limn_status st = mpi_enter(&c, NULL);
+    if (!st)
+        st = mpi_leave(&c, morph_mpi_sized(ctx, comm, from, to, abi_sized_options(&c.abi), fn, user,
+                                           abi_sized_report(&c.abi), mpi_sized_options(&c),
+                                           mpi_sized_result(&c)));
     return st;
 }

@@ -25,25 +25,12 @@
 
 void limn_series_options_default(limn_series_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    o->scheme = LIMN_SCHEME_AUTO;
-    o->alpha = 0.0;
+    abi_default(&abi_series_options, o);
 }
 
 void limn_morph_options_default(limn_morph_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    limn_series_options_default(&o->series);
-    o->frames = 30;
-    o->m = 2;
-    o->p = 0.8;
-    o->linear = 0;
+    abi_default(&abi_morph_options, o);
 }
 
 limn_status series_check_options(limn_context *ctx, const limn_series_options *o)
@@ -552,18 +539,14 @@ static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const l
 limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *options,
                        int count, double *bands, double *energy, limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
     limn_series_options o;
-    limn_series_options_default(&o);
     limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_bands", &abi_series_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = bands_sized(ctx, mesh, options ? &o : NULL, count, bands, energy, report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
+    abi_call c = {ctx, "limn_bands", &abi_series_options, options, &o, &abi_series_report, report,
+                  &r};
+    limn_status st = abi_enter(&c, NULL);
+    if (!st)
+        st = abi_leave(&c, bands_sized(ctx, mesh, abi_sized_options(&c), count, bands, energy,
+                                       abi_sized_report(&c)));
     return st;
 }
 
@@ -571,20 +554,14 @@ limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
                         const limn_series_options *options, int terms, limn_mesh **out,
                         limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
     limn_series_options o;
-    limn_series_options_default(&o);
     limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_smooth", &abi_series_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = smooth_sized(ctx, mesh, options ? &o : NULL, terms, out, report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
+    abi_call c = {ctx, "limn_smooth", &abi_series_options, options, &o, &abi_series_report, report,
+                  &r};
+    limn_status st = abi_enter(&c, out);
+    if (!st)
+        st = abi_leave(
+            &c, smooth_sized(ctx, mesh, abi_sized_options(&c), terms, out, abi_sized_report(&c)));
     return st;
 }
 
@@ -592,21 +569,14 @@ limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
                          const limn_series_options *options, int m, int steps, int keep_volume,
                          limn_mesh **out, limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
     limn_series_options o;
-    limn_series_options_default(&o);
     limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_denoise", &abi_series_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = denoise_sized(ctx, mesh, options ? &o : NULL, m, steps, keep_volume, out,
-                       report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
+    abi_call c = {ctx, "limn_denoise", &abi_series_options, options, &o, &abi_series_report, report,
+                  &r};
+    limn_status st = abi_enter(&c, out);
+    if (!st)
+        st = abi_leave(&c, denoise_sized(ctx, mesh, abi_sized_options(&c), m, steps, keep_volume,
+                                         out, abi_sized_report(&c)));
     return st;
 }
 
@@ -614,20 +584,14 @@ limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
                          const limn_series_options *options, int from, int to, int steps,
                          limn_mesh **out, limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
     limn_series_options o;
-    limn_series_options_default(&o);
     limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_sharpen", &abi_series_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = sharpen_sized(ctx, mesh, options ? &o : NULL, from, to, steps, out, report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
+    abi_call c = {ctx, "limn_sharpen", &abi_series_options, options, &o, &abi_series_report, report,
+                  &r};
+    limn_status st = abi_enter(&c, out);
+    if (!st)
+        st = abi_leave(&c, sharpen_sized(ctx, mesh, abi_sized_options(&c), from, to, steps, out,
+                                         abi_sized_report(&c)));
     return st;
 }
 
@@ -635,17 +599,13 @@ limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh
                        const limn_morph_options *options, limn_morph_frame_fn fn, void *user,
                        limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
     limn_morph_options o;
-    limn_morph_options_default(&o);
     limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_morph", &abi_morph_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = morph_sized(ctx, from, to, options ? &o : NULL, fn, user, report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
+    abi_call c = {ctx, "limn_morph", &abi_morph_options, options, &o, &abi_series_report, report,
+                  &r};
+    limn_status st = abi_enter(&c, NULL);
+    if (!st)
+        st = abi_leave(
+            &c, morph_sized(ctx, from, to, abi_sized_options(&c), fn, user, abi_sized_report(&c)));
     return st;
 }

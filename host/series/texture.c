@@ -169,15 +169,7 @@ static void spline_color(const double *d, size_t k, const uint8_t lo[3], const u
 
 void limn_texture_options_default(limn_texture_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    limn_series_options_default(&o->series);
-    o->levels = 3;
-    o->seed = 1;
-    o->frequency = 4.0;
-    o->tolerance = 1e-6;
+    abi_default(&abi_texture_options, o);
 }
 
 #define TEXTURE_MAX_ITER 2000
@@ -460,19 +452,13 @@ limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
                          const limn_texture_options *options, limn_mesh **out,
                          limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
     limn_texture_options o;
-    limn_texture_options_default(&o);
     limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_texture", &abi_texture_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = texture_sized(ctx, mesh, options ? &o : NULL, out, report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
+    abi_call c = {
+        ctx, "limn_texture", &abi_texture_options, options, &o, &abi_series_report, report, &r};
+    limn_status st = abi_enter(&c, out);
+    if (!st)
+        st = abi_leave(&c,
+                       texture_sized(ctx, mesh, abi_sized_options(&c), out, abi_sized_report(&c)));
     return st;
 }

@@ -25,12 +25,7 @@
 
 void limn_repair_options_default(limn_repair_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    o->repeated_vertices = 1;
-    o->duplicate_faces = 0;
+    abi_default(&abi_repair_options, o);
 }
 
 /* ---------------------------------------------------------------- repeats */
@@ -403,17 +398,12 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
 limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repair_options *options,
                              limn_repair_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
     limn_repair_options o;
-    limn_repair_options_default(&o);
     limn_repair_report r;
-    limn_status st = abi_call_begin(ctx, "limn_mesh_repair", &abi_repair_options, options, &o,
-                                    &abi_repair_report, report, &r);
-    if (st)
-        return st;
-    st = repair_sized(ctx, mesh, options ? &o : NULL, report ? &r : NULL);
-    abi_report_end(&abi_repair_report, report, &r);
+    abi_call c = {
+        ctx, "limn_mesh_repair", &abi_repair_options, options, &o, &abi_repair_report, report, &r};
+    limn_status st = abi_enter(&c, NULL);
+    if (!st)
+        st = abi_leave(&c, repair_sized(ctx, mesh, abi_sized_options(&c), abi_sized_report(&c)));
     return st;
 }
