@@ -266,25 +266,33 @@ limn_status abi_begin(limn_context *ctx, const char *fn, const char *what, const
     return LIMN_OK;
 }
 
-limn_status abi_enter(abi_call *c, limn_mesh **out)
+limn_status abi_enter(abi_call *c, limn_context *ctx, const char *fn,
+                      const abi_layout *options_layout, const void *options,
+                      const abi_layout *report_layout, void *report, limn_mesh **out)
 {
-    if (!c->ctx)
+    _Static_assert(sizeof c->o >= sizeof(limn_texture_options), "room for the options");
+    if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    ctx_clear(c->ctx);
+    ctx_clear(ctx);
     if (out)
         *out = NULL;
-    abi_default(c->options_layout, c->o);
+    *c = (abi_call){.fn = fn,
+                    .options_layout = options_layout,
+                    .report_layout = report_layout,
+                    .caller_report = report};
+    abi_default(options_layout, &c->o);
     /* the report is set up even after a refusal of the options: MPI's
        entry agrees over both before it returns */
-    limn_status st = abi_options_in(c->ctx, c->fn, "options", c->options_layout, c->options, c->o);
-    limn_status rs =
-        abi_report_begin(c->ctx, c->fn, "report", c->report_layout, st ? NULL : c->report, c->r);
+    limn_status st = abi_options_in(ctx, fn, "options", options_layout, options, &c->o);
+    limn_status rs = abi_report_begin(ctx, fn, "report", report_layout, st ? NULL : report, &c->r);
+    c->options = options ? (const void *)&c->o : NULL;
+    c->report = report ? (void *)&c->r : NULL;
     return st ? st : rs;
 }
 
 limn_status abi_leave(const abi_call *c, limn_status st)
 {
-    abi_report_end(c->report_layout, c->report, c->r);
+    abi_report_end(c->report_layout, c->caller_report, &c->r);
     return st;
 }
 

@@ -58,38 +58,44 @@ limn_status abi_begin(limn_context *ctx, const char *fn, const char *what, const
 
 /*
  * A public call taking options and a report, around its *_sized function:
- *     abi_call c = {ctx, "limn_x", &abi_x_options, options, &o, &abi_x_report, report, &r};
- *     limn_status st = abi_enter(&c, out);
- *     return st ? st : abi_leave(&c, x_sized(ctx, ..., abi_sized_options(&c), ...));
+ *     abi_call c;
+ *     limn_status st = abi_enter(&c, ctx, "limn_x", &abi_x_options, options, &abi_x_report,
+ *                                report, out);
+ *     return st ? st : abi_leave(&c, x_sized(ctx, ..., c.options, ..., c.report));
+ * The library-side copies live in c (a union of the structs of limn.h).
  */
 typedef struct abi_call {
-    limn_context *ctx;
     const char *fn;
-    const abi_layout *options_layout;
-    const void *options; /* the caller's, may be NULL */
-    void *o;             /* the library-side copy */
-    const abi_layout *report_layout;
-    void *report; /* the caller's, may be NULL */
-    void *r;      /* the library-side copy */
+    const abi_layout *options_layout, *report_layout;
+    void *caller_report;
+    /* set by abi_enter: the library-side copies where the caller passed a
+       struct, else NULL (what the *_sized function takes) */
+    const void *options;
+    void *report;
+    union {
+        limn_series_options series;
+        limn_morph_options morph;
+        limn_texture_options texture;
+        limn_interpolate_options interpolate;
+        limn_subdivide_options subdivide;
+        limn_repair_options repair;
+    } o;
+    union {
+        limn_series_report series;
+        limn_report interpolate;
+        limn_subdivide_report subdivide;
+        limn_repair_report repair;
+    } r;
 } abi_call;
 
-/* abi_begin (no pointer required), *out = NULL (out may be NULL), o set to
-   the defaults and the caller's options read over them, the report checked;
-   the first refusal is returned. */
-limn_status abi_enter(abi_call *c, limn_mesh **out);
+/* abi_begin (no pointer required), *out = NULL (out may be NULL), the
+   options set to the defaults and the caller's read over them, the report
+   checked; the first refusal is returned. */
+limn_status abi_enter(abi_call *c, limn_context *ctx, const char *fn,
+                      const abi_layout *options_layout, const void *options,
+                      const abi_layout *report_layout, void *report, limn_mesh **out);
 /* After an entered call: the report copied out; returns st. */
 limn_status abi_leave(const abi_call *c, limn_status st);
-
-/* What the *_sized function takes: the library-side copies where the caller
-   passed a struct, else NULL. */
-static inline const void *abi_sized_options(const abi_call *c)
-{
-    return c->options ? c->o : NULL;
-}
-static inline void *abi_sized_report(const abi_call *c)
-{
-    return c->report ? c->r : NULL;
-}
 
 /* Copies the library-side report into the caller's (NULL: nothing): the
    bytes its size holds, zeroing those beyond the library's layout; the

@@ -88,18 +88,25 @@ void mpi_abi_end(limn_mpi_result *result, limn_mpi_result *result_sized)
     abi_report_end(&abi_mpi_result, result, result_sized);
 }
 
-limn_status mpi_enter(mpi_call *c, limn_mesh **out)
+limn_status mpi_enter(mpi_call *c, limn_context *ctx, MPI_Comm comm, const char *fn,
+                      const abi_layout *options_layout, const void *options,
+                      const abi_layout *report_layout, void *report, const limn_mpi_options *mpi,
+                      limn_mpi_result *result, limn_mesh **out)
 {
-    if (!c->abi.ctx)
+    if (!ctx)
         return LIMN_ERR_ARGUMENT;
-    limn_status st = abi_enter(&c->abi, out);
-    return mpi_abi_begin(c->abi.ctx, c->comm, c->abi.fn, st, c->mpi, &c->mo, c->result, &c->res);
+    limn_status st =
+        abi_enter(&c->abi, ctx, fn, options_layout, options, report_layout, report, out);
+    c->caller_result = result;
+    c->mpi = mpi ? &c->mo : NULL;
+    c->result = result ? &c->res : NULL;
+    return mpi_abi_begin(ctx, comm, fn, st, mpi, &c->mo, result, &c->res);
 }
 
 limn_status mpi_leave(mpi_call *c, limn_status st)
 {
     abi_leave(&c->abi, st);
-    mpi_abi_end(c->result, &c->res);
+    mpi_abi_end(c->caller_result, &c->res);
     return st;
 }
 

@@ -225,17 +225,10 @@ limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_me
                                  limn_report *report, const limn_mpi_options *mpi,
                                  limn_mpi_result *result)
 {
-    limn_interpolate_options o;
-    limn_report r;
-    mpi_call c = {.abi = {ctx, "limn_interpolate_mpi", &abi_interpolate_options, options, &o,
-                          &abi_report, report, &r},
-                  .comm = comm,
-                  .mpi = mpi,
-                  .result = result};
-    limn_status st = mpi_enter(&c, control);
-    if (!st)
-        st = mpi_leave(&c, interpolate_mpi_sized(ctx, comm, mesh, abi_sized_options(&c.abi),
-                                                 control, abi_sized_report(&c.abi),
-                                                 mpi_sized_options(&c), mpi_sized_result(&c)));
-    return st;
+    mpi_call c;
+    limn_status st = mpi_enter(&c, ctx, comm, "limn_interpolate_mpi", &abi_interpolate_options,
+                               options, &abi_report, report, mpi, result, control);
+    return st ? st
+              : mpi_leave(&c, interpolate_mpi_sized(ctx, comm, mesh, c.abi.options, control,
+                                                    c.abi.report, c.mpi, c.result));
 }

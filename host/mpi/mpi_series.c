@@ -365,19 +365,12 @@ limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *m
                             limn_series_report *report, const limn_mpi_options *mpi,
                             limn_mpi_result *result)
 {
-    limn_series_options o;
-    limn_series_report r;
-    mpi_call c = {.abi = {ctx, "limn_smooth_mpi", &abi_series_options, options, &o,
-                          &abi_series_report, report, &r},
-                  .comm = comm,
-                  .mpi = mpi,
-                  .result = result};
-    limn_status st = mpi_enter(&c, out);
-    if (!st)
-        st = mpi_leave(&c, smooth_mpi_sized(ctx, comm, mesh, abi_sized_options(&c.abi), terms, out,
-                                            abi_sized_report(&c.abi), mpi_sized_options(&c),
-                                            mpi_sized_result(&c)));
-    return st;
+    mpi_call c;
+    limn_status st = mpi_enter(&c, ctx, comm, "limn_smooth_mpi", &abi_series_options, options,
+                               &abi_series_report, report, mpi, result, out);
+    return st ? st
+              : mpi_leave(&c, smooth_mpi_sized(ctx, comm, mesh, c.abi.options, terms, out,
+                                               c.abi.report, c.mpi, c.result));
 }
 
 limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
@@ -385,19 +378,12 @@ limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *
                              limn_mesh **out, limn_series_report *report,
                              const limn_mpi_options *mpi, limn_mpi_result *result)
 {
-    limn_series_options o;
-    limn_series_report r;
-    mpi_call c = {.abi = {ctx, "limn_denoise_mpi", &abi_series_options, options, &o,
-                          &abi_series_report, report, &r},
-                  .comm = comm,
-                  .mpi = mpi,
-                  .result = result};
-    limn_status st = mpi_enter(&c, out);
-    if (!st)
-        st = mpi_leave(&c, denoise_mpi_sized(ctx, comm, mesh, abi_sized_options(&c.abi), m, steps,
-                                             keep_volume, out, abi_sized_report(&c.abi),
-                                             mpi_sized_options(&c), mpi_sized_result(&c)));
-    return st;
+    mpi_call c;
+    limn_status st = mpi_enter(&c, ctx, comm, "limn_denoise_mpi", &abi_series_options, options,
+                               &abi_series_report, report, mpi, result, out);
+    return st ? st
+              : mpi_leave(&c, denoise_mpi_sized(ctx, comm, mesh, c.abi.options, m, steps,
+                                                keep_volume, out, c.abi.report, c.mpi, c.result));
 }
 
 limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
@@ -405,17 +391,10 @@ limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *fr
                            limn_morph_frame_fn fn, void *user, limn_series_report *report,
                            const limn_mpi_options *mpi, limn_mpi_result *result)
 {
-    limn_morph_options o;
-    limn_series_report r;
-    mpi_call c = {.abi = {ctx, "limn_morph_mpi", &abi_morph_options, options, &o,
-                          &abi_series_report, report, &r},
-                  .comm = comm,
-                  .mpi = mpi,
-                  .result = result};
-    limn_status st = mpi_enter(&c, NULL);
-    if (!st)
-        st = mpi_leave(&c, morph_mpi_sized(ctx, comm, from, to, abi_sized_options(&c.abi), fn, user,
-                                           abi_sized_report(&c.abi), mpi_sized_options(&c),
-                                           mpi_sized_result(&c)));
-    return st;
+    mpi_call c;
+    limn_status st = mpi_enter(&c, ctx, comm, "limn_morph_mpi", &abi_morph_options, options,
+                               &abi_series_report, report, mpi, result, NULL);
+    return st ? st
+              : mpi_leave(&c, morph_mpi_sized(ctx, comm, from, to, c.abi.options, fn, user,
+                                              c.abi.report, c.mpi, c.result));
 }

@@ -173,14 +173,8 @@ limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
                            const limn_subdivide_options *options, limn_mesh **surface,
                            limn_subdivide_report *report)
 {
-    limn_subdivide_options o;
-    limn_subdivide_report r;
-    abi_call c = {
-        ctx, "limn_subdivide", &abi_subdivide_options, options, &o, &abi_subdivide_report, report,
-        &r};
-    limn_status st = abi_enter(&c, surface);
-    if (!st)
-        st = abi_leave(
-            &c, subdivide_sized(ctx, mesh, abi_sized_options(&c), surface, abi_sized_report(&c)));
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_subdivide", &abi_subdivide_options, options,
+                               &abi_subdivide_report, report, surface);
+    return st ? st : abi_leave(&c, subdivide_sized(ctx, mesh, c.options, surface, c.report));
 }

@@ -539,73 +539,52 @@ static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const l
 limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *options,
                        int count, double *bands, double *energy, limn_series_report *report)
 {
-    limn_series_options o;
-    limn_series_report r;
-    abi_call c = {ctx, "limn_bands", &abi_series_options, options, &o, &abi_series_report, report,
-                  &r};
-    limn_status st = abi_enter(&c, NULL);
-    if (!st)
-        st = abi_leave(&c, bands_sized(ctx, mesh, abi_sized_options(&c), count, bands, energy,
-                                       abi_sized_report(&c)));
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_bands", &abi_series_options, options,
+                               &abi_series_report, report, NULL);
+    return st ? st
+              : abi_leave(&c, bands_sized(ctx, mesh, c.options, count, bands, energy, c.report));
 }
 
 limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
                         const limn_series_options *options, int terms, limn_mesh **out,
                         limn_series_report *report)
 {
-    limn_series_options o;
-    limn_series_report r;
-    abi_call c = {ctx, "limn_smooth", &abi_series_options, options, &o, &abi_series_report, report,
-                  &r};
-    limn_status st = abi_enter(&c, out);
-    if (!st)
-        st = abi_leave(
-            &c, smooth_sized(ctx, mesh, abi_sized_options(&c), terms, out, abi_sized_report(&c)));
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_smooth", &abi_series_options, options,
+                               &abi_series_report, report, out);
+    return st ? st : abi_leave(&c, smooth_sized(ctx, mesh, c.options, terms, out, c.report));
 }
 
 limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
                          const limn_series_options *options, int m, int steps, int keep_volume,
                          limn_mesh **out, limn_series_report *report)
 {
-    limn_series_options o;
-    limn_series_report r;
-    abi_call c = {ctx, "limn_denoise", &abi_series_options, options, &o, &abi_series_report, report,
-                  &r};
-    limn_status st = abi_enter(&c, out);
-    if (!st)
-        st = abi_leave(&c, denoise_sized(ctx, mesh, abi_sized_options(&c), m, steps, keep_volume,
-                                         out, abi_sized_report(&c)));
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_denoise", &abi_series_options, options,
+                               &abi_series_report, report, out);
+    return st ? st
+              : abi_leave(
+                    &c, denoise_sized(ctx, mesh, c.options, m, steps, keep_volume, out, c.report));
 }
 
 limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
                          const limn_series_options *options, int from, int to, int steps,
                          limn_mesh **out, limn_series_report *report)
 {
-    limn_series_options o;
-    limn_series_report r;
-    abi_call c = {ctx, "limn_sharpen", &abi_series_options, options, &o, &abi_series_report, report,
-                  &r};
-    limn_status st = abi_enter(&c, out);
-    if (!st)
-        st = abi_leave(&c, sharpen_sized(ctx, mesh, abi_sized_options(&c), from, to, steps, out,
-                                         abi_sized_report(&c)));
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_sharpen", &abi_series_options, options,
+                               &abi_series_report, report, out);
+    return st ? st
+              : abi_leave(&c, sharpen_sized(ctx, mesh, c.options, from, to, steps, out, c.report));
 }
 
 limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
                        const limn_morph_options *options, limn_morph_frame_fn fn, void *user,
                        limn_series_report *report)
 {
-    limn_morph_options o;
-    limn_series_report r;
-    abi_call c = {ctx, "limn_morph", &abi_morph_options, options, &o, &abi_series_report, report,
-                  &r};
-    limn_status st = abi_enter(&c, NULL);
-    if (!st)
-        st = abi_leave(
-            &c, morph_sized(ctx, from, to, abi_sized_options(&c), fn, user, abi_sized_report(&c)));
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_morph", &abi_morph_options, options,
+                               &abi_series_report, report, NULL);
+    return st ? st : abi_leave(&c, morph_sized(ctx, from, to, c.options, fn, user, c.report));
 }

@@ -452,13 +452,8 @@ limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
                          const limn_texture_options *options, limn_mesh **out,
                          limn_series_report *report)
 {
-    limn_texture_options o;
-    limn_series_report r;
-    abi_call c = {
-        ctx, "limn_texture", &abi_texture_options, options, &o, &abi_series_report, report, &r};
-    limn_status st = abi_enter(&c, out);
-    if (!st)
-        st = abi_leave(&c,
-                       texture_sized(ctx, mesh, abi_sized_options(&c), out, abi_sized_report(&c)));
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_texture", &abi_texture_options, options,
+                               &abi_series_report, report, out);
+    return st ? st : abi_leave(&c, texture_sized(ctx, mesh, c.options, out, c.report));
 }

@@ -196,13 +196,8 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
                              const limn_interpolate_options *options, limn_mesh **control,
                              limn_report *report)
 {
-    limn_interpolate_options o;
-    limn_report r;
-    abi_call c = {
-        ctx, "limn_interpolate", &abi_interpolate_options, options, &o, &abi_report, report, &r};
-    limn_status st = abi_enter(&c, control);
-    if (!st)
-        st = abi_leave(
-            &c, interpolate_sized(ctx, mesh, abi_sized_options(&c), control, abi_sized_report(&c)));
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_interpolate", &abi_interpolate_options, options,
+                               &abi_report, report, control);
+    return st ? st : abi_leave(&c, interpolate_sized(ctx, mesh, c.options, control, c.report));
 }

@@ -398,12 +398,8 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
 limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repair_options *options,
                              limn_repair_report *report)
 {
-    limn_repair_options o;
-    limn_repair_report r;
-    abi_call c = {
-        ctx, "limn_mesh_repair", &abi_repair_options, options, &o, &abi_repair_report, report, &r};
-    limn_status st = abi_enter(&c, NULL);
-    if (!st)
-        st = abi_leave(&c, repair_sized(ctx, mesh, abi_sized_options(&c), abi_sized_report(&c)));
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_mesh_repair", &abi_repair_options, options,
+                               &abi_repair_report, report, NULL);
+    return st ? st : abi_leave(&c, repair_sized(ctx, mesh, c.options, c.report));
 }
