@@ -271,9 +271,8 @@ limn_status abi_enter(abi_call *c, limn_context *ctx, const char *fn,
                       const abi_layout *report_layout, void *report, limn_mesh **out)
 {
     _Static_assert(sizeof c->o >= sizeof(limn_texture_options), "room for the options");
-    if (!ctx)
+    if (abi_begin(ctx, fn, NULL, NULL))
         return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
     if (out)
         *out = NULL;
     *c = (abi_call){.fn = fn,

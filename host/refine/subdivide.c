@@ -93,11 +93,9 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mesh *mesh,
                                    const limn_subdivide_options *options, limn_mesh **surface,
                                    limn_subdivide_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!surface)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide: surface is NULL");
+    limn_status begun = abi_begin(ctx, "limn_subdivide", "surface", surface);
+    if (begun)
+        return begun;
     *surface = NULL;
     limn_subdivide_options defaults;
     limn_subdivide_options_default(&defaults);

@@ -278,14 +278,13 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
                                  const limn_texture_options *options, limn_mesh **out,
                                  limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!options || !out)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_texture: %s is NULL",
-                         !options ? "options" : "out");
+    limn_status st = abi_begin(ctx, "limn_texture", "options", options);
+    if (!st)
+        st = abi_begin(ctx, "limn_texture", "out", out);
+    if (st)
+        return st;
     *out = NULL;
-    limn_status st = check_mesh_magnitude(ctx, "limn_texture", NULL, mesh);
+    st = check_mesh_magnitude(ctx, "limn_texture", NULL, mesh);
     if (st)
         return st;
     const limn_texture_options *o = options;

@@ -61,11 +61,9 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
                                      const limn_interpolate_options *options, limn_mesh **control,
                                      limn_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!control)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate: control is NULL");
+    limn_status begun = abi_begin(ctx, "limn_interpolate", "control", control);
+    if (begun)
+        return begun;
     *control = NULL;
     limn_interpolate_options defaults;
     limn_interpolate_options_default(&defaults);

@@ -267,11 +267,9 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
 static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
                                 const limn_repair_options *options, limn_repair_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!mesh)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_repair: mesh is NULL");
+    limn_status begun = abi_begin(ctx, "limn_mesh_repair", "mesh", mesh);
+    if (begun)
+        return begun;
     limn_repair_options defaults;
     limn_repair_options_default(&defaults);
     const limn_repair_options *o = options ? options : &defaults;
