@@ -19,30 +19,75 @@
    last field (padding after it not required). */
 #define ABI_END(type, field) (offsetof(type, field) + sizeof(((type *)0)->field))
 
-#define ABI_FLAT(name, type, init, last)                                                           \
-    const abi_layout name = {#type, init, sizeof(type), ABI_END(type, last), NULL}
+#define ABI_FLAT(name, type, init, last, defaults)                                                 \
+    const abi_layout name = {#type, init, sizeof(type), ABI_END(type, last), NULL, defaults}
 
-ABI_FLAT(abi_repair_options, limn_repair_options, "limn_repair_options_default()", duplicate_faces);
-ABI_FLAT(abi_repair_report, limn_repair_report, "sizeof(limn_repair_report)", boundary_loops);
-ABI_FLAT(abi_mesh_info, limn_mesh_info, "sizeof(limn_mesh_info)", bbox_diagonal);
+/* The defaults of the options structs (limn.h states each), every byte
+   else zero: limn_*_options_default() copies them, and so does abi_enter
+   before it reads the caller's bytes over them. */
+#define SERIES_DEFAULTS                                                                            \
+    {                                                                                              \
+        .size = sizeof(limn_series_options), .scheme = LIMN_SCHEME_AUTO, .alpha = 0.0              \
+    }
+static const limn_series_options series_defaults = SERIES_DEFAULTS;
+static const limn_morph_options morph_defaults = {
+    .size = sizeof(limn_morph_options), .series = SERIES_DEFAULTS, .frames = 30, .m = 2, .p = 0.8};
+static const limn_texture_options texture_defaults = {.size = sizeof(limn_texture_options),
+                                                      .series = SERIES_DEFAULTS,
+                                                      .levels = 3,
+                                                      .seed = 1,
+                                                      .frequency = 4.0,
+                                                      .tolerance = 1e-6};
+static const limn_interpolate_options interpolate_defaults = {.size =
+                                                                  sizeof(limn_interpolate_options),
+                                                              .scheme = LIMN_SCHEME_AUTO,
+                                                              .tolerance = 1e-6,
+                                                              .max_iterations = 1000,
+                                                              .reorder = 1,
+                                                              .method = LIMN_METHOD_AUTO,
+                                                              .precision = LIMN_PRECISION_AUTO};
+static const limn_subdivide_options subdivide_defaults = {
+    .size = sizeof(limn_subdivide_options), .scheme = LIMN_SCHEME_AUTO, .levels = 1};
+static const limn_repair_options repair_defaults = {.size = sizeof(limn_repair_options),
+                                                    .repeated_vertices = 1};
+static const limn_render_options render_defaults = {.size = sizeof(limn_render_options),
+                                                    .width = 400,
+                                                    .height = 300,
+                                                    .azimuth = 30.0,
+                                                    .elevation = 20.0,
+                                                    .up_axis = 1,
+                                                    .supersample = 2,
+                                                    .background = {255, 255, 255},
+                                                    .color = {196, 202, 214}};
+
+ABI_FLAT(abi_repair_options, limn_repair_options, "limn_repair_options_default()", duplicate_faces,
+         &repair_defaults);
+ABI_FLAT(abi_repair_report, limn_repair_report, "sizeof(limn_repair_report)", boundary_loops, NULL);
+ABI_FLAT(abi_mesh_info, limn_mesh_info, "sizeof(limn_mesh_info)", bbox_diagonal, NULL);
 ABI_FLAT(abi_interpolate_options, limn_interpolate_options, "limn_interpolate_options_default()",
-         precision);
-ABI_FLAT(abi_report, limn_report, "sizeof(limn_report)", seconds_opencl_kernels);
+         precision, &interpolate_defaults);
+ABI_FLAT(abi_report, limn_report, "sizeof(limn_report)", seconds_opencl_kernels, NULL);
 ABI_FLAT(abi_subdivide_options, limn_subdivide_options, "limn_subdivide_options_default()",
-         max_memory);
+         max_memory, &subdivide_defaults);
 ABI_FLAT(abi_subdivide_report, limn_subdivide_report, "sizeof(limn_subdivide_report)",
-         seconds_limit);
-ABI_FLAT(abi_series_options, limn_series_options, "limn_series_options_default()", alpha);
-ABI_FLAT(abi_series_report, limn_series_report, "sizeof(limn_series_report)", seconds_compute);
-ABI_FLAT(abi_mesh_measures, limn_mesh_measures, "sizeof(limn_mesh_measures)", centroid);
-ABI_FLAT(abi_mesh_comparison, limn_mesh_comparison, "sizeof(limn_mesh_comparison)", flipped_faces);
-ABI_FLAT(abi_render_options, limn_render_options, "limn_render_options_default()", color);
-const abi_layout abi_morph_options = {"limn_morph_options", "limn_morph_options_default()",
-                                      sizeof(limn_morph_options),
-                                      ABI_END(limn_morph_options, linear), &abi_series_options};
+         seconds_limit, NULL);
+ABI_FLAT(abi_series_options, limn_series_options, "limn_series_options_default()", alpha,
+         &series_defaults);
+ABI_FLAT(abi_series_report, limn_series_report, "sizeof(limn_series_report)", seconds_compute,
+         NULL);
+ABI_FLAT(abi_mesh_measures, limn_mesh_measures, "sizeof(limn_mesh_measures)", centroid, NULL);
+ABI_FLAT(abi_mesh_comparison, limn_mesh_comparison, "sizeof(limn_mesh_comparison)", flipped_faces,
+         NULL);
+ABI_FLAT(abi_render_options, limn_render_options, "limn_render_options_default()", color,
+         &render_defaults);
+const abi_layout abi_morph_options = {
+    "limn_morph_options",       "limn_morph_options_default()",
+    sizeof(limn_morph_options), ABI_END(limn_morph_options, linear),
+    &abi_series_options,        &morph_defaults};
 const abi_layout abi_texture_options = {
-    "limn_texture_options", "limn_texture_options_default()", sizeof(limn_texture_options),
-    ABI_END(limn_texture_options, max_memory), &abi_series_options};
+    "limn_texture_options",       "limn_texture_options_default()",
+    sizeof(limn_texture_options), ABI_END(limn_texture_options, max_memory),
+    &abi_series_options,          &texture_defaults};
 
 /* The embedded struct sits right after the outer size and the outer fields
    right after it, so the caller's layout follows from the inner size. */
@@ -205,12 +250,49 @@ static void piece_out(unsigned char *dst, size_t have, const unsigned char *src,
         memset(dst + (lib > skip ? lib : skip), 0, have - (lib > skip ? lib : skip));
 }
 
-limn_status abi_call_begin(limn_context *ctx, const char *fn, const abi_layout *options_layout,
-                           const void *options, void *o, const abi_layout *report_layout,
-                           const void *report, void *r)
+void abi_default(const abi_layout *l, void *o)
 {
-    limn_status st = abi_options_in(ctx, fn, "options", options_layout, options, o);
-    return st ? st : abi_report_begin(ctx, fn, "report", report_layout, report, r);
+    if (o) /* no context to report a NULL to */
+        memcpy(o, l->defaults, l->size);
+}
+
+limn_status abi_begin(limn_context *ctx, const char *fn, const char *what, const void *p)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    ctx_clear(ctx);
+    if (what && !p)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is NULL", fn, what);
+    return LIMN_OK;
+}
+
+limn_status abi_enter(abi_call *c, limn_context *ctx, const char *fn,
+                      const abi_layout *options_layout, const void *options,
+                      const abi_layout *report_layout, void *report, limn_mesh **out)
+{
+    _Static_assert(sizeof c->o >= sizeof(limn_texture_options), "room for the options");
+    if (abi_begin(ctx, fn, NULL, NULL))
+        return LIMN_ERR_ARGUMENT;
+    if (out)
+        *out = NULL;
+    *c = (abi_call){.fn = fn,
+                    .options_layout = options_layout,
+                    .report_layout = report_layout,
+                    .caller_report = report};
+    abi_default(options_layout, &c->o);
+    /* the report is set up even after a refusal of the options: MPI's
+       entry agrees over both before it returns */
+    limn_status st = abi_options_in(ctx, fn, "options", options_layout, options, &c->o);
+    limn_status rs = abi_report_begin(ctx, fn, "report", report_layout, st ? NULL : report, &c->r);
+    c->options = options ? (const void *)&c->o : NULL;
+    c->report = report ? (void *)&c->r : NULL;
+    return st ? st : rs;
+}
+
+limn_status abi_leave(const abi_call *c, limn_status st)
+{
+    abi_report_end(c->report_layout, c->caller_report, &c->r);
+    return st;
 }
 
 void abi_report_end(const abi_layout *l, void *dst_v, const void *local_v)

@@ -26,6 +26,7 @@ typedef struct abi_layout {
     size_t size;
     size_t min_size;
     const struct abi_layout *inner; /* a struct embedded right after `size`, or NULL */
+    const void *defaults;           /* options: what limn_*_default() gives; reports: NULL */
 } abi_layout;
 
 /*
@@ -47,12 +48,54 @@ limn_status abi_options_in(limn_context *ctx, const char *fn, const char *what,
 limn_status abi_report_begin(limn_context *ctx, const char *fn, const char *what,
                              const abi_layout *layout, const void *dst, void *local);
 
-/* The usual entry of a public call taking options and a report:
-   abi_options_in(options into o), then abi_report_begin(report, r); the
-   first refusal is returned. */
-limn_status abi_call_begin(limn_context *ctx, const char *fn, const abi_layout *options_layout,
-                           const void *options, void *o, const abi_layout *report_layout,
-                           const void *report, void *r);
+/* limn_*_options_default(): o (NULL: nothing) gets the layout's defaults. */
+void abi_default(const abi_layout *layout, void *o);
+
+/* The start of a public call: LIMN_ERR_ARGUMENT, no message, without a
+   context (nowhere to put one); else ctx cleared and, where `what` is
+   given, the pointer p required ("fn: what is NULL"). */
+limn_status abi_begin(limn_context *ctx, const char *fn, const char *what, const void *p);
+
+/*
+ * A public call taking options and a report, around its *_sized function:
+ *     abi_call c;
+ *     limn_status st = abi_enter(&c, ctx, "limn_x", &abi_x_options, options, &abi_x_report,
+ *                                report, out);
+ *     return st ? st : abi_leave(&c, x_sized(ctx, ..., c.options, ..., c.report));
+ * The library-side copies live in c (a union of the structs of limn.h).
+ */
+typedef struct abi_call {
+    const char *fn;
+    const abi_layout *options_layout, *report_layout;
+    void *caller_report;
+    /* set by abi_enter: the library-side copies where the caller passed a
+       struct, else NULL (what the *_sized function takes) */
+    const void *options;
+    void *report;
+    union {
+        limn_series_options series;
+        limn_morph_options morph;
+        limn_texture_options texture;
+        limn_interpolate_options interpolate;
+        limn_subdivide_options subdivide;
+        limn_repair_options repair;
+    } o;
+    union {
+        limn_series_report series;
+        limn_report interpolate;
+        limn_subdivide_report subdivide;
+        limn_repair_report repair;
+    } r;
+} abi_call;
+
+/* abi_begin (no pointer required), *out = NULL (out may be NULL), the
+   options set to the defaults and the caller's read over them, the report
+   checked; the first refusal is returned. */
+limn_status abi_enter(abi_call *c, limn_context *ctx, const char *fn,
+                      const abi_layout *options_layout, const void *options,
+                      const abi_layout *report_layout, void *report, limn_mesh **out);
+/* After an entered call: the report copied out; returns st. */
+limn_status abi_leave(const abi_call *c, limn_status st);
 
 /* Copies the library-side report into the caller's (NULL: nothing): the
    bytes its size holds, zeroing those beyond the library's layout; the

@@ -20,24 +20,29 @@
 
 void limn_mpi_options_default(limn_mpi_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    o->root = 0;
-    o->keep_piece = 0;
+    abi_default(&abi_mpi_options, o);
 }
 
 #define ABI_END(type, field) (offsetof(type, field) + sizeof(((type *)0)->field))
 
-const abi_layout abi_mpi_options = {"limn_mpi_options", "limn_mpi_options_default()",
-                                    sizeof(limn_mpi_options), ABI_END(limn_mpi_options, keep_piece),
-                                    NULL};
-const abi_layout abi_mpi_stats = {"limn_mpi_stats", "sizeof(limn_mpi_stats)",
-                                  sizeof(limn_mpi_stats), ABI_END(limn_mpi_stats, device), NULL};
-const abi_layout abi_mpi_result = {"limn_mpi_result", "sizeof(limn_mpi_result)",
-                                   sizeof(limn_mpi_result),
-                                   ABI_END(limn_mpi_result, piece_vertices), &abi_mpi_stats};
+static const limn_mpi_options mpi_defaults = {.size = sizeof(limn_mpi_options), .root = 0};
+
+const abi_layout abi_mpi_options = {"limn_mpi_options",
+                                    "limn_mpi_options_default()",
+                                    sizeof(limn_mpi_options),
+                                    ABI_END(limn_mpi_options, keep_piece),
+                                    NULL,
+                                    &mpi_defaults};
+const abi_layout abi_mpi_stats = {"limn_mpi_stats",
+                                  "sizeof(limn_mpi_stats)",
+                                  sizeof(limn_mpi_stats),
+                                  ABI_END(limn_mpi_stats, device),
+                                  NULL,
+                                  NULL};
+const abi_layout abi_mpi_result = {
+    "limn_mpi_result",       "sizeof(limn_mpi_result)",
+    sizeof(limn_mpi_result), ABI_END(limn_mpi_result, piece_vertices),
+    &abi_mpi_stats,          NULL};
 _Static_assert(offsetof(limn_mpi_result, stats) == sizeof(size_t), "stats first");
 _Static_assert(offsetof(limn_mpi_result, piece) == sizeof(size_t) + sizeof(limn_mpi_stats),
                "piece after stats");
@@ -81,6 +86,28 @@ void mpi_abi_end(limn_mpi_result *result, limn_mpi_result *result_sized)
         result_sized->piece_owned = 0;
     }
     abi_report_end(&abi_mpi_result, result, result_sized);
+}
+
+limn_status mpi_enter(mpi_call *c, limn_context *ctx, MPI_Comm comm, const char *fn,
+                      const abi_layout *options_layout, const void *options,
+                      const abi_layout *report_layout, void *report, const limn_mpi_options *mpi,
+                      limn_mpi_result *result, limn_mesh **out)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    limn_status st =
+        abi_enter(&c->abi, ctx, fn, options_layout, options, report_layout, report, out);
+    c->caller_result = result;
+    c->mpi = mpi ? &c->mo : NULL;
+    c->result = result ? &c->res : NULL;
+    return mpi_abi_begin(ctx, comm, fn, st, mpi, &c->mo, result, &c->res);
+}
+
+limn_status mpi_leave(mpi_call *c, limn_status st)
+{
+    abi_leave(&c->abi, st);
+    mpi_abi_end(c->caller_result, &c->res);
+    return st;
 }
 
 void limn_mpi_result_free(limn_mpi_result *r)

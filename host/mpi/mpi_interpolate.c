@@ -225,26 +225,10 @@ limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_me
                                  limn_report *report, const limn_mpi_options *mpi,
                                  limn_mpi_result *result)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (control)
-        *control = NULL;
-    limn_interpolate_options o;
-    limn_interpolate_options_default(&o);
-    limn_report r;
-    limn_mpi_options mo;
-    limn_mpi_result res;
-    limn_status st = abi_options_in(ctx, "limn_interpolate_mpi", "options",
-                                    &abi_interpolate_options, options, &o);
-    limn_status rs = abi_report_begin(ctx, "limn_interpolate_mpi", "report", &abi_report,
-                                      st ? NULL : report, &r);
-    st = mpi_abi_begin(ctx, comm, "limn_interpolate_mpi", st ? st : rs, mpi, &mo, result, &res);
-    if (st)
-        return st;
-    st = interpolate_mpi_sized(ctx, comm, mesh, options ? &o : NULL, control, report ? &r : NULL,
-                               mpi ? &mo : NULL, result ? &res : NULL);
-    abi_report_end(&abi_report, report, &r);
-    mpi_abi_end(result, &res);
-    return st;
+    mpi_call c;
+    limn_status st = mpi_enter(&c, ctx, comm, "limn_interpolate_mpi", &abi_interpolate_options,
+                               options, &abi_report, report, mpi, result, control);
+    return st ? st
+              : mpi_leave(&c, interpolate_mpi_sized(ctx, comm, mesh, c.abi.options, control,
+                                                    c.abi.report, c.mpi, c.result));
 }

@@ -183,4 +183,23 @@ limn_status mpi_abi_begin(limn_context *ctx, MPI_Comm comm, const char *fn, limn
    piece the caller's struct cannot hold is freed. */
 void mpi_abi_end(limn_mpi_result *result, limn_mpi_result *result_sized);
 
+/* abi_call (base/abi.h) with the MPI structs, for the limn_*_mpi entries:
+   c.mpi and c.result are what the *_mpi_sized function takes. */
+typedef struct mpi_call {
+    abi_call abi;
+    limn_mpi_result *caller_result;
+    const limn_mpi_options *mpi; /* &mo or NULL, &res or NULL */
+    limn_mpi_result *result;
+    limn_mpi_options mo;
+    limn_mpi_result res;
+} mpi_call;
+
+/* abi_enter, then mpi_abi_begin (agreed over comm even after a refusal). */
+limn_status mpi_enter(mpi_call *c, limn_context *ctx, MPI_Comm comm, const char *fn,
+                      const abi_layout *options_layout, const void *options,
+                      const abi_layout *report_layout, void *report, const limn_mpi_options *mpi,
+                      limn_mpi_result *result, limn_mesh **out);
+/* After an entered call: the report and result copied out; returns st. */
+limn_status mpi_leave(mpi_call *c, limn_status st);
+
 #endif

@@ -13,6 +13,7 @@
 #include "base/context.h"
 #include "topology/measure.h"
 #include "mesh/mesh.h"
+#include "series/filter.h"
 #include "series/series.h"
 
 #include <math.h>
@@ -91,9 +92,12 @@ static limn_status open_series(limn_context *ctx, const char *fn, MPI_Comm comm,
     return mpi_agree(p, st);
 }
 
+/* ----------------------------------------------- the engine of filter.c */
+
 /* Root's positions (3 per input vertex) -> b on every rank. */
-static limn_status upload(series_mpi *s, const double *xyz_root, device_buffer *b)
+static limn_status mpi_upload(const series_engine *e, const double *xyz_root, device_buffer *b)
 {
+    series_mpi *s = e->user;
     mpi_part *p = &s->p;
     limn_status st = mpi_scatter_rows(p, xyz_root, s->rows4);
     if (!st)
@@ -101,14 +105,15 @@ static limn_status upload(series_mpi *s, const double *xyz_root, device_buffer *
     return mpi_agree(p, st);
 }
 
-/* b's owned rows on every rank -> s->xyz on root. */
-static limn_status download(series_mpi *s, device_buffer *b)
+/* b's owned rows on every rank -> xyz_root on root. */
+static limn_status mpi_download(const series_engine *e, device_buffer *b, double *xyz_root)
 {
+    series_mpi *s = e->user;
     mpi_part *p = &s->p;
     limn_status st =
         p->dev->ops->buffer_read_at(p->dev, b, 0, 4 * p->n_owned * sizeof(double), s->rows4);
     st = mpi_agree(p, st);
-    return st ? st : mpi_gather_rows(p, s->rows4, s->xyz);
+    return st ? st : mpi_gather_rows(p, s->rows4, xyz_root);
 }
 
 typedef struct term {
@@ -124,33 +129,36 @@ static limn_status rows_term(void *user, const device_csr *rows, device_norms *n
                                     norms);
 }
 
-/* acc = sum_{i=0..m} (E - A)^i A x (series_partial_sum of series.c), m + 1
-   overlapped products; a failure is carried through the exchanges and agreed. */
-static limn_status partial_sum(series_mpi *s, device_buffer *x, device_buffer *acc,
-                               device_buffer *ra, device_buffer *rb, int m, long long *products)
+/* One term as an overlapped product on every rank's rows; a failure is
+   carried through the exchanges (series_terms agrees after the last). */
+static limn_status mpi_term(const series_engine *e, device_buffer *x, device_buffer *next,
+                            device_buffer *acc, int flags, int mode, limn_status prior)
 {
-    limn_status st = LIMN_OK;
-    device_buffer *cur = x;
+    series_mpi *s = e->user;
     double t0 = MPI_Wtime();
-    for (int i = 0; i <= m; i++) {
-        device_buffer *next = cur == ra ? rb : ra;
-        term t = {s->p.dev, cur, next, acc, i < m ? SERIES_STORE_NEXT : 0,
-                  i == 0 ? SERIES_ACC_SET_AX : SERIES_ACC_ADD_AX};
-        device_norms unused;
-        st = mpi_overlapped(&s->p, &s->p.all, cur, rows_term, &t, st, &unused);
-        ++*products;
-        cur = next;
-    }
+    term t = {s->p.dev, x, next, acc, flags, mode};
+    device_norms unused;
+    limn_status st = mpi_overlapped(&s->p, &s->p.all, x, rows_term, &t, prior, &unused);
     s->p.stats.seconds_solve += MPI_Wtime() - t0;
-    return mpi_agree(&s->p, st);
+    return st;
 }
 
-/* The root's result: a copy of mesh with s->xyz, refused when not finite. */
-static limn_status result_mesh(series_mpi *s, const limn_mesh *mesh, const char *what,
-                               limn_mesh **out)
+static limn_status mpi_axpby(const series_engine *e, double a, device_buffer *x, double b,
+                             device_buffer *y, device_buffer *out)
 {
+    mpi_part *p = &((series_mpi *)e->user)->p;
+    return mpi_agree(p, p->dev->ops->axpby(p->dev, p->n_owned, a, x, b, y, out));
+}
+
+/* The root's result: a copy of mesh with the gathered b, refused when not finite. */
+static limn_status mpi_result(const series_engine *e, device_buffer *b, const limn_mesh *mesh,
+                              const char *what, limn_mesh **out)
+{
+    series_mpi *s = e->user;
     mpi_part *p = &s->p;
-    limn_status st = LIMN_OK;
+    limn_status st = mpi_download(e, b, s->xyz);
+    if (st)
+        return st;
     if (p->rank == p->root) {
         st = series_check_finite(p->ctx, s->xyz, p->n_global, what);
         if (!st)
@@ -159,6 +167,28 @@ static limn_status result_mesh(series_mpi *s, const limn_mesh *mesh, const char 
             memcpy((*out)->positions, s->xyz, 3 * p->n_global * sizeof *s->xyz);
     }
     return mpi_agree(p, st);
+}
+
+static limn_status mpi_engine_agree(const series_engine *e, limn_status st)
+{
+    return mpi_agree(&((series_mpi *)e->user)->p, st);
+}
+
+/* The engine of filter.c on an open distributed run (products: the report's). */
+static series_engine mpi_engine(limn_context *ctx, series_mpi *s, long long *products)
+{
+    return (series_engine){.ctx = ctx,
+                           .user = s,
+                           .buf = s->buf,
+                           .products = products,
+                           .root = s->p.rank == s->p.root,
+                           .carry = 1,
+                           .term = mpi_term,
+                           .axpby = mpi_axpby,
+                           .upload = mpi_upload,
+                           .download = mpi_download,
+                           .result = mpi_result,
+                           .agree = mpi_engine_agree};
 }
 
 /* The end of smooth and denoise: pieces, statistics, the result on root. */
@@ -203,14 +233,9 @@ static limn_status smooth_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_smooth_mpi: out is NULL on the root");
     if (s.p.comm != MPI_COMM_NULL)
         st = mpi_agree(&s.p, st);
+    series_engine e = mpi_engine(ctx, &s, &r->products);
     if (!st)
-        st = upload(&s, s.p.rank == s.p.root ? mesh->positions : NULL, s.buf[0]);
-    if (!st)
-        st = partial_sum(&s, s.buf[0], s.buf[1], s.buf[2], s.buf[3], terms - 1, &r->products);
-    if (!st)
-        st = download(&s, s.buf[1]);
-    if (!st)
-        st = result_mesh(&s, mesh, "smoothing", out);
+        st = series_smooth_run(&e, mesh, terms, out);
     return finish(&s, st, mesh, mpi, result, out, r);
 }
 
@@ -245,42 +270,10 @@ static limn_status denoise_mpi_sized(limn_context *ctx, MPI_Comm comm, const lim
                        t->boundary_edges, t->nonmanifold_edges, t->inconsistent_edges);
     if (s.p.comm != MPI_COMM_NULL)
         st = mpi_agree(&s.p, st);
+    series_engine e = mpi_engine(ctx, &s, &r->products);
     if (!st)
-        st = upload(&s, s.p.rank == s.p.root ? mesh->positions : NULL, s.buf[0]);
-    device_buffer *x = s.buf[0], *acc = s.buf[1];
-    for (int k = 0; !st && k < steps; k++) {
-        st = partial_sum(&s, x, acc, s.buf[2], s.buf[3], m, &r->products);
-        device_buffer *tmp = x;
-        x = acc;
-        acc = tmp;
-        ctx_progress(ctx, "denoise", (double)(k + 1) / steps);
-    }
-    if (!st)
-        st = download(&s, x);
-    if (!st)
-        st = result_mesh(&s, mesh, "denoising", out);
-    if (!st && keep_volume) {
-        limn_status kv = s.p.rank == s.p.root ? series_keep_volume(ctx, mesh, *out) : LIMN_OK;
-        st = mpi_agree(&s.p, kv);
-    }
+        st = series_denoise_run(&e, mesh, m, steps, keep_volume, out);
     return finish(&s, st, mesh, mpi, result, out, r);
-}
-
-/* Frame k of the series morph on root: Q_k = TO + D_k (in s->xyz). */
-static limn_status morph_frame(series_mpi *s, const limn_mesh *from, const limn_mesh *to,
-                               int closed, double diag, int k, double *q, limn_morph_frame_fn fn,
-                               void *user)
-{
-    mpi_part *p = &s->p;
-    limn_status st = LIMN_OK;
-    if (p->rank == p->root) {
-        for (size_t i = 0; i < 3 * p->n_global; i++)
-            q[i] = to->positions[i] + s->xyz[i];
-        st = series_check_finite(p->ctx, q, p->n_global, "the morph");
-        if (!st)
-            st = series_emit_frame(from, to, closed, diag, k, q, fn, user);
-    }
-    return mpi_agree(p, st);
 }
 
 /* The checks of limn_morph's operator path, run on the root. */
@@ -356,24 +349,9 @@ static limn_status morph_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_
     }
     if (s.p.comm != MPI_COMM_NULL)
         st = mpi_agree(&s.p, st);
+    series_engine e = mpi_engine(ctx, &s, &r->products);
     if (!st)
-        st = upload(&s, q, s.buf[0]);
-    if (!st && s.p.rank == s.p.root)
-        st = series_emit_frame(from, to, closed, diag, 0, from->positions, fn, user);
-    if (s.p.comm != MPI_COMM_NULL)
-        st = mpi_agree(&s.p, st);
-    for (int k = 1; !st && k < o.frames; k++) {
-        /* D_k = p sum_{i=0..m} (E - A)^i A D_{k-1}; Q_k = TO + D_k */
-        st = partial_sum(&s, s.buf[0], s.buf[1], s.buf[2], s.buf[3], o.m, &r->products);
-        if (!st)
-            st = mpi_agree(&s.p, s.p.dev->ops->axpby(s.p.dev, s.p.n_owned, o.p, s.buf[1], 0.0,
-                                                     s.buf[1], s.buf[0]));
-        if (!st)
-            st = download(&s, s.buf[0]);
-        if (!st)
-            st = morph_frame(&s, from, to, closed, diag, k, q, fn, user);
-        ctx_progress(ctx, "morph", (double)k / (double)(o.frames - 1));
-    }
+        st = series_morph_run(&e, from, to, &o, closed, diag, q, fn, user);
     r->seconds_compute = MPI_Wtime() - s.t0;
     if (result)
         result->stats = s.p.stats;
@@ -387,28 +365,12 @@ limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *m
                             limn_series_report *report, const limn_mpi_options *mpi,
                             limn_mpi_result *result)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
-    limn_series_options o;
-    limn_series_options_default(&o);
-    limn_series_report r;
-    limn_mpi_options mo;
-    limn_mpi_result res;
-    limn_status st =
-        abi_options_in(ctx, "limn_smooth_mpi", "options", &abi_series_options, options, &o);
-    limn_status rs = abi_report_begin(ctx, "limn_smooth_mpi", "report", &abi_series_report,
-                                      st ? NULL : report, &r);
-    st = mpi_abi_begin(ctx, comm, "limn_smooth_mpi", st ? st : rs, mpi, &mo, result, &res);
-    if (st)
-        return st;
-    st = smooth_mpi_sized(ctx, comm, mesh, options ? &o : NULL, terms, out, report ? &r : NULL,
-                          mpi ? &mo : NULL, result ? &res : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    mpi_abi_end(result, &res);
-    return st;
+    mpi_call c;
+    limn_status st = mpi_enter(&c, ctx, comm, "limn_smooth_mpi", &abi_series_options, options,
+                               &abi_series_report, report, mpi, result, out);
+    return st ? st
+              : mpi_leave(&c, smooth_mpi_sized(ctx, comm, mesh, c.abi.options, terms, out,
+                                               c.abi.report, c.mpi, c.result));
 }
 
 limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
@@ -416,28 +378,12 @@ limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *
                              limn_mesh **out, limn_series_report *report,
                              const limn_mpi_options *mpi, limn_mpi_result *result)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
-    limn_series_options o;
-    limn_series_options_default(&o);
-    limn_series_report r;
-    limn_mpi_options mo;
-    limn_mpi_result res;
-    limn_status st =
-        abi_options_in(ctx, "limn_denoise_mpi", "options", &abi_series_options, options, &o);
-    limn_status rs = abi_report_begin(ctx, "limn_denoise_mpi", "report", &abi_series_report,
-                                      st ? NULL : report, &r);
-    st = mpi_abi_begin(ctx, comm, "limn_denoise_mpi", st ? st : rs, mpi, &mo, result, &res);
-    if (st)
-        return st;
-    st = denoise_mpi_sized(ctx, comm, mesh, options ? &o : NULL, m, steps, keep_volume, out,
-                           report ? &r : NULL, mpi ? &mo : NULL, result ? &res : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    mpi_abi_end(result, &res);
-    return st;
+    mpi_call c;
+    limn_status st = mpi_enter(&c, ctx, comm, "limn_denoise_mpi", &abi_series_options, options,
+                               &abi_series_report, report, mpi, result, out);
+    return st ? st
+              : mpi_leave(&c, denoise_mpi_sized(ctx, comm, mesh, c.abi.options, m, steps,
+                                                keep_volume, out, c.abi.report, c.mpi, c.result));
 }
 
 limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
@@ -445,24 +391,10 @@ limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *fr
                            limn_morph_frame_fn fn, void *user, limn_series_report *report,
                            const limn_mpi_options *mpi, limn_mpi_result *result)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    limn_morph_options o;
-    limn_morph_options_default(&o);
-    limn_series_report r;
-    limn_mpi_options mo;
-    limn_mpi_result res;
-    limn_status st =
-        abi_options_in(ctx, "limn_morph_mpi", "options", &abi_morph_options, options, &o);
-    limn_status rs = abi_report_begin(ctx, "limn_morph_mpi", "report", &abi_series_report,
-                                      st ? NULL : report, &r);
-    st = mpi_abi_begin(ctx, comm, "limn_morph_mpi", st ? st : rs, mpi, &mo, result, &res);
-    if (st)
-        return st;
-    st = morph_mpi_sized(ctx, comm, from, to, options ? &o : NULL, fn, user, report ? &r : NULL,
-                         mpi ? &mo : NULL, result ? &res : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    mpi_abi_end(result, &res);
-    return st;
+    mpi_call c;
+    limn_status st = mpi_enter(&c, ctx, comm, "limn_morph_mpi", &abi_morph_options, options,
+                               &abi_series_report, report, mpi, result, NULL);
+    return st ? st
+              : mpi_leave(&c, morph_mpi_sized(ctx, comm, from, to, c.abi.options, fn, user,
+                                              c.abi.report, c.mpi, c.result));
 }

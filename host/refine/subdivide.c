@@ -17,15 +17,7 @@
 
 void limn_subdivide_options_default(limn_subdivide_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    o->scheme = LIMN_SCHEME_AUTO;
-    o->alpha = 0.0;
-    o->levels = 1;
-    o->limit = 0;
-    o->max_memory = 0;
+    abi_default(&abi_subdivide_options, o);
 }
 
 static size_t physical_memory(void)
@@ -101,11 +93,9 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mesh *mesh,
                                    const limn_subdivide_options *options, limn_mesh **surface,
                                    limn_subdivide_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!surface)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_subdivide: surface is NULL");
+    limn_status begun = abi_begin(ctx, "limn_subdivide", "surface", surface);
+    if (begun)
+        return begun;
     *surface = NULL;
     limn_subdivide_options defaults;
     limn_subdivide_options_default(&defaults);
@@ -181,19 +171,8 @@ limn_status limn_subdivide(limn_context *ctx, const limn_mesh *mesh,
                            const limn_subdivide_options *options, limn_mesh **surface,
                            limn_subdivide_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (surface)
-        *surface = NULL;
-    limn_subdivide_options o;
-    limn_subdivide_options_default(&o);
-    limn_subdivide_report r;
-    limn_status st = abi_call_begin(ctx, "limn_subdivide", &abi_subdivide_options, options, &o,
-                                    &abi_subdivide_report, report, &r);
-    if (st)
-        return st;
-    st = subdivide_sized(ctx, mesh, options ? &o : NULL, surface, report ? &r : NULL);
-    abi_report_end(&abi_subdivide_report, report, &r);
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_subdivide", &abi_subdivide_options, options,
+                               &abi_subdivide_report, report, surface);
+    return st ? st : abi_leave(&c, subdivide_sized(ctx, mesh, c.options, surface, c.report));
 }

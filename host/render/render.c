@@ -18,21 +18,7 @@
 
 void limn_render_options_default(limn_render_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    o->width = 400;
-    o->height = 300;
-    o->azimuth = 30.0;
-    o->elevation = 20.0;
-    o->up_axis = 1;
-    o->flat = 0;
-    o->supersample = 2;
-    o->background[0] = o->background[1] = o->background[2] = 255;
-    o->color[0] = 196;
-    o->color[1] = 202;
-    o->color[2] = 214;
+    abi_default(&abi_render_options, o);
 }
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }

@@ -14,6 +14,7 @@
 #include "topology/measure.h"
 #include "mesh/mesh.h"
 #include "solve/operator.h"
+#include "series/filter.h"
 #include "series/series.h"
 #include "base/clock.h"
 
@@ -24,25 +25,12 @@
 
 void limn_series_options_default(limn_series_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    o->scheme = LIMN_SCHEME_AUTO;
-    o->alpha = 0.0;
+    abi_default(&abi_series_options, o);
 }
 
 void limn_morph_options_default(limn_morph_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    limn_series_options_default(&o->series);
-    o->frames = 30;
-    o->m = 2;
-    o->p = 0.8;
-    o->linear = 0;
+    abi_default(&abi_morph_options, o);
 }
 
 limn_status series_check_options(limn_context *ctx, const limn_series_options *o)
@@ -127,24 +115,6 @@ limn_status series_download(series_run *s, device_buffer *b, double *xyz)
     for (size_t i = 0; !st && i < s->n; i++)
         memcpy(xyz + 3 * i, s->host + 4 * i, 3 * sizeof(double));
     return st;
-}
-
-limn_status series_partial_sum(series_run *s, device_buffer *x, device_buffer *acc,
-                               device_buffer *ra, device_buffer *rb, int m, long long *products)
-{
-    device_buffer *cur = x;
-    for (int i = 0; i <= m; i++) {
-        device_buffer *next = cur == ra ? rb : ra;
-        device_norms nr;
-        limn_status st = s->dev->ops->series_step(
-            s->dev, &s->op.device, cur, next, NULL, acc, i < m ? SERIES_STORE_NEXT : 0,
-            i == 0 ? SERIES_ACC_SET_AX : SERIES_ACC_ADD_AX, &nr);
-        if (st)
-            return st;
-        ++*products;
-        cur = next;
-    }
-    return LIMN_OK;
 }
 
 /* Checks that a result is finite (a diverging filter, e.g. sharpening far too
@@ -247,6 +217,63 @@ static limn_status result_mesh(limn_context *ctx, series_run *s, device_buffer *
     return LIMN_OK;
 }
 
+/* ------------------------------------------ the single process's engine */
+
+static limn_status local_term(const series_engine *e, device_buffer *x, device_buffer *next,
+                              device_buffer *acc, int flags, int mode, limn_status prior)
+{
+    series_run *s = e->user;
+    device_norms nr;
+    (void)prior; /* no carry: never called after a failure */
+    return s->dev->ops->series_step(s->dev, &s->op.device, x, next, NULL, acc, flags, mode, &nr);
+}
+
+static limn_status local_axpby(const series_engine *e, double a, device_buffer *x, double b,
+                               device_buffer *y, device_buffer *out)
+{
+    series_run *s = e->user;
+    return s->dev->ops->axpby(s->dev, s->n, a, x, b, y, out);
+}
+
+static limn_status local_upload(const series_engine *e, const double *xyz, device_buffer *b)
+{
+    return series_upload(e->user, b, xyz);
+}
+
+static limn_status local_download(const series_engine *e, device_buffer *b, double *xyz)
+{
+    return series_download(e->user, b, xyz);
+}
+
+static limn_status local_result(const series_engine *e, device_buffer *b, const limn_mesh *mesh,
+                                const char *what, limn_mesh **out)
+{
+    return result_mesh(e->ctx, e->user, b, mesh, what, out);
+}
+
+static limn_status local_agree(const series_engine *e, limn_status st)
+{
+    (void)e;
+    return st;
+}
+
+/* The engine of filter.c on an open series_run (products: the report's). */
+static series_engine local_engine(limn_context *ctx, series_run *s, long long *products)
+{
+    return (series_engine){.ctx = ctx,
+                           .user = s,
+                           .buf = s->buf,
+                           .products = products,
+                           .root = 1,
+                           .carry = 0,
+                           .term = local_term,
+                           .axpby = local_axpby,
+                           .upload = local_upload,
+                           .download = local_download,
+                           .result = local_result,
+                           .agree = local_agree};
+}
+
 /* limn_smooth on options and report of this library's layout. */
 static limn_status smooth_sized(limn_context *ctx, const limn_mesh *mesh,
                                 const limn_series_options *options, int terms, limn_mesh **out,
@@ -268,12 +295,8 @@ static limn_status smooth_sized(limn_context *ctx, const limn_mesh *mesh,
     st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
     if (st)
         return st;
-    st = series_upload(&s, s.buf[0], mesh->positions);
-    if (!st)
-        st = series_partial_sum(&s, s.buf[0], s.buf[1], s.buf[2], s.buf[3], terms - 1,
-                                &r->products);
-    if (!st)
-        st = result_mesh(ctx, &s, s.buf[1], mesh, "smoothing", out);
+    series_engine e = local_engine(ctx, &s, &r->products);
+    st = series_smooth_run(&e, mesh, terms, out);
     r->seconds_compute = clock_seconds() - s.t0;
     series_close(&s);
     return st;
@@ -334,24 +357,8 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
         series_close(&s);
         return st;
     }
-    device_buffer *t = s.buf[0], *acc = s.buf[1];
-    st = series_upload(&s, t, mesh->positions);
-    for (int k = 0; !st && k < steps; k++) {
-        st = series_partial_sum(&s, t, acc, s.buf[2], s.buf[3], m, &r->products);
-        device_buffer *tmp = t;
-        t = acc;
-        acc = tmp;
-        ctx_progress(ctx, "denoise", (double)(k + 1) / steps);
-    }
-    if (!st)
-        st = result_mesh(ctx, &s, t, mesh, "denoising", out);
-    if (!st && keep_volume) {
-        st = series_keep_volume(ctx, mesh, *out);
-        if (st) {
-            limn_mesh_destroy(*out);
-            *out = NULL;
-        }
-    }
+    series_engine e = local_engine(ctx, &s, &r->products);
+    st = series_denoise_run(&e, mesh, m, steps, keep_volume, out);
     r->seconds_compute = clock_seconds() - s.t0;
     series_close(&s);
     return st;
@@ -521,25 +528,8 @@ static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const l
     int closed = measure_topology_closed(&s.op.topo);
     for (size_t i = 0; i < n3; i++)
         q[i] = from->positions[i] - to->positions[i];
-    st = series_upload(&s, s.buf[0], q);
-    if (!st)
-        st = series_emit_frame(from, to, closed, diag, 0, from->positions, fn, user);
-    for (int k = 1; !st && k < o.frames; k++) {
-        /* D_{k} = p sum_{i=0..m} (E - A)^i A D_{k-1}; Q_k = TO + D_k */
-        st = series_partial_sum(&s, s.buf[0], s.buf[1], s.buf[2], s.buf[3], o.m, &r->products);
-        if (!st)
-            st = s.dev->ops->axpby(s.dev, s.n, o.p, s.buf[1], 0.0, s.buf[1], s.buf[0]);
-        if (!st)
-            st = series_download(&s, s.buf[0], q);
-        if (!st) {
-            for (size_t i = 0; i < n3; i++)
-                q[i] = to->positions[i] + q[i];
-            st = series_check_finite(ctx, q, n, "the morph");
-        }
-        if (!st)
-            st = series_emit_frame(from, to, closed, diag, k, q, fn, user);
-        ctx_progress(ctx, "morph", (double)k / (double)(o.frames - 1));
-    }
+    series_engine e = local_engine(ctx, &s, &r->products);
+    st = series_morph_run(&e, from, to, &o, closed, diag, q, fn, user);
     r->seconds_compute = clock_seconds() - s.t0;
     series_close(&s);
     free(q);
@@ -549,100 +539,52 @@ static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const l
 limn_status limn_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *options,
                        int count, double *bands, double *energy, limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    limn_series_options o;
-    limn_series_options_default(&o);
-    limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_bands", &abi_series_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = bands_sized(ctx, mesh, options ? &o : NULL, count, bands, energy, report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_bands", &abi_series_options, options,
+                               &abi_series_report, report, NULL);
+    return st ? st
+              : abi_leave(&c, bands_sized(ctx, mesh, c.options, count, bands, energy, c.report));
 }
 
 limn_status limn_smooth(limn_context *ctx, const limn_mesh *mesh,
                         const limn_series_options *options, int terms, limn_mesh **out,
                         limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
-    limn_series_options o;
-    limn_series_options_default(&o);
-    limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_smooth", &abi_series_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = smooth_sized(ctx, mesh, options ? &o : NULL, terms, out, report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_smooth", &abi_series_options, options,
+                               &abi_series_report, report, out);
+    return st ? st : abi_leave(&c, smooth_sized(ctx, mesh, c.options, terms, out, c.report));
 }
 
 limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
                          const limn_series_options *options, int m, int steps, int keep_volume,
                          limn_mesh **out, limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
-    limn_series_options o;
-    limn_series_options_default(&o);
-    limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_denoise", &abi_series_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = denoise_sized(ctx, mesh, options ? &o : NULL, m, steps, keep_volume, out,
-                       report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_denoise", &abi_series_options, options,
+                               &abi_series_report, report, out);
+    return st ? st
+              : abi_leave(
+                    &c, denoise_sized(ctx, mesh, c.options, m, steps, keep_volume, out, c.report));
 }
 
 limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,
                          const limn_series_options *options, int from, int to, int steps,
                          limn_mesh **out, limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
-    limn_series_options o;
-    limn_series_options_default(&o);
-    limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_sharpen", &abi_series_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = sharpen_sized(ctx, mesh, options ? &o : NULL, from, to, steps, out, report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_sharpen", &abi_series_options, options,
+                               &abi_series_report, report, out);
+    return st ? st
+              : abi_leave(&c, sharpen_sized(ctx, mesh, c.options, from, to, steps, out, c.report));
 }
 
 limn_status limn_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
                        const limn_morph_options *options, limn_morph_frame_fn fn, void *user,
                        limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    limn_morph_options o;
-    limn_morph_options_default(&o);
-    limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_morph", &abi_morph_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = morph_sized(ctx, from, to, options ? &o : NULL, fn, user, report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_morph", &abi_morph_options, options,
+                               &abi_series_report, report, NULL);
+    return st ? st : abi_leave(&c, morph_sized(ctx, from, to, c.options, fn, user, c.report));
 }

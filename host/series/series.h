@@ -30,9 +30,6 @@ void series_close(series_run *s);
 /* 3 doubles per vertex <-> a device vector. */
 limn_status series_upload(series_run *s, device_buffer *b, const double *xyz);
 limn_status series_download(series_run *s, device_buffer *b, double *xyz);
-/* acc = sum_{i=0..m} (E - A)^i A x, m + 1 products; ra, rb scratch (x kept). */
-limn_status series_partial_sum(series_run *s, device_buffer *x, device_buffer *acc,
-                               device_buffer *ra, device_buffer *rb, int m, long long *products);
 
 /* Refuses a non-finite coordinate of a result, naming the vertex. */
 limn_status series_check_finite(limn_context *ctx, const double *xyz, size_t n, const char *what);

@@ -169,15 +169,7 @@ static void spline_color(const double *d, size_t k, const uint8_t lo[3], const u
 
 void limn_texture_options_default(limn_texture_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    limn_series_options_default(&o->series);
-    o->levels = 3;
-    o->seed = 1;
-    o->frequency = 4.0;
-    o->tolerance = 1e-6;
+    abi_default(&abi_texture_options, o);
 }
 
 #define TEXTURE_MAX_ITER 2000
@@ -286,14 +278,13 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
                                  const limn_texture_options *options, limn_mesh **out,
                                  limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!options || !out)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_texture: %s is NULL",
-                         !options ? "options" : "out");
+    limn_status st = abi_begin(ctx, "limn_texture", "options", options);
+    if (!st)
+        st = abi_begin(ctx, "limn_texture", "out", out);
+    if (st)
+        return st;
     *out = NULL;
-    limn_status st = check_mesh_magnitude(ctx, "limn_texture", NULL, mesh);
+    st = check_mesh_magnitude(ctx, "limn_texture", NULL, mesh);
     if (st)
         return st;
     const limn_texture_options *o = options;
@@ -460,19 +451,8 @@ limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
                          const limn_texture_options *options, limn_mesh **out,
                          limn_series_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
-    limn_texture_options o;
-    limn_texture_options_default(&o);
-    limn_series_report r;
-    limn_status st = abi_call_begin(ctx, "limn_texture", &abi_texture_options, options, &o,
-                                    &abi_series_report, report, &r);
-    if (st)
-        return st;
-    st = texture_sized(ctx, mesh, options ? &o : NULL, out, report ? &r : NULL);
-    abi_report_end(&abi_series_report, report, &r);
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_texture", &abi_texture_options, options,
+                               &abi_series_report, report, out);
+    return st ? st : abi_leave(&c, texture_sized(ctx, mesh, c.options, out, c.report));
 }

@@ -22,17 +22,7 @@
 
 void limn_interpolate_options_default(limn_interpolate_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    o->scheme = LIMN_SCHEME_AUTO;
-    o->alpha = 0.0;
-    o->tolerance = 1e-6;
-    o->max_iterations = 1000;
-    o->reorder = 1;
-    o->method = LIMN_METHOD_AUTO;
-    o->precision = LIMN_PRECISION_AUTO;
+    abi_default(&abi_interpolate_options, o);
 }
 
 typedef struct solve_state {
@@ -71,11 +61,9 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
                                      const limn_interpolate_options *options, limn_mesh **control,
                                      limn_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!control)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate: control is NULL");
+    limn_status begun = abi_begin(ctx, "limn_interpolate", "control", control);
+    if (begun)
+        return begun;
     *control = NULL;
     limn_interpolate_options defaults;
     limn_interpolate_options_default(&defaults);
@@ -206,19 +194,8 @@ limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
                              const limn_interpolate_options *options, limn_mesh **control,
                              limn_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (control)
-        *control = NULL;
-    limn_interpolate_options o;
-    limn_interpolate_options_default(&o);
-    limn_report r;
-    limn_status st = abi_call_begin(ctx, "limn_interpolate", &abi_interpolate_options, options, &o,
-                                    &abi_report, report, &r);
-    if (st)
-        return st;
-    st = interpolate_sized(ctx, mesh, options ? &o : NULL, control, report ? &r : NULL);
-    abi_report_end(&abi_report, report, &r);
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_interpolate", &abi_interpolate_options, options,
+                               &abi_report, report, control);
+    return st ? st : abi_leave(&c, interpolate_sized(ctx, mesh, c.options, control, c.report));
 }

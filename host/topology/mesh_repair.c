@@ -25,12 +25,7 @@
 
 void limn_repair_options_default(limn_repair_options *o)
 {
-    if (!o)
-        return; /* no context to report to */
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o; /* the layout of this library (limn.h ABI rule) */
-    o->repeated_vertices = 1;
-    o->duplicate_faces = 0;
+    abi_default(&abi_repair_options, o);
 }
 
 /* ---------------------------------------------------------------- repeats */
@@ -272,11 +267,9 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
 static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
                                 const limn_repair_options *options, limn_repair_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!mesh)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_repair: mesh is NULL");
+    limn_status begun = abi_begin(ctx, "limn_mesh_repair", "mesh", mesh);
+    if (begun)
+        return begun;
     limn_repair_options defaults;
     limn_repair_options_default(&defaults);
     const limn_repair_options *o = options ? options : &defaults;
@@ -403,17 +396,8 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
 limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repair_options *options,
                              limn_repair_report *report)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    limn_repair_options o;
-    limn_repair_options_default(&o);
-    limn_repair_report r;
-    limn_status st = abi_call_begin(ctx, "limn_mesh_repair", &abi_repair_options, options, &o,
-                                    &abi_repair_report, report, &r);
-    if (st)
-        return st;
-    st = repair_sized(ctx, mesh, options ? &o : NULL, report ? &r : NULL);
-    abi_report_end(&abi_repair_report, report, &r);
-    return st;
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_mesh_repair", &abi_repair_options, options,
+                               &abi_repair_report, report, NULL);
+    return st ? st : abi_leave(&c, repair_sized(ctx, mesh, c.options, c.report));
 }
