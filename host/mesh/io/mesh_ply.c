@@ -70,7 +70,7 @@ typedef struct ply {
     char *tok;                 /* ascii: rest of the current line */
     uint64_t nv;
     int colors;
-    growbuf pos, col, offsets, indices;
+    mio_arrays a;
     char dropped[256];         /* vertex properties limn does not keep, for one warning */
     size_t ndropped;
 } ply;
@@ -477,8 +477,8 @@ static limn_status ply_vertex(ply *p, const ply_elem *e)
     }
     if (st)
         return st;
-    if (!growbuf_push_3d(&p->pos, xyz[0], xyz[1], xyz[2]) ||
-        (p->colors && !growbuf_append(&p->col, rgb, 3)))
+    if (!growbuf_push_3d(&p->a.pos, xyz[0], xyz[1], xyz[2]) ||
+        (p->colors && !growbuf_append(&p->a.col, rgb, 3)))
         return ply_err(p, LIMN_ERR_MEMORY, "out of memory");
     return LIMN_OK;
 }
@@ -497,11 +497,11 @@ static limn_status ply_index(ply *p, const ply_prop *pr, long long *v)
 
 static limn_status ply_add_face(ply *p, const uint32_t *v, size_t n)
 {
-    if (p->indices.len / sizeof(uint32_t) > UINT32_MAX - n ||
-        p->offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
+    if (p->a.indices.len / sizeof(uint32_t) > UINT32_MAX - n ||
+        p->a.offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
         return ply_err(p, LIMN_ERR_FORMAT, "too many faces");
-    if (!growbuf_append(&p->indices, v, n * sizeof *v) ||
-        !growbuf_push_u32(&p->offsets, (uint32_t)(p->indices.len / sizeof(uint32_t))))
+    if (!growbuf_append(&p->a.indices, v, n * sizeof *v) ||
+        !growbuf_push_u32(&p->a.offsets, (uint32_t)(p->a.indices.len / sizeof(uint32_t))))
         return ply_err(p, LIMN_ERR_MEMORY, "out of memory");
     return LIMN_OK;
 }
@@ -524,16 +524,16 @@ static limn_status ply_face(ply *p, const ply_elem *e)
             if (n < 3)
                 return ply_err(p, LIMN_ERR_FORMAT, "face has %lld vertices (at least 3 needed)",
                                n);
-            if (p->indices.len / sizeof(uint32_t) > UINT32_MAX - (uint64_t)n ||
-                p->offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
+            if (p->a.indices.len / sizeof(uint32_t) > UINT32_MAX - (uint64_t)n ||
+                p->a.offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
                 return ply_err(p, LIMN_ERR_FORMAT, "too many faces");
             for (long long i = 0; i < n; i++) {
                 if ((st = ply_index(p, pr, &v)))
                     return st;
-                if (!growbuf_push_u32(&p->indices, (uint32_t)v))
+                if (!growbuf_push_u32(&p->a.indices, (uint32_t)v))
                     return ply_err(p, LIMN_ERR_MEMORY, "out of memory");
             }
-            if (!growbuf_push_u32(&p->offsets, (uint32_t)(p->indices.len / sizeof(uint32_t))))
+            if (!growbuf_push_u32(&p->a.offsets, (uint32_t)(p->a.indices.len / sizeof(uint32_t))))
                 return ply_err(p, LIMN_ERR_MEMORY, "out of memory");
         } else {
             /* tristrips: -1 ends a strip; odd triangles are flipped to keep the
@@ -578,7 +578,7 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         free(p);
         return LIMN_ERR_MEMORY;
     }
-    p->pos.budget = p->col.budget = p->offsets.budget = p->indices.budget = &p->r.budget;
+    mio_arrays_init(&p->a, &p->r);
     mio_skip_bom(&p->r);
     p->in_header = 1;
     st = ply_header(p);
@@ -587,9 +587,9 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         goto done;
     uint64_t left = mio_remaining(&p->r);
     size_t reserve = left == UINT64_MAX && p->nv > 65536 ? 65536 : (size_t)p->nv;
-    if (!growbuf_reserve(&p->pos, reserve * 3 * sizeof(double)) ||
-        (p->colors && !growbuf_reserve(&p->col, reserve * 3)) ||
-        !growbuf_push_u32(&p->offsets, 0)) {
+    if (!growbuf_reserve(&p->a.pos, reserve * 3 * sizeof(double)) ||
+        (p->colors && !growbuf_reserve(&p->a.col, reserve * 3)) ||
+        !growbuf_push_u32(&p->a.offsets, 0)) {
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for %llu vertices", path,
                        (unsigned long long)p->nv);
         goto done;
@@ -635,15 +635,12 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         st = ctx_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
         goto done;
     }
-    st = mio_make_mesh(ctx, &p->pos, &p->offsets, &p->indices, &p->col, out);
+    st = mio_make_mesh(ctx, &p->a, out);
 done:
     st = mio_finish(&p->r, st, p->format != F_ASCII && !p->in_header);
     for (size_t i = 0; i < p->nelems; i++)
         free(p->elems[i].props);
-    growbuf_free(&p->pos);
-    growbuf_free(&p->col);
-    growbuf_free(&p->offsets);
-    growbuf_free(&p->indices);
+    mio_arrays_free(&p->a);
     mio_free(&p->r);
     free(p);
     return st;

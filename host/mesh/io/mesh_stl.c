@@ -34,7 +34,7 @@ typedef struct stl {
     mio_reader r;
     limn_context *ctx;
     const char *path;
-    growbuf pos, offsets, indices;
+    mio_arrays a;
     uint32_t *slots;          /* hash table of vertex index + 1; 0 = empty */
     size_t cap;               /* power of two */
     size_t nv;
@@ -65,7 +65,7 @@ static int weld_grow(stl *s)
     uint32_t *slots = calloc(cap, sizeof *slots);
     if (!slots)
         return 0;
-    const double *p = (const double *)s->pos.data;
+    const double *p = (const double *)s->a.pos.data;
     for (size_t v = 0; v < s->nv; v++) {
         size_t i = (size_t)hash_coords(p + 3 * v) & (cap - 1);
         while (slots[i])
@@ -86,7 +86,7 @@ static int weld(stl *s, double c[3], uint32_t *index)
             c[k] = 0.0; /* -0 and +0 are one position */
     if ((s->nv + 1) * 2 > s->cap && !weld_grow(s))
         return 0;
-    const double *p = (const double *)s->pos.data;
+    const double *p = (const double *)s->a.pos.data;
     size_t i = (size_t)hash_coords(c) & (s->cap - 1);
     while (s->slots[i]) {
         const double *q = p + 3 * (s->slots[i] - 1);
@@ -96,7 +96,7 @@ static int weld(stl *s, double c[3], uint32_t *index)
         }
         i = (i + 1) & (s->cap - 1);
     }
-    if (s->nv >= UINT32_MAX - 1 || !growbuf_push_3d(&s->pos, c[0], c[1], c[2]))
+    if (s->nv >= UINT32_MAX - 1 || !growbuf_push_3d(&s->a.pos, c[0], c[1], c[2]))
         return 0;
     s->slots[i] = (uint32_t)(s->nv + 1);
     *index = (uint32_t)s->nv++;
@@ -105,11 +105,11 @@ static int weld(stl *s, double c[3], uint32_t *index)
 
 static int add_face(stl *s, const uint32_t *v, size_t n)
 {
-    if (s->indices.len / sizeof(uint32_t) > UINT32_MAX - n ||
-        s->offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
+    if (s->a.indices.len / sizeof(uint32_t) > UINT32_MAX - n ||
+        s->a.offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
         return 0;
-    if (!growbuf_append(&s->indices, v, n * sizeof *v) ||
-        !growbuf_push_u32(&s->offsets, (uint32_t)(s->indices.len / sizeof(uint32_t))))
+    if (!growbuf_append(&s->a.indices, v, n * sizeof *v) ||
+        !growbuf_push_u32(&s->a.offsets, (uint32_t)(s->a.indices.len / sizeof(uint32_t))))
         return 0;
     s->corners += n;
     return 1;
@@ -154,9 +154,9 @@ static limn_status stl_binary(stl *s)
         ctx_warn(s->ctx, "%s: %llu bytes after the last of %lu triangles ignored", s->path,
                   (unsigned long long)(size - need), (unsigned long)count);
     size_t reserve = size || count <= 65536 ? count : 65536;
-    if (!growbuf_reserve(&s->offsets, (reserve + 1) * sizeof(uint32_t)) ||
-        !growbuf_reserve(&s->indices, reserve * 3 * sizeof(uint32_t)) ||
-        !growbuf_reserve(&s->pos, reserve / 2 * 3 * sizeof(double)))
+    if (!growbuf_reserve(&s->a.offsets, (reserve + 1) * sizeof(uint32_t)) ||
+        !growbuf_reserve(&s->a.indices, reserve * 3 * sizeof(uint32_t)) ||
+        !growbuf_reserve(&s->a.pos, reserve / 2 * 3 * sizeof(double)))
         return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s: out of memory for %lu triangles", s->path,
                          (unsigned long)count);
     for (uint32_t t = 0; t < count; t++) {
@@ -359,7 +359,7 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         free(s);
         return LIMN_ERR_MEMORY;
     }
-    s->pos.budget = s->offsets.budget = s->indices.budget = &s->r.budget;
+    mio_arrays_init(&s->a, &s->r);
     limn_status st = LIMN_OK;
     size_t avail;
     const unsigned char *head = mio_peek(&s->r, STL_HEADER, &avail);
@@ -387,7 +387,7 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         int exact = s->r.file_size == STL_HEADER + (uint64_t)STL_RECORD * count;
         binary = exact || !solid || !all_text(head, STL_HEADER);
     }
-    if (!growbuf_push_u32(&s->offsets, 0)) {
+    if (!growbuf_push_u32(&s->a.offsets, 0)) {
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
         goto done;
     }
@@ -396,17 +396,14 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     st = binary ? stl_binary(s) : stl_ascii(s);
     if (st)
         goto done;
-    size_t faces = s->offsets.len / sizeof(uint32_t) - 1;
+    size_t faces = s->a.offsets.len / sizeof(uint32_t) - 1;
     ctx_warn(ctx,
               "%s: %zu %s, %llu corners welded into %zu vertices (exactly equal coordinates)",
               path, faces, binary ? "triangles" : "facets", (unsigned long long)s->corners, s->nv);
-    growbuf nocolors = {0};
-    st = mio_make_mesh(ctx, &s->pos, &s->offsets, &s->indices, &nocolors, out);
+    st = mio_make_mesh(ctx, &s->a, out);
 done:
     st = mio_finish(&s->r, st, binary);
-    growbuf_free(&s->pos);
-    growbuf_free(&s->offsets);
-    growbuf_free(&s->indices);
+    mio_arrays_free(&s->a);
     free(s->slots);
     mio_free(&s->r);
     free(s);
