@@ -233,6 +233,61 @@ static limn_status unexpected(stl *s, const char *t, const char *wanted, unsigne
                      s->r.line, where, wanted, mio_token(t, tok));
 }
 
+/* The coordinates after 'vertex' in facet f - 1, welded and added to loop. */
+static limn_status stl_vertex(stl *s, unsigned long f, growbuf *loop)
+{
+    double c[3];
+    for (int k = 0; k < 3; k++) {
+        char tok[64];
+        char *p = next_token(s);
+        if (!p)
+            return unexpected(s, p, "a coordinate", f);
+        int rc = mio_parse_double(&p, &c[k]);
+        if (rc != 1)
+            return ctx_fail(s->ctx, LIMN_ERR_FORMAT, "%s:%lu: facet %lu: coordinate %s is %s",
+                            s->path, s->r.line, f - 1, mio_token(p, tok),
+                            rc == 2 ? "not finite" : "not a number");
+    }
+    uint32_t v;
+    if (!weld(s, c, &v) || !growbuf_push_u32(loop, v))
+        return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", s->path, s->r.line);
+    return LIMN_OK;
+}
+
+/* Facet f - 1 after its 'facet' word, through 'endfacet', added as a face
+   (loop: room for its vertices). */
+static limn_status stl_facet(stl *s, unsigned long f, growbuf *loop)
+{
+    char *t = next_token(s);
+    if (is_word(t, "normal")) {
+        for (int k = 0; k < 3 && t; k++)
+            t = next_token(s);
+        if (t)
+            t = next_token(s);
+    }
+    if (!is_word(t, "outer") || !is_word(t = next_token(s), "loop"))
+        return unexpected(s, t, "'outer loop'", f);
+    loop->len = 0;
+    while (is_word(t = next_token(s), "vertex")) {
+        limn_status st = stl_vertex(s, f, loop);
+        if (st)
+            return st;
+    }
+    if (!is_word(t, "endloop"))
+        return unexpected(s, t, "'vertex' or 'endloop'", f);
+    size_t n = loop->len / sizeof(uint32_t);
+    if (n < 3)
+        return ctx_fail(s->ctx, LIMN_ERR_FORMAT,
+                        "%s:%lu: facet %lu has %zu vertices (at least 3 needed)", s->path,
+                        s->r.line, f - 1, n);
+    if (!is_word(t = next_token(s), "endfacet"))
+        return unexpected(s, t, "'endfacet'", f);
+    if (!add_face(s, (const uint32_t *)loop->data, n))
+        return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory or too many facets",
+                        s->path, s->r.line);
+    return LIMN_OK;
+}
+
 static limn_status stl_ascii(stl *s)
 {
     char *t = next_token(s);
@@ -259,64 +314,8 @@ static limn_status stl_ascii(stl *s)
             st = unexpected(s, t, "'facet' or 'endsolid'", 0);
             break;
         }
-        unsigned long f = ++facets; /* facet number + 1, for messages */
-        t = next_token(s);
-        if (is_word(t, "normal")) {
-            for (int k = 0; k < 3 && t; k++)
-                t = next_token(s);
-            if (t)
-                t = next_token(s);
-        }
-        if (!is_word(t, "outer") || !is_word(t = next_token(s), "loop")) {
-            st = unexpected(s, t, "'outer loop'", f);
+        if ((st = stl_facet(s, ++facets, &loop))) /* facet number + 1, for messages */
             break;
-        }
-        loop.len = 0;
-        while (is_word(t = next_token(s), "vertex")) {
-            double c[3];
-            for (int k = 0; k < 3 && !st; k++) {
-                char tok[64];
-                char *p = next_token(s);
-                if (!p) {
-                    st = unexpected(s, p, "a coordinate", f);
-                    break;
-                }
-                int rc = mio_parse_double(&p, &c[k]);
-                if (rc != 1)
-                    st = ctx_fail(s->ctx, LIMN_ERR_FORMAT,
-                                   "%s:%lu: facet %lu: coordinate %s is %s", s->path, s->r.line,
-                                   f - 1, mio_token(p, tok),
-                                   rc == 2 ? "not finite" : "not a number");
-            }
-            uint32_t v;
-            if (!st && (!weld(s, c, &v) || !growbuf_push_u32(&loop, v)))
-                st = ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", s->path,
-                               s->r.line);
-            if (st)
-                break;
-        }
-        if (st)
-            break;
-        if (!is_word(t, "endloop")) {
-            st = unexpected(s, t, "'vertex' or 'endloop'", f);
-            break;
-        }
-        size_t n = loop.len / sizeof(uint32_t);
-        if (n < 3) {
-            st = ctx_fail(s->ctx, LIMN_ERR_FORMAT,
-                           "%s:%lu: facet %lu has %zu vertices (at least 3 needed)", s->path,
-                           s->r.line, f - 1, n);
-            break;
-        }
-        if (!is_word(t = next_token(s), "endfacet")) {
-            st = unexpected(s, t, "'endfacet'", f);
-            break;
-        }
-        if (!add_face(s, (const uint32_t *)loop.data, n)) {
-            st = ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory or too many facets",
-                           s->path, s->r.line);
-            break;
-        }
     }
     growbuf_free(&loop);
     if (!st && s->r.error)
