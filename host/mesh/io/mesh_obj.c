@@ -133,30 +133,27 @@ static limn_status obj_face(obj_state *o, char *s)
     return LIMN_OK;
 }
 
-limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
+static limn_status obj_parse(void *state, int *binary)
 {
-    obj_state o;
-    memset(&o, 0, sizeof o);
-    if (!mio_init(&o.r, ctx, path, f))
-        return LIMN_ERR_MEMORY;
-    mio_reader *r = &o.r;
+    obj_state *o = state;
+    mio_reader *r = &o->r;
+    limn_context *ctx = r->ctx;
+    const char *path = r->path;
+    (void)binary; /* OBJ is text only */
     r->continuation = 1;
-    mio_arrays_init(&o.a, r);
     mio_skip_bom(r);
     limn_status st = LIMN_OK;
     size_t unknown = 0;
-    if (!growbuf_push_u32(&o.a.offsets, 0)) {
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
-        goto done;
-    }
+    if (!growbuf_push_u32(&o->a.offsets, 0))
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
     size_t len;
     char *line;
     while ((line = mio_line(r, &len))) {
         char *s = mio_skip_space(line);
         if (s[0] == 'v' && (mio_space(s[1]) || !s[1]))
-            st = obj_vertex(&o, s + 1);
+            st = obj_vertex(o, s + 1);
         else if (s[0] == 'f' && (mio_space(s[1]) || !s[1]))
-            st = obj_face(&o, s + 1);
+            st = obj_face(o, s + 1);
         else if (s[0] && s[0] != '#') {
             size_t n = 0;
             while (s[n] && !mio_space(s[n]))
@@ -168,34 +165,30 @@ limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
             }
         }
         if (st)
-            goto done;
+            return st;
     }
-    if (r->error) {
-        st = mio_read_failed(r);
-        goto done;
-    }
+    if (r->error)
+        return mio_read_failed(r);
     if (unknown > 1)
         ctx_warn(ctx, "%s: %zu unknown OBJ records ignored in all", path, unknown);
     if (r->unterminated)
         ctx_warn(ctx, "%s:%lu: the last line does not end with a new line: the file may be "
                        "truncated (OBJ has no counts to check)",
                   path, r->line);
-    if (o.max_ref > 0 && (unsigned long long)o.max_ref > o.vertices) {
-        st = ctx_fail(ctx, LIMN_ERR_FORMAT,
-                       "%s:%lu: face references vertex %lld but only %zu vertices are defined",
-                       path, o.max_ref_line, o.max_ref, o.vertices);
-        goto done;
-    }
-    if (o.vertices == 0) {
-        st = ctx_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
-        goto done;
-    }
-    st = mio_make_mesh(ctx, &o.a, out);
-done:
-    st = mio_finish(r, st, 0);
-    mio_arrays_free(&o.a);
-    mio_free(r);
-    return st;
+    if (o->max_ref > 0 && (unsigned long long)o->max_ref > o->vertices)
+        return ctx_fail(ctx, LIMN_ERR_FORMAT,
+                        "%s:%lu: face references vertex %lld but only %zu vertices are defined",
+                        path, o->max_ref_line, o->max_ref, o->vertices);
+    if (o->vertices == 0)
+        return ctx_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
+    return LIMN_OK;
+}
+
+limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
+{
+    obj_state o;
+    memset(&o, 0, sizeof o);
+    return mio_read(&o.r, &o.a, ctx, path, f, obj_parse, &o, out);
 }
 
 limn_status obj_write(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f)

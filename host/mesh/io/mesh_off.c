@@ -323,26 +323,22 @@ static limn_status off_body(off_state *o)
     return LIMN_OK;
 }
 
+static limn_status off_parse(void *state, int *binary)
+{
+    off_state *o = state;
+    (void)binary; /* OFF is read as text only */
+    mio_skip_bom(&o->r);
+    limn_status st = off_header(o);
+    return st ? st : off_body(o);
+}
+
 limn_status off_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
 {
     off_state *o = calloc(1, sizeof *o);
     if (!o)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
-    if (!mio_init(&o->r, ctx, path, f)) {
-        free(o);
-        return LIMN_ERR_MEMORY;
-    }
-    mio_arrays_init(&o->a, &o->r);
     o->crowded_face = -1;
-    mio_skip_bom(&o->r);
-    limn_status st = off_header(o);
-    if (!st)
-        st = off_body(o);
-    if (!st)
-        st = mio_make_mesh(ctx, &o->a, out);
-    st = mio_finish(&o->r, st, 0);
-    mio_arrays_free(&o->a);
-    mio_free(&o->r);
+    limn_status st = mio_read(&o->r, &o->a, ctx, path, f, off_parse, o, out);
     free(o);
     return st;
 }

@@ -669,6 +669,15 @@ static limn_status ply_parse(ply *p)
     return LIMN_OK;
 }
 
+static limn_status ply_run(void *state, int *binary)
+{
+    ply *p = state;
+    mio_skip_bom(&p->r);
+    limn_status st = ply_parse(p);
+    *binary = p->format != F_ASCII && !p->in_header;
+    return st;
+}
+
 limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
 {
     ply *p = calloc(1, sizeof *p);
@@ -676,20 +685,9 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
     p->ctx = ctx;
     p->path = path;
-    if (!mio_init(&p->r, ctx, path, f)) {
-        free(p);
-        return LIMN_ERR_MEMORY;
-    }
-    mio_arrays_init(&p->a, &p->r);
-    mio_skip_bom(&p->r);
-    limn_status st = ply_parse(p);
-    if (!st)
-        st = mio_make_mesh(ctx, &p->a, out);
-    st = mio_finish(&p->r, st, p->format != F_ASCII && !p->in_header);
+    limn_status st = mio_read(&p->r, &p->a, ctx, path, f, ply_run, p, out);
     for (size_t i = 0; i < p->nelems; i++)
         free(p->elems[i].props);
-    mio_arrays_free(&p->a);
-    mio_free(&p->r);
     free(p);
     return st;
 }

@@ -347,6 +347,54 @@ static int all_text(const unsigned char *b, size_t n)
     return 1;
 }
 
+/* Tells a binary STL (*binary = 1) from an ascii one by its first bytes. */
+static limn_status stl_detect(stl *s, int *binary)
+{
+    size_t avail;
+    const unsigned char *head = mio_peek(&s->r, STL_HEADER, &avail);
+    /* an ascii file may start with a UTF-8 byte order mark; a binary header too,
+       which the size rule below still tells */
+    size_t bom = avail >= 3 && head[0] == 0xEF && head[1] == 0xBB && head[2] == 0xBF ? 3 : 0;
+    int solid = starts_with_solid(head + bom, avail - bom);
+    *binary = 0;
+    if (s->r.error)
+        return mio_read_failed(&s->r);
+    if (avail < STL_HEADER) {
+        if (!solid)
+            return ctx_fail(s->ctx, LIMN_ERR_FORMAT,
+                            "%s: not an STL file: %zu bytes, too short for a binary STL (84-byte "
+                            "header), and it does not start with 'solid'",
+                            s->path, avail);
+        return LIMN_OK;
+    }
+    uint32_t count = (uint32_t)head[80] | (uint32_t)head[81] << 8 | (uint32_t)head[82] << 16 |
+                     (uint32_t)head[83] << 24;
+    int exact = s->r.file_size == STL_HEADER + (uint64_t)STL_RECORD * count;
+    *binary = exact || !solid || !all_text(head, STL_HEADER);
+    return LIMN_OK;
+}
+
+static limn_status stl_parse(void *state, int *binary)
+{
+    stl *s = state;
+    limn_status st = stl_detect(s, binary);
+    if (st)
+        return st;
+    if (!growbuf_push_u32(&s->a.offsets, 0))
+        return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s: out of memory", s->path);
+    if (!*binary)
+        mio_skip_bom(&s->r);
+    st = *binary ? stl_binary(s) : stl_ascii(s);
+    if (st)
+        return st;
+    size_t faces = s->a.offsets.len / sizeof(uint32_t) - 1;
+    ctx_warn(s->ctx,
+              "%s: %zu %s, %llu corners welded into %zu vertices (exactly equal coordinates)",
+              s->path, faces, *binary ? "triangles" : "facets", (unsigned long long)s->corners,
+              s->nv);
+    return LIMN_OK;
+}
+
 limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
 {
     stl *s = calloc(1, sizeof *s);
@@ -354,57 +402,8 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
     s->ctx = ctx;
     s->path = path;
-    if (!mio_init(&s->r, ctx, path, f)) {
-        free(s);
-        return LIMN_ERR_MEMORY;
-    }
-    mio_arrays_init(&s->a, &s->r);
-    limn_status st = LIMN_OK;
-    size_t avail;
-    const unsigned char *head = mio_peek(&s->r, STL_HEADER, &avail);
-    /* an ascii file may start with a UTF-8 byte order mark; a binary header too,
-       which the size rule below still tells */
-    size_t bom = avail >= 3 && head[0] == 0xEF && head[1] == 0xBB && head[2] == 0xBF ? 3 : 0;
-    int solid = starts_with_solid(head + bom, avail - bom);
-    int binary = 0;
-    if (s->r.error) {
-        st = mio_read_failed(&s->r);
-        goto done;
-    }
-    if (avail < STL_HEADER) {
-        binary = 0;
-        if (!solid) {
-            st = ctx_fail(ctx, LIMN_ERR_FORMAT,
-                           "%s: not an STL file: %zu bytes, too short for a binary STL (84-byte "
-                           "header), and it does not start with 'solid'",
-                           path, avail);
-            goto done;
-        }
-    } else {
-        uint32_t count = (uint32_t)head[80] | (uint32_t)head[81] << 8 |
-                         (uint32_t)head[82] << 16 | (uint32_t)head[83] << 24;
-        int exact = s->r.file_size == STL_HEADER + (uint64_t)STL_RECORD * count;
-        binary = exact || !solid || !all_text(head, STL_HEADER);
-    }
-    if (!growbuf_push_u32(&s->a.offsets, 0)) {
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
-        goto done;
-    }
-    if (!binary)
-        mio_skip_bom(&s->r);
-    st = binary ? stl_binary(s) : stl_ascii(s);
-    if (st)
-        goto done;
-    size_t faces = s->a.offsets.len / sizeof(uint32_t) - 1;
-    ctx_warn(ctx,
-              "%s: %zu %s, %llu corners welded into %zu vertices (exactly equal coordinates)",
-              path, faces, binary ? "triangles" : "facets", (unsigned long long)s->corners, s->nv);
-    st = mio_make_mesh(ctx, &s->a, out);
-done:
-    st = mio_finish(&s->r, st, binary);
-    mio_arrays_free(&s->a);
+    limn_status st = mio_read(&s->r, &s->a, ctx, path, f, stl_parse, s, out);
     free(s->slots);
-    mio_free(&s->r);
     free(s);
     return st;
 }

@@ -385,6 +385,22 @@ limn_status mio_make_mesh(limn_context *ctx, mio_arrays *a, limn_mesh **out)
     return LIMN_OK;
 }
 
+limn_status mio_read(mio_reader *r, mio_arrays *a, limn_context *ctx, const char *path, FILE *f,
+                     mio_parse_fn parse, void *state, limn_mesh **out)
+{
+    if (!mio_init(r, ctx, path, f))
+        return LIMN_ERR_MEMORY;
+    mio_arrays_init(a, r);
+    int binary = 0;
+    limn_status st = parse(state, &binary);
+    if (!st)
+        st = mio_make_mesh(ctx, a, out);
+    st = mio_finish(r, st, binary);
+    mio_arrays_free(a);
+    mio_free(r);
+    return st;
+}
+
 limn_status mio_write_failed(limn_context *ctx, const char *path)
 {
     int e = errno;

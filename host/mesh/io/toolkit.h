@@ -110,6 +110,14 @@ void mio_arrays_free(mio_arrays *a);
 /* Builds a mesh from the arrays, taking their memory (they are left empty). */
 limn_status mio_make_mesh(limn_context *ctx, mio_arrays *a, limn_mesh **out);
 
+/* The frame every reader runs in: r and a (members of state, zeroed) set up
+   for path and f, then parse(state, &binary), the mesh made from a when that
+   succeeded, mio_finish (binary: what parse left in it), a and r freed.
+   Returns the reader's status. */
+typedef limn_status (*mio_parse_fn)(void *state, int *binary);
+limn_status mio_read(mio_reader *r, mio_arrays *a, limn_context *ctx, const char *path, FILE *f,
+                     mio_parse_fn parse, void *state, limn_mesh **out);
+
 /* Message for a failed write (errno) to the target path; returns LIMN_ERR_IO. */
 limn_status mio_write_failed(limn_context *ctx, const char *path);
 /* The text writers' lines. One line per vertex: lead, x y z (%.17g), and
