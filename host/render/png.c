@@ -194,9 +194,9 @@ typedef struct token {
 #define MAX_CHAIN 96
 #define BLOCK_TOKENS 65536
 
-static void write_block(bitw *w, const token *t, size_t nt, int final)
+/* Symbol frequencies of the tokens, the end of block included. */
+static void count_symbols(const token *t, size_t nt, uint32_t lf[286], uint32_t df[30])
 {
-    uint32_t lf[286] = {0}, df[30] = {0};
     for (size_t i = 0; i < nt; i++) {
         if (t[i].dist == 0) {
             lf[t[i].lit]++;
@@ -218,23 +218,13 @@ static void write_block(bitw *w, const token *t, size_t nt, int final)
         if (!df[1])
             df[1] = 1;
     }
-    uint8_t ll[286], dl[30];
-    uint16_t lc[286], dc[30];
-    huffman_lengths(lf, 286, 15, ll);
-    huffman_lengths(df, 30, 15, dl);
-    huffman_codes(ll, 286, lc);
-    huffman_codes(dl, 30, dc);
-    int hlit = 286, hdist = 30;
-    while (hlit > 257 && ll[hlit - 1] == 0)
-        hlit--;
-    while (hdist > 1 && dl[hdist - 1] == 0)
-        hdist--;
+}
 
-    /* run-length code of the code lengths (symbols 16, 17, 18) */
-    uint8_t lens[316], sym[316], extra[316];
-    int total = hlit + hdist, ns = 0;
-    memcpy(lens, ll, (size_t)hlit);
-    memcpy(lens + hlit, dl, (size_t)hdist);
+/* Run-length code of the code lengths (symbols 16, 17, 18, each with its
+   extra bits); returns the number of symbols. */
+static int rle_lengths(const uint8_t *lens, int total, uint8_t *sym, uint8_t *extra)
+{
+    int ns = 0;
     for (int i = 0; i < total;) {
         int v = lens[i], run = 1;
         while (i + run < total && lens[i + run] == v)
@@ -262,6 +252,18 @@ static void write_block(bitw *w, const token *t, size_t nt, int final)
         while (run-- > 0)
             sym[ns] = (uint8_t)v, extra[ns++] = 0;
     }
+    return ns;
+}
+
+/* A dynamic block's header: the first hlit literal/length and hdist
+   distance code lengths, run-length coded in the code length code. */
+static void write_header(bitw *w, int final, const uint8_t *ll, int hlit, const uint8_t *dl,
+                         int hdist)
+{
+    uint8_t lens[316], sym[316], extra[316];
+    memcpy(lens, ll, (size_t)hlit);
+    memcpy(lens + hlit, dl, (size_t)hdist);
+    int ns = rle_lengths(lens, hlit + hdist, sym, extra);
     uint32_t cf[19] = {0};
     for (int i = 0; i < ns; i++)
         cf[sym[i]]++;
@@ -291,6 +293,24 @@ static void write_block(bitw *w, const token *t, size_t nt, int final)
         else if (sym[i] == 18)
             put_bits(w, extra[i], 7);
     }
+}
+
+static void write_block(bitw *w, const token *t, size_t nt, int final)
+{
+    uint32_t lf[286] = {0}, df[30] = {0};
+    count_symbols(t, nt, lf, df);
+    uint8_t ll[286], dl[30];
+    uint16_t lc[286], dc[30];
+    huffman_lengths(lf, 286, 15, ll);
+    huffman_lengths(df, 30, 15, dl);
+    huffman_codes(ll, 286, lc);
+    huffman_codes(dl, 30, dc);
+    int hlit = 286, hdist = 30;
+    while (hlit > 257 && ll[hlit - 1] == 0)
+        hlit--;
+    while (hdist > 1 && dl[hdist - 1] == 0)
+        hdist--;
+    write_header(w, final, ll, hlit, dl, hdist);
     for (size_t i = 0; i < nt; i++) {
         if (t[i].dist == 0) {
             put_bits(w, lc[t[i].lit], ll[t[i].lit]);
@@ -410,26 +430,11 @@ static int paeth(int a, int b, int c)
     return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
 }
 
-limn_status limn_png_write(limn_context *ctx, const char *path, int width, int height,
-                           const uint8_t *rgb)
+/* Each row with the filter of smallest absolute sum (its type byte first)
+   into raw; trial: room for 5 rows. */
+static void filter_rows(const uint8_t *rgb, int height, size_t stride, uint8_t *raw,
+                        uint8_t *trial)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!path || !*path || !rgb)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_png_write: %s",
-                         !rgb ? "rgb is NULL" : "no file name");
-    if (width < 1 || height < 1 || width > 65535 || height > 65535)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                         "limn_png_write: picture size %dx%d is outside 1..65535", width, height);
-    size_t stride = 3 * (size_t)width, raw_len = (stride + 1) * (size_t)height;
-    uint8_t *raw = malloc(raw_len), *trial = malloc(5 * stride);
-    bytes z = {0}, png = {0};
-    limn_status st = LIMN_OK;
-    if (!raw || !trial) {
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a %dx%d picture", width, height);
-        goto done;
-    }
     for (int y = 0; y < height; y++) {
         const uint8_t *row = rgb + (size_t)y * stride, *up = y ? row - stride : NULL;
         long best_sum = -1;
@@ -457,44 +462,81 @@ limn_status limn_png_write(limn_context *ctx, const char *path, int width, int h
         dst[0] = (uint8_t)best;
         memcpy(dst + 1, trial + (size_t)best * stride, stride);
     }
-    /* zlib stream: header, deflate, Adler-32 */
-    put_byte(&z, 0x78);
-    put_byte(&z, 0x9C);
-    if (!deflate_bytes(raw, raw_len, &z)) {
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory compressing the picture");
-        goto done;
-    }
+}
+
+/* The zlib stream of raw into z: header, deflate, Adler-32; 0 when out of
+   memory in deflate. */
+static int zlib_stream(const uint8_t *raw, size_t raw_len, bytes *z)
+{
+    put_byte(z, 0x78);
+    put_byte(z, 0x9C);
+    if (!deflate_bytes(raw, raw_len, z))
+        return 0;
     uint32_t s1 = 1, s2 = 0;
     for (size_t i = 0; i < raw_len; i++) {
         s1 = (s1 + raw[i]) % 65521u;
         s2 = (s2 + s1) % 65521u;
     }
-    put_u32(&z, (s2 << 16) | s1);
+    put_u32(z, (s2 << 16) | s1);
+    return 1;
+}
 
+/* The PNG file: signature, IHDR (8-bit RGB), the one IDAT, IEND. */
+static void png_file(bytes *png, int width, int height, const bytes *z)
+{
     static const uint8_t signature[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
     for (int i = 0; i < 8; i++)
-        put_byte(&png, signature[i]);
+        put_byte(png, signature[i]);
     uint8_t ihdr[13] = {(uint8_t)(width >> 24), (uint8_t)(width >> 16), (uint8_t)(width >> 8),
                         (uint8_t)width, (uint8_t)(height >> 24), (uint8_t)(height >> 16),
                         (uint8_t)(height >> 8), (uint8_t)height, 8, 2, 0, 0, 0};
-    chunk(&png, "IHDR", ihdr, sizeof ihdr);
-    chunk(&png, "IDAT", z.data, z.len);
-    chunk(&png, "IEND", NULL, 0);
-    if (png.failed || z.failed) {
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing the picture");
-        goto done;
-    }
+    chunk(png, "IHDR", ihdr, sizeof ihdr);
+    chunk(png, "IDAT", z->data, z->len);
+    chunk(png, "IEND", NULL, 0);
+}
+
+/* png's bytes to path, whole or not at all. */
+static limn_status write_whole(limn_context *ctx, const char *path, const bytes *png)
+{
     atomic_file af;
-    st = atomic_file_open(ctx, path, &af);
-    if (!st) {
-        if (fwrite(png.data, 1, png.len, af.f) != png.len) {
-            atomic_file_abort(&af);
-            st = ctx_fail(ctx, LIMN_ERR_IO, "%s: write failed", path);
-        } else {
-            st = atomic_file_commit(ctx, &af);
-        }
+    limn_status st = atomic_file_open(ctx, path, &af);
+    if (st)
+        return st;
+    if (fwrite(png->data, 1, png->len, af.f) != png->len) {
+        atomic_file_abort(&af);
+        return ctx_fail(ctx, LIMN_ERR_IO, "%s: write failed", path);
     }
-done:
+    return atomic_file_commit(ctx, &af);
+}
+
+limn_status limn_png_write(limn_context *ctx, const char *path, int width, int height,
+                           const uint8_t *rgb)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    ctx_clear(ctx);
+    if (!path || !*path || !rgb)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_png_write: %s",
+                         !rgb ? "rgb is NULL" : "no file name");
+    if (width < 1 || height < 1 || width > 65535 || height > 65535)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "limn_png_write: picture size %dx%d is outside 1..65535", width, height);
+    size_t stride = 3 * (size_t)width, raw_len = (stride + 1) * (size_t)height;
+    uint8_t *raw = malloc(raw_len), *trial = malloc(5 * stride);
+    bytes z = {0}, png = {0};
+    limn_status st = LIMN_OK;
+    if (!raw || !trial)
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a %dx%d picture", width, height);
+    else
+        filter_rows(rgb, height, stride, raw, trial);
+    if (!st && !zlib_stream(raw, raw_len, &z))
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory compressing the picture");
+    if (!st)
+        png_file(&png, width, height, &z);
+    if (!st && (png.failed || z.failed))
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing the picture");
+    if (!st)
+        st = write_whole(ctx, path, &png);
     free(raw);
     free(trial);
     free(z.data);

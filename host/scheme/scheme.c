@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Limit masks of Loop and general Catmull-Clark (DESIGN.md §1). */
 #include "scheme/scheme.h"
+#include "scheme/scheme_refine.h"
 
 #include <math.h>
 
@@ -75,23 +76,9 @@ static size_t catmark_smooth(const topology *t, double alpha, uint32_t v, uint32
 size_t scheme_limit_mask(const topology *t, limn_scheme scheme, double alpha, uint32_t v,
                          uint32_t *cols, double *w)
 {
-    switch ((vertex_rule)t->vertex_rule[v]) {
-    case RULE_ISOLATED:
-    case RULE_CORNER:
-        cols[0] = v;
-        w[0] = 1.0;
-        return 1;
-    case RULE_CREASE:
-        cols[0] = v;
-        w[0] = 4.0 / 6.0;
-        cols[1] = t->crease_neighbors[2 * v];
-        w[1] = 1.0 / 6.0;
-        cols[2] = t->crease_neighbors[2 * v + 1];
-        w[2] = 1.0 / 6.0;
-        return 3;
-    case RULE_SMOOTH:
-        break;
-    }
+    size_t sharp = scheme_sharp_vertex_mask(t, v, 4.0 / 6.0, 1.0 / 6.0, cols, w);
+    if (sharp)
+        return sharp;
     if (scheme == LIMN_SCHEME_LOOP)
         return loop_smooth(t, v, cols, w);
     return catmark_smooth(t, alpha, v, cols, w);

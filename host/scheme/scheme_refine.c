@@ -73,8 +73,8 @@ static size_t loop_vertex(const topology *t, uint32_t v, uint32_t *cols, double 
     return 1 + n;
 }
 
-size_t scheme_refine_vertex_mask(const topology *t, limn_scheme scheme, double alpha, uint32_t v,
-                                 uint32_t *cols, double *w)
+size_t scheme_sharp_vertex_mask(const topology *t, uint32_t v, double centre, double side,
+                                uint32_t *cols, double *w)
 {
     switch ((vertex_rule)t->vertex_rule[v]) {
     case RULE_ISOLATED:
@@ -84,15 +84,24 @@ size_t scheme_refine_vertex_mask(const topology *t, limn_scheme scheme, double a
         return 1;
     case RULE_CREASE:
         cols[0] = v;
-        w[0] = 0.75;
+        w[0] = centre;
         cols[1] = t->crease_neighbors[2 * v];
-        w[1] = 0.125;
+        w[1] = side;
         cols[2] = t->crease_neighbors[2 * v + 1];
-        w[2] = 0.125;
+        w[2] = side;
         return 3;
     case RULE_SMOOTH:
         break;
     }
+    return 0;
+}
+
+size_t scheme_refine_vertex_mask(const topology *t, limn_scheme scheme, double alpha, uint32_t v,
+                                 uint32_t *cols, double *w)
+{
+    size_t sharp = scheme_sharp_vertex_mask(t, v, 0.75, 0.125, cols, w);
+    if (sharp)
+        return sharp;
     return scheme == LIMN_SCHEME_LOOP ? loop_vertex(t, v, cols, w)
                                       : catmark_vertex(t, alpha, v, cols, w);
 }

@@ -16,6 +16,13 @@
 /* Loop's vertex weight beta_n = (5/8 - (3/8 + cos(2 pi/n)/4)^2) / n. */
 double scheme_loop_refine_beta(uint32_t valence);
 
+/* The masks of the vertices whose rule is not smooth, one shape for the
+   limit and refinement masks of both schemes: an isolated or corner vertex keeps itself; a crease vertex takes
+   centre times itself and side times each crease neighbour. Returns the
+   entries, or 0 for a smooth vertex (its mask is the scheme's). */
+size_t scheme_sharp_vertex_mask(const topology *t, uint32_t v, double centre, double side,
+                                uint32_t *cols, double *w);
+
 /* Upper bounds on the entries of each mask. */
 size_t scheme_refine_vertex_bound(const topology *t, uint32_t v);
 size_t scheme_refine_edge_bound(const topology *t, uint32_t e);

@@ -58,6 +58,68 @@ static size_t colour_rows(const stencil_csr *a, uint32_t *colour)
     return colours;
 }
 
+/* The rows in colour order (out->colour_begin, out->order) and where each
+   block row went; next: room for the colours, zeroed. */
+static void order_rows(sgs_table *out, const uint32_t *colour, size_t *next, uint32_t *where)
+{
+    size_t n = out->rows;
+    for (size_t i = 0; i < n; i++)
+        out->colour_begin[colour[i] + 1]++;
+    for (size_t c = 0; c < out->colours; c++)
+        out->colour_begin[c + 1] += out->colour_begin[c];
+    for (size_t i = 0; i < n; i++) {
+        size_t at = out->colour_begin[colour[i]] + next[colour[i]]++;
+        out->order[at] = (uint32_t)i;
+        where[i] = (uint32_t)at;
+    }
+}
+
+/* Table row t from its block row: the entries of lower colours, then
+   (from out->split[t]) higher ones, from *e on; the row's info. A row
+   sharing its colour with a neighbour, or without a positive diagonal, is
+   LIMN_ERR_TOPOLOGY. */
+static limn_status table_row(sgs_table *out, const stencil_csr *a, const double *dinv,
+                             const uint32_t *colour, const uint32_t *where, size_t t, size_t *e)
+{
+    limn_status st = LIMN_OK;
+    uint32_t o = out->order[t];
+    double d = 0.0;
+    /* lower colours first, then higher: two passes over the row */
+    for (int pass = 0; pass < 2; pass++) {
+        if (pass == 1)
+            out->split[t] = (uint32_t)*e;
+        for (uint32_t k = a->row_offsets[o]; k < a->row_offsets[o + 1]; k++) {
+            uint32_t j = a->columns[k];
+            if (j == o) {
+                if (pass == 0)
+                    d += dinv[o] * a->weights[k];
+                continue;
+            }
+            if (colour[j] == colour[o]) {
+                st = LIMN_ERR_TOPOLOGY;
+                break;
+            }
+            if ((colour[j] > colour[o]) == pass) {
+                out->columns[*e] = where[j];
+                out->weights[(*e)++] = dinv[o] * a->weights[k];
+                if (pass)
+                    out->upper++;
+                else
+                    out->lower++;
+            }
+        }
+    }
+    out->row_offsets[t + 1] = (uint32_t)*e;
+    if (!(d > 0.0) || !isfinite(d))
+        st = LIMN_ERR_TOPOLOGY;
+    double *in = out->info + 4 * t;
+    in[0] = d;
+    in[1] = sqrt(d);
+    in[2] = 1.0 / dinv[o];
+    in[3] = 0.0;
+    return st;
+}
+
 limn_status sgs_table_build(limn_context *ctx, const stencil_csr *a, const double *dinv,
                             sgs_table *out)
 {
@@ -85,56 +147,13 @@ limn_status sgs_table_build(limn_context *ctx, const stencil_csr *a, const doubl
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the Gauss-Seidel table");
     }
     out->colours = colours;
-    for (size_t i = 0; i < n; i++)
-        out->colour_begin[colour[i] + 1]++;
-    for (size_t c = 0; c < colours; c++)
-        out->colour_begin[c + 1] += out->colour_begin[c];
-    for (size_t i = 0; i < n; i++) {
-        size_t at = out->colour_begin[colour[i]] + next[colour[i]]++;
-        out->order[at] = (uint32_t)i;
-        where[i] = (uint32_t)at;
-    }
+    order_rows(out, colour, next, where);
     free(next);
     limn_status st = LIMN_OK;
     size_t e = 0;
     out->row_offsets[0] = 0;
-    for (size_t t = 0; t < n && !st; t++) {
-        uint32_t o = out->order[t];
-        double d = 0.0;
-        /* lower colours first, then higher: two passes over the row */
-        for (int pass = 0; pass < 2; pass++) {
-            if (pass == 1)
-                out->split[t] = (uint32_t)e;
-            for (uint32_t k = a->row_offsets[o]; k < a->row_offsets[o + 1]; k++) {
-                uint32_t j = a->columns[k];
-                if (j == o) {
-                    if (pass == 0)
-                        d += dinv[o] * a->weights[k];
-                    continue;
-                }
-                if (colour[j] == colour[o]) {
-                    st = LIMN_ERR_TOPOLOGY;
-                    break;
-                }
-                if ((colour[j] > colour[o]) == pass) {
-                    out->columns[e] = where[j];
-                    out->weights[e++] = dinv[o] * a->weights[k];
-                    if (pass)
-                        out->upper++;
-                    else
-                        out->lower++;
-                }
-            }
-        }
-        out->row_offsets[t + 1] = (uint32_t)e;
-        if (!(d > 0.0) || !isfinite(d))
-            st = LIMN_ERR_TOPOLOGY;
-        double *in = out->info + 4 * t;
-        in[0] = d;
-        in[1] = sqrt(d);
-        in[2] = 1.0 / dinv[o];
-        in[3] = 0.0;
-    }
+    for (size_t t = 0; t < n && !st; t++)
+        st = table_row(out, a, dinv, colour, where, t, &e);
     free(colour);
     free(where);
     if (st)

@@ -44,6 +44,59 @@ static void emit(face_out *o, const uint32_t *v, size_t n)
     o->offsets[o->faces] = (uint32_t)o->corners;
 }
 
+/* Face v (d corners) into o without repeated vertices, counted in r; pos
+   (zeroed, one per vertex), stack and w: scratch of room d. */
+static void fix_face(face_out *o, const uint32_t *v, size_t d, uint32_t *pos, uint32_t *stack,
+                     uint32_t *w, limn_repair_report *r)
+{
+    /* 1. consecutive repeats, cyclically */
+    size_t n = 0;
+    for (size_t i = 0; i < d; i++)
+        if (n == 0 || w[n - 1] != v[i])
+            w[n++] = v[i];
+    while (n > 1 && w[n - 1] == w[0])
+        n--;
+    int collapsed = n != d;
+    /* 2. split where a vertex comes back: the stack holds distinct vertices */
+    size_t top = 0, loops = 0, dropped = 0;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t x = w[i];
+        if (pos[x]) {
+            size_t p = pos[x] - 1, len = top - p;
+            if (len >= 3) {
+                emit(o, stack + p, len);
+                loops++;
+            } else {
+                dropped++;
+            }
+            for (size_t k = p + 1; k < top; k++)
+                pos[stack[k]] = 0;
+            top = p + 1;
+        } else {
+            stack[top++] = x;
+            pos[x] = (uint32_t)top;
+        }
+    }
+    int split = loops > 0 || dropped > 0;
+    if (top >= 3) {
+        emit(o, stack, top);
+        loops++;
+    } else if (split || collapsed || top < d) {
+        dropped++;
+    }
+    for (size_t k = 0; k < top; k++)
+        pos[stack[k]] = 0;
+    if (!collapsed && !split)
+        return;
+    r->repeat_faces++;
+    if (loops == 0)
+        r->degenerate_removed++;
+    else if (loops > 1)
+        r->faces_split++;
+    else
+        r->repeats_removed++;
+}
+
 /* Rebuilds the faces without repeated vertices (see the file comment). */
 static limn_status fix_repeats(limn_context *ctx, limn_mesh *m, limn_repair_report *r)
 {
@@ -67,53 +120,7 @@ static limn_status fix_repeats(limn_context *ctx, limn_mesh *m, limn_repair_repo
     o.offsets[0] = 0;
     for (size_t f = 0; f < nf; f++) {
         const uint32_t *v = m->face_indices + m->face_offsets[f];
-        size_t d = m->face_offsets[f + 1] - m->face_offsets[f];
-        /* 1. consecutive repeats, cyclically */
-        size_t n = 0;
-        for (size_t i = 0; i < d; i++)
-            if (n == 0 || w[n - 1] != v[i])
-                w[n++] = v[i];
-        while (n > 1 && w[n - 1] == w[0])
-            n--;
-        int collapsed = n != d;
-        /* 2. split where a vertex comes back: the stack holds distinct vertices */
-        size_t top = 0, loops = 0, dropped = 0;
-        for (size_t i = 0; i < n; i++) {
-            uint32_t x = w[i];
-            if (pos[x]) {
-                size_t p = pos[x] - 1, len = top - p;
-                if (len >= 3) {
-                    emit(&o, stack + p, len);
-                    loops++;
-                } else {
-                    dropped++;
-                }
-                for (size_t k = p + 1; k < top; k++)
-                    pos[stack[k]] = 0;
-                top = p + 1;
-            } else {
-                stack[top++] = x;
-                pos[x] = (uint32_t)top;
-            }
-        }
-        int split = loops > 0 || dropped > 0;
-        if (top >= 3) {
-            emit(&o, stack, top);
-            loops++;
-        } else if (split || collapsed || top < d) {
-            dropped++;
-        }
-        for (size_t k = 0; k < top; k++)
-            pos[stack[k]] = 0;
-        if (!collapsed && !split)
-            continue;
-        r->repeat_faces++;
-        if (loops == 0)
-            r->degenerate_removed++;
-        else if (loops > 1)
-            r->faces_split++;
-        else
-            r->repeats_removed++;
+        fix_face(&o, v, m->face_offsets[f + 1] - m->face_offsets[f], pos, stack, w, r);
     }
     free(pos);
     free(stack);
@@ -170,6 +177,53 @@ typedef struct keyed {
     uint32_t face;
 } keyed;
 
+/* Every face's hash and number into k (buf: room for the largest face). */
+static void hash_faces(const limn_mesh *m, keyed *k, uint32_t *buf)
+{
+    for (size_t f = 0; f < m->face_count; f++) {
+        uint32_t d;
+        const uint32_t *v = sorted_face(m, (uint32_t)f, buf, &d);
+        uint64_t h = mix(d);
+        for (uint32_t i = 0; i < d; i++)
+            h = mix(h ^ (v[i] + 0x9e3779b97f4a7c15ULL));
+        k[f].hash = h;
+        k[f].face = (uint32_t)f;
+    }
+}
+
+/* LSD radix sort of *k (n keys) on the high 32 bits of the hash, 8 bits a
+   pass, stable; *tmp is as large; the two may come back swapped. */
+static void sort_keys(keyed **k, keyed **tmp, size_t n)
+{
+    for (int shift = 32; shift < 64; shift += 8) {
+        size_t count[257] = {0};
+        for (size_t i = 0; i < n; i++)
+            count[(((*k)[i].hash >> shift) & 255) + 1]++;
+        for (int b = 0; b < 256; b++)
+            count[b + 1] += count[b];
+        for (size_t i = 0; i < n; i++)
+            (*tmp)[count[((*k)[i].hash >> shift) & 255]++] = (*k)[i];
+        keyed *t = *k;
+        *k = *tmp;
+        *tmp = t;
+    }
+}
+
+/* Removes the faces marked in dup, keeping the order of the others. */
+static void remove_marked(limn_mesh *m, const uint8_t *dup)
+{
+    size_t out = 0, w = 0;
+    for (size_t f = 0; f < m->face_count; f++) {
+        uint32_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
+        if (dup[f])
+            continue;
+        memmove(m->face_indices + w, m->face_indices + b, (e - b) * sizeof(uint32_t));
+        w += e - b;
+        m->face_offsets[++out] = (uint32_t)w;
+    }
+    m->face_count = out;
+}
+
 /* Faces with the vertex set of an earlier face: every face's sorted vertex
    list is hashed, the hashes are radix-sorted (stable, so faces stay in order
    among equal hashes and "earlier" is the first copy), and equal hashes are
@@ -194,28 +248,8 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
         free(dup);
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
     }
-    for (size_t f = 0; f < nf; f++) {
-        uint32_t d;
-        const uint32_t *v = sorted_face(m, (uint32_t)f, buf, &d);
-        uint64_t h = mix(d);
-        for (uint32_t i = 0; i < d; i++)
-            h = mix(h ^ (v[i] + 0x9e3779b97f4a7c15ULL));
-        k[f].hash = h;
-        k[f].face = (uint32_t)f;
-    }
-    /* LSD radix sort on the high 32 bits of the hash, 8 bits a pass */
-    for (int shift = 32; shift < 64; shift += 8) {
-        size_t count[257] = {0};
-        for (size_t i = 0; i < nf; i++)
-            count[((k[i].hash >> shift) & 255) + 1]++;
-        for (int b = 0; b < 256; b++)
-            count[b + 1] += count[b];
-        for (size_t i = 0; i < nf; i++)
-            tmp[count[(k[i].hash >> shift) & 255]++] = k[i];
-        keyed *t = k;
-        k = tmp;
-        tmp = t;
-    }
+    hash_faces(m, k, buf);
+    sort_keys(&k, &tmp, nf);
     for (size_t i = 0; i < nf;) {
         size_t j = i + 1;
         while (j < nf && (k[j].hash >> 32) == (k[i].hash >> 32))
@@ -245,47 +279,20 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
     free(tmp);
     free(buf);
     if (remove && r->duplicate_faces) {
-        size_t out = 0, w = 0;
-        for (size_t f = 0; f < nf; f++) {
-            uint32_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
-            if (dup[f])
-                continue;
-            memmove(m->face_indices + w, m->face_indices + b, (e - b) * sizeof(uint32_t));
-            w += e - b;
-            m->face_offsets[++out] = (uint32_t)w;
-        }
-        m->face_count = out;
+        remove_marked(m, dup);
         r->duplicates_removed = r->duplicate_faces;
     }
     free(dup);
     return LIMN_OK;
 }
 
-/* ------------------------------------------------------------------ entry */
+/* ---------------------------------------------------------------- entry */
 
-/* limn_mesh_repair on options and report of this library's layout. */
-static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
-                                const limn_repair_options *options, limn_repair_report *report)
+/* The first face using a vertex twice (*face, or SIZE_MAX) and that vertex. */
+static limn_status first_repeat(limn_context *ctx, const limn_mesh *mesh, size_t *face,
+                                uint32_t *vertex)
 {
-    limn_status begun = abi_begin(ctx, "limn_mesh_repair", "mesh", mesh);
-    if (begun)
-        return begun;
-    limn_repair_options defaults;
-    limn_repair_options_default(&defaults);
-    const limn_repair_options *o = options ? options : &defaults;
-    limn_repair_report local;
-    limn_repair_report *r = report ? report : &local;
-    memset(r, 0, sizeof *r);
-    r->first_duplicate_face = SIZE_MAX;
-    r->faces_before = mesh->face_count;
     size_t nv = mesh->vertex_count, nf = mesh->face_count;
-    for (size_t i = 0; i < mesh->face_offsets[nf]; i++)
-        if (mesh->face_indices[i] >= nv)
-            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                             "limn_mesh_repair: face index %zu is %u but there are %zu vertices",
-                             i, mesh->face_indices[i], nv);
-
-    /* faces that use a vertex twice */
     uint32_t *mark = calloc(nv ? nv : 1, sizeof *mark);
     if (!mark)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory repairing the mesh");
@@ -302,41 +309,64 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
             mark[v] = (uint32_t)(f + 1);
         }
     free(mark);
-    limn_status st = LIMN_OK;
-    if (first != SIZE_MAX) {
-        if (!o->repeated_vertices)
-            return ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
-                             "face %zu uses vertex %u twice (a degenerate face) and repair is off: "
-                             "remove the face, or allow the repair (drop --no-repair)",
-                             first, first_v);
-        r->first_repeat_face = first;
-        r->first_repeat_vertex = first_v;
-        st = fix_repeats(ctx, mesh, r);
-        if (st)
-            return st;
-        char parts[3][96];
-        size_t np = 0;
-        if (r->repeats_removed)
-            snprintf(parts[np++], sizeof parts[0], "%zu lost a repeated corner",
-                     r->repeats_removed);
-        if (r->faces_split)
-            snprintf(parts[np++], sizeof parts[0], "%zu %s split where a vertex comes back",
-                     r->faces_split, r->faces_split == 1 ? "was" : "were");
-        if (r->degenerate_removed)
-            snprintf(parts[np++], sizeof parts[0],
-                     "%zu with fewer than 3 distinct vertices %s removed", r->degenerate_removed,
-                     r->degenerate_removed == 1 ? "was" : "were");
-        ctx_warn(ctx,
-                  "repaired %zu face%s that use%s a vertex more than once (first: face %zu, "
-                  "vertex %u): %s%s%s%s%s; %zu faces remain (later messages number the faces "
-                  "of the repaired mesh)",
-                  r->repeat_faces, r->repeat_faces == 1 ? "" : "s",
-                  r->repeat_faces == 1 ? "s" : "", r->first_repeat_face, r->first_repeat_vertex,
-                  np > 0 ? parts[0] : "", np > 1 ? ", " : "", np > 1 ? parts[1] : "",
-                  np > 2 ? ", " : "", np > 2 ? parts[2] : "", mesh->face_count);
-    }
+    *face = first;
+    *vertex = first_v;
+    return LIMN_OK;
+}
 
-    st = find_duplicates(ctx, mesh, o->duplicate_faces, r);
+/* The warning saying what fix_repeats changed. */
+static void warn_repeats(limn_context *ctx, const limn_repair_report *r, size_t faces_left)
+{
+    char parts[3][96];
+    size_t np = 0;
+    if (r->repeats_removed)
+        snprintf(parts[np++], sizeof parts[0], "%zu lost a repeated corner",
+                 r->repeats_removed);
+    if (r->faces_split)
+        snprintf(parts[np++], sizeof parts[0], "%zu %s split where a vertex comes back",
+                 r->faces_split, r->faces_split == 1 ? "was" : "were");
+    if (r->degenerate_removed)
+        snprintf(parts[np++], sizeof parts[0],
+                 "%zu with fewer than 3 distinct vertices %s removed", r->degenerate_removed,
+                 r->degenerate_removed == 1 ? "was" : "were");
+    ctx_warn(ctx,
+              "repaired %zu face%s that use%s a vertex more than once (first: face %zu, "
+              "vertex %u): %s%s%s%s%s; %zu faces remain (later messages number the faces "
+              "of the repaired mesh)",
+              r->repeat_faces, r->repeat_faces == 1 ? "" : "s",
+              r->repeat_faces == 1 ? "s" : "", r->first_repeat_face, r->first_repeat_vertex,
+              np > 0 ? parts[0] : "", np > 1 ? ", " : "", np > 1 ? parts[1] : "",
+              np > 2 ? ", " : "", np > 2 ? parts[2] : "", faces_left);
+}
+
+/* Faces that use a vertex twice: refused when repair is off, else rebuilt. */
+static limn_status repair_repeats(limn_context *ctx, limn_mesh *mesh, const limn_repair_options *o,
+                                  limn_repair_report *r)
+{
+    size_t first = SIZE_MAX;
+    uint32_t first_v = 0;
+    limn_status st = first_repeat(ctx, mesh, &first, &first_v);
+    if (st || first == SIZE_MAX)
+        return st;
+    if (!o->repeated_vertices)
+        return ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
+                         "face %zu uses vertex %u twice (a degenerate face) and repair is off: "
+                         "remove the face, or allow the repair (drop --no-repair)",
+                         first, first_v);
+    r->first_repeat_face = first;
+    r->first_repeat_vertex = first_v;
+    st = fix_repeats(ctx, mesh, r);
+    if (st)
+        return st;
+    warn_repeats(ctx, r, mesh->face_count);
+    return LIMN_OK;
+}
+
+/* Duplicate faces: found, removed when asked, and said. */
+static limn_status repair_duplicates(limn_context *ctx, limn_mesh *mesh, int remove,
+                                     limn_repair_report *r)
+{
+    limn_status st = find_duplicates(ctx, mesh, remove, r);
     if (st)
         return st;
     if (r->duplicate_faces) {
@@ -354,13 +384,15 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
                       r->duplicate_faces, r->duplicate_faces == 1 ? "" : "s",
                       r->first_duplicate_face, r->first_duplicate_of);
     }
-    r->faces_after = mesh->face_count;
-    if (r->first_duplicate_face == SIZE_MAX)
-        r->first_duplicate_face = 0;
+    return LIMN_OK;
+}
 
-    /* what stays as it is */
+/* What stays as it is: counted into r, each with a warning. */
+static limn_status report_kept(limn_context *ctx, const limn_mesh *mesh, limn_repair_report *r)
+{
+    size_t nv = mesh->vertex_count;
     topology t;
-    st = topology_build(ctx, mesh, &t);
+    limn_status st = topology_build(ctx, mesh, &t);
     if (st)
         return st;
     size_t nm_edges = t.nonmanifold_edges - t.inconsistent_edges;
@@ -391,6 +423,38 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
                   r->unreferenced_vertices, r->unreferenced_vertices == 1 ? "ex" : "ices",
                   r->unreferenced_vertices == 1 ? "it stays" : "they stay");
     return LIMN_OK;
+}
+
+/* limn_mesh_repair on options and report of this library's layout. */
+static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
+                                const limn_repair_options *options, limn_repair_report *report)
+{
+    limn_status begun = abi_begin(ctx, "limn_mesh_repair", "mesh", mesh);
+    if (begun)
+        return begun;
+    limn_repair_options defaults;
+    limn_repair_options_default(&defaults);
+    const limn_repair_options *o = options ? options : &defaults;
+    limn_repair_report local;
+    limn_repair_report *r = report ? report : &local;
+    memset(r, 0, sizeof *r);
+    r->first_duplicate_face = SIZE_MAX;
+    r->faces_before = mesh->face_count;
+    size_t nv = mesh->vertex_count, nf = mesh->face_count;
+    for (size_t i = 0; i < mesh->face_offsets[nf]; i++)
+        if (mesh->face_indices[i] >= nv)
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                             "limn_mesh_repair: face index %zu is %u but there are %zu vertices",
+                             i, mesh->face_indices[i], nv);
+    limn_status st = repair_repeats(ctx, mesh, o, r);
+    if (!st)
+        st = repair_duplicates(ctx, mesh, o->duplicate_faces, r);
+    if (st)
+        return st;
+    r->faces_after = mesh->face_count;
+    if (r->first_duplicate_face == SIZE_MAX)
+        r->first_duplicate_face = 0;
+    return report_kept(ctx, mesh, r);
 }
 
 limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repair_options *options,

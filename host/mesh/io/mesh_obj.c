@@ -30,7 +30,7 @@ static int obj_is_skipped(const char *word, size_t n)
 
 typedef struct obj_state {
     mio_reader r;
-    growbuf pos, offsets, indices;
+    mio_arrays a;
     size_t vertices;             /* defined so far */
     long long max_ref;           /* largest positive index used */
     unsigned long max_ref_line;  /* where it was first used */
@@ -56,7 +56,7 @@ static limn_status obj_vertex(obj_state *o, char *s)
     if (o->vertices >= UINT32_MAX - 1)
         return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many vertices (limit %u)",
                          r->path, r->line, (unsigned)(UINT32_MAX - 1));
-    if (!growbuf_push_3d(&o->pos, c[0], c[1], c[2]))
+    if (!growbuf_push_3d(&o->a.pos, c[0], c[1], c[2]))
         return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory for %zu vertices",
                          r->path, r->line, o->vertices + 1);
     o->vertices++;
@@ -114,10 +114,10 @@ static limn_status obj_face(obj_state *o, char *s)
                              "%s:%lu: face references vertex 0 (OBJ indices start at 1)",
                              r->path, r->line);
         }
-        if (o->indices.len / sizeof(uint32_t) >= UINT32_MAX)
+        if (o->a.indices.len / sizeof(uint32_t) >= UINT32_MAX)
             return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many face indices",
                              r->path, r->line);
-        if (!growbuf_push_u32(&o->indices, index))
+        if (!growbuf_push_u32(&o->a.indices, index))
             return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory for faces",
                              r->path, r->line);
         n++;
@@ -125,38 +125,35 @@ static limn_status obj_face(obj_state *o, char *s)
     if (n < 3)
         return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                          "%s:%lu: face has %zu vertices (at least 3 needed)", r->path, r->line, n);
-    if (o->offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
+    if (o->a.offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
         return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many faces", r->path, r->line);
-    if (!growbuf_push_u32(&o->offsets, (uint32_t)(o->indices.len / sizeof(uint32_t))))
+    if (!growbuf_push_u32(&o->a.offsets, (uint32_t)(o->a.indices.len / sizeof(uint32_t))))
         return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory for faces", r->path,
                          r->line);
     return LIMN_OK;
 }
 
-limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
+static limn_status obj_parse(void *state, int *binary)
 {
-    obj_state o;
-    memset(&o, 0, sizeof o);
-    if (!mio_init(&o.r, ctx, path, f))
-        return LIMN_ERR_MEMORY;
-    mio_reader *r = &o.r;
+    obj_state *o = state;
+    mio_reader *r = &o->r;
+    limn_context *ctx = r->ctx;
+    const char *path = r->path;
+    (void)binary; /* OBJ is text only */
     r->continuation = 1;
-    o.pos.budget = o.offsets.budget = o.indices.budget = &r->budget;
     mio_skip_bom(r);
     limn_status st = LIMN_OK;
     size_t unknown = 0;
-    if (!growbuf_push_u32(&o.offsets, 0)) {
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
-        goto done;
-    }
+    if (!growbuf_push_u32(&o->a.offsets, 0))
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
     size_t len;
     char *line;
     while ((line = mio_line(r, &len))) {
         char *s = mio_skip_space(line);
         if (s[0] == 'v' && (mio_space(s[1]) || !s[1]))
-            st = obj_vertex(&o, s + 1);
+            st = obj_vertex(o, s + 1);
         else if (s[0] == 'f' && (mio_space(s[1]) || !s[1]))
-            st = obj_face(&o, s + 1);
+            st = obj_face(o, s + 1);
         else if (s[0] && s[0] != '#') {
             size_t n = 0;
             while (s[n] && !mio_space(s[n]))
@@ -168,55 +165,36 @@ limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
             }
         }
         if (st)
-            goto done;
+            return st;
     }
-    if (r->error) {
-        st = mio_read_failed(r);
-        goto done;
-    }
+    if (r->error)
+        return mio_read_failed(r);
     if (unknown > 1)
         ctx_warn(ctx, "%s: %zu unknown OBJ records ignored in all", path, unknown);
     if (r->unterminated)
         ctx_warn(ctx, "%s:%lu: the last line does not end with a new line: the file may be "
                        "truncated (OBJ has no counts to check)",
                   path, r->line);
-    if (o.max_ref > 0 && (unsigned long long)o.max_ref > o.vertices) {
-        st = ctx_fail(ctx, LIMN_ERR_FORMAT,
-                       "%s:%lu: face references vertex %lld but only %zu vertices are defined",
-                       path, o.max_ref_line, o.max_ref, o.vertices);
-        goto done;
-    }
-    if (o.vertices == 0) {
-        st = ctx_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
-        goto done;
-    }
-    growbuf nocolors = {0};
-    st = mio_make_mesh(ctx, &o.pos, &o.offsets, &o.indices, &nocolors, out);
-done:
-    st = mio_finish(r, st, 0);
-    growbuf_free(&o.pos);
-    growbuf_free(&o.offsets);
-    growbuf_free(&o.indices);
-    mio_free(r);
-    return st;
+    if (o->max_ref > 0 && (unsigned long long)o->max_ref > o->vertices)
+        return ctx_fail(ctx, LIMN_ERR_FORMAT,
+                        "%s:%lu: face references vertex %lld but only %zu vertices are defined",
+                        path, o->max_ref_line, o->max_ref, o->vertices);
+    if (o->vertices == 0)
+        return ctx_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
+    return LIMN_OK;
+}
+
+limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
+{
+    obj_state o;
+    memset(&o, 0, sizeof o);
+    return mio_read(&o.r, &o.a, ctx, path, f, obj_parse, &o, out);
 }
 
 limn_status obj_write(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f)
 {
     if (fprintf(f, "# limn: %zu vertices, %zu faces\n", m->vertex_count, m->face_count) < 0)
         return mio_write_failed(ctx, path);
-    const double *p = m->positions;
-    for (size_t v = 0; v < m->vertex_count; v++, p += 3)
-        if (fprintf(f, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]) < 0)
-            return mio_write_failed(ctx, path);
-    for (size_t fc = 0; fc < m->face_count; fc++) {
-        if (fputc('f', f) == EOF)
-            return mio_write_failed(ctx, path);
-        for (uint32_t i = m->face_offsets[fc]; i < m->face_offsets[fc + 1]; i++)
-            if (fprintf(f, " %lu", (unsigned long)m->face_indices[i] + 1) < 0)
-                return mio_write_failed(ctx, path);
-        if (fputc('\n', f) == EOF)
-            return mio_write_failed(ctx, path);
-    }
-    return LIMN_OK;
+    limn_status st = mio_write_vertices(ctx, m, path, f, "v ", NULL);
+    return st ? st : mio_write_faces(ctx, m, path, f, "f", 1);
 }

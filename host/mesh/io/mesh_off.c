@@ -25,7 +25,7 @@
 
 typedef struct off_state {
     mio_reader r;
-    growbuf pos, col, offsets, indices;
+    mio_arrays a;
     int st, c, n, four, ndim;  /* header word prefixes */
     int colour_first;          /* MeshLab order: the colour before the normal */
     long long nv, nf;
@@ -204,7 +204,7 @@ static limn_status off_vertices(off_state *o)
                                  "%s:%lu: vertex %lld: coordinate %s is %s", r->path, r->line, v,
                                  mio_token(s, tok), rc == 2 ? "not finite" : "not a number");
         }
-        if (!growbuf_push_3d(&o->pos, c[0], c[1], c[2]))
+        if (!growbuf_push_3d(&o->a.pos, c[0], c[1], c[2]))
             return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
         if (!o->c)
             continue;
@@ -214,8 +214,8 @@ static limn_status off_vertices(off_state *o)
             ctx_warn(r->ctx, "%s:%lu: vertex %lld has no RGB colour that can be read: the "
                               "colours of the file are ignored", r->path, r->line, v);
             o->c = 0;
-            growbuf_free(&o->col);
-        } else if (!growbuf_append(&o->col, rgb, 3)) {
+            growbuf_free(&o->a.col);
+        } else if (!growbuf_append(&o->a.col, rgb, 3)) {
             return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
         }
     }
@@ -269,14 +269,14 @@ static limn_status off_face(off_state *o, char *s, long long fc)
             return ctx_fail(r->ctx, LIMN_ERR_FORMAT,
                              "%s:%lu: face %lld references vertex %lld but only %lld vertices "
                              "are defined", r->path, r->line, fc, idx, o->nv);
-        if (o->indices.len / sizeof(uint32_t) >= UINT32_MAX)
+        if (o->a.indices.len / sizeof(uint32_t) >= UINT32_MAX)
             return ctx_fail(r->ctx, LIMN_ERR_FORMAT, "%s:%lu: too many face indices", r->path,
                              r->line);
-        if (!growbuf_push_u32(&o->indices, (uint32_t)idx))
+        if (!growbuf_push_u32(&o->a.indices, (uint32_t)idx))
             return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
     }
     off_face_rest(o, s, fc, k);
-    if (!growbuf_push_u32(&o->offsets, (uint32_t)(o->indices.len / sizeof(uint32_t))))
+    if (!growbuf_push_u32(&o->a.offsets, (uint32_t)(o->a.indices.len / sizeof(uint32_t))))
         return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
     return LIMN_OK;
 }
@@ -302,10 +302,10 @@ static limn_status off_body(off_state *o)
     mio_reader *r = &o->r;
     size_t rv = mio_remaining(r) == UINT64_MAX && o->nv > 65536 ? 65536 : (size_t)o->nv;
     size_t rf = mio_remaining(r) == UINT64_MAX && o->nf > 65536 ? 65536 : (size_t)o->nf;
-    if (!growbuf_reserve(&o->pos, rv * 3 * sizeof(double)) ||
-        !growbuf_reserve(&o->offsets, (rf + 1) * sizeof(uint32_t)) ||
-        !growbuf_reserve(&o->indices, rf * 3 * sizeof(uint32_t)) ||
-        !growbuf_push_u32(&o->offsets, 0))
+    if (!growbuf_reserve(&o->a.pos, rv * 3 * sizeof(double)) ||
+        !growbuf_reserve(&o->a.offsets, (rf + 1) * sizeof(uint32_t)) ||
+        !growbuf_reserve(&o->a.indices, rf * 3 * sizeof(uint32_t)) ||
+        !growbuf_push_u32(&o->a.offsets, 0))
         return ctx_fail(r->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", r->path, r->line);
     limn_status st = off_vertices(o);
     for (long long fc = 0; fc < o->nf && !st; fc++) {
@@ -323,29 +323,22 @@ static limn_status off_body(off_state *o)
     return LIMN_OK;
 }
 
+static limn_status off_parse(void *state, int *binary)
+{
+    off_state *o = state;
+    (void)binary; /* OFF is read as text only */
+    mio_skip_bom(&o->r);
+    limn_status st = off_header(o);
+    return st ? st : off_body(o);
+}
+
 limn_status off_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
 {
     off_state *o = calloc(1, sizeof *o);
     if (!o)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
-    if (!mio_init(&o->r, ctx, path, f)) {
-        free(o);
-        return LIMN_ERR_MEMORY;
-    }
-    o->pos.budget = o->col.budget = o->offsets.budget = o->indices.budget = &o->r.budget;
     o->crowded_face = -1;
-    mio_skip_bom(&o->r);
-    limn_status st = off_header(o);
-    if (!st)
-        st = off_body(o);
-    if (!st)
-        st = mio_make_mesh(ctx, &o->pos, &o->offsets, &o->indices, &o->col, out);
-    st = mio_finish(&o->r, st, 0);
-    growbuf_free(&o->pos);
-    growbuf_free(&o->col);
-    growbuf_free(&o->offsets);
-    growbuf_free(&o->indices);
-    mio_free(&o->r);
+    limn_status st = mio_read(&o->r, &o->a, ctx, path, f, off_parse, o, out);
     free(o);
     return st;
 }
@@ -354,19 +347,6 @@ limn_status off_write(limn_context *ctx, const limn_mesh *m, const char *path, F
 {
     if (fprintf(f, "OFF\n%zu %zu 0\n", m->vertex_count, m->face_count) < 0)
         return mio_write_failed(ctx, path);
-    const double *p = m->positions;
-    for (size_t v = 0; v < m->vertex_count; v++, p += 3)
-        if (fprintf(f, "%.17g %.17g %.17g\n", p[0], p[1], p[2]) < 0)
-            return mio_write_failed(ctx, path);
-    for (size_t fc = 0; fc < m->face_count; fc++) {
-        uint32_t a = m->face_offsets[fc], b = m->face_offsets[fc + 1];
-        if (fprintf(f, "%lu", (unsigned long)(b - a)) < 0)
-            return mio_write_failed(ctx, path);
-        for (uint32_t i = a; i < b; i++)
-            if (fprintf(f, " %lu", (unsigned long)m->face_indices[i]) < 0)
-                return mio_write_failed(ctx, path);
-        if (fputc('\n', f) == EOF)
-            return mio_write_failed(ctx, path);
-    }
-    return LIMN_OK;
+    limn_status st = mio_write_vertices(ctx, m, path, f, "", NULL);
+    return st ? st : mio_write_faces(ctx, m, path, f, NULL, 0);
 }

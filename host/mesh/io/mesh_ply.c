@@ -70,7 +70,7 @@ typedef struct ply {
     char *tok;                 /* ascii: rest of the current line */
     uint64_t nv;
     int colors;
-    growbuf pos, col, offsets, indices;
+    mio_arrays a;
     char dropped[256];         /* vertex properties limn does not keep, for one warning */
     size_t ndropped;
 } ply;
@@ -159,20 +159,32 @@ static char *ply_token(ply *p)
     }
 }
 
-static limn_status ply_int(ply *p, int t, long long *v)
+/* The next scalar of type t: its bytes in *b (binary; p->at is where) or
+   its token in *s (ascii), the other one NULL; or the truncation message. */
+static limn_status ply_next(ply *p, int t, const unsigned char **b, char **s)
 {
-    char tok[64];
+    *b = NULL;
+    *s = NULL;
     if (p->format != F_ASCII) {
         p->at = mio_offset(&p->r);
-        const unsigned char *b = mio_bytes(&p->r, type_size[t]);
-        if (!b)
-            return ply_truncated(p);
+        *b = mio_bytes(&p->r, type_size[t]);
+        return *b ? LIMN_OK : ply_truncated(p);
+    }
+    *s = ply_token(p);
+    return *s ? LIMN_OK : ply_truncated(p);
+}
+
+static limn_status ply_int(ply *p, int t, long long *v)
+{
+    char tok[64], *s;
+    const unsigned char *b;
+    limn_status st = ply_next(p, t, &b, &s);
+    if (st)
+        return st;
+    if (b) {
         *v = bin_int(b, t, p->format == F_BE);
         return LIMN_OK;
     }
-    char *s = ply_token(p);
-    if (!s)
-        return ply_truncated(p);
     if (!mio_parse_ll(&p->tok, v, 0))
         return ply_err(p, LIMN_ERR_FORMAT, "%s is not an integer", mio_token(s, tok));
     if (*v < type_min[t] || *v > type_max[t])
@@ -183,20 +195,17 @@ static limn_status ply_int(ply *p, int t, long long *v)
 
 static limn_status ply_double(ply *p, int t, double *v)
 {
-    char tok[64];
-    if (p->format != F_ASCII) {
-        p->at = mio_offset(&p->r);
-        const unsigned char *b = mio_bytes(&p->r, type_size[t]);
-        if (!b)
-            return ply_truncated(p);
+    char tok[64], *s;
+    const unsigned char *b;
+    limn_status st = ply_next(p, t, &b, &s);
+    if (st)
+        return st;
+    if (b) {
         *v = bin_double(b, t, p->format == F_BE);
         if (!isfinite(*v))
             return ply_err(p, LIMN_ERR_FORMAT, "a coordinate is not finite");
         return LIMN_OK;
     }
-    char *s = ply_token(p);
-    if (!s)
-        return ply_truncated(p);
     int rc = mio_parse_double(&p->tok, v);
     if (rc != 1)
         return ply_err(p, LIMN_ERR_FORMAT, "coordinate %s is %s", mio_token(s, tok),
@@ -317,6 +326,93 @@ static limn_status ply_property(ply *p, char **w, int nw)
     return LIMN_OK;
 }
 
+/* Splits a header line into at most 6 words (NUL-terminated in place). */
+static int ply_words(char *s, char *w[6])
+{
+    int nw = 0;
+    while (nw < 6) {
+        s = mio_skip_space(s);
+        if (!*s)
+            break;
+        w[nw++] = s;
+        while (*s && !mio_space(*s))
+            s++;
+        if (*s)
+            *s++ = '\0';
+    }
+    return nw;
+}
+
+static limn_status ply_format(ply *p, char **w, int nw)
+{
+    static const char *const formats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+    int fmt = F_NONE;
+    for (int i = 0; i < 3 && nw >= 2; i++)
+        if (strcmp(w[1], formats[i]) == 0)
+            fmt = F_ASCII + i;
+    if (p->format != F_NONE)
+        return ply_err(p, LIMN_ERR_FORMAT, "a second format line");
+    if (nw != 3 || fmt == F_NONE)
+        return ply_err(p, LIMN_ERR_FORMAT,
+                       "bad format line (expected 'format ascii|binary_little_endian|"
+                       "binary_big_endian 1.0')");
+    if (strcmp(w[2], "1.0") != 0)
+        return ply_err(p, LIMN_ERR_FORMAT, "unsupported PLY version '%.20s' (expected 1.0)",
+                       w[2]);
+    p->format = fmt;
+    return LIMN_OK;
+}
+
+static limn_status ply_element(ply *p, char **w, int nw)
+{
+    char *end = w[0];
+    errno = 0;
+    unsigned long long count =
+        nw == 3 && w[2][0] >= '0' && w[2][0] <= '9' ? strtoull(w[2], &end, 10) : 0;
+    if (nw != 3 || w[2][0] < '0' || w[2][0] > '9' || *end || errno == ERANGE)
+        return ply_err(p, LIMN_ERR_FORMAT,
+                       "expected 'element NAME COUNT' with a non-negative count");
+    if (p->nelems >= PLY_MAX_ELEMENTS)
+        return ply_err(p, LIMN_ERR_FORMAT, "too many elements (limit %d)", PLY_MAX_ELEMENTS);
+    ply_elem *e = &p->elems[p->nelems];
+    e->kind = strcmp(w[1], "vertex") == 0      ? E_VERTEX
+              : strcmp(w[1], "face") == 0      ? E_FACE
+              : strcmp(w[1], "tristrips") == 0 ? E_TRISTRIPS
+                                               : E_OTHER;
+    for (size_t i = 0; i < p->nelems; i++)
+        if (e->kind != E_OTHER && p->elems[i].kind == e->kind)
+            return ply_err(p, LIMN_ERR_FORMAT, "a second '%s' element", w[1]);
+    snprintf(e->name, sizeof e->name, "%s", w[1]);
+    e->count = count;
+    p->nelems++;
+    return LIMN_OK;
+}
+
+/* One header line after the first, split into words; *end set at end_header. */
+static limn_status ply_header_line(ply *p, char **w, int nw, int *end)
+{
+    if (nw == 0 || strcmp(w[0], "comment") == 0 || strcmp(w[0], "obj_info") == 0)
+        return LIMN_OK;
+    if (strcmp(w[0], "end_header") == 0) {
+        *end = 1;
+        return LIMN_OK;
+    }
+    if (strcmp(w[0], "format") == 0)
+        return ply_format(p, w, nw);
+    if (strcmp(w[0], "element") == 0)
+        return ply_element(p, w, nw);
+    if (strcmp(w[0], "property") == 0) {
+        if (p->nelems == 0)
+            return ply_err(p, LIMN_ERR_FORMAT, "a property before any element");
+        if (p->format == F_NONE)
+            return ply_err(p, LIMN_ERR_FORMAT, "a property before the format line");
+        return ply_property(p, w, nw);
+    }
+    char tok[64];
+    return ply_err(p, LIMN_ERR_FORMAT, "unknown header line starting with %s",
+                   mio_token(w[0], tok));
+}
+
 static limn_status ply_header(ply *p)
 {
     mio_reader *r = &p->r;
@@ -328,78 +424,15 @@ static limn_status ply_header(ply *p)
         return r->error ? mio_read_failed(r)
                         : ctx_fail(p->ctx, LIMN_ERR_FORMAT,
                                     "%s:1: not a PLY file (the first line is not 'ply')", p->path);
-    for (;;) {
+    for (int end = 0; !end;) {
         if (!(line = mio_line(r, &len)))
             return r->error ? mio_read_failed(r)
                             : ply_err(p, LIMN_ERR_FORMAT, "the header has no end_header line");
-        char *w[6], *s = line;
-        int nw = 0;
-        while (nw < 6) {
-            s = mio_skip_space(s);
-            if (!*s)
-                break;
-            w[nw++] = s;
-            while (*s && !mio_space(*s))
-                s++;
-            if (*s)
-                *s++ = '\0';
-        }
-        if (nw == 0 || strcmp(w[0], "comment") == 0 || strcmp(w[0], "obj_info") == 0)
-            continue;
-        if (strcmp(w[0], "end_header") == 0)
-            break;
-        if (strcmp(w[0], "format") == 0) {
-            static const char *const formats[] = {"ascii", "binary_little_endian",
-                                                  "binary_big_endian"};
-            int fmt = F_NONE;
-            for (int i = 0; i < 3 && nw >= 2; i++)
-                if (strcmp(w[1], formats[i]) == 0)
-                    fmt = F_ASCII + i;
-            if (p->format != F_NONE)
-                return ply_err(p, LIMN_ERR_FORMAT, "a second format line");
-            if (nw != 3 || fmt == F_NONE)
-                return ply_err(p, LIMN_ERR_FORMAT,
-                               "bad format line (expected 'format ascii|binary_little_endian|"
-                               "binary_big_endian 1.0')");
-            if (strcmp(w[2], "1.0") != 0)
-                return ply_err(p, LIMN_ERR_FORMAT, "unsupported PLY version '%.20s' (expected 1.0)",
-                               w[2]);
-            p->format = fmt;
-        } else if (strcmp(w[0], "element") == 0) {
-            char *end = w[0];
-            errno = 0;
-            unsigned long long count = nw == 3 && w[2][0] >= '0' && w[2][0] <= '9'
-                                           ? strtoull(w[2], &end, 10) : 0;
-            if (nw != 3 || w[2][0] < '0' || w[2][0] > '9' || *end || errno == ERANGE)
-                return ply_err(p, LIMN_ERR_FORMAT,
-                               "expected 'element NAME COUNT' with a non-negative count");
-            if (p->nelems >= PLY_MAX_ELEMENTS)
-                return ply_err(p, LIMN_ERR_FORMAT, "too many elements (limit %d)",
-                               PLY_MAX_ELEMENTS);
-            ply_elem *e = &p->elems[p->nelems];
-            e->kind = strcmp(w[1], "vertex") == 0      ? E_VERTEX
-                      : strcmp(w[1], "face") == 0      ? E_FACE
-                      : strcmp(w[1], "tristrips") == 0 ? E_TRISTRIPS
-                                                       : E_OTHER;
-            for (size_t i = 0; i < p->nelems; i++)
-                if (e->kind != E_OTHER && p->elems[i].kind == e->kind)
-                    return ply_err(p, LIMN_ERR_FORMAT, "a second '%s' element", w[1]);
-            snprintf(e->name, sizeof e->name, "%s", w[1]);
-            e->count = count;
-            p->nelems++;
-        } else if (strcmp(w[0], "property") == 0) {
-            if (p->nelems == 0)
-                return ply_err(p, LIMN_ERR_FORMAT, "a property before any element");
-            if (p->format == F_NONE)
-                return ply_err(p, LIMN_ERR_FORMAT, "a property before the format line");
-            limn_status st = ply_property(p, w, nw);
-            if (st)
-                return st;
-        } else {
-            char tok[64];
-            return ply_err(p, LIMN_ERR_FORMAT, "unknown header line starting with %s",
-                           mio_token(w[0], tok));
-        }
+        char *w[6];
+        int nw = ply_words(line, w);
+        limn_status st = ply_header_line(p, w, nw, &end);
+        if (st)
+            return st;
     }
     if (p->format == F_NONE)
         return ply_err(p, LIMN_ERR_FORMAT, "the header has no format line");
@@ -477,8 +510,8 @@ static limn_status ply_vertex(ply *p, const ply_elem *e)
     }
     if (st)
         return st;
-    if (!growbuf_push_3d(&p->pos, xyz[0], xyz[1], xyz[2]) ||
-        (p->colors && !growbuf_append(&p->col, rgb, 3)))
+    if (!growbuf_push_3d(&p->a.pos, xyz[0], xyz[1], xyz[2]) ||
+        (p->colors && !growbuf_append(&p->a.col, rgb, 3)))
         return ply_err(p, LIMN_ERR_MEMORY, "out of memory");
     return LIMN_OK;
 }
@@ -497,11 +530,11 @@ static limn_status ply_index(ply *p, const ply_prop *pr, long long *v)
 
 static limn_status ply_add_face(ply *p, const uint32_t *v, size_t n)
 {
-    if (p->indices.len / sizeof(uint32_t) > UINT32_MAX - n ||
-        p->offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
+    if (p->a.indices.len / sizeof(uint32_t) > UINT32_MAX - n ||
+        p->a.offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
         return ply_err(p, LIMN_ERR_FORMAT, "too many faces");
-    if (!growbuf_append(&p->indices, v, n * sizeof *v) ||
-        !growbuf_push_u32(&p->offsets, (uint32_t)(p->indices.len / sizeof(uint32_t))))
+    if (!growbuf_append(&p->a.indices, v, n * sizeof *v) ||
+        !growbuf_push_u32(&p->a.offsets, (uint32_t)(p->a.indices.len / sizeof(uint32_t))))
         return ply_err(p, LIMN_ERR_MEMORY, "out of memory");
     return LIMN_OK;
 }
@@ -524,16 +557,16 @@ static limn_status ply_face(ply *p, const ply_elem *e)
             if (n < 3)
                 return ply_err(p, LIMN_ERR_FORMAT, "face has %lld vertices (at least 3 needed)",
                                n);
-            if (p->indices.len / sizeof(uint32_t) > UINT32_MAX - (uint64_t)n ||
-                p->offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
+            if (p->a.indices.len / sizeof(uint32_t) > UINT32_MAX - (uint64_t)n ||
+                p->a.offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
                 return ply_err(p, LIMN_ERR_FORMAT, "too many faces");
             for (long long i = 0; i < n; i++) {
                 if ((st = ply_index(p, pr, &v)))
                     return st;
-                if (!growbuf_push_u32(&p->indices, (uint32_t)v))
+                if (!growbuf_push_u32(&p->a.indices, (uint32_t)v))
                     return ply_err(p, LIMN_ERR_MEMORY, "out of memory");
             }
-            if (!growbuf_push_u32(&p->offsets, (uint32_t)(p->indices.len / sizeof(uint32_t))))
+            if (!growbuf_push_u32(&p->a.offsets, (uint32_t)(p->a.indices.len / sizeof(uint32_t))))
                 return ply_err(p, LIMN_ERR_MEMORY, "out of memory");
         } else {
             /* tristrips: -1 ends a strip; odd triangles are flipped to keep the
@@ -566,39 +599,13 @@ static limn_status ply_face(ply *p, const ply_elem *e)
     return st;
 }
 
-limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
+/* Reads the elements after the header, in their order. */
+static limn_status ply_body(ply *p)
 {
-    ply *p = calloc(1, sizeof *p);
-    if (!p)
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
-    p->ctx = ctx;
-    p->path = path;
-    limn_status st;
-    if (!mio_init(&p->r, ctx, path, f)) {
-        free(p);
-        return LIMN_ERR_MEMORY;
-    }
-    p->pos.budget = p->col.budget = p->offsets.budget = p->indices.budget = &p->r.budget;
-    mio_skip_bom(&p->r);
-    p->in_header = 1;
-    st = ply_header(p);
-    p->in_header = 0;
-    if (st || (st = ply_check(p)))
-        goto done;
-    uint64_t left = mio_remaining(&p->r);
-    size_t reserve = left == UINT64_MAX && p->nv > 65536 ? 65536 : (size_t)p->nv;
-    if (!growbuf_reserve(&p->pos, reserve * 3 * sizeof(double)) ||
-        (p->colors && !growbuf_reserve(&p->col, reserve * 3)) ||
-        !growbuf_push_u32(&p->offsets, 0)) {
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for %llu vertices", path,
-                       (unsigned long long)p->nv);
-        goto done;
-    }
-    int has_faces = 0;
+    limn_status st = LIMN_OK;
     for (size_t i = 0; i < p->nelems && !st; i++) {
         const ply_elem *e = &p->elems[i];
         p->elem = e;
-        has_faces |= e->kind == E_FACE || e->kind == E_TRISTRIPS;
         if (e->nprops == 0)
             continue;
         if (e->kind == E_OTHER && !e->has_list && p->format != F_ASCII) {
@@ -624,27 +631,63 @@ limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         }
     }
     p->elem = NULL;
-    if (st)
-        goto done;
-    left = mio_remaining(&p->r);
+    return st;
+}
+
+/* Room for the declared vertices (unless that cannot be checked against the
+   file size and is large) and the first face offset. */
+static limn_status ply_reserve(ply *p)
+{
+    uint64_t left = mio_remaining(&p->r);
+    size_t reserve = left == UINT64_MAX && p->nv > 65536 ? 65536 : (size_t)p->nv;
+    if (!growbuf_reserve(&p->a.pos, reserve * 3 * sizeof(double)) ||
+        (p->colors && !growbuf_reserve(&p->a.col, reserve * 3)) ||
+        !growbuf_push_u32(&p->a.offsets, 0))
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "%s: out of memory for %llu vertices", p->path,
+                        (unsigned long long)p->nv);
+    return LIMN_OK;
+}
+
+/* The header, then the data, then what is left after it. */
+static limn_status ply_parse(ply *p)
+{
+    p->in_header = 1;
+    limn_status st = ply_header(p);
+    p->in_header = 0;
+    if (st || (st = ply_check(p)) || (st = ply_reserve(p)) || (st = ply_body(p)))
+        return st;
+    int has_faces = 0;
+    for (size_t i = 0; i < p->nelems; i++)
+        has_faces |= p->elems[i].kind == E_FACE || p->elems[i].kind == E_TRISTRIPS;
+    uint64_t left = mio_remaining(&p->r);
     if (p->format == F_ASCII ? ply_token(p) != NULL : left > 0 && left != UINT64_MAX)
-        ctx_warn(ctx, "%s: data after the last element ignored", path);
+        ctx_warn(p->ctx, "%s: data after the last element ignored", p->path);
     if (!has_faces)
-        ctx_warn(ctx, "%s: the file has no faces", path);
-    if (p->nv == 0) {
-        st = ctx_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
-        goto done;
-    }
-    st = mio_make_mesh(ctx, &p->pos, &p->offsets, &p->indices, &p->col, out);
-done:
-    st = mio_finish(&p->r, st, p->format != F_ASCII && !p->in_header);
+        ctx_warn(p->ctx, "%s: the file has no faces", p->path);
+    if (p->nv == 0)
+        return ctx_fail(p->ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", p->path);
+    return LIMN_OK;
+}
+
+static limn_status ply_run(void *state, int *binary)
+{
+    ply *p = state;
+    mio_skip_bom(&p->r);
+    limn_status st = ply_parse(p);
+    *binary = p->format != F_ASCII && !p->in_header;
+    return st;
+}
+
+limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
+{
+    ply *p = calloc(1, sizeof *p);
+    if (!p)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
+    p->ctx = ctx;
+    p->path = path;
+    limn_status st = mio_read(&p->r, &p->a, ctx, path, f, ply_run, p, out);
     for (size_t i = 0; i < p->nelems; i++)
         free(p->elems[i].props);
-    growbuf_free(&p->pos);
-    growbuf_free(&p->col);
-    growbuf_free(&p->offsets);
-    growbuf_free(&p->indices);
-    mio_free(&p->r);
     free(p);
     return st;
 }

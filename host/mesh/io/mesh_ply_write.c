@@ -69,23 +69,8 @@ limn_status ply_write(limn_context *ctx, const limn_mesh *m, const char *path, F
     const double *p = m->positions;
     const uint8_t *c = m->colors;
     if (format == LIMN_FORMAT_PLY_ASCII) {
-        for (size_t v = 0; v < m->vertex_count; v++, p += 3) {
-            if (fprintf(f, "%.17g %.17g %.17g", p[0], p[1], p[2]) < 0 ||
-                (c && fprintf(f, " %u %u %u", c[3 * v], c[3 * v + 1], c[3 * v + 2]) < 0) ||
-                fputc('\n', f) == EOF)
-                return mio_write_failed(ctx, path);
-        }
-        for (size_t fc = 0; fc < m->face_count; fc++) {
-            uint32_t a = m->face_offsets[fc], b = m->face_offsets[fc + 1];
-            if (fprintf(f, "%lu", (unsigned long)(b - a)) < 0)
-                return mio_write_failed(ctx, path);
-            for (uint32_t i = a; i < b; i++)
-                if (fprintf(f, " %lu", (unsigned long)m->face_indices[i]) < 0)
-                    return mio_write_failed(ctx, path);
-            if (fputc('\n', f) == EOF)
-                return mio_write_failed(ctx, path);
-        }
-        return LIMN_OK;
+        limn_status st = mio_write_vertices(ctx, m, path, f, "", c);
+        return st ? st : mio_write_faces(ctx, m, path, f, NULL, 0);
     }
     ply_out *o = malloc(sizeof *o);
     if (!o)

@@ -34,7 +34,7 @@ typedef struct stl {
     mio_reader r;
     limn_context *ctx;
     const char *path;
-    growbuf pos, offsets, indices;
+    mio_arrays a;
     uint32_t *slots;          /* hash table of vertex index + 1; 0 = empty */
     size_t cap;               /* power of two */
     size_t nv;
@@ -65,7 +65,7 @@ static int weld_grow(stl *s)
     uint32_t *slots = calloc(cap, sizeof *slots);
     if (!slots)
         return 0;
-    const double *p = (const double *)s->pos.data;
+    const double *p = (const double *)s->a.pos.data;
     for (size_t v = 0; v < s->nv; v++) {
         size_t i = (size_t)hash_coords(p + 3 * v) & (cap - 1);
         while (slots[i])
@@ -86,7 +86,7 @@ static int weld(stl *s, double c[3], uint32_t *index)
             c[k] = 0.0; /* -0 and +0 are one position */
     if ((s->nv + 1) * 2 > s->cap && !weld_grow(s))
         return 0;
-    const double *p = (const double *)s->pos.data;
+    const double *p = (const double *)s->a.pos.data;
     size_t i = (size_t)hash_coords(c) & (s->cap - 1);
     while (s->slots[i]) {
         const double *q = p + 3 * (s->slots[i] - 1);
@@ -96,7 +96,7 @@ static int weld(stl *s, double c[3], uint32_t *index)
         }
         i = (i + 1) & (s->cap - 1);
     }
-    if (s->nv >= UINT32_MAX - 1 || !growbuf_push_3d(&s->pos, c[0], c[1], c[2]))
+    if (s->nv >= UINT32_MAX - 1 || !growbuf_push_3d(&s->a.pos, c[0], c[1], c[2]))
         return 0;
     s->slots[i] = (uint32_t)(s->nv + 1);
     *index = (uint32_t)s->nv++;
@@ -105,11 +105,11 @@ static int weld(stl *s, double c[3], uint32_t *index)
 
 static int add_face(stl *s, const uint32_t *v, size_t n)
 {
-    if (s->indices.len / sizeof(uint32_t) > UINT32_MAX - n ||
-        s->offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
+    if (s->a.indices.len / sizeof(uint32_t) > UINT32_MAX - n ||
+        s->a.offsets.len / sizeof(uint32_t) >= UINT32_MAX - 1)
         return 0;
-    if (!growbuf_append(&s->indices, v, n * sizeof *v) ||
-        !growbuf_push_u32(&s->offsets, (uint32_t)(s->indices.len / sizeof(uint32_t))))
+    if (!growbuf_append(&s->a.indices, v, n * sizeof *v) ||
+        !growbuf_push_u32(&s->a.offsets, (uint32_t)(s->a.indices.len / sizeof(uint32_t))))
         return 0;
     s->corners += n;
     return 1;
@@ -154,9 +154,9 @@ static limn_status stl_binary(stl *s)
         ctx_warn(s->ctx, "%s: %llu bytes after the last of %lu triangles ignored", s->path,
                   (unsigned long long)(size - need), (unsigned long)count);
     size_t reserve = size || count <= 65536 ? count : 65536;
-    if (!growbuf_reserve(&s->offsets, (reserve + 1) * sizeof(uint32_t)) ||
-        !growbuf_reserve(&s->indices, reserve * 3 * sizeof(uint32_t)) ||
-        !growbuf_reserve(&s->pos, reserve / 2 * 3 * sizeof(double)))
+    if (!growbuf_reserve(&s->a.offsets, (reserve + 1) * sizeof(uint32_t)) ||
+        !growbuf_reserve(&s->a.indices, reserve * 3 * sizeof(uint32_t)) ||
+        !growbuf_reserve(&s->a.pos, reserve / 2 * 3 * sizeof(double)))
         return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s: out of memory for %lu triangles", s->path,
                          (unsigned long)count);
     for (uint32_t t = 0; t < count; t++) {
@@ -233,6 +233,61 @@ static limn_status unexpected(stl *s, const char *t, const char *wanted, unsigne
                      s->r.line, where, wanted, mio_token(t, tok));
 }
 
+/* The coordinates after 'vertex' in facet f - 1, welded and added to loop. */
+static limn_status stl_vertex(stl *s, unsigned long f, growbuf *loop)
+{
+    double c[3];
+    for (int k = 0; k < 3; k++) {
+        char tok[64];
+        char *p = next_token(s);
+        if (!p)
+            return unexpected(s, p, "a coordinate", f);
+        int rc = mio_parse_double(&p, &c[k]);
+        if (rc != 1)
+            return ctx_fail(s->ctx, LIMN_ERR_FORMAT, "%s:%lu: facet %lu: coordinate %s is %s",
+                            s->path, s->r.line, f - 1, mio_token(p, tok),
+                            rc == 2 ? "not finite" : "not a number");
+    }
+    uint32_t v;
+    if (!weld(s, c, &v) || !growbuf_push_u32(loop, v))
+        return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", s->path, s->r.line);
+    return LIMN_OK;
+}
+
+/* Facet f - 1 after its 'facet' word, through 'endfacet', added as a face
+   (loop: room for its vertices). */
+static limn_status stl_facet(stl *s, unsigned long f, growbuf *loop)
+{
+    char *t = next_token(s);
+    if (is_word(t, "normal")) {
+        for (int k = 0; k < 3 && t; k++)
+            t = next_token(s);
+        if (t)
+            t = next_token(s);
+    }
+    if (!is_word(t, "outer") || !is_word(t = next_token(s), "loop"))
+        return unexpected(s, t, "'outer loop'", f);
+    loop->len = 0;
+    while (is_word(t = next_token(s), "vertex")) {
+        limn_status st = stl_vertex(s, f, loop);
+        if (st)
+            return st;
+    }
+    if (!is_word(t, "endloop"))
+        return unexpected(s, t, "'vertex' or 'endloop'", f);
+    size_t n = loop->len / sizeof(uint32_t);
+    if (n < 3)
+        return ctx_fail(s->ctx, LIMN_ERR_FORMAT,
+                        "%s:%lu: facet %lu has %zu vertices (at least 3 needed)", s->path,
+                        s->r.line, f - 1, n);
+    if (!is_word(t = next_token(s), "endfacet"))
+        return unexpected(s, t, "'endfacet'", f);
+    if (!add_face(s, (const uint32_t *)loop->data, n))
+        return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory or too many facets",
+                        s->path, s->r.line);
+    return LIMN_OK;
+}
+
 static limn_status stl_ascii(stl *s)
 {
     char *t = next_token(s);
@@ -259,64 +314,8 @@ static limn_status stl_ascii(stl *s)
             st = unexpected(s, t, "'facet' or 'endsolid'", 0);
             break;
         }
-        unsigned long f = ++facets; /* facet number + 1, for messages */
-        t = next_token(s);
-        if (is_word(t, "normal")) {
-            for (int k = 0; k < 3 && t; k++)
-                t = next_token(s);
-            if (t)
-                t = next_token(s);
-        }
-        if (!is_word(t, "outer") || !is_word(t = next_token(s), "loop")) {
-            st = unexpected(s, t, "'outer loop'", f);
+        if ((st = stl_facet(s, ++facets, &loop))) /* facet number + 1, for messages */
             break;
-        }
-        loop.len = 0;
-        while (is_word(t = next_token(s), "vertex")) {
-            double c[3];
-            for (int k = 0; k < 3 && !st; k++) {
-                char tok[64];
-                char *p = next_token(s);
-                if (!p) {
-                    st = unexpected(s, p, "a coordinate", f);
-                    break;
-                }
-                int rc = mio_parse_double(&p, &c[k]);
-                if (rc != 1)
-                    st = ctx_fail(s->ctx, LIMN_ERR_FORMAT,
-                                   "%s:%lu: facet %lu: coordinate %s is %s", s->path, s->r.line,
-                                   f - 1, mio_token(p, tok),
-                                   rc == 2 ? "not finite" : "not a number");
-            }
-            uint32_t v;
-            if (!st && (!weld(s, c, &v) || !growbuf_push_u32(&loop, v)))
-                st = ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory", s->path,
-                               s->r.line);
-            if (st)
-                break;
-        }
-        if (st)
-            break;
-        if (!is_word(t, "endloop")) {
-            st = unexpected(s, t, "'vertex' or 'endloop'", f);
-            break;
-        }
-        size_t n = loop.len / sizeof(uint32_t);
-        if (n < 3) {
-            st = ctx_fail(s->ctx, LIMN_ERR_FORMAT,
-                           "%s:%lu: facet %lu has %zu vertices (at least 3 needed)", s->path,
-                           s->r.line, f - 1, n);
-            break;
-        }
-        if (!is_word(t = next_token(s), "endfacet")) {
-            st = unexpected(s, t, "'endfacet'", f);
-            break;
-        }
-        if (!add_face(s, (const uint32_t *)loop.data, n)) {
-            st = ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s:%lu: out of memory or too many facets",
-                           s->path, s->r.line);
-            break;
-        }
     }
     growbuf_free(&loop);
     if (!st && s->r.error)
@@ -348,6 +347,54 @@ static int all_text(const unsigned char *b, size_t n)
     return 1;
 }
 
+/* Tells a binary STL (*binary = 1) from an ascii one by its first bytes. */
+static limn_status stl_detect(stl *s, int *binary)
+{
+    size_t avail;
+    const unsigned char *head = mio_peek(&s->r, STL_HEADER, &avail);
+    /* an ascii file may start with a UTF-8 byte order mark; a binary header too,
+       which the size rule below still tells */
+    size_t bom = avail >= 3 && head[0] == 0xEF && head[1] == 0xBB && head[2] == 0xBF ? 3 : 0;
+    int solid = starts_with_solid(head + bom, avail - bom);
+    *binary = 0;
+    if (s->r.error)
+        return mio_read_failed(&s->r);
+    if (avail < STL_HEADER) {
+        if (!solid)
+            return ctx_fail(s->ctx, LIMN_ERR_FORMAT,
+                            "%s: not an STL file: %zu bytes, too short for a binary STL (84-byte "
+                            "header), and it does not start with 'solid'",
+                            s->path, avail);
+        return LIMN_OK;
+    }
+    uint32_t count = (uint32_t)head[80] | (uint32_t)head[81] << 8 | (uint32_t)head[82] << 16 |
+                     (uint32_t)head[83] << 24;
+    int exact = s->r.file_size == STL_HEADER + (uint64_t)STL_RECORD * count;
+    *binary = exact || !solid || !all_text(head, STL_HEADER);
+    return LIMN_OK;
+}
+
+static limn_status stl_parse(void *state, int *binary)
+{
+    stl *s = state;
+    limn_status st = stl_detect(s, binary);
+    if (st)
+        return st;
+    if (!growbuf_push_u32(&s->a.offsets, 0))
+        return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "%s: out of memory", s->path);
+    if (!*binary)
+        mio_skip_bom(&s->r);
+    st = *binary ? stl_binary(s) : stl_ascii(s);
+    if (st)
+        return st;
+    size_t faces = s->a.offsets.len / sizeof(uint32_t) - 1;
+    ctx_warn(s->ctx,
+              "%s: %zu %s, %llu corners welded into %zu vertices (exactly equal coordinates)",
+              s->path, faces, *binary ? "triangles" : "facets", (unsigned long long)s->corners,
+              s->nv);
+    return LIMN_OK;
+}
+
 limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
 {
     stl *s = calloc(1, sizeof *s);
@@ -355,60 +402,8 @@ limn_status stl_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
     s->ctx = ctx;
     s->path = path;
-    if (!mio_init(&s->r, ctx, path, f)) {
-        free(s);
-        return LIMN_ERR_MEMORY;
-    }
-    s->pos.budget = s->offsets.budget = s->indices.budget = &s->r.budget;
-    limn_status st = LIMN_OK;
-    size_t avail;
-    const unsigned char *head = mio_peek(&s->r, STL_HEADER, &avail);
-    /* an ascii file may start with a UTF-8 byte order mark; a binary header too,
-       which the size rule below still tells */
-    size_t bom = avail >= 3 && head[0] == 0xEF && head[1] == 0xBB && head[2] == 0xBF ? 3 : 0;
-    int solid = starts_with_solid(head + bom, avail - bom);
-    int binary = 0;
-    if (s->r.error) {
-        st = mio_read_failed(&s->r);
-        goto done;
-    }
-    if (avail < STL_HEADER) {
-        binary = 0;
-        if (!solid) {
-            st = ctx_fail(ctx, LIMN_ERR_FORMAT,
-                           "%s: not an STL file: %zu bytes, too short for a binary STL (84-byte "
-                           "header), and it does not start with 'solid'",
-                           path, avail);
-            goto done;
-        }
-    } else {
-        uint32_t count = (uint32_t)head[80] | (uint32_t)head[81] << 8 |
-                         (uint32_t)head[82] << 16 | (uint32_t)head[83] << 24;
-        int exact = s->r.file_size == STL_HEADER + (uint64_t)STL_RECORD * count;
-        binary = exact || !solid || !all_text(head, STL_HEADER);
-    }
-    if (!growbuf_push_u32(&s->offsets, 0)) {
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
-        goto done;
-    }
-    if (!binary)
-        mio_skip_bom(&s->r);
-    st = binary ? stl_binary(s) : stl_ascii(s);
-    if (st)
-        goto done;
-    size_t faces = s->offsets.len / sizeof(uint32_t) - 1;
-    ctx_warn(ctx,
-              "%s: %zu %s, %llu corners welded into %zu vertices (exactly equal coordinates)",
-              path, faces, binary ? "triangles" : "facets", (unsigned long long)s->corners, s->nv);
-    growbuf nocolors = {0};
-    st = mio_make_mesh(ctx, &s->pos, &s->offsets, &s->indices, &nocolors, out);
-done:
-    st = mio_finish(&s->r, st, binary);
-    growbuf_free(&s->pos);
-    growbuf_free(&s->offsets);
-    growbuf_free(&s->indices);
+    limn_status st = mio_read(&s->r, &s->a, ctx, path, f, stl_parse, s, out);
     free(s->slots);
-    mio_free(&s->r);
     free(s);
     return st;
 }

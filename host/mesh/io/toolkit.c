@@ -347,11 +347,23 @@ const char *mio_token(const char *s, char buf[64])
 
 /* -------------------------------------------------------------- mesh build */
 
-limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, growbuf *indices,
-                          growbuf *colors, limn_mesh **out)
+void mio_arrays_init(mio_arrays *a, mio_reader *r)
 {
-    size_t nv = pos->len / (3 * sizeof(double));
-    size_t nf = offsets->len / sizeof(uint32_t) - 1;
+    a->pos.budget = a->col.budget = a->offsets.budget = a->indices.budget = &r->budget;
+}
+
+void mio_arrays_free(mio_arrays *a)
+{
+    growbuf_free(&a->pos);
+    growbuf_free(&a->col);
+    growbuf_free(&a->offsets);
+    growbuf_free(&a->indices);
+}
+
+limn_status mio_make_mesh(limn_context *ctx, mio_arrays *a, limn_mesh **out)
+{
+    size_t nv = a->pos.len / (3 * sizeof(double));
+    size_t nf = a->offsets.len / sizeof(uint32_t) - 1;
     limn_mesh *m;
     limn_status st = mesh_alloc(ctx, 0, 0, 0, &m);
     if (st)
@@ -359,10 +371,10 @@ limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, gro
     free(m->positions);
     free(m->face_offsets);
     free(m->face_indices);
-    m->positions = growbuf_take(pos);
-    m->face_offsets = growbuf_take(offsets);
-    m->face_indices = growbuf_take(indices);
-    m->colors = colors->len ? growbuf_take(colors) : NULL;
+    m->positions = growbuf_take(&a->pos);
+    m->face_offsets = growbuf_take(&a->offsets);
+    m->face_indices = growbuf_take(&a->indices);
+    m->colors = a->col.len ? growbuf_take(&a->col) : NULL;
     m->vertex_count = nv;
     m->face_count = nf;
     if (!m->positions || !m->face_offsets || !m->face_indices) {
@@ -373,9 +385,54 @@ limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, gro
     return LIMN_OK;
 }
 
+limn_status mio_read(mio_reader *r, mio_arrays *a, limn_context *ctx, const char *path, FILE *f,
+                     mio_parse_fn parse, void *state, limn_mesh **out)
+{
+    if (!mio_init(r, ctx, path, f))
+        return LIMN_ERR_MEMORY;
+    mio_arrays_init(a, r);
+    int binary = 0;
+    limn_status st = parse(state, &binary);
+    if (!st)
+        st = mio_make_mesh(ctx, a, out);
+    st = mio_finish(r, st, binary);
+    mio_arrays_free(a);
+    mio_free(r);
+    return st;
+}
+
 limn_status mio_write_failed(limn_context *ctx, const char *path)
 {
     int e = errno;
     return ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path,
                      e ? strerror(e) : "write error");
+}
+
+limn_status mio_write_vertices(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f,
+                               const char *lead, const uint8_t *colors)
+{
+    const double *p = m->positions;
+    const uint8_t *c = colors;
+    for (size_t v = 0; v < m->vertex_count; v++, p += 3)
+        if (fprintf(f, "%s%.17g %.17g %.17g", lead, p[0], p[1], p[2]) < 0 ||
+            (c && fprintf(f, " %u %u %u", c[3 * v], c[3 * v + 1], c[3 * v + 2]) < 0) ||
+            fputc('\n', f) == EOF)
+            return mio_write_failed(ctx, path);
+    return LIMN_OK;
+}
+
+limn_status mio_write_faces(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f,
+                            const char *lead, unsigned base)
+{
+    for (size_t fc = 0; fc < m->face_count; fc++) {
+        uint32_t a = m->face_offsets[fc], b = m->face_offsets[fc + 1];
+        if ((lead ? fputs(lead, f) == EOF : fprintf(f, "%lu", (unsigned long)(b - a)) < 0))
+            return mio_write_failed(ctx, path);
+        for (uint32_t i = a; i < b; i++)
+            if (fprintf(f, " %lu", (unsigned long)m->face_indices[i] + base) < 0)
+                return mio_write_failed(ctx, path);
+        if (fputc('\n', f) == EOF)
+            return mio_write_failed(ctx, path);
+    }
+    return LIMN_OK;
 }

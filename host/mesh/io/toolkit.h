@@ -3,7 +3,8 @@
  * The reader toolkit shared by the mesh file formats (mesh_obj.c, mesh_ply.c,
  * mesh_off.c, mesh_stl.c; their entry points are in formats.h, the public
  * ones in dispatch.c): the buffered reader, number parsing, the mesh built
- * from reader buffers, the write-failure message.
+ * from reader buffers, the text writers' vertex and face lines, the
+ * write-failure message.
  */
 #ifndef LIMN_MESH_IO_TOOLKIT_H
 #define LIMN_MESH_IO_TOOLKIT_H
@@ -94,13 +95,38 @@ int mio_parse_ll(char **s, long long *out, char stop);
 /* Copies a token for a message: at most 40 characters, quoted. */
 const char *mio_token(const char *s, char buf[64]);
 
-/* Builds a mesh from reader buffers, taking their memory (they are left empty):
-   pos: 3 doubles per vertex; offsets: face_count + 1 uint32 starting with 0;
-   indices: uint32; colors: 3 bytes per vertex or an empty buffer. */
-limn_status mio_make_mesh(limn_context *ctx, growbuf *pos, growbuf *offsets, growbuf *indices,
-                          growbuf *colors, limn_mesh **out);
+/* ------------------------------------------------------------- mesh arrays
+ * What every reader fills and builds its mesh from. */
+typedef struct mio_arrays {
+    growbuf pos;     /* 3 doubles per vertex */
+    growbuf col;     /* 3 bytes per vertex, or empty (no colours) */
+    growbuf offsets; /* face_count + 1 uint32 starting with 0 */
+    growbuf indices; /* uint32 */
+} mio_arrays;
+
+/* Charges the (zeroed) arrays to the reader's budget (max_memory). */
+void mio_arrays_init(mio_arrays *a, mio_reader *r);
+void mio_arrays_free(mio_arrays *a);
+/* Builds a mesh from the arrays, taking their memory (they are left empty). */
+limn_status mio_make_mesh(limn_context *ctx, mio_arrays *a, limn_mesh **out);
+
+/* The frame every reader runs in: r and a (members of state, zeroed) set up
+   for path and f, then parse(state, &binary), the mesh made from a when that
+   succeeded, mio_finish (binary: what parse left in it), a and r freed.
+   Returns the reader's status. */
+typedef limn_status (*mio_parse_fn)(void *state, int *binary);
+limn_status mio_read(mio_reader *r, mio_arrays *a, limn_context *ctx, const char *path, FILE *f,
+                     mio_parse_fn parse, void *state, limn_mesh **out);
 
 /* Message for a failed write (errno) to the target path; returns LIMN_ERR_IO. */
 limn_status mio_write_failed(limn_context *ctx, const char *path);
+/* The text writers' lines. One line per vertex: lead, x y z (%.17g), and
+   " r g b" when colors is not NULL (3 bytes per vertex). */
+limn_status mio_write_vertices(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f,
+                               const char *lead, const uint8_t *colors);
+/* One line per face: lead, or the corner count when lead is NULL (OFF, PLY),
+   then " v" for each corner, numbered from base (OBJ counts from 1). */
+limn_status mio_write_faces(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f,
+                            const char *lead, unsigned base);
 
 #endif
