@@ -133,6 +133,30 @@ int cli_args_parse(cli_args *a, const struct option *longopts, int argc, char **
     return rc;
 }
 
+int cli_args_own(cli_args *a, int argc, char **argv, int *i, const cli_own_option *t, size_t n)
+{
+    const char *opt = argv[*i], *v;
+    for (size_t k = 0; k < n; k++) {
+        if (strcmp(opt, t[k].name) != 0)
+            continue;
+        switch (t[k].kind) {
+        case CLI_OWN_FLAG:
+            *(int *)t[k].target = t[k].min;
+            return 0;
+        case CLI_OWN_INT:
+            return cli_args_int(a, argc, argv, i, t[k].min, t[k].max, t[k].target);
+        case CLI_OWN_NUMBER:
+            return cli_args_number(a, argc, argv, i, t[k].target);
+        case CLI_OWN_POSITIVE:
+            return cli_args_positive(a, argc, argv, i, t[k].target);
+        case CLI_OWN_SIZE:
+            v = cli_args_value(a, argc, argv, i);
+            return v && cli_parse_size(opt, v, t[k].target) ? 0 : EXIT_USAGE;
+        }
+    }
+    return CLI_OWN_UNKNOWN;
+}
+
 int cli_args_choice(cli_args *a, const char *opt, const char *v, const char *const *names, int n)
 {
     char list[256] = "";

@@ -63,6 +63,26 @@ int cli_args_positive(cli_args *a, int argc, char **argv, int *i, double *out);
    "OPT 'V' is not one of NAME, NAME, ...". */
 int cli_args_choice(cli_args *a, const char *opt, const char *v, const char *const *names, int n);
 
+/* A command's own option in a table read by cli_args_own: a flag sets
+   *target to `min`; the others take a value (an integer in [min, max] by
+   cli_args_int, a number, a positive number, a byte size). */
+typedef enum cli_own_kind {
+    CLI_OWN_FLAG,
+    CLI_OWN_INT,
+    CLI_OWN_NUMBER,
+    CLI_OWN_POSITIVE,
+    CLI_OWN_SIZE
+} cli_own_kind;
+typedef struct cli_own_option {
+    const char *name; /* "--steps" */
+    cli_own_kind kind;
+    void *target;     /* int (FLAG, INT), double (NUMBER, POSITIVE), size_t (SIZE) */
+    int min, max;
+} cli_own_option;
+/* argv[*i] when it is one of the n options of t: 0 or an exit status;
+   CLI_OWN_UNKNOWN when it is none of them. */
+int cli_args_own(cli_args *a, int argc, char **argv, int *i, const cli_own_option *t, size_t n);
+
 /* After parsing: the INPUTs and -o were given; 0 or an exit status. */
 int cli_args_required(cli_args *a);
 /* --per-rank-output is refused without several MPI ranks; 0 or an exit status. */

@@ -65,16 +65,12 @@ static void print_extra(void *user)
 static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
 {
     extra *e = user;
-    const char *s = argv[*i];
-    if (strcmp(s, "--keep-volume") == 0) {
-        e->keep_volume = 1;
-        return 0;
-    }
-    if (strcmp(s, "--m") == 0)
-        return cli_args_int(a, argc, argv, i, 0, INT_MAX, &e->m);
-    if (strcmp(s, "--steps") == 0)
-        return cli_args_int(a, argc, argv, i, 1, INT_MAX, &e->steps);
-    return CLI_OWN_UNKNOWN;
+    const cli_own_option own[] = {
+        {"--keep-volume", CLI_OWN_FLAG, &e->keep_volume, 1, 0},
+        {"--m", CLI_OWN_INT, &e->m, 0, INT_MAX},
+        {"--steps", CLI_OWN_INT, &e->steps, 1, INT_MAX},
+    };
+    return cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
 }
 
 static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, limn_mesh **out,

@@ -90,20 +90,17 @@ static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
 {
     args *x = user;
     const char *s = argv[*i], *v;
-    if (strcmp(s, "--tol") == 0)
-        return cli_args_positive(a, argc, argv, i, &x->opt.tolerance);
-    if (strcmp(s, "--max-iter") == 0)
-        return cli_args_int(a, argc, argv, i, 1, INT_MAX, &x->opt.max_iterations);
-    if (strcmp(s, "--limit") == 0) {
-        x->sub.limit = 1;
-        return 0;
-    }
-    if (strcmp(s, "--no-reorder") == 0) {
-        x->opt.reorder = 0;
-        return 0;
-    }
-    if (strcmp(s, "--surface") != 0 && strcmp(s, "--levels") != 0 &&
-        strcmp(s, "--max-memory") != 0 && strcmp(s, "--method") != 0 &&
+    const cli_own_option own[] = {
+        {"--tol", CLI_OWN_POSITIVE, &x->opt.tolerance, 0, 0},
+        {"--max-iter", CLI_OWN_INT, &x->opt.max_iterations, 1, INT_MAX},
+        {"--limit", CLI_OWN_FLAG, &x->sub.limit, 1, 0},
+        {"--no-reorder", CLI_OWN_FLAG, &x->opt.reorder, 0, 0},
+        {"--max-memory", CLI_OWN_SIZE, &x->sub.max_memory, 0, 0},
+    };
+    int rc = cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
+    if (rc != CLI_OWN_UNKNOWN)
+        return rc;
+    if (strcmp(s, "--surface") != 0 && strcmp(s, "--levels") != 0 && strcmp(s, "--method") != 0 &&
         strcmp(s, "--precision") != 0)
         return CLI_OWN_UNKNOWN;
     if (!(v = cli_args_value(a, argc, argv, i)))
@@ -116,9 +113,6 @@ static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
         if (x->sub.levels < 0 || x->sub.levels > 16)
             return cli_usage_error(a->cmd, "--levels %s is outside 0..16", v);
         x->levels_given = 1;
-    } else if (strcmp(s, "--max-memory") == 0) {
-        if (!cli_parse_size(s, v, &x->sub.max_memory))
-            return EXIT_USAGE;
     } else {
         return choice_option(x, s, v);
     }

@@ -184,18 +184,14 @@ static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
 {
     limn_morph_options *mo = user;
     const char *s = argv[*i];
-    if (strcmp(s, "--linear") == 0) {
-        mo->linear = 1;
-        return 0;
-    }
-    if (strcmp(s, "--frames") == 0)
-        return cli_args_int(a, argc, argv, i, 2, 1000000, &mo->frames);
-    if (strcmp(s, "--m") == 0)
-        return cli_args_int(a, argc, argv, i, 0, INT_MAX, &mo->m);
-    if (strcmp(s, "--p") != 0)
-        return CLI_OWN_UNKNOWN;
-    int rc = cli_args_number(a, argc, argv, i, &mo->p);
-    if (!rc && !(mo->p > 0 && mo->p < 1))
+    const cli_own_option own[] = {
+        {"--linear", CLI_OWN_FLAG, &mo->linear, 1, 0},
+        {"--frames", CLI_OWN_INT, &mo->frames, 2, 1000000},
+        {"--m", CLI_OWN_INT, &mo->m, 0, INT_MAX},
+        {"--p", CLI_OWN_NUMBER, &mo->p, 0, 0},
+    };
+    int rc = cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
+    if (!rc && strcmp(s, "--p") == 0 && !(mo->p > 0 && mo->p < 1))
         rc = cli_usage_error(a->cmd, "--p %s must lie strictly between 0 and 1", argv[*i]);
     return rc;
 }

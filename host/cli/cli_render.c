@@ -77,12 +77,13 @@ static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
 {
     limn_render_options *o = user;
     const char *s = argv[*i], *v;
-    if (strcmp(s, "--flat") == 0) {
-        o->flat = 1;
-        return 0;
-    }
-    if (strcmp(s, "--supersample") == 0)
-        return cli_args_int(a, argc, argv, i, 1, 4, &o->supersample);
+    const cli_own_option own[] = {
+        {"--flat", CLI_OWN_FLAG, &o->flat, 1, 0},
+        {"--supersample", CLI_OWN_INT, &o->supersample, 1, 4},
+    };
+    int rc = cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
+    if (rc != CLI_OWN_UNKNOWN)
+        return rc;
     if (strcmp(s, "--view") != 0 && strcmp(s, "--size") != 0 && strcmp(s, "--up") != 0 &&
         strcmp(s, "--color") != 0 && strcmp(s, "--background") != 0)
         return CLI_OWN_UNKNOWN;

@@ -45,14 +45,12 @@ static void print_extra(void *user)
 static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
 {
     extra *e = user;
-    const char *s = argv[*i];
-    int *target = strcmp(s, "--from") == 0    ? &e->from
-                  : strcmp(s, "--to") == 0    ? &e->to
-                  : strcmp(s, "--steps") == 0 ? &e->steps
-                                              : NULL;
-    if (!target)
-        return CLI_OWN_UNKNOWN;
-    return cli_args_int(a, argc, argv, i, target == &e->steps ? 1 : 0, INT_MAX, target);
+    const cli_own_option own[] = {
+        {"--from", CLI_OWN_INT, &e->from, 0, INT_MAX},
+        {"--to", CLI_OWN_INT, &e->to, 0, INT_MAX},
+        {"--steps", CLI_OWN_INT, &e->steps, 1, INT_MAX},
+    };
+    return cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
 }
 
 static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, limn_mesh **out,

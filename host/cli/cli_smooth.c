@@ -41,9 +41,8 @@ static void print_extra(void *user)
 static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
 {
     extra *e = user;
-    if (strcmp(argv[*i], "--terms") != 0)
-        return CLI_OWN_UNKNOWN;
-    return cli_args_int(a, argc, argv, i, 1, INT_MAX, &e->terms);
+    const cli_own_option terms = {"--terms", CLI_OWN_INT, &e->terms, 1, INT_MAX};
+    return cli_args_own(a, argc, argv, i, &terms, 1);
 }
 
 static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, limn_mesh **out,

@@ -30,16 +30,15 @@ static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
 {
     limn_subdivide_options *o = user;
     const char *s = argv[*i], *v;
-    if (strcmp(s, "--limit") == 0) {
-        o->limit = 1;
-        return 0;
-    }
-    if (strcmp(s, "--levels") != 0 && strcmp(s, "--max-memory") != 0)
-        return CLI_OWN_UNKNOWN;
+    const cli_own_option own[] = {
+        {"--limit", CLI_OWN_FLAG, &o->limit, 1, 0},
+        {"--max-memory", CLI_OWN_SIZE, &o->max_memory, 0, 0},
+    };
+    int rc = cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
+    if (rc != CLI_OWN_UNKNOWN || strcmp(s, "--levels") != 0)
+        return rc;
     if (!(v = cli_args_value(a, argc, argv, i)))
         return EXIT_USAGE;
-    if (strcmp(s, "--max-memory") == 0)
-        return cli_parse_size(s, v, &o->max_memory) ? 0 : EXIT_USAGE;
     if (!cli_parse_int(s, v, &o->levels))
         return EXIT_USAGE;
     if (o->levels < 0 || o->levels > 16)

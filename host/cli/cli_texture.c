@@ -129,21 +129,21 @@ static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
 {
     extra *e = user;
     const char *s = argv[*i], *v;
-    if (strcmp(s, "--levels") == 0)
-        return cli_args_int(a, argc, argv, i, 0, 8, &e->t.levels);
-    if (strcmp(s, "--tol") == 0)
-        return cli_args_positive(a, argc, argv, i, &e->t.tolerance);
-    if (strcmp(s, "--frequency") == 0)
-        return cli_args_positive(a, argc, argv, i, &e->t.frequency);
-    if (strcmp(s, "--colors") != 0 && strcmp(s, "--colours") != 0 && strcmp(s, "--seed") != 0 &&
-        strcmp(s, "--max-memory") != 0)
+    const cli_own_option own[] = {
+        {"--levels", CLI_OWN_INT, &e->t.levels, 0, 8},
+        {"--tol", CLI_OWN_POSITIVE, &e->t.tolerance, 0, 0},
+        {"--frequency", CLI_OWN_POSITIVE, &e->t.frequency, 0, 0},
+        {"--max-memory", CLI_OWN_SIZE, &e->t.max_memory, 0, 0},
+    };
+    int rc = cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
+    if (rc != CLI_OWN_UNKNOWN)
+        return rc;
+    if (strcmp(s, "--colors") != 0 && strcmp(s, "--colours") != 0 && strcmp(s, "--seed") != 0)
         return CLI_OWN_UNKNOWN;
     if (!(v = cli_args_value(a, argc, argv, i)))
         return EXIT_USAGE;
     if (strcmp(s, "--seed") == 0)
         return seed_option(a, v, e);
-    if (strcmp(s, "--max-memory") == 0)
-        return cli_parse_size(s, v, &e->t.max_memory) ? 0 : EXIT_USAGE;
     char why[256];
     if (!parse_colors(v, e->rgb, &e->t.color_count, why, sizeof why))
         return cli_usage_error(a->cmd, "--colors: %s", why);
