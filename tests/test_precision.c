@@ -15,6 +15,7 @@
  *    still named as such, the OpenCL set-up and the loop's own time
  *    reported; the command line.
  */
+#include "shell.h"
 #include "support.h"
 #include "device/device.h"
 #include "solve/operator.h"
@@ -420,21 +421,14 @@ static void setup_reported(void **s)
 /* Runs `limn ARGS`, output into text; returns the exit status. */
 static int limn_cli(const char *args, char *text, size_t size)
 {
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", getenv("LIMN_BIN"), args);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(text, 1, size - 1, p);
-    text[n] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return test_limn(text, size, NULL, "%s", args);
 }
 
 static void command_line(void **s)
 {
     (void)s;
-    char dir[] = "/tmp/limn_precision_XXXXXX", args[4096], text[8192];
-    assert_non_null(mkdtemp(dir));
+    char dir[64], args[4096], text[8192];
+    assert_int_equal(test_make_dir(dir, sizeof dir, "precision"), 0);
     const char *spot = getenv("LIMN_TEST_DATA");
     snprintf(args, sizeof args, "interpolate '%s/spot_control_mesh.obj' -o '%s/p.ply' "
                                 "--precision half", spot, dir);
@@ -453,8 +447,7 @@ static void command_line(void **s)
     for (size_t i = 0; i < sizeof keys / sizeof *keys; i++)
         if (!strstr(text, keys[i]))
             fail_msg("the report lacks %s:\n%s", keys[i], text);
-    snprintf(args, sizeof args, "rm -rf '%s'", dir);
-    assert_int_equal(system(args), 0);
+    assert_int_equal(test_remove_dir(dir), 0);
 }
 
 int main(void)

@@ -9,6 +9,7 @@
  * (`limn devices`, the interpolate report) under `taskset` and without.
  */
 #define _GNU_SOURCE /* sched_setaffinity, CPU_SET */
+#include "shell.h"
 #include "support.h"
 #include "device/threads.h"
 
@@ -296,15 +297,7 @@ static void runtime_default_sets_nothing(void **s)
 
 /* ------------------------------------------------------------------ CLI */
 
-static int run(const char *cmd)
-{
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(text, 1, sizeof text - 1, p);
-    text[n] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
+static int run(const char *cmd) { return test_run(text, sizeof text, cmd); }
 
 /* `limn devices` with env/prefix; checks its threads line and compute units. */
 static void devices_say(const char *prefix, int want, const char *source)
@@ -349,8 +342,8 @@ static void interpolate_report_has_the_count(void **s)
         skip();
     cpu_set_t all;
     assert_int_equal(sched_getaffinity(0, sizeof all, &all), 0);
-    char dir[] = "/tmp/limn_threads_XXXXXX";
-    assert_non_null(mkdtemp(dir));
+    char dir[64];
+    assert_int_equal(test_make_dir(dir, sizeof dir, "threads"), 0);
     char cmd[2048];
     for (int bound = 0; bound < 2; bound++) {
         char prefix[64] = "";
@@ -370,8 +363,7 @@ static void interpolate_report_has_the_count(void **s)
         if (!strstr(text, want) || !strstr(text, "\"threads_source\": \"binding via hwloc\""))
             fail_msg("report without %s from the binding:\n%s", want, text);
     }
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    assert_int_equal(test_remove_dir(dir), 0);
 }
 
 int main(void)
