@@ -13,6 +13,7 @@
  *  - the OpenCL and reference backends agree (bit-identical expected);
  *  - volume / area / flips on closed forms; the renderer on a cube.
  */
+#include "noise.h"
 #include "support.h"
 
 #include "stencil/stencil.h"
@@ -98,43 +99,6 @@ static limn_mesh *icosphere(limn_context *ctx, int levels)
         free(off);
     }
     return m;
-}
-
-static double mean_edge(const limn_mesh *m)
-{
-    const double *p = limn_mesh_positions(m);
-    const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
-    double sum = 0;
-    size_t count = 0;
-    for (size_t f = 0; f < limn_mesh_face_count(m); f++)
-        for (uint32_t k = off[f]; k < off[f + 1]; k++) {
-            const double *a = p + 3 * idx[k], *b = p + 3 * idx[k + 1 < off[f + 1] ? k + 1 : off[f]];
-            sum += sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                        (a[2] - b[2]) * (a[2] - b[2]));
-            count++;
-        }
-    return sum / (double)count;
-}
-
-/* Seeded Gaussian noise of deviation sigma on every coordinate (Box-Muller). */
-static void gaussian_noise(limn_mesh *m, double sigma, uint64_t seed)
-{
-    double *p = limn_mesh_positions_mutable(m);
-    uint64_t s = seed;
-    for (size_t i = 0; i < 3 * limn_mesh_vertex_count(m); i += 2) {
-        double u[2];
-        for (int k = 0; k < 2; k++) {
-            uint64_t z = (s += 0x9E3779B97F4A7C15ULL);
-            z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-            z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-            z ^= z >> 31;
-            u[k] = ((double)(z >> 11) + 0.5) / 9007199254740992.0;
-        }
-        double r = sqrt(-2.0 * log(u[0]));
-        p[i] += sigma * r * cos(6.283185307179586 * u[1]);
-        if (i + 1 < 3 * limn_mesh_vertex_count(m))
-            p[i + 1] += sigma * r * sin(6.283185307179586 * u[1]);
-    }
 }
 
 /* ------------------------------------------------------- dense oracle */
@@ -412,7 +376,7 @@ static void denoise_one(limn_context *ctx, const char *name, limn_mesh *clean, d
 {
     limn_mesh *noisy = NULL, *out = NULL;
     CHECK_OK(ctx, limn_mesh_copy(ctx, clean, &noisy));
-    gaussian_noise(noisy, factor * mean_edge(clean), 2024);
+    test_gaussian_noise(noisy, factor * test_mean_edge(clean), 2024);
     limn_mesh_comparison before = {.size = sizeof before}, after = {.size = sizeof after};
     CHECK_OK(ctx, limn_mesh_compare(ctx, clean, noisy, &before));
     limn_series_report r = {.size = sizeof r};
