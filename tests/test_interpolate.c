@@ -141,30 +141,28 @@ static void folder(const char *sub)
     limn_context_destroy(ctx);
 }
 
+/* The folder with every method, the automatic choice first. */
+static void folder_every_method(const char *sub)
+{
+    static const limn_method methods[] = {LIMN_METHOD_AUTO, LIMN_METHOD_CG,
+                                          LIMN_METHOD_CHEBYSHEV, LIMN_METHOD_SGS};
+    for (size_t i = 0; i < sizeof methods / sizeof *methods; i++) {
+        test_method = methods[i];
+        folder(sub);
+    }
+    test_method = LIMN_METHOD_AUTO;
+}
+
 static void small_meshes(void **s)
 {
     (void)s;
-    folder("small");
-    test_method = LIMN_METHOD_CG;
-    folder("small");
-    test_method = LIMN_METHOD_CHEBYSHEV;
-    folder("small");
-    test_method = LIMN_METHOD_SGS;
-    folder("small");
-    test_method = LIMN_METHOD_AUTO;
+    folder_every_method("small");
 }
 
 static void medium_meshes(void **s)
 {
     (void)s;
-    folder("medium");
-    test_method = LIMN_METHOD_CG;
-    folder("medium");
-    test_method = LIMN_METHOD_CHEBYSHEV;
-    folder("medium");
-    test_method = LIMN_METHOD_SGS;
-    folder("medium");
-    test_method = LIMN_METHOD_AUTO;
+    folder_every_method("medium");
 }
 
 static void embedded_spot(void **s)

@@ -101,16 +101,34 @@ static void run(const char *name, maker make, limn_scheme scheme, double alpha, 
     limn_context_destroy(ctx);
 }
 
+/* A mesh and the levels it is checked at. */
+typedef struct mask_case {
+    const char *name;
+    maker make;
+    int levels;
+} mask_case;
+
 /* Catmull-Clark: valence 3 (cube), 4 with triangles (pyramid apex), regular
    interior / boundary / corner (grid), valence 5 and 3 interior with boundary. */
+static const mask_case catmark_cases[] = {
+    {"cube", test_mesh_cube, 9},
+    {"pyramid", test_mesh_pyramid, 9},
+    {"quad grid 4x3", grid_quads, 8},
+    {"quad fan valence 5", fan5_quads, 8},
+    {"quad fan valence 3", fan3_quads, 8},
+};
+
+static void run_cases(const mask_case *cases, size_t n, limn_scheme scheme, double alpha)
+{
+    for (size_t i = 0; i < n; i++)
+        run(cases[i].name, cases[i].make, scheme, alpha, cases[i].levels);
+}
+
 static void catmark_alpha0(void **s)
 {
     (void)s;
-    run("cube", test_mesh_cube, LIMN_SCHEME_CATMARK, 0.0, 9);
-    run("pyramid", test_mesh_pyramid, LIMN_SCHEME_CATMARK, 0.0, 9);
-    run("quad grid 4x3", grid_quads, LIMN_SCHEME_CATMARK, 0.0, 8);
-    run("quad fan valence 5", fan5_quads, LIMN_SCHEME_CATMARK, 0.0, 8);
-    run("quad fan valence 3", fan3_quads, LIMN_SCHEME_CATMARK, 0.0, 8);
+    run_cases(catmark_cases, sizeof catmark_cases / sizeof *catmark_cases, LIMN_SCHEME_CATMARK,
+              0.0);
     run("triangles under CC", grid_tris, LIMN_SCHEME_CATMARK, 0.0, 8);
 }
 
@@ -118,20 +136,20 @@ static void catmark_alpha0(void **s)
 static void catmark_alpha_half(void **s)
 {
     (void)s;
-    run("cube", test_mesh_cube, LIMN_SCHEME_CATMARK, 0.5, 9);
-    run("pyramid", test_mesh_pyramid, LIMN_SCHEME_CATMARK, 0.5, 9);
-    run("quad grid 4x3", grid_quads, LIMN_SCHEME_CATMARK, 0.5, 8);
-    run("quad fan valence 5", fan5_quads, LIMN_SCHEME_CATMARK, 0.5, 8);
-    run("quad fan valence 3", fan3_quads, LIMN_SCHEME_CATMARK, 0.5, 8);
+    run_cases(catmark_cases, sizeof catmark_cases / sizeof *catmark_cases, LIMN_SCHEME_CATMARK,
+              0.5);
 }
 
 static void loop_masks(void **s)
 {
     (void)s;
-    run("icosahedron", test_mesh_icosahedron, LIMN_SCHEME_LOOP, 0.0, 9);
-    run("triangle grid 4x3", grid_tris, LIMN_SCHEME_LOOP, 0.0, 8);
-    run("triangle fan valence 7", fan7_tris, LIMN_SCHEME_LOOP, 0.0, 9);
-    run("triangle fan valence 4", fan4_tris, LIMN_SCHEME_LOOP, 0.0, 9);
+    static const mask_case cases[] = {
+        {"icosahedron", test_mesh_icosahedron, 9},
+        {"triangle grid 4x3", grid_tris, 8},
+        {"triangle fan valence 7", fan7_tris, 9},
+        {"triangle fan valence 4", fan4_tris, 9},
+    };
+    run_cases(cases, sizeof cases / sizeof *cases, LIMN_SCHEME_LOOP, 0.0);
 }
 
 /* The shared n-gon mesh with boundaries (OpenSubdiv's catmark_nonquads). */
