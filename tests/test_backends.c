@@ -103,12 +103,11 @@ static void generated(void **s)
 
 static void shared(void **s)
 {
-    (void)s;
     if (!test_shared_meshes())
         skip();
     static const char *files[] = {"medium/bob_quad.obj", "medium/horse.ply", "small/cow.obj",
                                   "medium/beast.obj", "opensubdiv/catmark_car.obj"};
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     for (size_t i = 0; i < sizeof files / sizeof *files; i++) {
         limn_mesh *m = NULL;
         assert_int_equal(limn_mesh_read(ctx, test_shared_path(files[i]), LIMN_FORMAT_AUTO, &m),
@@ -118,7 +117,6 @@ static void shared(void **s)
             agree_on(files[i], m, LIMN_SCHEME_LOOP, 0.0);
         limn_mesh_destroy(m);
     }
-    limn_context_destroy(ctx);
 }
 
 static int run_cli(const char *env, const char *input, const char *output)
@@ -213,7 +211,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(generated),
-        cmocka_unit_test(shared),
+        CONTEXT_TEST(shared),
         cmocka_unit_test(deterministic_output),
         cmocka_unit_test(deterministic_cli),
     };

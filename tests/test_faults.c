@@ -158,8 +158,7 @@ static void choices_and_usage(void **s)
 /* The library calls behind the flag. */
 static void library(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     assert_int_equal(limn_context_set_fallback(ctx, "reference"), LIMN_OK);
     assert_int_equal(limn_context_set_fallback(ctx, "none"), LIMN_OK);
     assert_int_equal(limn_context_set_fallback(ctx, "cuda"), LIMN_ERR_ARGUMENT);
@@ -177,7 +176,6 @@ static void library(void **s)
     assert_int_equal(limn_limit_positions(ctx, m, LIMN_SCHEME_CATMARK, 0.5, pos), LIMN_OK);
     assert_non_null(strstr(limn_context_device_name(ctx), "reference"));
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
@@ -185,7 +183,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(each_fault),
         cmocka_unit_test(choices_and_usage),
-        cmocka_unit_test(library),
+        CONTEXT_TEST(library),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -568,8 +568,7 @@ static limn_mesh *mesh_of(limn_context *ctx, size_t nv, size_t nf, const uint32_
 
 static void repair_api(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     /* 0: clean; 1: a b b c (consecutive); 2: a b c a d e (split); 3: c d c (dropped);
        4: a b c a (cyclic repeat) */
     const uint32_t off[] = {0, 3, 7, 13, 16, 20};
@@ -631,7 +630,6 @@ static void repair_api(void **s)
     assert_string_equal(limn_context_warnings(ctx), "");
     assert_int_equal(r.components, 1);
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 /* --------------------------------------------------------------- STL reader */
@@ -1081,7 +1079,7 @@ int main(void)
         cmocka_unit_test(class_several_components),
         cmocka_unit_test(class_empty),
         cmocka_unit_test(real_broken_meshes),
-        cmocka_unit_test(repair_api),
+        CONTEXT_TEST(repair_api),
         cmocka_unit_test(stl_reader),
         cmocka_unit_test(existing_output_replaced_atomically),
         cmocka_unit_test(input_never_overwritten),

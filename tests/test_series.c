@@ -284,8 +284,7 @@ static void dense_check(const char *name, limn_mesh *m, limn_scheme scheme, doub
 
 static void series_against_dense(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *ico = test_mesh_icosahedron(ctx), *cube = test_mesh_cube(ctx);
     limn_mesh *grid = test_mesh_grid(ctx, 5, 4, 0), *tgrid = test_mesh_grid(ctx, 4, 4, 1);
     limn_mesh *pyr = test_mesh_pyramid(ctx), *fan = test_mesh_fan(ctx, 5, 0);
@@ -311,7 +310,6 @@ static void series_against_dense(void **s)
     limn_mesh_destroy(tgrid);
     limn_mesh_destroy(pyr);
     limn_mesh_destroy(fan);
-    limn_context_destroy(ctx);
 }
 
 /* --------------------------------------------- bands sum back, energy falls */
@@ -352,8 +350,7 @@ static void bands_of(const char *name, limn_mesh *m, int count, int expect_decre
 
 static void bands_sum_and_energy(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *sphere = icosphere(ctx, 3), *grid = test_mesh_grid(ctx, 40, 37, 0);
     bands_of("icosphere (3 levels)", sphere, 10, 1);
     bands_of("quad grid 40x37", grid, 10, 0);
@@ -367,7 +364,6 @@ static void bands_sum_and_energy(void **s)
         bands_of(smooth[i], m, 8, 1);
         limn_mesh_destroy(m);
     }
-    limn_context_destroy(ctx);
 }
 
 /* ------------------------------------------------------------- denoise */
@@ -412,8 +408,7 @@ static void denoise_one(limn_context *ctx, const char *name, limn_mesh *clean, d
 
 static void denoise_brings_closer(void **s)
 {
-    (void)s;
-    limn_context *ctx = ctx_for("opencl");
+    limn_context *ctx = *s;
     limn_mesh *sphere = icosphere(ctx, 4);
     denoise_one(ctx, "icosphere (4 levels)", sphere, 0.3);
     limn_mesh_destroy(sphere);
@@ -425,15 +420,13 @@ static void denoise_brings_closer(void **s)
         denoise_one(ctx, files[i], m, 0.3);
         limn_mesh_destroy(m);
     }
-    limn_context_destroy(ctx);
 }
 
 /* ------------------------------------------------------------- sharpen */
 
 static void sharpen_raises_high_bands(void **s)
 {
-    (void)s;
-    limn_context *ctx = ctx_for("opencl");
+    limn_context *ctx = *s;
     limn_mesh *m = icosphere(ctx, 3), *sharp = NULL;
     test_perturb(m, 0.01, 7);
     if (test_shared_meshes()) {
@@ -456,7 +449,6 @@ static void sharpen_raises_high_bands(void **s)
             fail_msg("band %d: energy %.6g after sharpening, %.6g before", i, e1[i], e0[i]);
     limn_mesh_destroy(m);
     limn_mesh_destroy(sharp);
-    limn_context_destroy(ctx);
 }
 
 /* --------------------------------------------------------------- morph */
@@ -804,8 +796,7 @@ static void backends_agree(void **s)
 
 static void measures(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *cube = test_mesh_cube(ctx), *grid = test_mesh_grid(ctx, 3, 3, 0);
     limn_mesh *sphere = icosphere(ctx, 5);
     limn_mesh_measures me = {.size = sizeof me};
@@ -839,15 +830,13 @@ static void measures(void **s)
     limn_mesh_destroy(grid);
     limn_mesh_destroy(sphere);
     limn_mesh_destroy(mirror);
-    limn_context_destroy(ctx);
 }
 
 /* -------------------------------------------------------------- render */
 
 static void render_cube(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *cube = test_mesh_cube(ctx);
     limn_render_options o;
     limn_render_options_default(&o);
@@ -874,22 +863,21 @@ static void render_cube(void **s)
     free(rgb);
     free(again);
     limn_mesh_destroy(cube);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(series_against_dense),
-        cmocka_unit_test(bands_sum_and_energy),
-        cmocka_unit_test(denoise_brings_closer),
-        cmocka_unit_test(sharpen_raises_high_bands),
+        CONTEXT_TEST(series_against_dense),
+        CONTEXT_TEST(bands_sum_and_energy),
+        OPENCL_TEST(denoise_brings_closer),
+        OPENCL_TEST(sharpen_raises_high_bands),
         cmocka_unit_test(morph_frames),
         cmocka_unit_test(texture_colors),
         cmocka_unit_test(perlin_noise),
         cmocka_unit_test(backends_agree),
-        cmocka_unit_test(measures),
-        cmocka_unit_test(render_cube),
+        CONTEXT_TEST(measures),
+        CONTEXT_TEST(render_cube),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

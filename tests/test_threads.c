@@ -111,8 +111,7 @@ static void plan_precedence(void **s)
 
 static void bad_requests(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     assert_int_equal(limn_context_set_threads(ctx, -2), LIMN_ERR_ARGUMENT);
     assert_non_null(strstr(limn_context_message(ctx), "-2 is not a thread count"));
     assert_int_equal(limn_context_set_threads(ctx, 1 << 20), LIMN_ERR_ARGUMENT);
@@ -125,7 +124,6 @@ static void bad_requests(void **s)
     assert_int_equal(limn_context_threads(ctx, &n, &src), LIMN_OK);
     assert_int_equal(n, 0);
     assert_non_null(strstr(src, "not decided yet"));
-    limn_context_destroy(ctx);
 }
 
 /* ------------------------------------------------- this process's binding */
@@ -371,7 +369,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(counts_cores_not_pus),
         cmocka_unit_test(plan_precedence),
-        cmocka_unit_test(bad_requests),
+        CONTEXT_TEST(bad_requests),
         cmocka_unit_test(binding_of_this_process),
         cmocka_unit_test(pocl_follows_the_api),
         cmocka_unit_test(pocl_follows_the_binding),
