@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 #include "shell.h"
+#include "slurp.h"
 
 #include <setjmp.h>
 #include <stdio.h>
@@ -53,25 +54,8 @@ char *test_slurp(const char *path, size_t *n)
     FILE *f = fopen(path, "rb");
     if (!f)
         return NULL;
-    size_t cap = 1 << 16, len = 0, got;
-    char *b = malloc(cap + 1);
-    while (b && (got = fread(b + len, 1, cap - len, f)) > 0) {
-        len += got;
-        if (len == cap) {
-            char *g = realloc(b, 2 * cap + 1);
-            if (!g) {
-                free(b);
-                b = NULL;
-                break;
-            }
-            b = g;
-            cap *= 2;
-        }
-    }
+    char *b = test_read_stream(f, n);
     fclose(f);
-    if (b)
-        b[len] = '\0';
-    *n = len;
     return b;
 }
 
