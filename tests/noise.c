@@ -40,3 +40,21 @@ void test_gaussian_noise(limn_mesh *m, double sigma, uint64_t seed)
             p[i + 1] += sigma * r * sin(6.283185307179586 * u[1]);
     }
 }
+
+void test_spherize(limn_mesh *mesh, const double centroid[3])
+{
+    double *p = limn_mesh_positions_mutable(mesh), rsum = 0;
+    size_t n = limn_mesh_vertex_count(mesh);
+    for (size_t i = 0; i < n; i++) {
+        double d[3] = {p[3 * i] - centroid[0], p[3 * i + 1] - centroid[1],
+                       p[3 * i + 2] - centroid[2]};
+        rsum += sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    for (size_t i = 0; i < n; i++) {
+        double d[3] = {p[3 * i] - centroid[0], p[3 * i + 1] - centroid[1],
+                       p[3 * i + 2] - centroid[2]};
+        double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (int c = 0; c < 3; c++)
+            p[3 * i + c] = centroid[c] + d[c] * (rsum / (double)n) / (l > 0 ? l : 1);
+    }
+}

@@ -516,20 +516,7 @@ static limn_mesh *spherized(limn_context *ctx, const limn_mesh *m)
     CHECK_OK(ctx, limn_mesh_copy(ctx, m, &s));
     limn_mesh_measures me = {.size = sizeof me};
     CHECK_OK(ctx, limn_mesh_measure(ctx, m, &me));
-    double *p = limn_mesh_positions_mutable(s), rsum = 0;
-    size_t n = limn_mesh_vertex_count(s);
-    for (size_t i = 0; i < n; i++) {
-        double d[3] = {p[3 * i] - me.centroid[0], p[3 * i + 1] - me.centroid[1],
-                       p[3 * i + 2] - me.centroid[2]};
-        rsum += sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    }
-    for (size_t i = 0; i < n; i++) {
-        double d[3] = {p[3 * i] - me.centroid[0], p[3 * i + 1] - me.centroid[1],
-                       p[3 * i + 2] - me.centroid[2]};
-        double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (int c = 0; c < 3; c++)
-            p[3 * i + c] = me.centroid[c] + d[c] * (rsum / (double)n) / (l > 0 ? l : 1);
-    }
+    test_spherize(s, me.centroid);
     return s;
 }
 
