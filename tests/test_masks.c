@@ -176,6 +176,17 @@ static void shared_ngons(void **s)
     limn_context_destroy(ctx);
 }
 
+/* Every row of the stencil sums to 1 (affine invariance). */
+static void rows_sum_to_one(const stencil_csr *a)
+{
+    for (size_t r = 0; r < a->rows; r++) {
+        double sum = 0;
+        for (uint32_t k = a->row_offsets[r]; k < a->row_offsets[r + 1]; k++)
+            sum += a->weights[k];
+        assert_true(fabs(sum - 1.0) < 1e-14);
+    }
+}
+
 /* Closed forms of DESIGN.md §1 read straight off the CSR rows. */
 static void closed_form_rows(void **s)
 {
@@ -207,24 +218,14 @@ static void closed_form_rows(void **s)
     assert_int_equal(a.row_offsets[1] - a.row_offsets[0], 1);
     assert_true(a.weights[0] == 1.0);
     /* every row sums to 1 (affine invariance) */
-    for (size_t r = 0; r < a.rows; r++) {
-        double sum = 0;
-        for (uint32_t k = a.row_offsets[r]; k < a.row_offsets[r + 1]; k++)
-            sum += a.weights[k];
-        assert_true(fabs(sum - 1.0) < 1e-14);
-    }
+    rows_sum_to_one(&a);
     stencil_free(&a);
     /* general alpha: rows of a valence-3 cube vertex with alpha = 0.5 sum to 1 */
     limn_mesh *cube = test_mesh_cube(ctx);
     topology tc;
     assert_int_equal(topology_build(ctx, cube, &tc), LIMN_OK);
     assert_int_equal(stencil_limit_build(ctx, &tc, LIMN_SCHEME_CATMARK, 0.5, &a), LIMN_OK);
-    for (size_t r = 0; r < a.rows; r++) {
-        double sum = 0;
-        for (uint32_t k = a.row_offsets[r]; k < a.row_offsets[r + 1]; k++)
-            sum += a.weights[k];
-        assert_true(fabs(sum - 1.0) < 1e-14);
-    }
+    rows_sum_to_one(&a);
     stencil_free(&a);
     topology_free(&tc);
     topology_free(&t);
