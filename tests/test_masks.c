@@ -159,20 +159,18 @@ static void shared_ngons(void **s)
     if (!test_shared_meshes())
         skip();
     limn_context *ctx = limn_context_create();
-    limn_mesh *m = NULL;
-    assert_int_equal(limn_mesh_read(ctx, test_shared_path("opensubdiv/catmark_nonquads.obj"),
-                                    LIMN_FORMAT_AUTO, &m),
-                     LIMN_OK);
-    check("catmark_nonquads", m, LIMN_SCHEME_CATMARK, 0.0, 8);
-    check("catmark_nonquads", m, LIMN_SCHEME_CATMARK, 0.5, 8);
-    limn_mesh_destroy(m);
-    /* interior valence-2 vertices, where OpenSubdiv's limit mask differs */
-    assert_int_equal(limn_mesh_read(ctx, test_shared_path("opensubdiv/catmark_val2_interior.obj"),
-                                    LIMN_FORMAT_AUTO, &m),
-                     LIMN_OK);
-    check("catmark_val2_interior", m, LIMN_SCHEME_CATMARK, 0.0, 8);
-    check("catmark_val2_interior", m, LIMN_SCHEME_CATMARK, 0.5, 8);
-    limn_mesh_destroy(m);
+    /* catmark_val2_interior: interior valence-2 vertices, where OpenSubdiv's
+       limit mask differs */
+    static const char *const names[] = {"catmark_nonquads", "catmark_val2_interior"};
+    for (size_t i = 0; i < sizeof names / sizeof *names; i++) {
+        char rel[64];
+        snprintf(rel, sizeof rel, "opensubdiv/%s.obj", names[i]);
+        limn_mesh *m = NULL;
+        assert_int_equal(limn_mesh_read(ctx, test_shared_path(rel), LIMN_FORMAT_AUTO, &m), LIMN_OK);
+        check(names[i], m, LIMN_SCHEME_CATMARK, 0.0, 8);
+        check(names[i], m, LIMN_SCHEME_CATMARK, 0.5, 8);
+        limn_mesh_destroy(m);
+    }
     limn_context_destroy(ctx);
 }
 
