@@ -14,7 +14,6 @@ and Chebyshev with a Lanczos estimate from the first K seeds' steps (Ritz
 values of the Krylov space the residuals span, D^-1 inner product), the
 estimate the issue suggested. Needs numpy and scipy (pip install numpy scipy).
 """
-import argparse
 import os
 import subprocess
 import sys
@@ -25,6 +24,7 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from perf_args import operator_args  # noqa: E402
 from scipy_anchor import load  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -92,13 +92,7 @@ def ritz_lambda_min(A, M, K, dinv):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("meshes", nargs="*", default=DEFAULT)
-    args = ap.parse_args()
-    exporter = os.path.join(args.build, "perf", "export_operator")
-    if not os.path.exists(exporter):
-        sys.exit(f"{exporter} is missing: bash scripts/build.sh -DLIMN_BUILD_PERF=ON")
+    args, exporter = operator_args(__doc__, DEFAULT)
     print("| mesh | scheme | lambda_min | paper | cheb exact | cheb prior | 1 paper + cheb prior "
           "| Lanczos K=4 estimate | cheb on it (incl. 4 probes) |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|")

@@ -28,6 +28,7 @@
  * Prints tables and writes out/denoise_bench.csv and out/morph_volume.csv.
  */
 #include "limn.h"
+#include "noise.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -47,43 +48,6 @@ static void die(limn_context *ctx, const char *what)
 {
     fprintf(stderr, "denoise_bench: %s: %s\n", what, ctx ? limn_context_message(ctx) : "");
     exit(1);
-}
-
-static double mean_edge(const limn_mesh *m)
-{
-    const double *p = limn_mesh_positions(m);
-    const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
-    double sum = 0;
-    size_t count = 0;
-    for (size_t f = 0; f < limn_mesh_face_count(m); f++)
-        for (uint32_t k = off[f]; k < off[f + 1]; k++) {
-            const double *a = p + 3 * idx[k], *b = p + 3 * idx[k + 1 < off[f + 1] ? k + 1 : off[f]];
-            sum += sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                        (a[2] - b[2]) * (a[2] - b[2]));
-            count++;
-        }
-    return sum / (double)count;
-}
-
-static void gaussian_noise(limn_mesh *m, double sigma, uint64_t seed)
-{
-    double *p = limn_mesh_positions_mutable(m);
-    size_t n = 3 * limn_mesh_vertex_count(m);
-    uint64_t s = seed;
-    for (size_t i = 0; i < n; i += 2) {
-        double u[2];
-        for (int k = 0; k < 2; k++) {
-            uint64_t z = (s += 0x9E3779B97F4A7C15ULL);
-            z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-            z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-            z ^= z >> 31;
-            u[k] = ((double)(z >> 11) + 0.5) / 9007199254740992.0;
-        }
-        double r = sqrt(-2.0 * log(u[0]));
-        p[i] += sigma * r * cos(6.283185307179586 * u[1]);
-        if (i + 1 < n)
-            p[i + 1] += sigma * r * sin(6.283185307179586 * u[1]);
-    }
 }
 
 /* ------------------------------------------------------------- Taubin */
@@ -225,20 +189,7 @@ static limn_mesh *spherized(limn_context *ctx, const limn_mesh *m)
     limn_mesh_measures me = {.size = sizeof me};
     if (limn_mesh_copy(ctx, m, &s) || limn_mesh_measure(ctx, m, &me))
         die(ctx, "sphere");
-    double *p = limn_mesh_positions_mutable(s), rsum = 0;
-    size_t n = limn_mesh_vertex_count(s);
-    for (size_t i = 0; i < n; i++) {
-        double d[3] = {p[3 * i] - me.centroid[0], p[3 * i + 1] - me.centroid[1],
-                       p[3 * i + 2] - me.centroid[2]};
-        rsum += sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    }
-    for (size_t i = 0; i < n; i++) {
-        double d[3] = {p[3 * i] - me.centroid[0], p[3 * i + 1] - me.centroid[1],
-                       p[3 * i + 2] - me.centroid[2]};
-        double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (int c = 0; c < 3; c++)
-            p[3 * i + c] = me.centroid[c] + d[c] * (rsum / (double)n) / (l > 0 ? l : 1);
-    }
+    test_spherize(s, me.centroid);
     return s;
 }
 
@@ -313,12 +264,12 @@ int main(int argc, char **argv)
         double ta = now();
         adjacency adj = build_adjacency(clean);
         double adj_seconds = now() - ta;
-        double edge = mean_edge(clean);
+        double edge = test_mean_edge(clean);
         for (size_t si = 0; si < 2; si++) {
             limn_mesh *noisy = NULL, *out = NULL;
             if (limn_mesh_copy(ctx, clean, &noisy))
                 die(ctx, "copy");
-            gaussian_noise(noisy, sigmas[si] * edge, 1000 + 17 * fi + si);
+            test_gaussian_noise(noisy, sigmas[si] * edge, 1000 + 17 * fi + si);
             if (write_noisy) {
                 char np[4096];
                 snprintf(np, sizeof np, "%s/%.*s_sigma%.1f.ply", write_noisy,

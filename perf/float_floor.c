@@ -9,6 +9,7 @@
  * limn's float path refines in double rather than iterating P in float.
  *   float_floor MESH loop|catmark [steps, default 300]
  */
+#include "bench_operator.h"
 #include "device/device.h"
 #include "limn.h"
 #include "mesh/mesh.h"
@@ -25,15 +26,11 @@ int main(int argc, char **argv)
         return 2;
     }
     int steps = argc > 3 ? atoi(argv[3]) : 300;
-    limn_scheme scheme = strcmp(argv[2], "loop") == 0 ? LIMN_SCHEME_LOOP : LIMN_SCHEME_CATMARK;
-    limn_context *ctx = limn_context_create();
-    limn_mesh *mesh = NULL;
+    limn_context *ctx;
+    limn_mesh *mesh;
     stencil_operator op;
-    if (limn_mesh_read(ctx, argv[1], LIMN_FORMAT_AUTO, &mesh) ||
-        operator_build_ex(ctx, mesh, scheme, 0.0, OPERATOR_REORDER, &op)) {
-        fprintf(stderr, "float_floor: %s\n", limn_context_message(ctx));
+    if (bench_operator("float_floor", argv[1], argv[2], &ctx, &mesh, &op))
         return 1;
-    }
     size_t n = op.vertex_count;
     struct device *dev = op.dev;
     double *m4 = malloc(4 * n * sizeof *m4), *zero = calloc(4 * n, sizeof *zero);

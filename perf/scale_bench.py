@@ -12,7 +12,6 @@ stencil, solve, write) the seconds and ns per vertex — linear stages keep ns
 per vertex flat as the size grows 64x — and the peak memory in bytes per
 vertex. Meshes are made with `limn subdivide` into out/perf-meshes/.
 """
-import argparse
 import json
 import os
 import subprocess
@@ -20,6 +19,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from perf_args import scale_parser  # noqa: E402
 from series_throughput import SIZES, mesh  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -34,11 +34,7 @@ def run_with_peak(cmd):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--meshes", default=os.environ.get(
-        "LIMN_SHARED_MESHES", os.path.join(ROOT, "..", "shared", "meshes")))
-    ap.add_argument("--max-size", type=float, default=9e6)
+    ap = scale_parser(__doc__)
     ap.add_argument("--method", default="auto")
     a = ap.parse_args()
     limn = os.path.join(a.build, "limn")

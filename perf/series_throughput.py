@@ -16,12 +16,14 @@ compute phase moves (the series step streams the CSR table, one gather of x,
 x_next and the accumulator: 12 B a nonzero + 4 B a row + 4 x 32 B a row).
 Prints a markdown table; returns rows to run_suite.py.
 """
-import argparse
 import json
 import os
 import subprocess
 import sys
 import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from perf_args import scale_parser  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SIZES = [("igea 134k", 0), ("igea 537k", 1), ("igea 2.1M", 2), ("igea 8.6M", 3)]
@@ -80,11 +82,7 @@ def print_table(rows, stream_gbs=None):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--meshes", default=os.environ.get(
-        "LIMN_SHARED_MESHES", os.path.join(ROOT, "..", "shared", "meshes")))
-    ap.add_argument("--max-size", type=float, default=9e6)
+    ap = scale_parser(__doc__)
     ap.add_argument("--stream-gbs", type=float, default=None,
                     help="STREAM triad GB/s (2 threads) to compare with")
     a = ap.parse_args()

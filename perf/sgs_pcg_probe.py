@@ -14,7 +14,6 @@ needs a multicolour ordering).
 Needs numpy and scipy. Each iteration applies S once and the two triangular
 sweeps once (with Eisenstat's trick about one matrix pass in all).
 """
-import argparse
 import os
 import subprocess
 import sys
@@ -25,6 +24,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from perf_args import operator_args  # noqa: E402
 from scipy_anchor import load  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -68,13 +68,7 @@ def sgs_pcg(A, M, scale, tol):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("meshes", nargs="*", default=DEFAULT)
-    a = ap.parse_args()
-    exporter = os.path.join(a.build, "perf", "export_operator")
-    if not os.path.exists(exporter):
-        sys.exit(f"{exporter} is missing: bash scripts/build.sh -DLIMN_BUILD_PERF=ON")
+    a, exporter = operator_args(__doc__, DEFAULT)
     print("| mesh | scheme | SGS-PCG iterations to 1e-6 |")
     print("|---|---|---:|")
     with tempfile.TemporaryDirectory() as tmp:

@@ -23,6 +23,7 @@
  * (counting it would add 32 or 16 bytes a row and flatter the rate).
  * Write-allocate traffic is not counted, as in STREAM.
  */
+#include "bench_operator.h"
 #include "device/device.h"
 #include "limn.h"
 #include "mesh/mesh.h"
@@ -66,15 +67,11 @@ int main(int argc, char **argv)
     int repeats = argc > 3 ? atoi(argv[3]) : 20;
     if (repeats < 1)
         repeats = 1;
-    limn_scheme scheme = strcmp(argv[2], "loop") == 0 ? LIMN_SCHEME_LOOP : LIMN_SCHEME_CATMARK;
-    limn_context *ctx = limn_context_create();
-    limn_mesh *mesh = NULL;
+    limn_context *ctx;
+    limn_mesh *mesh;
     stencil_operator op;
-    if (limn_mesh_read(ctx, argv[1], LIMN_FORMAT_AUTO, &mesh) ||
-        operator_build_ex(ctx, mesh, scheme, 0.0, OPERATOR_REORDER, &op)) {
-        fprintf(stderr, "step_bench: %s\n", limn_context_message(ctx));
+    if (bench_operator("step_bench", argv[1], argv[2], &ctx, &mesh, &op))
         return 1;
-    }
     size_t n = op.vertex_count, nnz = op.host.row_offsets[n];
     struct device *dev = op.dev;
     double *buf = malloc(4 * n * sizeof *buf), *times = malloc(repeats * sizeof *times);

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Helpers of the API checks' tests (test_api_checks.c, test_api_limits.c):
+/* Helpers of the API checks' tests (test_api_checks.c, test_api_limits.c,
+   test_abi.c, test_embed.c):
    assertions on a refused call's status and message, a context on the
    reference backend, a scratch directory. */
 #ifndef LIMN_API_EXPECT_H

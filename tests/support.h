@@ -4,6 +4,7 @@
 #ifndef LIMN_TEST_SUPPORT_H
 #define LIMN_TEST_SUPPORT_H
 
+#include "fixture.h"
 #include "limn.h"
 #include <stddef.h>
 

@@ -249,8 +249,7 @@ static void defaults_set_size(void **s)
 /* The embedded series struct is checked by its own size. */
 static void embedded_series_size(void **s)
 {
-    (void)s;
-    limn_context *ctx = api_reference_context();
+    limn_context *ctx = *s;
     limn_mesh *mesh = test_mesh_cube(ctx);
     limn_morph_options mo;
     fill_morph(&mo);
@@ -264,7 +263,6 @@ static void embedded_series_size(void **s)
     REFUSED(ctx, call_texture(ctx, mesh, &to), "limn_texture", "options->series.size is 3",
             "smaller than the first released limn_series_options");
     limn_mesh_destroy(mesh);
-    limn_context_destroy(ctx);
 }
 
 /*
@@ -275,8 +273,7 @@ static void embedded_series_size(void **s)
  */
 static void embedded_series_newer(void **s)
 {
-    (void)s;
-    limn_context *ctx = api_reference_context();
+    limn_context *ctx = *s;
     limn_mesh *mesh = test_mesh_cube(ctx);
     limn_morph_options mo;
     fill_morph(&mo);
@@ -298,7 +295,6 @@ static void embedded_series_newer(void **s)
                        NULL),
             "limn_morph: options->series.size is", "limn_series_options", "is set");
     limn_mesh_destroy(mesh);
-    limn_context_destroy(ctx);
 }
 
 /*
@@ -532,8 +528,7 @@ static void report_measures_comparison(void **s)
 /* A refused report size costs nothing: no mesh is made, *out stays NULL. */
 static void report_refused_before_work(void **s)
 {
-    (void)s;
-    limn_context *ctx = api_reference_context();
+    limn_context *ctx = *s;
     limn_mesh *mesh = test_mesh_cube(ctx);
     limn_report r;
     memset(&r, 0, sizeof r);
@@ -543,7 +538,6 @@ static void report_refused_before_work(void **s)
     assert_null(control);
     assert_int_equal(r.vertices, 0);
     limn_mesh_destroy(mesh);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
@@ -557,8 +551,8 @@ int main(void)
         cmocka_unit_test(morph),
         cmocka_unit_test(texture),
         cmocka_unit_test(render),
-        cmocka_unit_test(embedded_series_size),
-        cmocka_unit_test(embedded_series_newer),
+        REFERENCE_TEST(embedded_series_size),
+        REFERENCE_TEST(embedded_series_newer),
         cmocka_unit_test(older_options_get_defaults),
         cmocka_unit_test(report_repair),
         cmocka_unit_test(report_info),
@@ -568,7 +562,7 @@ int main(void)
         cmocka_unit_test(report_texture),
         cmocka_unit_test(report_morph),
         cmocka_unit_test(report_measures_comparison),
-        cmocka_unit_test(report_refused_before_work),
+        REFERENCE_TEST(report_refused_before_work),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

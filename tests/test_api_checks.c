@@ -25,8 +25,7 @@
 
 static void create_names_the_vertex(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     double p[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
     uint32_t off[2] = {0, 3}, idx[3] = {0, 1, 2};
     limn_mesh *m = (limn_mesh *)&m;
@@ -49,7 +48,6 @@ static void create_names_the_vertex(void **s)
             "z = nan");
     assert_true(limn_mesh_positions(m)[5] == 0.0);
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 /* One NaN or Inf written through limn_mesh_positions_mutable: every
@@ -141,8 +139,7 @@ static void mutable_edits_are_checked(void **s)
 
 static void unknown_enums_are_refused(void **s)
 {
-    (void)s;
-    limn_context *ctx = api_reference_context();
+    limn_context *ctx = *s;
     limn_mesh *m = test_mesh_icosahedron(ctx), *out = NULL;
     size_t n = limn_mesh_vertex_count(m), v, f, b;
     double *buf = calloc(3 * n, sizeof *buf);
@@ -221,15 +218,13 @@ static void unknown_enums_are_refused(void **s)
     assert_null(out);
     free(buf);
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 /* ------------------------------------------------------- buffers and NULLs */
 
 static void zero_length_and_null_buffers(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     char text[16] = "untouched";
     REFUSED(ctx, limn_list_devices(ctx, text, 0), "limn_list_devices", "buf_size is 0");
     assert_string_equal(text, "untouched");
@@ -258,14 +253,12 @@ static void zero_length_and_null_buffers(void **s)
     REFUSED(ctx, limn_png_write(ctx, "", 1, 1, rgb), "no file name");
     assert_false(test_file_exists(api_scratch("x.png")));
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 /* Every error path reachable from the API carries a non-empty message. */
 static void every_error_has_a_message(void **s)
 {
-    (void)s;
-    limn_context *ctx = api_reference_context();
+    limn_context *ctx = *s;
     limn_mesh *m = test_mesh_icosahedron(ctx), *cube = test_mesh_cube(ctx), *out = NULL;
     size_t n = limn_mesh_vertex_count(m), v, f, b;
     double *d = calloc(3 * n, sizeof *d);
@@ -382,17 +375,16 @@ static void every_error_has_a_message(void **s)
     free(d);
     limn_mesh_destroy(m);
     limn_mesh_destroy(cube);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(create_names_the_vertex),
+        CONTEXT_TEST(create_names_the_vertex),
         cmocka_unit_test(mutable_edits_are_checked),
-        cmocka_unit_test(unknown_enums_are_refused),
-        cmocka_unit_test(zero_length_and_null_buffers),
-        cmocka_unit_test(every_error_has_a_message),
+        REFERENCE_TEST(unknown_enums_are_refused),
+        CONTEXT_TEST(zero_length_and_null_buffers),
+        REFERENCE_TEST(every_error_has_a_message),
     };
     return cmocka_run_group_tests(tests, api_make_dir, api_remove_dir);
 }

@@ -25,8 +25,7 @@
 
 static void counts_over_their_caps(void **s)
 {
-    (void)s;
-    limn_context *ctx = api_reference_context();
+    limn_context *ctx = *s;
     limn_mesh *m = test_mesh_icosahedron(ctx), *out = NULL;
     size_t v, f, b;
     int frames = 0;
@@ -95,7 +94,6 @@ static void counts_over_their_caps(void **s)
     OK(ctx, limn_denoise(ctx, m, NULL, 0, 2, 0, &out, NULL));
     limn_mesh_destroy(out);
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 /* ---------------------------------------------------------------- formats */
@@ -154,8 +152,7 @@ static void formats_that_cannot_hold_the_mesh(void **s)
 
 static void huge_coordinates_are_named_as_overflow(void **s)
 {
-    (void)s;
-    limn_context *ctx = api_reference_context();
+    limn_context *ctx = *s;
     limn_mesh *m = test_mesh_icosahedron(ctx), *out = NULL;
     size_t n = limn_mesh_vertex_count(m);
     double *p = limn_mesh_positions_mutable(m), *d = malloc(3 * n * sizeof *d);
@@ -193,15 +190,13 @@ static void huge_coordinates_are_named_as_overflow(void **s)
     limn_mesh_destroy(out);
     free(d);
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 /* ---------------------------------------------------------------- colours */
 
 static void subdivide_names_dropped_colours(void **s)
 {
-    (void)s;
-    limn_context *ctx = api_reference_context();
+    limn_context *ctx = *s;
     limn_mesh *m = test_mesh_icosahedron(ctx), *out = NULL;
     uint8_t rgb[12 * 3];
     for (size_t i = 0; i < sizeof rgb; i++)
@@ -223,16 +218,15 @@ static void subdivide_names_dropped_colours(void **s)
     assert_string_equal(limn_context_warnings(ctx), "");
     limn_mesh_destroy(out);
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(counts_over_their_caps),
+        REFERENCE_TEST(counts_over_their_caps),
         cmocka_unit_test(formats_that_cannot_hold_the_mesh),
-        cmocka_unit_test(huge_coordinates_are_named_as_overflow),
-        cmocka_unit_test(subdivide_names_dropped_colours),
+        REFERENCE_TEST(huge_coordinates_are_named_as_overflow),
+        REFERENCE_TEST(subdivide_names_dropped_colours),
     };
     return cmocka_run_group_tests(tests, api_make_dir, api_remove_dir);
 }

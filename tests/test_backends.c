@@ -7,6 +7,7 @@
  * the iteration counts are equal. Two runs of the CLI give identical bytes,
  * also with PoCL on 1 and on 2 threads.
  */
+#include "shell.h"
 #include "support.h"
 
 #include <math.h>
@@ -102,12 +103,11 @@ static void generated(void **s)
 
 static void shared(void **s)
 {
-    (void)s;
     if (!test_shared_meshes())
         skip();
     static const char *files[] = {"medium/bob_quad.obj", "medium/horse.ply", "small/cow.obj",
                                   "medium/beast.obj", "opensubdiv/catmark_car.obj"};
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     for (size_t i = 0; i < sizeof files / sizeof *files; i++) {
         limn_mesh *m = NULL;
         assert_int_equal(limn_mesh_read(ctx, test_shared_path(files[i]), LIMN_FORMAT_AUTO, &m),
@@ -117,7 +117,6 @@ static void shared(void **s)
             agree_on(files[i], m, LIMN_SCHEME_LOOP, 0.0);
         limn_mesh_destroy(m);
     }
-    limn_context_destroy(ctx);
 }
 
 static int run_cli(const char *env, const char *input, const char *output)
@@ -128,19 +127,12 @@ static int run_cli(const char *env, const char *input, const char *output)
     return system(cmd);
 }
 
-static int same_bytes(const char *a, const char *b)
-{
-    char cmd[16384];
-    snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", a, b);
-    return system(cmd) == 0;
-}
-
 /* Same input, same bytes: two runs, 1 and 2 PoCL threads, both backends. */
 static void deterministic_output(void **s)
 {
     (void)s;
-    char dir[] = "/tmp/limn_det_XXXXXX";
-    assert_non_null(mkdtemp(dir));
+    char dir[64];
+    assert_int_equal(test_make_dir(dir, sizeof dir, "det"), 0);
     char in[4096], o1[4096], o2[4096], o3[4096], o4[4096];
     if (test_shared_meshes())
         snprintf(in, sizeof in, "%.4000s", test_shared_path("medium/bunny_closed.off"));
@@ -154,15 +146,14 @@ static void deterministic_output(void **s)
     assert_int_equal(run_cli("POCL_MAX_PTHREAD_COUNT=2", in, o2), 0);
     assert_int_equal(run_cli("POCL_MAX_PTHREAD_COUNT=1", in, o3), 0);
     assert_int_equal(run_cli("LIMN_DEVICE=reference", in, o4), 0);
-    assert_true(same_bytes(o1, o2));
-    assert_true(same_bytes(o1, o3));
+    assert_true(test_same_bytes(o1, o2));
+    assert_true(test_same_bytes(o1, o3));
     char cmd[16384];
     snprintf(cmd, sizeof cmd, "'%s' interpolate '%s' -o '%s' -q --device reference",
              getenv("LIMN_BIN"), in, o4);
     assert_int_equal(system(cmd), 0);
-    assert_true(same_bytes(o1, o4));
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    assert_true(test_same_bytes(o1, o4));
+    assert_int_equal(test_remove_dir(dir), 0);
 }
 
 /* Every mesh output of the CLI is the same bytes for PoCL on 1 and 2 threads,
@@ -172,8 +163,8 @@ static void deterministic_output(void **s)
 static void deterministic_cli(void **s)
 {
     (void)s;
-    char dir[] = "/tmp/limn_det2_XXXXXX";
-    assert_non_null(mkdtemp(dir));
+    char dir[64];
+    assert_int_equal(test_make_dir(dir, sizeof dir, "det2"), 0);
     char inputs[2][4096];
     int count = 1;
     snprintf(inputs[0], sizeof inputs[0], "%.4000s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
@@ -203,26 +194,24 @@ static void deterministic_cli(void **s)
                 char a[4200], b[4200];
                 snprintf(a, sizeof a, "%s/0.%s", dir, ext);
                 snprintf(b, sizeof b, "%s/%d.%s", dir, e, ext);
-                if (!same_bytes(a, b))
+                if (!test_same_bytes(a, b))
                     fail_msg("%s: command %zu, run %d (%s) differs", inputs[in], c, e, envs[e]);
                 if (c == 2) {
                     snprintf(a, sizeof a, "%s/0_surface.stl", dir);
                     snprintf(b, sizeof b, "%s/%d_surface.stl", dir, e);
-                    if (!same_bytes(a, b))
+                    if (!test_same_bytes(a, b))
                         fail_msg("%s: surface of run %d (%s) differs", inputs[in], e, envs[e]);
                 }
             }
         }
-    char cmd[4200];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    assert_int_equal(test_remove_dir(dir), 0);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(generated),
-        cmocka_unit_test(shared),
+        CONTEXT_TEST(shared),
         cmocka_unit_test(deterministic_output),
         cmocka_unit_test(deterministic_cli),
     };

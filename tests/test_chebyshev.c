@@ -153,11 +153,10 @@ static void closed_form(void **state)
    fewer steps than the seeds' iteration needs (log(1e-9) / log(0.998)). */
 static void restart_below_a(void **state)
 {
-    (void)state;
     double lambda[N];
     for (int i = 0; i < N; i++)
         lambda[i] = i == 0 ? 0.002 : 0.25 + 0.75 * (double)i / (N - 1);
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *state;
     diag_system s;
     diag_open(ctx, "reference", lambda, &s);
     chebyshev c;
@@ -185,14 +184,13 @@ static void restart_below_a(void **state)
     assert_true(c.a < 0.01);
     assert_true(steps * 5 < paper);
     diag_close(&s);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(closed_form),
-        cmocka_unit_test(restart_below_a),
+        CONTEXT_TEST(restart_below_a),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,6 +5,7 @@
  * and writes nothing (an existing output file is left as it was). A good run
  * writes the mesh and a JSON report with the documented keys.
  */
+#include "shell.h"
 #include "support.h"
 
 #include <setjmp.h>
@@ -25,8 +26,7 @@ static char text[1 << 16];
 static int setup(void **s)
 {
     (void)s;
-    strcpy(dir, "/tmp/limn_cli_XXXXXX");
-    if (!mkdtemp(dir))
+    if (test_make_dir(dir, sizeof dir, "cli") != 0)
         return -1;
     snprintf(out_path, sizeof out_path, "%s/out.ply", dir);
     return 0;
@@ -35,32 +35,13 @@ static int setup(void **s)
 static int teardown(void **s)
 {
     (void)s;
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return test_remove_dir(dir);
 }
 
 /* Runs `limn ARGS` and captures stdout+stderr into text; returns the exit status. */
-static int limn(const char *args)
-{
-    char cmd[8192];
-    snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", getenv("LIMN_BIN"), args);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(text, 1, sizeof text - 1, p);
-    text[n] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
+static int limn(const char *args) { return test_limn(text, sizeof text, NULL, "%s", args); }
 
-static const char *in_dir(const char *name)
-{
-    static char path[4][256];
-    static int k;
-    k = (k + 1) % 4;
-    snprintf(path[k], sizeof path[k], "%s/%s", dir, name);
-    return path[k];
-}
+static const char *in_dir(const char *name) { return test_join(dir, name); }
 
 static void no_output_left(void)
 {
@@ -85,6 +66,18 @@ static void expect_failure_opts(const char *name, const char *content, int statu
         fail_msg("%s: exit %d (want %d), output:\n%s\nwanted: %s", name, rc, status, text, message);
     no_output_left();
     unlink(path);
+}
+
+/* `limn ARGS` (printf-style) exits with status and its output has message. */
+static void expect_run(int status, const char *message, const char *fmt, ...)
+{
+    char args[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(args, sizeof args, fmt, ap);
+    va_end(ap);
+    assert_int_equal(limn(args), status);
+    assert_non_null(strstr(text, message));
 }
 
 static void expect_failure(const char *name, const char *content, int status, const char *message)
@@ -226,19 +219,12 @@ static void bad_usage(void **s)
                      cases[i].message);
         no_output_left();
     }
-    snprintf(args, sizeof args, "interpolate '%s'", spot);
-    assert_int_equal(limn(args), 2);
-    assert_non_null(strstr(text, "no output given"));
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s/out.xyz'", spot, dir);
-    assert_int_equal(limn(args), 2);
-    assert_non_null(strstr(text, "cannot tell the format"));
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s/missing/dir/out.ply'", spot, dir);
-    assert_int_equal(limn(args), 1);
-    assert_non_null(strstr(text, "missing/dir/out.ply"));
+    expect_run(2, "no output given", "interpolate '%s'", spot);
+    expect_run(2, "cannot tell the format", "interpolate '%s' -o '%s/out.xyz'", spot, dir);
+    expect_run(1, "missing/dir/out.ply", "interpolate '%s' -o '%s/missing/dir/out.ply'", spot, dir);
     /* Loop on a mesh with quads */
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --scheme loop", spot, out_path);
-    assert_int_equal(limn(args), 1);
-    assert_non_null(strstr(text, "Loop subdivision needs triangles"));
+    expect_run(1, "Loop subdivision needs triangles",
+               "interpolate '%s' -o '%s' --scheme loop", spot, out_path);
     no_output_left();
     assert_int_equal(limn("frobnicate"), 2);
     assert_int_equal(limn(""), 2);
@@ -246,9 +232,7 @@ static void bad_usage(void **s)
     const char *copy = in_dir("in_copy.obj");
     snprintf(args, sizeof args, "cp '%s' '%s'", spot, copy);
     assert_int_equal(system(args), 0);
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s'", copy, copy);
-    assert_int_equal(limn(args), 2);
-    assert_non_null(strstr(text, "is the input file"));
+    expect_run(2, "is the input file", "interpolate '%s' -o '%s'", copy, copy);
     unlink(copy);
 }
 
@@ -265,9 +249,7 @@ static void singular_keeps_existing_output(void **s)
                      0);
     assert_int_equal(test_write_text(out_path, "KEEP"), 0);
     char args[1024];
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s'", cube, out_path);
-    assert_int_equal(limn(args), 1);
-    assert_non_null(strstr(text, "--alpha 0.5"));
+    expect_run(1, "--alpha 0.5", "interpolate '%s' -o '%s'", cube, out_path);
     FILE *f = fopen(out_path, "rb");
     char buf[8] = "";
     assert_non_null(f);
@@ -286,13 +268,11 @@ static void singular_keeps_existing_output(void **s)
 static void good_run_and_report(void **s)
 {
     (void)s;
-    char spot[512], args[2048], report[300];
+    char spot[512], report[300];
     snprintf(spot, sizeof spot, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
     snprintf(report, sizeof report, "%s/report.json", dir);
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' --tol 1e-7", spot,
-             out_path, report);
-    assert_int_equal(limn(args), 0);
-    assert_non_null(strstr(text, "iterations"));
+    expect_run(0, "iterations",
+               "interpolate '%s' -o '%s' --report '%s' --tol 1e-7", spot, out_path, report);
     assert_true(test_file_exists(out_path));
     FILE *f = fopen(report, "r");
     assert_non_null(f);
@@ -312,9 +292,7 @@ static void good_run_and_report(void **s)
     double rel = strtod(strstr(json, "\"max_rel_error\": ") + 17, NULL);
     assert_true(rel <= 1e-7);
     /* the written control mesh reads back with the input's counts */
-    snprintf(args, sizeof args, "info '%s' --json", out_path);
-    assert_int_equal(limn(args), 0);
-    assert_non_null(strstr(text, "\"vertices\": 188, \"faces\": 180"));
+    expect_run(0, "\"vertices\": 188, \"faces\": 180", "info '%s' --json", out_path);
     unlink(report);
     unlink(out_path);
     assert_int_equal(limn("devices"), 0);
@@ -351,10 +329,8 @@ static void subdivide_and_surface(void **s)
     snprintf(report, sizeof report, "%s/sub.json", dir);
     snprintf(ctrl, sizeof ctrl, "%s/ctrl.ply", dir);
     snprintf(surf, sizeof surf, "%s/surf.obj", dir);
-    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --levels 2 --report '%s'", spot, out_path,
-             report);
-    assert_int_equal(limn(args), 0);
-    assert_non_null(strstr(text, "2930 vertices, 2928 faces"));
+    expect_run(0, "2930 vertices, 2928 faces",
+               "subdivide '%s' -o '%s' --levels 2 --report '%s'", spot, out_path, report);
     FILE *f = fopen(report, "r");
     assert_non_null(f);
     char json[8192];
@@ -367,21 +343,15 @@ static void subdivide_and_surface(void **s)
     unlink(report);
     unlink(out_path);
     /* bad usage and refusals write nothing */
-    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --levels 17", spot, out_path);
-    assert_int_equal(limn(args), 2);
-    assert_non_null(strstr(text, "--levels 17 is outside 0..16"));
-    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --levels 7 --max-memory 64M", spot,
-             out_path);
-    assert_int_equal(limn(args), 1);
-    assert_non_null(strstr(text, "raise --max-memory"));
-    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --max-memory lots", spot, out_path);
-    assert_int_equal(limn(args), 2);
-    assert_non_null(strstr(text, "--max-memory expects a size"));
+    expect_run(2, "--levels 17 is outside 0..16",
+               "subdivide '%s' -o '%s' --levels 17", spot, out_path);
+    expect_run(1, "raise --max-memory",
+               "subdivide '%s' -o '%s' --levels 7 --max-memory 64M", spot, out_path);
+    expect_run(2, "--max-memory expects a size",
+               "subdivide '%s' -o '%s' --max-memory lots", spot, out_path);
     no_output_left();
     /* interpolate + surface in one run; the refusal comes before solving */
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --levels 2", spot, ctrl);
-    assert_int_equal(limn(args), 2);
-    assert_non_null(strstr(text, "need --surface"));
+    expect_run(2, "need --surface", "interpolate '%s' -o '%s' --levels 2", spot, ctrl);
     snprintf(args, sizeof args,
              "interpolate '%s' -o '%s' --surface '%s' --levels 7 --max-memory 64M", spot, ctrl,
              surf);
@@ -395,9 +365,7 @@ static void subdivide_and_surface(void **s)
     assert_non_null(strstr(text, "surface: "));
     assert_true(test_file_exists(ctrl));
     assert_true(test_file_exists(surf));
-    snprintf(args, sizeof args, "info '%s' --json", surf);
-    assert_int_equal(limn(args), 0);
-    assert_non_null(strstr(text, "\"vertices\": 2930, \"faces\": 2928"));
+    expect_run(0, "\"vertices\": 2930, \"faces\": 2928", "info '%s' --json", surf);
     unlink(ctrl);
     unlink(surf);
 }

@@ -11,16 +11,9 @@
 # was built with -DLIMN_SANITIZE=ON, as in test_install.sh.
 set -euo pipefail
 build=$1 src=$2 cc=$3 intree=$4 flags="${5:-}"
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/limn_cli_installed.XXXXXX")
-trap 'rm -rf "$tmp"' EXIT
-prefix=$tmp/prefix
-fail() { echo "test_cli_installed: $*" >&2; exit 1; }
-
-cmake --install "$build" --prefix "$prefix" >"$tmp/install.log" ||
-    { cat "$tmp/install.log"; fail "cmake --install failed"; }
-so=$(find "$prefix" -name 'liblimn.so' | head -n 1)
-[[ -n $so ]] || fail "no liblimn.so under $prefix"
-libdir=$(dirname "$so")
+# shellcheck source=install_prefix.sh
+source "$(dirname "${BASH_SOURCE[0]}")/install_prefix.sh"
+install_prefix cli_installed "$build"
 [[ -f $prefix/include/limn.h ]] || fail "no limn.h under $prefix/include"
 
 # the CLI's own files only: nothing of host/ can be found beside them

@@ -8,6 +8,7 @@
  * positions equals one made from them). Bad arguments are refused with a
  * message naming them, and a refused call writes nothing.
  */
+#include "api_expect.h"
 #include "support.h"
 
 #include <math.h>
@@ -81,13 +82,6 @@ static double max_distance(const double *a, const double *b, size_t n)
                          (a[3 * i + 2] - b[3 * i + 2]) * (a[3 * i + 2] - b[3 * i + 2])));
     return d;
 }
-
-#define OK(ctx, call)                                                                          \
-    do {                                                                                       \
-        limn_status st_ = (call);                                                              \
-        if (st_ != LIMN_OK)                                                                    \
-            fail_msg("%s: %s: %s", #call, limn_status_name(st_), limn_context_message(ctx));    \
-    } while (0)
 
 static int setup(void **s)
 {
@@ -250,8 +244,7 @@ static void series_into_own_buffers(void **s)
 
 static void new_positions_in_place(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *m = make(ctx);
     const double *before = limn_mesh_positions(m);
     static double moved[3 * NV], a[3 * NV], b[3 * NV];
@@ -266,22 +259,11 @@ static void new_positions_in_place(void **s)
     assert_memory_equal(a, b, sizeof a);
     limn_mesh_destroy(fresh);
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
-
-/* The call is refused with LIMN_ERR_ARGUMENT and a message containing `says`. */
-#define REFUSED(ctx, call, says)                                                               \
-    do {                                                                                       \
-        limn_status st_ = (call);                                                              \
-        if (st_ != LIMN_ERR_ARGUMENT || !strstr(limn_context_message(ctx), says))              \
-            fail_msg("%s gave %s '%s', expected LIMN_ERR_ARGUMENT '%s'", #call,                \
-                     limn_status_name(st_), limn_context_message(ctx), says);                  \
-    } while (0)
 
 static void refusals_write_nothing(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *m = make(ctx), *out = (limn_mesh *)&out;
     static double buf[3 * NV], sentinel[3 * NV];
     for (size_t i = 0; i < 3 * NV; i++)
@@ -329,7 +311,6 @@ static void refusals_write_nothing(void **s)
             "positions is NULL");
     REFUSED(ctx, limn_mesh_create(ctx, NV, pos_m, NF, offsets_m, indices_m, NULL), "out is NULL");
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 static limn_status no_frame(void *user, const limn_morph_frame *fr)
@@ -342,8 +323,7 @@ static limn_status no_frame(void *user, const limn_morph_frame *fr)
 /* Every entry point given NULL in each handle or buffer: refused, named, no crash. */
 static void null_arguments_everywhere(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *m = make(ctx), *out = NULL;
     double d[3 * NV];
     uint8_t rgb[12];
@@ -415,7 +395,6 @@ static void null_arguments_everywhere(void **s)
     limn_mesh_destroy(NULL);
     limn_context_destroy(NULL);
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
@@ -424,9 +403,9 @@ int main(void)
         cmocka_unit_test(interpolate_into_own_buffers),
         cmocka_unit_test(subdivide_faces_into_own_buffers),
         cmocka_unit_test(series_into_own_buffers),
-        cmocka_unit_test(new_positions_in_place),
-        cmocka_unit_test(refusals_write_nothing),
-        cmocka_unit_test(null_arguments_everywhere),
+        CONTEXT_TEST(new_positions_in_place),
+        CONTEXT_TEST(refusals_write_nothing),
+        CONTEXT_TEST(null_arguments_everywhere),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

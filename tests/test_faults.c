@@ -10,6 +10,7 @@
  * and, for the missing ICD, for real with OCL_ICD_VENDORS naming an empty
  * directory.
  */
+#include "shell.h"
 #include "support.h"
 
 #include <setjmp.h>
@@ -30,8 +31,7 @@ static char text[1 << 16];
 static int setup(void **s)
 {
     (void)s;
-    strcpy(dir, "/tmp/limn_faults_XXXXXX");
-    if (!mkdtemp(dir))
+    if (test_make_dir(dir, sizeof dir, "faults") != 0)
         return -1;
     char empty[128];
     snprintf(empty, sizeof empty, "%s/no_icd", dir);
@@ -41,41 +41,12 @@ static int setup(void **s)
 static int teardown(void **s)
 {
     (void)s;
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return test_remove_dir(dir);
 }
 
-/* Runs `ENV limn ARGS`; output in text; returns the exit status. */
-static int run(const char *env, const char *fmt, ...)
-{
-    char args[4096], cmd[8192];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
-    va_end(ap);
-    snprintf(cmd, sizeof cmd, "env %s '%s' %s 2>&1", env, getenv("LIMN_BIN"), args);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(text, 1, sizeof text - 1, p);
-    text[n] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-static const char *spot(void)
-{
-    static char path[512];
-    snprintf(path, sizeof path, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
-    return path;
-}
-
-static int same_bytes(const char *a, const char *b)
-{
-    char cmd[1024];
-    snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", a, b);
-    return system(cmd) == 0;
-}
+/* Runs `env ENV limn ARGS`; output in text; returns the exit status. */
+#define run(env, ...) test_limn(text, sizeof text, env, __VA_ARGS__)
+static const char *spot(void) { return test_data_path("spot_control_mesh.obj"); }
 
 typedef struct fault {
     const char *env;          /* what breaks the device */
@@ -139,12 +110,12 @@ static void each_fault(void **s)
                                           "fallback was allowed)"))
                 fail_msg("%s, %s --fallback reference: exit %d:\n%s", env, commands[c], rc, text);
             assert_non_null(strstr(text, "reference (plain C"));
-            assert_true(same_bytes(out, ref));
+            assert_true(test_same_bytes(out, ref));
             unlink(out);
             /* allowed by the environment; forbidden again by the flag */
             snprintf(env2, sizeof env2, "%s LIMN_FALLBACK=reference", env);
             assert_int_equal(run(env2, commands[c], spot(), out, "-q"), 0);
-            assert_true(same_bytes(out, ref));
+            assert_true(test_same_bytes(out, ref));
             unlink(out);
             assert_int_equal(run(env2, commands[c], spot(), out, "--fallback none"), 1);
             assert_false(test_file_exists(out));
@@ -187,8 +158,7 @@ static void choices_and_usage(void **s)
 /* The library calls behind the flag. */
 static void library(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     assert_int_equal(limn_context_set_fallback(ctx, "reference"), LIMN_OK);
     assert_int_equal(limn_context_set_fallback(ctx, "none"), LIMN_OK);
     assert_int_equal(limn_context_set_fallback(ctx, "cuda"), LIMN_ERR_ARGUMENT);
@@ -206,7 +176,6 @@ static void library(void **s)
     assert_int_equal(limn_limit_positions(ctx, m, LIMN_SCHEME_CATMARK, 0.5, pos), LIMN_OK);
     assert_non_null(strstr(limn_context_device_name(ctx), "reference"));
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
@@ -214,7 +183,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(each_fault),
         cmocka_unit_test(choices_and_usage),
-        cmocka_unit_test(library),
+        CONTEXT_TEST(library),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -12,16 +12,9 @@
 # the sanitizer runtime in the program), plus -Werror.
 set -euo pipefail
 build=$1 src=$2 cc=$3 flags="${4:-} -Werror"
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/limn_install.XXXXXX")
-trap 'rm -rf "$tmp"' EXIT
-prefix=$tmp/prefix
-fail() { echo "test_install: $*" >&2; exit 1; }
-
-cmake --install "$build" --prefix "$prefix" >"$tmp/install.log" ||
-    { cat "$tmp/install.log"; fail "cmake --install failed"; }
-so=$(find "$prefix" -name 'liblimn.so' | head -n 1)
-[[ -n $so ]] || fail "no liblimn.so under $prefix"
-libdir=$(dirname "$so")
+# shellcheck source=install_prefix.sh
+source "$(dirname "${BASH_SOURCE[0]}")/install_prefix.sh"
+install_prefix install "$build"
 for f in "$prefix/bin/limn" "$prefix/include/limn.h" "$libdir/liblimn.a" \
          "$libdir/cmake/limn/limnConfig.cmake" "$libdir/cmake/limn/limnConfigVersion.cmake" \
          "$libdir/pkgconfig/limn.pc" "$libdir/pkgconfig/limn-static.pc"; do

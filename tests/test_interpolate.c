@@ -141,30 +141,28 @@ static void folder(const char *sub)
     limn_context_destroy(ctx);
 }
 
+/* The folder with every method, the automatic choice first. */
+static void folder_every_method(const char *sub)
+{
+    static const limn_method methods[] = {LIMN_METHOD_AUTO, LIMN_METHOD_CG,
+                                          LIMN_METHOD_CHEBYSHEV, LIMN_METHOD_SGS};
+    for (size_t i = 0; i < sizeof methods / sizeof *methods; i++) {
+        test_method = methods[i];
+        folder(sub);
+    }
+    test_method = LIMN_METHOD_AUTO;
+}
+
 static void small_meshes(void **s)
 {
     (void)s;
-    folder("small");
-    test_method = LIMN_METHOD_CG;
-    folder("small");
-    test_method = LIMN_METHOD_CHEBYSHEV;
-    folder("small");
-    test_method = LIMN_METHOD_SGS;
-    folder("small");
-    test_method = LIMN_METHOD_AUTO;
+    folder_every_method("small");
 }
 
 static void medium_meshes(void **s)
 {
     (void)s;
-    folder("medium");
-    test_method = LIMN_METHOD_CG;
-    folder("medium");
-    test_method = LIMN_METHOD_CHEBYSHEV;
-    folder("medium");
-    test_method = LIMN_METHOD_SGS;
-    folder("medium");
-    test_method = LIMN_METHOD_AUTO;
+    folder_every_method("medium");
 }
 
 static void embedded_spot(void **s)
@@ -184,8 +182,7 @@ static void embedded_spot(void **s)
 /* Generated meshes: closed, open, all vertex kinds, both schemes. */
 static void generated_meshes(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *g = test_mesh_grid(ctx, 6, 5, 0), *gt = test_mesh_grid(ctx, 6, 5, 1);
     limn_mesh *ico = test_mesh_icosahedron(ctx), *pyr = test_mesh_pyramid(ctx);
     check_mesh(ctx, "quad grid", g, LIMN_SCHEME_CATMARK, 0.0);
@@ -198,7 +195,6 @@ static void generated_meshes(void **s)
     limn_mesh_destroy(gt);
     limn_mesh_destroy(ico);
     limn_mesh_destroy(pyr);
-    limn_context_destroy(ctx);
 }
 
 /* alpha = 0 on a perturbed cube: the operator has a zero eigenvalue; limn
@@ -241,8 +237,7 @@ static void singular_cube(void **s)
 
 static void iteration_cap_and_options(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *g = test_mesh_grid(ctx, 6, 5, 0), *p = NULL;
     limn_interpolate_options o;
     limn_interpolate_options_default(&o);
@@ -263,7 +258,6 @@ static void iteration_cap_and_options(void **s)
     assert_non_null(strstr(limn_context_message(ctx), "face 0 has 4 vertices"));
     assert_null(p);
     limn_mesh_destroy(g);
-    limn_context_destroy(ctx);
 }
 
 /* Every method reaches the tolerance (checked through OpenSubdiv's limit of
@@ -315,9 +309,9 @@ static void methods(void **s)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(generated_meshes), cmocka_unit_test(singular_cube),
+        CONTEXT_TEST(generated_meshes), cmocka_unit_test(singular_cube),
         cmocka_unit_test(methods),
-        cmocka_unit_test(iteration_cap_and_options), cmocka_unit_test(embedded_spot),
+        CONTEXT_TEST(iteration_cap_and_options), cmocka_unit_test(embedded_spot),
         cmocka_unit_test(small_meshes), cmocka_unit_test(medium_meshes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

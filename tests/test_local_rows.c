@@ -25,6 +25,15 @@
 
 #include <cmocka.h>
 
+/* Face f has an owned vertex. */
+static int touches_owned(const uint32_t *off, const uint32_t *idx, const uint8_t *owned, size_t f)
+{
+    int incident = 0;
+    for (uint32_t c = off[f]; c < off[f + 1]; c++)
+        incident |= owned[idx[c]];
+    return incident;
+}
+
 /* Rows of `owned` (a mask) from the sub-mesh against the global rows;
    returns the number of rows compared. */
 static size_t compare_rows(const char *name, const limn_mesh *mesh, const uint8_t *owned,
@@ -40,10 +49,7 @@ static size_t compare_rows(const char *name, const limn_mesh *mesh, const uint8_
     size_t nf2 = 0, k2 = 0, nv2 = 0;
     off2[0] = 0;
     for (size_t f = 0; f < nf; f++) {
-        int incident = 0;
-        for (uint32_t c = off[f]; c < off[f + 1]; c++)
-            incident |= owned[idx[c]];
-        if (!incident)
+        if (!touches_owned(off, idx, owned, f))
             continue;
         for (uint32_t c = off[f]; c < off[f + 1]; c++)
             keep[idx[c]] = 1;
@@ -55,10 +61,7 @@ static size_t compare_rows(const char *name, const limn_mesh *mesh, const uint8_
             global[nv2++] = (uint32_t)v;
         }
     for (size_t f = 0, g = 0; f < nf; f++) {
-        int incident = 0;
-        for (uint32_t c = off[f]; c < off[f + 1]; c++)
-            incident |= owned[idx[c]];
-        if (!incident)
+        if (!touches_owned(off, idx, owned, f))
             continue;
         for (uint32_t c = off[f]; c < off[f + 1]; c++)
             idx2[k2++] = local[idx[c]];
@@ -125,8 +128,7 @@ static void all_sets(const char *name, const limn_mesh *mesh, limn_scheme scheme
 
 static void generated(void **st)
 {
-    (void)st;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *st;
     limn_mesh *tri = test_mesh_grid(ctx, 25, 17, 1), *quad = test_mesh_grid(ctx, 25, 17, 0);
     limn_mesh *fan = test_mesh_fan(ctx, 7, 0), *pyr = test_mesh_pyramid(ctx);
     all_sets("triangle grid (boundary, corners)", tri, LIMN_SCHEME_LOOP, 0.0);
@@ -138,12 +140,10 @@ static void generated(void **st)
     limn_mesh_destroy(quad);
     limn_mesh_destroy(fan);
     limn_mesh_destroy(pyr);
-    limn_context_destroy(ctx);
 }
 
 static void shared(void **st)
 {
-    (void)st;
     if (!test_shared_meshes())
         skip();
     static const struct {
@@ -158,7 +158,7 @@ static void shared(void **st)
                 {"opensubdiv/catmark_nonman_verts.obj", LIMN_SCHEME_CATMARK, 0.0},
                 {"opensubdiv/loop_nonman_edges.obj", LIMN_SCHEME_LOOP, 0.0},
                 {"medium/bun_zipper.ply", LIMN_SCHEME_LOOP, 0.0}};       /* unreferenced vertices */
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *st;
     for (size_t k = 0; k < sizeof real / sizeof *real; k++) {
         limn_mesh *m = NULL;
         if (limn_mesh_read(ctx, test_shared_path(real[k].path), LIMN_FORMAT_AUTO, &m) != LIMN_OK)
@@ -167,14 +167,13 @@ static void shared(void **st)
         all_sets(real[k].path, m, real[k].scheme, real[k].alpha);
         limn_mesh_destroy(m);
     }
-    limn_context_destroy(ctx);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(generated),
-        cmocka_unit_test(shared),
+        CONTEXT_TEST(generated),
+        CONTEXT_TEST(shared),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

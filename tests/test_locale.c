@@ -14,6 +14,7 @@
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L
 #endif
+#include "shell.h"
 #include "support.h"
 
 #include <locale.h>
@@ -34,42 +35,7 @@
 
 static char dir[64];
 
-static const char *path_in(const char *name)
-{
-    static char path[8][512];
-    static int k;
-    k = (k + 1) % 8;
-    snprintf(path[k], sizeof path[k], "%s/%s", dir, name);
-    return path[k];
-}
-
-static char *slurp(const char *path, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    size_t cap = 1 << 16, len = 0;
-    char *b = malloc(cap + 1);
-    size_t got;
-    while (b && (got = fread(b + len, 1, cap - len, f)) > 0) {
-        len += got;
-        if (len == cap) {
-            char *g = realloc(b, 2 * cap + 1);
-            if (!g) {
-                free(b);
-                b = NULL;
-                break;
-            }
-            b = g;
-            cap *= 2;
-        }
-    }
-    fclose(f);
-    if (b)
-        b[len] = '\0';
-    *n = len;
-    return b;
-}
+static const char *path_in(const char *name) { return test_join(dir, name); }
 
 /* Makes de_DE.UTF-8 available; 0 with a reason when it cannot be. Asked of
    `locale -a`, not setlocale: glibc maps the locale archive at the first
@@ -172,7 +138,7 @@ static void library_reads_and_writes_in_any_locale(void **s)
             snprintf(a, sizeof a, "c_%zu_%zu.%s", i, k, outputs[k].ext);
             snprintf(b, sizeof b, "de_%zu_%zu.%s", i, k, outputs[k].ext);
             size_t na, nb;
-            char *ta = slurp(path_in(a), &na), *tb = slurp(path_in(b), &nb);
+            char *ta = test_slurp(path_in(a), &na), *tb = test_slurp(path_in(b), &nb);
             assert_non_null(ta);
             assert_non_null(tb);
             if (na != nb || memcmp(ta, tb, na) != 0)
@@ -234,12 +200,7 @@ static int run_cli(const char *locale, char *out, size_t n, const char *fmt, ...
     assert_non_null(bin);
     snprintf(cmd, sizeof cmd, "mkdir -p '%s/%s' && cd '%s/%s' && LC_ALL=%s '%s' %s 2>&1", dir,
              locale, dir, locale, locale, bin, args);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t len = fread(out, 1, n - 1, p);
-    out[len] = '\0';
-    int rc = pclose(p);
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    return test_run(out, n, cmd);
 }
 
 /* The report without what differs between two runs anyway (times, memory). */
@@ -285,7 +246,7 @@ static void cli_reports_the_same_numbers(void **s)
     if (run_cli(DE, de, sizeof de, sub, mesh) != 0)
         fail_msg("subdivide under %s failed:\n%s", DE, de);
     size_t na, nb;
-    char *ra = slurp(path_in("C/s.json"), &na), *rb = slurp(path_in(DE "/s.json"), &nb);
+    char *ra = test_slurp(path_in("C/s.json"), &na), *rb = test_slurp(path_in(DE "/s.json"), &nb);
     assert_non_null(ra);
     assert_non_null(rb);
     assert_non_null(strstr(ra, "\"alpha\": 0.5"));
@@ -298,7 +259,7 @@ static void cli_reports_the_same_numbers(void **s)
     /* option values with a decimal point, and one with a comma between two numbers */
     if (run_cli(DE, de, sizeof de, "render '%s' -o r.png --view 30.5,20 --size 32x32", mesh) != 0)
         fail_msg("render --view 30.5,20 under %s failed:\n%s", DE, de);
-    char *ma = slurp(path_in("C/s.obj"), &na), *mb = slurp(path_in(DE "/s.obj"), &nb);
+    char *ma = test_slurp(path_in("C/s.obj"), &na), *mb = test_slurp(path_in(DE "/s.obj"), &nb);
     assert_non_null(ma);
     assert_non_null(mb);
     assert_int_equal(na, nb);
@@ -314,8 +275,7 @@ int main(void)
         printf("test_locale: skipped: %s\n", why);
         return 77;
     }
-    strcpy(dir, "/tmp/limn_locale_XXXXXX");
-    if (!mkdtemp(dir))
+    if (test_make_dir(dir, sizeof dir, "locale") != 0)
         return 1;
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(library_reads_and_writes_in_any_locale),
@@ -323,9 +283,7 @@ int main(void)
         cmocka_unit_test(cli_reports_the_same_numbers),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    if (system(cmd) != 0)
+    if (test_remove_dir(dir) != 0)
         failed = 1;
     return failed;
 }

@@ -101,16 +101,34 @@ static void run(const char *name, maker make, limn_scheme scheme, double alpha, 
     limn_context_destroy(ctx);
 }
 
+/* A mesh and the levels it is checked at. */
+typedef struct mask_case {
+    const char *name;
+    maker make;
+    int levels;
+} mask_case;
+
 /* Catmull-Clark: valence 3 (cube), 4 with triangles (pyramid apex), regular
    interior / boundary / corner (grid), valence 5 and 3 interior with boundary. */
+static const mask_case catmark_cases[] = {
+    {"cube", test_mesh_cube, 9},
+    {"pyramid", test_mesh_pyramid, 9},
+    {"quad grid 4x3", grid_quads, 8},
+    {"quad fan valence 5", fan5_quads, 8},
+    {"quad fan valence 3", fan3_quads, 8},
+};
+
+static void run_cases(const mask_case *cases, size_t n, limn_scheme scheme, double alpha)
+{
+    for (size_t i = 0; i < n; i++)
+        run(cases[i].name, cases[i].make, scheme, alpha, cases[i].levels);
+}
+
 static void catmark_alpha0(void **s)
 {
     (void)s;
-    run("cube", test_mesh_cube, LIMN_SCHEME_CATMARK, 0.0, 9);
-    run("pyramid", test_mesh_pyramid, LIMN_SCHEME_CATMARK, 0.0, 9);
-    run("quad grid 4x3", grid_quads, LIMN_SCHEME_CATMARK, 0.0, 8);
-    run("quad fan valence 5", fan5_quads, LIMN_SCHEME_CATMARK, 0.0, 8);
-    run("quad fan valence 3", fan3_quads, LIMN_SCHEME_CATMARK, 0.0, 8);
+    run_cases(catmark_cases, sizeof catmark_cases / sizeof *catmark_cases, LIMN_SCHEME_CATMARK,
+              0.0);
     run("triangles under CC", grid_tris, LIMN_SCHEME_CATMARK, 0.0, 8);
 }
 
@@ -118,20 +136,20 @@ static void catmark_alpha0(void **s)
 static void catmark_alpha_half(void **s)
 {
     (void)s;
-    run("cube", test_mesh_cube, LIMN_SCHEME_CATMARK, 0.5, 9);
-    run("pyramid", test_mesh_pyramid, LIMN_SCHEME_CATMARK, 0.5, 9);
-    run("quad grid 4x3", grid_quads, LIMN_SCHEME_CATMARK, 0.5, 8);
-    run("quad fan valence 5", fan5_quads, LIMN_SCHEME_CATMARK, 0.5, 8);
-    run("quad fan valence 3", fan3_quads, LIMN_SCHEME_CATMARK, 0.5, 8);
+    run_cases(catmark_cases, sizeof catmark_cases / sizeof *catmark_cases, LIMN_SCHEME_CATMARK,
+              0.5);
 }
 
 static void loop_masks(void **s)
 {
     (void)s;
-    run("icosahedron", test_mesh_icosahedron, LIMN_SCHEME_LOOP, 0.0, 9);
-    run("triangle grid 4x3", grid_tris, LIMN_SCHEME_LOOP, 0.0, 8);
-    run("triangle fan valence 7", fan7_tris, LIMN_SCHEME_LOOP, 0.0, 9);
-    run("triangle fan valence 4", fan4_tris, LIMN_SCHEME_LOOP, 0.0, 9);
+    static const mask_case cases[] = {
+        {"icosahedron", test_mesh_icosahedron, 9},
+        {"triangle grid 4x3", grid_tris, 8},
+        {"triangle fan valence 7", fan7_tris, 9},
+        {"triangle fan valence 4", fan4_tris, 9},
+    };
+    run_cases(cases, sizeof cases / sizeof *cases, LIMN_SCHEME_LOOP, 0.0);
 }
 
 /* The shared n-gon mesh with boundaries (OpenSubdiv's catmark_nonquads). */
@@ -141,32 +159,40 @@ static void shared_ngons(void **s)
     if (!test_shared_meshes())
         skip();
     limn_context *ctx = limn_context_create();
-    limn_mesh *m = NULL;
-    assert_int_equal(limn_mesh_read(ctx, test_shared_path("opensubdiv/catmark_nonquads.obj"),
-                                    LIMN_FORMAT_AUTO, &m),
-                     LIMN_OK);
-    check("catmark_nonquads", m, LIMN_SCHEME_CATMARK, 0.0, 8);
-    check("catmark_nonquads", m, LIMN_SCHEME_CATMARK, 0.5, 8);
-    limn_mesh_destroy(m);
-    /* interior valence-2 vertices, where OpenSubdiv's limit mask differs */
-    assert_int_equal(limn_mesh_read(ctx, test_shared_path("opensubdiv/catmark_val2_interior.obj"),
-                                    LIMN_FORMAT_AUTO, &m),
-                     LIMN_OK);
-    check("catmark_val2_interior", m, LIMN_SCHEME_CATMARK, 0.0, 8);
-    check("catmark_val2_interior", m, LIMN_SCHEME_CATMARK, 0.5, 8);
-    limn_mesh_destroy(m);
+    /* catmark_val2_interior: interior valence-2 vertices, where OpenSubdiv's
+       limit mask differs */
+    static const char *const names[] = {"catmark_nonquads", "catmark_val2_interior"};
+    for (size_t i = 0; i < sizeof names / sizeof *names; i++) {
+        char rel[64];
+        snprintf(rel, sizeof rel, "opensubdiv/%s.obj", names[i]);
+        limn_mesh *m = NULL;
+        assert_int_equal(limn_mesh_read(ctx, test_shared_path(rel), LIMN_FORMAT_AUTO, &m), LIMN_OK);
+        check(names[i], m, LIMN_SCHEME_CATMARK, 0.0, 8);
+        check(names[i], m, LIMN_SCHEME_CATMARK, 0.5, 8);
+        limn_mesh_destroy(m);
+    }
     limn_context_destroy(ctx);
+}
+
+/* Every row of the stencil sums to 1 (affine invariance). */
+static void rows_sum_to_one(const stencil_csr *a)
+{
+    for (size_t r = 0; r < a->rows; r++) {
+        double sum = 0;
+        for (uint32_t k = a->row_offsets[r]; k < a->row_offsets[r + 1]; k++)
+            sum += a->weights[k];
+        assert_true(fabs(sum - 1.0) < 1e-14);
+    }
 }
 
 /* Closed forms of DESIGN.md §1 read straight off the CSR rows. */
 static void closed_form_rows(void **s)
 {
-    (void)s;
     assert_true(fabs(scheme_loop_limit_beta(3) - 0.4) < 1e-15);
     assert_true(fabs(scheme_loop_limit_beta(4) - 0.4364) < 1e-4);
     assert_true(fabs(scheme_loop_limit_beta(6) - 0.5) < 1e-15);
 
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *g = test_mesh_grid(ctx, 4, 4, 0);
     topology t;
     stencil_csr a;
@@ -190,36 +216,25 @@ static void closed_form_rows(void **s)
     assert_int_equal(a.row_offsets[1] - a.row_offsets[0], 1);
     assert_true(a.weights[0] == 1.0);
     /* every row sums to 1 (affine invariance) */
-    for (size_t r = 0; r < a.rows; r++) {
-        double sum = 0;
-        for (uint32_t k = a.row_offsets[r]; k < a.row_offsets[r + 1]; k++)
-            sum += a.weights[k];
-        assert_true(fabs(sum - 1.0) < 1e-14);
-    }
+    rows_sum_to_one(&a);
     stencil_free(&a);
     /* general alpha: rows of a valence-3 cube vertex with alpha = 0.5 sum to 1 */
     limn_mesh *cube = test_mesh_cube(ctx);
     topology tc;
     assert_int_equal(topology_build(ctx, cube, &tc), LIMN_OK);
     assert_int_equal(stencil_limit_build(ctx, &tc, LIMN_SCHEME_CATMARK, 0.5, &a), LIMN_OK);
-    for (size_t r = 0; r < a.rows; r++) {
-        double sum = 0;
-        for (uint32_t k = a.row_offsets[r]; k < a.row_offsets[r + 1]; k++)
-            sum += a.weights[k];
-        assert_true(fabs(sum - 1.0) < 1e-14);
-    }
+    rows_sum_to_one(&a);
     stencil_free(&a);
     topology_free(&tc);
     topology_free(&t);
     limn_mesh_destroy(cube);
     limn_mesh_destroy(g);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(closed_form_rows),  cmocka_unit_test(catmark_alpha0),
+        CONTEXT_TEST(closed_form_rows),  cmocka_unit_test(catmark_alpha0),
         cmocka_unit_test(catmark_alpha_half), cmocka_unit_test(loop_masks),
         cmocka_unit_test(shared_ngons),
     };

@@ -23,6 +23,7 @@
 #include <cmocka.h>
 
 #include "limn.h"
+#include "shell.h"
 
 static char tmpdir[64];
 static limn_context *ctx;
@@ -57,29 +58,12 @@ static const char *tmp_path(const char *name) { return fmt("%s/%s", tmpdir, name
 
 static const char *write_bytes(const char *name, const void *data, size_t n)
 {
-    const char *path = tmp_path(name);
-    FILE *f = fopen(path, "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(data, 1, n, f), n);
-    assert_int_equal(fclose(f), 0);
-    return path;
+    return test_write_bytes(tmp_path(name), data, n);
 }
 
 static const char *write_text(const char *name, const char *text)
 {
     return write_bytes(name, text, strlen(text));
-}
-
-static char *slurp(const char *path, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    char *b = malloc(1 << 20);
-    *n = fread(b, 1, (1 << 20) - 1, f);
-    b[*n] = '\0';
-    fclose(f);
-    return b;
 }
 
 static int count_entries(const char *dir)
@@ -122,8 +106,7 @@ static void remove_tree(const char *dir)
 static int setup(void **state)
 {
     (void)state;
-    strcpy(tmpdir, "/tmp/limn_test_mesh_io_XXXXXX");
-    if (!mkdtemp(tmpdir))
+    if (test_make_dir(tmpdir, sizeof tmpdir, "test_mesh_io") != 0)
         return -1;
     ctx = limn_context_create();
     return ctx ? 0 : -1;
@@ -209,7 +192,7 @@ static void test_real_all_stats(void **s)
     if (!shared_present())
         skip();
     size_t n;
-    char *text = slurp(fmt("%s/stats.jsonl", shared()), &n);
+    char *text = test_slurp(fmt("%s/stats.jsonl", shared()), &n);
     if (!text)
         skip();
     int files = 0;
@@ -627,7 +610,7 @@ static void test_write_replaces(void **s)
     const char *path = write_text("w/replace.obj", "old content\n");
     assert_int_equal(limn_mesh_write(ctx, m, path, LIMN_FORMAT_AUTO), LIMN_OK);
     size_t n;
-    char *text = slurp(path, &n);
+    char *text = test_slurp(path, &n);
     assert_non_null(text);
     assert_non_null(strstr(text, "# limn: 12 vertices, 4 faces\nv 0.10000000000000001 "));
     assert_null(strstr(text, "old content"));
@@ -669,7 +652,7 @@ static void test_write_fails_midway(void **s)
     assert_non_null(strstr(limn_context_message(ctx), "cannot write"));
     assert_non_null(strstr(limn_context_message(ctx), "keep.ply: File too large"));
     size_t n;
-    char *text = slurp(path, &n);
+    char *text = test_slurp(path, &n);
     assert_string_equal(text, "old\n");
     free(text);
     assert_int_equal(count_entries(wdir), 1);

@@ -9,6 +9,7 @@
  * Meshes: generated with several components, boundaries and an isolated
  * vertex, and shared real meshes when ../shared/meshes is there.
  */
+#include "shell.h"
 #include "support.h"
 
 #include <math.h>
@@ -29,26 +30,16 @@ static char text[1 << 16];
 static int setup(void **s)
 {
     (void)s;
-    strcpy(dir, "/tmp/limn_mpi_cli_XXXXXX");
-    return mkdtemp(dir) ? 0 : -1;
+    return test_make_dir(dir, sizeof dir, "mpi_cli");
 }
 
 static int teardown(void **s)
 {
     (void)s;
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return test_remove_dir(dir);
 }
 
-static const char *at(const char *name)
-{
-    static char path[8][256];
-    static int k;
-    k = (k + 1) % 8;
-    snprintf(path[k], sizeof path[k], "%s/%s", dir, name);
-    return path[k];
-}
+static const char *at(const char *name) { return test_join(dir, name); }
 
 /* Runs `limn ARGS` (ranks > 0: under the MPI launcher, killed after 300 s so
    that a hang fails instead of blocking), output in text; the exit status.
@@ -72,12 +63,7 @@ static int run(int ranks, const char *args)
                  getenv("LIMN_MPIEXEC"), ranks, getenv("LIMN_BIN"), args);
     else
         snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", getenv("LIMN_BIN"), args);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(text, 1, sizeof text - 1, p);
-    text[n] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return test_run(text, sizeof text, cmd);
 }
 
 static size_t count(const char *hay, const char *needle)
@@ -88,12 +74,6 @@ static size_t count(const char *hay, const char *needle)
     return n;
 }
 
-static int same_bytes(const char *a, const char *b)
-{
-    char cmd[1024];
-    snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", a, b);
-    return system(cmd) == 0;
-}
 
 /* The generated inputs: several components, boundaries, an isolated vertex. */
 static void write_inputs(void)
@@ -193,7 +173,7 @@ static void interpolate_same(const char *input, const char *opts, int ranks, int
     assert_non_null(strstr(text, line));
     assert_int_equal(report_iterations(at("one.json")), report_iterations(at("many.json")));
     if (exact)
-        assert_true(same_bytes(one, many));
+        assert_true(test_same_bytes(one, many));
     double d = difference(one, many);
     const char *base = strrchr(input, '/');
     printf("  %s %s, %d ranks: %s, max difference %.2g of the scale\n", base ? base + 1 : input,
@@ -242,7 +222,7 @@ static void series_same(void **s)
             snprintf(args, sizeof args, cmds[k], at("quad.obj"), at("s2.ply"));
             if (run(ranks, args) != 0)
                 fail_msg("%s", text);
-            assert_true(same_bytes(at("s1.ply"), at("s2.ply")));
+            assert_true(test_same_bytes(at("s1.ply"), at("s2.ply")));
         }
     /* morph: every frame the same bytes */
     char args[1024];
@@ -261,7 +241,7 @@ static void series_same(void **s)
         char a[64], b[64];
         snprintf(a, sizeof a, "f1/f%d.ply", k);
         snprintf(b, sizeof b, "f2/f%d.ply", k);
-        assert_true(same_bytes(at(a), at(b)));
+        assert_true(test_same_bytes(at(a), at(b)));
     }
 }
 
@@ -323,7 +303,7 @@ static void device_per_rank(void **s)
     unsetenv("OCL_ICD_VENDORS");
     if (rc != 0)
         fail_msg("%s", text);
-    assert_true(same_bytes(at("one.ply"), at("many.ply")));
+    assert_true(test_same_bytes(at("one.ply"), at("many.ply")));
     FILE *f = fopen(at("many.json"), "r");
     assert_non_null(f);
     size_t n = fread(text, 1, sizeof text - 1, f);

@@ -10,6 +10,7 @@
  *  - prefetching dropped, not fatal, when a device cannot run it;
  *  - an unwritable PoCL kernel cache named as the cause of "no device".
  */
+#include "shell.h"
 #include "support.h"
 #include "device/device.h"
 #include "device/opencl/opencl_usable.h"
@@ -32,48 +33,18 @@ static char text[1 << 17];
 static int setup(void **s)
 {
     (void)s;
-    strcpy(dir, "/tmp/limn_opencl_XXXXXX");
-    return mkdtemp(dir) ? 0 : -1;
+    return test_make_dir(dir, sizeof dir, "opencl");
 }
 
 static int teardown(void **s)
 {
     (void)s;
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return test_remove_dir(dir);
 }
 
-/* Runs `ENV limn ARGS`; output (stdout and stderr) in text; the exit status. */
-static int run(const char *env, const char *fmt, ...)
-{
-    char args[4096], cmd[8192];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
-    va_end(ap);
-    snprintf(cmd, sizeof cmd, "env %s '%s' %s 2>&1", env, getenv("LIMN_BIN"), args);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(text, 1, sizeof text - 1, p);
-    text[n] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-static const char *spot(void)
-{
-    static char path[512];
-    snprintf(path, sizeof path, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
-    return path;
-}
-
-static int same_bytes(const char *a, const char *b)
-{
-    char cmd[1024];
-    snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", a, b);
-    return system(cmd) == 0;
-}
+/* Runs `env ENV limn ARGS`; output (stdout and stderr) in text; returns the exit status. */
+#define run(env, ...) test_limn(text, sizeof text, env, __VA_ARGS__)
+static const char *spot(void) { return test_data_path("spot_control_mesh.obj"); }
 
 static void expect(int rc, int want, const char *needle)
 {
@@ -163,7 +134,7 @@ static void real_skip(void **s)
     expect(rc, 0, "warning: skipping OpenCL device ");
     expect(rc, 0, "device 0.0, cpu]: limn cannot use it: no double precision");
     expect(rc, 0, "device 0.1, cpu]; threads");
-    assert_true(same_bytes(ref, out));
+    assert_true(test_same_bytes(ref, out));
     unlink(out);
     rc = run(two_bad, "interpolate '%s' -o '%s' --device opencl:0.0", spot(), out);
     expect(rc, 1, "the OpenCL device chosen by --device='0.0' cannot run limn: ");
@@ -258,7 +229,7 @@ static void prefetch_dropped(void **s)
     int rc = run("LIMN_TEST_FAULT=prefetch", "interpolate '%s' -o '%s' -q", spot(), out);
     expect(rc, 0, "built without prefetching the gathers (with it: clCreateKernel(interp_step) "
                   "failed");
-    assert_true(same_bytes(ref, out));
+    assert_true(test_same_bytes(ref, out));
     unlink(ref);
     unlink(out);
 }

@@ -11,6 +11,7 @@
 #ifndef _DEFAULT_SOURCE
 #define _DEFAULT_SOURCE /* mkdtemp, symlink, setenv */
 #endif
+#include "shell.h"
 #include "support.h"
 
 #include <dirent.h>
@@ -38,52 +39,12 @@ static size_t ref_len;
 
 /* ------------------------------------------------------------------ helpers */
 
-static const char *at(const char *name)
-{
-    static char path[8][1024];
-    static int k;
-    k = (k + 1) % 8;
-    snprintf(path[k], sizeof path[k], "%s/%s", dir, name);
-    return path[k];
-}
-
-static const char *spot(void)
-{
-    static char path[512];
-    snprintf(path, sizeof path, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
-    return path;
-}
-
-static char *slurp(const char *path, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    size_t cap = 1 << 22;
-    char *buf = malloc(cap);
-    *n = fread(buf, 1, cap - 1, f);
-    buf[*n] = '\0';
-    fclose(f);
-    return buf;
-}
+static const char *at(const char *name) { return test_join(dir, name); }
+static const char *spot(void) { return test_data_path("spot_control_mesh.obj"); }
 
 /* Runs a shell command (in dir) with stderr (and stdout unless redirected)
    in text; returns the exit status. */
-static int run_sh(const char *fmt, ...)
-{
-    char body[8192], cmd[9000];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(body, sizeof body, fmt, ap);
-    va_end(ap);
-    snprintf(cmd, sizeof cmd, "cd '%s' && { %s; } 2>&1", dir, body);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(text, 1, sizeof text - 1, p);
-    text[n] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
+#define run_sh(...) test_in_dir(text, sizeof text, dir, __VA_ARGS__)
 
 /* `limn ARGS` in dir; messages in text. */
 #define LIMN(...) run_sh("'%s' " __VA_ARGS__)
@@ -92,7 +53,7 @@ static const char *bin(void) { return getenv("LIMN_BIN"); }
 static void same_as_ref(const char *path)
 {
     size_t n;
-    char *got = slurp(path, &n);
+    char *got = test_slurp(path, &n);
     if (!got)
         fail_msg("%s was not written; output:\n%s", path, text);
     assert_int_equal(n, ref_len);
@@ -125,14 +86,13 @@ static int is_symlink_to(const char *path, const char *want)
 static int setup(void **s)
 {
     (void)s;
-    strcpy(dir, "/tmp/limn_outputs_XXXXXX");
-    if (!mkdtemp(dir) || chmod(dir, 0755) != 0)
+    if (test_make_dir(dir, sizeof dir, "outputs") != 0 || chmod(dir, 0755) != 0)
         return -1;
     if (LIMN("interpolate '%s' -o ref.ply " RUN_OPTS, bin(), spot()) != 0) {
         fprintf(stderr, "reference run failed:\n%s\n", text);
         return -1;
     }
-    ref = slurp(at("ref.ply"), &ref_len);
+    ref = test_slurp(at("ref.ply"), &ref_len);
     return ref && ref_len > 0 ? 0 : -1;
 }
 
@@ -140,9 +100,7 @@ static int teardown(void **s)
 {
     (void)s;
     free(ref);
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return test_remove_dir(dir);
 }
 
 /* ----------------------------------------------------------------- symlinks */
@@ -259,7 +217,7 @@ static void dash_is_stdout(void **s)
                      0);
     same_as_ref(at("m.ply"));
     size_t n;
-    char *json = slurp(at("cap.json"), &n);
+    char *json = test_slurp(at("cap.json"), &n);
     assert_non_null(json);
     assert_true(n > 2 && json[0] == '{' && json[n - 2] == '}' && json[n - 1] == '\n');
     assert_non_null(strstr(json, "\"input\": "));
@@ -360,7 +318,7 @@ static void input_not_overwritten_through_links(void **s)
                             spot()),
                      0);
     size_t n0, n1;
-    char *orig = slurp(at("in.obj"), &n0);
+    char *orig = test_slurp(at("in.obj"), &n0);
     /* output a symlink to the input, a hard link of it; input through a symlink */
     const char *cases[][2] = {{"in.obj", "sym.obj"}, {"in.obj", "hard.obj"},
                               {"sym.obj", "in.obj"}};
@@ -376,7 +334,7 @@ static void input_not_overwritten_through_links(void **s)
     assert_int_equal(LIMN("interpolate in.obj -o x.ply --report sym.json " RUN_OPTS, bin()), 2);
     assert_non_null(strstr(text, "is the input file"));
     assert_int_equal(LIMN("interpolate sym.obj -o x.ply --report hard.obj " RUN_OPTS, bin()), 2);
-    char *now = slurp(at("in.obj"), &n1);
+    char *now = test_slurp(at("in.obj"), &n1);
     assert_int_equal(n0, n1);
     assert_memory_equal(orig, now, n0);
     assert_true(is_symlink_to(at("sym.obj"), "in.obj"));
@@ -489,7 +447,7 @@ static void sticky_directory(void **s)
     if (rc != 1 || !strstr(text, "sticky directory"))
         fail_msg("exit %d:\n%s", rc, text);
     size_t n;
-    char *kept = slurp(at("sticky/theirs.ply"), &n);
+    char *kept = test_slurp(at("sticky/theirs.ply"), &n);
     assert_string_equal(kept, "THEIRS\n");
     free(kept);
     assert_false(test_file_exists(at("sticky/r.json")));
@@ -502,7 +460,7 @@ static void sticky_directory(void **s)
 static void report_input(const char *path, char *out, size_t cap)
 {
     size_t n;
-    char *json = slurp(path, &n);
+    char *json = test_slurp(path, &n);
     assert_non_null(json);
     const char *p = strstr(json, "\"input\": \"");
     assert_non_null(p);
@@ -516,7 +474,7 @@ static void report_input(const char *path, char *out, size_t cap)
 static int file_is(const char *path, const char *bytes, size_t len)
 {
     size_t n;
-    char *got = slurp(path, &n);
+    char *got = test_slurp(path, &n);
     int same = got && n == len && memcmp(got, bytes, n) == 0;
     free(got);
     return same;
@@ -538,7 +496,7 @@ static void pair_lock(void **s)
     limn_context_destroy(ctx);
     assert_int_equal(LIMN("interpolate spot_b.obj -o ref_b.ply " RUN_OPTS, bin()), 0);
     size_t ref_b_len;
-    char *ref_b = slurp(at("ref_b.ply"), &ref_b_len);
+    char *ref_b = test_slurp(at("ref_b.ply"), &ref_b_len);
     assert_non_null(ref_b);
     for (int round = 0; round < 20; round++) {
         int rc = run_sh("{ LIMN_TEST_COMMIT_PAUSE_MS=300 '%s' interpolate '%s' -o pair.ply "

@@ -15,6 +15,7 @@
  *    still named as such, the OpenCL set-up and the loop's own time
  *    reported; the command line.
  */
+#include "shell.h"
 #include "support.h"
 #include "device/device.h"
 #include "solve/operator.h"
@@ -124,8 +125,7 @@ static limn_mesh *shuffled_grid(limn_context *ctx, int nx, int ny)
 
 static void kernels_match_reference(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     /* more rows than one chunk, and a ragged last chunk */
     limn_mesh *g = test_mesh_grid(ctx, 40, 37, 0), *gt = test_mesh_grid(ctx, 40, 37, 1);
     ops_on("quad grid 40x37", g, LIMN_SCHEME_CATMARK, 0);
@@ -145,7 +145,6 @@ static void kernels_match_reference(void **s)
         ops_on("medium/horse.ply", m, LIMN_SCHEME_CATMARK, 0);
         limn_mesh_destroy(m);
     }
-    limn_context_destroy(ctx);
 }
 
 static limn_mesh *solve(limn_context *ctx, const limn_mesh *m, limn_scheme scheme, double tol,
@@ -298,8 +297,7 @@ static void medium_meshes_meet_tolerance(void **s)
 
 static void choice_and_refusals(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *g = test_mesh_grid(ctx, 6, 5, 0), *p = NULL;
     limn_interpolate_options o;
     limn_report r = {.size = sizeof r};
@@ -332,15 +330,13 @@ static void choice_and_refusals(void **s)
     limn_mesh_destroy(p);
     limn_mesh_destroy(big);
     limn_mesh_destroy(g);
-    limn_context_destroy(ctx);
 }
 
 /* The alpha = 0 perturbed cube is singular: the float corrections stop
    gaining, the double iteration takes over and names the cause. */
 static void singular_cube_in_float(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *cube = test_mesh_cube(ctx), *p = NULL;
     test_perturb(cube, 0.1, 3);
     limn_interpolate_options o;
@@ -355,7 +351,6 @@ static void singular_cube_in_float(void **s)
     assert_true(r.max_rel_error <= o.tolerance && r.products_float > 0);
     limn_mesh_destroy(p);
     limn_mesh_destroy(cube);
-    limn_context_destroy(ctx);
 }
 
 /* Far from the origin float keeps fewer digits of the diagonal: this grid
@@ -364,8 +359,7 @@ static void singular_cube_in_float(void **s)
    path, whose float vectors hold only corrections, still meets 1e-8. */
 static void far_from_origin(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *g = test_mesh_grid(ctx, 40, 37, 1);
     double *pos = limn_mesh_positions_mutable(g), shift = 200.0 * test_bbox_diagonal(g);
     for (size_t i = 0; i < 3 * limn_mesh_vertex_count(g); i++)
@@ -380,7 +374,6 @@ static void far_from_origin(void **s)
            r.products - r.products_float, r.products_float, r.max_rel_error);
     limn_mesh_destroy(p);
     limn_mesh_destroy(g);
-    limn_context_destroy(ctx);
 }
 
 /* The first solve on a fresh context opens OpenCL and says what it cost;
@@ -420,21 +413,14 @@ static void setup_reported(void **s)
 /* Runs `limn ARGS`, output into text; returns the exit status. */
 static int limn_cli(const char *args, char *text, size_t size)
 {
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", getenv("LIMN_BIN"), args);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(text, 1, size - 1, p);
-    text[n] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return test_limn(text, size, NULL, "%s", args);
 }
 
 static void command_line(void **s)
 {
     (void)s;
-    char dir[] = "/tmp/limn_precision_XXXXXX", args[4096], text[8192];
-    assert_non_null(mkdtemp(dir));
+    char dir[64], args[4096], text[8192];
+    assert_int_equal(test_make_dir(dir, sizeof dir, "precision"), 0);
     const char *spot = getenv("LIMN_TEST_DATA");
     snprintf(args, sizeof args, "interpolate '%s/spot_control_mesh.obj' -o '%s/p.ply' "
                                 "--precision half", spot, dir);
@@ -453,18 +439,17 @@ static void command_line(void **s)
     for (size_t i = 0; i < sizeof keys / sizeof *keys; i++)
         if (!strstr(text, keys[i]))
             fail_msg("the report lacks %s:\n%s", keys[i], text);
-    snprintf(args, sizeof args, "rm -rf '%s'", dir);
-    assert_int_equal(system(args), 0);
+    assert_int_equal(test_remove_dir(dir), 0);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(kernels_match_reference),
+        CONTEXT_TEST(kernels_match_reference),
         cmocka_unit_test(solves_match_reference),
-        cmocka_unit_test(choice_and_refusals),
-        cmocka_unit_test(singular_cube_in_float),
-        cmocka_unit_test(far_from_origin),
+        CONTEXT_TEST(choice_and_refusals),
+        CONTEXT_TEST(singular_cube_in_float),
+        CONTEXT_TEST(far_from_origin),
         cmocka_unit_test(setup_reported),
         cmocka_unit_test(command_line),
         cmocka_unit_test(medium_meshes_meet_tolerance),

@@ -11,6 +11,7 @@
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L
 #endif
+#include "shell.h"
 #include "support.h"
 
 #include <setjmp.h>
@@ -31,23 +32,11 @@ static char dir[64];
 static char text[1 << 16]; /* output of the last CLI run */
 static limn_context *ctx;
 
-static const char *path_in(const char *name)
-{
-    static char path[8][512];
-    static int k;
-    k = (k + 1) % 8;
-    snprintf(path[k], sizeof path[k], "%s/%s", dir, name);
-    return path[k];
-}
+static const char *path_in(const char *name) { return test_join(dir, name); }
 
 static const char *write_bytes(const char *name, const void *data, size_t n)
 {
-    const char *p = path_in(name);
-    FILE *f = fopen(p, "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(data, 1, n, f), n);
-    assert_int_equal(fclose(f), 0);
-    return p;
+    return test_write_bytes(path_in(name), data, n);
 }
 
 static const char *write_str(const char *name, const char *s)
@@ -56,21 +45,7 @@ static const char *write_str(const char *name, const char *s)
 }
 
 /* Runs a shell command line in dir (stderr too into text); its exit status. */
-static int run_sh(const char *fmt, ...)
-{
-    char line[4096], cmd[8192];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(line, sizeof line, fmt, ap);
-    va_end(ap);
-    snprintf(cmd, sizeof cmd, "cd '%s' && { %s ; } 2>&1", dir, line);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t len = fread(text, 1, sizeof text - 1, p);
-    text[len] = '\0';
-    int rc = pclose(p);
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
+#define run_sh(...) test_in_dir(text, sizeof text, dir, __VA_ARGS__)
 
 static const char *bin(void)
 {
@@ -406,8 +381,7 @@ static void ply_dropped_properties_named(void **s)
 static int setup(void **s)
 {
     (void)s;
-    strcpy(dir, "/tmp/limn_readers_XXXXXX");
-    if (!mkdtemp(dir))
+    if (test_make_dir(dir, sizeof dir, "readers") != 0)
         return -1;
     ctx = limn_context_create();
     return ctx ? 0 : -1;
@@ -417,9 +391,7 @@ static int teardown(void **s)
 {
     (void)s;
     limn_context_destroy(ctx);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return test_remove_dir(dir);
 }
 
 int main(void)

@@ -213,8 +213,7 @@ static void against_osd(limn_context *ctx, const char *name, const limn_mesh *m,
 
 static void generated_vs_osd(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *grid = test_mesh_grid(ctx, 4, 3, 0), *tgrid = test_mesh_grid(ctx, 4, 3, 1);
     limn_mesh *cube = test_mesh_cube(ctx), *pyr = test_mesh_pyramid(ctx);
     limn_mesh *ico = test_mesh_icosahedron(ctx), *fan = test_mesh_fan(ctx, 5, 0);
@@ -234,12 +233,10 @@ static void generated_vs_osd(void **s)
     limn_mesh_destroy(pyr);
     limn_mesh_destroy(ico);
     limn_mesh_destroy(fan);
-    limn_context_destroy(ctx);
 }
 
 static void shared_vs_osd(void **s)
 {
-    (void)s;
     if (!test_shared_meshes())
         skip();
     static const struct {
@@ -267,7 +264,7 @@ static void shared_vs_osd(void **s)
         {"opensubdiv/loop_pole64.obj", LIMN_SCHEME_LOOP, 2},
         {"medium/bob_quad.obj", LIMN_SCHEME_CATMARK, 1},
     };
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         limn_mesh *m = NULL;
         assert_int_equal(limn_mesh_read(ctx, test_shared_path(cases[i].file), LIMN_FORMAT_AUTO, &m),
@@ -276,15 +273,13 @@ static void shared_vs_osd(void **s)
             against_osd(ctx, cases[i].file, m, cases[i].scheme, l);
         limn_mesh_destroy(m);
     }
-    limn_context_destroy(ctx);
 }
 
 /* alpha on the first step: limn's level-k points equal the brute-force
    oracle's (which applies alpha at its first level only) as point sets. */
 static void alpha_first_step(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *meshes[] = {test_mesh_cube(ctx), test_mesh_pyramid(ctx), test_mesh_fan(ctx, 5, 0),
                            test_mesh_grid(ctx, 3, 3, 0)};
     for (size_t i = 0; i < 4; i++) {
@@ -315,7 +310,6 @@ static void alpha_first_step(void **s)
         }
         limn_mesh_destroy(meshes[i]);
     }
-    limn_context_destroy(ctx);
 }
 
 /* interpolate, then refine with --limit: the surface passes through M. */
@@ -400,8 +394,7 @@ static void backends_agree(void **s)
 
 static void memory_refusal(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *g = test_mesh_grid(ctx, 10, 10, 0), *out = NULL;
     limn_subdivide_options o;
     limn_subdivide_options_default(&o);
@@ -414,15 +407,14 @@ static void memory_refusal(void **s)
     o.levels = 17;
     assert_int_equal(limn_subdivide(ctx, g, &o, &out, NULL), LIMN_ERR_ARGUMENT);
     limn_mesh_destroy(g);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(generated_vs_osd),      cmocka_unit_test(shared_vs_osd),
-        cmocka_unit_test(alpha_first_step),      cmocka_unit_test(surface_passes_through_input),
-        cmocka_unit_test(backends_agree),        cmocka_unit_test(memory_refusal),
+        CONTEXT_TEST(generated_vs_osd),      CONTEXT_TEST(shared_vs_osd),
+        CONTEXT_TEST(alpha_first_step),      cmocka_unit_test(surface_passes_through_input),
+        cmocka_unit_test(backends_agree),        CONTEXT_TEST(memory_refusal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -17,6 +17,7 @@
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L
 #endif
+#include "shell.h"
 #include "support.h"
 
 #include <dirent.h>
@@ -41,20 +42,12 @@ static char text[1 << 17];
 
 /* ------------------------------------------------------------------ helpers */
 
-static const char *path_in(const char *name)
-{
-    static char path[8][512];
-    static int k;
-    k = (k + 1) % 8;
-    snprintf(path[k], sizeof path[k], "%s/%s", dir, name);
-    return path[k];
-}
+static const char *path_in(const char *name) { return test_join(dir, name); }
 
 static int setup(void **s)
 {
     (void)s;
-    strcpy(dir, "/tmp/limn_robust_XXXXXX");
-    if (!mkdtemp(dir) || chmod(dir, 0755) != 0)
+    if (test_make_dir(dir, sizeof dir, "robust") != 0 || chmod(dir, 0755) != 0)
         return -1;
     snprintf(out_path, sizeof out_path, "%s/out.ply", dir);
     return 0;
@@ -69,36 +62,14 @@ static int teardown(void **s)
 }
 
 /* Runs a shell command with stdout and stderr in text; returns the exit status. */
-static int run_sh(const char *cmd)
-{
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(text, 1, sizeof text - 1, p);
-    text[n] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
+static int run_sh(const char *cmd) { return test_run(text, sizeof text, cmd); }
 
 /* Runs `limn ARGS` (printf-style); output in text; returns the exit status. */
-static int limn(const char *fmt, ...)
-{
-    char args[8192], cmd[16384];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
-    va_end(ap);
-    snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", getenv("LIMN_BIN"), args);
-    return run_sh(cmd);
-}
+#define limn(...) test_limn(text, sizeof text, NULL, __VA_ARGS__)
 
 static const char *write_input(const char *name, const void *data, size_t n)
 {
-    const char *path = path_in(name);
-    FILE *f = fopen(path, "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(data, 1, n, f), n);
-    assert_int_equal(fclose(f), 0);
-    return path;
+    return test_write_bytes(path_in(name), data, n);
 }
 
 /* Fails when the directory holds anything but the inputs (in_*): an output
@@ -597,8 +568,7 @@ static limn_mesh *mesh_of(limn_context *ctx, size_t nv, size_t nf, const uint32_
 
 static void repair_api(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     /* 0: clean; 1: a b b c (consecutive); 2: a b c a d e (split); 3: c d c (dropped);
        4: a b c a (cyclic repeat) */
     const uint32_t off[] = {0, 3, 7, 13, 16, 20};
@@ -660,7 +630,6 @@ static void repair_api(void **s)
     assert_string_equal(limn_context_warnings(ctx), "");
     assert_int_equal(r.components, 1);
     limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 /* --------------------------------------------------------------- STL reader */
@@ -760,24 +729,7 @@ static void stl_reader(void **s)
 
 /* -------------------------------------------------------------- data safety */
 
-static char *slurp(const char *path, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    char *buf = malloc(1 << 22);
-    *n = fread(buf, 1, (1 << 22) - 1, f);
-    buf[*n] = '\0';
-    fclose(f);
-    return buf;
-}
-
-static const char *spot(void)
-{
-    static char path[512];
-    snprintf(path, sizeof path, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
-    return path;
-}
+static const char *spot(void) { return test_data_path("spot_control_mesh.obj"); }
 
 /* An existing output is replaced by a rename: a reader holding the old file
    sees it whole, and a failed run leaves it untouched. */
@@ -792,7 +744,7 @@ static void existing_output_replaced_atomically(void **s)
     /* a failed run (refused option value at run time) leaves it as it was */
     assert_int_equal(limn("subdivide '%s' -o '%s' --levels 6 --max-memory 1M", spot(), out_path), 1);
     size_t n;
-    char *old = slurp(out_path, &n);
+    char *old = test_slurp(out_path, &n);
     assert_string_equal(old, "OLD CONTENT\n");
     free(old);
     /* a good run replaces it with a new file */
@@ -820,7 +772,7 @@ static void input_never_overwritten(void **s)
              spot(), in, in, dir, in, dir);
     assert_int_equal(system(cmd), 0);
     size_t n0, n1;
-    char *orig = slurp(in, &n0);
+    char *orig = test_slurp(in, &n0);
     const char *names[] = {in, path_in("in_link.obj"), path_in("in_sym.obj")};
     char dotted[600];
     snprintf(dotted, sizeof dotted, "%s/./in_mesh.obj", dir);
@@ -838,13 +790,13 @@ static void input_never_overwritten(void **s)
                 fail_msg("%s: exit %d:\n%s", args, rc, text);
         }
     }
-    char *now = slurp(in, &n1);
+    char *now = test_slurp(in, &n1);
     assert_int_equal(n0, n1);
     assert_memory_equal(orig, now, n0);
     free(now);
     /* allowed when asked for */
     assert_int_equal(limn("interpolate '%s' -o '%s' --overwrite-input -q", in, in), 0);
-    now = slurp(in, &n1);
+    now = test_slurp(in, &n1);
     assert_true(n1 != n0 || memcmp(orig, now, n0) != 0);
     free(now);
     free(orig);
@@ -863,12 +815,12 @@ static void failed_report_writes_nothing(void **s)
                      1);
     assert_non_null(strstr(text, "no/such/dir/r.json"));
     size_t n;
-    char *kept = slurp(out_path, &n);
+    char *kept = test_slurp(out_path, &n);
     assert_string_equal(kept, "KEEP\n");
     free(kept);
     assert_int_equal(limn("subdivide '%s' -o '%s' --report '%s/no/r.json'", spot(), out_path, dir),
                      1);
-    kept = slurp(out_path, &n);
+    kept = test_slurp(out_path, &n);
     assert_string_equal(kept, "KEEP\n");
     free(kept);
     unlink(out_path);
@@ -895,7 +847,7 @@ static void series_commands(void **s)
     assert_int_equal(limn("denoise '%s' -o '%s' --report '%s/no/dir/r.json'", spot(), out_path, dir),
                      1);
     size_t n;
-    char *kept = slurp(out_path, &n);
+    char *kept = test_slurp(out_path, &n);
     assert_string_equal(kept, "KEEP\n");
     free(kept);
     unlink(out_path);
@@ -940,7 +892,7 @@ static void full_disk(void **s)
             fail_msg("exit %d:\n%s", rc, text);
         assert_non_null(strstr(text, target));
         size_t n;
-        char *kept = slurp(target, &n);
+        char *kept = test_slurp(target, &n);
         assert_int_equal(n, 39999);
         free(kept);
         free(old);
@@ -964,7 +916,7 @@ static void full_disk(void **s)
         rc = limn("interpolate '%s' -o '%s' --report '%s'", spot(), out_path, report);
         if (rc != 1 || !strstr(text, "No space left on device") || !strstr(text, report))
             fail_msg("exit %d:\n%s", rc, text);
-        kept = slurp(out_path, &n);
+        kept = test_slurp(out_path, &n);
         assert_string_equal(kept, "KEEP\n");
         free(kept);
         assert_false(test_file_exists(report));
@@ -988,7 +940,7 @@ static void full_disk(void **s)
     if (rc != 1 || !strstr(text, "File too large"))
         fail_msg("exit %d:\n%s", rc, text);
     size_t n;
-    char *kept = slurp(out_path, &n);
+    char *kept = test_slurp(out_path, &n);
     assert_string_equal(kept, "OLD\n");
     free(kept);
     unlink(out_path);
@@ -1090,7 +1042,7 @@ static void max_memory(void **s)
                               test_shared_path("medium/horse.ply"), out_path, report),
                          0);
         size_t n;
-        char *json = slurp(report, &n);
+        char *json = test_slurp(report, &n);
         const char *p = strstr(json, "\"peak_rss_bytes\": ");
         assert_non_null(p);
         double rss = strtod(p + 18, NULL);
@@ -1127,7 +1079,7 @@ int main(void)
         cmocka_unit_test(class_several_components),
         cmocka_unit_test(class_empty),
         cmocka_unit_test(real_broken_meshes),
-        cmocka_unit_test(repair_api),
+        CONTEXT_TEST(repair_api),
         cmocka_unit_test(stl_reader),
         cmocka_unit_test(existing_output_replaced_atomically),
         cmocka_unit_test(input_never_overwritten),

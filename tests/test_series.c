@@ -13,6 +13,7 @@
  *  - the OpenCL and reference backends agree (bit-identical expected);
  *  - volume / area / flips on closed forms; the renderer on a cube.
  */
+#include "noise.h"
 #include "support.h"
 
 #include "stencil/stencil.h"
@@ -98,43 +99,6 @@ static limn_mesh *icosphere(limn_context *ctx, int levels)
         free(off);
     }
     return m;
-}
-
-static double mean_edge(const limn_mesh *m)
-{
-    const double *p = limn_mesh_positions(m);
-    const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
-    double sum = 0;
-    size_t count = 0;
-    for (size_t f = 0; f < limn_mesh_face_count(m); f++)
-        for (uint32_t k = off[f]; k < off[f + 1]; k++) {
-            const double *a = p + 3 * idx[k], *b = p + 3 * idx[k + 1 < off[f + 1] ? k + 1 : off[f]];
-            sum += sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                        (a[2] - b[2]) * (a[2] - b[2]));
-            count++;
-        }
-    return sum / (double)count;
-}
-
-/* Seeded Gaussian noise of deviation sigma on every coordinate (Box-Muller). */
-static void gaussian_noise(limn_mesh *m, double sigma, uint64_t seed)
-{
-    double *p = limn_mesh_positions_mutable(m);
-    uint64_t s = seed;
-    for (size_t i = 0; i < 3 * limn_mesh_vertex_count(m); i += 2) {
-        double u[2];
-        for (int k = 0; k < 2; k++) {
-            uint64_t z = (s += 0x9E3779B97F4A7C15ULL);
-            z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-            z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-            z ^= z >> 31;
-            u[k] = ((double)(z >> 11) + 0.5) / 9007199254740992.0;
-        }
-        double r = sqrt(-2.0 * log(u[0]));
-        p[i] += sigma * r * cos(6.283185307179586 * u[1]);
-        if (i + 1 < 3 * limn_mesh_vertex_count(m))
-            p[i + 1] += sigma * r * sin(6.283185307179586 * u[1]);
-    }
 }
 
 /* ------------------------------------------------------- dense oracle */
@@ -320,8 +284,7 @@ static void dense_check(const char *name, limn_mesh *m, limn_scheme scheme, doub
 
 static void series_against_dense(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *ico = test_mesh_icosahedron(ctx), *cube = test_mesh_cube(ctx);
     limn_mesh *grid = test_mesh_grid(ctx, 5, 4, 0), *tgrid = test_mesh_grid(ctx, 4, 4, 1);
     limn_mesh *pyr = test_mesh_pyramid(ctx), *fan = test_mesh_fan(ctx, 5, 0);
@@ -347,7 +310,6 @@ static void series_against_dense(void **s)
     limn_mesh_destroy(tgrid);
     limn_mesh_destroy(pyr);
     limn_mesh_destroy(fan);
-    limn_context_destroy(ctx);
 }
 
 /* --------------------------------------------- bands sum back, energy falls */
@@ -388,8 +350,7 @@ static void bands_of(const char *name, limn_mesh *m, int count, int expect_decre
 
 static void bands_sum_and_energy(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *sphere = icosphere(ctx, 3), *grid = test_mesh_grid(ctx, 40, 37, 0);
     bands_of("icosphere (3 levels)", sphere, 10, 1);
     bands_of("quad grid 40x37", grid, 10, 0);
@@ -403,7 +364,6 @@ static void bands_sum_and_energy(void **s)
         bands_of(smooth[i], m, 8, 1);
         limn_mesh_destroy(m);
     }
-    limn_context_destroy(ctx);
 }
 
 /* ------------------------------------------------------------- denoise */
@@ -412,7 +372,7 @@ static void denoise_one(limn_context *ctx, const char *name, limn_mesh *clean, d
 {
     limn_mesh *noisy = NULL, *out = NULL;
     CHECK_OK(ctx, limn_mesh_copy(ctx, clean, &noisy));
-    gaussian_noise(noisy, factor * mean_edge(clean), 2024);
+    test_gaussian_noise(noisy, factor * test_mean_edge(clean), 2024);
     limn_mesh_comparison before = {.size = sizeof before}, after = {.size = sizeof after};
     CHECK_OK(ctx, limn_mesh_compare(ctx, clean, noisy, &before));
     limn_series_report r = {.size = sizeof r};
@@ -448,8 +408,7 @@ static void denoise_one(limn_context *ctx, const char *name, limn_mesh *clean, d
 
 static void denoise_brings_closer(void **s)
 {
-    (void)s;
-    limn_context *ctx = ctx_for("opencl");
+    limn_context *ctx = *s;
     limn_mesh *sphere = icosphere(ctx, 4);
     denoise_one(ctx, "icosphere (4 levels)", sphere, 0.3);
     limn_mesh_destroy(sphere);
@@ -461,15 +420,13 @@ static void denoise_brings_closer(void **s)
         denoise_one(ctx, files[i], m, 0.3);
         limn_mesh_destroy(m);
     }
-    limn_context_destroy(ctx);
 }
 
 /* ------------------------------------------------------------- sharpen */
 
 static void sharpen_raises_high_bands(void **s)
 {
-    (void)s;
-    limn_context *ctx = ctx_for("opencl");
+    limn_context *ctx = *s;
     limn_mesh *m = icosphere(ctx, 3), *sharp = NULL;
     test_perturb(m, 0.01, 7);
     if (test_shared_meshes()) {
@@ -492,7 +449,6 @@ static void sharpen_raises_high_bands(void **s)
             fail_msg("band %d: energy %.6g after sharpening, %.6g before", i, e1[i], e0[i]);
     limn_mesh_destroy(m);
     limn_mesh_destroy(sharp);
-    limn_context_destroy(ctx);
 }
 
 /* --------------------------------------------------------------- morph */
@@ -560,20 +516,7 @@ static limn_mesh *spherized(limn_context *ctx, const limn_mesh *m)
     CHECK_OK(ctx, limn_mesh_copy(ctx, m, &s));
     limn_mesh_measures me = {.size = sizeof me};
     CHECK_OK(ctx, limn_mesh_measure(ctx, m, &me));
-    double *p = limn_mesh_positions_mutable(s), rsum = 0;
-    size_t n = limn_mesh_vertex_count(s);
-    for (size_t i = 0; i < n; i++) {
-        double d[3] = {p[3 * i] - me.centroid[0], p[3 * i + 1] - me.centroid[1],
-                       p[3 * i + 2] - me.centroid[2]};
-        rsum += sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    }
-    for (size_t i = 0; i < n; i++) {
-        double d[3] = {p[3 * i] - me.centroid[0], p[3 * i + 1] - me.centroid[1],
-                       p[3 * i + 2] - me.centroid[2]};
-        double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (int c = 0; c < 3; c++)
-            p[3 * i + c] = me.centroid[c] + d[c] * (rsum / (double)n) / (l > 0 ? l : 1);
-    }
+    test_spherize(s, me.centroid);
     return s;
 }
 
@@ -840,8 +783,7 @@ static void backends_agree(void **s)
 
 static void measures(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *cube = test_mesh_cube(ctx), *grid = test_mesh_grid(ctx, 3, 3, 0);
     limn_mesh *sphere = icosphere(ctx, 5);
     limn_mesh_measures me = {.size = sizeof me};
@@ -875,15 +817,13 @@ static void measures(void **s)
     limn_mesh_destroy(grid);
     limn_mesh_destroy(sphere);
     limn_mesh_destroy(mirror);
-    limn_context_destroy(ctx);
 }
 
 /* -------------------------------------------------------------- render */
 
 static void render_cube(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     limn_mesh *cube = test_mesh_cube(ctx);
     limn_render_options o;
     limn_render_options_default(&o);
@@ -910,22 +850,21 @@ static void render_cube(void **s)
     free(rgb);
     free(again);
     limn_mesh_destroy(cube);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(series_against_dense),
-        cmocka_unit_test(bands_sum_and_energy),
-        cmocka_unit_test(denoise_brings_closer),
-        cmocka_unit_test(sharpen_raises_high_bands),
+        CONTEXT_TEST(series_against_dense),
+        CONTEXT_TEST(bands_sum_and_energy),
+        OPENCL_TEST(denoise_brings_closer),
+        OPENCL_TEST(sharpen_raises_high_bands),
         cmocka_unit_test(morph_frames),
         cmocka_unit_test(texture_colors),
         cmocka_unit_test(perlin_noise),
         cmocka_unit_test(backends_agree),
-        cmocka_unit_test(measures),
-        cmocka_unit_test(render_cube),
+        CONTEXT_TEST(measures),
+        CONTEXT_TEST(render_cube),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,6 +5,7 @@
  * good runs write what the README says (band files and energy JSON, frames,
  * PLY colours, a PNG that decodes) and reports with the shared keys.
  */
+#include "shell.h"
 #include "support.h"
 
 #include <setjmp.h>
@@ -25,8 +26,7 @@ static char text[1 << 16];
 static int setup(void **s)
 {
     (void)s;
-    strcpy(dir, "/tmp/limn_series_XXXXXX");
-    if (!mkdtemp(dir))
+    if (test_make_dir(dir, sizeof dir, "series") != 0)
         return -1;
     snprintf(spot, sizeof spot, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
     return 0;
@@ -35,27 +35,19 @@ static int setup(void **s)
 static int teardown(void **s)
 {
     (void)s;
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return test_remove_dir(dir);
 }
 
 /* Runs `limn ARGS` (with %s replaced by the temporary directory) and captures
    stdout+stderr; returns the exit status. */
 static int limn(const char *fmt, ...)
 {
-    char args[4096], cmd[8192];
+    char args[4096];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(args, sizeof args, fmt, ap);
     va_end(ap);
-    snprintf(cmd, sizeof cmd, "cd '%s' && '%s' %s 2>&1", dir, getenv("LIMN_BIN"), args);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(text, 1, sizeof text - 1, p);
-    text[n] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return test_in_dir(text, sizeof text, dir, "'%s' %s", getenv("LIMN_BIN"), args);
 }
 
 /* Nothing but the inputs (in_*) and the frames directory is in the directory. */
@@ -80,9 +72,7 @@ static void expect(int rc, int status, const char *message, const char *what)
 
 static void write_in(const char *name, const char *content)
 {
-    char path[256];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    assert_int_equal(test_write_text(path, content), 0);
+    assert_int_equal(test_write_text(test_join(dir, name), content), 0);
 }
 
 static void bad_usage(void **s)

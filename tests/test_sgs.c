@@ -333,30 +333,26 @@ static limn_mesh *refined(limn_context *ctx, limn_mesh *m, int levels)
 
 static void catmull_clark(void **state)
 {
-    (void)state;
     char path[4096];
     snprintf(path, sizeof path, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *state;
     limn_mesh *spot = NULL;
     assert_int_equal(limn_mesh_read(ctx, path, LIMN_FORMAT_AUTO, &spot), LIMN_OK);
     spot = refined(ctx, spot, 2);
     both_backends(spot, LIMN_SCHEME_CATMARK);
     limn_mesh_destroy(spot);
-    limn_context_destroy(ctx);
 }
 
 static void loop(void **state)
 {
-    (void)state;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *state;
     limn_mesh *ico = refined(ctx, test_mesh_icosahedron(ctx), 3);
     both_backends(ico, LIMN_SCHEME_LOOP);
     limn_mesh_destroy(ico);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(catmull_clark), cmocka_unit_test(loop)};
+    const struct CMUnitTest tests[] = {CONTEXT_TEST(catmull_clark), CONTEXT_TEST(loop)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -9,6 +9,7 @@
  * (`limn devices`, the interpolate report) under `taskset` and without.
  */
 #define _GNU_SOURCE /* sched_setaffinity, CPU_SET */
+#include "shell.h"
 #include "support.h"
 #include "device/threads.h"
 
@@ -110,8 +111,7 @@ static void plan_precedence(void **s)
 
 static void bad_requests(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     assert_int_equal(limn_context_set_threads(ctx, -2), LIMN_ERR_ARGUMENT);
     assert_non_null(strstr(limn_context_message(ctx), "-2 is not a thread count"));
     assert_int_equal(limn_context_set_threads(ctx, 1 << 20), LIMN_ERR_ARGUMENT);
@@ -124,7 +124,6 @@ static void bad_requests(void **s)
     assert_int_equal(limn_context_threads(ctx, &n, &src), LIMN_OK);
     assert_int_equal(n, 0);
     assert_non_null(strstr(src, "not decided yet"));
-    limn_context_destroy(ctx);
 }
 
 /* ------------------------------------------------- this process's binding */
@@ -296,15 +295,7 @@ static void runtime_default_sets_nothing(void **s)
 
 /* ------------------------------------------------------------------ CLI */
 
-static int run(const char *cmd)
-{
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(text, 1, sizeof text - 1, p);
-    text[n] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
+static int run(const char *cmd) { return test_run(text, sizeof text, cmd); }
 
 /* `limn devices` with env/prefix; checks its threads line and compute units. */
 static void devices_say(const char *prefix, int want, const char *source)
@@ -349,8 +340,8 @@ static void interpolate_report_has_the_count(void **s)
         skip();
     cpu_set_t all;
     assert_int_equal(sched_getaffinity(0, sizeof all, &all), 0);
-    char dir[] = "/tmp/limn_threads_XXXXXX";
-    assert_non_null(mkdtemp(dir));
+    char dir[64];
+    assert_int_equal(test_make_dir(dir, sizeof dir, "threads"), 0);
     char cmd[2048];
     for (int bound = 0; bound < 2; bound++) {
         char prefix[64] = "";
@@ -370,8 +361,7 @@ static void interpolate_report_has_the_count(void **s)
         if (!strstr(text, want) || !strstr(text, "\"threads_source\": \"binding via hwloc\""))
             fail_msg("report without %s from the binding:\n%s", want, text);
     }
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    assert_int_equal(test_remove_dir(dir), 0);
 }
 
 int main(void)
@@ -379,7 +369,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(counts_cores_not_pus),
         cmocka_unit_test(plan_precedence),
-        cmocka_unit_test(bad_requests),
+        CONTEXT_TEST(bad_requests),
         cmocka_unit_test(binding_of_this_process),
         cmocka_unit_test(pocl_follows_the_api),
         cmocka_unit_test(pocl_follows_the_binding),

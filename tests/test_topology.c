@@ -97,8 +97,7 @@ static void shared_meshes_match_stats(void **state)
 
 static void generated_meshes_closed_forms(void **state)
 {
-    (void)state;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *state;
     limn_mesh_info in = {.size = sizeof in};
     /* 4 x 3 quad grid: V = 20, E = 4*4 + 5*3 = 31, F = 12, boundary 14, one loop. */
     limn_mesh *g = test_mesh_grid(ctx, 4, 3, 0);
@@ -125,15 +124,13 @@ static void generated_meshes_closed_forms(void **state)
     assert_int_equal(in.max_valence, 5);
     assert_int_equal(in.euler_characteristic, 2);
     limn_mesh_destroy(ico);
-    limn_context_destroy(ctx);
 }
 
 /* Two triangles sharing only a vertex (a bow tie) and a fin of three faces on
    one edge: the classes of non-manifold input. */
 static void nonmanifold_classes(void **state)
 {
-    (void)state;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *state;
     static const double pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0};
     static const uint32_t bow_idx[] = {0, 1, 2, 0, 3, 4};
     static const uint32_t bow_off[] = {0, 3, 6};
@@ -177,14 +174,13 @@ static void nonmanifold_classes(void **state)
     assert_int_equal(limn_mesh_info_compute(ctx, deg, &in), LIMN_ERR_TOPOLOGY);
     assert_non_null(strstr(limn_context_message(ctx), "face 1 uses vertex 0 twice"));
     limn_mesh_destroy(deg);
-    limn_context_destroy(ctx);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(generated_meshes_closed_forms),
-        cmocka_unit_test(nonmanifold_classes),
+        CONTEXT_TEST(generated_meshes_closed_forms),
+        CONTEXT_TEST(nonmanifold_classes),
         cmocka_unit_test(shared_meshes_match_stats),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -11,6 +11,7 @@
  * build); the exit status is 0 when every file ran through.
  */
 #include "fuzz_common.h"
+#include "slurp.h"
 
 #include <dirent.h>
 #include <stdio.h>
@@ -30,22 +31,8 @@ static int replay_file(const char *target, const char *path)
         fprintf(stderr, "replay: cannot open %s\n", path);
         return 1;
     }
-    size_t cap = 1 << 16, n = 0;
-    unsigned char *buf = malloc(cap);
-    size_t k;
-    while (buf && (k = fread(buf + n, 1, cap - n, f)) > 0) {
-        n += k;
-        if (n == cap) {
-            unsigned char *grown = realloc(buf, cap * 2);
-            if (!grown) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = grown;
-            cap *= 2;
-        }
-    }
+    size_t n;
+    unsigned char *buf = (unsigned char *)test_read_stream(f, &n);
     fclose(f);
     if (!buf) {
         fprintf(stderr, "replay: out of memory reading %s\n", path);

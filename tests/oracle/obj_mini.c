@@ -1,23 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* Test-only minimal OBJ reader; see obj_mini.h. */
 #include "obj_mini.h"
+#include "oracle_fail.h"
 
 #include <ctype.h>
 #include <errno.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static int om_fail(char *err, size_t errlen, const char *fmt, ...) {
-    if (err && errlen > 0) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err, errlen, fmt, ap);
-        va_end(ap);
-    }
-    return 1;
-}
 
 /* growable arrays */
 static int om_grow(void **p, size_t *cap, size_t need, size_t elem) {
@@ -42,7 +32,7 @@ void obj_mini_free(obj_mini_mesh *m) {
 int obj_mini_read(const char *path, obj_mini_mesh *m, char *err, size_t errlen) {
     memset(m, 0, sizeof *m);
     FILE *fp = fopen(path, "r");
-    if (!fp) return om_fail(err, errlen, "%s: %s", path, strerror(errno));
+    if (!fp) return oracle_fail(err, errlen, "%s: %s", path, strerror(errno));
 
     size_t pcap = 0, scap = 0, icap = 0, nidx = 0;
     char line[65536];
@@ -51,7 +41,7 @@ int obj_mini_read(const char *path, obj_mini_mesh *m, char *err, size_t errlen) 
     while (fgets(line, sizeof line, fp)) {
         ++lineno;
         if (!strchr(line, '\n') && !feof(fp)) {
-            rc = om_fail(err, errlen, "%s:%ld: line too long", path, lineno);
+            rc = oracle_fail(err, errlen, "%s:%ld: line too long", path, lineno);
             break;
         }
         char *s = line;
@@ -62,13 +52,13 @@ int obj_mini_read(const char *path, obj_mini_mesh *m, char *err, size_t errlen) 
             for (int c = 0; c < 3; ++c) {
                 xyz[c] = strtod(p, &end);
                 if (end == p) {
-                    rc = om_fail(err, errlen, "%s:%ld: bad vertex line", path, lineno);
+                    rc = oracle_fail(err, errlen, "%s:%ld: bad vertex line", path, lineno);
                     goto done;
                 }
                 p = end;
             }
             if (om_grow((void **)&m->pos, &pcap, 3 * (size_t)(m->nverts + 1), sizeof(double))) {
-                rc = om_fail(err, errlen, "out of memory");
+                rc = oracle_fail(err, errlen, "out of memory");
                 goto done;
             }
             memcpy(m->pos + 3 * (size_t)m->nverts, xyz, sizeof xyz);
@@ -82,36 +72,36 @@ int obj_mini_read(const char *path, obj_mini_mesh *m, char *err, size_t errlen) 
                 char *end;
                 long idx = strtol(p, &end, 10);
                 if (end == p || idx == 0) {
-                    rc = om_fail(err, errlen, "%s:%ld: bad face index", path, lineno);
+                    rc = oracle_fail(err, errlen, "%s:%ld: bad face index", path, lineno);
                     goto done;
                 }
                 long v = idx > 0 ? idx - 1 : (long)m->nverts + idx;
                 if (v < 0 || v >= m->nverts) {
-                    rc = om_fail(err, errlen, "%s:%ld: face index %ld out of range", path,
+                    rc = oracle_fail(err, errlen, "%s:%ld: face index %ld out of range", path,
                                  lineno, idx);
                     goto done;
                 }
                 p = end;
                 while (*p && !isspace((unsigned char)*p)) ++p; /* skip /vt/vn */
                 if (om_grow((void **)&m->face_indices, &icap, nidx + 1, sizeof(int))) {
-                    rc = om_fail(err, errlen, "out of memory");
+                    rc = oracle_fail(err, errlen, "out of memory");
                     goto done;
                 }
                 m->face_indices[nidx++] = (int)v;
                 ++count;
             }
             if (count < 3) {
-                rc = om_fail(err, errlen, "%s:%ld: face with %d vertices", path, lineno, count);
+                rc = oracle_fail(err, errlen, "%s:%ld: face with %d vertices", path, lineno, count);
                 goto done;
             }
             if (om_grow((void **)&m->face_sizes, &scap, (size_t)m->nfaces + 1, sizeof(int))) {
-                rc = om_fail(err, errlen, "out of memory");
+                rc = oracle_fail(err, errlen, "out of memory");
                 goto done;
             }
             m->face_sizes[m->nfaces++] = count;
         }
     }
-    if (!rc && ferror(fp)) rc = om_fail(err, errlen, "%s: read error", path);
+    if (!rc && ferror(fp)) rc = oracle_fail(err, errlen, "%s: read error", path);
 done:
     fclose(fp);
     if (rc) obj_mini_free(m);

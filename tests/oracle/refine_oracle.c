@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* Test-only brute-force uniform Loop / Catmull-Clark refinement; see refine_oracle.h. */
 #include "refine_oracle.h"
+#include "oracle_fail.h"
 
 #include <limits.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,16 +12,6 @@
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
-
-static int ro_fail(char *err, size_t errlen, const char *fmt, ...) {
-    if (err && errlen > 0) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err, errlen, fmt, ap);
-        va_end(ap);
-    }
-    return 1;
-}
 
 /* One level of a mesh. Corner (= half-edge) h of face f is fidx[foff[f] + j]; the
    half-edge h goes from corner j to corner j+1 of its face. */
@@ -91,7 +81,7 @@ static int ro_build_edges(const ro_mesh *m, ro_edges *e, char *err, size_t errle
     int rc = 0;
     if (!e->foff || !e->hface || !e->hedge || !cnt || !bucket || !e->v0 || !e->v1 || !e->h0 ||
         !e->h1) {
-        rc = ro_fail(err, errlen, "refine_oracle: out of memory");
+        rc = oracle_fail(err, errlen, "refine_oracle: out of memory");
         goto out;
     }
     e->foff[0] = 0;
@@ -107,7 +97,7 @@ static int ro_build_edges(const ro_mesh *m, ro_edges *e, char *err, size_t errle
     {
         long *fill = malloc(sizeof(long) * ((size_t)nv + 1));
         if (!fill) {
-            rc = ro_fail(err, errlen, "refine_oracle: out of memory");
+            rc = oracle_fail(err, errlen, "refine_oracle: out of memory");
             goto out;
         }
         memcpy(fill, cnt, sizeof(long) * ((size_t)nv + 1));
@@ -139,13 +129,13 @@ static int ro_build_edges(const ro_mesh *m, ro_edges *e, char *err, size_t errle
                 ++ne;
             } else {
                 if (e->h1[found] >= 0) {
-                    rc = ro_fail(err, errlen,
+                    rc = oracle_fail(err, errlen,
                                  "refine_oracle: non-manifold edge (%d,%d): more than two faces",
                                  a, b);
                     goto out;
                 }
                 if (e->v0[found] == a) {
-                    rc = ro_fail(err, errlen,
+                    rc = oracle_fail(err, errlen,
                                  "refine_oracle: inconsistent orientation at edge (%d,%d) "
                                  "(faces %d and %d)",
                                  a, b, e->hface[e->h0[found]], e->hface[h]);
@@ -179,7 +169,7 @@ static int ro_check_fans(const ro_mesh *m, const ro_edges *e, char *err, size_t 
     if (!par || !root) {
         free(par);
         free(root);
-        return ro_fail(err, errlen, "refine_oracle: out of memory");
+        return oracle_fail(err, errlen, "refine_oracle: out of memory");
     }
     for (long h = 0; h < m->nidx; ++h) par[h] = h;
     for (int x = 0; x < e->ne; ++x) {
@@ -201,7 +191,7 @@ static int ro_check_fans(const ro_mesh *m, const ro_edges *e, char *err, size_t 
         if (root[v] < 0)
             root[v] = r;
         else if (root[v] != r)
-            rc = ro_fail(err, errlen,
+            rc = oracle_fail(err, errlen,
                          "refine_oracle: non-manifold vertex %d (its faces form more than one "
                          "fan)",
                          v);
@@ -215,18 +205,18 @@ static int ro_check_input(int scheme, const ro_mesh *m, char *err, size_t errlen
     long k = 0;
     for (int f = 0; f < m->nf; ++f) {
         int d = m->fsize[f];
-        if (d < 3) return ro_fail(err, errlen, "refine_oracle: face %d has %d vertices", f, d);
+        if (d < 3) return oracle_fail(err, errlen, "refine_oracle: face %d has %d vertices", f, d);
         if (scheme == 0 && d != 3)
-            return ro_fail(err, errlen, "refine_oracle: Loop needs triangles; face %d has %d", f,
+            return oracle_fail(err, errlen, "refine_oracle: Loop needs triangles; face %d has %d", f,
                            d);
         for (int j = 0; j < d; ++j) {
             int v = m->fidx[k + j];
             if (v < 0 || v >= m->nv)
-                return ro_fail(err, errlen, "refine_oracle: face %d: vertex %d out of range", f,
+                return oracle_fail(err, errlen, "refine_oracle: face %d: vertex %d out of range", f,
                                v);
             for (int i = 0; i < j; ++i)
                 if (m->fidx[k + i] == v)
-                    return ro_fail(err, errlen, "refine_oracle: face %d repeats vertex %d", f,
+                    return oracle_fail(err, errlen, "refine_oracle: face %d repeats vertex %d", f,
                                    v);
         }
         k += d;
@@ -257,7 +247,7 @@ static int ro_step(int scheme, double alpha, const ro_mesh *in, int check_fans, 
     long nidxo = (scheme == 1 ? 4L : 3L) * nfo;
     if (nvo > INT_MAX || nfo > INT_MAX) {
         ro_edges_free(&E);
-        return ro_fail(err, errlen, "refine_oracle: mesh too large for int indices");
+        return oracle_fail(err, errlen, "refine_oracle: mesh too large for int indices");
     }
     out->nv = (int)nvo;
     out->nf = (int)nfo;
@@ -274,7 +264,7 @@ static int ro_step(int scheme, double alpha, const ro_mesh *in, int check_fans, 
     double *fsum = calloc((size_t)nv * 3 + 3, sizeof(double));
     int rc = 0;
     if (!out->pos || !out->fsize || !out->fidx || !vf || !ve || !vb || !esum || !bsum || !fsum) {
-        rc = ro_fail(err, errlen, "refine_oracle: out of memory");
+        rc = oracle_fail(err, errlen, "refine_oracle: out of memory");
         goto done;
     }
 
@@ -334,7 +324,7 @@ static int ro_step(int scheme, double alpha, const ro_mesh *in, int check_fans, 
         } else if (vb[v] == 0) { /* interior */
             int n = ve[v];
             if (n != vf[v]) {
-                rc = ro_fail(err, errlen, "refine_oracle: interior vertex %d: %d edges, %d faces",
+                rc = oracle_fail(err, errlen, "refine_oracle: interior vertex %d: %d edges, %d faces",
                              v, n, vf[v]);
                 break;
             }
@@ -357,7 +347,7 @@ static int ro_step(int scheme, double alpha, const ro_mesh *in, int check_fans, 
                 axpy3(q, 0.125, bsum + 3L * v);
             }
         } else {
-            rc = ro_fail(err, errlen, "refine_oracle: non-manifold vertex %d (%d boundary edges)",
+            rc = oracle_fail(err, errlen, "refine_oracle: non-manifold vertex %d (%d boundary edges)",
                          v, vb[v]);
         }
     }
@@ -411,13 +401,13 @@ int refine_oracle(int scheme, double alpha_first, int levels, int nverts, const 
     if (out_face_indices) *out_face_indices = NULL;
     if (err && errlen) err[0] = '\0';
     if (!out_nverts || !out_pos || !out_nfaces || !out_face_sizes || !out_face_indices)
-        return ro_fail(err, errlen, "refine_oracle: NULL output pointer");
+        return oracle_fail(err, errlen, "refine_oracle: NULL output pointer");
     if (scheme != 0 && scheme != 1)
-        return ro_fail(err, errlen, "refine_oracle: scheme must be 0 (Loop) or 1 (CC)");
-    if (levels < 0) return ro_fail(err, errlen, "refine_oracle: negative levels");
+        return oracle_fail(err, errlen, "refine_oracle: scheme must be 0 (Loop) or 1 (CC)");
+    if (levels < 0) return oracle_fail(err, errlen, "refine_oracle: negative levels");
     if (nverts < 0 || nfaces < 0 || (nverts > 0 && !pos) ||
         (nfaces > 0 && (!face_sizes || !face_indices)))
-        return ro_fail(err, errlen, "refine_oracle: bad input arrays");
+        return oracle_fail(err, errlen, "refine_oracle: bad input arrays");
 
     ro_mesh cur;
     memset(&cur, 0, sizeof cur);
@@ -431,7 +421,7 @@ int refine_oracle(int scheme, double alpha_first, int levels, int nverts, const 
     cur.fidx = malloc(sizeof(int) * (size_t)(nidx > 0 ? nidx : 1));
     if (!cur.pos || !cur.fsize || !cur.fidx) {
         ro_mesh_free(&cur);
-        return ro_fail(err, errlen, "refine_oracle: out of memory");
+        return oracle_fail(err, errlen, "refine_oracle: out of memory");
     }
     if (nverts > 0) memcpy(cur.pos, pos, sizeof(double) * 3 * (size_t)nverts);
     if (nfaces > 0) memcpy(cur.fsize, face_sizes, sizeof(int) * (size_t)nfaces);
