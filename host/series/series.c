@@ -136,7 +136,7 @@ limn_status series_partial_sum(series_run *s, device_buffer *x, device_buffer *a
     for (int i = 0; i <= m; i++) {
         device_buffer *next = cur == ra ? rb : ra;
         device_norms nr;
-        limn_status st = s->dev->ops->series_step(
+        limn_status st = s->dev->ops->series->series_step(
             s->dev, &s->op.device, cur, next, NULL, acc, i < m ? SERIES_STORE_NEXT : 0,
             i == 0 ? SERIES_ACC_SET_AX : SERIES_ACC_ADD_AX, &nr);
         if (st)
@@ -205,7 +205,7 @@ static limn_status bands_sized(limn_context *ctx, const limn_mesh *mesh,
     for (int i = 0; !st && i < count; i++) {
         device_buffer *next = cur == s.buf[1] ? s.buf[2] : s.buf[1];
         device_norms nr;
-        st = s.dev->ops->series_step(s.dev, &s.op.device, cur, next, s.buf[3], NULL,
+        st = s.dev->ops->series->series_step(s.dev, &s.op.device, cur, next, s.buf[3], NULL,
                                      SERIES_STORE_AX | SERIES_STORE_NEXT, SERIES_ACC_NONE, &nr);
         r->products++;
         if (!st && energy)
@@ -393,7 +393,7 @@ static limn_status sharpen_sized(limn_context *ctx, const limn_mesh *mesh,
         for (int i = 0; !st && i < to; i++) {
             device_buffer *next = cur == s.buf[2] ? s.buf[3] : s.buf[2];
             device_norms nr;
-            st = s.dev->ops->series_step(s.dev, &s.op.device, cur, next, NULL, acc,
+            st = s.dev->ops->series->series_step(s.dev, &s.op.device, cur, next, NULL, acc,
                                          SERIES_STORE_NEXT,
                                          i >= from ? SERIES_ACC_ADD_X : SERIES_ACC_NONE, &nr);
             r->products++;

@@ -60,9 +60,9 @@ static limn_status step_local(void *user, int cur, const solve_step *sp, device_
     local_step *l = user;
     solve_state *s = l->s;
     if (sp->kind == SOLVE_CHEBYSHEV)
-        return s->dev->ops->cheb_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur],
+        return s->dev->ops->stationary->cheb_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur],
                                       sp->c1, sp->c2, norms);
-    return s->dev->ops->interp_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur],
+    return s->dev->ops->stationary->interp_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur],
                                     sp->omega, norms);
 }
 

@@ -167,7 +167,7 @@ static limn_status pcg(limn_context *ctx, struct device *dev, const device_csr *
     if (!st)
         st = ops->axpby(dev, n, 1.0, z, 0.0, z, p);
     if (!st)
-        st = ops->pcg_update(dev, n, 0.0, p, q, x, z, dinv, &nz);
+        st = ops->cg->pcg_update(dev, n, 0.0, p, q, x, z, dinv, &nz);
     stats->products += share;
     rz = nz.sum;
     cg_watch watch = {0};
@@ -178,7 +178,7 @@ static limn_status pcg(limn_context *ctx, struct device *dev, const device_csr *
         if (st || done)
             break;
         double pq;
-        st = ops->spmv_dot(dev, &s, p, q, dinv, &pq);
+        st = ops->cg->spmv_dot(dev, &s, p, q, dinv, &pq);
         stats->products += share;
         stats->iterations++;
         if (st)
@@ -187,7 +187,7 @@ static limn_status pcg(limn_context *ctx, struct device *dev, const device_csr *
         if (st)
             break;
         double alpha = rz / pq;
-        st = ops->pcg_update(dev, n, alpha, p, q, x, z, dinv, &nz);
+        st = ops->cg->pcg_update(dev, n, alpha, p, q, x, z, dinv, &nz);
         if (st)
             break;
         double beta = nz.sum / rz;

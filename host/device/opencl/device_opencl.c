@@ -402,6 +402,10 @@ static void cl_close(struct device *dev)
     free(dev);
 }
 
+static const device_stationary_ops opencl_stationary = {cl_interp_step, cl_cheb_step};
+static const device_cg_ops opencl_cg = {cl_spmv_dot, cl_pcg_update};
+static const device_series_ops opencl_series = {cl_series_step};
+
 static const device_ops opencl_ops = {
     .kind = "opencl",
     .buffer_create = cl_buffer_create,
@@ -411,21 +415,14 @@ static const device_ops opencl_ops = {
     .buffer_write_at = cl_buffer_write_at,
     .buffer_read_at = cl_buffer_read_at,
     .spmv = cl_spmv,
-    .interp_step = cl_interp_step,
-    .spmv_dot = cl_spmv_dot,
-    .pcg_update = cl_pcg_update,
-    .cheb_step = cl_cheb_step,
-    .series_step = cl_series_step,
     .axpby = cl_axpby,
     .norms = cl_norms,
-    .residual_f = cl_residual_f,
-    .step_f = cl_step_f,
-    .add_f = cl_add_f,
-    .to_float = cl_to_float,
-    .sgs_upper = cl_sgs_upper,
-    .sgs_lower = cl_sgs_lower,
-    .sgs_update = cl_sgs_update,
     .close = cl_close,
+    .stationary = &opencl_stationary,
+    .cg = &opencl_cg,
+    .mixed = &cl_mixed_ops,
+    .sgs = &cl_sgs_ops,
+    .series = &opencl_series,
 };
 
 static limn_status open_device(struct device *dev, const char *spec)

@@ -93,19 +93,8 @@ limn_status opencl_begin_reduce(struct device *dev, opencl_kernel_id id,
 limn_status opencl_end_reduce(struct device *dev, opencl_kernel_id id, const device_csr *a,
                               device_norms *out);
 
-limn_status cl_residual_f(struct device *dev, const device_csr *a, device_buffer *m,
-                          device_buffer *p, device_buffer *r_f, device_norms *norms);
-limn_status cl_step_f(struct device *dev, const device_csr *a, device_buffer *b,
-                      device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
-                      float c2, device_norms *norms);
-limn_status cl_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d);
-limn_status cl_to_float(struct device *dev, size_t count, device_buffer *w,
-                        device_buffer *w_f);
-limn_status cl_sgs_upper(struct device *dev, const device_sgs *a, double beta,
-                         const sgs_vectors *v);
-limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
-                         const sgs_vectors *v, device_norms *out);
-limn_status cl_sgs_update(struct device *dev, const device_sgs *a, double alpha,
-                          const sgs_vectors *v, device_norms *norms);
+/* The float family (device_opencl_mixed.c) and the sweeps (device_opencl_sgs.c). */
+extern const device_mixed_ops cl_mixed_ops;
+extern const device_sgs_ops cl_sgs_ops;
 
 #endif

@@ -3,8 +3,8 @@
 #include "base/context.h"
 #include "device/opencl/device_opencl.h"
 
-limn_status cl_residual_f(struct device *dev, const device_csr *a, device_buffer *m,
-                          device_buffer *p, device_buffer *r_f, device_norms *norms)
+static limn_status cl_residual_f(struct device *dev, const device_csr *a, device_buffer *m,
+                                 device_buffer *p, device_buffer *r_f, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
     cl_kernel k;
@@ -20,9 +20,9 @@ limn_status cl_residual_f(struct device *dev, const device_csr *a, device_buffer
     return opencl_end_reduce(dev, K_RESIDUAL_F, a, norms);
 }
 
-limn_status cl_step_f(struct device *dev, const device_csr *a, device_buffer *b,
-                      device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
-                      float c2, device_norms *norms)
+static limn_status cl_step_f(struct device *dev, const device_csr *a, device_buffer *b,
+                             device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
+                             float c2, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
     if (!a->weights_f)
@@ -43,7 +43,7 @@ limn_status cl_step_f(struct device *dev, const device_csr *a, device_buffer *b,
     return opencl_end_reduce(dev, K_STEP_F, a, norms);
 }
 
-limn_status cl_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d)
+static limn_status cl_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d)
 {
     cl_kernel k = impl_of(dev)->kernels[K_ADD_F];
     cl_uint r = (cl_uint)rows;
@@ -53,8 +53,8 @@ limn_status cl_add_f(struct device *dev, size_t rows, device_buffer *p, device_b
     return opencl_launch(dev, K_ADD_F, 0, rows);
 }
 
-limn_status cl_to_float(struct device *dev, size_t count, device_buffer *w,
-                        device_buffer *w_f)
+static limn_status cl_to_float(struct device *dev, size_t count, device_buffer *w,
+                               device_buffer *w_f)
 {
     cl_kernel k = impl_of(dev)->kernels[K_TO_FLOAT];
     cl_uint c = (cl_uint)count;
@@ -63,3 +63,5 @@ limn_status cl_to_float(struct device *dev, size_t count, device_buffer *w,
     CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &w_f->mem), "clSetKernelArg(w_f)");
     return opencl_launch(dev, K_TO_FLOAT, 0, count);
 }
+
+const device_mixed_ops cl_mixed_ops = {cl_residual_f, cl_step_f, cl_add_f, cl_to_float};

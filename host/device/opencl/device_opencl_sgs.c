@@ -33,8 +33,8 @@ static limn_status set_rows(struct device *dev, cl_kernel k, size_t rows, size_t
     return LIMN_OK;
 }
 
-limn_status cl_sgs_upper(struct device *dev, const device_sgs *a, double beta,
-                         const sgs_vectors *v)
+static limn_status cl_sgs_upper(struct device *dev, const device_sgs *a, double beta,
+                                const sgs_vectors *v)
 {
     cl_kernel k = impl_of(dev)->kernels[K_SGS_UPPER];
     limn_status st = set_table(dev, k, 2, a, 1);
@@ -53,8 +53,8 @@ limn_status cl_sgs_upper(struct device *dev, const device_sgs *a, double beta,
     return st;
 }
 
-limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
-                         const sgs_vectors *v, device_norms *out)
+static limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
+                                const sgs_vectors *v, device_norms *out)
 {
     opencl_impl *im = impl_of(dev);
     cl_kernel k = im->kernels[K_SGS_LOWER];
@@ -103,8 +103,8 @@ limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
     return LIMN_OK;
 }
 
-limn_status cl_sgs_update(struct device *dev, const device_sgs *a, double alpha,
-                          const sgs_vectors *v, device_norms *norms)
+static limn_status cl_sgs_update(struct device *dev, const device_sgs *a, double alpha,
+                                 const sgs_vectors *v, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
     cl_kernel k = im->kernels[K_SGS_UPDATE];
@@ -123,3 +123,5 @@ limn_status cl_sgs_update(struct device *dev, const device_sgs *a, double alpha,
     st = opencl_launch(dev, K_SGS_UPDATE, 0, a->rows);
     return st ? st : opencl_finish_partials(dev, 0, a->rows, norms);
 }
+
+const device_sgs_ops cl_sgs_ops = {cl_sgs_upper, cl_sgs_lower, cl_sgs_update};

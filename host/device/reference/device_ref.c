@@ -324,6 +324,10 @@ static void ref_close(struct device *dev)
     free(dev);
 }
 
+static const device_stationary_ops reference_stationary = {ref_interp_step, ref_cheb_step};
+static const device_cg_ops reference_cg = {ref_spmv_dot, ref_pcg_update};
+static const device_series_ops reference_series = {ref_series_step};
+
 static const device_ops reference_ops = {
     .kind = "reference",
     .buffer_create = ref_buffer_create,
@@ -333,21 +337,14 @@ static const device_ops reference_ops = {
     .buffer_write_at = ref_buffer_write_at,
     .buffer_read_at = ref_buffer_read_at,
     .spmv = ref_spmv,
-    .interp_step = ref_interp_step,
-    .spmv_dot = ref_spmv_dot,
-    .pcg_update = ref_pcg_update,
-    .cheb_step = ref_cheb_step,
-    .series_step = ref_series_step,
     .axpby = ref_axpby,
     .norms = ref_norms,
-    .residual_f = ref_residual_f,
-    .step_f = ref_step_f,
-    .add_f = ref_add_f,
-    .to_float = ref_to_float,
-    .sgs_upper = ref_sgs_upper,
-    .sgs_lower = ref_sgs_lower,
-    .sgs_update = ref_sgs_update,
     .close = ref_close,
+    .stationary = &reference_stationary,
+    .cg = &reference_cg,
+    .mixed = &ref_mixed_ops,
+    .sgs = &ref_sgs_ops,
+    .series = &reference_series,
 };
 
 limn_status device_open_reference(limn_context *ctx, struct device **out)

@@ -12,19 +12,8 @@ struct device_buffer {
     void *data;
 };
 
-limn_status ref_residual_f(struct device *dev, const device_csr *a, device_buffer *m,
-                           device_buffer *p, device_buffer *r_f, device_norms *norms);
-limn_status ref_step_f(struct device *dev, const device_csr *a, device_buffer *b,
-                       device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
-                       float c2, device_norms *norms);
-limn_status ref_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d);
-limn_status ref_to_float(struct device *dev, size_t count, device_buffer *w,
-                         device_buffer *w_f);
-limn_status ref_sgs_upper(struct device *dev, const device_sgs *a, double beta,
-                          const sgs_vectors *v);
-limn_status ref_sgs_lower(struct device *dev, const device_sgs *a, int start,
-                          const sgs_vectors *v, device_norms *out);
-limn_status ref_sgs_update(struct device *dev, const device_sgs *a, double alpha,
-                           const sgs_vectors *v, device_norms *norms);
+/* The float family (device_ref_mixed.c) and the sweeps (device_ref_sgs.c). */
+extern const device_mixed_ops ref_mixed_ops;
+extern const device_sgs_ops ref_sgs_ops;
 
 #endif

@@ -40,8 +40,8 @@ static inline void accumulate_norms(double v0, double v1, double v2, double n[3]
     n[2] += s;
 }
 
-limn_status ref_residual_f(struct device *dev, const device_csr *a, device_buffer *m,
-                           device_buffer *p, device_buffer *r_f, device_norms *norms)
+static limn_status ref_residual_f(struct device *dev, const device_csr *a, device_buffer *m,
+                                  device_buffer *p, device_buffer *r_f, device_norms *norms)
 {
     const uint32_t *ro = a->row_offsets->data, *col = a->columns->data;
     const double *w = a->weights->data, *ms = m->data, *ps = p->data;
@@ -74,9 +74,9 @@ limn_status ref_residual_f(struct device *dev, const device_csr *a, device_buffe
     return LIMN_OK;
 }
 
-limn_status ref_step_f(struct device *dev, const device_csr *a, device_buffer *b,
-                       device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
-                       float c2, device_norms *norms)
+static limn_status ref_step_f(struct device *dev, const device_csr *a, device_buffer *b,
+                              device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
+                              float c2, device_norms *norms)
 {
     if (!a->weights_f)
         return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "step_f: no float weights");
@@ -112,7 +112,7 @@ limn_status ref_step_f(struct device *dev, const device_csr *a, device_buffer *b
     return LIMN_OK;
 }
 
-limn_status ref_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d)
+static limn_status ref_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d)
 {
     (void)dev;
     double *ps = p->data;
@@ -125,8 +125,8 @@ limn_status ref_add_f(struct device *dev, size_t rows, device_buffer *p, device_
     return LIMN_OK;
 }
 
-limn_status ref_to_float(struct device *dev, size_t count, device_buffer *w,
-                         device_buffer *w_f)
+static limn_status ref_to_float(struct device *dev, size_t count, device_buffer *w,
+                                device_buffer *w_f)
 {
     (void)dev;
     const double *ws = w->data;
@@ -135,3 +135,5 @@ limn_status ref_to_float(struct device *dev, size_t count, device_buffer *w,
         fs[i] = (float)ws[i];
     return LIMN_OK;
 }
+
+const device_mixed_ops ref_mixed_ops = {ref_residual_f, ref_step_f, ref_add_f, ref_to_float};

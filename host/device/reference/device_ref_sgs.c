@@ -42,8 +42,8 @@ static size_t chunks_of(size_t rows)
     return (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
 }
 
-limn_status ref_sgs_upper(struct device *dev, const device_sgs *a, double beta,
-                          const sgs_vectors *v)
+static limn_status ref_sgs_upper(struct device *dev, const device_sgs *a, double beta,
+                                 const sgs_vectors *v)
 {
     sgs_view s = view_of(a);
     const double *rhat = v->rhat->data;
@@ -119,8 +119,8 @@ static double step_row(const sgs_view *s, size_t i, const sgs_vectors *v)
     return dot3(p, q);
 }
 
-limn_status ref_sgs_lower(struct device *dev, const device_sgs *a, int start,
-                          const sgs_vectors *v, device_norms *out)
+static limn_status ref_sgs_lower(struct device *dev, const device_sgs *a, int start,
+                                 const sgs_vectors *v, device_norms *out)
 {
     sgs_view s = view_of(a);
     out->max = out->sum = out->sum_sq = 0.0;
@@ -150,8 +150,8 @@ limn_status ref_sgs_lower(struct device *dev, const device_sgs *a, int start,
     return LIMN_OK;
 }
 
-limn_status ref_sgs_update(struct device *dev, const device_sgs *a, double alpha,
-                           const sgs_vectors *v, device_norms *norms)
+static limn_status ref_sgs_update(struct device *dev, const device_sgs *a, double alpha,
+                                  const sgs_vectors *v, device_norms *norms)
 {
     sgs_view s = view_of(a);
     const double *t = v->t->data, *u = v->u->data, *st = v->st->data;
@@ -179,3 +179,5 @@ limn_status ref_sgs_update(struct device *dev, const device_sgs *a, double alpha
     (void)dev;
     return LIMN_OK;
 }
+
+const device_sgs_ops ref_sgs_ops = {ref_sgs_upper, ref_sgs_lower, ref_sgs_update};
