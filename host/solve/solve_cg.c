@@ -12,7 +12,7 @@
  * the stop test (max |z_i| <= tol) is free. The three coordinates are one
  * stacked system (block diagonal), so one alpha and beta per step.
  */
-#include "solve/solve.h"
+#include "solve/solver.h"
 #include "mesh/check.h"
 #include "base/context.h"
 #include "scheme/scheme.h"
@@ -294,3 +294,12 @@ limn_status solve_cg(limn_context *ctx, const stencil_operator *op, const double
 {
     return solve_tiers(ctx, op, m4, tol_abs, max_iter, p4, solve_block_jacobi, stats);
 }
+
+/* CG gives the start; the seeds' step measures its residual. */
+const solver_ops solver_cg = {
+    .method = LIMN_METHOD_CG,
+    .kind = SOLVE_PAPER,
+    .start = solve_cg,
+    .long_name = "conjugate gradients",
+    .fallback_reason = "cg cannot run on this operator (not block triangular)",
+};

@@ -11,7 +11,7 @@
 #include "solve/solve_mixed.h"
 #include "mesh/check.h"
 #include "base/context.h"
-#include "solve/solve.h"
+#include "solve/solver.h"
 #include "base/clock.h"
 #include "solve/iterate.h"
 
@@ -47,8 +47,8 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
                                    limn_method method, size_t vertices, limn_precision *out,
                                    limn_report *r)
 {
-    int iterative = method == LIMN_METHOD_PAPER || method == LIMN_METHOD_WEIGHTED ||
-                    method == LIMN_METHOD_CHEBYSHEV;
+    const solver_ops *ops = solver_find(method);
+    int iterative = ops && ops->floats;
     switch (o->precision) {
     case LIMN_PRECISION_DOUBLE:
         *out = LIMN_PRECISION_DOUBLE;

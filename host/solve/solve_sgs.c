@@ -17,7 +17,7 @@
 #include "mesh/check.h"
 #include "base/context.h"
 #include "stencil/sgs_table.h"
-#include "solve/solve.h"
+#include "solve/solver.h"
 #include "base/clock.h"
 
 #include <math.h>
@@ -127,3 +127,12 @@ limn_status solve_sgs(limn_context *ctx, const stencil_operator *op, const doubl
 {
     return solve_tiers(ctx, op, m4, tol_abs, max_iter, p4, solve_block_sgs, stats);
 }
+
+/* SGS-preconditioned CG gives the start; the seeds' step measures its residual. */
+const solver_ops solver_sgs = {
+    .method = LIMN_METHOD_SGS,
+    .kind = SOLVE_PAPER,
+    .start = solve_sgs,
+    .long_name = "sgs (Gauss-Seidel-preconditioned CG)",
+    .fallback_reason = "sgs cannot run on this operator (see the warning)",
+};
