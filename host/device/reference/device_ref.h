@@ -7,10 +7,31 @@
 
 #include "device/device.h"
 
+#include <math.h>
+
 struct device_buffer {
     size_t bytes;
     void *data;
 };
+
+/* The fixed chunks of the reductions: fn computes rows [begin, end) of one
+   chunk of DEVICE_ROWS_PER_ITEM rows and its partial norms n (max, sum,
+   sum of squares, zero on entry); the chunks of rows [row_begin, row_begin +
+   rows) run in order and their partials are finished as
+   device_norms_finish does, chunk after chunk, so the results are the
+   kernels' bit for bit. */
+typedef void (*ref_chunk_fn)(void *user, size_t begin, size_t end, double n[3]);
+void ref_chunks(size_t row_begin, size_t rows, ref_chunk_fn fn, void *user, device_norms *out);
+
+/* Adds the vector (v0, v1, v2) to partial norms n, in the kernels' order. */
+static inline void ref_norms_add(double v0, double v1, double v2, double n[3])
+{
+    double s = v0 * v0 + v1 * v1 + v2 * v2;
+    double len = sqrt(s);
+    n[0] = len > n[0] ? len : n[0];
+    n[1] += len;
+    n[2] += s;
+}
 
 /* The float family (device_ref_mixed.c) and the sweeps (device_ref_sgs.c). */
 extern const device_mixed_ops ref_mixed_ops;
