@@ -24,17 +24,6 @@ inline float4 row_product_f(uint i, global const uint *ro, global const uint *co
     return acc;
 }
 
-/* Partial max |v|, sum |v|, sum |v|^2 of one work-item, in double. */
-inline void accumulate_norms(double v0, double v1, double v2, double *mx, double *sum,
-                             double *sq)
-{
-    double s = v0 * v0 + v1 * v1 + v2 * v2;
-    double len = sqrt(s);
-    *mx = len > *mx ? len : *mx;
-    *sum += len;
-    *sq += s;
-}
-
 /* r = m - A p in double; r_f = r rounded to float; partial norms of r. */
 kernel void residual_f(uint rows, global const uint *ro, global const uint *col,
                        global const double *w, global const double4 *m,
@@ -53,11 +42,7 @@ kernel void residual_f(uint rows, global const uint *ro, global const uint *col,
         r_f[i] = (float4)((float)r0, (float)r1, (float)r2, 0.0f);
         accumulate_norms(r0, r1, r2, &mx, &sum, &sq);
     }
-    if (begin < rows) {
-        partials[3 * item] = mx;
-        partials[3 * item + 1] = sum;
-        partials[3 * item + 2] = sq;
-    }
+    store_partials(partials, item, begin, rows, mx, sum, sq);
 }
 
 /* s = b - A_f d; next = d + c1 (d - prev) + c2 s, in float (the Chebyshev
@@ -83,11 +68,7 @@ kernel void step_f(uint rows, global const uint *ro, global const uint *col,
                            di.z + c1 * (di.z - qi.z) + c2 * s2, 0.0f);
         accumulate_norms(s0, s1, s2, &mx, &sum, &sq);
     }
-    if (begin < rows) {
-        partials[3 * item] = mx;
-        partials[3 * item + 1] = sum;
-        partials[3 * item + 2] = sq;
-    }
+    store_partials(partials, item, begin, rows, mx, sum, sq);
 }
 
 /* p += d (float widened to double, exactly). */

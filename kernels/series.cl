@@ -41,17 +41,9 @@ kernel void series_step(uint rows, global const uint *ro, global const uint *col
             acc[i] = acc[i] + v;
         else if (acc_mode == SERIES_ACC_ADD_X)
             acc[i] = acc[i] + xi;
-        double s2 = v.x * v.x + v.y * v.y + v.z * v.z;
-        double len = sqrt(s2);
-        mx = len > mx ? len : mx;
-        sum += len;
-        sq += s2;
+        accumulate_norms(v.x, v.y, v.z, &mx, &sum, &sq);
     }
-    if (begin < rows) {
-        partials[3 * item] = mx;
-        partials[3 * item + 1] = sum;
-        partials[3 * item + 2] = sq;
-    }
+    store_partials(partials, item, begin, rows, mx, sum, sq);
 }
 
 /* out = a x + b y */
@@ -73,15 +65,7 @@ kernel void norms(uint rows, global const double4 *x, global double *partials)
     double mx = 0.0, sum = 0.0, sq = 0.0;
     for (uint i = begin; i < end; i++) {
         double4 v = x[i];
-        double s2 = v.x * v.x + v.y * v.y + v.z * v.z;
-        double len = sqrt(s2);
-        mx = len > mx ? len : mx;
-        sum += len;
-        sq += s2;
+        accumulate_norms(v.x, v.y, v.z, &mx, &sum, &sq);
     }
-    if (begin < rows) {
-        partials[3 * item] = mx;
-        partials[3 * item + 1] = sum;
-        partials[3 * item + 2] = sq;
-    }
+    store_partials(partials, item, begin, rows, mx, sum, sq);
 }

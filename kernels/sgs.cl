@@ -132,9 +132,5 @@ kernel void sgs_update(uint rows, global const double4 *info, global const doubl
         mx = len > mx ? len : mx;
         sum += sgs_dot3(rh, rh);
     }
-    if (begin < rows) {
-        partials[3 * item] = mx;
-        partials[3 * item + 1] = sum;
-        partials[3 * item + 2] = 0.0;
-    }
+    store_partials(partials, item, begin, rows, mx, sum, 0.0);
 }

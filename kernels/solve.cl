@@ -25,11 +25,7 @@ kernel void spmv_dot(uint rows, global const uint *ro, global const uint *col,
         double d = xi.x * acc.x + xi.y * acc.y + xi.z * acc.z;
         sum += dinv[i] * d;
     }
-    if (begin < rows) {
-        partials[3 * item] = 0.0;
-        partials[3 * item + 1] = sum;
-        partials[3 * item + 2] = 0.0;
-    }
+    store_partials(partials, item, begin, rows, 0.0, sum, 0.0);
 }
 
 /* x += alpha p; z -= alpha q; partials: max |z_i|, sum dinv_i |z_i|^2, sum |z_i|^2 */
@@ -53,11 +49,7 @@ kernel void pcg_update(uint rows, double alpha, global const double4 *p,
         rz += dinv[i] * s;
         sq += s;
     }
-    if (begin < rows) {
-        partials[3 * item] = mx;
-        partials[3 * item + 1] = rz;
-        partials[3 * item + 2] = sq;
-    }
+    store_partials(partials, item, begin, rows, mx, rz, sq);
 }
 
 /* One step of a two-term recurrence (Chebyshev iteration, host/interpolate.c):
@@ -82,15 +74,7 @@ kernel void cheb_step(uint rows, global const uint *ro, global const uint *col,
         prev_next[i] = (double4)(pi.x + c1 * (pi.x - qi.x) + c2 * r0,
                                  pi.y + c1 * (pi.y - qi.y) + c2 * r1,
                                  pi.z + c1 * (pi.z - qi.z) + c2 * r2, 0.0);
-        double r2sum = r0 * r0 + r1 * r1 + r2 * r2;
-        double len = sqrt(r2sum);
-        mx = len > mx ? len : mx;
-        sum += len;
-        sq += r2sum;
+        accumulate_norms(r0, r1, r2, &mx, &sum, &sq);
     }
-    if (begin < rows) {
-        partials[3 * item] = mx;
-        partials[3 * item + 1] = sum;
-        partials[3 * item + 2] = sq;
-    }
+    store_partials(partials, item, begin, rows, mx, sum, sq);
 }

@@ -41,10 +41,6 @@
 #error limn forced build error: the end of the log (LIMN_FORCE_BUILD_ERROR)
 #endif
 
-#ifndef ROWS_PER_ITEM
-#define ROWS_PER_ITEM 256
-#endif
-
 inline double4 row_product(uint i, global const uint *ro, global const uint *col,
                            global const double *w, global const double4 *x)
 {
@@ -119,15 +115,7 @@ kernel void interp_step(uint rows, global const uint *ro, global const uint *col
         double4 mi = m[i], pi = p[i];
         double r0 = mi.x - acc.x, r1 = mi.y - acc.y, r2 = mi.z - acc.z;
         p_next[i] = (double4)(pi.x + omega * r0, pi.y + omega * r1, pi.z + omega * r2, 0.0);
-        double r2sum = r0 * r0 + r1 * r1 + r2 * r2;
-        double len = sqrt(r2sum);
-        mx = len > mx ? len : mx;
-        sum += len;
-        sq += r2sum;
+        accumulate_norms(r0, r1, r2, &mx, &sum, &sq);
     }
-    if (begin < rows) {
-        partials[3 * item] = mx;
-        partials[3 * item + 1] = sum;
-        partials[3 * item + 2] = sq;
-    }
+    store_partials(partials, item, begin, rows, mx, sum, sq);
 }

@@ -93,7 +93,7 @@ static void run(diag_system *s, chebyshev *c, int steps, double *last_max, doubl
         double c1, c2;
         device_norms nr;
         chebyshev_coefficients(c, &c1, &c2);
-        assert_int_equal(s->dev->ops->cheb_step(s->dev, &s->a, s->m, s->p[cur], s->p[1 - cur],
+        assert_int_equal(s->dev->ops->stationary->cheb_step(s->dev, &s->a, s->m, s->p[cur], s->p[1 - cur],
                                                 c1, c2, &nr),
                          LIMN_OK);
         *last_max = nr.max;
@@ -168,7 +168,7 @@ static void restart_below_a(void **state)
         device_norms nr;
         chebyshev_coefficients(&c, &c1, &c2);
         assert_int_equal(
-            s.dev->ops->cheb_step(s.dev, &s.a, s.m, s.p[cur], s.p[1 - cur], c1, c2, &nr), LIMN_OK);
+            s.dev->ops->stationary->cheb_step(s.dev, &s.a, s.m, s.p[cur], s.p[1 - cur], c1, c2, &nr), LIMN_OK);
         chebyshev_observe(&c, nr.max);
         last = nr.max;
         cur = 1 - cur;

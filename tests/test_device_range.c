@@ -106,9 +106,9 @@ static void ranges_on(const char *device, int triangles)
         f.host[i] += 0.01 * sin((double)i); /* p != m */
     assert_int_equal(ops->buffer_write(dev, p, 4 * f.n * sizeof(double), f.host), LIMN_OK);
     device_norms whole, a, b, parts;
-    assert_int_equal(ops->interp_step(dev, &f.op.device, m, p, q1, 0.7, &whole), LIMN_OK);
-    assert_int_equal(ops->interp_step(dev, &hi, m, p, q2, 0.7, &b), LIMN_OK);
-    assert_int_equal(ops->interp_step(dev, &lo, m, p, q2, 0.7, &a), LIMN_OK);
+    assert_int_equal(ops->stationary->interp_step(dev, &f.op.device, m, p, q1, 0.7, &whole), LIMN_OK);
+    assert_int_equal(ops->stationary->interp_step(dev, &hi, m, p, q2, 0.7, &b), LIMN_OK);
+    assert_int_equal(ops->stationary->interp_step(dev, &lo, m, p, q2, 0.7, &a), LIMN_OK);
     combine(&a, &b, &parts);
     same_norms(&whole, &parts);
     double *x1 = read_all(&f, q1), *x2 = read_all(&f, q2);
@@ -118,9 +118,9 @@ static void ranges_on(const char *device, int triangles)
 
     /* cheb_step: its previous iterate is read and overwritten row by row */
     device_buffer *prev1 = make(&f, f.host), *prev2 = make(&f, f.host);
-    assert_int_equal(ops->cheb_step(dev, &f.op.device, m, p, prev1, 0.3, 1.2, &whole), LIMN_OK);
-    assert_int_equal(ops->cheb_step(dev, &hi, m, p, prev2, 0.3, 1.2, &b), LIMN_OK);
-    assert_int_equal(ops->cheb_step(dev, &lo, m, p, prev2, 0.3, 1.2, &a), LIMN_OK);
+    assert_int_equal(ops->stationary->cheb_step(dev, &f.op.device, m, p, prev1, 0.3, 1.2, &whole), LIMN_OK);
+    assert_int_equal(ops->stationary->cheb_step(dev, &hi, m, p, prev2, 0.3, 1.2, &b), LIMN_OK);
+    assert_int_equal(ops->stationary->cheb_step(dev, &lo, m, p, prev2, 0.3, 1.2, &a), LIMN_OK);
     combine(&a, &b, &parts);
     same_norms(&whole, &parts);
     x1 = read_all(&f, prev1);
@@ -134,14 +134,14 @@ static void ranges_on(const char *device, int triangles)
     /* series_step with every output */
     device_buffer *ax1 = make(&f, NULL), *ax2 = make(&f, NULL), *acc1 = make(&f, f.host),
                   *acc2 = make(&f, f.host);
-    assert_int_equal(ops->series_step(dev, &f.op.device, p, q1, ax1, acc1,
+    assert_int_equal(ops->series->series_step(dev, &f.op.device, p, q1, ax1, acc1,
                                       SERIES_STORE_AX | SERIES_STORE_NEXT, SERIES_ACC_ADD_AX,
                                       &whole),
                      LIMN_OK);
-    assert_int_equal(ops->series_step(dev, &lo, p, q2, ax2, acc2,
+    assert_int_equal(ops->series->series_step(dev, &lo, p, q2, ax2, acc2,
                                       SERIES_STORE_AX | SERIES_STORE_NEXT, SERIES_ACC_ADD_AX, &a),
                      LIMN_OK);
-    assert_int_equal(ops->series_step(dev, &hi, p, q2, ax2, acc2,
+    assert_int_equal(ops->series->series_step(dev, &hi, p, q2, ax2, acc2,
                                       SERIES_STORE_AX | SERIES_STORE_NEXT, SERIES_ACC_ADD_AX, &b),
                      LIMN_OK);
     combine(&a, &b, &parts);
@@ -170,9 +170,9 @@ static void ranges_on(const char *device, int triangles)
     device_buffer *dinv = NULL;
     assert_int_equal(ops->buffer_create(dev, f.n * sizeof(double), ones, &dinv), LIMN_OK);
     double dw, dl, dh;
-    assert_int_equal(ops->spmv_dot(dev, &f.op.device, p, q1, dinv, &dw), LIMN_OK);
-    assert_int_equal(ops->spmv_dot(dev, &lo, p, q2, dinv, &dl), LIMN_OK);
-    assert_int_equal(ops->spmv_dot(dev, &hi, p, q2, dinv, &dh), LIMN_OK);
+    assert_int_equal(ops->cg->spmv_dot(dev, &f.op.device, p, q1, dinv, &dw), LIMN_OK);
+    assert_int_equal(ops->cg->spmv_dot(dev, &lo, p, q2, dinv, &dl), LIMN_OK);
+    assert_int_equal(ops->cg->spmv_dot(dev, &hi, p, q2, dinv, &dh), LIMN_OK);
     assert_true(fabs(dw - (dl + dh)) <= 1e-14 * fabs(dw));
 
     /* partial reads and writes land where asked, and refuse past the end */

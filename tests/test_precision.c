@@ -67,12 +67,12 @@ static void ops_on(const char *name, const limn_mesh *mesh, limn_scheme scheme, 
         assert_int_equal(dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &r), LIMN_OK);
         assert_int_equal(dev->ops->buffer_create(dev, 4 * n * sizeof(float), b4, &b), LIMN_OK);
         assert_int_equal(dev->ops->buffer_create(dev, 4 * n * sizeof(float), b4, &d), LIMN_OK);
-        assert_int_equal(dev->ops->residual_f(dev, &op.device, m, p, r, &nr[k]), LIMN_OK);
+        assert_int_equal(dev->ops->mixed->residual_f(dev, &op.device, m, p, r, &nr[k]), LIMN_OK);
         /* a Chebyshev step from d = r towards b, the previous iterate (b) read
            and the next written in place */
-        assert_int_equal(dev->ops->step_f(dev, &op.device, b, r, d, d, 0.7f, 1.3f, &ns[k]),
+        assert_int_equal(dev->ops->mixed->step_f(dev, &op.device, b, r, d, d, 0.7f, 1.3f, &ns[k]),
                          LIMN_OK);
-        assert_int_equal(dev->ops->add_f(dev, n, p, d), LIMN_OK);
+        assert_int_equal(dev->ops->mixed->add_f(dev, n, p, d), LIMN_OK);
         assert_int_equal(dev->ops->buffer_read(dev, r, 4 * n * sizeof(float), out_r[k]), LIMN_OK);
         assert_int_equal(dev->ops->buffer_read(dev, d, 4 * n * sizeof(float), out_d[k]), LIMN_OK);
         assert_int_equal(dev->ops->buffer_read(dev, p, 4 * n * sizeof(double), out_p[k]),

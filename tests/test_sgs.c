@@ -197,7 +197,7 @@ static void run_backend(const char *device, const limn_mesh *mesh, limn_scheme s
 
     /* the start sweep: r = b - S x, u = (D + L)^-1 r, rhat = D^1/2 u */
     device_norms nm;
-    assert_int_equal(ops->sgs_lower(dev, &da, 1, &v, &nm), LIMN_OK);
+    assert_int_equal(ops->sgs->sgs_lower(dev, &da, 1, &v, &nm), LIMN_OK);
     o->start_max = nm.max;
     o->start_sum = nm.sum;
     read_back(dev, v.r, n, &o->r);
@@ -224,9 +224,9 @@ static void run_backend(const char *device, const limn_mesh *mesh, limn_scheme s
     fill(phat0, n, 4);
     assert_int_equal(ops->buffer_write(dev, v.rhat, 4 * n * sizeof(double), rhat0), LIMN_OK);
     assert_int_equal(ops->buffer_write(dev, v.phat, 4 * n * sizeof(double), phat0), LIMN_OK);
-    assert_int_equal(ops->sgs_upper(dev, &da, 0.5, &v), LIMN_OK);
+    assert_int_equal(ops->sgs->sgs_upper(dev, &da, 0.5, &v), LIMN_OK);
     device_norms dot;
-    assert_int_equal(ops->sgs_lower(dev, &da, 0, &v, &dot), LIMN_OK);
+    assert_int_equal(ops->sgs->sgs_lower(dev, &da, 0, &v, &dot), LIMN_OK);
     o->dot = dot.sum;
     read_back(dev, v.phat, n, &o->phat);
     read_back(dev, v.t, n, &o->t);
@@ -261,7 +261,7 @@ static void run_backend(const char *device, const limn_mesh *mesh, limn_scheme s
     double *x0, *r0;
     read_back(dev, v.x, n, &x0);
     read_back(dev, v.r, n, &r0);
-    assert_int_equal(ops->sgs_update(dev, &da, 0.3, &v, &nm), LIMN_OK);
+    assert_int_equal(ops->sgs->sgs_update(dev, &da, 0.3, &v, &nm), LIMN_OK);
     o->update_max = nm.max;
     o->update_sum = nm.sum;
     read_back(dev, v.x, n, &o->x);

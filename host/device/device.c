@@ -93,7 +93,7 @@ limn_status device_csr_add_float(struct device *dev, device_csr *csr)
     limn_status st = dev->ops->buffer_create(dev, csr->nonzeros * sizeof(float), NULL,
                                              &csr->weights_f);
     if (!st)
-        st = dev->ops->to_float(dev, csr->nonzeros, csr->weights, csr->weights_f);
+        st = dev->ops->mixed->to_float(dev, csr->nonzeros, csr->weights, csr->weights_f);
     return st;
 }
 

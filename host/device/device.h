@@ -72,23 +72,11 @@ typedef struct sgs_vectors {
     device_buffer *b, *x, *r, *rhat, *phat, *t, *u, *st;
 } sgs_vectors;
 
-typedef struct device_ops {
-    const char *kind;   /* "opencl" or "reference" */
-    limn_status (*buffer_create)(struct device *dev, size_t bytes, const void *init,
-                                 device_buffer **out);
-    limn_status (*buffer_write)(struct device *dev, device_buffer *buf, size_t bytes,
-                                const void *src);
-    limn_status (*buffer_read)(struct device *dev, device_buffer *buf, size_t bytes,
-                               void *dst);
-    void (*buffer_release)(struct device *dev, device_buffer *buf);
-    /* Part of a buffer: bytes at byte offset `offset` (MPI halo rows). */
-    limn_status (*buffer_write_at)(struct device *dev, device_buffer *buf, size_t offset,
-                                   size_t bytes, const void *src);
-    limn_status (*buffer_read_at)(struct device *dev, device_buffer *buf, size_t offset,
-                                  size_t bytes, void *dst);
-    /* y = A x */
-    limn_status (*spmv)(struct device *dev, const device_csr *a, device_buffer *x,
-                        device_buffer *y);
+/* The per-solver families: each backend fills one table of each (a solver
+   that needs a fused kernel adds its family here, not to device_ops). */
+
+/* The stationary and semi-iterative methods (solve/iterate.c). */
+typedef struct device_stationary_ops {
     /* r = m - A p; p_next = p + omega r; norms of r (over all rows).
        omega = 1 is the seeds' iteration, bit for bit. */
     limn_status (*interp_step)(struct device *dev, const device_csr *a,
@@ -100,6 +88,10 @@ typedef struct device_ops {
     limn_status (*cheb_step)(struct device *dev, const device_csr *a, device_buffer *m,
                              device_buffer *p, device_buffer *prev_next, double c1, double c2,
                              device_norms *norms);
+} device_stationary_ops;
+
+/* The D-preconditioned conjugate gradients (solve/solve_cg.c, mpi/mpi_cg.c). */
+typedef struct device_cg_ops {
     /* y = A x and dot = sum_i dinv_i (x_i . y_i) (kernels/solve.cl). */
     limn_status (*spmv_dot)(struct device *dev, const device_csr *a, device_buffer *x,
                             device_buffer *y, device_buffer *dinv, double *dot);
@@ -108,21 +100,9 @@ typedef struct device_ops {
     limn_status (*pcg_update)(struct device *dev, size_t rows, double alpha,
                               device_buffer *p, device_buffer *q, device_buffer *x,
                               device_buffer *z, device_buffer *dinv, device_norms *norms);
-    /* One term of the series (seed 000 eq. 6; kernels/series.cl): ax = A x and
-       x_next = x - ax = (E - A) x; ax is stored when flags has SERIES_STORE_AX,
-       x_next when SERIES_STORE_NEXT (unused buffers may be NULL); acc is
-       updated by acc_mode (SERIES_ACC_*; acc may be NULL with ACC_NONE).
-       norms: of ax (max, sum of lengths, sum of squares over x, y, z). */
-    limn_status (*series_step)(struct device *dev, const device_csr *a, device_buffer *x,
-                               device_buffer *x_next, device_buffer *ax, device_buffer *acc,
-                               int flags, int acc_mode, device_norms *norms);
-    /* out = a x + b y over `rows` 4-vectors ((a x) + (b y), all four
-       components); out may be x or y. */
-    limn_status (*axpby)(struct device *dev, size_t rows, double a, device_buffer *x,
-                         double b, device_buffer *y, device_buffer *out);
-    /* Norms of x (x, y, z of each of `rows` vectors), finished in chunk order. */
-    limn_status (*norms)(struct device *dev, size_t rows, device_buffer *x,
-                         device_norms *out);
+} device_cg_ops;
+
+typedef struct device_mixed_ops {
     /* Mixed-precision refinement (kernels/mixed.cl, host/solve/solve_mixed.c).
        Float vectors are 4 floats per row. residual_f: r = m - A p in double,
        stored rounded to float in r_f; norms of the double r. */
@@ -141,6 +121,9 @@ typedef struct device_ops {
     /* w_f = w rounded to float, `count` values. */
     limn_status (*to_float)(struct device *dev, size_t count, device_buffer *w,
                             device_buffer *w_f);
+} device_mixed_ops;
+
+typedef struct device_sgs_ops {
     /* SGS-preconditioned CG (host/solve/solve_sgs.c, kernels/sgs.cl; C = (D + L)
        D^-1/2 with S = L + D + U, steps on C^-1 S C^-T).
        The backward sweep, colours high to low: phat = rhat + beta phat, then
@@ -158,7 +141,51 @@ typedef struct device_ops {
        |r_i|, norms->sum = rhat . rhat. */
     limn_status (*sgs_update)(struct device *dev, const device_sgs *a, double alpha,
                               const sgs_vectors *v, device_norms *norms);
+} device_sgs_ops;
+
+/* The series filters (host/series, mpi/mpi_series.c). */
+typedef struct device_series_ops {
+    /* One term of the series (seed 000 eq. 6; kernels/series.cl): ax = A x and
+       x_next = x - ax = (E - A) x; ax is stored when flags has SERIES_STORE_AX,
+       x_next when SERIES_STORE_NEXT (unused buffers may be NULL); acc is
+       updated by acc_mode (SERIES_ACC_*; acc may be NULL with ACC_NONE).
+       norms: of ax (max, sum of lengths, sum of squares over x, y, z). */
+    limn_status (*series_step)(struct device *dev, const device_csr *a, device_buffer *x,
+                               device_buffer *x_next, device_buffer *ax, device_buffer *acc,
+                               int flags, int acc_mode, device_norms *norms);
+} device_series_ops;
+
+/* The primitive operations every solver may use, and the families. */
+typedef struct device_ops {
+    const char *kind;   /* "opencl" or "reference" */
+    limn_status (*buffer_create)(struct device *dev, size_t bytes, const void *init,
+                                 device_buffer **out);
+    limn_status (*buffer_write)(struct device *dev, device_buffer *buf, size_t bytes,
+                                const void *src);
+    limn_status (*buffer_read)(struct device *dev, device_buffer *buf, size_t bytes,
+                               void *dst);
+    void (*buffer_release)(struct device *dev, device_buffer *buf);
+    /* Part of a buffer: bytes at byte offset `offset` (MPI halo rows). */
+    limn_status (*buffer_write_at)(struct device *dev, device_buffer *buf, size_t offset,
+                                   size_t bytes, const void *src);
+    limn_status (*buffer_read_at)(struct device *dev, device_buffer *buf, size_t offset,
+                                  size_t bytes, void *dst);
+    /* y = A x */
+    limn_status (*spmv)(struct device *dev, const device_csr *a, device_buffer *x,
+                        device_buffer *y);
+    /* out = a x + b y over `rows` 4-vectors ((a x) + (b y), all four
+       components); out may be x or y. */
+    limn_status (*axpby)(struct device *dev, size_t rows, double a, device_buffer *x,
+                         double b, device_buffer *y, device_buffer *out);
+    /* Norms of x (x, y, z of each of `rows` vectors), finished in chunk order. */
+    limn_status (*norms)(struct device *dev, size_t rows, device_buffer *x,
+                         device_norms *out);
     void (*close)(struct device *dev);
+    const device_stationary_ops *stationary;
+    const device_cg_ops *cg;
+    const device_mixed_ops *mixed;
+    const device_sgs_ops *sgs;
+    const device_series_ops *series;
 } device_ops;
 
 /* series_step flags and accumulation modes. */

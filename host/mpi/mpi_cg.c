@@ -37,7 +37,7 @@ static limn_status rows_dot(void *user, const device_csr *rows, device_norms *no
 {
     cg_rows *a = user;
     memset(norms, 0, sizeof *norms);
-    return a->dev->ops->spmv_dot(a->dev, rows, a->in, a->out, a->dinv, &norms->sum);
+    return a->dev->ops->cg->spmv_dot(a->dev, rows, a->in, a->out, a->dinv, &norms->sum);
 }
 
 static int tier_of(uint8_t rule)
@@ -84,7 +84,7 @@ static limn_status pcg(mpi_part *p, const device_csr *table, const double *b4, d
         if (!pending)
             pending = ops->axpby(dev, no, 1.0, z, 0.0, z, d);
         if (!pending)
-            pending = ops->pcg_update(dev, no, 0.0, d, q, x, z, dinv, &loc);
+            pending = ops->cg->pcg_update(dev, no, 0.0, d, q, x, z, dinv, &loc);
         st = mpi_reduce_norms(p, pending, &loc, &nz);
         pending = LIMN_OK;
         stats->products += share;
@@ -108,7 +108,7 @@ static limn_status pcg(mpi_part *p, const device_csr *table, const double *b4, d
         if (st)
             break;
         double alpha = rz / pq;
-        ls = ops->pcg_update(dev, no, alpha, d, q, x, z, dinv, &loc);
+        ls = ops->cg->pcg_update(dev, no, alpha, d, q, x, z, dinv, &loc);
         st = mpi_reduce_norms(p, ls, &loc, &nz);
         if (st)
             break;

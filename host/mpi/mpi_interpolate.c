@@ -32,9 +32,9 @@ static limn_status rows_step(void *user, const device_csr *rows, device_norms *n
     mpi_solve *s = user;
     struct device *dev = s->p->dev;
     if (s->step.kind == SOLVE_CHEBYSHEV)
-        return dev->ops->cheb_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->step.c1,
+        return dev->ops->stationary->cheb_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->step.c1,
                                    s->step.c2, norms);
-    return dev->ops->interp_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->step.omega,
+    return dev->ops->stationary->interp_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->step.omega,
                                  norms);
 }
 

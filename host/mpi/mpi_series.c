@@ -125,7 +125,7 @@ typedef struct term {
 static limn_status rows_term(void *user, const device_csr *rows, device_norms *norms)
 {
     term *t = user;
-    return t->dev->ops->series_step(t->dev, rows, t->x, t->next, NULL, t->acc, t->flags, t->mode,
+    return t->dev->ops->series->series_step(t->dev, rows, t->x, t->next, NULL, t->acc, t->flags, t->mode,
                                     norms);
 }
 

@@ -175,7 +175,7 @@ static limn_status bands_sized(limn_context *ctx, const limn_mesh *mesh,
     for (int i = 0; !st && i < count; i++) {
         device_buffer *next = cur == s.buf[1] ? s.buf[2] : s.buf[1];
         device_norms nr;
-        st = s.dev->ops->series_step(s.dev, &s.op.device, cur, next, s.buf[3], NULL,
+        st = s.dev->ops->series->series_step(s.dev, &s.op.device, cur, next, s.buf[3], NULL,
                                      SERIES_STORE_AX | SERIES_STORE_NEXT, SERIES_ACC_NONE, &nr);
         r->products++;
         if (!st && energy)
@@ -225,7 +225,8 @@ static limn_status local_term(const series_engine *e, device_buffer *x, device_b
     series_run *s = e->user;
     device_norms nr;
     (void)prior; /* no carry: never called after a failure */
-    return s->dev->ops->series_step(s->dev, &s->op.device, x, next, NULL, acc, flags, mode, &nr);
+    return s->dev->ops->series->series_step(s->dev, &s->op.device, x, next, NULL, acc, flags,
+                                            mode, &nr);
 }
 
 static limn_status local_axpby(const series_engine *e, double a, device_buffer *x, double b,
@@ -400,7 +401,7 @@ static limn_status sharpen_sized(limn_context *ctx, const limn_mesh *mesh,
         for (int i = 0; !st && i < to; i++) {
             device_buffer *next = cur == s.buf[2] ? s.buf[3] : s.buf[2];
             device_norms nr;
-            st = s.dev->ops->series_step(s.dev, &s.op.device, cur, next, NULL, acc,
+            st = s.dev->ops->series->series_step(s.dev, &s.op.device, cur, next, NULL, acc,
                                          SERIES_STORE_NEXT,
                                          i >= from ? SERIES_ACC_ADD_X : SERIES_ACC_NONE, &nr);
             r->products++;

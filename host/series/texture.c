@@ -187,7 +187,7 @@ static limn_status solve_scalar(limn_context *ctx, series_run *s, double tol, in
                            0.0, s->op.scheme, s->op.alpha, 0, 0, level};
     for (int k = 0; !st; k++) {
         device_norms nr;
-        st = s->dev->ops->interp_step(s->dev, &s->op.device, s->buf[0], p[k & 1],
+        st = s->dev->ops->stationary->interp_step(s->dev, &s->op.device, s->buf[0], p[k & 1],
                                       p[(k + 1) & 1], 1.0, &nr);
         ++*products;
         if (st)
@@ -386,7 +386,7 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
         if (!st)
             st = series_upload(&s, s.buf[0], fine->positions);
         if (!st)
-            st = s.dev->ops->series_step(s.dev, &s.op.device, s.buf[0], NULL, s.buf[1], NULL,
+            st = s.dev->ops->series->series_step(s.dev, &s.op.device, s.buf[0], NULL, s.buf[1], NULL,
                                          SERIES_STORE_AX, SERIES_ACC_NONE, &nr);
         if (!st)
             st = series_download(&s, s.buf[1], result->positions);

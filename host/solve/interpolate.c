@@ -10,8 +10,7 @@
 #include "device/device.h"
 #include "mesh/mesh.h"
 #include "solve/operator.h"
-#include "solve/solve.h"
-#include "solve/solve_mixed.h"
+#include "solve/solver.h"
 #include "base/clock.h"
 #include "solve/iterate.h"
 
@@ -25,35 +24,17 @@ void limn_interpolate_options_default(limn_interpolate_options *o)
     abi_default(&abi_interpolate_options, o);
 }
 
-typedef struct solve_state {
-    struct device *dev;
-    device_buffer *m, *p[2];
-} solve_state;
-
-static void solve_release(solve_state *s)
+/* The report's fields that describe the operator and its device. */
+static void report_operator(const stencil_operator *op, limn_report *r)
 {
-    for (int i = 0; i < 2; i++)
-        if (s->p[i])
-            s->dev->ops->buffer_release(s->dev, s->p[i]);
-    if (s->m)
-        s->dev->ops->buffer_release(s->dev, s->m);
-}
-
-/* One step of the single process: the whole table in one launch. */
-typedef struct local_step {
-    const stencil_operator *op;
-    solve_state *s;
-} local_step;
-
-static limn_status step_local(void *user, int cur, const solve_step *sp, device_norms *norms)
-{
-    local_step *l = user;
-    solve_state *s = l->s;
-    if (sp->kind == SOLVE_CHEBYSHEV)
-        return s->dev->ops->cheb_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur],
-                                      sp->c1, sp->c2, norms);
-    return s->dev->ops->interp_step(s->dev, &l->op->device, s->m, s->p[cur], s->p[1 - cur],
-                                    sp->omega, norms);
+    r->scheme = op->scheme;
+    r->alpha = op->alpha;
+    r->seconds_topology = op->seconds_topology;
+    r->seconds_stencil = op->seconds_stencil + op->seconds_reorder;
+    r->stencil_nonzeros = op->host.row_offsets[op->host.rows];
+    r->reordered = op->order != NULL;
+    snprintf(r->device, sizeof r->device, "%s", op->dev->name);
+    r->bbox_diagonal = op->bbox_diagonal;
 }
 
 /* limn_interpolate on options and report of this library's layout. */
@@ -89,8 +70,9 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
                            ? "auto: chebyshev, the fastest in measured time on every shared "
                              "mesh (fewest fused steps; cg uses as few products, each costlier)"
                            : "chosen by the caller";
-    limn_precision precision;
-    st = solve_precision_choose(ctx, o, method, mesh->vertex_count, &precision, r);
+    solver sv;
+    solver_create(ctx, method, &sv);
+    st = solver_set_from_options(&sv, o, mesh->vertex_count, r);
     if (st)
         return st;
     device_setup_times setup = device_setup_of(ctx);
@@ -99,18 +81,9 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
     st = operator_build_ex(ctx, mesh, o->scheme, o->alpha, o->reorder ? OPERATOR_REORDER : 0, &op);
     if (st)
         return st;
-    r->scheme = op.scheme;
-    r->alpha = op.alpha;
-    r->seconds_topology = op.seconds_topology;
-    r->seconds_stencil = op.seconds_stencil + op.seconds_reorder;
-    r->stencil_nonzeros = op.host.row_offsets[op.host.rows];
-    r->reordered = op.order != NULL;
-    snprintf(r->device, sizeof r->device, "%s", op.dev->name);
-
+    report_operator(&op, r);
     double diag = op.bbox_diagonal;
-    r->bbox_diagonal = diag;
     size_t n = mesh->vertex_count;
-    solve_state s = {.dev = op.dev};
     double *buf = calloc(n ? 4 * n : 4, sizeof *buf);
     double t0 = clock_seconds();
     if (!buf)
@@ -118,53 +91,7 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
     else
         operator_pack(&op, mesh->positions, buf);
     if (!st)
-        st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), buf, &s.m);
-    if (!st && (method == LIMN_METHOD_CG || method == LIMN_METHOD_SGS)) {
-        /* CG gives the start; the seeds' step below measures its residual on
-           the whole system (and polishes, should rounding leave it short) */
-        double *p4 = malloc((n ? n : 1) * 4 * sizeof *p4);
-        solve_stats stats = {.catmark_alpha0 = op.scheme == LIMN_SCHEME_CATMARK && op.alpha == 0.0};
-        if (!p4)
-            st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
-        else if (method == LIMN_METHOD_SGS)
-            st = solve_sgs(ctx, &op, buf, o->tolerance * diag, o->max_iterations, p4, &stats);
-        else
-            st = solve_cg(ctx, &op, buf, o->tolerance * diag, o->max_iterations, p4, &stats);
-        if (st == LIMN_ERR_TOPOLOGY) {
-            ctx_warn(ctx, "%s needs the limit operator to be block triangular by vertex rule "
-                           "with symmetric, positive blocks, which this mesh's is not: used the "
-                           "seeds' iteration",
-                      method == LIMN_METHOD_SGS ? "sgs (Gauss-Seidel-preconditioned CG)"
-                                                : "conjugate gradients");
-            r->method_reason = method == LIMN_METHOD_SGS
-                                   ? "sgs cannot run on this operator (see the warning)"
-                                   : "cg cannot run on this operator (not block triangular)";
-            method = LIMN_METHOD_PAPER;
-            r->method = limn_method_name(method);
-            st = LIMN_OK;
-        } else if (!st) {
-            memcpy(buf, p4, 4 * n * sizeof *p4);
-            r->products = stats.products;
-            r->iterations = stats.iterations;
-            r->seconds_iterations = stats.seconds_loop;
-        }
-        free(p4);
-    }
-    if (!st)
-        st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), buf, &s.p[0]);
-    int which = 0, done = 0;
-    if (!st && precision == LIMN_PRECISION_FLOAT)
-        st = solve_mixed(ctx, &op, s.m, s.p[0], o, diag, method, &done, r);
-    if (!st && !done)
-        st = s.dev->ops->buffer_create(s.dev, 4 * n * sizeof(double), NULL, &s.p[1]);
-    double t_loop = clock_seconds(), compiles = s.dev->setup.kernels; /* first launches */
-    local_step ls = {&op, &s};
-    if (!st && !done)
-        st = solve_iterate(ctx, step_local, &ls, op.vertex_count, op.scheme, op.alpha, o, diag,
-                           solve_kind_of(method), &which, r);
-    r->seconds_iterations += clock_seconds() - t_loop - (s.dev->setup.kernels - compiles);
-    if (!st)
-        st = s.dev->ops->buffer_read(s.dev, s.p[which], 4 * n * sizeof(double), buf);
+        st = solver_solve(&sv, &op, diag, buf, r);
     limn_mesh *out = NULL;
     if (!st)
         st = limn_mesh_copy(ctx, mesh, &out);
@@ -173,13 +100,13 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
     /* the last line of defence: no non-finite control point is ever returned */
     if (!st && check_positions(NULL, "", out->positions, n))
         st = check_nonfinite_iteration(ctx, "the control mesh", r->iterations, op.scheme,
-                                       op.alpha, precision == LIMN_PRECISION_FLOAT);
+                                       op.alpha, sv.precision == LIMN_PRECISION_FLOAT);
     r->seconds_solve = clock_seconds() - t0;
     device_setup_report(ctx, &setup, r);
     r->max_rel_error = diag > 0 ? r->max_abs_error / diag : r->max_abs_error;
     r->mean_rel_error = diag > 0 ? r->mean_abs_error / diag : r->mean_abs_error;
     free(buf);
-    solve_release(&s);
+    solver_destroy(&sv);
     operator_free(&op);
     if (st) {
         limn_mesh_destroy(out);

@@ -12,7 +12,7 @@
  * the stop test (max |z_i| <= tol) is free. The three coordinates are one
  * stacked system (block diagonal), so one alpha and beta per step.
  */
-#include "solve/solve.h"
+#include "solve/solver.h"
 #include "mesh/check.h"
 #include "base/context.h"
 #include "scheme/scheme.h"
@@ -167,7 +167,7 @@ static limn_status pcg(limn_context *ctx, struct device *dev, const device_csr *
     if (!st)
         st = ops->axpby(dev, n, 1.0, z, 0.0, z, p);
     if (!st)
-        st = ops->pcg_update(dev, n, 0.0, p, q, x, z, dinv, &nz);
+        st = ops->cg->pcg_update(dev, n, 0.0, p, q, x, z, dinv, &nz);
     stats->products += share;
     rz = nz.sum;
     cg_watch watch = {0};
@@ -178,7 +178,7 @@ static limn_status pcg(limn_context *ctx, struct device *dev, const device_csr *
         if (st || done)
             break;
         double pq;
-        st = ops->spmv_dot(dev, &s, p, q, dinv, &pq);
+        st = ops->cg->spmv_dot(dev, &s, p, q, dinv, &pq);
         stats->products += share;
         stats->iterations++;
         if (st)
@@ -187,7 +187,7 @@ static limn_status pcg(limn_context *ctx, struct device *dev, const device_csr *
         if (st)
             break;
         double alpha = rz / pq;
-        st = ops->pcg_update(dev, n, alpha, p, q, x, z, dinv, &nz);
+        st = ops->cg->pcg_update(dev, n, alpha, p, q, x, z, dinv, &nz);
         if (st)
             break;
         double beta = nz.sum / rz;
@@ -294,3 +294,12 @@ limn_status solve_cg(limn_context *ctx, const stencil_operator *op, const double
 {
     return solve_tiers(ctx, op, m4, tol_abs, max_iter, p4, solve_block_jacobi, stats);
 }
+
+/* CG gives the start; the seeds' step measures its residual. */
+const solver_ops solver_cg = {
+    .method = LIMN_METHOD_CG,
+    .kind = SOLVE_PAPER,
+    .start = solve_cg,
+    .long_name = "conjugate gradients",
+    .fallback_reason = "cg cannot run on this operator (not block triangular)",
+};

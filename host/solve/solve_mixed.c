@@ -11,7 +11,7 @@
 #include "solve/solve_mixed.h"
 #include "mesh/check.h"
 #include "base/context.h"
-#include "solve/solve.h"
+#include "solve/solver.h"
 #include "base/clock.h"
 #include "solve/iterate.h"
 
@@ -47,8 +47,8 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
                                    limn_method method, size_t vertices, limn_precision *out,
                                    limn_report *r)
 {
-    int iterative = method == LIMN_METHOD_PAPER || method == LIMN_METHOD_WEIGHTED ||
-                    method == LIMN_METHOD_CHEBYSHEV;
+    const solver_ops *ops = solver_find(method);
+    int iterative = ops && ops->floats;
     switch (o->precision) {
     case LIMN_PRECISION_DOUBLE:
         *out = LIMN_PRECISION_DOUBLE;
@@ -123,7 +123,7 @@ static limn_status inner_solve(limn_context *ctx, stencil_operator *op, mixed_st
         /* c1 = 0 reads no previous iterate: pass cur, whose lines are loaded anyway */
         device_buffer *next = s->d[j & 1];
         device_buffer *prev = c1 == 0.0 ? cur : j == 1 ? s->r : next;
-        limn_status st = s->dev->ops->step_f(s->dev, &op->device, s->r, cur, prev, next,
+        limn_status st = s->dev->ops->mixed->step_f(s->dev, &op->device, s->r, cur, prev, next,
                                              (float)c1, (float)c2, &ns);
         if (st)
             return st;
@@ -180,7 +180,7 @@ limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *
     double t_loop = clock_seconds(), compiles = dev->setup.kernels; /* first launches */
     for (int outer = 0; !st; outer++) {
         device_norms nr;
-        st = dev->ops->residual_f(dev, &op->device, m, p, s.r, &nr);
+        st = dev->ops->mixed->residual_f(dev, &op->device, m, p, s.r, &nr);
         if (st)
             break;
         nr.max = check_norm_max(nr.max, nr.sum);
@@ -206,7 +206,7 @@ limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *
         double target = fmax(tol_abs, INNER_REDUCTION * nr.max);
         st = inner_solve(ctx, op, &s, target, outer == 0, o->max_iterations, &d, r);
         if (!st)
-            st = dev->ops->add_f(dev, op->vertex_count, p, d);
+            st = dev->ops->mixed->add_f(dev, op->vertex_count, p, d);
     }
     r->seconds_iterations += clock_seconds() - t_loop - (dev->setup.kernels - compiles);
     for (int i = 0; i < 2; i++)

@@ -17,7 +17,7 @@
 #include "mesh/check.h"
 #include "base/context.h"
 #include "stencil/sgs_table.h"
-#include "solve/solve.h"
+#include "solve/solver.h"
 #include "base/clock.h"
 
 #include <math.h>
@@ -36,7 +36,7 @@ static limn_status run(limn_context *ctx, struct device *dev, const device_sgs *
     double entries = (double)(t->lower + t->upper + t->rows);
     double step_pass = (double)(t->lower + t->upper + 2 * t->rows) / entries;
     device_norms norms;
-    limn_status st = ops->sgs_lower(dev, a, 1, v, &norms);
+    limn_status st = ops->sgs->sgs_lower(dev, a, 1, v, &norms);
     stats->products += share;
     double gamma = norms.sum, beta = 0.0;
     cg_watch watch = {0};
@@ -47,9 +47,9 @@ static limn_status run(limn_context *ctx, struct device *dev, const device_sgs *
         if (st || done)
             break;
         device_norms dot = {0, 0, 0};
-        st = ops->sgs_upper(dev, a, beta, v);
+        st = ops->sgs->sgs_upper(dev, a, beta, v);
         if (!st)
-            st = ops->sgs_lower(dev, a, 0, v, &dot);
+            st = ops->sgs->sgs_lower(dev, a, 0, v, &dot);
         double pq = dot.sum;
         stats->products += share * step_pass;
         stats->iterations++;
@@ -57,7 +57,7 @@ static limn_status run(limn_context *ctx, struct device *dev, const device_sgs *
             break;
         st = cg_curvature(ctx, pq, stats);
         if (!st)
-            st = ops->sgs_update(dev, a, gamma / pq, v, &norms);
+            st = ops->sgs->sgs_update(dev, a, gamma / pq, v, &norms);
         beta = norms.sum / gamma;
         gamma = norms.sum;
     }
@@ -127,3 +127,12 @@ limn_status solve_sgs(limn_context *ctx, const stencil_operator *op, const doubl
 {
     return solve_tiers(ctx, op, m4, tol_abs, max_iter, p4, solve_block_sgs, stats);
 }
+
+/* SGS-preconditioned CG gives the start; the seeds' step measures its residual. */
+const solver_ops solver_sgs = {
+    .method = LIMN_METHOD_SGS,
+    .kind = SOLVE_PAPER,
+    .start = solve_sgs,
+    .long_name = "sgs (Gauss-Seidel-preconditioned CG)",
+    .fallback_reason = "sgs cannot run on this operator (see the warning)",
+};

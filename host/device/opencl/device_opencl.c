@@ -120,15 +120,25 @@ size_t opencl_work_items(size_t rows)
     return (chunks + DEVICE_WORKGROUP - 1) / DEVICE_WORKGROUP * DEVICE_WORKGROUP;
 }
 
+limn_status opencl_bind(struct device *dev, cl_kernel k, cl_uint first, const opencl_arg *args,
+                        size_t count)
+{
+    for (size_t i = 0; i < count; i++) {
+        cl_int err = clSetKernelArg(k, first + (cl_uint)i, args[i].size, args[i].value);
+        if (err != CL_SUCCESS)
+            return ctx_fail(dev->ctx, LIMN_ERR_DEVICE, "clSetKernelArg(%s) failed: %s (%d)",
+                            args[i].name, opencl_error_name(err), err);
+    }
+    return LIMN_OK;
+}
+
 limn_status opencl_set_csr_args(struct device *dev, cl_kernel k, const device_csr *a,
                                 device_buffer *weights)
 {
     cl_uint rows = (cl_uint)(a->row_begin + a->rows); /* kernels stop at the range's end */
-    CHECK(clSetKernelArg(k, 0, sizeof rows, &rows), "clSetKernelArg(rows)");
-    CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &a->row_offsets->mem), "clSetKernelArg(offsets)");
-    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &a->columns->mem), "clSetKernelArg(columns)");
-    CHECK(clSetKernelArg(k, 3, sizeof(cl_mem), &weights->mem), "clSetKernelArg(weights)");
-    return LIMN_OK;
+    opencl_arg args[] = {OPENCL_VALUE(rows, "rows"), OPENCL_MEM(a->row_offsets, "offsets"),
+                         OPENCL_MEM(a->columns, "columns"), OPENCL_MEM(weights, "weights")};
+    return opencl_bind(dev, k, 0, args, 4);
 }
 
 /* PoCL compiles a kernel's work-group function on its first launch (~55 ms
@@ -190,9 +200,9 @@ static limn_status cl_spmv(struct device *dev, const device_csr *a, device_buffe
     limn_status st = opencl_set_csr_args(dev, k, a, a->weights);
     if (st)
         return st;
-    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
-    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
-    return opencl_launch(dev, K_SPMV, opencl_first_item(a), a->rows);
+    opencl_arg args[] = {OPENCL_MEM(x, "x"), OPENCL_MEM(y, "y")};
+    st = opencl_bind(dev, k, 4, args, 2);
+    return st ? st : opencl_launch(dev, K_SPMV, opencl_first_item(a), a->rows);
 }
 
 limn_status opencl_ensure_partials(struct device *dev, size_t first_item, size_t rows)
@@ -232,6 +242,13 @@ limn_status opencl_end_reduce(struct device *dev, opencl_kernel_id id, const dev
     return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, out);
 }
 
+limn_status opencl_end_rows(struct device *dev, opencl_kernel_id id, size_t rows,
+                            device_norms *out)
+{
+    limn_status st = opencl_launch(dev, id, 0, rows);
+    return st ? st : opencl_finish_partials(dev, 0, rows, out);
+}
+
 limn_status opencl_finish_partials(struct device *dev, size_t first_item, size_t rows,
                                    device_norms *out)
 {
@@ -255,14 +272,12 @@ static limn_status cl_interp_step(struct device *dev, const device_csr *a,
     limn_status st = opencl_begin_reduce(dev, K_INTERP_STEP, a, a->weights, &k);
     if (st)
         return st;
-    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &m->mem), "clSetKernelArg(m)");
-    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
-    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &p_next->mem), "clSetKernelArg(p_next)");
-    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
     cl_uint ahead = (cl_uint)a->gather_ahead;
-    CHECK(clSetKernelArg(k, 8, sizeof omega, &omega), "clSetKernelArg(omega)");
-    CHECK(clSetKernelArg(k, 9, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
-    return opencl_end_reduce(dev, K_INTERP_STEP, a, norms);
+    opencl_arg args[] = {OPENCL_MEM(m, "m"), OPENCL_MEM(p, "p"), OPENCL_MEM(p_next, "p_next"),
+                         OPENCL_VALUE(im->partials, "partials"), OPENCL_VALUE(omega, "omega"),
+                         OPENCL_VALUE(ahead, "ahead")};
+    st = opencl_bind(dev, k, 4, args, 6);
+    return st ? st : opencl_end_reduce(dev, K_INTERP_STEP, a, norms);
 }
 
 static limn_status cl_series_step(struct device *dev, const device_csr *a,
@@ -280,14 +295,12 @@ static limn_status cl_series_step(struct device *dev, const device_csr *a,
     cl_mem axm = (flags & SERIES_STORE_AX) ? ax->mem : x->mem;
     cl_mem accm = acc_mode != SERIES_ACC_NONE ? acc->mem : x->mem;
     cl_int fl = flags, mode = acc_mode;
-    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
-    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &xn), "clSetKernelArg(x_next)");
-    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &axm), "clSetKernelArg(ax)");
-    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &accm), "clSetKernelArg(acc)");
-    CHECK(clSetKernelArg(k, 8, sizeof fl, &fl), "clSetKernelArg(flags)");
-    CHECK(clSetKernelArg(k, 9, sizeof mode, &mode), "clSetKernelArg(acc_mode)");
-    CHECK(clSetKernelArg(k, 10, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    return opencl_end_reduce(dev, K_SERIES_STEP, a, norms);
+    opencl_arg args[] = {OPENCL_MEM(x, "x"),          OPENCL_VALUE(xn, "x_next"),
+                         OPENCL_VALUE(axm, "ax"),      OPENCL_VALUE(accm, "acc"),
+                         OPENCL_VALUE(fl, "flags"),    OPENCL_VALUE(mode, "acc_mode"),
+                         OPENCL_VALUE(im->partials, "partials")};
+    st = opencl_bind(dev, k, 4, args, 7);
+    return st ? st : opencl_end_reduce(dev, K_SERIES_STEP, a, norms);
 }
 
 static limn_status cl_axpby(struct device *dev, size_t rows, double a, device_buffer *x,
@@ -295,13 +308,10 @@ static limn_status cl_axpby(struct device *dev, size_t rows, double a, device_bu
 {
     cl_kernel k = impl_of(dev)->kernels[K_AXPBY];
     cl_uint r = (cl_uint)rows;
-    CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
-    CHECK(clSetKernelArg(k, 1, sizeof a, &a), "clSetKernelArg(a)");
-    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
-    CHECK(clSetKernelArg(k, 3, sizeof b, &b), "clSetKernelArg(b)");
-    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
-    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &out->mem), "clSetKernelArg(out)");
-    return opencl_launch(dev, K_AXPBY, 0, rows);
+    opencl_arg args[] = {OPENCL_VALUE(r, "rows"), OPENCL_VALUE(a, "a"), OPENCL_MEM(x, "x"),
+                         OPENCL_VALUE(b, "b"),    OPENCL_MEM(y, "y"),   OPENCL_MEM(out, "out")};
+    limn_status st = opencl_bind(dev, k, 0, args, 6);
+    return st ? st : opencl_launch(dev, K_AXPBY, 0, rows);
 }
 
 static limn_status cl_norms(struct device *dev, size_t rows, device_buffer *x,
@@ -313,13 +323,10 @@ static limn_status cl_norms(struct device *dev, size_t rows, device_buffer *x,
         return st;
     cl_kernel k = im->kernels[K_NORMS];
     cl_uint r = (cl_uint)rows;
-    CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
-    CHECK(clSetKernelArg(k, 1, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
-    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = opencl_launch(dev, K_NORMS, 0, rows);
-    if (st)
-        return st;
-    return opencl_finish_partials(dev, 0, rows, out);
+    opencl_arg args[] = {OPENCL_VALUE(r, "rows"), OPENCL_MEM(x, "x"),
+                         OPENCL_VALUE(im->partials, "partials")};
+    st = opencl_bind(dev, k, 0, args, 3);
+    return st ? st : opencl_end_rows(dev, K_NORMS, rows, out);
 }
 
 static limn_status cl_spmv_dot(struct device *dev, const device_csr *a, device_buffer *x,
@@ -330,12 +337,12 @@ static limn_status cl_spmv_dot(struct device *dev, const device_csr *a, device_b
     limn_status st = opencl_begin_reduce(dev, K_SPMV_DOT, a, a->weights, &k);
     if (st)
         return st;
-    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
-    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &y->mem), "clSetKernelArg(y)");
-    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
-    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
+    opencl_arg args[] = {OPENCL_MEM(x, "x"), OPENCL_MEM(y, "y"), OPENCL_MEM(dinv, "dinv"),
+                         OPENCL_VALUE(im->partials, "partials")};
     device_norms n;
-    st = opencl_end_reduce(dev, K_SPMV_DOT, a, &n);
+    st = opencl_bind(dev, k, 4, args, 4);
+    if (!st)
+        st = opencl_end_reduce(dev, K_SPMV_DOT, a, &n);
     if (!st)
         *dot = n.sum;
     return st;
@@ -350,15 +357,14 @@ static limn_status cl_cheb_step(struct device *dev, const device_csr *a,
     limn_status st = opencl_begin_reduce(dev, K_CHEB_STEP, a, a->weights, &k);
     if (st)
         return st;
-    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &m->mem), "clSetKernelArg(m)");
-    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
-    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &prev_next->mem), "clSetKernelArg(prev_next)");
-    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    CHECK(clSetKernelArg(k, 8, sizeof c1, &c1), "clSetKernelArg(c1)");
-    CHECK(clSetKernelArg(k, 9, sizeof c2, &c2), "clSetKernelArg(c2)");
     cl_uint ahead = (cl_uint)a->gather_ahead;
-    CHECK(clSetKernelArg(k, 10, sizeof ahead, &ahead), "clSetKernelArg(ahead)");
-    return opencl_end_reduce(dev, K_CHEB_STEP, a, norms);
+    opencl_arg args[] = {OPENCL_MEM(m, "m"),       OPENCL_MEM(p, "p"),
+                         OPENCL_MEM(prev_next, "prev_next"),
+                         OPENCL_VALUE(im->partials, "partials"),
+                         OPENCL_VALUE(c1, "c1"),   OPENCL_VALUE(c2, "c2"),
+                         OPENCL_VALUE(ahead, "ahead")};
+    st = opencl_bind(dev, k, 4, args, 7);
+    return st ? st : opencl_end_reduce(dev, K_CHEB_STEP, a, norms);
 }
 
 static limn_status cl_pcg_update(struct device *dev, size_t rows, double alpha,
@@ -371,18 +377,12 @@ static limn_status cl_pcg_update(struct device *dev, size_t rows, double alpha,
         return st;
     cl_kernel k = im->kernels[K_PCG_UPDATE];
     cl_uint r = (cl_uint)rows;
-    CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
-    CHECK(clSetKernelArg(k, 1, sizeof alpha, &alpha), "clSetKernelArg(alpha)");
-    CHECK(clSetKernelArg(k, 2, sizeof(cl_mem), &p->mem), "clSetKernelArg(p)");
-    CHECK(clSetKernelArg(k, 3, sizeof(cl_mem), &q->mem), "clSetKernelArg(q)");
-    CHECK(clSetKernelArg(k, 4, sizeof(cl_mem), &x->mem), "clSetKernelArg(x)");
-    CHECK(clSetKernelArg(k, 5, sizeof(cl_mem), &z->mem), "clSetKernelArg(z)");
-    CHECK(clSetKernelArg(k, 6, sizeof(cl_mem), &dinv->mem), "clSetKernelArg(dinv)");
-    CHECK(clSetKernelArg(k, 7, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = opencl_launch(dev, K_PCG_UPDATE, 0, rows);
-    if (!st)
-        st = opencl_finish_partials(dev, 0, rows, norms);
-    return st;
+    opencl_arg args[] = {OPENCL_VALUE(r, "rows"), OPENCL_VALUE(alpha, "alpha"),
+                         OPENCL_MEM(p, "p"),      OPENCL_MEM(q, "q"),
+                         OPENCL_MEM(x, "x"),      OPENCL_MEM(z, "z"),
+                         OPENCL_MEM(dinv, "dinv"), OPENCL_VALUE(im->partials, "partials")};
+    st = opencl_bind(dev, k, 0, args, 8);
+    return st ? st : opencl_end_rows(dev, K_PCG_UPDATE, rows, norms);
 }
 
 static void cl_close(struct device *dev)
@@ -402,6 +402,10 @@ static void cl_close(struct device *dev)
     free(dev);
 }
 
+static const device_stationary_ops opencl_stationary = {cl_interp_step, cl_cheb_step};
+static const device_cg_ops opencl_cg = {cl_spmv_dot, cl_pcg_update};
+static const device_series_ops opencl_series = {cl_series_step};
+
 static const device_ops opencl_ops = {
     .kind = "opencl",
     .buffer_create = cl_buffer_create,
@@ -411,21 +415,14 @@ static const device_ops opencl_ops = {
     .buffer_write_at = cl_buffer_write_at,
     .buffer_read_at = cl_buffer_read_at,
     .spmv = cl_spmv,
-    .interp_step = cl_interp_step,
-    .spmv_dot = cl_spmv_dot,
-    .pcg_update = cl_pcg_update,
-    .cheb_step = cl_cheb_step,
-    .series_step = cl_series_step,
     .axpby = cl_axpby,
     .norms = cl_norms,
-    .residual_f = cl_residual_f,
-    .step_f = cl_step_f,
-    .add_f = cl_add_f,
-    .to_float = cl_to_float,
-    .sgs_upper = cl_sgs_upper,
-    .sgs_lower = cl_sgs_lower,
-    .sgs_update = cl_sgs_update,
     .close = cl_close,
+    .stationary = &opencl_stationary,
+    .cg = &opencl_cg,
+    .mixed = &cl_mixed_ops,
+    .sgs = &cl_sgs_ops,
+    .series = &opencl_series,
 };
 
 static limn_status open_device(struct device *dev, const char *spec)

@@ -67,6 +67,18 @@ const char *opencl_kernel_name(opencl_kernel_id id);
 
 /* Work-items for `rows` rows: one per chunk, rounded up to work-groups. */
 size_t opencl_work_items(size_t rows);
+/* One kernel argument: its size, a pointer to its value, and its name for
+   the error message. */
+typedef struct opencl_arg {
+    size_t size;
+    const void *value;
+    const char *name;
+} opencl_arg;
+#define OPENCL_MEM(buf, name) {sizeof(cl_mem), &(buf)->mem, name}
+#define OPENCL_VALUE(var, name) {sizeof(var), &(var), name}
+/* Binds args[0 .. count) to arguments first, first + 1, ... of k. */
+limn_status opencl_bind(struct device *dev, cl_kernel k, cl_uint first, const opencl_arg *args,
+                        size_t count);
 /* Binds rows and the CSR table to arguments 0-3. */
 limn_status opencl_set_csr_args(struct device *dev, cl_kernel k, const device_csr *a,
                                 device_buffer *weights);
@@ -92,20 +104,12 @@ limn_status opencl_begin_reduce(struct device *dev, opencl_kernel_id id,
 /* Launches it over a's rows and finishes its partial norms into out. */
 limn_status opencl_end_reduce(struct device *dev, opencl_kernel_id id, const device_csr *a,
                               device_norms *out);
+/* The same for a kernel over rows [0, rows) without a table. */
+limn_status opencl_end_rows(struct device *dev, opencl_kernel_id id, size_t rows,
+                            device_norms *out);
 
-limn_status cl_residual_f(struct device *dev, const device_csr *a, device_buffer *m,
-                          device_buffer *p, device_buffer *r_f, device_norms *norms);
-limn_status cl_step_f(struct device *dev, const device_csr *a, device_buffer *b,
-                      device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
-                      float c2, device_norms *norms);
-limn_status cl_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d);
-limn_status cl_to_float(struct device *dev, size_t count, device_buffer *w,
-                        device_buffer *w_f);
-limn_status cl_sgs_upper(struct device *dev, const device_sgs *a, double beta,
-                         const sgs_vectors *v);
-limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
-                         const sgs_vectors *v, device_norms *out);
-limn_status cl_sgs_update(struct device *dev, const device_sgs *a, double alpha,
-                          const sgs_vectors *v, device_norms *norms);
+/* The float family (device_opencl_mixed.c) and the sweeps (device_opencl_sgs.c). */
+extern const device_mixed_ops cl_mixed_ops;
+extern const device_sgs_ops cl_sgs_ops;
 
 #endif

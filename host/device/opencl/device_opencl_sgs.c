@@ -6,44 +6,43 @@
 #include "base/context.h"
 #include "device/opencl/device_opencl.h"
 
-static limn_status set_table(struct device *dev, cl_kernel k, cl_uint at,
-                             const device_sgs *a, int with_split)
+/* The table at arguments 2-6: offsets, columns, weights, split, info. */
+static limn_status set_table(struct device *dev, cl_kernel k, const device_sgs *a)
 {
-    CHECK(clSetKernelArg(k, at, sizeof(cl_mem), &a->row_offsets->mem), "clSetKernelArg(offsets)");
-    CHECK(clSetKernelArg(k, at + 1, sizeof(cl_mem), &a->columns->mem), "clSetKernelArg(columns)");
-    CHECK(clSetKernelArg(k, at + 2, sizeof(cl_mem), &a->weights->mem), "clSetKernelArg(weights)");
-    if (with_split)
-        CHECK(clSetKernelArg(k, at + 3, sizeof(cl_mem), &a->split->mem), "clSetKernelArg(split)");
-    CHECK(clSetKernelArg(k, at + 3 + (with_split ? 1 : 0), sizeof(cl_mem), &a->info->mem),
-          "clSetKernelArg(info)");
-    return LIMN_OK;
+    opencl_arg args[] = {OPENCL_MEM(a->row_offsets, "offsets"), OPENCL_MEM(a->columns, "columns"),
+                         OPENCL_MEM(a->weights, "weights"), OPENCL_MEM(a->split, "split"),
+                         OPENCL_MEM(a->info, "info")};
+    return opencl_bind(dev, k, 2, args, 5);
 }
 
-static limn_status set_mem(struct device *dev, cl_kernel k, cl_uint at, device_buffer *b)
+/* The vectors vec[0 .. count) at arguments at, at + 1, ... */
+static limn_status set_vectors(struct device *dev, cl_kernel k, cl_uint at, device_buffer **vec,
+                               size_t count)
 {
-    CHECK(clSetKernelArg(k, at, sizeof(cl_mem), &b->mem), "clSetKernelArg(vector)");
-    return LIMN_OK;
+    opencl_arg args[8];
+    for (size_t i = 0; i < count; i++)
+        args[i] = (opencl_arg)OPENCL_MEM(vec[i], "vector");
+    return opencl_bind(dev, k, at, args, count);
 }
 
 static limn_status set_rows(struct device *dev, cl_kernel k, size_t rows, size_t first)
 {
     cl_uint r = (cl_uint)rows, f = (cl_uint)first;
-    CHECK(clSetKernelArg(k, 0, sizeof r, &r), "clSetKernelArg(rows)");
-    CHECK(clSetKernelArg(k, 1, sizeof f, &f), "clSetKernelArg(first)");
-    return LIMN_OK;
+    opencl_arg args[] = {OPENCL_VALUE(r, "rows"), OPENCL_VALUE(f, "first")};
+    return opencl_bind(dev, k, 0, args, 2);
 }
 
-limn_status cl_sgs_upper(struct device *dev, const device_sgs *a, double beta,
-                         const sgs_vectors *v)
+static limn_status cl_sgs_upper(struct device *dev, const device_sgs *a, double beta,
+                                const sgs_vectors *v)
 {
     cl_kernel k = impl_of(dev)->kernels[K_SGS_UPPER];
-    limn_status st = set_table(dev, k, 2, a, 1);
     device_buffer *vec[] = {v->rhat, v->phat, v->t};
-    for (cl_uint i = 0; i < 3 && !st; i++)
-        st = set_mem(dev, k, 7 + i, vec[i]);
-    if (st)
-        return st;
-    CHECK(clSetKernelArg(k, 10, sizeof beta, &beta), "clSetKernelArg(beta)");
+    opencl_arg beta_arg = OPENCL_VALUE(beta, "beta");
+    limn_status st = set_table(dev, k, a);
+    if (!st)
+        st = set_vectors(dev, k, 7, vec, 3);
+    if (!st)
+        st = opencl_bind(dev, k, 10, &beta_arg, 1);
     for (size_t c = a->colours; c-- > 0 && !st;) {
         size_t first = a->colour_begin[c], rows = a->colour_begin[c + 1] - first;
         st = set_rows(dev, k, rows, first);
@@ -53,8 +52,8 @@ limn_status cl_sgs_upper(struct device *dev, const device_sgs *a, double beta,
     return st;
 }
 
-limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
-                         const sgs_vectors *v, device_norms *out)
+static limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
+                                const sgs_vectors *v, device_norms *out)
 {
     opencl_impl *im = impl_of(dev);
     cl_kernel k = im->kernels[K_SGS_LOWER];
@@ -63,15 +62,19 @@ limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
         items += opencl_work_items(a->colour_begin[c + 1] - a->colour_begin[c]);
     limn_status st = opencl_ensure_partials(dev, items, 0);
     if (!st)
-        st = set_table(dev, k, 2, a, 1);
+        st = set_table(dev, k, a);
     device_buffer *vec[] = {v->b, v->x, v->r, v->phat, v->t, v->u, v->st, v->rhat};
-    for (cl_uint i = 0; i < 8 && !st; i++)
-        st = set_mem(dev, k, 7 + i, vec[i]);
+    if (!st)
+        st = set_vectors(dev, k, 7, vec, 8);
+    cl_int s = start;
+    opencl_arg partials = OPENCL_VALUE(im->partials, "partials");
+    opencl_arg start_arg = OPENCL_VALUE(s, "start");
+    if (!st)
+        st = opencl_bind(dev, k, 15, &partials, 1);
+    if (!st)
+        st = opencl_bind(dev, k, 17, &start_arg, 1);
     if (st)
         return st;
-    cl_int s = start;
-    CHECK(clSetKernelArg(k, 15, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    CHECK(clSetKernelArg(k, 17, sizeof s, &s), "clSetKernelArg(start)");
     size_t base = 0;
     for (size_t c = 0; c < a->colours && !st; c++) {
         size_t first = a->colour_begin[c], rows = a->colour_begin[c + 1] - first;
@@ -79,8 +82,10 @@ limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
         st = set_rows(dev, k, rows, first);
         if (st)
             break;
-        CHECK(clSetKernelArg(k, 16, sizeof b, &b), "clSetKernelArg(base)");
-        st = opencl_launch(dev, K_SGS_LOWER, 0, rows);
+        opencl_arg base_arg = OPENCL_VALUE(b, "base");
+        st = opencl_bind(dev, k, 16, &base_arg, 1);
+        if (!st)
+            st = opencl_launch(dev, K_SGS_LOWER, 0, rows);
         base += opencl_work_items(rows);
     }
     if (st)
@@ -103,8 +108,8 @@ limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int start,
     return LIMN_OK;
 }
 
-limn_status cl_sgs_update(struct device *dev, const device_sgs *a, double alpha,
-                          const sgs_vectors *v, device_norms *norms)
+static limn_status cl_sgs_update(struct device *dev, const device_sgs *a, double alpha,
+                                 const sgs_vectors *v, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
     cl_kernel k = im->kernels[K_SGS_UPDATE];
@@ -112,14 +117,15 @@ limn_status cl_sgs_update(struct device *dev, const device_sgs *a, double alpha,
     limn_status st = opencl_ensure_partials(dev, 0, a->rows);
     if (st)
         return st;
-    CHECK(clSetKernelArg(k, 0, sizeof rows, &rows), "clSetKernelArg(rows)");
+    opencl_arg rows_arg = OPENCL_VALUE(rows, "rows");
+    st = opencl_bind(dev, k, 0, &rows_arg, 1);
     device_buffer *vec[] = {a->info, v->t, v->u, v->st, v->x, v->r, v->rhat};
-    for (cl_uint i = 0; i < 7 && !st; i++)
-        st = set_mem(dev, k, 1 + i, vec[i]);
-    if (st)
-        return st;
-    CHECK(clSetKernelArg(k, 8, sizeof alpha, &alpha), "clSetKernelArg(alpha)");
-    CHECK(clSetKernelArg(k, 9, sizeof(cl_mem), &im->partials), "clSetKernelArg(partials)");
-    st = opencl_launch(dev, K_SGS_UPDATE, 0, a->rows);
-    return st ? st : opencl_finish_partials(dev, 0, a->rows, norms);
+    if (!st)
+        st = set_vectors(dev, k, 1, vec, 7);
+    opencl_arg tail[] = {OPENCL_VALUE(alpha, "alpha"), OPENCL_VALUE(im->partials, "partials")};
+    if (!st)
+        st = opencl_bind(dev, k, 8, tail, 2);
+    return st ? st : opencl_end_rows(dev, K_SGS_UPDATE, a->rows, norms);
 }
+
+const device_sgs_ops cl_sgs_ops = {cl_sgs_upper, cl_sgs_lower, cl_sgs_update};

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The OpenCL program: kernels/stencil.cl, series.cl, solve.cl and mixed.cl
- * built as one program (the later files use stencil.cl's row_product), and
+ * The OpenCL program: kernels/common.cl (the shared helpers), stencil.cl,
+ * series.cl, solve.cl, mixed.cl and sgs.cl built as one program (the later
+ * files use stencil.cl's row_product), and
  * its kernels. One build, not one per family: with PoCL a warm-cache build
  * costs ~25 ms whatever the program's size, a cold one ~0.55 s (mostly
  * compiler start-up), so splitting would multiply the warm cost.
@@ -15,6 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+extern const unsigned char kernel_source_common[];
+extern const size_t kernel_source_common_size;
 extern const unsigned char kernel_source_stencil[];
 extern const size_t kernel_source_stencil_size;
 extern const unsigned char kernel_source_series[];
@@ -78,13 +81,15 @@ static limn_status build_with(struct device *dev, const char *options, int *pref
 {
     *prefetch_suspect = 0;
     opencl_impl *im = impl_of(dev);
-    const char *src[5] = {(const char *)kernel_source_stencil, (const char *)kernel_source_series,
-                          (const char *)kernel_source_solve, (const char *)kernel_source_mixed,
-                          (const char *)kernel_source_sgs};
-    size_t len[5] = {kernel_source_stencil_size, kernel_source_series_size, kernel_source_solve_size,
+    /* common.cl first: the helpers the other files use */
+    const char *src[6] = {(const char *)kernel_source_common, (const char *)kernel_source_stencil,
+                          (const char *)kernel_source_series, (const char *)kernel_source_solve,
+                          (const char *)kernel_source_mixed, (const char *)kernel_source_sgs};
+    size_t len[6] = {kernel_source_common_size, kernel_source_stencil_size,
+                     kernel_source_series_size, kernel_source_solve_size,
                      kernel_source_mixed_size, kernel_source_sgs_size};
     cl_int err;
-    im->program = clCreateProgramWithSource(im->context, 5, src, len, &err);
+    im->program = clCreateProgramWithSource(im->context, 6, src, len, &err);
     CHECK(err, "clCreateProgramWithSource");
     err = clBuildProgram(im->program, 1, &im->device, options, NULL, NULL);
     if (err != CL_SUCCESS) {

@@ -106,115 +106,119 @@ static limn_status ref_spmv(struct device *dev, const device_csr *a, device_buff
     return LIMN_OK;
 }
 
+void ref_chunks(size_t row_begin, size_t rows, ref_chunk_fn fn, void *user, device_norms *out)
+{
+    out->max = 0;
+    out->sum = 0;
+    out->sum_sq = 0;
+    size_t stop = row_begin + rows;
+    for (size_t begin = row_begin; begin < stop; begin += DEVICE_ROWS_PER_ITEM) {
+        size_t end = begin + DEVICE_ROWS_PER_ITEM < stop ? begin + DEVICE_ROWS_PER_ITEM : stop;
+        double n[3] = {0.0, 0.0, 0.0};
+        fn(user, begin, end, n);
+        if (n[0] > out->max)
+            out->max = n[0];
+        out->sum += n[1];
+        out->sum_sq += n[2];
+    }
+}
+
 /*
  * The fused residual step of kernels/stencil.cl (interp_step) and
  * kernels/solve.cl (cheb_step), in their order: r = m - A p and, per row,
  * prev == NULL: next = p + c2 r (interp_step, c2 = omega);
  * otherwise:    next = p + c1 (p - prev) + c2 r (cheb_step; next may be prev).
- * Partial norms of r per chunk, finished in chunk order.
+ * Norms of r.
  */
-static limn_status ref_fused_step(struct device *dev, const device_csr *a,
-                                  const double *ms, const double *ps, const double *prev,
-                                  double *next, double c1, double c2, device_norms *norms)
+typedef struct fused_step {
+    const device_csr *a;
+    const double *ms, *ps, *prev;
+    double *next, c1, c2;
+} fused_step;
+
+static void fused_chunk(void *user, size_t begin, size_t end, double n[3])
 {
-    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
-    if (!partials)
-        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
-    for (size_t g = 0; g < chunks; g++) {
-        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        if (end > a->row_begin + a->rows)
-            end = a->row_begin + a->rows;
-        double mx = 0.0, sum = 0.0, sq = 0.0;
-        for (size_t i = begin; i < end; i++) {
-            double acc[4], r[3];
-            row_product(a, i, ps, acc);
-            for (int d = 0; d < 3; d++) {
-                r[d] = ms[4 * i + d] - acc[d];
-                double pi = ps[4 * i + d];
-                next[4 * i + d] = prev ? pi + c1 * (pi - prev[4 * i + d]) + c2 * r[d]
-                                       : pi + c2 * r[d];
-            }
-            next[4 * i + 3] = 0.0;
-            double r2sum = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-            double len = sqrt(r2sum);
-            mx = len > mx ? len : mx;
-            sum += len;
-            sq += r2sum;
+    const fused_step *f = user;
+    const double *ms = f->ms, *ps = f->ps, *prev = f->prev;
+    double *next = f->next;
+    for (size_t i = begin; i < end; i++) {
+        double acc[4], r[3];
+        row_product(f->a, i, ps, acc);
+        for (int d = 0; d < 3; d++) {
+            r[d] = ms[4 * i + d] - acc[d];
+            double pi = ps[4 * i + d];
+            next[4 * i + d] = prev ? pi + f->c1 * (pi - prev[4 * i + d]) + f->c2 * r[d]
+                                   : pi + f->c2 * r[d];
         }
-        partials[3 * g] = mx;
-        partials[3 * g + 1] = sum;
-        partials[3 * g + 2] = sq;
+        next[4 * i + 3] = 0.0;
+        ref_norms_add(r[0], r[1], r[2], n);
     }
-    device_norms_finish(partials, chunks, norms);
-    free(partials);
-    return LIMN_OK;
 }
 
 static limn_status ref_interp_step(struct device *dev, const device_csr *a,
                                    device_buffer *m, device_buffer *p, device_buffer *p_next,
                                    double omega, device_norms *norms)
 {
-    return ref_fused_step(dev, a, m->data, p->data, NULL, p_next->data, 0.0, omega, norms);
+    (void)dev;
+    fused_step f = {a, m->data, p->data, NULL, p_next->data, 0.0, omega};
+    ref_chunks(a->row_begin, a->rows, fused_chunk, &f, norms);
+    return LIMN_OK;
 }
 
 static limn_status ref_cheb_step(struct device *dev, const device_csr *a, device_buffer *m,
                                  device_buffer *p, device_buffer *prev_next, double c1,
                                  double c2, device_norms *norms)
 {
-    return ref_fused_step(dev, a, m->data, p->data, prev_next->data, prev_next->data, c1, c2,
-                          norms);
+    (void)dev;
+    fused_step f = {a, m->data, p->data, prev_next->data, prev_next->data, c1, c2};
+    ref_chunks(a->row_begin, a->rows, fused_chunk, &f, norms);
+    return LIMN_OK;
 }
 
 /* Same order as kernels/series.cl: series_step. */
+typedef struct series_term {
+    const device_csr *a;
+    const double *xs;
+    double *xn, *axs, *as;
+    int flags, acc_mode;
+} series_term;
+
+static void series_chunk(void *user, size_t begin, size_t end, double n[3])
+{
+    const series_term *t = user;
+    double *xn = t->xn, *axs = t->axs, *as = t->as;
+    for (size_t i = begin; i < end; i++) {
+        double v[4];
+        row_product(t->a, i, t->xs, v);
+        const double *xi = t->xs + 4 * i;
+        if (t->flags & SERIES_STORE_AX)
+            for (int c = 0; c < 4; c++)
+                axs[4 * i + c] = v[c];
+        if (t->flags & SERIES_STORE_NEXT)
+            for (int c = 0; c < 4; c++)
+                xn[4 * i + c] = xi[c] - v[c];
+        if (t->acc_mode == SERIES_ACC_SET_AX)
+            for (int c = 0; c < 4; c++)
+                as[4 * i + c] = v[c];
+        else if (t->acc_mode == SERIES_ACC_ADD_AX)
+            for (int c = 0; c < 4; c++)
+                as[4 * i + c] = as[4 * i + c] + v[c];
+        else if (t->acc_mode == SERIES_ACC_ADD_X)
+            for (int c = 0; c < 4; c++)
+                as[4 * i + c] = as[4 * i + c] + xi[c];
+        ref_norms_add(v[0], v[1], v[2], n);
+    }
+}
+
 static limn_status ref_series_step(struct device *dev, const device_csr *a,
                                    device_buffer *x, device_buffer *x_next, device_buffer *ax,
                                    device_buffer *acc, int flags, int acc_mode,
                                    device_norms *norms)
 {
-    const double *xs = x->data;
-    double *xn = x_next ? x_next->data : NULL, *axs = ax ? ax->data : NULL;
-    double *as = acc ? acc->data : NULL;
-    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
-    if (!partials)
-        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
-    for (size_t g = 0; g < chunks; g++) {
-        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        if (end > a->row_begin + a->rows)
-            end = a->row_begin + a->rows;
-        double mx = 0.0, sum = 0.0, sq = 0.0;
-        for (size_t i = begin; i < end; i++) {
-            double v[4];
-            row_product(a, i, xs, v);
-            const double *xi = xs + 4 * i;
-            if (flags & SERIES_STORE_AX)
-                for (int c = 0; c < 4; c++)
-                    axs[4 * i + c] = v[c];
-            if (flags & SERIES_STORE_NEXT)
-                for (int c = 0; c < 4; c++)
-                    xn[4 * i + c] = xi[c] - v[c];
-            if (acc_mode == SERIES_ACC_SET_AX)
-                for (int c = 0; c < 4; c++)
-                    as[4 * i + c] = v[c];
-            else if (acc_mode == SERIES_ACC_ADD_AX)
-                for (int c = 0; c < 4; c++)
-                    as[4 * i + c] = as[4 * i + c] + v[c];
-            else if (acc_mode == SERIES_ACC_ADD_X)
-                for (int c = 0; c < 4; c++)
-                    as[4 * i + c] = as[4 * i + c] + xi[c];
-            double s2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-            double len = sqrt(s2);
-            mx = len > mx ? len : mx;
-            sum += len;
-            sq += s2;
-        }
-        partials[3 * g] = mx;
-        partials[3 * g + 1] = sum;
-        partials[3 * g + 2] = sq;
-    }
-    device_norms_finish(partials, chunks, norms);
-    free(partials);
+    (void)dev;
+    series_term t = {a,     x->data, x_next ? x_next->data : NULL, ax ? ax->data : NULL,
+                     acc ? acc->data : NULL, flags, acc_mode};
+    ref_chunks(a->row_begin, a->rows, series_chunk, &t, norms);
     return LIMN_OK;
 }
 
@@ -229,93 +233,84 @@ static limn_status ref_axpby(struct device *dev, size_t rows, double a, device_b
     return LIMN_OK;
 }
 
+static void norms_chunk(void *user, size_t begin, size_t end, double n[3])
+{
+    const double *xs = user;
+    for (size_t i = begin; i < end; i++)
+        ref_norms_add(xs[4 * i], xs[4 * i + 1], xs[4 * i + 2], n);
+}
+
 static limn_status ref_norms(struct device *dev, size_t rows, device_buffer *x,
                              device_norms *out)
 {
-    const double *xs = x->data;
-    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    double *partials = malloc((chunks ? chunks : 1) * 3 * sizeof *partials);
-    if (!partials)
-        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for reductions");
-    for (size_t g = 0; g < chunks; g++) {
-        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        if (end > rows)
-            end = rows;
-        double mx = 0.0, sum = 0.0, sq = 0.0;
-        for (size_t i = begin; i < end; i++) {
-            const double *v = xs + 4 * i;
-            double s2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-            double len = sqrt(s2);
-            mx = len > mx ? len : mx;
-            sum += len;
-            sq += s2;
-        }
-        partials[3 * g] = mx;
-        partials[3 * g + 1] = sum;
-        partials[3 * g + 2] = sq;
-    }
-    device_norms_finish(partials, chunks, out);
-    free(partials);
+    (void)dev;
+    ref_chunks(0, rows, norms_chunk, x->data, out);
     return LIMN_OK;
+}
+
+/* y = A x; n[1] = sum_i dinv_i (x_i . y_i) over the chunk. */
+typedef struct spmv_dot {
+    const device_csr *a;
+    const double *xs, *dv;
+    double *ys;
+} spmv_dot;
+
+static void spmv_dot_chunk(void *user, size_t begin, size_t end, double n[3])
+{
+    const spmv_dot *s = user;
+    for (size_t i = begin; i < end; i++) {
+        double *acc = s->ys + 4 * i;
+        row_product(s->a, i, s->xs, acc);
+        const double *xi = s->xs + 4 * i;
+        double d = xi[0] * acc[0] + xi[1] * acc[1] + xi[2] * acc[2];
+        n[1] += s->dv[i] * d;
+    }
 }
 
 static limn_status ref_spmv_dot(struct device *dev, const device_csr *a, device_buffer *x,
                                 device_buffer *y, device_buffer *dinv, double *dot)
 {
-    const double *xs = x->data, *dv = dinv->data;
-    double *ys = y->data;
-    size_t chunks = (a->rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    double total = 0.0;
-    for (size_t g = 0; g < chunks; g++) {
-        size_t begin = a->row_begin + g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        if (end > a->row_begin + a->rows)
-            end = a->row_begin + a->rows;
-        double sum = 0.0;
-        for (size_t i = begin; i < end; i++) {
-            double *acc = ys + 4 * i;
-            row_product(a, i, xs, acc);
-            const double *xi = xs + 4 * i;
-            double d = xi[0] * acc[0] + xi[1] * acc[1] + xi[2] * acc[2];
-            sum += dv[i] * d;
-        }
-        total += sum;
-    }
     (void)dev;
-    *dot = total;
+    spmv_dot s = {a, x->data, dinv->data, y->data};
+    device_norms n;
+    ref_chunks(a->row_begin, a->rows, spmv_dot_chunk, &s, &n);
+    *dot = n.sum;
     return LIMN_OK;
+}
+
+typedef struct pcg_update {
+    double alpha;
+    const double *ps, *qs, *dv;
+    double *xs, *zs;
+} pcg_update;
+
+/* n: max |z_i|, sum dinv_i |z_i|^2, sum |z_i|^2 */
+static void pcg_update_chunk(void *user, size_t begin, size_t end, double n[3])
+{
+    const pcg_update *u = user;
+    double *xs = u->xs, *zs = u->zs;
+    for (size_t i = begin; i < end; i++) {
+        for (int c = 0; c < 3; c++) {
+            xs[4 * i + c] = xs[4 * i + c] + u->alpha * u->ps[4 * i + c];
+            zs[4 * i + c] = zs[4 * i + c] - u->alpha * u->qs[4 * i + c];
+        }
+        xs[4 * i + 3] = zs[4 * i + 3] = 0.0;
+        const double *zi = zs + 4 * i;
+        double s = zi[0] * zi[0] + zi[1] * zi[1] + zi[2] * zi[2];
+        double len = sqrt(s);
+        n[0] = len > n[0] ? len : n[0];
+        n[1] += u->dv[i] * s;
+        n[2] += s;
+    }
 }
 
 static limn_status ref_pcg_update(struct device *dev, size_t rows, double alpha,
                                   device_buffer *p, device_buffer *q, device_buffer *x,
                                   device_buffer *z, device_buffer *dinv, device_norms *norms)
 {
-    const double *ps = p->data, *qs = q->data, *dv = dinv->data;
-    double *xs = x->data, *zs = z->data;
-    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    norms->max = norms->sum = norms->sum_sq = 0.0;
-    for (size_t g = 0; g < chunks; g++) {
-        size_t begin = g * DEVICE_ROWS_PER_ITEM, end = begin + DEVICE_ROWS_PER_ITEM;
-        if (end > rows)
-            end = rows;
-        double mx = 0.0, rz = 0.0, sq = 0.0;
-        for (size_t i = begin; i < end; i++) {
-            for (int c = 0; c < 3; c++) {
-                xs[4 * i + c] = xs[4 * i + c] + alpha * ps[4 * i + c];
-                zs[4 * i + c] = zs[4 * i + c] - alpha * qs[4 * i + c];
-            }
-            xs[4 * i + 3] = zs[4 * i + 3] = 0.0;
-            const double *zi = zs + 4 * i;
-            double s = zi[0] * zi[0] + zi[1] * zi[1] + zi[2] * zi[2];
-            double len = sqrt(s);
-            mx = len > mx ? len : mx;
-            rz += dv[i] * s;
-            sq += s;
-        }
-        norms->max = mx > norms->max ? mx : norms->max;
-        norms->sum += rz;
-        norms->sum_sq += sq;
-    }
     (void)dev;
+    pcg_update u = {alpha, p->data, q->data, dinv->data, x->data, z->data};
+    ref_chunks(0, rows, pcg_update_chunk, &u, norms);
     return LIMN_OK;
 }
 
@@ -323,6 +318,10 @@ static void ref_close(struct device *dev)
 {
     free(dev);
 }
+
+static const device_stationary_ops reference_stationary = {ref_interp_step, ref_cheb_step};
+static const device_cg_ops reference_cg = {ref_spmv_dot, ref_pcg_update};
+static const device_series_ops reference_series = {ref_series_step};
 
 static const device_ops reference_ops = {
     .kind = "reference",
@@ -333,21 +332,14 @@ static const device_ops reference_ops = {
     .buffer_write_at = ref_buffer_write_at,
     .buffer_read_at = ref_buffer_read_at,
     .spmv = ref_spmv,
-    .interp_step = ref_interp_step,
-    .spmv_dot = ref_spmv_dot,
-    .pcg_update = ref_pcg_update,
-    .cheb_step = ref_cheb_step,
-    .series_step = ref_series_step,
     .axpby = ref_axpby,
     .norms = ref_norms,
-    .residual_f = ref_residual_f,
-    .step_f = ref_step_f,
-    .add_f = ref_add_f,
-    .to_float = ref_to_float,
-    .sgs_upper = ref_sgs_upper,
-    .sgs_lower = ref_sgs_lower,
-    .sgs_update = ref_sgs_update,
     .close = ref_close,
+    .stationary = &reference_stationary,
+    .cg = &reference_cg,
+    .mixed = &ref_mixed_ops,
+    .sgs = &ref_sgs_ops,
+    .series = &reference_series,
 };
 
 limn_status device_open_reference(limn_context *ctx, struct device **out)

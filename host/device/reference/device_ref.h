@@ -7,24 +7,34 @@
 
 #include "device/device.h"
 
+#include <math.h>
+
 struct device_buffer {
     size_t bytes;
     void *data;
 };
 
-limn_status ref_residual_f(struct device *dev, const device_csr *a, device_buffer *m,
-                           device_buffer *p, device_buffer *r_f, device_norms *norms);
-limn_status ref_step_f(struct device *dev, const device_csr *a, device_buffer *b,
-                       device_buffer *d, device_buffer *prev, device_buffer *next, float c1,
-                       float c2, device_norms *norms);
-limn_status ref_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d);
-limn_status ref_to_float(struct device *dev, size_t count, device_buffer *w,
-                         device_buffer *w_f);
-limn_status ref_sgs_upper(struct device *dev, const device_sgs *a, double beta,
-                          const sgs_vectors *v);
-limn_status ref_sgs_lower(struct device *dev, const device_sgs *a, int start,
-                          const sgs_vectors *v, device_norms *out);
-limn_status ref_sgs_update(struct device *dev, const device_sgs *a, double alpha,
-                           const sgs_vectors *v, device_norms *norms);
+/* The fixed chunks of the reductions: fn computes rows [begin, end) of one
+   chunk of DEVICE_ROWS_PER_ITEM rows and its partial norms n (max, sum,
+   sum of squares, zero on entry); the chunks of rows [row_begin, row_begin +
+   rows) run in order and their partials are finished as
+   device_norms_finish does, chunk after chunk, so the results are the
+   kernels' bit for bit. */
+typedef void (*ref_chunk_fn)(void *user, size_t begin, size_t end, double n[3]);
+void ref_chunks(size_t row_begin, size_t rows, ref_chunk_fn fn, void *user, device_norms *out);
+
+/* Adds the vector (v0, v1, v2) to partial norms n, in the kernels' order. */
+static inline void ref_norms_add(double v0, double v1, double v2, double n[3])
+{
+    double s = v0 * v0 + v1 * v1 + v2 * v2;
+    double len = sqrt(s);
+    n[0] = len > n[0] ? len : n[0];
+    n[1] += len;
+    n[2] += s;
+}
+
+/* The float family (device_ref_mixed.c) and the sweeps (device_ref_sgs.c). */
+extern const device_mixed_ops ref_mixed_ops;
+extern const device_sgs_ops ref_sgs_ops;
 
 #endif

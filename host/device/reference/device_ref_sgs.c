@@ -37,13 +37,8 @@ static double dot3(const double *a, const double *b)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static size_t chunks_of(size_t rows)
-{
-    return (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-}
-
-limn_status ref_sgs_upper(struct device *dev, const device_sgs *a, double beta,
-                          const sgs_vectors *v)
+static limn_status ref_sgs_upper(struct device *dev, const device_sgs *a, double beta,
+                                 const sgs_vectors *v)
 {
     sgs_view s = view_of(a);
     const double *rhat = v->rhat->data;
@@ -119,63 +114,74 @@ static double step_row(const sgs_view *s, size_t i, const sgs_vectors *v)
     return dot3(p, q);
 }
 
-limn_status ref_sgs_lower(struct device *dev, const device_sgs *a, int start,
-                          const sgs_vectors *v, device_norms *out)
+/* The forward sweep over one chunk of one colour: n[0] = max scale_i |r_i|
+   (start), n[1] = the sum of the rows' dot products. */
+typedef struct sgs_sweep {
+    const sgs_view *s;
+    const sgs_vectors *v;
+    int start;
+    double alpha; /* sgs_update */
+} sgs_sweep;
+
+static void lower_chunk(void *user, size_t begin, size_t end, double n[3])
+{
+    const sgs_sweep *w = user;
+    for (size_t i = begin; i < end; i++) {
+        if (w->start) {
+            double len;
+            n[1] += start_row(w->s, i, w->v, &len);
+            n[0] = len > n[0] ? len : n[0];
+        } else {
+            n[1] += step_row(w->s, i, w->v);
+        }
+    }
+}
+
+static limn_status ref_sgs_lower(struct device *dev, const device_sgs *a, int start,
+                                 const sgs_vectors *v, device_norms *out)
 {
     sgs_view s = view_of(a);
+    sgs_sweep w = {&s, v, start, 0.0};
     out->max = out->sum = out->sum_sq = 0.0;
     for (size_t c = 0; c < a->colours; c++) {
-        size_t first = a->colour_begin[c], rows = a->colour_begin[c + 1] - first;
-        double colour_sum = 0.0;
-        for (size_t g = 0; g < chunks_of(rows); g++) {
-            size_t begin = first + g * DEVICE_ROWS_PER_ITEM;
-            size_t end = begin + DEVICE_ROWS_PER_ITEM < first + rows ? begin + DEVICE_ROWS_PER_ITEM
-                                                                     : first + rows;
-            double mx = 0.0, sum = 0.0;
-            for (size_t i = begin; i < end; i++) {
-                if (start) {
-                    double len;
-                    sum += start_row(&s, i, v, &len);
-                    mx = len > mx ? len : mx;
-                } else {
-                    sum += step_row(&s, i, v);
-                }
-            }
-            out->max = mx > out->max ? mx : out->max;
-            colour_sum += sum;
-        }
-        out->sum += colour_sum;
+        device_norms n;
+        ref_chunks(a->colour_begin[c], a->colour_begin[c + 1] - a->colour_begin[c], lower_chunk,
+                   &w, &n);
+        out->max = n.max > out->max ? n.max : out->max;
+        out->sum += n.sum;
     }
     (void)dev;
     return LIMN_OK;
 }
 
-limn_status ref_sgs_update(struct device *dev, const device_sgs *a, double alpha,
-                           const sgs_vectors *v, device_norms *norms)
+static void update_chunk(void *user, size_t begin, size_t end, double n[3])
+{
+    const sgs_sweep *w = user;
+    const sgs_vectors *v = w->v;
+    const double *t = v->t->data, *u = v->u->data, *st = v->st->data, alpha = w->alpha;
+    double *x = v->x->data, *r = v->r->data, *rhat = v->rhat->data;
+    for (size_t i = begin; i < end; i++) {
+        const double *in = w->s->info + 4 * i, *ti = t + 4 * i;
+        for (int k = 0; k < 3; k++) {
+            x[4 * i + k] = x[4 * i + k] + alpha * ti[k];
+            r[4 * i + k] = r[4 * i + k] - alpha * st[4 * i + k];
+            rhat[4 * i + k] = rhat[4 * i + k] - alpha * (in[1] * (ti[k] + u[4 * i + k]));
+        }
+        x[4 * i + 3] = r[4 * i + 3] = rhat[4 * i + 3] = 0.0;
+        double len = in[2] * sqrt(dot3(r + 4 * i, r + 4 * i));
+        n[0] = len > n[0] ? len : n[0];
+        n[1] += dot3(rhat + 4 * i, rhat + 4 * i);
+    }
+}
+
+static limn_status ref_sgs_update(struct device *dev, const device_sgs *a, double alpha,
+                                  const sgs_vectors *v, device_norms *norms)
 {
     sgs_view s = view_of(a);
-    const double *t = v->t->data, *u = v->u->data, *st = v->st->data;
-    double *x = v->x->data, *r = v->r->data, *rhat = v->rhat->data;
-    norms->max = norms->sum = norms->sum_sq = 0.0;
-    for (size_t g = 0; g < chunks_of(a->rows); g++) {
-        size_t end = (g + 1) * DEVICE_ROWS_PER_ITEM < a->rows ? (g + 1) * DEVICE_ROWS_PER_ITEM
-                                                              : a->rows;
-        double mx = 0.0, sum = 0.0;
-        for (size_t i = g * DEVICE_ROWS_PER_ITEM; i < end; i++) {
-            const double *in = s.info + 4 * i, *ti = t + 4 * i;
-            for (int k = 0; k < 3; k++) {
-                x[4 * i + k] = x[4 * i + k] + alpha * ti[k];
-                r[4 * i + k] = r[4 * i + k] - alpha * st[4 * i + k];
-                rhat[4 * i + k] = rhat[4 * i + k] - alpha * (in[1] * (ti[k] + u[4 * i + k]));
-            }
-            x[4 * i + 3] = r[4 * i + 3] = rhat[4 * i + 3] = 0.0;
-            double len = in[2] * sqrt(dot3(r + 4 * i, r + 4 * i));
-            mx = len > mx ? len : mx;
-            sum += dot3(rhat + 4 * i, rhat + 4 * i);
-        }
-        norms->max = mx > norms->max ? mx : norms->max;
-        norms->sum += sum;
-    }
+    sgs_sweep w = {&s, v, 0, alpha};
+    ref_chunks(0, a->rows, update_chunk, &w, norms);
     (void)dev;
     return LIMN_OK;
 }
+
+const device_sgs_ops ref_sgs_ops = {ref_sgs_upper, ref_sgs_lower, ref_sgs_update};

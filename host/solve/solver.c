@@ -1,0 +1,129 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The solver registry and the run every method shares (solver.h): the
+ * method's start when it has one (with the fall-back to the paper method),
+ * then the float corrections when chosen, then the stationary loop that
+ * measures the residual of the P returned.
+ */
+#include "solve/solver.h"
+#include "base/clock.h"
+#include "base/context.h"
+#include "solve/solve_mixed.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* The registry: one line a method. */
+static const solver_ops *const registry[] = {
+    &solver_paper, &solver_weighted, &solver_chebyshev, &solver_cg, &solver_sgs,
+};
+
+const solver_ops *solver_find(limn_method method)
+{
+    for (size_t i = 0; i < sizeof registry / sizeof registry[0]; i++)
+        if (registry[i]->method == method)
+            return registry[i];
+    return NULL;
+}
+
+void solver_create(limn_context *ctx, limn_method method, solver *s)
+{
+    memset(s, 0, sizeof *s);
+    s->ctx = ctx;
+    s->ops = solver_find(method);
+}
+
+limn_status solver_set_from_options(solver *s, const limn_interpolate_options *o,
+                                    size_t vertices, limn_report *r)
+{
+    s->o = o;
+    return solve_precision_choose(s->ctx, o, s->ops->method, vertices, &s->precision, r);
+}
+
+void solver_destroy(solver *s)
+{
+    for (int i = 0; i < 2; i++)
+        if (s->p[i])
+            s->dev->ops->buffer_release(s->dev, s->p[i]);
+    if (s->m)
+        s->dev->ops->buffer_release(s->dev, s->m);
+    memset(s, 0, sizeof *s);
+}
+
+/* The method's start in host arrays: P in buf on success; on
+   LIMN_ERR_TOPOLOGY the warning, and the solver becomes the paper method. */
+static limn_status run_start(solver *s, const stencil_operator *op, double tol_abs, double *buf,
+                             limn_report *r)
+{
+    size_t n = op->vertex_count;
+    double *p4 = malloc((n ? n : 1) * 4 * sizeof *p4);
+    solve_stats stats = {.catmark_alpha0 = op->scheme == LIMN_SCHEME_CATMARK && op->alpha == 0.0};
+    limn_status st;
+    if (!p4)
+        st = ctx_fail(s->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+    else
+        st = s->ops->start(s->ctx, op, buf, tol_abs, s->o->max_iterations, p4, &stats);
+    if (st == LIMN_ERR_TOPOLOGY) {
+        ctx_warn(s->ctx, "%s needs the limit operator to be block triangular by vertex rule "
+                         "with symmetric, positive blocks, which this mesh's is not: used the "
+                         "seeds' iteration",
+                 s->ops->long_name);
+        r->method_reason = s->ops->fallback_reason;
+        s->ops = &solver_paper;
+        r->method = limn_method_name(s->ops->method);
+        st = LIMN_OK;
+    } else if (!st) {
+        memcpy(buf, p4, 4 * n * sizeof *p4);
+        r->products = stats.products;
+        r->iterations = stats.iterations;
+        r->seconds_iterations = stats.seconds_loop;
+    }
+    free(p4);
+    return st;
+}
+
+/* One step of the single process: the whole table in one launch. */
+typedef struct local_step {
+    const stencil_operator *op;
+    solver *s;
+} local_step;
+
+static limn_status step_local(void *user, int cur, const solve_step *sp, device_norms *norms)
+{
+    const stencil_operator *op = ((local_step *)user)->op;
+    solver *s = ((local_step *)user)->s;
+    if (sp->kind == SOLVE_CHEBYSHEV)
+        return s->dev->ops->stationary->cheb_step(s->dev, &op->device, s->m, s->p[cur],
+                                                  s->p[1 - cur], sp->c1, sp->c2, norms);
+    return s->dev->ops->stationary->interp_step(s->dev, &op->device, s->m, s->p[cur],
+                                                s->p[1 - cur], sp->omega, norms);
+}
+
+limn_status solver_solve(solver *s, stencil_operator *op, double diag, double *buf,
+                         limn_report *r)
+{
+    const limn_interpolate_options *o = s->o;
+    size_t n = op->vertex_count;
+    s->dev = op->dev;
+    /* a start (CG) gives P; the stationary loop below measures its residual on
+       the whole system (and polishes, should rounding leave it short) */
+    limn_status st = s->dev->ops->buffer_create(s->dev, 4 * n * sizeof(double), buf, &s->m);
+    if (!st && s->ops->start)
+        st = run_start(s, op, o->tolerance * diag, buf, r);
+    if (!st)
+        st = s->dev->ops->buffer_create(s->dev, 4 * n * sizeof(double), buf, &s->p[0]);
+    int done = 0;
+    if (!st && s->precision == LIMN_PRECISION_FLOAT)
+        st = solve_mixed(s->ctx, op, s->m, s->p[0], o, diag, s->ops->method, &done, r);
+    if (!st && !done)
+        st = s->dev->ops->buffer_create(s->dev, 4 * n * sizeof(double), NULL, &s->p[1]);
+    double t_loop = clock_seconds(), compiles = s->dev->setup.kernels; /* first launches */
+    local_step ls = {op, s};
+    if (!st && !done)
+        st = solve_iterate(s->ctx, step_local, &ls, op->vertex_count, op->scheme,
+                           op->alpha, o, diag, s->ops->kind, &s->which, r);
+    r->seconds_iterations += clock_seconds() - t_loop - (s->dev->setup.kernels - compiles);
+    if (!st)
+        st = s->dev->ops->buffer_read(s->dev, s->p[s->which], 4 * n * sizeof(double), buf);
+    return st;
+}
