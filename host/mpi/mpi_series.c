@@ -284,17 +284,7 @@ static limn_status check_morph(limn_context *ctx, const limn_mesh *from, const l
     limn_status st = check_mesh_magnitude(ctx, fn, "FROM", from);
     if (!st)
         st = check_mesh_magnitude(ctx, fn, "TO", to);
-    if (!st)
-        st = check_count(ctx, fn, "frames", o->frames, 2, LIMN_MAX_FRAMES, "LIMN_MAX_FRAMES");
-    if (!st)
-        st = check_count(ctx, fn, "m", o->m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
-    if (!st)
-        st = check_count(ctx, fn, "(m + 1) * (frames - 1)", (o->m + 1LL) * (o->frames - 1LL), 0,
-                         LIMN_MAX_PRODUCTS, "LIMN_MAX_PRODUCTS");
-    if (!st && !(o->p > 0.0 && o->p < 1.0))
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
-                       o->p);
-    return st ? st : measure_same_topology(ctx, from, to, "FROM", "TO");
+    return st ? st : series_check_morph(ctx, fn, from, to, o);
 }
 
 /* limn_morph_mpi on structs of this library's layout. */
