@@ -255,21 +255,14 @@ static limn_status local_agree(const series_engine *e, limn_status st)
     return st;
 }
 
-/* The engine of filter.c on an open series_run (products: the report's). */
+static const series_engine_ops local_ops = {local_term,     local_axpby,  local_upload,
+                                            local_download, local_result, local_agree};
+
+/* The engine of filter.c on an open series_run (products: the report's):
+   the root, no failure carried. */
 static series_engine local_engine(limn_context *ctx, series_run *s, long long *products)
 {
-    return (series_engine){.ctx = ctx,
-                           .user = s,
-                           .buf = s->buf,
-                           .products = products,
-                           .root = 1,
-                           .carry = 0,
-                           .term = local_term,
-                           .axpby = local_axpby,
-                           .upload = local_upload,
-                           .download = local_download,
-                           .result = local_result,
-                           .agree = local_agree};
+    return (series_engine){ctx, s, s->buf, products, 1, 0, &local_ops};
 }
 
 /* A checked driver's run (four work vectors) and its engine. */
