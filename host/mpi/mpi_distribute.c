@@ -245,6 +245,17 @@ static int rows_alloc(mpi_part *d, size_t no, size_t ng, size_t nnz, int n_recv,
            h->send_idx;
 }
 
+static void rows_free(mpi_part *d)
+{
+    free(d->owned_ids);
+    free(d->owned_rule);
+    free(d->owned_scale);
+    free(d->ghost_ids);
+    free(d->ghost_rule);
+    stencil_free(&d->host);
+    mpi_halo_free(&d->halo);
+}
+
 /* Rank r's owned and ghost vertices (ids, rules, scales) and its rows:
    each global row as it is, entries in its order, columns renamed. */
 static void fill_rows(mpi_part *p, plan *pl, int r, mpi_part *dst)
@@ -348,17 +359,6 @@ static limn_status build_rows(mpi_part *p, plan *pl, int r, mpi_part *dst)
     fill_rows(p, pl, r, dst);
     fill_halo(p, pl, r, dst);
     return LIMN_OK;
-}
-
-static void rows_free(mpi_part *d)
-{
-    free(d->owned_ids);
-    free(d->owned_rule);
-    free(d->owned_scale);
-    free(d->ghost_ids);
-    free(d->ghost_rule);
-    stencil_free(&d->host);
-    mpi_halo_free(&d->halo);
 }
 
 static void header_of(const mpi_part *p, const mpi_part *d, limn_status st, uint64_t *h,
