@@ -284,8 +284,8 @@ limn_status abi_enter(abi_call *c, limn_context *ctx, const char *fn,
        entry agrees over both before it returns */
     limn_status st = abi_options_in(ctx, fn, "options", options_layout, options, &c->o);
     limn_status rs = abi_report_begin(ctx, fn, "report", report_layout, st ? NULL : report, &c->r);
-    c->options = options ? (const void *)&c->o : NULL;
-    c->report = report ? (void *)&c->r : NULL;
+    c->options = &c->o;
+    c->report = &c->r;
     return st ? st : rs;
 }
 

@@ -68,8 +68,9 @@ typedef struct abi_call {
     const char *fn;
     const abi_layout *options_layout, *report_layout;
     void *caller_report;
-    /* set by abi_enter: the library-side copies where the caller passed a
-       struct, else NULL (what the *_sized function takes) */
+    /* set by abi_enter: the library-side copies, never NULL (what the
+       *_sized function takes): the defaults where the caller passed no
+       options, a report nobody reads where it passed none */
     const void *options;
     void *report;
     union {

@@ -285,54 +285,64 @@ static limn_status root_counts(mpi_part *p, int **counts, int **displs)
     return LIMN_OK;
 }
 
+/* The scratch of a scatter or gather: the root's counts and displacements,
+   this rank's rows as 3 doubles each; agreed over the ranks. */
+typedef struct rows_msg {
+    int *counts, *displs;
+    double *mine;
+} rows_msg;
+
+static limn_status rows_msg_open(mpi_part *p, rows_msg *m)
+{
+    limn_status st = root_counts(p, &m->counts, &m->displs);
+    m->mine = malloc((p->n_owned ? 3 * p->n_owned : 1) * sizeof *m->mine);
+    if (!m->mine)
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_owned);
+    return mpi_agree(p, st);
+}
+
+static limn_status rows_msg_close(rows_msg *m, limn_status st)
+{
+    free(m->mine);
+    free(m->counts);
+    free(m->displs);
+    return st;
+}
+
 limn_status mpi_scatter_rows(mpi_part *p, const double *xyz_root, double *rows4)
 {
-    int *counts, *displs;
-    limn_status st = root_counts(p, &counts, &displs);
-    double *mine = malloc((p->n_owned ? 3 * p->n_owned : 1) * sizeof *mine);
-    if (!mine)
-        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_owned);
-    st = mpi_agree(p, st);
+    rows_msg m;
+    limn_status st = rows_msg_open(p, &m);
     if (!st) {
         if (p->rank == p->root)
             for (size_t k = 0; k < p->n_global; k++)
                 memcpy(p->root_buf + 3 * k, xyz_root + 3 * (size_t)p->root_ids[k],
                        3 * sizeof(double));
-        MPI_Scatterv(p->root_buf, counts, displs, MPI_DOUBLE, mine, (int)(3 * p->n_owned),
+        MPI_Scatterv(p->root_buf, m.counts, m.displs, MPI_DOUBLE, m.mine, (int)(3 * p->n_owned),
                      MPI_DOUBLE, p->root, p->comm);
         for (size_t i = 0; i < p->n_owned; i++) {
-            memcpy(rows4 + 4 * i, mine + 3 * i, 3 * sizeof(double));
+            memcpy(rows4 + 4 * i, m.mine + 3 * i, 3 * sizeof(double));
             rows4[4 * i + 3] = 0.0;
         }
     }
-    free(mine);
-    free(counts);
-    free(displs);
-    return st;
+    return rows_msg_close(&m, st);
 }
 
 limn_status mpi_gather_rows(mpi_part *p, const double *rows4, double *xyz_root)
 {
-    int *counts, *displs;
-    limn_status st = root_counts(p, &counts, &displs);
-    double *mine = malloc((p->n_owned ? 3 * p->n_owned : 1) * sizeof *mine);
-    if (!mine)
-        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_owned);
-    st = mpi_agree(p, st);
+    rows_msg m;
+    limn_status st = rows_msg_open(p, &m);
     if (!st) {
         for (size_t i = 0; i < p->n_owned; i++)
-            memcpy(mine + 3 * i, rows4 + 4 * i, 3 * sizeof(double));
-        MPI_Gatherv(mine, (int)(3 * p->n_owned), MPI_DOUBLE, p->root_buf, counts, displs,
+            memcpy(m.mine + 3 * i, rows4 + 4 * i, 3 * sizeof(double));
+        MPI_Gatherv(m.mine, (int)(3 * p->n_owned), MPI_DOUBLE, p->root_buf, m.counts, m.displs,
                     MPI_DOUBLE, p->root, p->comm);
         if (p->rank == p->root)
             for (size_t k = 0; k < p->n_global; k++)
                 memcpy(xyz_root + 3 * (size_t)p->root_ids[k], p->root_buf + 3 * k,
                        3 * sizeof(double));
     }
-    free(mine);
-    free(counts);
-    free(displs);
-    return st;
+    return rows_msg_close(&m, st);
 }
 
 /* ------------------------------------------------------------------ device */

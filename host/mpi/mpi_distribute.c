@@ -111,11 +111,81 @@ static limn_status plan_classes(mpi_part *p, plan *pl)
     return LIMN_OK;
 }
 
+/* Appends the vertices rank r reads but does not own to pl->ghosts (used
+   of cap entries), each once (stamp: r + 1 where already listed). */
+static limn_status collect_ghosts(mpi_part *p, plan *pl, size_t r, uint32_t *stamp, size_t *cap,
+                                  size_t *used)
+{
+    const stencil_csr *a = &pl->g->host;
+    for (size_t i = p->root_off[r]; i < p->root_off[r + 1]; i++) {
+        uint32_t k = row_of(pl->g, p->root_ids[i]);
+        for (uint32_t e = a->row_offsets[k]; e < a->row_offsets[k + 1]; e++) {
+            uint32_t u = vert(pl->g, a->columns[e]);
+            if (pl->part[u] == r || stamp[u] == r + 1)
+                continue;
+            stamp[u] = (uint32_t)r + 1;
+            if (*used == *cap) {
+                uint32_t *grown = realloc(pl->ghosts, 2 * *cap * sizeof *grown);
+                if (!grown)
+                    return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for ghosts");
+                pl->ghosts = grown;
+                *cap *= 2;
+            }
+            pl->ghosts[(*used)++] = u;
+        }
+    }
+    return LIMN_OK;
+}
+
+/* Doubles the room of the run lists. */
+static limn_status grow_runs(mpi_part *p, plan *pl, size_t *run_cap)
+{
+    *run_cap *= 2;
+    uint32_t *o = realloc(pl->run_owner, *run_cap * sizeof *o);
+    if (o)
+        pl->run_owner = o;
+    size_t *b = realloc(pl->run_begin, *run_cap * sizeof *b);
+    if (b)
+        pl->run_begin = b;
+    size_t *c = realloc(pl->run_cnt, *run_cap * sizeof *c);
+    if (c)
+        pl->run_cnt = c;
+    if (!o || !b || !c)
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for ghosts");
+    return LIMN_OK;
+}
+
+/* Sorts the count ghosts from `start` by (owner, owner's number), as
+   vertices again, and lists their runs of one owner (keys: scratch). */
+static limn_status sort_ghosts(mpi_part *p, plan *pl, size_t start, size_t count, uint64_t *keys,
+                               size_t *runs, size_t *run_cap)
+{
+    for (size_t i = 0; i < count; i++) {
+        uint32_t u = pl->ghosts[start + i];
+        keys[i] = (uint64_t)pl->part[u] << 32 | pl->lidx[u];
+    }
+    qsort(keys, count, sizeof *keys, cmp_u64);
+    for (size_t i = 0; i < count; i++) {
+        uint32_t owner = (uint32_t)(keys[i] >> 32);
+        pl->ghosts[start + i] = p->root_ids[p->root_off[owner] + (uint32_t)keys[i]];
+        if (i == 0 || owner != (uint32_t)(keys[i - 1] >> 32)) {
+            limn_status st = *runs == *run_cap ? grow_runs(p, pl, run_cap) : LIMN_OK;
+            if (st)
+                return st;
+            pl->run_owner[*runs] = owner;
+            pl->run_begin[*runs] = start + i;
+            pl->run_cnt[(*runs)++] = 0;
+        }
+        pl->run_cnt[*runs - 1]++;
+    }
+    return LIMN_OK;
+}
+
 /* Every rank's ghosts, sorted by (owner, owner's number), and their runs. */
 static limn_status plan_ghosts(mpi_part *p, plan *pl)
 {
-    const stencil_csr *a = &pl->g->host;
-    size_t n = a->rows, R = (size_t)p->size, cap = 1024, used = 0, runs = 0, run_cap = 64;
+    size_t n = pl->g->host.rows, R = (size_t)p->size, cap = 1024, used = 0, runs = 0,
+           run_cap = 64;
     uint32_t *stamp = calloc(n ? n : 1, sizeof *stamp);
     pl->ghost_off = calloc(R + 1, sizeof *pl->ghost_off);
     pl->run_off = calloc(R + 1, sizeof *pl->run_off);
@@ -131,25 +201,7 @@ static limn_status plan_ghosts(mpi_part *p, plan *pl)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the ghost lists");
     for (size_t r = 0; !st && r < R; r++) {
         size_t start = used;
-        for (size_t i = p->root_off[r]; !st && i < p->root_off[r + 1]; i++) {
-            uint32_t k = row_of(pl->g, p->root_ids[i]);
-            for (uint32_t e = a->row_offsets[k]; e < a->row_offsets[k + 1]; e++) {
-                uint32_t u = vert(pl->g, a->columns[e]);
-                if (pl->part[u] == r || stamp[u] == r + 1)
-                    continue;
-                stamp[u] = (uint32_t)r + 1;
-                if (used == cap) {
-                    uint32_t *grown = realloc(pl->ghosts, 2 * cap * sizeof *grown);
-                    if (!grown) {
-                        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for ghosts");
-                        break;
-                    }
-                    pl->ghosts = grown;
-                    cap *= 2;
-                }
-                pl->ghosts[used++] = u;
-            }
-        }
+        st = collect_ghosts(p, pl, r, stamp, &cap, &used);
         size_t count = used - start;
         uint64_t *grown = st ? NULL : realloc(keys, (count ? count : 1) * sizeof *keys);
         if (!st && !grown)
@@ -157,43 +209,114 @@ static limn_status plan_ghosts(mpi_part *p, plan *pl)
         if (st)
             break;
         keys = grown;
-        for (size_t i = 0; i < count; i++) {
-            uint32_t u = pl->ghosts[start + i];
-            keys[i] = (uint64_t)pl->part[u] << 32 | pl->lidx[u];
-        }
-        qsort(keys, count, sizeof *keys, cmp_u64);
-        for (size_t i = 0; i < count; i++) {
-            uint32_t owner = (uint32_t)(keys[i] >> 32);
-            pl->ghosts[start + i] = p->root_ids[p->root_off[owner] + (uint32_t)keys[i]];
-            if (i == 0 || owner != (uint32_t)(keys[i - 1] >> 32)) {
-                if (runs == run_cap) {
-                    run_cap *= 2;
-                    uint32_t *o = realloc(pl->run_owner, run_cap * sizeof *o);
-                    if (o)
-                        pl->run_owner = o;
-                    size_t *b = realloc(pl->run_begin, run_cap * sizeof *b);
-                    if (b)
-                        pl->run_begin = b;
-                    size_t *c = realloc(pl->run_cnt, run_cap * sizeof *c);
-                    if (c)
-                        pl->run_cnt = c;
-                    if (!o || !b || !c) {
-                        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for ghosts");
-                        break;
-                    }
-                }
-                pl->run_owner[runs] = owner;
-                pl->run_begin[runs] = start + i;
-                pl->run_cnt[runs++] = 0;
-            }
-            pl->run_cnt[runs - 1]++;
-        }
+        st = sort_ghosts(p, pl, start, count, keys, &runs, &run_cap);
         pl->ghost_off[r + 1] = used;
         pl->run_off[r + 1] = runs;
     }
     free(keys);
     free(stamp);
     return st;
+}
+
+/* The row and halo arrays of a part (none of length 0); 1 when all are there. */
+static int rows_alloc(mpi_part *d, size_t no, size_t ng, size_t nnz, int n_recv, int n_send,
+                      size_t n_idx)
+{
+    mpi_halo *h = &d->halo;
+    size_t nr = (size_t)(n_recv ? n_recv : 1), ns = (size_t)(n_send ? n_send : 1);
+    d->owned_ids = malloc((no ? no : 1) * sizeof *d->owned_ids);
+    d->owned_rule = malloc(no ? no : 1);
+    d->owned_scale = malloc((no ? no : 1) * sizeof *d->owned_scale);
+    d->ghost_ids = malloc((ng ? ng : 1) * sizeof *d->ghost_ids);
+    d->ghost_rule = malloc(ng ? ng : 1);
+    d->host.row_offsets = malloc((no + 1) * sizeof *d->host.row_offsets);
+    d->host.columns = malloc((nnz ? nnz : 1) * sizeof *d->host.columns);
+    d->host.weights = malloc((nnz ? nnz : 1) * sizeof *d->host.weights);
+    h->recv_rank = malloc(nr * sizeof *h->recv_rank);
+    h->recv_off = malloc(nr * sizeof *h->recv_off);
+    h->recv_cnt = malloc(nr * sizeof *h->recv_cnt);
+    h->send_rank = malloc(ns * sizeof *h->send_rank);
+    h->send_off = malloc(ns * sizeof *h->send_off);
+    h->send_cnt = malloc(ns * sizeof *h->send_cnt);
+    h->send_idx = malloc((n_idx ? n_idx : 1) * sizeof *h->send_idx);
+    return d->owned_ids && d->owned_rule && d->owned_scale && d->ghost_ids && d->ghost_rule &&
+           d->host.row_offsets && d->host.columns && d->host.weights && h->recv_rank &&
+           h->recv_off && h->recv_cnt && h->send_rank && h->send_off && h->send_cnt &&
+           h->send_idx;
+}
+
+static void rows_free(mpi_part *d)
+{
+    free(d->owned_ids);
+    free(d->owned_rule);
+    free(d->owned_scale);
+    free(d->ghost_ids);
+    free(d->ghost_rule);
+    stencil_free(&d->host);
+    mpi_halo_free(&d->halo);
+}
+
+/* Rank r's owned and ghost vertices (ids, rules, scales) and its rows:
+   each global row as it is, entries in its order, columns renamed. */
+static void fill_rows(mpi_part *p, plan *pl, int r, mpi_part *dst)
+{
+    const stencil_operator *g = pl->g;
+    const stencil_csr *a = &g->host;
+    size_t o0 = p->root_off[r], no = dst->n_owned, g0 = pl->ghost_off[r], ng = dst->n_ghost;
+    for (size_t i = 0; i < no; i++) {
+        uint32_t v = p->root_ids[o0 + i];
+        dst->owned_ids[i] = v;
+        dst->owned_rule[i] = g->topo.vertex_rule[v];
+        dst->owned_scale[i] = scheme_limit_row_scale(&g->topo, g->scheme, v);
+        pl->loc[v] = (uint32_t)i;
+    }
+    for (size_t i = 0; i < ng; i++) {
+        dst->ghost_ids[i] = pl->ghosts[g0 + i];
+        dst->ghost_rule[i] = g->topo.vertex_rule[pl->ghosts[g0 + i]];
+        pl->loc[pl->ghosts[g0 + i]] = (uint32_t)(no + i);
+    }
+    size_t e2 = 0;
+    dst->host.rows = no;
+    dst->host.cols = no + ng;
+    dst->host.row_offsets[0] = 0;
+    for (size_t i = 0; i < no; i++) {
+        uint32_t k = row_of(g, dst->owned_ids[i]);
+        for (uint32_t e = a->row_offsets[k]; e < a->row_offsets[k + 1]; e++, e2++) {
+            dst->host.columns[e2] = pl->loc[vert(g, a->columns[e])];
+            dst->host.weights[e2] = a->weights[e];
+        }
+        dst->host.row_offsets[i + 1] = (uint32_t)e2;
+    }
+}
+
+/* Rank r's halo plan: a receive per run of its ghost list, a send per run
+   of another rank's list that r owns. */
+static void fill_halo(mpi_part *p, plan *pl, int r, mpi_part *dst)
+{
+    mpi_halo *h = &dst->halo;
+    size_t off = 0;
+    for (int q = 0; q < h->n_recv; q++) {
+        size_t run = pl->run_off[r] + (size_t)q;
+        h->recv_rank[q] = (int)pl->run_owner[run];
+        h->recv_off[q] = off;
+        h->recv_cnt[q] = pl->run_cnt[run];
+        off += pl->run_cnt[run];
+    }
+    int q = 0;
+    size_t n_idx = 0;
+    for (int s = 0; s < p->size; s++)
+        for (size_t run = pl->run_off[s]; run < pl->run_off[s + 1]; run++) {
+            if (pl->run_owner[run] != (uint32_t)r)
+                continue;
+            h->send_rank[q] = s;
+            h->send_off[q] = n_idx;
+            h->send_cnt[q++] = pl->run_cnt[run];
+            for (size_t i = 0; i < pl->run_cnt[run]; i++) {
+                /* a vertex another rank needs sits in [send_begin, send_end) */
+                uint32_t l = pl->lidx[pl->ghosts[pl->run_begin[run] + i]];
+                h->send_idx[n_idx++] = (uint32_t)(l - dst->send_begin);
+            }
+        }
 }
 
 /* Rank r's rows and halo plan, into dst (the root's own part, or a scratch
@@ -224,94 +347,18 @@ static limn_status build_rows(mpi_part *p, plan *pl, int r, mpi_part *dst)
                 n_idx += pl->run_cnt[q];
             }
     int n_recv = (int)(pl->run_off[r + 1] - pl->run_off[r]);
-    mpi_halo *h = &dst->halo;
-    dst->owned_ids = malloc((no ? no : 1) * sizeof *dst->owned_ids);
-    dst->owned_rule = malloc(no ? no : 1);
-    dst->owned_scale = malloc((no ? no : 1) * sizeof *dst->owned_scale);
-    dst->ghost_ids = malloc((ng ? ng : 1) * sizeof *dst->ghost_ids);
-    dst->ghost_rule = malloc(ng ? ng : 1);
-    dst->host.row_offsets = malloc((no + 1) * sizeof *dst->host.row_offsets);
-    dst->host.columns = malloc((nnz ? nnz : 1) * sizeof *dst->host.columns);
-    dst->host.weights = malloc((nnz ? nnz : 1) * sizeof *dst->host.weights);
-    h->recv_rank = malloc((size_t)(n_recv ? n_recv : 1) * sizeof *h->recv_rank);
-    h->recv_off = malloc((size_t)(n_recv ? n_recv : 1) * sizeof *h->recv_off);
-    h->recv_cnt = malloc((size_t)(n_recv ? n_recv : 1) * sizeof *h->recv_cnt);
-    h->send_rank = malloc((size_t)(n_send ? n_send : 1) * sizeof *h->send_rank);
-    h->send_off = malloc((size_t)(n_send ? n_send : 1) * sizeof *h->send_off);
-    h->send_cnt = malloc((size_t)(n_send ? n_send : 1) * sizeof *h->send_cnt);
-    h->send_idx = malloc((n_idx ? n_idx : 1) * sizeof *h->send_idx);
-    if (!dst->owned_ids || !dst->owned_rule || !dst->owned_scale || !dst->ghost_ids ||
-        !dst->ghost_rule || !dst->host.row_offsets ||
-        !dst->host.columns || !dst->host.weights || !h->recv_rank || !h->recv_off ||
-        !h->recv_cnt || !h->send_rank || !h->send_off || !h->send_cnt || !h->send_idx)
+    if (!rows_alloc(dst, no, ng, nnz, n_recv, n_send, n_idx))
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the rows of rank %d", r);
     if (nnz > INT_MAX || 3 * no > INT_MAX || 3 * ng > INT_MAX || 3 * n_idx > INT_MAX)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                          "rank %d would hold %zu rows and %zu entries: too many for one MPI "
                          "message; use more ranks",
                          r, no, nnz);
-    h->n_recv = n_recv;
-    h->n_send = n_send;
-    for (size_t i = 0; i < no; i++) {
-        uint32_t v = p->root_ids[o0 + i];
-        dst->owned_ids[i] = v;
-        dst->owned_rule[i] = g->topo.vertex_rule[v];
-        dst->owned_scale[i] = scheme_limit_row_scale(&g->topo, g->scheme, v);
-        pl->loc[v] = (uint32_t)i;
-    }
-    for (size_t i = 0; i < ng; i++) {
-        dst->ghost_ids[i] = pl->ghosts[g0 + i];
-        dst->ghost_rule[i] = g->topo.vertex_rule[pl->ghosts[g0 + i]];
-        pl->loc[pl->ghosts[g0 + i]] = (uint32_t)(no + i);
-    }
-    /* each global row as it is: entries in its order, columns renamed */
-    size_t e2 = 0;
-    dst->host.rows = no;
-    dst->host.cols = no + ng;
-    dst->host.row_offsets[0] = 0;
-    for (size_t i = 0; i < no; i++) {
-        uint32_t k = row_of(g, dst->owned_ids[i]);
-        for (uint32_t e = a->row_offsets[k]; e < a->row_offsets[k + 1]; e++, e2++) {
-            dst->host.columns[e2] = pl->loc[vert(g, a->columns[e])];
-            dst->host.weights[e2] = a->weights[e];
-        }
-        dst->host.row_offsets[i + 1] = (uint32_t)e2;
-    }
-    size_t off = 0;
-    for (int q = 0; q < n_recv; q++) {
-        size_t run = pl->run_off[r] + (size_t)q;
-        h->recv_rank[q] = (int)pl->run_owner[run];
-        h->recv_off[q] = off;
-        h->recv_cnt[q] = pl->run_cnt[run];
-        off += pl->run_cnt[run];
-    }
-    int q = 0;
-    n_idx = 0;
-    for (int s = 0; s < p->size; s++)
-        for (size_t run = pl->run_off[s]; run < pl->run_off[s + 1]; run++) {
-            if (pl->run_owner[run] != (uint32_t)r)
-                continue;
-            h->send_rank[q] = s;
-            h->send_off[q] = n_idx;
-            h->send_cnt[q++] = pl->run_cnt[run];
-            for (size_t i = 0; i < pl->run_cnt[run]; i++) {
-                /* a vertex another rank needs sits in [send_begin, send_end) */
-                uint32_t l = pl->lidx[pl->ghosts[pl->run_begin[run] + i]];
-                h->send_idx[n_idx++] = (uint32_t)(l - dst->send_begin);
-            }
-        }
+    dst->halo.n_recv = n_recv;
+    dst->halo.n_send = n_send;
+    fill_rows(p, pl, r, dst);
+    fill_halo(p, pl, r, dst);
     return LIMN_OK;
-}
-
-static void rows_free(mpi_part *d)
-{
-    free(d->owned_ids);
-    free(d->owned_rule);
-    free(d->owned_scale);
-    free(d->ghost_ids);
-    free(d->ghost_rule);
-    stencil_free(&d->host);
-    mpi_halo_free(&d->halo);
 }
 
 static void header_of(const mpi_part *p, const mpi_part *d, limn_status st, uint64_t *h,
@@ -348,6 +395,32 @@ static MPI_Datatype size_type(void)
     return sizeof(size_t) == 8 ? MPI_UINT64_T : MPI_UINT32_T;
 }
 
+/* The arrays of a part's rows and halo plan as they travel, in this order
+   (send_rows, recv_rows): where each is, its length and type. */
+enum { ROW_MSGS = 13 };
+typedef struct row_msgs {
+    void *ptr[ROW_MSGS];
+    int count[ROW_MSGS];
+    MPI_Datatype type[ROW_MSGS];
+} row_msgs;
+static const int row_tags[ROW_MSGS] = {
+    TAG_IDS,     TAG_RULES,   TAG_SCALES,  TAG_GHOSTS, TAG_GHOST_RULES, TAG_OFFSETS, TAG_COLUMNS,
+    TAG_WEIGHTS, TAG_RECV,    TAG_RECV,    TAG_SEND,   TAG_SEND,        TAG_SEND_IDX};
+
+static row_msgs row_msgs_of(const mpi_part *d, size_t nnz, int n_recv, int n_send, size_t nidx)
+{
+    const mpi_halo *h = &d->halo;
+    int no = (int)d->n_owned, ng = (int)d->n_ghost;
+    return (row_msgs){{d->owned_ids, d->owned_rule, d->owned_scale, d->ghost_ids, d->ghost_rule,
+                       d->host.row_offsets, d->host.columns, d->host.weights, h->recv_rank,
+                       h->recv_cnt, h->send_rank, h->send_cnt, h->send_idx},
+                      {no, no, no, ng, ng, no + 1, (int)nnz, (int)nnz, n_recv, n_recv, n_send,
+                       n_send, (int)nidx},
+                      {MPI_UINT32_T, MPI_UINT8_T, MPI_DOUBLE, MPI_UINT32_T, MPI_UINT8_T,
+                       MPI_UINT32_T, MPI_UINT32_T, MPI_DOUBLE, MPI_INT, size_type(), MPI_INT,
+                       size_type(), MPI_UINT32_T}};
+}
+
 static void send_rows(mpi_part *p, int r, const mpi_part *d, limn_status st)
 {
     uint64_t h[H_WIDTH];
@@ -357,21 +430,21 @@ static void send_rows(mpi_part *p, int r, const mpi_part *d, limn_status st)
     MPI_Send(dh, 2, MPI_DOUBLE, r, TAG_HEADER, p->comm);
     if (st)
         return;
-    const mpi_halo *hl = &d->halo;
-    int no = (int)d->n_owned, ng = (int)d->n_ghost, nnz = (int)h[H_NNZ];
-    MPI_Send(d->owned_ids, no, MPI_UINT32_T, r, TAG_IDS, p->comm);
-    MPI_Send(d->owned_rule, no, MPI_UINT8_T, r, TAG_RULES, p->comm);
-    MPI_Send(d->owned_scale, no, MPI_DOUBLE, r, TAG_SCALES, p->comm);
-    MPI_Send(d->ghost_ids, ng, MPI_UINT32_T, r, TAG_GHOSTS, p->comm);
-    MPI_Send(d->ghost_rule, ng, MPI_UINT8_T, r, TAG_GHOST_RULES, p->comm);
-    MPI_Send(d->host.row_offsets, no + 1, MPI_UINT32_T, r, TAG_OFFSETS, p->comm);
-    MPI_Send(d->host.columns, nnz, MPI_UINT32_T, r, TAG_COLUMNS, p->comm);
-    MPI_Send(d->host.weights, nnz, MPI_DOUBLE, r, TAG_WEIGHTS, p->comm);
-    MPI_Send(hl->recv_rank, hl->n_recv, MPI_INT, r, TAG_RECV, p->comm);
-    MPI_Send(hl->recv_cnt, hl->n_recv, size_type(), r, TAG_RECV, p->comm);
-    MPI_Send(hl->send_rank, hl->n_send, MPI_INT, r, TAG_SEND, p->comm);
-    MPI_Send(hl->send_cnt, hl->n_send, size_type(), r, TAG_SEND, p->comm);
-    MPI_Send(hl->send_idx, (int)h[H_SEND_IDX], MPI_UINT32_T, r, TAG_SEND_IDX, p->comm);
+    row_msgs m = row_msgs_of(d, h[H_NNZ], d->halo.n_recv, d->halo.n_send, h[H_SEND_IDX]);
+    for (int k = 0; k < ROW_MSGS; k++)
+        MPI_Send(m.ptr[k], m.count[k], m.type[k], r, row_tags[k], p->comm);
+}
+
+/* Receives one message into scratch and drops it. */
+static void drop_message(mpi_part *p, int tag)
+{
+    MPI_Status status;
+    int bytes = 0;
+    MPI_Probe(p->root, tag, p->comm, &status);
+    MPI_Get_count(&status, MPI_BYTE, &bytes);
+    void *scratch = malloc(bytes > 0 ? (size_t)bytes : 1);
+    MPI_Recv(scratch, bytes, MPI_BYTE, p->root, tag, p->comm, MPI_STATUS_IGNORE);
+    free(scratch);
 }
 
 /* A non-root rank: the header, then (unless the root failed) the arrays. */
@@ -401,51 +474,16 @@ static limn_status recv_rows(mpi_part *p)
     p->n_interior = h[H_INTERIOR];
     p->send_begin = h[H_SEND_BEGIN];
     p->send_end = h[H_SEND_END];
-    p->owned_ids = malloc((no ? no : 1) * sizeof *p->owned_ids);
-    p->owned_rule = malloc(no ? no : 1);
-    p->owned_scale = malloc((no ? no : 1) * sizeof *p->owned_scale);
-    p->ghost_ids = malloc((ng ? ng : 1) * sizeof *p->ghost_ids);
-    p->ghost_rule = malloc(ng ? ng : 1);
-    p->host.row_offsets = malloc((no + 1) * sizeof *p->host.row_offsets);
-    p->host.columns = malloc((nnz ? nnz : 1) * sizeof *p->host.columns);
-    p->host.weights = malloc((nnz ? nnz : 1) * sizeof *p->host.weights);
-    hl->recv_rank = malloc((size_t)(n_recv ? n_recv : 1) * sizeof *hl->recv_rank);
-    hl->recv_off = malloc((size_t)(n_recv ? n_recv : 1) * sizeof *hl->recv_off);
-    hl->recv_cnt = malloc((size_t)(n_recv ? n_recv : 1) * sizeof *hl->recv_cnt);
-    hl->send_rank = malloc((size_t)(n_send ? n_send : 1) * sizeof *hl->send_rank);
-    hl->send_off = malloc((size_t)(n_send ? n_send : 1) * sizeof *hl->send_off);
-    hl->send_cnt = malloc((size_t)(n_send ? n_send : 1) * sizeof *hl->send_cnt);
-    hl->send_idx = malloc((nidx ? nidx : 1) * sizeof *hl->send_idx);
     /* the messages are on their way: receive them even when memory ran out
        (into a scratch buffer), so that the root's sends complete */
-    int ok = p->owned_ids && p->owned_rule && p->owned_scale && p->ghost_ids && p->ghost_rule &&
-             p->host.row_offsets &&
-             p->host.columns && p->host.weights && hl->recv_rank && hl->recv_off &&
-             hl->recv_cnt && hl->send_rank && hl->send_off && hl->send_cnt && hl->send_idx;
-    int tags[] = {TAG_IDS,     TAG_RULES,   TAG_SCALES, TAG_GHOSTS, TAG_GHOST_RULES,
-                  TAG_OFFSETS, TAG_COLUMNS, TAG_WEIGHTS, TAG_RECV,  TAG_RECV,
-                  TAG_SEND,    TAG_SEND,    TAG_SEND_IDX};
-    void *dst[] = {p->owned_ids,    p->owned_rule,  p->owned_scale,  p->ghost_ids,
-                   p->ghost_rule,   p->host.row_offsets, p->host.columns, p->host.weights,
-                   hl->recv_rank,   hl->recv_cnt,   hl->send_rank,   hl->send_cnt,
-                   hl->send_idx};
-    MPI_Datatype types[] = {MPI_UINT32_T, MPI_UINT8_T, MPI_DOUBLE,   MPI_UINT32_T, MPI_UINT8_T,
-                            MPI_UINT32_T, MPI_UINT32_T, MPI_DOUBLE,  MPI_INT,      size_type(),
-                            MPI_INT,      size_type(),  MPI_UINT32_T};
-    int counts[] = {(int)no,  (int)no,  (int)no, (int)ng, (int)ng, (int)no + 1, (int)nnz,
-                    (int)nnz, n_recv,   n_recv,  n_send,  n_send,  (int)nidx};
-    for (size_t k = 0; k < sizeof tags / sizeof *tags; k++) {
-        if (ok) {
-            MPI_Recv(dst[k], counts[k], types[k], p->root, tags[k], p->comm, MPI_STATUS_IGNORE);
-        } else {
-            MPI_Status status;
-            int bytes = 0;
-            MPI_Probe(p->root, tags[k], p->comm, &status);
-            MPI_Get_count(&status, MPI_BYTE, &bytes);
-            void *scratch = malloc(bytes > 0 ? (size_t)bytes : 1);
-            MPI_Recv(scratch, bytes, MPI_BYTE, p->root, tags[k], p->comm, MPI_STATUS_IGNORE);
-            free(scratch);
-        }
+    int ok = rows_alloc(p, no, ng, nnz, n_recv, n_send, nidx);
+    row_msgs m = row_msgs_of(p, nnz, n_recv, n_send, nidx);
+    for (int k = 0; k < ROW_MSGS; k++) {
+        if (ok)
+            MPI_Recv(m.ptr[k], m.count[k], m.type[k], p->root, row_tags[k], p->comm,
+                     MPI_STATUS_IGNORE);
+        else
+            drop_message(p, row_tags[k]);
     }
     if (!ok)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu rows", no);

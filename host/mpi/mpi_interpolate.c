@@ -32,10 +32,10 @@ static limn_status rows_step(void *user, const device_csr *rows, device_norms *n
     mpi_solve *s = user;
     struct device *dev = s->p->dev;
     if (s->step.kind == SOLVE_CHEBYSHEV)
-        return dev->ops->stationary->cheb_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->step.c1,
-                                   s->step.c2, norms);
-    return dev->ops->stationary->interp_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur], s->step.omega,
-                                 norms);
+        return dev->ops->stationary->cheb_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur],
+                                               s->step.c1, s->step.c2, norms);
+    return dev->ops->stationary->interp_step(dev, rows, s->m, s->x[s->cur], s->x[1 - s->cur],
+                                             s->step.omega, norms);
 }
 
 /* solve_step_fn: one overlapped step (only P's ghosts are read: the previous
@@ -85,32 +85,14 @@ static limn_status iterate(mpi_part *p, const limn_interpolate_options *o, limn_
     return mpi_agree(p, st);
 }
 
-/* limn_interpolate_mpi on structs of this library's layout. */
-static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                                         const limn_interpolate_options *options,
-                                         limn_mesh **control, limn_report *report,
-                                         const limn_mpi_options *mpi, limn_mpi_result *result)
+/* The checks of limn_interpolate_mpi (agreed), then the method: auto as in
+   limn_interpolate, so that both give the same answer. */
+static limn_status check_interpolate(mpi_part *p, const limn_mesh *mesh,
+                                     const limn_interpolate_options *o, limn_mesh **control,
+                                     limn_method *method, limn_report *r)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (control)
-        *control = NULL;
-    if (result)
-        memset(result, 0, sizeof *result);
-    limn_report local;
-    limn_report *r = report ? report : &local;
-    memset(r, 0, sizeof *r);
-    mpi_part p;
-    limn_status st = mpi_part_begin(ctx, comm, mpi, &p);
-    if (st) {
-        mpi_part_end(&p);
-        return st;
-    }
-    limn_interpolate_options defaults;
-    limn_interpolate_options_default(&defaults);
-    const limn_interpolate_options *o = options ? options : &defaults;
-    st = solve_check_options(ctx, o);
+    limn_context *ctx = p->ctx;
+    limn_status st = solve_check_options(ctx, o);
     /* the float path (solve_mixed.c) is single-process for now */
     if (!st && o->precision == LIMN_PRECISION_FLOAT)
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
@@ -118,72 +100,114 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
                        "or auto");
     r->precision = "double";
     r->precision_reason = "MPI runs in double";
-    if (!st && p.rank == p.root && (!mesh || !control))
+    if (!st && p->rank == p->root && (!mesh || !control))
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                        "limn_interpolate_mpi: the root rank needs the mesh and control");
-    if (!st && p.rank == p.root)
+    if (!st && p->rank == p->root)
         st = check_mesh_magnitude(ctx, "limn_interpolate_mpi", NULL, mesh);
     if (!st && o->method == LIMN_METHOD_SGS)
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                        "method sgs is not available under MPI yet (its sweeps run colour by "
                        "colour over the whole mesh): use --method chebyshev, cg or auto");
-    st = mpi_agree(&p, st);
-    /* auto as in limn_interpolate, so that both give the same answer */
-    limn_method method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_CHEBYSHEV : o->method;
-    r->method = limn_method_name(method);
+    st = mpi_agree(p, st);
+    *method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_CHEBYSHEV : o->method;
+    r->method = limn_method_name(*method);
     r->method_reason = o->method == LIMN_METHOD_AUTO
                            ? "auto: chebyshev, the fastest in measured time on every shared "
                              "mesh (fewest fused steps; cg uses as few products, each costlier)"
                            : "chosen by the caller";
+    return st;
+}
+
+/* The distributed operator's part of the report, and the vectors: m4 and
+   p4 (owned and ghost rows, 4 doubles), xyz (root: 3 per vertex). */
+static limn_status open_vectors(mpi_part *p, limn_report *r, double **m4, double **p4,
+                                double **xyz)
+{
+    MPI_REPORT_OPERATOR(r, p);
+    r->reordered = p->reordered;
+    r->omega = 1.0;
+    size_t nl = p->n_owned + p->n_ghost;
+    *m4 = calloc(nl ? 4 * nl : 4, sizeof **m4);
+    *p4 = calloc(nl ? 4 * nl : 4, sizeof **p4);
+    if (p->rank == p->root)
+        *xyz = malloc((p->n_global ? 3 * p->n_global : 1) * sizeof **xyz);
+    limn_status st = LIMN_OK;
+    if (!*m4 || !*p4 || (p->rank == p->root && !*xyz))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
+    return mpi_agree(p, st);
+}
+
+/* CG gives the start p4; the seeds' step measures its residual on the
+   whole system (and polishes, should rounding leave it short). Where CG
+   cannot run, the seeds' iteration from M (the method changed to it). */
+static limn_status cg_start(mpi_part *p, const limn_interpolate_options *o, const double *m4,
+                            double *p4, limn_method *method, limn_report *r)
+{
+    solve_stats stats = {.catmark_alpha0 = p->scheme == LIMN_SCHEME_CATMARK && p->alpha == 0.0};
+    limn_status st = mpi_solve_cg(p, m4, o->tolerance * p->diag, o->max_iterations, p4, &stats);
+    if (st == LIMN_ERR_TOPOLOGY) {
+        ctx_warn(p->ctx, "conjugate gradients need the limit operator to be block triangular "
+                         "by vertex rule, which this mesh's is not: used the seeds' iteration");
+        *method = LIMN_METHOD_PAPER;
+        r->method = limn_method_name(*method);
+        r->method_reason = "cg cannot run on this operator (not block triangular)";
+        memcpy(p4, m4, 4 * p->n_owned * sizeof *p4);
+        st = LIMN_OK;
+    } else if (!st) {
+        r->products = stats.products;
+        r->iterations = stats.iterations;
+    }
+    return st;
+}
+
+/* Hands the root's control mesh out after a success; else frees it and the pieces. */
+static limn_status hand_out(limn_context *ctx, limn_status st, limn_mesh *out,
+                            limn_mesh **control, limn_mpi_result *result)
+{
+    if (st) {
+        limn_mesh_destroy(out);
+        if (result)
+            limn_mpi_result_free(result);
+        return st;
+    }
+    if (control && out)
+        *control = out;
+    else
+        limn_mesh_destroy(out);
+    ctx_progress(ctx, "solve", 1.0);
+    return LIMN_OK;
+}
+
+/* limn_interpolate_mpi on structs of this library's layout. */
+static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                         const limn_interpolate_options *o,
+                                         limn_mesh **control, limn_report *r,
+                                         const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    if (result)
+        memset(result, 0, sizeof *result);
+    memset(r, 0, sizeof *r);
+    mpi_part p;
+    limn_status st = mpi_part_begin(ctx, comm, mpi, &p);
+    if (st) {
+        mpi_part_end(&p);
+        return st;
+    }
+    limn_method method;
+    st = check_interpolate(&p, mesh, o, control, &method, r);
     if (!st)
         st = mpi_distribute(&p, mesh, o->scheme, o->alpha, o->reorder);
     double t0 = MPI_Wtime();
     double *m4 = NULL, *p4 = NULL, *xyz = NULL;
-    if (!st) {
-        r->vertices = p.n_global;
-        r->faces = p.faces_global;
-        r->scheme = p.scheme;
-        r->alpha = p.alpha;
-        r->bbox_diagonal = p.diag;
-        r->stencil_nonzeros = p.nnz_global;
-        r->reordered = p.reordered;
-        r->omega = 1.0;
-        snprintf(r->device, sizeof r->device, "%s", p.stats.device);
-        if (p.has_global) {
-            r->seconds_topology = p.global.seconds_topology;
-            r->seconds_stencil = p.global.seconds_stencil + p.global.seconds_reorder;
-        }
-        size_t nl = p.n_owned + p.n_ghost;
-        m4 = calloc(nl ? 4 * nl : 4, sizeof *m4);
-        p4 = calloc(nl ? 4 * nl : 4, sizeof *p4);
-        if (p.rank == p.root)
-            xyz = malloc((p.n_global ? 3 * p.n_global : 1) * sizeof *xyz);
-        if (!m4 || !p4 || (p.rank == p.root && !xyz))
-            st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
-        st = mpi_agree(&p, st);
-    }
+    if (!st)
+        st = open_vectors(&p, r, &m4, &p4, &xyz);
     if (!st)
         st = mpi_scatter_rows(&p, p.rank == p.root ? mesh->positions : NULL, m4);
     if (!st)
         memcpy(p4, m4, 4 * p.n_owned * sizeof *p4);
-    if (!st && method == LIMN_METHOD_CG) {
-        /* CG gives the start; the seeds' step measures its residual on the
-           whole system (and polishes, should rounding leave it short) */
-        solve_stats stats = {.catmark_alpha0 = p.scheme == LIMN_SCHEME_CATMARK && p.alpha == 0.0};
-        st = mpi_solve_cg(&p, m4, o->tolerance * p.diag, o->max_iterations, p4, &stats);
-        if (st == LIMN_ERR_TOPOLOGY) {
-            ctx_warn(ctx, "conjugate gradients need the limit operator to be block triangular "
-                           "by vertex rule, which this mesh's is not: used the seeds' iteration");
-            method = LIMN_METHOD_PAPER;
-            r->method = limn_method_name(method);
-            r->method_reason = "cg cannot run on this operator (not block triangular)";
-            memcpy(p4, m4, 4 * p.n_owned * sizeof *p4);
-            st = LIMN_OK;
-        } else if (!st) {
-            r->products = stats.products;
-            r->iterations = stats.iterations;
-        }
-    }
+    if (!st && method == LIMN_METHOD_CG)
+        st = cg_start(&p, o, m4, p4, &method, r);
     if (!st)
         st = iterate(&p, o, method, m4, p4, p4, r);
     if (!st)
@@ -206,18 +230,7 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
     free(p4);
     free(xyz);
     mpi_part_end(&p);
-    if (st) {
-        limn_mesh_destroy(out);
-        if (result)
-            limn_mpi_result_free(result);
-        return st;
-    }
-    if (control && out)
-        *control = out;
-    else
-        limn_mesh_destroy(out);
-    ctx_progress(ctx, "solve", 1.0);
-    return LIMN_OK;
+    return hand_out(ctx, st, out, control, result);
 }
 
 limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,

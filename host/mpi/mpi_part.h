@@ -183,6 +183,23 @@ limn_status mpi_abi_begin(limn_context *ctx, MPI_Comm comm, const char *fn, limn
    piece the caller's struct cannot hold is freed. */
 void mpi_abi_end(limn_mpi_result *result, limn_mpi_result *result_sized);
 
+/* The distributed operator's part of a report r of either kind (limn_report,
+   limn_series_report: the same field names) from the distributed part p. */
+#define MPI_REPORT_OPERATOR(r, p)                                                                  \
+    do {                                                                                           \
+        (r)->vertices = (p)->n_global;                                                             \
+        (r)->faces = (p)->faces_global;                                                            \
+        (r)->scheme = (p)->scheme;                                                                 \
+        (r)->alpha = (p)->alpha;                                                                   \
+        (r)->bbox_diagonal = (p)->diag;                                                            \
+        (r)->stencil_nonzeros = (p)->nnz_global;                                                   \
+        snprintf((r)->device, sizeof (r)->device, "%s", (p)->stats.device);                        \
+        if ((p)->has_global) { /* the root's build times (no reordering: 0) */                     \
+            (r)->seconds_topology = (p)->global.seconds_topology;                                  \
+            (r)->seconds_stencil = (p)->global.seconds_stencil + (p)->global.seconds_reorder;      \
+        }                                                                                          \
+    } while (0)
+
 /* abi_call (base/abi.h) with the MPI structs, for the limn_*_mpi entries:
    c.mpi and c.result are what the *_mpi_sized function takes. */
 typedef struct mpi_call {

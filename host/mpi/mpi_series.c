@@ -39,21 +39,21 @@ static void close_series(series_mpi *s)
     mpi_part_end(&s->p);
 }
 
-/* Common start: checks, the distributed operator, four work vectors. */
+/* Common start after mpi_enter: checks, the distributed operator, four work
+   vectors (result, where given, zeroed first). */
 static limn_status open_series(limn_context *ctx, const char *fn, MPI_Comm comm,
-                               const limn_mesh *mesh, const limn_series_options *options,
-                               const limn_mpi_options *mpi, series_mpi *s,
-                               limn_series_report *r)
+                               const limn_mesh *mesh, const limn_series_options *o,
+                               const limn_mpi_options *mpi, limn_mpi_result *result,
+                               series_mpi *s, limn_series_report *r)
 {
+    if (result)
+        memset(result, 0, sizeof *result);
     memset(s, 0, sizeof *s);
     memset(r, 0, sizeof *r);
     limn_status st = mpi_part_begin(ctx, comm, mpi, &s->p);
     if (st)
         return st;
     mpi_part *p = &s->p;
-    limn_series_options defaults;
-    limn_series_options_default(&defaults);
-    const limn_series_options *o = options ? options : &defaults;
     st = series_check_options(ctx, o);
     if (!st && p->rank == p->root) {
         if (!mesh)
@@ -77,17 +77,7 @@ static limn_status open_series(limn_context *ctx, const char *fn, MPI_Comm comm,
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
     for (int b = 0; !st && b < 4; b++)
         st = p->dev->ops->buffer_create(p->dev, 4 * nl * sizeof(double), NULL, &s->buf[b]);
-    r->vertices = p->n_global;
-    r->faces = p->faces_global;
-    r->scheme = p->scheme;
-    r->alpha = p->alpha;
-    r->stencil_nonzeros = p->nnz_global;
-    r->bbox_diagonal = p->diag;
-    snprintf(r->device, sizeof r->device, "%s", p->stats.device);
-    if (p->has_global) {
-        r->seconds_topology = p->global.seconds_topology;
-        r->seconds_stencil = p->global.seconds_stencil;
-    }
+    MPI_REPORT_OPERATOR(r, p);
     s->t0 = MPI_Wtime();
     return mpi_agree(p, st);
 }
@@ -125,8 +115,8 @@ typedef struct term {
 static limn_status rows_term(void *user, const device_csr *rows, device_norms *norms)
 {
     term *t = user;
-    return t->dev->ops->series->series_step(t->dev, rows, t->x, t->next, NULL, t->acc, t->flags, t->mode,
-                                    norms);
+    return t->dev->ops->series->series_step(t->dev, rows, t->x, t->next, NULL, t->acc, t->flags,
+                                            t->mode, norms);
 }
 
 /* One term as an overlapped product on every rank's rows; a failure is
@@ -174,21 +164,27 @@ static limn_status mpi_engine_agree(const series_engine *e, limn_status st)
     return mpi_agree(&((series_mpi *)e->user)->p, st);
 }
 
-/* The engine of filter.c on an open distributed run (products: the report's). */
-static series_engine mpi_engine(limn_context *ctx, series_mpi *s, long long *products)
+static const series_engine_ops mpi_ops = {mpi_term,     mpi_axpby,  mpi_upload,
+                                          mpi_download, mpi_result, mpi_engine_agree};
+
+/* After the checks: their status agreed (where the communicator is up) and
+   the engine of filter.c on the open distributed run (products: the
+   report's), carrying a failure through the exchanges. */
+static limn_status start_engine(series_mpi *s, limn_status st, series_engine *e,
+                                long long *products)
 {
-    return (series_engine){.ctx = ctx,
-                           .user = s,
-                           .buf = s->buf,
-                           .products = products,
-                           .root = s->p.rank == s->p.root,
-                           .carry = 1,
-                           .term = mpi_term,
-                           .axpby = mpi_axpby,
-                           .upload = mpi_upload,
-                           .download = mpi_download,
-                           .result = mpi_result,
-                           .agree = mpi_engine_agree};
+    if (s->p.comm != MPI_COMM_NULL)
+        st = mpi_agree(&s->p, st);
+    *e = (series_engine){s->p.ctx, s, s->buf, products, s->p.rank == s->p.root, 1, &mpi_ops};
+    return st;
+}
+
+/* The root's out, required (fn names the call). */
+static limn_status root_out(series_mpi *s, limn_status st, const char *fn, limn_mesh **out)
+{
+    if (!st && s->p.rank == s->p.root && !out)
+        st = ctx_fail(s->p.ctx, LIMN_ERR_ARGUMENT, "%s: out is NULL on the root", fn);
+    return st;
 }
 
 /* The end of smooth and denoise: pieces, statistics, the result on root. */
@@ -212,28 +208,17 @@ static limn_status finish(series_mpi *s, limn_status st, const limn_mesh *mesh,
 
 /* limn_smooth_mpi on structs of this library's layout. */
 static limn_status smooth_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                                    const limn_series_options *options, int terms, limn_mesh **out,
-                                    limn_series_report *report, const limn_mpi_options *mpi,
+                                    const limn_series_options *o, int terms, limn_mesh **out,
+                                    limn_series_report *r, const limn_mpi_options *mpi,
                                     limn_mpi_result *result)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
-    if (result)
-        memset(result, 0, sizeof *result);
-    limn_series_report local, *r = report ? report : &local;
     series_mpi s;
-    limn_status st = open_series(ctx, "limn_smooth_mpi", comm, mesh, options, mpi, &s, r);
+    series_engine e;
+    limn_status st = open_series(ctx, "limn_smooth_mpi", comm, mesh, o, mpi, result, &s, r);
     if (!st)
         st = check_count(ctx, "limn_smooth_mpi", "terms", terms, 1, LIMN_MAX_TERMS,
                          "LIMN_MAX_TERMS");
-    if (!st && s.p.rank == s.p.root && !out)
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_smooth_mpi: out is NULL on the root");
-    if (s.p.comm != MPI_COMM_NULL)
-        st = mpi_agree(&s.p, st);
-    series_engine e = mpi_engine(ctx, &s, &r->products);
+    st = start_engine(&s, root_out(&s, st, "limn_smooth_mpi", out), &e, &r->products);
     if (!st)
         st = series_smooth_run(&e, mesh, terms, out);
     return finish(&s, st, mesh, mpi, result, out, r);
@@ -241,26 +226,18 @@ static limn_status smooth_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn
 
 /* limn_denoise_mpi on structs of this library's layout. */
 static limn_status denoise_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                                     const limn_series_options *options, int m, int steps,
-                                     int keep_volume, limn_mesh **out, limn_series_report *report,
+                                     const limn_series_options *o, int m, int steps,
+                                     int keep_volume, limn_mesh **out, limn_series_report *r,
                                      const limn_mpi_options *mpi, limn_mpi_result *result)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (out)
-        *out = NULL;
-    if (result)
-        memset(result, 0, sizeof *result);
-    limn_series_report local, *r = report ? report : &local;
     series_mpi s;
-    limn_status st = open_series(ctx, "limn_denoise_mpi", comm, mesh, options, mpi, &s, r);
+    series_engine e;
+    limn_status st = open_series(ctx, "limn_denoise_mpi", comm, mesh, o, mpi, result, &s, r);
     if (!st)
         st = check_count(ctx, "limn_denoise_mpi", "m", m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
     if (!st)
         st = check_steps(ctx, "limn_denoise_mpi", steps, m + 1LL, "(m + 1) * steps");
-    if (!st && s.p.rank == s.p.root && !out)
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_denoise_mpi: out is NULL on the root");
+    st = root_out(&s, st, "limn_denoise_mpi", out);
     const topology *t = &s.p.global.topo;
     if (!st && keep_volume && s.p.rank == s.p.root && !measure_topology_closed(t))
         st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
@@ -268,9 +245,7 @@ static limn_status denoise_mpi_sized(limn_context *ctx, MPI_Comm comm, const lim
                        "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
                        "not defined",
                        t->boundary_edges, t->nonmanifold_edges, t->inconsistent_edges);
-    if (s.p.comm != MPI_COMM_NULL)
-        st = mpi_agree(&s.p, st);
-    series_engine e = mpi_engine(ctx, &s, &r->products);
+    st = start_engine(&s, st, &e, &r->products);
     if (!st)
         st = series_denoise_run(&e, mesh, m, steps, keep_volume, out);
     return finish(&s, st, mesh, mpi, result, out, r);
@@ -284,36 +259,17 @@ static limn_status check_morph(limn_context *ctx, const limn_mesh *from, const l
     limn_status st = check_mesh_magnitude(ctx, fn, "FROM", from);
     if (!st)
         st = check_mesh_magnitude(ctx, fn, "TO", to);
-    if (!st)
-        st = check_count(ctx, fn, "frames", o->frames, 2, LIMN_MAX_FRAMES, "LIMN_MAX_FRAMES");
-    if (!st)
-        st = check_count(ctx, fn, "m", o->m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
-    if (!st)
-        st = check_count(ctx, fn, "(m + 1) * (frames - 1)", (o->m + 1LL) * (o->frames - 1LL), 0,
-                         LIMN_MAX_PRODUCTS, "LIMN_MAX_PRODUCTS");
-    if (!st && !(o->p > 0.0 && o->p < 1.0))
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
-                       o->p);
-    return st ? st : measure_same_topology(ctx, from, to, "FROM", "TO");
+    return st ? st : series_check_morph(ctx, fn, from, to, o);
 }
 
 /* limn_morph_mpi on structs of this library's layout. */
 static limn_status morph_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
-                                   const limn_mesh *to, const limn_morph_options *options,
-                                   limn_morph_frame_fn fn, void *user, limn_series_report *report,
+                                   const limn_mesh *to, const limn_morph_options *o,
+                                   limn_morph_frame_fn fn, void *user, limn_series_report *r,
                                    const limn_mpi_options *mpi, limn_mpi_result *result)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
     if (result)
         memset(result, 0, sizeof *result);
-    limn_morph_options o;
-    if (options)
-        o = *options;
-    else
-        limn_morph_options_default(&o);
-    limn_series_report local, *r = report ? report : &local;
     memset(r, 0, sizeof *r);
     r->size = sizeof *r; /* passed on to limn_morph */
     /* the checks of limn_morph, on the root; agreed before any work */
@@ -322,20 +278,21 @@ static limn_status morph_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_
     if (!st && probe.rank == probe.root) {
         if (!from || !to || !fn)
             st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_morph_mpi: NULL argument on the root");
-        else if (o.linear)
-            st = limn_morph(ctx, from, to, &o, fn, user, r); /* no operator: the root alone */
+        else if (o->linear)
+            st = limn_morph(ctx, from, to, o, fn, user, r); /* no operator: the root alone */
         else
-            st = check_morph(ctx, from, to, &o);
+            st = check_morph(ctx, from, to, o);
     }
     if (probe.comm != MPI_COMM_NULL)
         st = mpi_agree(&probe, st);
-    int linear = o.linear;
+    int linear = o->linear;
     mpi_part_end(&probe);
     if (st || linear)
         return st;
 
     series_mpi s;
-    st = open_series(ctx, "limn_morph_mpi", comm, from, &o.series, mpi, &s, r);
+    series_engine e;
+    st = open_series(ctx, "limn_morph_mpi", comm, from, &o->series, mpi, result, &s, r);
     double diag = 0.0, lo[3], hi[3], *q = NULL;
     int closed = 0;
     if (!st && s.p.rank == s.p.root) {
@@ -347,11 +304,9 @@ static limn_status morph_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_
         for (size_t i = 0; q && i < 3 * s.p.n_global; i++)
             q[i] = from->positions[i] - to->positions[i];
     }
-    if (s.p.comm != MPI_COMM_NULL)
-        st = mpi_agree(&s.p, st);
-    series_engine e = mpi_engine(ctx, &s, &r->products);
+    st = start_engine(&s, st, &e, &r->products);
     if (!st)
-        st = series_morph_run(&e, from, to, &o, closed, diag, q, fn, user);
+        st = series_morph_run(&e, from, to, o, closed, diag, q, fn, user);
     r->seconds_compute = MPI_Wtime() - s.t0;
     if (result)
         result->stats = s.p.stats;

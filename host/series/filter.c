@@ -18,25 +18,25 @@ limn_status series_terms(const series_engine *e, device_buffer *x, device_buffer
     device_buffer *cur = x;
     for (int i = 0; i <= m; i++) {
         device_buffer *next = cur == ra ? rb : ra;
-        st = e->term(e, cur, next, acc, i < m ? SERIES_STORE_NEXT : 0,
+        st = e->ops->term(e, cur, next, acc, i < m ? SERIES_STORE_NEXT : 0,
                      i == 0 ? SERIES_ACC_SET_AX : SERIES_ACC_ADD_AX, st);
         if (st && !e->carry)
             return st;
         ++*e->products;
         cur = next;
     }
-    return e->agree(e, st);
+    return e->ops->agree(e, st);
 }
 
 limn_status series_smooth_run(const series_engine *e, const limn_mesh *mesh, int terms,
                               limn_mesh **out)
 {
     device_buffer **b = e->buf;
-    limn_status st = e->upload(e, e->root ? mesh->positions : NULL, b[0]);
+    limn_status st = e->ops->upload(e, e->root ? mesh->positions : NULL, b[0]);
     if (!st)
         st = series_terms(e, b[0], b[1], b[2], b[3], terms - 1);
     if (!st)
-        st = e->result(e, b[1], mesh, "smoothing", out);
+        st = e->ops->result(e, b[1], mesh, "smoothing", out);
     return st;
 }
 
@@ -44,7 +44,7 @@ limn_status series_denoise_run(const series_engine *e, const limn_mesh *mesh, in
                                int keep_volume, limn_mesh **out)
 {
     device_buffer *t = e->buf[0], *acc = e->buf[1];
-    limn_status st = e->upload(e, e->root ? mesh->positions : NULL, t);
+    limn_status st = e->ops->upload(e, e->root ? mesh->positions : NULL, t);
     for (int k = 0; !st && k < steps; k++) {
         st = series_terms(e, t, acc, e->buf[2], e->buf[3], m);
         device_buffer *tmp = t;
@@ -53,9 +53,9 @@ limn_status series_denoise_run(const series_engine *e, const limn_mesh *mesh, in
         ctx_progress(e->ctx, "denoise", (double)(k + 1) / steps);
     }
     if (!st)
-        st = e->result(e, t, mesh, "denoising", out);
+        st = e->ops->result(e, t, mesh, "denoising", out);
     if (!st && keep_volume) {
-        st = e->agree(e, e->root ? series_keep_volume(e->ctx, mesh, *out) : LIMN_OK);
+        st = e->ops->agree(e, e->root ? series_keep_volume(e->ctx, mesh, *out) : LIMN_OK);
         if (st && out) {
             limn_mesh_destroy(*out);
             *out = NULL;
@@ -81,19 +81,19 @@ limn_status series_morph_run(const series_engine *e, const limn_mesh *from, cons
                              limn_morph_frame_fn fn, void *user)
 {
     device_buffer **b = e->buf;
-    limn_status st = e->upload(e, q, b[0]);
+    limn_status st = e->ops->upload(e, q, b[0]);
     if (!st && e->root)
         st = series_emit_frame(from, to, closed, diag, 0, from->positions, fn, user);
-    st = e->agree(e, st);
+    st = e->ops->agree(e, st);
     for (int k = 1; !st && k < o->frames; k++) {
         /* D_k = p sum_{i=0..m} (E - A)^i A D_{k-1}; Q_k = TO + D_k */
         st = series_terms(e, b[0], b[1], b[2], b[3], o->m);
         if (!st)
-            st = e->axpby(e, o->p, b[1], 0.0, b[1], b[0]);
+            st = e->ops->axpby(e, o->p, b[1], 0.0, b[1], b[0]);
         if (!st)
-            st = e->download(e, b[0], q);
+            st = e->ops->download(e, b[0], q);
         if (!st)
-            st = e->agree(
+            st = e->ops->agree(
                 e, e->root ? morph_frame(e, from, to, closed, diag, k, q, fn, user) : LIMN_OK);
         ctx_progress(e->ctx, "morph", (double)k / (double)(o->frames - 1));
     }

@@ -13,14 +13,8 @@
 
 typedef struct series_engine series_engine;
 
-struct series_engine {
-    limn_context *ctx;
-    void *user;                /* the series_run, or the distributed run */
-    device_buffer **buf;       /* four work vectors */
-    long long *products;       /* the report's product count */
-    int root;                  /* this rank holds the meshes and results */
-    int carry;                 /* collective: a failed term still runs the later ones
-                                  (every rank keeps exchanging), the failure carried */
+/* What a side supplies (the single process in series.c, MPI in mpi_series.c). */
+typedef struct series_engine_ops {
     /* One term: next = (E - A) x (SERIES_STORE_NEXT) and acc per mode; prior:
        the failure so far (only with carry). */
     limn_status (*term)(const series_engine *e, device_buffer *x, device_buffer *next,
@@ -35,6 +29,17 @@ struct series_engine {
                           const char *what, limn_mesh **out);
     /* The same status on every rank (the single process: st). */
     limn_status (*agree)(const series_engine *e, limn_status st);
+} series_engine_ops;
+
+struct series_engine {
+    limn_context *ctx;
+    void *user;                /* the series_run, or the distributed run */
+    device_buffer **buf;       /* four work vectors */
+    long long *products;       /* the report's product count */
+    int root;                  /* this rank holds the meshes and results */
+    int carry;                 /* collective: a failed term still runs the later ones
+                                  (every rank keeps exchanging), the failure carried */
+    const series_engine_ops *ops;
 };
 
 /* acc = sum_{i=0..m} (E - A)^i A x, m + 1 terms; ra, rb scratch (x kept). */

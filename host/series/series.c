@@ -130,43 +130,43 @@ limn_status series_check_finite(limn_context *ctx, const double *xyz, size_t n, 
     return LIMN_OK;
 }
 
-/* Common start of the public drivers (fn: the caller's name, for messages). */
+/* Common start of the drivers after abi_enter (fn: the caller's name, for
+   messages; out_missing: the driver returns a mesh and out is NULL). */
 static limn_status begin(limn_context *ctx, const char *fn, const limn_mesh *mesh,
-                         const limn_series_options *in, limn_series_options *o,
-                         limn_series_report *local, limn_series_report **r)
+                         const limn_series_options *o, limn_series_report *r, int out_missing)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
     limn_status st = check_mesh_magnitude(ctx, fn, NULL, mesh);
     if (st)
         return st;
-    if (in)
-        *o = *in;
-    else
-        limn_series_options_default(o);
-    if (!*r)
-        *r = local;
-    series_report_init(*r, mesh);
+    series_report_init(r, mesh);
     st = check_scheme(ctx, fn, o->scheme);
-    return st ? st : series_check_options(ctx, o);
+    if (!st)
+        st = series_check_options(ctx, o);
+    if (!st && out_missing)
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: out is NULL", fn);
+    return st;
+}
+
+/* The end of a driver whose run is open: its compute time, the run closed. */
+static limn_status finish(series_run *s, limn_series_report *r, limn_status st)
+{
+    r->seconds_compute = clock_seconds() - s->t0;
+    series_close(s);
+    return st;
 }
 
 /* limn_bands on options and report of this library's layout. */
 static limn_status bands_sized(limn_context *ctx, const limn_mesh *mesh,
-                               const limn_series_options *options, int count, double *bands,
-                               double *energy, limn_series_report *report)
+                               const limn_series_options *o, int count, double *bands,
+                               double *energy, limn_series_report *r)
 {
-    limn_series_options o;
-    limn_series_report local, *r = report;
-    limn_status st = begin(ctx, "limn_bands", mesh, options, &o, &local, &r);
+    limn_status st = begin(ctx, "limn_bands", mesh, o, r, 0);
     if (!st)
         st = check_count(ctx, "limn_bands", "count", count, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
-    if (st)
-        return st;
     series_run s;
     /* 0: M, then ping-pong remainders 1, 2; 3: the band */
-    st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
+    if (!st)
+        st = series_open(ctx, mesh, o->scheme, o->alpha, 4, &s, r);
     if (st)
         return st;
     size_t n3 = 3 * s.n;
@@ -194,9 +194,7 @@ static limn_status bands_sized(limn_context *ctx, const limn_mesh *mesh,
     }
     if (!st && bands)
         st = series_download(&s, cur, bands + (size_t)count * n3);
-    r->seconds_compute = clock_seconds() - s.t0;
-    series_close(&s);
-    return st;
+    return finish(&s, r, st);
 }
 
 /* Reads buffer b into a copy of mesh (positions replaced): the result. */
@@ -258,49 +256,39 @@ static limn_status local_agree(const series_engine *e, limn_status st)
     return st;
 }
 
-/* The engine of filter.c on an open series_run (products: the report's). */
+static const series_engine_ops local_ops = {local_term,     local_axpby,  local_upload,
+                                            local_download, local_result, local_agree};
+
+/* The engine of filter.c on an open series_run (products: the report's):
+   the root, no failure carried. */
 static series_engine local_engine(limn_context *ctx, series_run *s, long long *products)
 {
-    return (series_engine){.ctx = ctx,
-                           .user = s,
-                           .buf = s->buf,
-                           .products = products,
-                           .root = 1,
-                           .carry = 0,
-                           .term = local_term,
-                           .axpby = local_axpby,
-                           .upload = local_upload,
-                           .download = local_download,
-                           .result = local_result,
-                           .agree = local_agree};
+    return (series_engine){ctx, s, s->buf, products, 1, 0, &local_ops};
+}
+
+/* A checked driver's run (four work vectors) and its engine. */
+static limn_status open_engine(limn_context *ctx, const limn_mesh *mesh,
+                               const limn_series_options *o, limn_series_report *r, series_run *s,
+                               series_engine *e)
+{
+    limn_status st = series_open(ctx, mesh, o->scheme, o->alpha, 4, s, r);
+    *e = local_engine(ctx, s, &r->products);
+    return st;
 }
 
 /* limn_smooth on options and report of this library's layout. */
 static limn_status smooth_sized(limn_context *ctx, const limn_mesh *mesh,
-                                const limn_series_options *options, int terms, limn_mesh **out,
-                                limn_series_report *report)
+                                const limn_series_options *o, int terms, limn_mesh **out,
+                                limn_series_report *r)
 {
-    limn_series_options o;
-    limn_series_report local, *r = report;
-    if (out)
-        *out = NULL;
-    limn_status st = begin(ctx, "limn_smooth", mesh, options, &o, &local, &r);
-    if (st)
-        return st;
-    if (!out)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_smooth: out is NULL");
-    st = check_count(ctx, "limn_smooth", "terms", terms, 1, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
-    if (st)
-        return st;
+    limn_status st = begin(ctx, "limn_smooth", mesh, o, r, !out);
+    if (!st)
+        st = check_count(ctx, "limn_smooth", "terms", terms, 1, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
     series_run s;
-    st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
-    if (st)
-        return st;
-    series_engine e = local_engine(ctx, &s, &r->products);
-    st = series_smooth_run(&e, mesh, terms, out);
-    r->seconds_compute = clock_seconds() - s.t0;
-    series_close(&s);
-    return st;
+    series_engine e;
+    if (!st)
+        st = open_engine(ctx, mesh, o, r, &s, &e);
+    return st ? st : finish(&s, r, series_smooth_run(&e, mesh, terms, out));
 }
 
 limn_status series_keep_volume(limn_context *ctx, const limn_mesh *mesh, limn_mesh *out)
@@ -327,25 +315,18 @@ limn_status series_keep_volume(limn_context *ctx, const limn_mesh *mesh, limn_me
 
 /* limn_denoise on options and report of this library's layout. */
 static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
-                                 const limn_series_options *options, int m, int steps,
-                                 int keep_volume, limn_mesh **out, limn_series_report *report)
+                                 const limn_series_options *o, int m, int steps, int keep_volume,
+                                 limn_mesh **out, limn_series_report *r)
 {
-    limn_series_options o;
-    limn_series_report local, *r = report;
-    if (out)
-        *out = NULL;
-    limn_status st = begin(ctx, "limn_denoise", mesh, options, &o, &local, &r);
-    if (st)
-        return st;
-    if (!out)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_denoise: out is NULL");
-    st = check_count(ctx, "limn_denoise", "m", m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    limn_status st = begin(ctx, "limn_denoise", mesh, o, r, !out);
+    if (!st)
+        st = check_count(ctx, "limn_denoise", "m", m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
     if (!st)
         st = check_steps(ctx, "limn_denoise", steps, m + 1LL, "(m + 1) * steps");
-    if (st)
-        return st;
     series_run s;
-    st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
+    series_engine e;
+    if (!st)
+        st = open_engine(ctx, mesh, o, r, &s, &e);
     if (st)
         return st;
     if (keep_volume && !measure_topology_closed(&s.op.topo)) {
@@ -358,27 +339,17 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
         series_close(&s);
         return st;
     }
-    series_engine e = local_engine(ctx, &s, &r->products);
-    st = series_denoise_run(&e, mesh, m, steps, keep_volume, out);
-    r->seconds_compute = clock_seconds() - s.t0;
-    series_close(&s);
-    return st;
+    return finish(&s, r, series_denoise_run(&e, mesh, m, steps, keep_volume, out));
 }
 
 /* limn_sharpen on options and report of this library's layout. */
 static limn_status sharpen_sized(limn_context *ctx, const limn_mesh *mesh,
-                                 const limn_series_options *options, int from, int to, int steps,
-                                 limn_mesh **out, limn_series_report *report)
+                                 const limn_series_options *o, int from, int to, int steps,
+                                 limn_mesh **out, limn_series_report *r)
 {
-    limn_series_options o;
-    limn_series_report local, *r = report;
-    if (out)
-        *out = NULL;
-    limn_status st = begin(ctx, "limn_sharpen", mesh, options, &o, &local, &r);
+    limn_status st = begin(ctx, "limn_sharpen", mesh, o, r, !out);
     if (st)
         return st;
-    if (!out)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_sharpen: out is NULL");
     if (from < 0 || to < from)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_sharpen: the terms run from %d to %d; they need 0 <= from <= to",
@@ -389,7 +360,7 @@ static limn_status sharpen_sized(limn_context *ctx, const limn_mesh *mesh,
     if (st)
         return st;
     series_run s;
-    st = series_open(ctx, mesh, o.scheme, o.alpha, 4, &s, r);
+    st = series_open(ctx, mesh, o->scheme, o->alpha, 4, &s, r);
     if (st)
         return st;
     device_buffer *t = s.buf[0], *acc = s.buf[1];
@@ -416,9 +387,7 @@ static limn_status sharpen_sized(limn_context *ctx, const limn_mesh *mesh,
     }
     if (!st)
         st = result_mesh(ctx, &s, t, mesh, "sharpening", out);
-    r->seconds_compute = clock_seconds() - s.t0;
-    series_close(&s);
-    return st;
+    return finish(&s, r, st);
 }
 
 /* Fills a frame's measures and calls the user's callback. */
@@ -443,14 +412,27 @@ limn_status series_emit_frame(const limn_mesh *from, const limn_mesh *to, int cl
     return fn(user, &fr);
 }
 
-/* limn_morph on options and report of this library's layout. */
-static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
-                               const limn_morph_options *options, limn_morph_frame_fn fn,
-                               void *user, limn_series_report *report)
+limn_status series_check_morph(limn_context *ctx, const char *fn, const limn_mesh *from,
+                               const limn_mesh *to, const limn_morph_options *o)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
+    limn_status st =
+        check_count(ctx, fn, "frames", o->frames, 2, LIMN_MAX_FRAMES, "LIMN_MAX_FRAMES");
+    if (!st && !o->linear)
+        st = check_count(ctx, fn, "m", o->m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st && !o->linear)
+        st = check_count(ctx, fn, "(m + 1) * (frames - 1)", (o->m + 1LL) * (o->frames - 1LL), 0,
+                         LIMN_MAX_PRODUCTS, "LIMN_MAX_PRODUCTS");
+    if (!st && !o->linear && !(o->p > 0.0 && o->p < 1.0))
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
+                       o->p);
+    return st ? st : measure_same_topology(ctx, from, to, "FROM", "TO");
+}
+
+/* The checks of limn_morph, in its order; r initialised on the way. */
+static limn_status check_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                               const limn_morph_options *o, limn_morph_frame_fn fn,
+                               limn_series_report *r)
+{
     if (!fn)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_morph: the frame callback is NULL");
     limn_status st = check_mesh_magnitude(ctx, "limn_morph", "FROM", from);
@@ -458,81 +440,79 @@ static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const l
         st = check_mesh_magnitude(ctx, "limn_morph", "TO", to);
     if (st)
         return st;
-    limn_morph_options o;
-    if (options)
-        o = *options;
-    else
-        limn_morph_options_default(&o);
-    limn_series_report local, *r = report ? report : &local;
     series_report_init(r, from);
-    st = check_scheme(ctx, "limn_morph", o.series.scheme);
+    st = check_scheme(ctx, "limn_morph", o->series.scheme);
     if (!st)
-        st = series_check_options(ctx, &o.series);
+        st = series_check_options(ctx, &o->series);
     if (!st)
-        st = check_count(ctx, "limn_morph", "frames", o.frames, 2, LIMN_MAX_FRAMES,
-                         "LIMN_MAX_FRAMES");
-    if (!st && !o.linear)
-        st = check_count(ctx, "limn_morph", "m", o.m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
-    if (!st && !o.linear)
-        st = check_count(ctx, "limn_morph", "(m + 1) * (frames - 1)",
-                         (o.m + 1LL) * (o.frames - 1LL), 0, LIMN_MAX_PRODUCTS,
-                         "LIMN_MAX_PRODUCTS");
+        st = series_check_morph(ctx, "limn_morph", from, to, o);
+    if (!st && (from->vertex_count == 0 || from->face_count == 0))
+        st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY, "the meshes have no %s",
+                       from->vertex_count ? "faces" : "vertices");
+    return st;
+}
+
+/* The comparison: no operator, the frames blended on the host (q: scratch). */
+static limn_status morph_linear(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                                const limn_morph_options *o, double diag, double *q,
+                                limn_morph_frame_fn fn, void *user, limn_series_report *r)
+{
+    topology t;
+    limn_status st = topology_build(ctx, from, &t);
+    int closed = !st && measure_topology_closed(&t);
+    if (!st) {
+        double lo[3], hi[3];
+        r->scheme = LIMN_SCHEME_AUTO;
+        st = operator_resolve_scheme(ctx, from, o->series.scheme, &r->scheme);
+        r->alpha = r->scheme == LIMN_SCHEME_CATMARK ? o->series.alpha : 0.0;
+        r->bbox_diagonal = mesh_bbox_diagonal(from, lo, hi);
+        snprintf(r->device, sizeof r->device, "none (linear blend on the host)");
+        topology_free(&t);
+    }
+    double t0 = clock_seconds();
+    size_t n3 = 3 * from->vertex_count;
+    for (int k = 0; !st && k < o->frames; k++) {
+        double u = (double)k / (double)(o->frames - 1);
+        for (size_t i = 0; i < n3; i++)
+            q[i] = (1.0 - u) * from->positions[i] + u * to->positions[i];
+        st = series_emit_frame(from, to, closed, diag, k, q, fn, user);
+    }
+    r->seconds_compute = clock_seconds() - t0;
+    return st;
+}
+
+/* The series morph on the operator of FROM (q: scratch). */
+static limn_status morph_series(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                                const limn_morph_options *o, double diag, double *q,
+                                limn_morph_frame_fn fn, void *user, limn_series_report *r)
+{
+    series_run s;
+    series_engine e;
+    /* 0: D = Q_k - TO, 1: the partial sum, 2, 3: remainders */
+    limn_status st = open_engine(ctx, from, &o->series, r, &s, &e);
     if (st)
         return st;
-    if (!o.linear && !(o.p > 0.0 && o.p < 1.0))
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
-                         o.p);
-    st = measure_same_topology(ctx, from, to, "FROM", "TO");
+    int closed = measure_topology_closed(&s.op.topo);
+    for (size_t i = 0; i < 3 * from->vertex_count; i++)
+        q[i] = from->positions[i] - to->positions[i];
+    return finish(&s, r, series_morph_run(&e, from, to, o, closed, diag, q, fn, user));
+}
+
+/* limn_morph on options and report of this library's layout. */
+static limn_status morph_sized(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
+                               const limn_morph_options *o, limn_morph_frame_fn fn, void *user,
+                               limn_series_report *r)
+{
+    limn_status st = check_morph(ctx, from, to, o, fn, r);
     if (st)
         return st;
-    if (from->vertex_count == 0 || from->face_count == 0)
-        return ctx_fail(ctx, LIMN_ERR_TOPOLOGY, "the meshes have no %s",
-                         from->vertex_count ? "faces" : "vertices");
-    size_t n = from->vertex_count, n3 = 3 * n;
+    size_t n = from->vertex_count;
     double lo[3], hi[3], diag = mesh_bbox_diagonal(to, lo, hi);
-    double *q = malloc(n3 * sizeof *q);
+    double *q = malloc(3 * n * sizeof *q);
     if (!q)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
-
-    if (o.linear) {
-        /* the comparison: no operator, the blend on the host */
-        topology t;
-        st = topology_build(ctx, from, &t);
-        int closed = !st && measure_topology_closed(&t);
-        if (!st) {
-            r->scheme = LIMN_SCHEME_AUTO;
-            st = operator_resolve_scheme(ctx, from, o.series.scheme, &r->scheme);
-            r->alpha = r->scheme == LIMN_SCHEME_CATMARK ? o.series.alpha : 0.0;
-            r->bbox_diagonal = mesh_bbox_diagonal(from, lo, hi);
-            snprintf(r->device, sizeof r->device, "none (linear blend on the host)");
-            topology_free(&t);
-        }
-        double t0 = clock_seconds();
-        for (int k = 0; !st && k < o.frames; k++) {
-            double u = (double)k / (double)(o.frames - 1);
-            for (size_t i = 0; i < n3; i++)
-                q[i] = (1.0 - u) * from->positions[i] + u * to->positions[i];
-            st = series_emit_frame(from, to, closed, diag, k, q, fn, user);
-        }
-        r->seconds_compute = clock_seconds() - t0;
-        free(q);
-        return st;
-    }
-
-    series_run s;
-    /* 0: D = Q_k - TO, 1: the partial sum, 2, 3: remainders */
-    st = series_open(ctx, from, o.series.scheme, o.series.alpha, 4, &s, r);
-    if (st) {
-        free(q);
-        return st;
-    }
-    int closed = measure_topology_closed(&s.op.topo);
-    for (size_t i = 0; i < n3; i++)
-        q[i] = from->positions[i] - to->positions[i];
-    series_engine e = local_engine(ctx, &s, &r->products);
-    st = series_morph_run(&e, from, to, &o, closed, diag, q, fn, user);
-    r->seconds_compute = clock_seconds() - s.t0;
-    series_close(&s);
+    st = o->linear ? morph_linear(ctx, from, to, o, diag, q, fn, user, r)
+                   : morph_series(ctx, from, to, o, diag, q, fn, user, r);
     free(q);
     return st;
 }

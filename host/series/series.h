@@ -20,6 +20,10 @@ typedef struct series_run {
 } series_run;
 
 limn_status series_check_options(limn_context *ctx, const limn_series_options *o);
+/* limn_morph's checks of frames, m, p (the last two for the series morph)
+   and FROM, TO of one topology (fn names the call in messages). */
+limn_status series_check_morph(limn_context *ctx, const char *fn, const limn_mesh *from,
+                               const limn_mesh *to, const limn_morph_options *o);
 void series_report_init(limn_series_report *r, const limn_mesh *mesh);
 void series_report_operator(limn_series_report *r, const stencil_operator *op);
 

@@ -273,12 +273,14 @@ static limn_status level_positions(limn_context *ctx, refine_plan *plan)
     return st;
 }
 
-/* limn_texture on options and report of this library's layout. */
-static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
-                                 const limn_texture_options *options, limn_mesh **out,
-                                 limn_series_report *report)
+/* The checks of limn_texture, in its order, the memory estimate last: it
+   refuses before any work when the levels would not fit (the estimate of
+   `limn subdivide --limit`: the plan plus the finest operator). */
+static limn_status check_texture(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_texture_options *o, limn_mesh **out,
+                                 limn_series_report *r)
 {
-    limn_status st = abi_begin(ctx, "limn_texture", "options", options);
+    limn_status st = abi_begin(ctx, "limn_texture", "options", o);
     if (!st)
         st = abi_begin(ctx, "limn_texture", "out", out);
     if (st)
@@ -287,8 +289,6 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
     st = check_mesh_magnitude(ctx, "limn_texture", NULL, mesh);
     if (st)
         return st;
-    const limn_texture_options *o = options;
-    limn_series_report local, *r = report ? report : &local;
     series_report_init(r, mesh);
     st = check_texture_options(ctx, o);
     if (st)
@@ -296,9 +296,6 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
     if (mesh->vertex_count == 0 || mesh->face_count == 0)
         return ctx_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
                          mesh->vertex_count ? "faces" : "vertices");
-
-    /* refuse before any work when the levels would not fit in memory (the
-       estimate of `limn subdivide --limit`: the plan plus the finest operator) */
     limn_subdivide_options so;
     limn_subdivide_options_default(&so);
     so.scheme = o->series.scheme;
@@ -307,138 +304,178 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
     so.limit = 1;
     so.max_memory = o->max_memory;
     size_t est_v, est_f, est_peak;
-    st = limn_subdivide_estimate(ctx, mesh, &so, &est_v, &est_f, &est_peak);
+    return limn_subdivide_estimate(ctx, mesh, &so, &est_v, &est_f, &est_peak);
+}
+
+/* One texture's work: the levels, G_L's sum and the open level's run. */
+typedef struct texture_work {
+    const limn_texture_options *o;
+    limn_series_report *r;
+    refine_plan plan;
+    size_t nf;                     /* vertices of G_L */
+    double *sum, *carried, *field; /* on G_L; field: a level's values */
+    uint8_t *rgb;
+    double lo[3], scale;           /* the noise's frame */
+    limn_noise noise;
+    series_run s;                  /* level i's operator; G_L's after the last */
+} texture_work;
+
+/* Sets every vertex's channel x (the others zero) and writes buf[0]. */
+static limn_status write_scalar(series_run *s, const double *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        s->host[4 * i] = v[i];
+        s->host[4 * i + 1] = s->host[4 * i + 2] = s->host[4 * i + 3] = 0.0;
+    }
+    return s->dev->ops->buffer_write(s->dev, s->buf[0], 4 * n * sizeof(double), s->host);
+}
+
+/* Level i: its noise, interpolated on G_i, carried to G_L and summed. */
+static limn_status texture_level(limn_context *ctx, texture_work *w, int i)
+{
+    const limn_mesh *g = w->plan.meshes[i];
+    series_run *s = &w->s;
+    limn_series_report *r = w->r;
+    int levels = w->o->levels;
+    double f = ldexp(1.0, i), amp = 1.0 / f, range = 0.0, fs = f * w->scale;
+    for (size_t v = 0; v < g->vertex_count; v++) {
+        const double *p = g->positions + 3 * v;
+        w->field[v] = amp * limn_noise_eval(&w->noise, fs * (p[0] - w->lo[0]),
+                                            fs * (p[1] - w->lo[1]), fs * (p[2] - w->lo[2]));
+        range = fmax(range, fabs(w->field[v]));
+    }
+    /* the alpha rule belongs to the first refinement step only */
+    limn_status st = series_open(ctx, g, w->plan.scheme, i == 0 ? w->plan.alpha : 0.0, 3, s, NULL);
     if (st)
         return st;
+    if (i == levels) {
+        series_report_operator(r, &s->op);
+    } else {
+        r->seconds_topology += s->op.seconds_topology;
+        r->seconds_stencil += s->op.seconds_stencil;
+    }
+    double tc = clock_seconds();
+    st = write_scalar(s, w->field, g->vertex_count);
+    device_buffer *ctrl = NULL;
+    if (!st)
+        st = solve_scalar(ctx, s, w->o->tolerance * (range > 0 ? range : 1.0), i, &ctrl,
+                          &r->products);
+    if (!st)
+        st = s->dev->ops->buffer_read(s->dev, ctrl, 4 * s->n * sizeof(double), s->host);
+    for (size_t v = 0; !st && v < g->vertex_count; v++)
+        w->field[v] = s->host[4 * v];
+    /* carry the control values to G_L and sum there */
+    if (!st)
+        st = refine_plan_apply(ctx, &w->plan, i, 1, w->field, w->carried);
+    for (size_t v = 0; !st && v < w->nf; v++)
+        w->sum[v] += w->carried[v];
+    r->seconds_compute += clock_seconds() - tc;
+    if (i < levels)
+        series_close(s);
+    ctx_progress(ctx, "texture", (double)(i + 1) / (levels + 1));
+    return st;
+}
+
+/* The field (channel x of s's host, nf vertices) normalised to [0, 1] and
+   mapped through the colour spline onto result. */
+static limn_status texture_colors(limn_context *ctx, const limn_texture_options *o,
+                                  const double *host, size_t nf, uint8_t *rgb, limn_mesh *result)
+{
+    double mn = INFINITY, mx = -INFINITY;
+    for (size_t v = 0; v < nf; v++) {
+        mn = fmin(mn, host[4 * v]);
+        mx = fmax(mx, host[4 * v]);
+    }
+    size_t k = o->color_count;
+    double *d = malloc((k + 2) * 3 * sizeof *d);
+    if (!d)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the colour spline");
+    uint8_t clo[3] = {255, 255, 255}, chi[3] = {0, 0, 0};
+    for (size_t j = 0; j < k; j++)
+        for (int c = 0; c < 3; c++) {
+            uint8_t x = o->colors[3 * j + c];
+            clo[c] = x < clo[c] ? x : clo[c];
+            chi[c] = x > chi[c] ? x : chi[c];
+        }
+    spline_controls(o->colors, k, d);
+    for (size_t v = 0; v < nf; v++) {
+        double t = mx > mn ? (host[4 * v] - mn) / (mx - mn) : 0.5;
+        spline_color(d, k, clo, chi, t, rgb + 3 * v);
+    }
+    free(d);
+    return limn_mesh_set_colors(ctx, result, rgb);
+}
+
+/* G_L's operator (still open): its limit points, the summed field there, the colours. */
+static limn_status texture_finish(limn_context *ctx, texture_work *w, limn_mesh **result)
+{
+    series_run *s = &w->s;
+    const limn_mesh *fine = w->plan.meshes[w->o->levels];
+    size_t nf = w->nf;
+    double tc = clock_seconds();
+    limn_status st = limn_mesh_copy(ctx, fine, result);
+    device_norms nr;
+    if (!st)
+        st = series_upload(s, s->buf[0], fine->positions);
+    if (!st)
+        st = s->dev->ops->series->series_step(s->dev, &s->op.device, s->buf[0], NULL, s->buf[1],
+                                              NULL, SERIES_STORE_AX, SERIES_ACC_NONE, &nr);
+    if (!st)
+        st = series_download(s, s->buf[1], (*result)->positions);
+    if (!st)
+        st = write_scalar(s, w->sum, nf);
+    if (!st)
+        st = s->dev->ops->spmv(s->dev, &s->op.device, s->buf[0], s->buf[1]);
+    if (!st)
+        st = s->dev->ops->buffer_read(s->dev, s->buf[1], 4 * nf * sizeof(double), s->host);
+    w->r->products += 2;
+    if (!st)
+        st = texture_colors(ctx, w->o, s->host, nf, w->rgb, *result);
+    w->r->seconds_compute += clock_seconds() - tc;
+    return st;
+}
+
+/* limn_texture on options and report of this library's layout (options
+   NULL: refused, there are no default colours). */
+static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_texture_options *o, limn_mesh **out,
+                                 limn_series_report *r)
+{
+    limn_status st = check_texture(ctx, mesh, o, out, r);
+    if (st)
+        return st;
+    texture_work w = {.o = o, .r = r};
     int levels = o->levels;
-    refine_plan plan;
     double t0 = clock_seconds();
-    st = refine_plan_build(ctx, mesh, o->series.scheme, o->series.alpha, levels, &plan);
+    st = refine_plan_build(ctx, mesh, o->series.scheme, o->series.alpha, levels, &w.plan);
     if (st)
         return st;
     r->seconds_topology += clock_seconds() - t0;
-    st = level_positions(ctx, &plan);
-    limn_mesh *fine = plan.meshes[levels];
-    size_t nf = fine->vertex_count;
-    double *sum = calloc(nf, sizeof *sum), *carried = calloc(nf, sizeof *carried);
-    double *field = calloc(nf > mesh->vertex_count ? nf : mesh->vertex_count, sizeof *field);
-    uint8_t *rgb = malloc(3 * nf);
-    if (!st && (!sum || !carried || !field || !rgb))
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nf);
-    double lo[3], hi[3], diag = mesh_bbox_diagonal(mesh, lo, hi);
-    double scale = diag > 0 ? o->frequency / diag : 1.0;
-    limn_noise noise;
-    limn_noise_init(&noise, o->seed);
+    st = level_positions(ctx, &w.plan);
+    w.nf = w.plan.meshes[levels]->vertex_count;
+    w.sum = calloc(w.nf, sizeof *w.sum);
+    w.carried = calloc(w.nf, sizeof *w.carried);
+    w.field = calloc(w.nf > mesh->vertex_count ? w.nf : mesh->vertex_count, sizeof *w.field);
+    w.rgb = malloc(3 * w.nf);
+    if (!st && (!w.sum || !w.carried || !w.field || !w.rgb))
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", w.nf);
+    double hi[3], diag = mesh_bbox_diagonal(mesh, w.lo, hi);
+    w.scale = diag > 0 ? o->frequency / diag : 1.0;
+    limn_noise_init(&w.noise, o->seed);
     limn_mesh *result = NULL;
-    series_run s;
-    memset(&s, 0, sizeof s);
-
-    for (int i = 0; !st && i <= levels; i++) {
-        /* the noise of level i and its interpolation on G_i */
-        const limn_mesh *g = plan.meshes[i];
-        double f = ldexp(1.0, i), amp = 1.0 / f, range = 0.0;
-        for (size_t v = 0; v < g->vertex_count; v++) {
-            const double *p = g->positions + 3 * v;
-            field[v] = amp * limn_noise_eval(&noise, f * scale * (p[0] - lo[0]),
-                                             f * scale * (p[1] - lo[1]),
-                                             f * scale * (p[2] - lo[2]));
-            range = fmax(range, fabs(field[v]));
-        }
-        /* the alpha rule belongs to the first refinement step only */
-        st = series_open(ctx, g, plan.scheme, i == 0 ? plan.alpha : 0.0, 3, &s, NULL);
-        if (st)
-            break;
-        if (i == levels) {
-            series_report_operator(r, &s.op);
-        } else {
-            r->seconds_topology += s.op.seconds_topology;
-            r->seconds_stencil += s.op.seconds_stencil;
-        }
-        double tc = clock_seconds();
-        for (size_t v = 0; v < g->vertex_count; v++) {
-            s.host[4 * v] = field[v];
-            s.host[4 * v + 1] = s.host[4 * v + 2] = s.host[4 * v + 3] = 0.0;
-        }
-        st = s.dev->ops->buffer_write(s.dev, s.buf[0], 4 * s.n * sizeof(double), s.host);
-        device_buffer *ctrl = NULL;
-        if (!st)
-            st = solve_scalar(ctx, &s, o->tolerance * (range > 0 ? range : 1.0), i, &ctrl,
-                              &r->products);
-        if (!st)
-            st = s.dev->ops->buffer_read(s.dev, ctrl, 4 * s.n * sizeof(double), s.host);
-        for (size_t v = 0; !st && v < g->vertex_count; v++)
-            field[v] = s.host[4 * v];
-        /* carry the control values to G_L and sum there */
-        if (!st)
-            st = refine_plan_apply(ctx, &plan, i, 1, field, carried);
-        for (size_t v = 0; !st && v < nf; v++)
-            sum[v] += carried[v];
-        r->seconds_compute += clock_seconds() - tc;
-        if (i < levels)
-            series_close(&s);
-        ctx_progress(ctx, "texture", (double)(i + 1) / (levels + 1));
-    }
-    if (!st) {
-        /* G_L's operator (still open): limit points and the field there */
-        double tc = clock_seconds();
-        st = limn_mesh_copy(ctx, fine, &result);
-        device_norms nr;
-        if (!st)
-            st = series_upload(&s, s.buf[0], fine->positions);
-        if (!st)
-            st = s.dev->ops->series->series_step(s.dev, &s.op.device, s.buf[0], NULL, s.buf[1], NULL,
-                                         SERIES_STORE_AX, SERIES_ACC_NONE, &nr);
-        if (!st)
-            st = series_download(&s, s.buf[1], result->positions);
-        for (size_t v = 0; !st && v < nf; v++) {
-            s.host[4 * v] = sum[v];
-            s.host[4 * v + 1] = s.host[4 * v + 2] = s.host[4 * v + 3] = 0.0;
-        }
-        if (!st)
-            st = s.dev->ops->buffer_write(s.dev, s.buf[0], 4 * nf * sizeof(double), s.host);
-        if (!st)
-            st = s.dev->ops->spmv(s.dev, &s.op.device, s.buf[0], s.buf[1]);
-        if (!st)
-            st = s.dev->ops->buffer_read(s.dev, s.buf[1], 4 * nf * sizeof(double), s.host);
-        r->products += 2;
-        if (!st) {
-            double mn = INFINITY, mx = -INFINITY;
-            for (size_t v = 0; v < nf; v++) {
-                mn = fmin(mn, s.host[4 * v]);
-                mx = fmax(mx, s.host[4 * v]);
-            }
-            size_t k = o->color_count;
-            double *d = malloc((k + 2) * 3 * sizeof *d);
-            if (!d) {
-                st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the colour spline");
-            } else {
-                uint8_t clo[3] = {255, 255, 255}, chi[3] = {0, 0, 0};
-                for (size_t j = 0; j < k; j++)
-                    for (int c = 0; c < 3; c++) {
-                        uint8_t x = o->colors[3 * j + c];
-                        clo[c] = x < clo[c] ? x : clo[c];
-                        chi[c] = x > chi[c] ? x : chi[c];
-                    }
-                spline_controls(o->colors, k, d);
-                for (size_t v = 0; v < nf; v++) {
-                    double t = mx > mn ? (s.host[4 * v] - mn) / (mx - mn) : 0.5;
-                    spline_color(d, k, clo, chi, t, rgb + 3 * v);
-                }
-                free(d);
-                st = limn_mesh_set_colors(ctx, result, rgb);
-            }
-        }
-        r->seconds_compute += clock_seconds() - tc;
-    }
+    for (int i = 0; !st && i <= levels; i++)
+        st = texture_level(ctx, &w, i);
+    if (!st)
+        st = texture_finish(ctx, &w, &result);
     r->vertices = mesh->vertex_count;
     r->faces = mesh->face_count;
-    r->alpha = plan.alpha; /* the user's alpha (used on the first refinement step) */
-    series_close(&s);
-    refine_plan_free(&plan);
-    free(sum);
-    free(carried);
-    free(field);
-    free(rgb);
+    r->alpha = w.plan.alpha; /* the user's alpha (used on the first refinement step) */
+    series_close(&w.s);
+    refine_plan_free(&w.plan);
+    free(w.sum);
+    free(w.carried);
+    free(w.field);
+    free(w.rgb);
     if (st) {
         limn_mesh_destroy(result);
         return st;
@@ -454,5 +491,7 @@ limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,
     abi_call c;
     limn_status st = abi_enter(&c, ctx, "limn_texture", &abi_texture_options, options,
                                &abi_series_report, report, out);
-    return st ? st : abi_leave(&c, texture_sized(ctx, mesh, c.options, out, c.report));
+    /* no defaults to stand in for NULL options: texture_sized refuses them */
+    return st ? st
+              : abi_leave(&c, texture_sized(ctx, mesh, options ? c.options : NULL, out, c.report));
 }
