@@ -289,6 +289,16 @@ limn_status abi_enter(abi_call *c, limn_context *ctx, const char *fn,
     return st ? st : rs;
 }
 
+limn_status abi_enter_result(abi_call *c, limn_context *ctx, const char *fn, const char *what,
+                             const abi_layout *layout, void *result)
+{
+    if (abi_begin(ctx, fn, NULL, NULL))
+        return LIMN_ERR_ARGUMENT;
+    *c = (abi_call){.fn = fn, .report_layout = layout, .caller_report = result};
+    c->report = result ? &c->r : NULL;
+    return abi_report_begin(ctx, fn, what, layout, result, &c->r);
+}
+
 limn_status abi_leave(const abi_call *c, limn_status st)
 {
     abi_report_end(c->report_layout, c->caller_report, &c->r);

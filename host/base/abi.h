@@ -86,6 +86,9 @@ typedef struct abi_call {
         limn_report interpolate;
         limn_subdivide_report subdivide;
         limn_repair_report repair;
+        limn_mesh_info info;
+        limn_mesh_measures measures;
+        limn_mesh_comparison comparison;
     } r;
 } abi_call;
 
@@ -95,6 +98,12 @@ typedef struct abi_call {
 limn_status abi_enter(abi_call *c, limn_context *ctx, const char *fn,
                       const abi_layout *options_layout, const void *options,
                       const abi_layout *report_layout, void *report, limn_mesh **out);
+/* The entry of a call whose one struct is a result it fills (info,
+   measure, compare): the context checked and cleared, the caller's result
+   (named `what`) checked; c->report is the library-side copy, NULL when the
+   caller passed none (the *_sized function then refuses with its message). */
+limn_status abi_enter_result(abi_call *c, limn_context *ctx, const char *fn, const char *what,
+                             const abi_layout *layout, void *result);
 /* After an entered call: the report copied out; returns st. */
 limn_status abi_leave(const abi_call *c, limn_status st);
 

@@ -88,7 +88,7 @@ limn_status limn_subdivide_estimate(limn_context *ctx, const limn_mesh *mesh,
     return check_budget(ctx, mesh, scheme, options, vertices, faces, peak_bytes);
 }
 
-/* limn_subdivide on options and report of this library's layout. */
+/* limn_subdivide on options and report of this library's layout, both never NULL. */
 static limn_status subdivide_sized(limn_context *ctx, const limn_mesh *mesh,
                                    const limn_subdivide_options *options, limn_mesh **surface,
                                    limn_subdivide_report *report)
@@ -97,16 +97,13 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mesh *mesh,
     if (begun)
         return begun;
     *surface = NULL;
-    limn_subdivide_options defaults;
-    limn_subdivide_options_default(&defaults);
-    const limn_subdivide_options *o = options ? options : &defaults;
+    const limn_subdivide_options *o = options; /* never NULL: abi_enter's copy */
     limn_status st = check_mesh_magnitude(ctx, "limn_subdivide", NULL, mesh);
     if (!st)
         st = check_options(ctx, "limn_subdivide", o);
     if (st)
         return st;
-    limn_subdivide_report local;
-    limn_subdivide_report *r = report ? report : &local;
+    limn_subdivide_report *r = report; /* never NULL either */
     memset(r, 0, sizeof *r);
     r->input_vertices = mesh->vertex_count;
     r->input_faces = mesh->face_count;

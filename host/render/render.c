@@ -216,12 +216,9 @@ static void downsample(const raster *r, int ss, int width, int height, uint8_t *
 limn_status limn_render(limn_context *ctx, const limn_mesh *mesh,
                         const limn_render_options *options, uint8_t *rgb)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!rgb)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_render: rgb is NULL");
-    limn_status checked = check_mesh_magnitude(ctx, "limn_render", NULL, mesh);
+    limn_status checked = abi_begin(ctx, "limn_render", "rgb", rgb);
+    if (!checked)
+        checked = check_mesh_magnitude(ctx, "limn_render", NULL, mesh);
     if (checked)
         return checked;
     limn_render_options o;

@@ -71,11 +71,9 @@ int measure_topology_closed(const topology *t)
 /* limn_mesh_measure into a result of this library's layout. */
 static limn_status measure_sized(limn_context *ctx, const limn_mesh *mesh, limn_mesh_measures *out)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!out)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_measure: out is NULL");
+    limn_status begun = abi_begin(ctx, "limn_mesh_measure", "out", out);
+    if (begun)
+        return begun;
     memset(out, 0, sizeof *out);
     limn_status st = check_mesh(ctx, "limn_mesh_measure", NULL, mesh);
     if (st)
@@ -173,11 +171,9 @@ size_t measure_flipped(const limn_mesh *ref, const double *ref_pos, const double
 static limn_status compare_sized(limn_context *ctx, const limn_mesh *a, const limn_mesh *b,
                                  limn_mesh_comparison *out)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!out)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_compare: out is NULL");
+    limn_status begun = abi_begin(ctx, "limn_mesh_compare", "out", out);
+    if (begun)
+        return begun;
     memset(out, 0, sizeof *out);
     limn_status st = check_mesh(ctx, "limn_mesh_compare", "the first mesh", a);
     if (!st)
@@ -220,30 +216,16 @@ static limn_status compare_sized(limn_context *ctx, const limn_mesh *a, const li
 
 limn_status limn_mesh_measure(limn_context *ctx, const limn_mesh *mesh, limn_mesh_measures *out)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    limn_mesh_measures r;
-    limn_status st = abi_report_begin(ctx, "limn_mesh_measure", "out", &abi_mesh_measures, out, &r);
-    if (st)
-        return st;
-    st = measure_sized(ctx, mesh, out ? &r : NULL);
-    abi_report_end(&abi_mesh_measures, out, &r);
-    return st;
+    abi_call c;
+    limn_status st = abi_enter_result(&c, ctx, "limn_mesh_measure", "out", &abi_mesh_measures, out);
+    return st ? st : abi_leave(&c, measure_sized(ctx, mesh, c.report));
 }
 
 limn_status limn_mesh_compare(limn_context *ctx, const limn_mesh *a, const limn_mesh *b,
                               limn_mesh_comparison *out)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    limn_mesh_comparison r;
+    abi_call c;
     limn_status st =
-        abi_report_begin(ctx, "limn_mesh_compare", "out", &abi_mesh_comparison, out, &r);
-    if (st)
-        return st;
-    st = compare_sized(ctx, a, b, out ? &r : NULL);
-    abi_report_end(&abi_mesh_comparison, out, &r);
-    return st;
+        abi_enter_result(&c, ctx, "limn_mesh_compare", "out", &abi_mesh_comparison, out);
+    return st ? st : abi_leave(&c, compare_sized(ctx, a, b, c.report));
 }

@@ -11,11 +11,9 @@
 /* limn_mesh_info_compute into a result of this library's layout. */
 static limn_status info_sized(limn_context *ctx, const limn_mesh *mesh, limn_mesh_info *info)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!info)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_info_compute: info is NULL");
+    limn_status begun = abi_begin(ctx, "limn_mesh_info_compute", "info", info);
+    if (begun)
+        return begun;
     limn_status st = check_mesh(ctx, "limn_mesh_info_compute", NULL, mesh);
     if (st)
         return st;
@@ -48,15 +46,7 @@ static limn_status info_sized(limn_context *ctx, const limn_mesh *mesh, limn_mes
 
 limn_status limn_mesh_info_compute(limn_context *ctx, const limn_mesh *mesh, limn_mesh_info *info)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    limn_mesh_info r;
-    limn_status st =
-        abi_report_begin(ctx, "limn_mesh_info_compute", "info", &abi_mesh_info, info, &r);
-    if (st)
-        return st;
-    st = info_sized(ctx, mesh, info ? &r : NULL);
-    abi_report_end(&abi_mesh_info, info, &r);
-    return st;
+    abi_call c;
+    limn_status st = abi_enter_result(&c, ctx, "limn_mesh_info_compute", "info", &abi_mesh_info, info);
+    return st ? st : abi_leave(&c, info_sized(ctx, mesh, c.report));
 }

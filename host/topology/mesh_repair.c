@@ -425,18 +425,15 @@ static limn_status report_kept(limn_context *ctx, const limn_mesh *mesh, limn_re
     return LIMN_OK;
 }
 
-/* limn_mesh_repair on options and report of this library's layout. */
+/* limn_mesh_repair on options and report of this library's layout, both never NULL. */
 static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
                                 const limn_repair_options *options, limn_repair_report *report)
 {
     limn_status begun = abi_begin(ctx, "limn_mesh_repair", "mesh", mesh);
     if (begun)
         return begun;
-    limn_repair_options defaults;
-    limn_repair_options_default(&defaults);
-    const limn_repair_options *o = options ? options : &defaults;
-    limn_repair_report local;
-    limn_repair_report *r = report ? report : &local;
+    const limn_repair_options *o = options; /* never NULL: abi_enter's copies */
+    limn_repair_report *r = report;
     memset(r, 0, sizeof *r);
     r->first_duplicate_face = SIZE_MAX;
     r->faces_before = mesh->face_count;
