@@ -13,6 +13,113 @@
 #error ROWS_PER_ITEM is a build option (-D ROWS_PER_ITEM=DEVICE_ROWS_PER_ITEM, device.h)
 #endif
 
+/* A work-item's rows: [begin, end), ROWS_PER_ITEM of them from
+   first + item ROWS_PER_ITEM, cut at first + rows (sgs.cl's colours start at
+   first; every other kernel at 0). begin < end: the item has rows. */
+typedef struct item_rows {
+    uint item, begin, end;
+} item_rows;
+
+inline item_rows rows_of_item(uint first, uint rows)
+{
+    item_rows span;
+    span.item = (uint)get_global_id(0);
+    span.begin = first + span.item * ROWS_PER_ITEM;
+    span.end = min(first + rows, span.begin + ROWS_PER_ITEM);
+    return span;
+}
+
+/*
+ * Gathers prefetched ahead. On CPU devices (built with -D LIMN_PREFETCH=N by
+ * a clang-based compiler, as PoCL's), for tables whose gathers scatter over
+ * memory (device_csr.gather_ahead: a mesh refined in place, in its input
+ * order), the solve loop prefetches x[col[k + N]]: a step of a 2.1M-vertex
+ * refined mesh ran 13% (double) to 20% (float) faster. In a local order the
+ * extra work cost 4-17%, hence the flag. `last` is the table's last entry
+ * (ro[rows] - 1), so the look-ahead stays inside it. No result changes.
+ * Not on SPIR targets (Oclgrind): there the compiler takes the builtin but
+ * the device cannot run it (clCreateKernel fails); OpenCL's own prefetch()
+ * runs on PoCL at half the speed (a call per gather), so it is not used.
+ */
+#if defined(LIMN_PREFETCH) && defined(__has_builtin) && !defined(__SPIR__) && !defined(__SPIRV__)
+#if __has_builtin(__builtin_prefetch)
+#define GATHER_AHEAD(ahead, x, col, k, last)                                                   \
+    do {                                                                                       \
+        if (ahead)                                                                             \
+            __builtin_prefetch(&x[col[min((k) + LIMN_PREFETCH, last)]]);                       \
+    } while (0)
+#endif
+#endif
+#ifndef GATHER_AHEAD
+#define GATHER_AHEAD(ahead, x, col, k, last) ((void)0)
+#endif
+
+/* sum of w_k x_col(k) over the entries [from, to), in entry order (as
+   ref_row_product); without look-ahead. */
+inline double4 range_product(uint from, uint to, global const uint *col, global const double *w,
+                             global const double4 *x)
+{
+    double4 acc = (double4)(0.0);
+    for (uint k = from; k < to; k++)
+        acc += w[k] * x[col[k]];
+    return acc;
+}
+
+inline double4 row_product(uint i, global const uint *ro, global const uint *col,
+                           global const double *w, global const double4 *x)
+{
+    return range_product(ro[i], ro[i + 1], col, w, x);
+}
+
+/* Row i of A x with the gathers prefetched (GATHER_AHEAD), in double
+   (row_product_ahead) and in float (row_product_f, mixed.cl): the same sum
+   in the same order, so written once. */
+#define ROW_PRODUCT_AHEAD(name, real, vec)                                                     \
+    inline vec name(uint i, global const uint *ro, global const uint *col,                     \
+                    global const real *w, global const vec *x, uint last, uint ahead)          \
+    {                                                                                          \
+        vec acc = (vec)((real)0);                                                              \
+        for (uint k = ro[i]; k < ro[i + 1]; k++) {                                             \
+            GATHER_AHEAD(ahead, x, col, k, last);                                              \
+            acc += w[k] * x[col[k]];                                                           \
+        }                                                                                      \
+        return acc;                                                                            \
+    }
+ROW_PRODUCT_AHEAD(row_product_ahead, double, double4)
+ROW_PRODUCT_AHEAD(row_product_f, float, float4)
+
+/* Row i's residual b_i - (A x)_i (x, y, z; w = 0), component by component as
+   the reference backend: in double (residual_row) and float (residual_row_f). */
+#define RESIDUAL_ROW(name, product, real, vec)                                                 \
+    inline vec name(uint i, global const uint *ro, global const uint *col,                     \
+                    global const real *w, global const vec *b, global const vec *x,            \
+                    uint last, uint ahead)                                                     \
+    {                                                                                          \
+        vec acc = product(i, ro, col, w, x, last, ahead);                                      \
+        vec bi = b[i];                                                                         \
+        return (vec)(bi.x - acc.x, bi.y - acc.y, bi.z - acc.z, (real)0);                       \
+    }
+RESIDUAL_ROW(residual_row, row_product_ahead, double, double4)
+RESIDUAL_ROW(residual_row_f, row_product_f, float, float4)
+
+/* x + c1 (x - q) + c2 r over x, y, z (w = 0): a row of the two-term
+   recurrence (Chebyshev; c1 = 0: x + c2 r), in double (solve.cl's cheb_step)
+   and in float (mixed.cl's step_f). */
+#define RECURRENCE_ROW(name, real, vec)                                                        \
+    inline vec name(vec x, vec q, vec r, real c1, real c2)                                     \
+    {                                                                                          \
+        return (vec)(x.x + c1 * (x.x - q.x) + c2 * r.x, x.y + c1 * (x.y - q.y) + c2 * r.y,     \
+                     x.z + c1 * (x.z - q.z) + c2 * r.z, (real)0);                              \
+    }
+RECURRENCE_ROW(recurrence_row, double, double4)
+RECURRENCE_ROW(recurrence_row_f, float, float4)
+
+/* a . b over x, y, z, in that order. */
+inline double dot3(double4 a, double4 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
 /* Partial max |v|, sum |v|, sum |v|^2 of one work-item, in double, in the
    reference backend's order (ref_norms_add). */
 inline void accumulate_norms(double v0, double v1, double v2, double *mx, double *sum,
@@ -25,13 +132,14 @@ inline void accumulate_norms(double v0, double v1, double v2, double *mx, double
     *sq += s;
 }
 
-/* One work-item's partials; an item past the rows writes nothing. */
-inline void store_partials(global double *partials, uint item, uint begin, uint rows,
-                           double mx, double sum, double sq)
+/* One work-item's partials, at partials[3 slot]; an item without rows
+   writes nothing. */
+inline void store_partials(global double *partials, uint slot, item_rows span, double mx,
+                           double sum, double sq)
 {
-    if (begin < rows) {
-        partials[3 * item] = mx;
-        partials[3 * item + 1] = sum;
-        partials[3 * item + 2] = sq;
+    if (span.begin < span.end) {
+        partials[3 * slot] = mx;
+        partials[3 * slot + 1] = sum;
+        partials[3 * slot + 2] = sq;
     }
 }

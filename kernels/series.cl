@@ -3,7 +3,7 @@
  * Kernels for the mesh series (seed 000 §3, §5-7): one term of
  * M = sum_i (E - A)^i A M per launch, fused with the partial sums that the
  * filters need, plus a vector update and norms. Built in one program after
- * stencil.cl (row_product comes from there). Same conventions: ROWS_PER_ITEM
+ * common.cl (row_product comes from there). Same conventions: ROWS_PER_ITEM
  * consecutive rows per work-item, one partial reduction per item finished on
  * the host, FP_CONTRACT OFF so host/device_ref.c gives the same bits.
  */
@@ -24,11 +24,9 @@ kernel void series_step(uint rows, global const uint *ro, global const uint *col
                         global double4 *x_next, global double4 *ax, global double4 *acc,
                         int flags, int acc_mode, global double *partials)
 {
-    uint item = (uint)get_global_id(0);
-    uint begin = item * ROWS_PER_ITEM;
-    uint end = min(rows, begin + ROWS_PER_ITEM);
+    item_rows span = rows_of_item(0, rows);
     double mx = 0.0, sum = 0.0, sq = 0.0;
-    for (uint i = begin; i < end; i++) {
+    for (uint i = span.begin; i < span.end; i++) {
         double4 v = row_product(i, ro, col, w, x);
         double4 xi = x[i];
         if (flags & SERIES_STORE_AX)
@@ -43,29 +41,26 @@ kernel void series_step(uint rows, global const uint *ro, global const uint *col
             acc[i] = acc[i] + xi;
         accumulate_norms(v.x, v.y, v.z, &mx, &sum, &sq);
     }
-    store_partials(partials, item, begin, rows, mx, sum, sq);
+    store_partials(partials, span.item, span, mx, sum, sq);
 }
 
 /* out = a x + b y */
 kernel void axpby(uint rows, double a, global const double4 *x, double b,
                   global const double4 *y, global double4 *out)
 {
-    uint begin = (uint)get_global_id(0) * ROWS_PER_ITEM;
-    uint end = min(rows, begin + ROWS_PER_ITEM);
-    for (uint i = begin; i < end; i++)
+    item_rows span = rows_of_item(0, rows);
+    for (uint i = span.begin; i < span.end; i++)
         out[i] = a * x[i] + b * y[i];
 }
 
 /* Partial max, sum and sum of squares of |x_i| (x, y, z). */
 kernel void norms(uint rows, global const double4 *x, global double *partials)
 {
-    uint item = (uint)get_global_id(0);
-    uint begin = item * ROWS_PER_ITEM;
-    uint end = min(rows, begin + ROWS_PER_ITEM);
+    item_rows span = rows_of_item(0, rows);
     double mx = 0.0, sum = 0.0, sq = 0.0;
-    for (uint i = begin; i < end; i++) {
+    for (uint i = span.begin; i < span.end; i++) {
         double4 v = x[i];
         accumulate_norms(v.x, v.y, v.z, &mx, &sum, &sq);
     }
-    store_partials(partials, item, begin, rows, mx, sum, sq);
+    store_partials(partials, span.item, span, mx, sum, sq);
 }

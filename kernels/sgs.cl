@@ -14,20 +14,6 @@
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #pragma OPENCL FP_CONTRACT OFF
 
-inline double4 sgs_part(uint from, uint to, global const uint *col, global const double *w,
-                        global const double4 *x)
-{
-    double4 acc = (double4)(0.0);
-    for (uint k = from; k < to; k++)
-        acc += w[k] * x[col[k]];
-    return acc;
-}
-
-inline double sgs_dot3(double4 a, double4 b)
-{
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-
 /* One colour of the backward sweep: phat = rhat + beta phat;
    t = (sqrt(d) phat - sum over higher colours S_ij t_j) / d */
 kernel void sgs_upper(uint rows, uint first, global const uint *ro, global const uint *col,
@@ -35,14 +21,13 @@ kernel void sgs_upper(uint rows, uint first, global const uint *ro, global const
                       global const double4 *info, global const double4 *rhat,
                       global double4 *phat, global double4 *t, double beta)
 {
-    uint begin = first + (uint)get_global_id(0) * ROWS_PER_ITEM;
-    uint end = min(first + rows, begin + ROWS_PER_ITEM);
-    for (uint i = begin; i < end; i++) {
+    item_rows span = rows_of_item(first, rows);
+    for (uint i = span.begin; i < span.end; i++) {
         double4 in = info[i];
         double4 p = rhat[i] + beta * phat[i];
         p.w = 0.0;
         phat[i] = p;
-        double4 acc = sgs_part(split[i], ro[i + 1], col, w, t);
+        double4 acc = range_product(split[i], ro[i + 1], col, w, t);
         double4 ti = (in.y * p - acc) / in.x;
         ti.w = 0.0;
         t[i] = ti;
@@ -59,11 +44,9 @@ kernel void sgs_lower(uint rows, uint first, global const uint *ro, global const
                       global double4 *t, global double4 *u, global double4 *st,
                       global double4 *rhat, global double *partials, uint base, int start)
 {
-    uint item = (uint)get_global_id(0);
-    uint begin = first + item * ROWS_PER_ITEM;
-    uint end = min(first + rows, begin + ROWS_PER_ITEM);
+    item_rows span = rows_of_item(first, rows);
     double mx = 0.0, sum = 0.0;
-    for (uint i = begin; i < end; i++) {
+    for (uint i = span.begin; i < span.end; i++) {
         double4 in = info[i];
         uint lo = ro[i], mid = split[i], hi = ro[i + 1];
         if (start) {
@@ -73,16 +56,16 @@ kernel void sgs_lower(uint rows, uint first, global const uint *ro, global const
                 lx += w[k] * x[j];
                 lu += w[k] * u[j];
             }
-            double4 ri = b[i] - ((in.x * x[i] + lx) + sgs_part(mid, hi, col, w, x));
+            double4 ri = b[i] - ((in.x * x[i] + lx) + range_product(mid, hi, col, w, x));
             ri.w = 0.0;
             r[i] = ri;
-            double len = in.z * sqrt(sgs_dot3(ri, ri));
+            double len = in.z * sqrt(dot3(ri, ri));
             mx = len > mx ? len : mx;
             double4 ui = (ri - lu) / in.x;
             u[i] = ui;
             double4 rh = in.y * ui;
             rhat[i] = rh;
-            sum += sgs_dot3(rh, rh);
+            sum += dot3(rh, rh);
         } else {
             double4 lt = (double4)(0.0), lu = (double4)(0.0);
             for (uint k = lo; k < mid; k++) {
@@ -98,14 +81,10 @@ kernel void sgs_lower(uint rows, uint first, global const uint *ro, global const
             double4 sti = v + lt;
             sti.w = 0.0;
             st[i] = sti;
-            sum += sgs_dot3(p, in.y * (ti + ui));
+            sum += dot3(p, in.y * (ti + ui));
         }
     }
-    if (begin < first + rows) {
-        partials[3 * (base + item)] = mx;
-        partials[3 * (base + item) + 1] = sum;
-        partials[3 * (base + item) + 2] = 0.0;
-    }
+    store_partials(partials, base + span.item, span, mx, sum, 0.0);
 }
 
 /* x += alpha t; r -= alpha st; rhat -= alpha sqrt(d) (t + u);
@@ -115,11 +94,9 @@ kernel void sgs_update(uint rows, global const double4 *info, global const doubl
                        global double4 *r, global double4 *rhat, double alpha,
                        global double *partials)
 {
-    uint item = (uint)get_global_id(0);
-    uint begin = item * ROWS_PER_ITEM;
-    uint end = min(rows, begin + ROWS_PER_ITEM);
+    item_rows span = rows_of_item(0, rows);
     double mx = 0.0, sum = 0.0;
-    for (uint i = begin; i < end; i++) {
+    for (uint i = span.begin; i < span.end; i++) {
         double4 in = info[i], ti = t[i];
         double4 xi = x[i] + alpha * ti;
         double4 ri = r[i] - alpha * st[i];
@@ -128,9 +105,9 @@ kernel void sgs_update(uint rows, global const double4 *info, global const doubl
         x[i] = xi;
         r[i] = ri;
         rhat[i] = rh;
-        double len = in.z * sqrt(sgs_dot3(ri, ri));
+        double len = in.z * sqrt(dot3(ri, ri));
         mx = len > mx ? len : mx;
-        sum += sgs_dot3(rh, rh);
+        sum += dot3(rh, rh);
     }
-    store_partials(partials, item, begin, rows, mx, sum, 0.0);
+    store_partials(partials, span.item, span, mx, sum, 0.0);
 }

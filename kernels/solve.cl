@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * Kernels of the conjugate-gradient solver (host/solve_cg.c), built into the
- * same program as stencil.cl (row_product). Same conventions: ROWS_PER_ITEM
+ * same program after common.cl (row_product, residual_row, dot3). Same conventions: ROWS_PER_ITEM
  * consecutive rows per work-item, one partial reduction per item finished on
  * the host in item order, arithmetic identical to device_ref.c.
  * Vectors are 4 doubles per row (x, y, z used); dinv holds one double per row.
@@ -14,18 +14,14 @@ kernel void spmv_dot(uint rows, global const uint *ro, global const uint *col,
                      global const double *w, global const double4 *x, global double4 *y,
                      global const double *dinv, global double *partials)
 {
-    uint item = (uint)get_global_id(0);
-    uint begin = item * ROWS_PER_ITEM;
-    uint end = min(rows, begin + ROWS_PER_ITEM);
+    item_rows span = rows_of_item(0, rows);
     double sum = 0.0;
-    for (uint i = begin; i < end; i++) {
+    for (uint i = span.begin; i < span.end; i++) {
         double4 acc = row_product(i, ro, col, w, x);
         y[i] = acc;
-        double4 xi = x[i];
-        double d = xi.x * acc.x + xi.y * acc.y + xi.z * acc.z;
-        sum += dinv[i] * d;
+        sum += dinv[i] * dot3(x[i], acc);
     }
-    store_partials(partials, item, begin, rows, 0.0, sum, 0.0);
+    store_partials(partials, span.item, span, 0.0, sum, 0.0);
 }
 
 /* x += alpha p; z -= alpha q; partials: max |z_i|, sum dinv_i |z_i|^2, sum |z_i|^2 */
@@ -33,48 +29,40 @@ kernel void pcg_update(uint rows, double alpha, global const double4 *p,
                        global const double4 *q, global double4 *x, global double4 *z,
                        global const double *dinv, global double *partials)
 {
-    uint item = (uint)get_global_id(0);
-    uint begin = item * ROWS_PER_ITEM;
-    uint end = min(rows, begin + ROWS_PER_ITEM);
+    item_rows span = rows_of_item(0, rows);
     double mx = 0.0, rz = 0.0, sq = 0.0;
-    for (uint i = begin; i < end; i++) {
+    for (uint i = span.begin; i < span.end; i++) {
         double4 pi = p[i], qi = q[i], xi = x[i], zi = z[i];
         xi = (double4)(xi.x + alpha * pi.x, xi.y + alpha * pi.y, xi.z + alpha * pi.z, 0.0);
         zi = (double4)(zi.x - alpha * qi.x, zi.y - alpha * qi.y, zi.z - alpha * qi.z, 0.0);
         x[i] = xi;
         z[i] = zi;
-        double s = zi.x * zi.x + zi.y * zi.y + zi.z * zi.z;
+        double s = dot3(zi, zi);
         double len = sqrt(s);
         mx = len > mx ? len : mx;
         rz += dinv[i] * s;
         sq += s;
     }
-    store_partials(partials, item, begin, rows, mx, rz, sq);
+    store_partials(partials, span.item, span, mx, rz, sq);
 }
 
 /* One step of a two-term recurrence (Chebyshev iteration, host/interpolate.c):
    r = m - A p; prev_next = p + c1 (p - prev_next) + c2 r, row by row (each row
    reads its own prev value before writing it, so one buffer holds x_{k-1} in
    and x_{k+1} out); partials as interp_step. c1 = 0 gives p + c2 r.
-   ahead: prefetch the gathers (stencil.cl, GATHER_AHEAD). */
+   ahead: prefetch the gathers (common.cl, GATHER_AHEAD). */
 kernel void cheb_step(uint rows, global const uint *ro, global const uint *col,
                       global const double *w, global const double4 *m,
                       global const double4 *p, global double4 *prev_next,
                       global double *partials, double c1, double c2, uint ahead)
 {
-    uint item = (uint)get_global_id(0);
-    uint begin = item * ROWS_PER_ITEM;
-    uint end = min(rows, begin + ROWS_PER_ITEM);
+    item_rows span = rows_of_item(0, rows);
     double mx = 0.0, sum = 0.0, sq = 0.0;
     uint last = ro[rows] - 1;
-    for (uint i = begin; i < end; i++) {
-        double4 acc = row_product_ahead(i, ro, col, w, p, last, ahead);
-        double4 mi = m[i], pi = p[i], qi = prev_next[i];
-        double r0 = mi.x - acc.x, r1 = mi.y - acc.y, r2 = mi.z - acc.z;
-        prev_next[i] = (double4)(pi.x + c1 * (pi.x - qi.x) + c2 * r0,
-                                 pi.y + c1 * (pi.y - qi.y) + c2 * r1,
-                                 pi.z + c1 * (pi.z - qi.z) + c2 * r2, 0.0);
-        accumulate_norms(r0, r1, r2, &mx, &sum, &sq);
+    for (uint i = span.begin; i < span.end; i++) {
+        double4 ri = residual_row(i, ro, col, w, m, p, last, ahead);
+        prev_next[i] = recurrence_row(p[i], prev_next[i], ri, c1, c2);
+        accumulate_norms(ri.x, ri.y, ri.z, &mx, &sum, &sq);
     }
-    store_partials(partials, item, begin, rows, mx, sum, sq);
+    store_partials(partials, span.item, span, mx, sum, sq);
 }

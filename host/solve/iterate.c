@@ -9,6 +9,7 @@
 #include "mesh/check.h"
 #include "base/context.h"
 #include "solve/solve.h"
+#include "solve/solver.h"
 #include "solve/monitor.h"
 
 #include <math.h>
@@ -26,11 +27,11 @@ const char *limn_method_name(limn_method m)
     return "unknown";
 }
 
+/* The registered method's update (solver.c); the paper's for an unknown one. */
 solve_kind solve_kind_of(limn_method method)
 {
-    return method == LIMN_METHOD_WEIGHTED    ? SOLVE_WEIGHTED
-           : method == LIMN_METHOD_CHEBYSHEV ? SOLVE_CHEBYSHEV
-                                             : SOLVE_PAPER;
+    const solver_ops *ops = solver_find(method);
+    return ops ? ops->kind : SOLVE_PAPER;
 }
 
 limn_status solve_check_options(limn_context *ctx, const limn_interpolate_options *o)

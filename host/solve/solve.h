@@ -15,22 +15,6 @@ typedef struct solve_stats {
                             without buffer and table set-up or first-launch compiles */
 } solve_stats;
 
-/*
- * Tiered, D-preconditioned conjugate gradients (solve_cg.c). m4: M in the
- * operator's row order, 4 doubles per row; p4 receives P. Returns
- * LIMN_ERR_TOPOLOGY, without a message, when A is not block triangular by
- * vertex rule (the caller then falls back to the seeds' iteration).
- */
-limn_status solve_cg(limn_context *ctx, const stencil_operator *op, const double *m4,
-                     double tol_abs, int max_iter, double *p4, solve_stats *stats);
-
-/*
- * The same tiers, each block solved by CG preconditioned by multicolour
- * symmetric Gauss-Seidel (solve_sgs.c); same contract as solve_cg.
- */
-limn_status solve_sgs(limn_context *ctx, const stencil_operator *op, const double *m4,
-                      double tol_abs, int max_iter, double *p4, solve_stats *stats);
-
 /* One tier's block A x = b (rows of table a, 4 doubles a row in b and x0,
    dinv = 1 / row scale, so that dinv A is symmetric); the answer returns in
    x0. on_device: a's copy on the device when it has one, else NULL. */
@@ -39,15 +23,13 @@ typedef limn_status (*solve_block_fn)(limn_context *ctx, struct device *dev,
                                       const double *b, double *x0, const double *dinv,
                                       double tol_abs, int max_iter, double n_total,
                                       solve_stats *stats);
-limn_status solve_block_jacobi(limn_context *ctx, struct device *dev, const stencil_csr *a,
-                               const device_csr *on_device, const double *b, double *x0,
-                               const double *dinv, double tol_abs, int max_iter, double n_total,
-                               solve_stats *stats);
-limn_status solve_block_sgs(limn_context *ctx, struct device *dev, const stencil_csr *a,
-                            const device_csr *on_device, const double *b, double *x0,
-                            const double *dinv, double tol_abs, int max_iter, double n_total,
-                            solve_stats *stats);
-/* Pinned rows P = M, then the crease and the smooth block (solve_cg.c). */
+/* The tiers' block solvers: D-preconditioned CG (solve_cg.c, solver_cg) and
+   CG preconditioned by multicolour symmetric Gauss-Seidel (solve_sgs.c,
+   solver_sgs) are filled into their solver_ops. */
+/* Pinned rows P = M, then the crease and the smooth block (solve_cg.c).
+   m4: M in the operator's row order, 4 doubles per row; p4 receives P.
+   LIMN_ERR_TOPOLOGY, without a message, when A is not block triangular by
+   vertex rule (the caller then falls back to the seeds' iteration). */
 limn_status solve_tiers(limn_context *ctx, const stencil_operator *op, const double *m4,
                         double tol_abs, int max_iter, double *p4, solve_block_fn solve_block,
                         solve_stats *stats);

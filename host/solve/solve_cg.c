@@ -206,10 +206,11 @@ static limn_status pcg(limn_context *ctx, struct device *dev, const device_csr *
 
 /* The D-preconditioned block solve (solve_block_fn): the block's table is
    uploaded unless it is the operator's own. */
-limn_status solve_block_jacobi(limn_context *ctx, struct device *dev, const stencil_csr *a,
-                               const device_csr *on_device, const double *b, double *x0,
-                               const double *dinv, double tol_abs, int max_iter, double n_total,
-                               solve_stats *stats)
+static limn_status solve_block_jacobi(limn_context *ctx, struct device *dev,
+                                      const stencil_csr *a, const device_csr *on_device,
+                                      const double *b, double *x0, const double *dinv,
+                                      double tol_abs, int max_iter, double n_total,
+                                      solve_stats *stats)
 {
     if (on_device)
         return pcg(ctx, dev, on_device, a->rows, b, x0, dinv, tol_abs, max_iter, n_total, stats);
@@ -289,17 +290,11 @@ limn_status solve_tiers(limn_context *ctx, const stencil_operator *op, const dou
     return st;
 }
 
-limn_status solve_cg(limn_context *ctx, const stencil_operator *op, const double *m4,
-                     double tol_abs, int max_iter, double *p4, solve_stats *stats)
-{
-    return solve_tiers(ctx, op, m4, tol_abs, max_iter, p4, solve_block_jacobi, stats);
-}
-
 /* CG gives the start; the seeds' step measures its residual. */
 const solver_ops solver_cg = {
     .method = LIMN_METHOD_CG,
     .kind = SOLVE_PAPER,
-    .start = solve_cg,
+    .block = solve_block_jacobi,
     .long_name = "conjugate gradients",
     .fallback_reason = "cg cannot run on this operator (not block triangular)",
 };

@@ -64,10 +64,10 @@ static limn_status run(limn_context *ctx, struct device *dev, const device_sgs *
     return st;
 }
 
-limn_status solve_block_sgs(limn_context *ctx, struct device *dev, const stencil_csr *a,
-                            const device_csr *on_device, const double *b, double *x0,
-                            const double *dinv, double tol_abs, int max_iter, double n_total,
-                            solve_stats *stats)
+static limn_status solve_block_sgs(limn_context *ctx, struct device *dev, const stencil_csr *a,
+                                   const device_csr *on_device, const double *b, double *x0,
+                                   const double *dinv, double tol_abs, int max_iter, double n_total,
+                                   solve_stats *stats)
 {
     (void)on_device; /* the sweeps need their own layout */
     size_t n = a->rows;
@@ -122,17 +122,11 @@ limn_status solve_block_sgs(limn_context *ctx, struct device *dev, const stencil
     return st;
 }
 
-limn_status solve_sgs(limn_context *ctx, const stencil_operator *op, const double *m4,
-                      double tol_abs, int max_iter, double *p4, solve_stats *stats)
-{
-    return solve_tiers(ctx, op, m4, tol_abs, max_iter, p4, solve_block_sgs, stats);
-}
-
 /* SGS-preconditioned CG gives the start; the seeds' step measures its residual. */
 const solver_ops solver_sgs = {
     .method = LIMN_METHOD_SGS,
     .kind = SOLVE_PAPER,
-    .start = solve_sgs,
+    .block = solve_block_sgs,
     .long_name = "sgs (Gauss-Seidel-preconditioned CG)",
     .fallback_reason = "sgs cannot run on this operator (see the warning)",
 };

@@ -50,7 +50,7 @@ void solver_destroy(solver *s)
     memset(s, 0, sizeof *s);
 }
 
-/* The method's start in host arrays: P in buf on success; on
+/* The method's start (its tiers' blocks) in host arrays: P in buf on success; on
    LIMN_ERR_TOPOLOGY the warning, and the solver becomes the paper method. */
 static limn_status run_start(solver *s, const stencil_operator *op, double tol_abs, double *buf,
                              limn_report *r)
@@ -62,7 +62,8 @@ static limn_status run_start(solver *s, const stencil_operator *op, double tol_a
     if (!p4)
         st = ctx_fail(s->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
     else
-        st = s->ops->start(s->ctx, op, buf, tol_abs, s->o->max_iterations, p4, &stats);
+        st = solve_tiers(s->ctx, op, buf, tol_abs, s->o->max_iterations, p4, s->ops->block,
+                         &stats);
     if (st == LIMN_ERR_TOPOLOGY) {
         ctx_warn(s->ctx, "%s needs the limit operator to be block triangular by vertex rule "
                          "with symmetric, positive blocks, which this mesh's is not: used the "
@@ -108,7 +109,7 @@ limn_status solver_solve(solver *s, stencil_operator *op, double diag, double *b
     /* a start (CG) gives P; the stationary loop below measures its residual on
        the whole system (and polishes, should rounding leave it short) */
     limn_status st = s->dev->ops->buffer_create(s->dev, 4 * n * sizeof(double), buf, &s->m);
-    if (!st && s->ops->start)
+    if (!st && s->ops->block)
         st = run_start(s, op, o->tolerance * diag, buf, r);
     if (!st)
         st = s->dev->ops->buffer_create(s->dev, 4 * n * sizeof(double), buf, &s->p[0]);

@@ -17,12 +17,12 @@ typedef struct solver_ops {
     limn_method method;
     int floats;      /* may take float corrections (--precision float, solve_mixed.c) */
     solve_kind kind; /* the finishing loop's update */
-    /* Optional: P in host arrays (m4 in, p4 out, the operator's row order);
+    /* Optional: the start, a Krylov solve tier by tier (solve_tiers,
+       solve_cg.c) with this solver of one tier's block, in host arrays.
        LIMN_ERR_TOPOLOGY without a message when the operator does not suit
        it: the solver then falls back to the paper method with a warning
        that names it `long_name` and the report reason `fallback_reason`. */
-    limn_status (*start)(limn_context *ctx, const stencil_operator *op, const double *m4,
-                         double tol_abs, int max_iter, double *p4, solve_stats *stats);
+    solve_block_fn block;
     const char *long_name;
     const char *fallback_reason;
 } solver_ops;

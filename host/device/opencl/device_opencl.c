@@ -59,50 +59,49 @@ static limn_status cl_buffer_create(struct device *dev, size_t bytes, const void
     return LIMN_OK;
 }
 
+/* One blocking transfer between buf's bytes [offset, offset + bytes) and the
+   host: from src when it is given (a write), else to dst. The _at forms skip
+   an empty transfer; the whole-buffer forms enqueue it, as they always have. */
+static limn_status transfer(struct device *dev, device_buffer *buf, size_t offset, size_t bytes,
+                            const void *src, void *dst, int skip_empty)
+{
+    if (offset > buf->bytes || bytes > buf->bytes - offset)
+        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer %s past its end",
+                         src ? "write" : "read");
+    if (!bytes && skip_empty)
+        return LIMN_OK;
+    cl_command_queue q = impl_of(dev)->queue;
+    if (src)
+        CHECK(clEnqueueWriteBuffer(q, buf->mem, CL_TRUE, offset, bytes, src, 0, NULL, NULL),
+              "clEnqueueWriteBuffer");
+    else
+        CHECK(clEnqueueReadBuffer(q, buf->mem, CL_TRUE, offset, bytes, dst, 0, NULL, NULL),
+              "clEnqueueReadBuffer");
+    return LIMN_OK;
+}
+
 static limn_status cl_buffer_write(struct device *dev, device_buffer *buf, size_t bytes,
                                    const void *src)
 {
-    if (bytes > buf->bytes)
-        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
-    CHECK(clEnqueueWriteBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, 0, bytes, src, 0, NULL,
-                               NULL),
-          "clEnqueueWriteBuffer");
-    return LIMN_OK;
+    return transfer(dev, buf, 0, bytes, src, NULL, 0);
 }
 
 static limn_status cl_buffer_read(struct device *dev, device_buffer *buf, size_t bytes,
                                   void *dst)
 {
-    if (bytes > buf->bytes)
-        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
-    CHECK(clEnqueueReadBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, 0, bytes, dst, 0, NULL,
-                              NULL),
-          "clEnqueueReadBuffer");
-    return LIMN_OK;
+    return transfer(dev, buf, 0, bytes, NULL, dst, 0);
 }
 
 static limn_status cl_buffer_write_at(struct device *dev, device_buffer *buf,
                                       size_t offset, size_t bytes, const void *src)
 {
-    if (offset > buf->bytes || bytes > buf->bytes - offset)
-        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer write past its end");
-    if (bytes)
-        CHECK(clEnqueueWriteBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, offset, bytes, src, 0,
-                                   NULL, NULL),
-              "clEnqueueWriteBuffer");
-    return LIMN_OK;
+    return transfer(dev, buf, offset, bytes, src, NULL, 1);
 }
 
 static limn_status cl_buffer_read_at(struct device *dev, device_buffer *buf, size_t offset,
                                      size_t bytes, void *dst)
 {
-    if (offset > buf->bytes || bytes > buf->bytes - offset)
-        return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
-    if (bytes)
-        CHECK(clEnqueueReadBuffer(impl_of(dev)->queue, buf->mem, CL_TRUE, offset, bytes, dst, 0,
-                                  NULL, NULL),
-              "clEnqueueReadBuffer");
-    return LIMN_OK;
+    return transfer(dev, buf, offset, bytes, NULL, dst, 1);
 }
 
 static void cl_buffer_release(struct device *dev, device_buffer *buf)
@@ -227,25 +226,30 @@ limn_status opencl_ensure_partials(struct device *dev, size_t first_item, size_t
     return LIMN_OK;
 }
 
-limn_status opencl_begin_reduce(struct device *dev, opencl_kernel_id id,
-                                const device_csr *a, device_buffer *weights, cl_kernel *k)
+limn_status opencl_reduce(struct device *dev, opencl_kernel_id id, const device_csr *a,
+                          device_buffer *weights, const opencl_arg *args, size_t count,
+                          device_norms *out)
 {
-    *k = impl_of(dev)->kernels[id];
-    limn_status st = opencl_ensure_partials(dev, opencl_first_item(a), a->rows);
-    return st ? st : opencl_set_csr_args(dev, *k, a, weights);
+    cl_kernel k = impl_of(dev)->kernels[id];
+    size_t first = opencl_first_item(a);
+    limn_status st = opencl_ensure_partials(dev, first, a->rows);
+    if (!st)
+        st = opencl_set_csr_args(dev, k, a, weights);
+    if (!st)
+        st = opencl_bind(dev, k, 4, args, count);
+    if (!st)
+        st = opencl_launch(dev, id, first, a->rows);
+    return st ? st : opencl_finish_partials(dev, first, a->rows, out);
 }
 
-limn_status opencl_end_reduce(struct device *dev, opencl_kernel_id id, const device_csr *a,
-                              device_norms *out)
+limn_status opencl_reduce_rows(struct device *dev, opencl_kernel_id id, size_t rows,
+                               const opencl_arg *args, size_t count, device_norms *out)
 {
-    limn_status st = opencl_launch(dev, id, opencl_first_item(a), a->rows);
-    return st ? st : opencl_finish_partials(dev, opencl_first_item(a), a->rows, out);
-}
-
-limn_status opencl_end_rows(struct device *dev, opencl_kernel_id id, size_t rows,
-                            device_norms *out)
-{
-    limn_status st = opencl_launch(dev, id, 0, rows);
+    limn_status st = opencl_ensure_partials(dev, 0, rows);
+    if (!st)
+        st = opencl_bind(dev, impl_of(dev)->kernels[id], 0, args, count);
+    if (!st)
+        st = opencl_launch(dev, id, 0, rows);
     return st ? st : opencl_finish_partials(dev, 0, rows, out);
 }
 
@@ -268,16 +272,11 @@ static limn_status cl_interp_step(struct device *dev, const device_csr *a,
                                   double omega, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    cl_kernel k;
-    limn_status st = opencl_begin_reduce(dev, K_INTERP_STEP, a, a->weights, &k);
-    if (st)
-        return st;
     cl_uint ahead = (cl_uint)a->gather_ahead;
     opencl_arg args[] = {OPENCL_MEM(m, "m"), OPENCL_MEM(p, "p"), OPENCL_MEM(p_next, "p_next"),
                          OPENCL_VALUE(im->partials, "partials"), OPENCL_VALUE(omega, "omega"),
                          OPENCL_VALUE(ahead, "ahead")};
-    st = opencl_bind(dev, k, 4, args, 6);
-    return st ? st : opencl_end_reduce(dev, K_INTERP_STEP, a, norms);
+    return opencl_reduce(dev, K_INTERP_STEP, a, a->weights, args, 6, norms);
 }
 
 static limn_status cl_series_step(struct device *dev, const device_csr *a,
@@ -286,10 +285,6 @@ static limn_status cl_series_step(struct device *dev, const device_csr *a,
                                   device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    cl_kernel k;
-    limn_status st = opencl_begin_reduce(dev, K_SERIES_STEP, a, a->weights, &k);
-    if (st)
-        return st;
     /* buffers this launch does not use are bound to x and never touched */
     cl_mem xn = (flags & SERIES_STORE_NEXT) ? x_next->mem : x->mem;
     cl_mem axm = (flags & SERIES_STORE_AX) ? ax->mem : x->mem;
@@ -299,8 +294,7 @@ static limn_status cl_series_step(struct device *dev, const device_csr *a,
                          OPENCL_VALUE(axm, "ax"),      OPENCL_VALUE(accm, "acc"),
                          OPENCL_VALUE(fl, "flags"),    OPENCL_VALUE(mode, "acc_mode"),
                          OPENCL_VALUE(im->partials, "partials")};
-    st = opencl_bind(dev, k, 4, args, 7);
-    return st ? st : opencl_end_reduce(dev, K_SERIES_STEP, a, norms);
+    return opencl_reduce(dev, K_SERIES_STEP, a, a->weights, args, 7, norms);
 }
 
 static limn_status cl_axpby(struct device *dev, size_t rows, double a, device_buffer *x,
@@ -317,32 +311,19 @@ static limn_status cl_axpby(struct device *dev, size_t rows, double a, device_bu
 static limn_status cl_norms(struct device *dev, size_t rows, device_buffer *x,
                             device_norms *out)
 {
-    opencl_impl *im = impl_of(dev);
-    limn_status st = opencl_ensure_partials(dev, 0, rows);
-    if (st)
-        return st;
-    cl_kernel k = im->kernels[K_NORMS];
     cl_uint r = (cl_uint)rows;
     opencl_arg args[] = {OPENCL_VALUE(r, "rows"), OPENCL_MEM(x, "x"),
-                         OPENCL_VALUE(im->partials, "partials")};
-    st = opencl_bind(dev, k, 0, args, 3);
-    return st ? st : opencl_end_rows(dev, K_NORMS, rows, out);
+                         OPENCL_VALUE(impl_of(dev)->partials, "partials")};
+    return opencl_reduce_rows(dev, K_NORMS, rows, args, 3, out);
 }
 
 static limn_status cl_spmv_dot(struct device *dev, const device_csr *a, device_buffer *x,
                                device_buffer *y, device_buffer *dinv, double *dot)
 {
-    opencl_impl *im = impl_of(dev);
-    cl_kernel k;
-    limn_status st = opencl_begin_reduce(dev, K_SPMV_DOT, a, a->weights, &k);
-    if (st)
-        return st;
     opencl_arg args[] = {OPENCL_MEM(x, "x"), OPENCL_MEM(y, "y"), OPENCL_MEM(dinv, "dinv"),
-                         OPENCL_VALUE(im->partials, "partials")};
+                         OPENCL_VALUE(impl_of(dev)->partials, "partials")};
     device_norms n;
-    st = opencl_bind(dev, k, 4, args, 4);
-    if (!st)
-        st = opencl_end_reduce(dev, K_SPMV_DOT, a, &n);
+    limn_status st = opencl_reduce(dev, K_SPMV_DOT, a, a->weights, args, 4, &n);
     if (!st)
         *dot = n.sum;
     return st;
@@ -353,18 +334,13 @@ static limn_status cl_cheb_step(struct device *dev, const device_csr *a,
                                 double c1, double c2, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    cl_kernel k;
-    limn_status st = opencl_begin_reduce(dev, K_CHEB_STEP, a, a->weights, &k);
-    if (st)
-        return st;
     cl_uint ahead = (cl_uint)a->gather_ahead;
     opencl_arg args[] = {OPENCL_MEM(m, "m"),       OPENCL_MEM(p, "p"),
                          OPENCL_MEM(prev_next, "prev_next"),
                          OPENCL_VALUE(im->partials, "partials"),
                          OPENCL_VALUE(c1, "c1"),   OPENCL_VALUE(c2, "c2"),
                          OPENCL_VALUE(ahead, "ahead")};
-    st = opencl_bind(dev, k, 4, args, 7);
-    return st ? st : opencl_end_reduce(dev, K_CHEB_STEP, a, norms);
+    return opencl_reduce(dev, K_CHEB_STEP, a, a->weights, args, 7, norms);
 }
 
 static limn_status cl_pcg_update(struct device *dev, size_t rows, double alpha,
@@ -372,17 +348,12 @@ static limn_status cl_pcg_update(struct device *dev, size_t rows, double alpha,
                                  device_buffer *z, device_buffer *dinv, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    limn_status st = opencl_ensure_partials(dev, 0, rows);
-    if (st)
-        return st;
-    cl_kernel k = im->kernels[K_PCG_UPDATE];
     cl_uint r = (cl_uint)rows;
     opencl_arg args[] = {OPENCL_VALUE(r, "rows"), OPENCL_VALUE(alpha, "alpha"),
                          OPENCL_MEM(p, "p"),      OPENCL_MEM(q, "q"),
                          OPENCL_MEM(x, "x"),      OPENCL_MEM(z, "z"),
                          OPENCL_MEM(dinv, "dinv"), OPENCL_VALUE(im->partials, "partials")};
-    st = opencl_bind(dev, k, 0, args, 8);
-    return st ? st : opencl_end_rows(dev, K_PCG_UPDATE, rows, norms);
+    return opencl_reduce_rows(dev, K_PCG_UPDATE, rows, args, 8, norms);
 }
 
 static void cl_close(struct device *dev)

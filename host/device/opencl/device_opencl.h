@@ -97,16 +97,16 @@ limn_status opencl_ensure_partials(struct device *dev, size_t first_item, size_t
 /* Reads those partial norms and finishes them in chunk order. */
 limn_status opencl_finish_partials(struct device *dev, size_t first_item, size_t rows,
                                    device_norms *out);
-/* For a reducing kernel over table a: room for its partials, the table bound
-   as arguments 0-3 (with `weights`); *k is the kernel for its own arguments. */
-limn_status opencl_begin_reduce(struct device *dev, opencl_kernel_id id,
-                                const device_csr *a, device_buffer *weights, cl_kernel *k);
-/* Launches it over a's rows and finishes its partial norms into out. */
-limn_status opencl_end_reduce(struct device *dev, opencl_kernel_id id, const device_csr *a,
-                              device_norms *out);
-/* The same for a kernel over rows [0, rows) without a table. */
-limn_status opencl_end_rows(struct device *dev, opencl_kernel_id id, size_t rows,
-                            device_norms *out);
+/* A reducing kernel over table a: room for its partials, the table bound as
+   arguments 0-3 (with `weights`), args[0 .. count) from argument 4, the
+   launch over a's rows, its partial norms finished into out. An argument
+   that names im->partials is read when bound, after the room is made. */
+limn_status opencl_reduce(struct device *dev, opencl_kernel_id id, const device_csr *a,
+                          device_buffer *weights, const opencl_arg *args, size_t count,
+                          device_norms *out);
+/* The same for a kernel over rows [0, rows) without a table: args from 0. */
+limn_status opencl_reduce_rows(struct device *dev, opencl_kernel_id id, size_t rows,
+                               const opencl_arg *args, size_t count, device_norms *out);
 
 /* The float family (device_opencl_mixed.c) and the sweeps (device_opencl_sgs.c). */
 extern const device_mixed_ops cl_mixed_ops;

@@ -7,15 +7,10 @@ static limn_status cl_residual_f(struct device *dev, const device_csr *a, device
                                  device_buffer *p, device_buffer *r_f, device_norms *norms)
 {
     opencl_impl *im = impl_of(dev);
-    cl_kernel k;
-    limn_status st = opencl_begin_reduce(dev, K_RESIDUAL_F, a, a->weights, &k);
-    if (st)
-        return st;
     cl_uint ahead = (cl_uint)a->gather_ahead;
     opencl_arg args[] = {OPENCL_MEM(m, "m"), OPENCL_MEM(p, "p"), OPENCL_MEM(r_f, "r_f"),
                          OPENCL_VALUE(im->partials, "partials"), OPENCL_VALUE(ahead, "ahead")};
-    st = opencl_bind(dev, k, 4, args, 5);
-    return st ? st : opencl_end_reduce(dev, K_RESIDUAL_F, a, norms);
+    return opencl_reduce(dev, K_RESIDUAL_F, a, a->weights, args, 5, norms);
 }
 
 static limn_status cl_step_f(struct device *dev, const device_csr *a, device_buffer *b,
@@ -25,18 +20,13 @@ static limn_status cl_step_f(struct device *dev, const device_csr *a, device_buf
     opencl_impl *im = impl_of(dev);
     if (!a->weights_f)
         return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "step_f: no float weights");
-    cl_kernel k;
-    limn_status st = opencl_begin_reduce(dev, K_STEP_F, a, a->weights_f, &k);
-    if (st)
-        return st;
     cl_uint ahead = (cl_uint)a->gather_ahead;
     opencl_arg args[] = {OPENCL_MEM(b, "b"),       OPENCL_MEM(d, "d"),
                          OPENCL_MEM(prev, "prev"), OPENCL_MEM(next, "next"),
                          OPENCL_VALUE(im->partials, "partials"),
                          OPENCL_VALUE(c1, "c1"),   OPENCL_VALUE(c2, "c2"),
                          OPENCL_VALUE(ahead, "ahead")};
-    st = opencl_bind(dev, k, 4, args, 8);
-    return st ? st : opencl_end_reduce(dev, K_STEP_F, a, norms);
+    return opencl_reduce(dev, K_STEP_F, a, a->weights_f, args, 8, norms);
 }
 
 static limn_status cl_add_f(struct device *dev, size_t rows, device_buffer *p, device_buffer *d)

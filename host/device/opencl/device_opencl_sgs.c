@@ -111,21 +111,14 @@ static limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int sta
 static limn_status cl_sgs_update(struct device *dev, const device_sgs *a, double alpha,
                                  const sgs_vectors *v, device_norms *norms)
 {
-    opencl_impl *im = impl_of(dev);
-    cl_kernel k = im->kernels[K_SGS_UPDATE];
     cl_uint rows = (cl_uint)a->rows;
-    limn_status st = opencl_ensure_partials(dev, 0, a->rows);
-    if (st)
-        return st;
-    opencl_arg rows_arg = OPENCL_VALUE(rows, "rows");
-    st = opencl_bind(dev, k, 0, &rows_arg, 1);
-    device_buffer *vec[] = {a->info, v->t, v->u, v->st, v->x, v->r, v->rhat};
-    if (!st)
-        st = set_vectors(dev, k, 1, vec, 7);
-    opencl_arg tail[] = {OPENCL_VALUE(alpha, "alpha"), OPENCL_VALUE(im->partials, "partials")};
-    if (!st)
-        st = opencl_bind(dev, k, 8, tail, 2);
-    return st ? st : opencl_end_rows(dev, K_SGS_UPDATE, a->rows, norms);
+    opencl_arg args[] = {OPENCL_VALUE(rows, "rows"),   OPENCL_MEM(a->info, "vector"),
+                         OPENCL_MEM(v->t, "vector"),   OPENCL_MEM(v->u, "vector"),
+                         OPENCL_MEM(v->st, "vector"),  OPENCL_MEM(v->x, "vector"),
+                         OPENCL_MEM(v->r, "vector"),   OPENCL_MEM(v->rhat, "vector"),
+                         OPENCL_VALUE(alpha, "alpha"),
+                         OPENCL_VALUE(impl_of(dev)->partials, "partials")};
+    return opencl_reduce_rows(dev, K_SGS_UPDATE, a->rows, args, 10, norms);
 }
 
 const device_sgs_ops cl_sgs_ops = {cl_sgs_upper, cl_sgs_lower, cl_sgs_update};

@@ -2,7 +2,7 @@
 /*
  * The OpenCL program: kernels/common.cl (the shared helpers), stencil.cl,
  * series.cl, solve.cl, mixed.cl and sgs.cl built as one program (the later
- * files use stencil.cl's row_product), and
+ * files use common.cl's row ranges and products), and
  * its kernels. One build, not one per family: with PoCL a warm-cache build
  * costs ~25 ms whatever the program's size, a cold one ~0.55 s (mostly
  * compiler start-up), so splitting would multiply the warm cost.
@@ -16,18 +16,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-extern const unsigned char kernel_source_common[];
-extern const size_t kernel_source_common_size;
-extern const unsigned char kernel_source_stencil[];
-extern const size_t kernel_source_stencil_size;
-extern const unsigned char kernel_source_series[];
-extern const size_t kernel_source_series_size;
-extern const unsigned char kernel_source_solve[];
-extern const size_t kernel_source_solve_size;
-extern const unsigned char kernel_source_mixed[];
-extern const size_t kernel_source_mixed_size;
-extern const unsigned char kernel_source_sgs[];
-extern const size_t kernel_source_sgs_size;
+/* kernels/NAME.cl, embedded at build time (cmake/embed.cmake) */
+#define KERNEL_SOURCE(name)                                                                    \
+    extern const unsigned char kernel_source_##name[];                                         \
+    extern const size_t kernel_source_##name##_size
+KERNEL_SOURCE(common);
+KERNEL_SOURCE(stencil);
+KERNEL_SOURCE(series);
+KERNEL_SOURCE(solve);
+KERNEL_SOURCE(mixed);
+KERNEL_SOURCE(sgs);
 
 static const char *const kernel_names[K_COUNT] = {
     [K_SPMV] = "spmv",

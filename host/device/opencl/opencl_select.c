@@ -131,51 +131,108 @@ static limn_status no_device(limn_context *ctx, cl_uint np)
                      np, np == 1 ? "" : "s");
 }
 
-limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_choice *out)
-{
-    limn_status st;
+/* What the caller asked for, and where it said so (for the messages). */
+typedef struct device_request {
+    const char *source, *value;
+    opencl_criteria c;
+} device_request;
 
+/* --device and LIMN_DEVICE take the same value: "P.D" is a device's index
+   pair, anything else a part of its name. */
+static void index_or_name(device_request *r, const char *source, const char *s)
+{
+    r->source = source;
+    r->value = s;
+    if (parse_index_pair(s, &r->c.p, &r->c.d))
+        r->c.by_index = 1;
+    else
+        r->c.name = s;
+}
+
+/* The API's spec, else the environment. */
+static limn_status read_request(limn_context *ctx, const char *spec, device_request *r)
+{
+    *r = (device_request){"the first device", "", {NULL, NULL, 0, 0, 0, CL_DEVICE_TYPE_ALL}};
+    if (spec && *spec) {
+        index_or_name(r, "--device", spec);
+        return LIMN_OK;
+    }
     const char *env_platform = getenv("LIMN_PLATFORM");
     const char *env_device = getenv("LIMN_DEVICE");
     const char *env_type = getenv("LIMN_DEVICE_TYPE");
-    const char *name_filter = NULL, *platform_filter = NULL, *source = "the first device";
-    const char *value = "";
-    unsigned want_p = 0, want_d = 0;
-    int by_index = 0, type_ok;
-    cl_device_type type = CL_DEVICE_TYPE_ALL;
-
-    if (spec && *spec) {
-        source = "--device";
-        value = spec;
-        if (parse_index_pair(spec, &want_p, &want_d))
-            by_index = 1;
-        else
-            name_filter = spec;
-    } else {
-        if (env_platform && *env_platform) {
-            platform_filter = env_platform;
-            source = "LIMN_PLATFORM";
-            value = env_platform;
-        }
-        if (env_device && *env_device) {
-            source = "LIMN_DEVICE";
-            value = env_device;
-            if (parse_index_pair(env_device, &want_p, &want_d))
-                by_index = 1;
-            else
-                name_filter = env_device;
-        }
-        type = parse_type(env_type, &type_ok);
-        if (!type_ok)
-            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                             "LIMN_DEVICE_TYPE='%s' is not one of cpu, gpu, accelerator, all",
-                             env_type);
-        if (env_type && *env_type && strcmp(source, "the first device") == 0) {
-            source = "LIMN_DEVICE_TYPE";
-            value = env_type;
-        }
+    if (env_platform && *env_platform) {
+        r->c.platform = env_platform;
+        r->source = "LIMN_PLATFORM";
+        r->value = env_platform;
     }
+    if (env_device && *env_device)
+        index_or_name(r, "LIMN_DEVICE", env_device);
+    int type_ok;
+    r->c.type = parse_type(env_type, &type_ok);
+    if (!type_ok)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "LIMN_DEVICE_TYPE='%s' is not one of cpu, gpu, accelerator, all",
+                         env_type);
+    if (env_type && *env_type && strcmp(r->source, "the first device") == 0) {
+        r->source = "LIMN_DEVICE_TYPE";
+        r->value = env_type;
+    }
+    return LIMN_OK;
+}
 
+/* The slot's usable match (MPI ranks of a node take them in turn), after a
+   warning for each unusable device listed before the first usable one. */
+static void take(limn_context *ctx, const opencl_device_props *devs, const size_t *usable,
+                 size_t good, const size_t *bad, size_t n_bad, opencl_choice *out)
+{
+    const opencl_device_props *d =
+        &devs[usable[(size_t)(ctx->device_slot >= 0 ? ctx->device_slot : 0) % good]];
+    for (size_t i = 0; i < n_bad && bad[i] < usable[0]; i++) {
+        char name[300], why[160];
+        describe(&devs[bad[i]], name, sizeof name);
+        opencl_unusable(&devs[bad[i]], why, sizeof why);
+        ctx_warn(ctx, "skipping OpenCL device %s: limn cannot use it: %s", name, why);
+    }
+    out->platform = d->platform_id;
+    out->device = d->id;
+    describe(d, out->name, sizeof out->name);
+}
+
+/* No usable match: why, in the words of the request. */
+static limn_status no_match(limn_context *ctx, const device_request *r,
+                            const opencl_device_props *devs, size_t n, cl_uint np,
+                            const size_t *bad, size_t n_bad)
+{
+    if (n_bad > 0) {
+        char list[1500];
+        reasons(devs, bad, n_bad, list, sizeof list);
+        /* an explicit choice names its device: an unusable one is an error,
+           not skipped for another */
+        if (strcmp(r->source, "--device") == 0 || strcmp(r->source, "LIMN_DEVICE") == 0)
+            return ctx_fail(ctx, LIMN_ERR_DEVICE,
+                             "the OpenCL device chosen by %s='%s' cannot run limn: %s; choose "
+                             "another (see 'limn devices') or use --device reference",
+                             r->source, r->value, list);
+        return ctx_fail(ctx, LIMN_ERR_DEVICE,
+                         "no OpenCL device can run limn: %s; install a driver whose device "
+                         "has double precision (e.g. pocl-opencl-icd), or use --device "
+                         "reference, or allow --fallback reference",
+                         list);
+    }
+    if (n == 0 && !*r->value)
+        return no_device(ctx, np);
+    return ctx_fail(ctx, LIMN_ERR_DEVICE,
+                     "no OpenCL device matches %s%s%s%s: run 'limn devices' to list them, or "
+                     "use --device reference",
+                     r->source, *r->value ? "='" : "", r->value, *r->value ? "'" : "");
+}
+
+limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_choice *out)
+{
+    device_request r;
+    limn_status st = read_request(ctx, spec, &r);
+    if (st)
+        return st;
     opencl_device_props *devs = malloc(MAX_DEVICES * sizeof *devs);
     size_t *usable = malloc(2 * MAX_DEVICES * sizeof *usable), n = 0, n_bad = 0;
     if (!devs || !usable) {
@@ -186,46 +243,11 @@ limn_status opencl_select_device(limn_context *ctx, const char *spec, opencl_cho
     size_t *bad = usable + MAX_DEVICES;
     cl_uint np = 0;
     st = all_devices(ctx, devs, &n, &np);
-    opencl_criteria c = {platform_filter, name_filter, by_index, want_p, want_d, type};
-    size_t good = st ? 0 : opencl_pick(devs, n, &c, usable, bad, &n_bad);
-    /* an explicit choice names its device: an unusable one is an error, not
-       skipped for another */
-    int explicit_choice = strcmp(source, "--device") == 0 || strcmp(source, "LIMN_DEVICE") == 0;
-    if (!st && good > 0) {
-        /* every usable match is kept: MPI ranks of a node take them in turn */
-        const opencl_device_props *d =
-            &devs[usable[(size_t)(ctx->device_slot >= 0 ? ctx->device_slot : 0) % good]];
-        for (size_t i = 0; i < n_bad && bad[i] < usable[0]; i++) {
-            char name[300], why[160];
-            describe(&devs[bad[i]], name, sizeof name);
-            opencl_unusable(&devs[bad[i]], why, sizeof why);
-            ctx_warn(ctx, "skipping OpenCL device %s: limn cannot use it: %s", name, why);
-        }
-        out->platform = d->platform_id;
-        out->device = d->id;
-        describe(d, out->name, sizeof out->name);
-    } else if (!st && n_bad > 0) {
-        char list[1500];
-        reasons(devs, bad, n_bad, list, sizeof list);
-        if (explicit_choice)
-            st = ctx_fail(ctx, LIMN_ERR_DEVICE,
-                           "the OpenCL device chosen by %s='%s' cannot run limn: %s; choose "
-                           "another (see 'limn devices') or use --device reference",
-                           source, value, list);
-        else
-            st = ctx_fail(ctx, LIMN_ERR_DEVICE,
-                           "no OpenCL device can run limn: %s; install a driver whose device "
-                           "has double precision (e.g. pocl-opencl-icd), or use --device "
-                           "reference, or allow --fallback reference",
-                           list);
-    } else if (!st && n == 0 && !*value) {
-        st = no_device(ctx, np);
-    } else if (!st) {
-        st = ctx_fail(ctx, LIMN_ERR_DEVICE,
-                       "no OpenCL device matches %s%s%s%s: run 'limn devices' to list them, or "
-                       "use --device reference",
-                       source, *value ? "='" : "", value, *value ? "'" : "");
-    }
+    size_t good = st ? 0 : opencl_pick(devs, n, &r.c, usable, bad, &n_bad);
+    if (!st && good > 0)
+        take(ctx, devs, usable, good, bad, n_bad, out);
+    else if (!st)
+        st = no_match(ctx, &r, devs, n, np, bad, n_bad);
     free(devs);
     free(usable);
     return st;

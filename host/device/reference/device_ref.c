@@ -78,23 +78,6 @@ static void ref_buffer_release(struct device *dev, device_buffer *buf)
     }
 }
 
-/* acc = sum_k w_k x_{col_k}, component by component, in row order. */
-static inline void row_product(const device_csr *a, size_t i, const double *x, double acc[4])
-{
-    const uint32_t *ro = a->row_offsets->data;
-    const uint32_t *col = a->columns->data;
-    const double *w = a->weights->data;
-    acc[0] = acc[1] = acc[2] = acc[3] = 0.0;
-    for (uint32_t k = ro[i]; k < ro[i + 1]; k++) {
-        const double *p = x + 4 * (size_t)col[k];
-        double wk = w[k];
-        acc[0] += wk * p[0];
-        acc[1] += wk * p[1];
-        acc[2] += wk * p[2];
-        acc[3] += wk * p[3];
-    }
-}
-
 static limn_status ref_spmv(struct device *dev, const device_csr *a, device_buffer *x,
                             device_buffer *y)
 {
@@ -102,7 +85,7 @@ static limn_status ref_spmv(struct device *dev, const device_csr *a, device_buff
     const double *xs = x->data;
     double *ys = y->data;
     for (size_t i = a->row_begin; i < a->row_begin + a->rows; i++)
-        row_product(a, i, xs, ys + 4 * i);
+        ref_row_product(a, i, xs, ys + 4 * i);
     return LIMN_OK;
 }
 
@@ -142,10 +125,9 @@ static void fused_chunk(void *user, size_t begin, size_t end, double n[3])
     const double *ms = f->ms, *ps = f->ps, *prev = f->prev;
     double *next = f->next;
     for (size_t i = begin; i < end; i++) {
-        double acc[4], r[3];
-        row_product(f->a, i, ps, acc);
+        double r[3];
+        ref_residual_row(f->a, i, ms, ps, r);
         for (int d = 0; d < 3; d++) {
-            r[d] = ms[4 * i + d] - acc[d];
             double pi = ps[4 * i + d];
             next[4 * i + d] = prev ? pi + f->c1 * (pi - prev[4 * i + d]) + f->c2 * r[d]
                                    : pi + f->c2 * r[d];
@@ -189,7 +171,7 @@ static void series_chunk(void *user, size_t begin, size_t end, double n[3])
     double *xn = t->xn, *axs = t->axs, *as = t->as;
     for (size_t i = begin; i < end; i++) {
         double v[4];
-        row_product(t->a, i, t->xs, v);
+        ref_row_product(t->a, i, t->xs, v);
         const double *xi = t->xs + 4 * i;
         if (t->flags & SERIES_STORE_AX)
             for (int c = 0; c < 4; c++)
@@ -260,7 +242,7 @@ static void spmv_dot_chunk(void *user, size_t begin, size_t end, double n[3])
     const spmv_dot *s = user;
     for (size_t i = begin; i < end; i++) {
         double *acc = s->ys + 4 * i;
-        row_product(s->a, i, s->xs, acc);
+        ref_row_product(s->a, i, s->xs, acc);
         const double *xi = s->xs + 4 * i;
         double d = xi[0] * acc[0] + xi[1] * acc[1] + xi[2] * acc[2];
         n[1] += s->dv[i] * d;

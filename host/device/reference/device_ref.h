@@ -33,6 +33,34 @@ static inline void ref_norms_add(double v0, double v1, double v2, double n[3])
     n[2] += s;
 }
 
+/* acc = sum_k w_k x_{col_k}, component by component, in row order (the
+   kernels' row_product). */
+static inline void ref_row_product(const device_csr *a, size_t i, const double *x, double acc[4])
+{
+    const uint32_t *ro = a->row_offsets->data;
+    const uint32_t *col = a->columns->data;
+    const double *w = a->weights->data;
+    acc[0] = acc[1] = acc[2] = acc[3] = 0.0;
+    for (uint32_t k = ro[i]; k < ro[i + 1]; k++) {
+        const double *p = x + 4 * (size_t)col[k];
+        double wk = w[k];
+        acc[0] += wk * p[0];
+        acc[1] += wk * p[1];
+        acc[2] += wk * p[2];
+        acc[3] += wk * p[3];
+    }
+}
+
+/* r = m_i - (A p)_i over x, y, z (the kernels' residual_row). */
+static inline void ref_residual_row(const device_csr *a, size_t i, const double *ms,
+                                    const double *ps, double r[3])
+{
+    double acc[4];
+    ref_row_product(a, i, ps, acc);
+    for (int d = 0; d < 3; d++)
+        r[d] = ms[4 * i + d] - acc[d];
+}
+
 /* The float family (device_ref_mixed.c) and the sweeps (device_ref_sgs.c). */
 extern const device_mixed_ops ref_mixed_ops;
 extern const device_sgs_ops ref_sgs_ops;

@@ -21,20 +21,14 @@ typedef struct residual_f {
 static void residual_f_chunk(void *user, size_t begin, size_t end, double n[3])
 {
     const residual_f *f = user;
-    const uint32_t *ro = f->a->row_offsets->data, *col = f->a->columns->data;
-    const double *w = f->a->weights->data, *ms = f->ms, *ps = f->ps;
     float *rs = f->rs;
     for (size_t i = begin; i < end; i++) {
-        double acc[4] = {0.0, 0.0, 0.0, 0.0};
-        for (uint32_t k = ro[i]; k < ro[i + 1]; k++)
-            for (int j = 0; j < 4; j++)
-                acc[j] += w[k] * ps[4 * (size_t)col[k] + j];
-        double r0 = ms[4 * i] - acc[0], r1 = ms[4 * i + 1] - acc[1], r2 = ms[4 * i + 2] - acc[2];
-        rs[4 * i] = (float)r0;
-        rs[4 * i + 1] = (float)r1;
-        rs[4 * i + 2] = (float)r2;
+        double r[3];
+        ref_residual_row(f->a, i, f->ms, f->ps, r);
+        for (int j = 0; j < 3; j++)
+            rs[4 * i + j] = (float)r[j];
         rs[4 * i + 3] = 0.0f;
-        ref_norms_add(r0, r1, r2, n);
+        ref_norms_add(r[0], r[1], r[2], n);
     }
 }
 
