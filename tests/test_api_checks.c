@@ -377,14 +377,6 @@ static void every_error_has_a_message(void **s)
     limn_mesh_destroy(cube);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(create_names_the_vertex),
-        cmocka_unit_test(mutable_edits_are_checked),
-        REFERENCE_TEST(unknown_enums_are_refused),
-        CONTEXT_TEST(zero_length_and_null_buffers),
-        REFERENCE_TEST(every_error_has_a_message),
-    };
-    return cmocka_run_group_tests(tests, api_make_dir, api_remove_dir);
-}
+TEST_MAIN(api_make_dir, api_remove_dir, CONTEXT_TEST(create_names_the_vertex),
+          cmocka_unit_test(mutable_edits_are_checked), REFERENCE_TEST(unknown_enums_are_refused),
+          CONTEXT_TEST(zero_length_and_null_buffers), REFERENCE_TEST(every_error_has_a_message))

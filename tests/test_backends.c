@@ -207,13 +207,5 @@ static void deterministic_cli(void **s)
     assert_int_equal(test_remove_dir(dir), 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(generated),
-        CONTEXT_TEST(shared),
-        cmocka_unit_test(deterministic_output),
-        cmocka_unit_test(deterministic_cli),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, cmocka_unit_test(generated), CONTEXT_TEST(shared),
+          cmocka_unit_test(deterministic_output), cmocka_unit_test(deterministic_cli))

@@ -397,15 +397,7 @@ static void null_arguments_everywhere(void **s)
     limn_mesh_destroy(m);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(interpolate_into_own_buffers),
-        cmocka_unit_test(subdivide_faces_into_own_buffers),
-        cmocka_unit_test(series_into_own_buffers),
-        CONTEXT_TEST(new_positions_in_place),
-        CONTEXT_TEST(refusals_write_nothing),
-        CONTEXT_TEST(null_arguments_everywhere),
-    };
-    return cmocka_run_group_tests(tests, setup, NULL);
-}
+TEST_MAIN(setup, NULL, cmocka_unit_test(interpolate_into_own_buffers),
+          cmocka_unit_test(subdivide_faces_into_own_buffers),
+          cmocka_unit_test(series_into_own_buffers), CONTEXT_TEST(new_positions_in_place),
+          CONTEXT_TEST(refusals_write_nothing), CONTEXT_TEST(null_arguments_everywhere))

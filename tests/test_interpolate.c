@@ -306,13 +306,7 @@ static void methods(void **s)
     limn_context_destroy(ctx);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(generated_meshes), cmocka_unit_test(singular_cube),
-        cmocka_unit_test(methods),
-        CONTEXT_TEST(iteration_cap_and_options), cmocka_unit_test(embedded_spot),
-        cmocka_unit_test(small_meshes), cmocka_unit_test(medium_meshes),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated_meshes), cmocka_unit_test(singular_cube),
+          cmocka_unit_test(methods), CONTEXT_TEST(iteration_cap_and_options),
+          cmocka_unit_test(embedded_spot), cmocka_unit_test(small_meshes),
+          cmocka_unit_test(medium_meshes))

@@ -442,17 +442,8 @@ static void command_line(void **s)
     assert_int_equal(test_remove_dir(dir), 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(kernels_match_reference),
-        cmocka_unit_test(solves_match_reference),
-        CONTEXT_TEST(choice_and_refusals),
-        CONTEXT_TEST(singular_cube_in_float),
-        CONTEXT_TEST(far_from_origin),
-        cmocka_unit_test(setup_reported),
-        cmocka_unit_test(command_line),
-        cmocka_unit_test(medium_meshes_meet_tolerance),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(kernels_match_reference),
+          cmocka_unit_test(solves_match_reference), CONTEXT_TEST(choice_and_refusals),
+          CONTEXT_TEST(singular_cube_in_float), CONTEXT_TEST(far_from_origin),
+          cmocka_unit_test(setup_reported), cmocka_unit_test(command_line),
+          cmocka_unit_test(medium_meshes_meet_tolerance))

@@ -409,12 +409,6 @@ static void memory_refusal(void **s)
     limn_mesh_destroy(g);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(generated_vs_osd),      CONTEXT_TEST(shared_vs_osd),
-        CONTEXT_TEST(alpha_first_step),      cmocka_unit_test(surface_passes_through_input),
-        cmocka_unit_test(backends_agree),        CONTEXT_TEST(memory_refusal),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated_vs_osd), CONTEXT_TEST(shared_vs_osd),
+          CONTEXT_TEST(alpha_first_step), cmocka_unit_test(surface_passes_through_input),
+          cmocka_unit_test(backends_agree), CONTEXT_TEST(memory_refusal))

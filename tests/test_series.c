@@ -852,19 +852,8 @@ static void render_cube(void **s)
     limn_mesh_destroy(cube);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(series_against_dense),
-        CONTEXT_TEST(bands_sum_and_energy),
-        OPENCL_TEST(denoise_brings_closer),
-        OPENCL_TEST(sharpen_raises_high_bands),
-        cmocka_unit_test(morph_frames),
-        cmocka_unit_test(texture_colors),
-        cmocka_unit_test(perlin_noise),
-        cmocka_unit_test(backends_agree),
-        CONTEXT_TEST(measures),
-        CONTEXT_TEST(render_cube),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(series_against_dense), CONTEXT_TEST(bands_sum_and_energy),
+          OPENCL_TEST(denoise_brings_closer), OPENCL_TEST(sharpen_raises_high_bands),
+          cmocka_unit_test(morph_frames), cmocka_unit_test(texture_colors),
+          cmocka_unit_test(perlin_noise), cmocka_unit_test(backends_agree), CONTEXT_TEST(measures),
+          CONTEXT_TEST(render_cube))
