@@ -42,9 +42,6 @@ int main(int argc, char **argv)
     osd_base base;
     if (!osd_base_read(argv[1], base))
         return 1;
-    limn_context *ctx = base.ctx;
-    limn_mesh *m = base.m;
-    int nv = base.nv, nf = base.nf;
 
     double t0 = now();
     Far::TopologyRefiner *r = osd_base_refiner(base, loop);
@@ -54,8 +51,8 @@ int main(int argc, char **argv)
     double t1 = now();
 
     std::vector<Point> verts(r->GetNumVerticesTotal());
-    const double *pos = limn_mesh_positions(m);
-    for (int i = 0; i < nv; i++)
+    const double *pos = limn_mesh_positions(base.m);
+    for (int i = 0; i < base.nv; i++)
         memcpy(verts[i].p, pos + 3 * i, sizeof verts[i].p);
     Far::PrimvarRefinerReal<double> pr(*r);
     Point *src = verts.data();
@@ -84,10 +81,11 @@ int main(int argc, char **argv)
            "\"output_vertices\": %d, \"output_faces\": %d, \"seconds_topology\": %.6f, "
            "\"seconds_interpolate\": %.6f, \"seconds_total\": %.6f, \"peak_rss_bytes\": %lld, "
            "\"factorized_stencil_entries\": %lld, \"seconds_factorized_stencils\": %.6f}\n",
-           nv, nf, levels, last.GetNumVertices(), last.GetNumFaces(), t1 - t0, t2 - t1, t2 - t0,
+           base.nv, base.nf, levels, last.GetNumVertices(), last.GetNumFaces(), t1 - t0, t2 - t1,
+           t2 - t0,
            (long long)ru.ru_maxrss * 1024, stencil_entries, t_stencil);
     delete r;
-    limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
+    limn_mesh_destroy(base.m);
+    limn_context_destroy(base.ctx);
     return 0;
 }
