@@ -15,16 +15,14 @@ values of the Krylov space the residuals span, D^-1 inner product), the
 estimate the issue suggested. Needs numpy and scipy (pip install numpy scipy).
 """
 import os
-import subprocess
 import sys
-import tempfile
 
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from perf_args import operator_args  # noqa: E402
+from perf_args import exported_operators, operator_args  # noqa: E402
 from scipy_anchor import load  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -96,24 +94,19 @@ def main():
     print("| mesh | scheme | lambda_min | paper | cheb exact | cheb prior | 1 paper + cheb prior "
           "| Lanczos K=4 estimate | cheb on it (incl. 4 probes) |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
-    with tempfile.TemporaryDirectory() as tmp:
-        for item in args.meshes:
-            name, scheme = item.rsplit(":", 1)
-            path = name if os.path.exists(name) else os.path.join(SHARED, "medium", name)
-            out = os.path.join(tmp, "op.bin")
-            subprocess.run([exporter, path, scheme, out], check=True)
-            A, M, _, scale = load(out)
-            tol = 1e-6 * float(np.linalg.norm(M.max(0) - M.min(0)))
-            lmin = float(np.real(spla.eigs(A, k=1, sigma=0, which="LM",
-                                           return_eigenvectors=False)[0]))
-            prior = 0.25 * 0.85 if scheme == "loop" else 0.85 / 9
-            n_paper, _ = paper(A, M, tol)
-            P1 = M + (M - A @ M)  # one seeds' step
-            lz, P4 = ritz_lambda_min(A, M, 4, 1 / scale)
-            print(f"| {os.path.basename(name)} | {scheme} | {lmin:.3f} | {n_paper} | "
-                  f"{chebyshev(A, M, tol, lmin)} | {chebyshev(A, M, tol, prior)} | "
-                  f"{chebyshev(A, M, tol, prior, P1, 1)} | {lz:.3f} | "
-                  f"{chebyshev(A, M, tol, min(prior, 0.9 * lz), P4, 4)} |", flush=True)
+    for name, scheme, out in exported_operators(args.meshes, exporter, SHARED):
+        A, M, _, scale = load(out)
+        tol = 1e-6 * float(np.linalg.norm(M.max(0) - M.min(0)))
+        lmin = float(np.real(spla.eigs(A, k=1, sigma=0, which="LM",
+                                       return_eigenvectors=False)[0]))
+        prior = 0.25 * 0.85 if scheme == "loop" else 0.85 / 9
+        n_paper, _ = paper(A, M, tol)
+        P1 = M + (M - A @ M)  # one seeds' step
+        lz, P4 = ritz_lambda_min(A, M, 4, 1 / scale)
+        print(f"| {os.path.basename(name)} | {scheme} | {lmin:.3f} | {n_paper} | "
+              f"{chebyshev(A, M, tol, lmin)} | {chebyshev(A, M, tol, prior)} | "
+              f"{chebyshev(A, M, tol, prior, P1, 1)} | {lz:.3f} | "
+              f"{chebyshev(A, M, tol, min(prior, 0.9 * lz), P4, 4)} |", flush=True)
 
 
 if __name__ == "__main__":

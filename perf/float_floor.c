@@ -54,15 +54,15 @@ int main(int argc, char **argv)
     int best_step = -1, at6 = -1, at8 = -1;
     for (int k = 0; k < steps && !st; k++) {
         device_norms nf, nd;
-        st = dev->ops->step_f(dev, &op.device, b, d[k & 1], d[k & 1], d[1 - (k & 1)], 0.0f, 1.0f,
+        st = dev->ops->mixed->step_f(dev, &op.device, b, d[k & 1], d[k & 1], d[1 - (k & 1)], 0.0f, 1.0f,
                               &nf);
         /* P = the float iterate, widened exactly; its residual in double */
         if (!st)
             st = dev->ops->buffer_write(dev, p, 4 * n * sizeof(double), zero);
         if (!st)
-            st = dev->ops->add_f(dev, n, p, d[1 - (k & 1)]);
+            st = dev->ops->mixed->add_f(dev, n, p, d[1 - (k & 1)]);
         if (!st)
-            st = dev->ops->residual_f(dev, &op.device, m, p, r, &nd);
+            st = dev->ops->mixed->residual_f(dev, &op.device, m, p, r, &nd);
         double rel = nd.max / diag;
         if (rel < best) {
             best = rel;

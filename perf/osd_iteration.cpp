@@ -10,8 +10,6 @@
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/ptexIndices.h>
 #include <opensubdiv/far/stencilTableFactory.h>
-#include <opensubdiv/far/topologyDescriptor.h>
-#include <opensubdiv/far/topologyRefinerFactory.h>
 
 #include <algorithm>
 #include <chrono>
@@ -21,16 +19,9 @@
 #include <vector>
 #include <sys/resource.h>
 
-extern "C" {
-#include "limn.h"
-}
+#include "osd_base.h"
 
 using namespace OpenSubdiv;
-
-static double now()
-{
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 int main(int argc, char **argv)
 {
@@ -41,29 +32,17 @@ int main(int argc, char **argv)
     bool loop = strcmp(argv[2], "loop") == 0;
     double tol = argc > 3 ? atof(argv[3]) : 1e-6;
     int max_iter = argc > 4 ? atoi(argv[4]) : 2000;
-    limn_context *ctx = limn_context_create();
-    limn_mesh *m = nullptr;
-    if (limn_mesh_read(ctx, argv[1], LIMN_FORMAT_AUTO, &m) != LIMN_OK) {
-        fprintf(stderr, "%s\n", limn_context_message(ctx));
+    osd_base base;
+    if (!osd_base_read(argv[1], base))
         return 1;
-    }
-    int nv = (int)limn_mesh_vertex_count(m), nf = (int)limn_mesh_face_count(m);
-    const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
-    std::vector<int> sizes(nf), indices(idx, idx + off[nf]);
-    for (int f = 0; f < nf; f++)
-        sizes[f] = (int)(off[f + 1] - off[f]);
+    limn_context *ctx = base.ctx;
+    limn_mesh *m = base.m;
+    int nv = base.nv, nf = base.nf;
+    const uint32_t *off = base.off;
+    const std::vector<int> &sizes = base.sizes, &indices = base.indices;
 
     double t0 = now();
-    Sdc::Options opt;
-    opt.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
-    Far::TopologyDescriptor desc;
-    desc.numVertices = nv;
-    desc.numFaces = nf;
-    desc.numVertsPerFace = sizes.data();
-    desc.vertIndicesPerFace = indices.data();
-    typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
-    Far::TopologyRefiner *r = Factory::Create(
-        desc, Factory::Options(loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, opt));
+    Far::TopologyRefiner *r = osd_base_refiner(base, loop);
     r->RefineAdaptive(Far::TopologyRefiner::AdaptiveOptions(3));
 
     // one location per base vertex: a corner of the first ptex face touching it

@@ -8,8 +8,6 @@
 // the finest level (factorizeIntermediateLevels) and reports its entries.
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/stencilTableFactory.h>
-#include <opensubdiv/far/topologyDescriptor.h>
-#include <opensubdiv/far/topologyRefinerFactory.h>
 
 #include <chrono>
 #include <cstdio>
@@ -17,9 +15,7 @@
 #include <vector>
 #include <sys/resource.h>
 
-extern "C" {
-#include "limn.h"
-}
+#include "osd_base.h"
 
 using namespace OpenSubdiv;
 
@@ -34,11 +30,6 @@ struct Point {
     }
 };
 
-static double now()
-{
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
 int main(int argc, char **argv)
 {
     if (argc < 4) {
@@ -48,37 +39,20 @@ int main(int argc, char **argv)
     int levels = atoi(argv[2]);
     bool loop = strcmp(argv[3], "loop") == 0;
     bool factorized = argc > 4 && strcmp(argv[4], "--factorized") == 0;
-    limn_context *ctx = limn_context_create();
-    limn_mesh *m = nullptr;
-    if (limn_mesh_read(ctx, argv[1], LIMN_FORMAT_AUTO, &m) != LIMN_OK) {
-        fprintf(stderr, "%s\n", limn_context_message(ctx));
+    osd_base base;
+    if (!osd_base_read(argv[1], base))
         return 1;
-    }
-    int nv = (int)limn_mesh_vertex_count(m), nf = (int)limn_mesh_face_count(m);
-    const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
-    std::vector<int> sizes(nf), indices(idx, idx + off[nf]);
-    for (int f = 0; f < nf; f++)
-        sizes[f] = (int)(off[f + 1] - off[f]);
 
     double t0 = now();
-    Sdc::Options opt;
-    opt.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
-    Far::TopologyDescriptor desc;
-    desc.numVertices = nv;
-    desc.numFaces = nf;
-    desc.numVertsPerFace = sizes.data();
-    desc.vertIndicesPerFace = indices.data();
-    typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
-    Far::TopologyRefiner *r = Factory::Create(
-        desc, Factory::Options(loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, opt));
+    Far::TopologyRefiner *r = osd_base_refiner(base, loop);
     Far::TopologyRefiner::UniformOptions uo(levels);
     uo.fullTopologyInLastLevel = true;
     r->RefineUniform(uo);
     double t1 = now();
 
     std::vector<Point> verts(r->GetNumVerticesTotal());
-    const double *pos = limn_mesh_positions(m);
-    for (int i = 0; i < nv; i++)
+    const double *pos = limn_mesh_positions(base.m);
+    for (int i = 0; i < base.nv; i++)
         memcpy(verts[i].p, pos + 3 * i, sizeof verts[i].p);
     Far::PrimvarRefinerReal<double> pr(*r);
     Point *src = verts.data();
@@ -107,10 +81,11 @@ int main(int argc, char **argv)
            "\"output_vertices\": %d, \"output_faces\": %d, \"seconds_topology\": %.6f, "
            "\"seconds_interpolate\": %.6f, \"seconds_total\": %.6f, \"peak_rss_bytes\": %lld, "
            "\"factorized_stencil_entries\": %lld, \"seconds_factorized_stencils\": %.6f}\n",
-           nv, nf, levels, last.GetNumVertices(), last.GetNumFaces(), t1 - t0, t2 - t1, t2 - t0,
+           base.nv, base.nf, levels, last.GetNumVertices(), last.GetNumFaces(), t1 - t0, t2 - t1,
+           t2 - t0,
            (long long)ru.ru_maxrss * 1024, stencil_entries, t_stencil);
     delete r;
-    limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
+    limn_mesh_destroy(base.m);
+    limn_context_destroy(base.ctx);
     return 0;
 }

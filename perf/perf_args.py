@@ -3,7 +3,9 @@
 meshes and the size cap of the scale runs, and the operator exporter."""
 import argparse
 import os
+import subprocess
 import sys
+import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -34,3 +36,16 @@ def operator_args(doc, default_meshes):
     if not os.path.exists(exporter):
         sys.exit(f"{exporter} is missing: bash scripts/build.sh -DLIMN_BUILD_PERF=ON")
     return args, exporter
+
+
+def exported_operators(meshes, exporter, shared):
+    """For each MESH:SCHEME (a path, or a name under shared/medium): yields the
+    name, the scheme and the file perf/export_operator wrote the operator to
+    (in a temporary folder, overwritten by the next mesh's)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        for item in meshes:
+            name, scheme = item.rsplit(":", 1)
+            path = name if os.path.exists(name) else os.path.join(shared, "medium", name)
+            out = os.path.join(tmp, "op.bin")
+            subprocess.run([exporter, path, scheme, out], check=True)
+            yield name, scheme, out

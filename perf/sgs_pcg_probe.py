@@ -15,16 +15,14 @@ Needs numpy and scipy. Each iteration applies S once and the two triangular
 sweeps once (with Eisenstat's trick about one matrix pass in all).
 """
 import os
-import subprocess
 import sys
-import tempfile
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from perf_args import operator_args  # noqa: E402
+from perf_args import exported_operators, operator_args  # noqa: E402
 from scipy_anchor import load  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -71,19 +69,14 @@ def main():
     a, exporter = operator_args(__doc__, DEFAULT)
     print("| mesh | scheme | SGS-PCG iterations to 1e-6 |")
     print("|---|---|---:|")
-    with tempfile.TemporaryDirectory() as tmp:
-        for item in a.meshes:
-            name, scheme = item.rsplit(":", 1)
-            path = name if os.path.exists(name) else os.path.join(SHARED, "medium", name)
-            out = os.path.join(tmp, "op.bin")
-            subprocess.run([exporter, path, scheme, out], check=True)
-            A, M, rule, scale = load(out)
-            if (rule != 1).any():
-                print(f"| {os.path.basename(name)} | {scheme} | (not closed manifold: skipped) |")
-                continue
-            tol = 1e-6 * float(np.linalg.norm(M.max(0) - M.min(0)))
-            print(f"| {os.path.basename(name)} | {scheme} | {sgs_pcg(A, M, scale, tol)} |",
-                  flush=True)
+    for name, scheme, out in exported_operators(a.meshes, exporter, SHARED):
+        A, M, rule, scale = load(out)
+        if (rule != 1).any():
+            print(f"| {os.path.basename(name)} | {scheme} | (not closed manifold: skipped) |")
+            continue
+        tol = 1e-6 * float(np.linalg.norm(M.max(0) - M.min(0)))
+        print(f"| {os.path.basename(name)} | {scheme} | {sgs_pcg(A, M, scale, tol)} |",
+              flush=True)
 
 
 if __name__ == "__main__":

@@ -101,14 +101,14 @@ int main(int argc, char **argv)
             int c = k & 1; /* x_k in [c], x_{k-1} in and x_{k+1} out in [1 - c] */
             double t = clock_seconds();
             if (kind == 0)
-                st = dev->ops->interp_step(dev, &op.device, m, p[c], p[1 - c], 1.0, &nr);
+                st = dev->ops->stationary->interp_step(dev, &op.device, m, p[c], p[1 - c], 1.0, &nr);
             else if (kind == 1)
-                st = dev->ops->cheb_step(dev, &op.device, m, p[c], p[1 - c], BENCH_C1, BENCH_C2,
+                st = dev->ops->stationary->cheb_step(dev, &op.device, m, p[c], p[1 - c], BENCH_C1, BENCH_C2,
                                          &nr);
             else if (kind == 2)
-                st = dev->ops->step_f(dev, &op.device, b, d[c], d[c], d[1 - c], 0.0f, 1.0f, &nr);
+                st = dev->ops->mixed->step_f(dev, &op.device, b, d[c], d[c], d[1 - c], 0.0f, 1.0f, &nr);
             else
-                st = dev->ops->step_f(dev, &op.device, b, d[c], d[1 - c], d[1 - c],
+                st = dev->ops->mixed->step_f(dev, &op.device, b, d[c], d[1 - c], d[1 - c],
                                       (float)BENCH_C1, (float)BENCH_C2, &nr);
             if (k >= 2)
                 times[k - 2] = clock_seconds() - t;

@@ -1,14 +1,65 @@
 /* SPDX-License-Identifier: MIT */
 #include "fixture.h"
 
-#include "limn.h"
-
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 #include <cmocka.h>
+
+/* cmocka runs one test at a time, so one list serves the running test. */
+static struct {
+    void (*release)(void *);
+    void *p;
+} kept[256];
+static size_t kept_count;
+
+void *test_defer(void (*release)(void *), void *p)
+{
+    if (kept_count == sizeof kept / sizeof kept[0])
+        fail_msg("test_defer: more than %zu objects kept", kept_count);
+    kept[kept_count].release = release;
+    kept[kept_count].p = p;
+    kept_count++;
+    return p;
+}
+
+static void release_mesh(void *p)
+{
+    limn_mesh_destroy(p);
+}
+
+static void release_context(void *p)
+{
+    limn_context_destroy(p);
+}
+
+limn_mesh *test_keep_mesh(limn_mesh *m)
+{
+    return test_defer(release_mesh, m);
+}
+
+limn_context *test_keep_context(limn_context *ctx)
+{
+    return test_defer(release_context, ctx);
+}
+
+void *test_keep(void *p)
+{
+    return test_defer(free, p);
+}
+
+int test_release_teardown(void **state)
+{
+    (void)state;
+    while (kept_count > 0) {
+        kept_count--;
+        kept[kept_count].release(kept[kept_count].p);
+    }
+    return 0;
+}
 
 int test_context_setup(void **state)
 {
@@ -40,6 +91,7 @@ int test_opencl_setup(void **state)
 
 int test_context_teardown(void **state)
 {
+    test_release_teardown(state);
     limn_context_destroy(*state);
     return 0;
 }

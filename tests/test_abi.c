@@ -540,29 +540,12 @@ static void report_refused_before_work(void **s)
     limn_mesh_destroy(mesh);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(defaults_set_size),
-        cmocka_unit_test(repair),
-        cmocka_unit_test(interpolate),
-        cmocka_unit_test(subdivide),
-        cmocka_unit_test(series),
-        cmocka_unit_test(morph),
-        cmocka_unit_test(texture),
-        cmocka_unit_test(render),
-        REFERENCE_TEST(embedded_series_size),
-        REFERENCE_TEST(embedded_series_newer),
-        cmocka_unit_test(older_options_get_defaults),
-        cmocka_unit_test(report_repair),
-        cmocka_unit_test(report_info),
-        cmocka_unit_test(report_interpolate),
-        cmocka_unit_test(report_subdivide),
-        cmocka_unit_test(report_series),
-        cmocka_unit_test(report_texture),
-        cmocka_unit_test(report_morph),
-        cmocka_unit_test(report_measures_comparison),
-        REFERENCE_TEST(report_refused_before_work),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, cmocka_unit_test(defaults_set_size), cmocka_unit_test(repair),
+          cmocka_unit_test(interpolate), cmocka_unit_test(subdivide), cmocka_unit_test(series),
+          cmocka_unit_test(morph), cmocka_unit_test(texture), cmocka_unit_test(render),
+          REFERENCE_TEST(embedded_series_size), REFERENCE_TEST(embedded_series_newer),
+          cmocka_unit_test(older_options_get_defaults), cmocka_unit_test(report_repair),
+          cmocka_unit_test(report_info), cmocka_unit_test(report_interpolate),
+          cmocka_unit_test(report_subdivide), cmocka_unit_test(report_series),
+          cmocka_unit_test(report_texture), cmocka_unit_test(report_morph),
+          cmocka_unit_test(report_measures_comparison), REFERENCE_TEST(report_refused_before_work))

@@ -57,13 +57,14 @@ static void mutable_edits_are_checked(void **s)
     (void)s;
     const double bad[3] = {NAN, INFINITY, -INFINITY};
     for (int b = 0; b < 3; b++) {
-        limn_context *ctx = api_reference_context();
-        limn_mesh *m = test_mesh_icosahedron(ctx), *good = test_mesh_icosahedron(ctx);
+        limn_context *ctx = test_keep_context(api_reference_context());
+        limn_mesh *m = test_keep_mesh(test_mesh_icosahedron(ctx));
+        limn_mesh *good = test_keep_mesh(test_mesh_icosahedron(ctx));
         size_t n = limn_mesh_vertex_count(m);
         limn_mesh_positions_mutable(m)[3 * 4 + 1] = bad[b];
         const char *says = b == 0 ? "y = nan" : b == 1 ? "y = inf" : "y = -inf";
         limn_mesh *out = NULL;
-        double *buf = malloc(4 * 3 * n * sizeof *buf);
+        double *buf = test_keep(malloc(4 * 3 * n * sizeof *buf));
         for (size_t i = 0; i < 4 * 3 * n; i++)
             buf[i] = -7.0;
         double energy[4] = {-7, -7, -7, -7};
@@ -128,10 +129,6 @@ static void mutable_edits_are_checked(void **s)
         /* repaired positions are accepted again */
         limn_mesh_positions_mutable(m)[3 * 4 + 1] = limn_mesh_positions(good)[3 * 4 + 1];
         OK(ctx, limn_limit_positions(ctx, m, LIMN_SCHEME_AUTO, 0.0, buf));
-        free(buf);
-        limn_mesh_destroy(m);
-        limn_mesh_destroy(good);
-        limn_context_destroy(ctx);
     }
 }
 
@@ -377,14 +374,6 @@ static void every_error_has_a_message(void **s)
     limn_mesh_destroy(cube);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(create_names_the_vertex),
-        cmocka_unit_test(mutable_edits_are_checked),
-        REFERENCE_TEST(unknown_enums_are_refused),
-        CONTEXT_TEST(zero_length_and_null_buffers),
-        REFERENCE_TEST(every_error_has_a_message),
-    };
-    return cmocka_run_group_tests(tests, api_make_dir, api_remove_dir);
-}
+TEST_MAIN(api_make_dir, api_remove_dir, CONTEXT_TEST(create_names_the_vertex),
+          KEEP_TEST(mutable_edits_are_checked), REFERENCE_TEST(unknown_enums_are_refused),
+          CONTEXT_TEST(zero_length_and_null_buffers), REFERENCE_TEST(every_error_has_a_message))

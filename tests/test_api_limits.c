@@ -26,7 +26,7 @@
 static void counts_over_their_caps(void **s)
 {
     limn_context *ctx = *s;
-    limn_mesh *m = test_mesh_icosahedron(ctx), *out = NULL;
+    limn_mesh *m = test_keep_mesh(test_mesh_icosahedron(ctx)), *out = NULL;
     size_t v, f, b;
     int frames = 0;
     REFUSED(ctx, limn_smooth(ctx, m, NULL, INT_MAX, &out, NULL), "limn_smooth",
@@ -93,20 +93,20 @@ static void counts_over_their_caps(void **s)
     out = NULL;
     OK(ctx, limn_denoise(ctx, m, NULL, 0, 2, 0, &out, NULL));
     limn_mesh_destroy(out);
-    limn_mesh_destroy(m);
 }
 
 /* ---------------------------------------------------------------- formats */
 
 static void formats_that_cannot_hold_the_mesh(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     double p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     uint32_t off[1] = {0};
     limn_mesh *cloud = NULL, *empty = NULL, *back = NULL;
     OK(ctx, limn_mesh_create(ctx, 3, p, 0, off, NULL, &cloud));
+    test_keep_mesh(cloud);
     OK(ctx, limn_mesh_create(ctx, 0, NULL, 0, off, NULL, &empty));
+    test_keep_mesh(empty);
     const char *stl = api_scratch("cloud.stl");
     REFUSED(ctx, limn_mesh_write(ctx, cloud, stl, LIMN_FORMAT_AUTO), "limn_mesh_write",
             "STL holds triangles only", "3 vertices but no faces");
@@ -132,7 +132,7 @@ static void formats_that_cannot_hold_the_mesh(void **s)
     REFUSED(ctx, limn_mesh_write(ctx, empty, api_scratch("none.stl"), LIMN_FORMAT_AUTO),
             "no vertices");
     /* what a format drops is said: colours but in PLY, STL's quads */
-    limn_mesh *cube = test_mesh_cube(ctx);
+    limn_mesh *cube = test_keep_mesh(test_mesh_cube(ctx));
     uint8_t rgb[8 * 3] = {0};
     OK(ctx, limn_mesh_set_colors(ctx, cube, rgb));
     OK(ctx, limn_mesh_write(ctx, cube, api_scratch("cube.ply"), LIMN_FORMAT_AUTO));
@@ -142,10 +142,6 @@ static void formats_that_cannot_hold_the_mesh(void **s)
     OK(ctx, limn_mesh_write(ctx, cube, api_scratch("cube.stl"), LIMN_FORMAT_AUTO));
     assert_non_null(strstr(limn_context_warnings(ctx), "STL holds no vertex colours"));
     assert_non_null(strstr(limn_context_warnings(ctx), "6 faces with more than 3 vertices"));
-    limn_mesh_destroy(cube);
-    limn_mesh_destroy(cloud);
-    limn_mesh_destroy(empty);
-    limn_context_destroy(ctx);
 }
 
 /* --------------------------------------------------------------- overflow */
@@ -153,9 +149,9 @@ static void formats_that_cannot_hold_the_mesh(void **s)
 static void huge_coordinates_are_named_as_overflow(void **s)
 {
     limn_context *ctx = *s;
-    limn_mesh *m = test_mesh_icosahedron(ctx), *out = NULL;
+    limn_mesh *m = test_keep_mesh(test_mesh_icosahedron(ctx)), *out = NULL;
     size_t n = limn_mesh_vertex_count(m);
-    double *p = limn_mesh_positions_mutable(m), *d = malloc(3 * n * sizeof *d);
+    double *p = limn_mesh_positions_mutable(m), *d = test_keep(malloc(3 * n * sizeof *d));
     for (size_t i = 0; i < 3 * n; i++)
         p[i] *= 1e300;
     /* Loop, where the old message blamed alpha */
@@ -188,8 +184,6 @@ static void huge_coordinates_are_named_as_overflow(void **s)
     io.precision = LIMN_PRECISION_DOUBLE;
     OK(ctx, limn_interpolate(ctx, m, &io, &out, NULL));
     limn_mesh_destroy(out);
-    free(d);
-    limn_mesh_destroy(m);
 }
 
 /* ---------------------------------------------------------------- colours */
@@ -197,7 +191,7 @@ static void huge_coordinates_are_named_as_overflow(void **s)
 static void subdivide_names_dropped_colours(void **s)
 {
     limn_context *ctx = *s;
-    limn_mesh *m = test_mesh_icosahedron(ctx), *out = NULL;
+    limn_mesh *m = test_keep_mesh(test_mesh_icosahedron(ctx)), *out = NULL;
     uint8_t rgb[12 * 3];
     for (size_t i = 0; i < sizeof rgb; i++)
         rgb[i] = (uint8_t)(i * 7);
@@ -217,16 +211,9 @@ static void subdivide_names_dropped_colours(void **s)
     OK(ctx, limn_subdivide(ctx, m, NULL, &out, NULL));
     assert_string_equal(limn_context_warnings(ctx), "");
     limn_mesh_destroy(out);
-    limn_mesh_destroy(m);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        REFERENCE_TEST(counts_over_their_caps),
-        cmocka_unit_test(formats_that_cannot_hold_the_mesh),
-        REFERENCE_TEST(huge_coordinates_are_named_as_overflow),
-        REFERENCE_TEST(subdivide_names_dropped_colours),
-    };
-    return cmocka_run_group_tests(tests, api_make_dir, api_remove_dir);
-}
+TEST_MAIN(api_make_dir, api_remove_dir, REFERENCE_TEST(counts_over_their_caps),
+          CONTEXT_TEST(formats_that_cannot_hold_the_mesh),
+          REFERENCE_TEST(huge_coordinates_are_named_as_overflow),
+          REFERENCE_TEST(subdivide_names_dropped_colours))

@@ -86,19 +86,15 @@ static void agree_on(const char *name, limn_mesh *m, limn_scheme scheme, double 
 
 static void generated(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     /* 40 x 40 grids: more rows than one work-item's chunk, and a ragged last chunk */
-    limn_mesh *g = test_mesh_grid(ctx, 40, 37, 0), *gt = test_mesh_grid(ctx, 40, 37, 1);
-    limn_mesh *cube = test_mesh_cube(ctx);
+    limn_mesh *g = test_keep_mesh(test_mesh_grid(ctx, 40, 37, 0));
+    limn_mesh *gt = test_keep_mesh(test_mesh_grid(ctx, 40, 37, 1));
+    limn_mesh *cube = test_keep_mesh(test_mesh_cube(ctx));
     agree_on("quad grid 40x37", g, LIMN_SCHEME_CATMARK, 0.0);
     agree_on("quad grid 40x37", g, LIMN_SCHEME_CATMARK, 0.5);
     agree_on("triangle grid 40x37", gt, LIMN_SCHEME_LOOP, 0.0);
     agree_on("cube", cube, LIMN_SCHEME_CATMARK, 0.5);
-    limn_mesh_destroy(g);
-    limn_mesh_destroy(gt);
-    limn_mesh_destroy(cube);
-    limn_context_destroy(ctx);
 }
 
 static void shared(void **s)
@@ -207,13 +203,5 @@ static void deterministic_cli(void **s)
     assert_int_equal(test_remove_dir(dir), 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(generated),
-        CONTEXT_TEST(shared),
-        cmocka_unit_test(deterministic_output),
-        cmocka_unit_test(deterministic_cli),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated), CONTEXT_TEST(shared),
+          cmocka_unit_test(deterministic_output), cmocka_unit_test(deterministic_cli))

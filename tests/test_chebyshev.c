@@ -186,11 +186,4 @@ static void restart_below_a(void **state)
     diag_close(&s);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(closed_form),
-        CONTEXT_TEST(restart_below_a),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, cmocka_unit_test(closed_form), CONTEXT_TEST(restart_below_a))

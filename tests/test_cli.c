@@ -383,17 +383,8 @@ static void version_and_help(void **s)
     assert_string_equal(text, expect);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(version_and_help),
-        cmocka_unit_test(malformed_inputs),
-        cmocka_unit_test(bad_usage),
-        cmocka_unit_test(option_spellings),
-        cmocka_unit_test(singular_keeps_existing_output),
-        cmocka_unit_test(good_run_and_report),
-        cmocka_unit_test(subdivide_and_surface),
-        cmocka_unit_test(subdivide_warns_of_dropped_colours),
-    };
-    return cmocka_run_group_tests(tests, setup, teardown);
-}
+TEST_MAIN(setup, teardown, cmocka_unit_test(version_and_help), cmocka_unit_test(malformed_inputs),
+          cmocka_unit_test(bad_usage), cmocka_unit_test(option_spellings),
+          cmocka_unit_test(singular_keeps_existing_output), cmocka_unit_test(good_run_and_report),
+          cmocka_unit_test(subdivide_and_surface),
+          cmocka_unit_test(subdivide_warns_of_dropped_colours))

@@ -208,11 +208,4 @@ static void opencl_ranges(void **s)
     ranges_on("opencl", 1);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(reference_ranges),
-        cmocka_unit_test(opencl_ranges),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, cmocka_unit_test(reference_ranges), cmocka_unit_test(opencl_ranges))

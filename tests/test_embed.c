@@ -92,49 +92,46 @@ static int setup(void **s)
 
 static void interpolate_into_own_buffers(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
-    limn_mesh *m = make(ctx), *p = NULL;
+    limn_context *ctx = *s;
+    limn_mesh *m = test_keep_mesh(make(ctx)), *p = NULL;
     limn_interpolate_options o;
     limn_interpolate_options_default(&o);
     o.tolerance = 1e-9;
     limn_report r = {.size = sizeof r};
     OK(ctx, limn_interpolate(ctx, m, &o, &p, &r));
+    test_keep_mesh(p);
     static double control[3 * NV], limit[3 * NV];
     OK(ctx, limn_mesh_copy_positions(ctx, p, control, NV));
     assert_memory_equal(control, limn_mesh_positions(p), sizeof control);
     /* the limit of P, from a mesh the caller makes of its own P and faces */
     limn_mesh *own = NULL;
     OK(ctx, limn_mesh_create(ctx, NV, control, NF, offsets_m, indices_m, &own));
-    OK(ctx, limn_limit_positions(ctx, own, r.scheme, r.alpha, limit));
+    OK(ctx, limn_limit_positions(ctx, test_keep_mesh(own), r.scheme, r.alpha, limit));
     double err = max_distance(limit, pos_m, NV) / diagonal(pos_m, NV);
     print_message("limit of P against M: max relative error %.3g after %d iterations (%s)\n",
                   err, r.iterations, limn_context_device_name(ctx));
     assert_true(err <= o.tolerance);
     assert_true(max_distance(control, pos_m, NV) > 1e-3); /* P is not M */
-    limn_mesh_destroy(own);
-    limn_mesh_destroy(p);
-    limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 static void subdivide_faces_into_own_buffers(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
-    limn_mesh *m = make(ctx), *sub = NULL;
+    limn_context *ctx = *s;
+    limn_mesh *m = test_keep_mesh(make(ctx)), *sub = NULL;
     limn_subdivide_options o;
     limn_subdivide_options_default(&o);
     o.levels = 1;
     OK(ctx, limn_subdivide(ctx, m, &o, &sub, NULL));
+    test_keep_mesh(sub);
     size_t nv = limn_mesh_vertex_count(sub), nf = limn_mesh_face_count(sub);
     size_t ni = limn_mesh_index_count(sub);
     /* Catmull-Clark, one step: V + F + E vertices (E = 2F on a quad torus), 4 quads a face */
     assert_int_equal(nv, NV + NF + 2 * NF);
     assert_int_equal(nf, 4 * NF);
     assert_int_equal(ni, 4 * nf);
-    uint32_t *off = malloc((nf + 1) * sizeof *off), *idx = malloc(ni * sizeof *idx);
-    double *pos = malloc(3 * nv * sizeof *pos);
+    uint32_t *off = test_keep(malloc((nf + 1) * sizeof *off));
+    uint32_t *idx = test_keep(malloc(ni * sizeof *idx));
+    double *pos = test_keep(malloc(3 * nv * sizeof *pos));
     OK(ctx, limn_mesh_copy_faces(ctx, sub, off, nf + 1, idx, ni));
     OK(ctx, limn_mesh_copy_positions(ctx, sub, pos, nv));
     for (size_t f = 0; f <= nf; f++)
@@ -145,14 +142,7 @@ static void subdivide_faces_into_own_buffers(void **s)
     /* the caller's copy makes the same mesh again */
     limn_mesh *again = NULL;
     OK(ctx, limn_mesh_create(ctx, nv, pos, nf, off, idx, &again));
-    OK(ctx, limn_mesh_same_topology(ctx, sub, again));
-    free(off);
-    free(idx);
-    free(pos);
-    limn_mesh_destroy(again);
-    limn_mesh_destroy(sub);
-    limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
+    OK(ctx, limn_mesh_same_topology(ctx, sub, test_keep_mesh(again)));
 }
 
 typedef struct frames {
@@ -170,9 +160,8 @@ static limn_status keep_frame(void *user, const limn_morph_frame *fr)
 
 static void series_into_own_buffers(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
-    limn_mesh *m = make(ctx), *out = NULL;
+    limn_context *ctx = *s;
+    limn_mesh *m = test_keep_mesh(make(ctx)), *out = NULL;
     double diag = diagonal(pos_m, NV);
     static double buf[3 * NV], limit[3 * NV], bands[4 * 3 * NV];
     double energy[4];
@@ -231,15 +220,12 @@ static void series_into_own_buffers(void **s)
     to_opt.levels = 1;
     OK(ctx, limn_texture(ctx, m, &to_opt, &out, NULL));
     size_t nv = limn_mesh_vertex_count(out);
-    uint8_t *rgb = malloc(3 * nv);
+    uint8_t *rgb = test_keep(malloc(3 * nv));
     OK(ctx, limn_mesh_copy_colors(ctx, out, rgb, nv));
     assert_memory_equal(rgb, limn_mesh_colors(out), 3 * nv);
     for (size_t i = 0; i < nv; i++)
         assert_int_equal(rgb[3 * i + 1], 0); /* between red and blue: no green */
-    free(rgb);
     limn_mesh_destroy(out);
-    limn_mesh_destroy(m);
-    limn_context_destroy(ctx);
 }
 
 static void new_positions_in_place(void **s)
@@ -397,15 +383,7 @@ static void null_arguments_everywhere(void **s)
     limn_mesh_destroy(m);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(interpolate_into_own_buffers),
-        cmocka_unit_test(subdivide_faces_into_own_buffers),
-        cmocka_unit_test(series_into_own_buffers),
-        CONTEXT_TEST(new_positions_in_place),
-        CONTEXT_TEST(refusals_write_nothing),
-        CONTEXT_TEST(null_arguments_everywhere),
-    };
-    return cmocka_run_group_tests(tests, setup, NULL);
-}
+TEST_MAIN(setup, NULL, CONTEXT_TEST(interpolate_into_own_buffers),
+          CONTEXT_TEST(subdivide_faces_into_own_buffers),
+          CONTEXT_TEST(series_into_own_buffers), CONTEXT_TEST(new_positions_in_place),
+          CONTEXT_TEST(refusals_write_nothing), CONTEXT_TEST(null_arguments_everywhere))

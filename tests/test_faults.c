@@ -178,12 +178,5 @@ static void library(void **s)
     limn_mesh_destroy(m);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(each_fault),
-        cmocka_unit_test(choices_and_usage),
-        CONTEXT_TEST(library),
-    };
-    return cmocka_run_group_tests(tests, setup, teardown);
-}
+TEST_MAIN(setup, teardown, cmocka_unit_test(each_fault), cmocka_unit_test(choices_and_usage),
+          CONTEXT_TEST(library))

@@ -203,9 +203,8 @@ static void generated_meshes(void **s)
    the perturbed one. */
 static void singular_cube(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
-    limn_mesh *cube = test_mesh_cube(ctx), *p = NULL;
+    limn_context *ctx = *s;
+    limn_mesh *cube = test_keep_mesh(test_mesh_cube(ctx)), *p = NULL;
     limn_interpolate_options o;
     limn_interpolate_options_default(&o);
     assert_int_equal(limn_interpolate(ctx, cube, &o, &p, NULL), LIMN_OK);
@@ -231,8 +230,6 @@ static void singular_cube(void **s)
     assert_int_equal(limn_interpolate(ctx, cube, &o, &p, &r), LIMN_OK);
     limn_mesh_destroy(p);
     check_mesh(ctx, "perturbed cube", cube, LIMN_SCHEME_CATMARK, 0.5);
-    limn_mesh_destroy(cube);
-    limn_context_destroy(ctx);
 }
 
 static void iteration_cap_and_options(void **s)
@@ -306,13 +303,7 @@ static void methods(void **s)
     limn_context_destroy(ctx);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(generated_meshes), cmocka_unit_test(singular_cube),
-        cmocka_unit_test(methods),
-        CONTEXT_TEST(iteration_cap_and_options), cmocka_unit_test(embedded_spot),
-        cmocka_unit_test(small_meshes), cmocka_unit_test(medium_meshes),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated_meshes), CONTEXT_TEST(singular_cube),
+          cmocka_unit_test(methods), CONTEXT_TEST(iteration_cap_and_options),
+          cmocka_unit_test(embedded_spot), cmocka_unit_test(small_meshes),
+          cmocka_unit_test(medium_meshes))

@@ -129,17 +129,15 @@ static void all_sets(const char *name, const limn_mesh *mesh, limn_scheme scheme
 static void generated(void **st)
 {
     limn_context *ctx = *st;
-    limn_mesh *tri = test_mesh_grid(ctx, 25, 17, 1), *quad = test_mesh_grid(ctx, 25, 17, 0);
-    limn_mesh *fan = test_mesh_fan(ctx, 7, 0), *pyr = test_mesh_pyramid(ctx);
+    limn_mesh *tri = test_keep_mesh(test_mesh_grid(ctx, 25, 17, 1));
+    limn_mesh *quad = test_keep_mesh(test_mesh_grid(ctx, 25, 17, 0));
+    limn_mesh *fan = test_keep_mesh(test_mesh_fan(ctx, 7, 0));
+    limn_mesh *pyr = test_keep_mesh(test_mesh_pyramid(ctx));
     all_sets("triangle grid (boundary, corners)", tri, LIMN_SCHEME_LOOP, 0.0);
     all_sets("quad grid (boundary, corners)", quad, LIMN_SCHEME_CATMARK, 0.0);
     all_sets("quad grid (boundary, corners)", quad, LIMN_SCHEME_CATMARK, 0.5);
     all_sets("quad fan (valence 7)", fan, LIMN_SCHEME_CATMARK, 0.5);
     all_sets("pyramid (mixed faces)", pyr, LIMN_SCHEME_CATMARK, 0.0);
-    limn_mesh_destroy(tri);
-    limn_mesh_destroy(quad);
-    limn_mesh_destroy(fan);
-    limn_mesh_destroy(pyr);
 }
 
 static void shared(void **st)
@@ -169,11 +167,4 @@ static void shared(void **st)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(generated),
-        CONTEXT_TEST(shared),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated), CONTEXT_TEST(shared))

@@ -231,12 +231,6 @@ static void closed_form_rows(void **s)
     limn_mesh_destroy(g);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(closed_form_rows),  cmocka_unit_test(catmark_alpha0),
-        cmocka_unit_test(catmark_alpha_half), cmocka_unit_test(loop_masks),
-        cmocka_unit_test(shared_ngons),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(closed_form_rows), cmocka_unit_test(catmark_alpha0),
+          cmocka_unit_test(catmark_alpha_half), cmocka_unit_test(loop_masks),
+          cmocka_unit_test(shared_ngons))

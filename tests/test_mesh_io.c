@@ -22,6 +22,7 @@
 
 #include <cmocka.h>
 
+#include "fixture.h"
 #include "limn.h"
 #include "shell.h"
 
@@ -106,6 +107,7 @@ static void remove_tree(const char *dir)
 static int setup(void **state)
 {
     (void)state;
+    umask(022); /* the modes the writers' files are checked against */
     if (test_make_dir(tmpdir, sizeof tmpdir, "test_mesh_io") != 0)
         return -1;
     ctx = limn_context_create();
@@ -283,7 +285,7 @@ static void round_trip(const char *name, limn_format format, int keeps_colors, s
     }
     struct stat sb;
     assert_int_equal(stat(path, &sb), 0);
-    assert_int_equal(sb.st_mode & 0777, 0644); /* umask 022 set in main */
+    assert_int_equal(sb.st_mode & 0777, 0644); /* umask 022 set in setup */
     limn_mesh_destroy(a);
     limn_mesh_destroy(b);
     assert_int_equal(count_entries(dir), 1); /* no temporary file left */
@@ -660,22 +662,16 @@ static void test_write_fails_midway(void **s)
     unlink(path);
 }
 
-int main(void)
-{
-    umask(022);
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_real_spot),          cmocka_unit_test(test_real_suzanne),
-        cmocka_unit_test(test_real_knight),        cmocka_unit_test(test_real_bunny),
-        cmocka_unit_test(test_real_igea),          cmocka_unit_test(test_real_tristrips),
-        cmocka_unit_test(test_real_all_stats),     cmocka_unit_test(test_round_trip_obj),
-        cmocka_unit_test(test_round_trip_ply_le),  cmocka_unit_test(test_round_trip_ply_ascii),
-        cmocka_unit_test(test_round_trip_ply_be),  cmocka_unit_test(test_round_trip_off),
-        cmocka_unit_test(test_round_trip_big_face), cmocka_unit_test(test_format_names),
-        cmocka_unit_test(test_obj_forms),          cmocka_unit_test(test_ply_variants),
-        cmocka_unit_test(test_bad_obj),            cmocka_unit_test(test_bad_ply),
-        cmocka_unit_test(test_bad_off),            cmocka_unit_test(test_bad_files),
-        cmocka_unit_test_setup_teardown(test_write_missing_dir, writer_setup, writer_teardown),  cmocka_unit_test_setup_teardown(test_write_replaces, writer_setup, writer_teardown),
-        cmocka_unit_test_setup_teardown(test_write_fails_midway, writer_setup, writer_teardown),
-    };
-    return cmocka_run_group_tests(tests, setup, teardown);
-}
+TEST_MAIN(setup, teardown, cmocka_unit_test(test_real_spot), cmocka_unit_test(test_real_suzanne),
+          cmocka_unit_test(test_real_knight), cmocka_unit_test(test_real_bunny),
+          cmocka_unit_test(test_real_igea), cmocka_unit_test(test_real_tristrips),
+          cmocka_unit_test(test_real_all_stats), cmocka_unit_test(test_round_trip_obj),
+          cmocka_unit_test(test_round_trip_ply_le), cmocka_unit_test(test_round_trip_ply_ascii),
+          cmocka_unit_test(test_round_trip_ply_be), cmocka_unit_test(test_round_trip_off),
+          cmocka_unit_test(test_round_trip_big_face), cmocka_unit_test(test_format_names),
+          cmocka_unit_test(test_obj_forms), cmocka_unit_test(test_ply_variants),
+          cmocka_unit_test(test_bad_obj), cmocka_unit_test(test_bad_ply),
+          cmocka_unit_test(test_bad_off), cmocka_unit_test(test_bad_files),
+          cmocka_unit_test_setup_teardown(test_write_missing_dir, writer_setup, writer_teardown),
+          cmocka_unit_test_setup_teardown(test_write_replaces, writer_setup, writer_teardown),
+          cmocka_unit_test_setup_teardown(test_write_fails_midway, writer_setup, writer_teardown))

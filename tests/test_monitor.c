@@ -185,12 +185,7 @@ static void weighted_omega(void **s)
     assert_true(monitor_weighted_omega(1.0, 2.0) == 1.0); /* growth: lambda 1, omega 1 */
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(geometric_converges), cmocka_unit_test(plateau_stalls_after_window),
-        cmocka_unit_test(cap), cmocka_unit_test(non_finite),
-        cmocka_unit_test(status_and_message), cmocka_unit_test(weighted_omega),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, cmocka_unit_test(geometric_converges),
+          cmocka_unit_test(plateau_stalls_after_window), cmocka_unit_test(cap),
+          cmocka_unit_test(non_finite), cmocka_unit_test(status_and_message),
+          cmocka_unit_test(weighted_omega))

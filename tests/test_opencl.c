@@ -263,12 +263,6 @@ static void unwritable_pocl_cache(void **s)
     assert_false(test_file_exists(out));
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(pure_rule),          cmocka_unit_test(real_skip),
-        cmocka_unit_test(real_rusticl),       cmocka_unit_test(whole_build_log),
-        cmocka_unit_test(prefetch_dropped),   cmocka_unit_test(unwritable_pocl_cache),
-    };
-    return cmocka_run_group_tests(tests, setup, teardown);
-}
+TEST_MAIN(setup, teardown, cmocka_unit_test(pure_rule), cmocka_unit_test(real_skip),
+          cmocka_unit_test(real_rusticl), cmocka_unit_test(whole_build_log),
+          cmocka_unit_test(prefetch_dropped), cmocka_unit_test(unwritable_pocl_cache))

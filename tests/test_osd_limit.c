@@ -119,13 +119,5 @@ static void opensubdiv_opencl(void **s) { (void)s; folder("opensubdiv", "opencl"
 static void opensubdiv_reference(void **s) { (void)s; folder("opensubdiv", "reference"); }
 static void medium_opencl(void **s) { (void)s; folder("medium", "opencl"); }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(opensubdiv_opencl),
-        cmocka_unit_test(opensubdiv_reference),
-        cmocka_unit_test(small_opencl),
-        cmocka_unit_test(medium_opencl),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, cmocka_unit_test(opensubdiv_opencl), cmocka_unit_test(opensubdiv_reference),
+          cmocka_unit_test(small_opencl), cmocka_unit_test(medium_opencl))

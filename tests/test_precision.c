@@ -260,13 +260,12 @@ static double oracle_miss(limn_context *ctx, const limn_mesh *m, const limn_mesh
 
 static void medium_meshes_meet_tolerance(void **s)
 {
-    (void)s;
     if (!test_shared_meshes())
         skip();
     const char *names[64];
     size_t count = test_list_meshes("medium", names, 64);
     assert_true(count > 0);
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     for (size_t i = 0; i < count; i++) {
         limn_mesh *m = NULL;
         assert_int_equal(limn_mesh_read(ctx, test_shared_path(names[i]), LIMN_FORMAT_AUTO, &m),
@@ -292,7 +291,6 @@ static void medium_meshes_meet_tolerance(void **s)
             }
         limn_mesh_destroy(m);
     }
-    limn_context_destroy(ctx);
 }
 
 static void choice_and_refusals(void **s)
@@ -442,17 +440,8 @@ static void command_line(void **s)
     assert_int_equal(test_remove_dir(dir), 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(kernels_match_reference),
-        cmocka_unit_test(solves_match_reference),
-        CONTEXT_TEST(choice_and_refusals),
-        CONTEXT_TEST(singular_cube_in_float),
-        CONTEXT_TEST(far_from_origin),
-        cmocka_unit_test(setup_reported),
-        cmocka_unit_test(command_line),
-        cmocka_unit_test(medium_meshes_meet_tolerance),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(kernels_match_reference),
+          cmocka_unit_test(solves_match_reference), CONTEXT_TEST(choice_and_refusals),
+          CONTEXT_TEST(singular_cube_in_float), CONTEXT_TEST(far_from_origin),
+          cmocka_unit_test(setup_reported), cmocka_unit_test(command_line),
+          CONTEXT_TEST(medium_meshes_meet_tolerance))

@@ -394,16 +394,8 @@ static int teardown(void **s)
     return test_remove_dir(dir);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(bom_is_skipped),
-        cmocka_unit_test(cr_and_crlf_line_ends),
-        cmocka_unit_test(off_header_words),
-        cmocka_unit_test(endless_inputs_are_bounded),
-        cmocka_unit_test(pipes_need_a_format),
-        cmocka_unit_test(json_escapes_hostile_names),
-        cmocka_unit_test(ply_dropped_properties_named),
-    };
-    return cmocka_run_group_tests(tests, setup, teardown);
-}
+TEST_MAIN(setup, teardown, cmocka_unit_test(bom_is_skipped),
+          cmocka_unit_test(cr_and_crlf_line_ends), cmocka_unit_test(off_header_words),
+          cmocka_unit_test(endless_inputs_are_bounded), cmocka_unit_test(pipes_need_a_format),
+          cmocka_unit_test(json_escapes_hostile_names),
+          cmocka_unit_test(ply_dropped_properties_named))

@@ -214,9 +214,12 @@ static void against_osd(limn_context *ctx, const char *name, const limn_mesh *m,
 static void generated_vs_osd(void **s)
 {
     limn_context *ctx = *s;
-    limn_mesh *grid = test_mesh_grid(ctx, 4, 3, 0), *tgrid = test_mesh_grid(ctx, 4, 3, 1);
-    limn_mesh *cube = test_mesh_cube(ctx), *pyr = test_mesh_pyramid(ctx);
-    limn_mesh *ico = test_mesh_icosahedron(ctx), *fan = test_mesh_fan(ctx, 5, 0);
+    limn_mesh *grid = test_keep_mesh(test_mesh_grid(ctx, 4, 3, 0));
+    limn_mesh *tgrid = test_keep_mesh(test_mesh_grid(ctx, 4, 3, 1));
+    limn_mesh *cube = test_keep_mesh(test_mesh_cube(ctx));
+    limn_mesh *pyr = test_keep_mesh(test_mesh_pyramid(ctx));
+    limn_mesh *ico = test_keep_mesh(test_mesh_icosahedron(ctx));
+    limn_mesh *fan = test_keep_mesh(test_mesh_fan(ctx, 5, 0));
     test_perturb(grid, 0.05, 1);
     test_perturb(tgrid, 0.05, 2);
     for (int l = 1; l <= 3; l++) {
@@ -227,12 +230,6 @@ static void generated_vs_osd(void **s)
         against_osd(ctx, "icosahedron", ico, LIMN_SCHEME_LOOP, l);
         against_osd(ctx, "quad fan valence 5", fan, LIMN_SCHEME_CATMARK, l);
     }
-    limn_mesh_destroy(grid);
-    limn_mesh_destroy(tgrid);
-    limn_mesh_destroy(cube);
-    limn_mesh_destroy(pyr);
-    limn_mesh_destroy(ico);
-    limn_mesh_destroy(fan);
 }
 
 static void shared_vs_osd(void **s)
@@ -315,13 +312,14 @@ static void alpha_first_step(void **s)
 /* interpolate, then refine with --limit: the surface passes through M. */
 static void surface_passes_through_input(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     char spot[4096];
     snprintf(spot, sizeof spot, "%.4000s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
     limn_mesh *spot_mesh = NULL;
     assert_int_equal(limn_mesh_read(ctx, spot, LIMN_FORMAT_AUTO, &spot_mesh), LIMN_OK);
-    limn_mesh *tri = test_mesh_icosahedron(ctx), *tgrid = test_mesh_grid(ctx, 5, 4, 1);
+    test_keep_mesh(spot_mesh);
+    limn_mesh *tri = test_keep_mesh(test_mesh_icosahedron(ctx));
+    limn_mesh *tgrid = test_keep_mesh(test_mesh_grid(ctx, 5, 4, 1));
     test_perturb(tri, 0.1, 9);
     struct {
         const char *name;
@@ -362,18 +360,14 @@ static void surface_passes_through_input(void **s)
         }
         limn_mesh_destroy(p);
     }
-    limn_mesh_destroy(spot_mesh);
-    limn_mesh_destroy(tri);
-    limn_mesh_destroy(tgrid);
-    limn_context_destroy(ctx);
 }
 
 static void backends_agree(void **s)
 {
-    (void)s;
-    limn_context *cl = limn_context_create(), *ref = limn_context_create();
+    limn_context *cl = *s, *ref = test_keep_context(limn_context_create());
     assert_int_equal(limn_context_set_device(ref, "reference"), LIMN_OK);
-    limn_mesh *g = test_mesh_grid(cl, 30, 20, 0), *t = test_mesh_grid(cl, 30, 20, 1);
+    limn_mesh *g = test_keep_mesh(test_mesh_grid(cl, 30, 20, 0));
+    limn_mesh *t = test_keep_mesh(test_mesh_grid(cl, 30, 20, 1));
     limn_mesh *meshes[] = {g, t};
     for (int i = 0; i < 2; i++)
         for (int limit = 0; limit <= 1; limit++) {
@@ -386,10 +380,6 @@ static void backends_agree(void **s)
             limn_mesh_destroy(a);
             limn_mesh_destroy(b);
         }
-    limn_mesh_destroy(g);
-    limn_mesh_destroy(t);
-    limn_context_destroy(cl);
-    limn_context_destroy(ref);
 }
 
 static void memory_refusal(void **s)
@@ -409,12 +399,6 @@ static void memory_refusal(void **s)
     limn_mesh_destroy(g);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(generated_vs_osd),      CONTEXT_TEST(shared_vs_osd),
-        CONTEXT_TEST(alpha_first_step),      cmocka_unit_test(surface_passes_through_input),
-        cmocka_unit_test(backends_agree),        CONTEXT_TEST(memory_refusal),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated_vs_osd), CONTEXT_TEST(shared_vs_osd),
+          CONTEXT_TEST(alpha_first_step), CONTEXT_TEST(surface_passes_through_input),
+          CONTEXT_TEST(backends_agree), CONTEXT_TEST(memory_refusal))

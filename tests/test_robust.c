@@ -1063,31 +1063,16 @@ static void max_memory(void **s)
 #endif
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(class_truncated),
-        cmocka_unit_test(class_huge_counts),
-        cmocka_unit_test(class_index_out_of_range),
-        cmocka_unit_test(class_negative_zero_counts),
-        cmocka_unit_test(class_nonfinite),
-        cmocka_unit_test(class_short_and_repeated_faces),
-        cmocka_unit_test(class_duplicate_faces),
-        cmocka_unit_test(class_nonmanifold),
-        cmocka_unit_test(class_inconsistent_orientation),
-        cmocka_unit_test(class_unreferenced_vertices),
-        cmocka_unit_test(class_several_components),
-        cmocka_unit_test(class_empty),
-        cmocka_unit_test(real_broken_meshes),
-        CONTEXT_TEST(repair_api),
-        cmocka_unit_test(stl_reader),
-        cmocka_unit_test(existing_output_replaced_atomically),
-        cmocka_unit_test(input_never_overwritten),
-        cmocka_unit_test(failed_report_writes_nothing),
-        cmocka_unit_test(series_commands),
-        cmocka_unit_test(full_disk),
-        cmocka_unit_test(unwritable_directory),
-        cmocka_unit_test(max_memory),
-    };
-    return cmocka_run_group_tests(tests, setup, teardown);
-}
+TEST_MAIN(setup, teardown, cmocka_unit_test(class_truncated), cmocka_unit_test(class_huge_counts),
+          cmocka_unit_test(class_index_out_of_range), cmocka_unit_test(class_negative_zero_counts),
+          cmocka_unit_test(class_nonfinite), cmocka_unit_test(class_short_and_repeated_faces),
+          cmocka_unit_test(class_duplicate_faces), cmocka_unit_test(class_nonmanifold),
+          cmocka_unit_test(class_inconsistent_orientation),
+          cmocka_unit_test(class_unreferenced_vertices),
+          cmocka_unit_test(class_several_components), cmocka_unit_test(class_empty),
+          cmocka_unit_test(real_broken_meshes), CONTEXT_TEST(repair_api),
+          cmocka_unit_test(stl_reader), cmocka_unit_test(existing_output_replaced_atomically),
+          cmocka_unit_test(input_never_overwritten),
+          cmocka_unit_test(failed_report_writes_nothing), cmocka_unit_test(series_commands),
+          cmocka_unit_test(full_disk), cmocka_unit_test(unwritable_directory),
+          cmocka_unit_test(max_memory))

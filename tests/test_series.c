@@ -761,22 +761,18 @@ static void backends_on(const char *name, limn_mesh *m)
 
 static void backends_agree(void **s)
 {
-    (void)s;
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = *s;
     /* more rows than one work-item's chunk, and a ragged last chunk */
-    limn_mesh *g = test_mesh_grid(ctx, 40, 37, 0), *tg = test_mesh_grid(ctx, 40, 37, 1);
+    limn_mesh *g = test_keep_mesh(test_mesh_grid(ctx, 40, 37, 0));
+    limn_mesh *tg = test_keep_mesh(test_mesh_grid(ctx, 40, 37, 1));
     backends_on("quad grid 40x37", g);
     backends_on("triangle grid 40x37", tg);
-    limn_mesh_destroy(g);
-    limn_mesh_destroy(tg);
     if (test_shared_meshes()) {
         limn_mesh *m = NULL;
         CHECK_OK(ctx, limn_mesh_read(ctx, test_shared_path("medium/bunny_closed.off"),
                                      LIMN_FORMAT_AUTO, &m));
-        backends_on("bunny_closed", m);
-        limn_mesh_destroy(m);
+        backends_on("bunny_closed", test_keep_mesh(m));
     }
-    limn_context_destroy(ctx);
 }
 
 /* ------------------------------------------------------------ measures */
@@ -784,8 +780,9 @@ static void backends_agree(void **s)
 static void measures(void **s)
 {
     limn_context *ctx = *s;
-    limn_mesh *cube = test_mesh_cube(ctx), *grid = test_mesh_grid(ctx, 3, 3, 0);
-    limn_mesh *sphere = icosphere(ctx, 5);
+    limn_mesh *cube = test_keep_mesh(test_mesh_cube(ctx));
+    limn_mesh *grid = test_keep_mesh(test_mesh_grid(ctx, 3, 3, 0));
+    limn_mesh *sphere = test_keep_mesh(icosphere(ctx, 5));
     limn_mesh_measures me = {.size = sizeof me};
     CHECK_OK(ctx, limn_mesh_measure(ctx, cube, &me));
     assert_true(me.closed);
@@ -801,7 +798,7 @@ static void measures(void **s)
     /* a mirrored cube: every face flips, the volume changes sign */
     limn_mesh *mirror = NULL;
     CHECK_OK(ctx, limn_mesh_copy(ctx, cube, &mirror));
-    double *p = limn_mesh_positions_mutable(mirror);
+    double *p = limn_mesh_positions_mutable(test_keep_mesh(mirror));
     for (size_t i = 0; i < 8; i++)
         p[3 * i] = -p[3 * i];
     limn_mesh_comparison cmp = {.size = sizeof cmp};
@@ -813,10 +810,6 @@ static void measures(void **s)
     CHECK_OK(ctx, limn_mesh_compare(ctx, cube, cube, &cmp));
     assert_true(cmp.mean_distance == 0 && cmp.mean_normal_angle == 0 && cmp.flipped_faces == 0);
     assert_int_equal(limn_mesh_same_topology(ctx, cube, grid), LIMN_ERR_TOPOLOGY);
-    limn_mesh_destroy(cube);
-    limn_mesh_destroy(grid);
-    limn_mesh_destroy(sphere);
-    limn_mesh_destroy(mirror);
 }
 
 /* -------------------------------------------------------------- render */
@@ -824,12 +817,12 @@ static void measures(void **s)
 static void render_cube(void **s)
 {
     limn_context *ctx = *s;
-    limn_mesh *cube = test_mesh_cube(ctx);
+    limn_mesh *cube = test_keep_mesh(test_mesh_cube(ctx));
     limn_render_options o;
     limn_render_options_default(&o);
     o.width = 80;
     o.height = 60;
-    uint8_t *rgb = malloc(3 * 80 * 60), *again = malloc(3 * 80 * 60);
+    uint8_t *rgb = test_keep(malloc(3 * 80 * 60)), *again = test_keep(malloc(3 * 80 * 60));
     CHECK_OK(ctx, limn_render(ctx, cube, &o, rgb));
     CHECK_OK(ctx, limn_render(ctx, cube, &o, again));
     assert_memory_equal(rgb, again, 3 * 80 * 60);
@@ -847,24 +840,10 @@ static void render_cube(void **s)
     assert_true(mid[0] > 2 * mid[1] + 20 && mid[1] == mid[2]);
     o.width = 0;
     assert_int_equal(limn_render(ctx, cube, &o, rgb), LIMN_ERR_ARGUMENT);
-    free(rgb);
-    free(again);
-    limn_mesh_destroy(cube);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(series_against_dense),
-        CONTEXT_TEST(bands_sum_and_energy),
-        OPENCL_TEST(denoise_brings_closer),
-        OPENCL_TEST(sharpen_raises_high_bands),
-        cmocka_unit_test(morph_frames),
-        cmocka_unit_test(texture_colors),
-        cmocka_unit_test(perlin_noise),
-        cmocka_unit_test(backends_agree),
-        CONTEXT_TEST(measures),
-        CONTEXT_TEST(render_cube),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(series_against_dense), CONTEXT_TEST(bands_sum_and_energy),
+          OPENCL_TEST(denoise_brings_closer), OPENCL_TEST(sharpen_raises_high_bands),
+          cmocka_unit_test(morph_frames), cmocka_unit_test(texture_colors),
+          cmocka_unit_test(perlin_noise), CONTEXT_TEST(backends_agree), CONTEXT_TEST(measures),
+          CONTEXT_TEST(render_cube))

@@ -314,12 +314,5 @@ static void good_runs(void **s)
     clean();
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(bad_usage),
-        cmocka_unit_test(bad_inputs),
-        cmocka_unit_test(good_runs),
-    };
-    return cmocka_run_group_tests(tests, setup, teardown);
-}
+TEST_MAIN(setup, teardown, cmocka_unit_test(bad_usage), cmocka_unit_test(bad_inputs),
+          cmocka_unit_test(good_runs))

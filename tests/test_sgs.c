@@ -351,8 +351,4 @@ static void loop(void **state)
     limn_mesh_destroy(ico);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {CONTEXT_TEST(catmull_clark), CONTEXT_TEST(loop)};
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(catmull_clark), CONTEXT_TEST(loop))

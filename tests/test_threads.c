@@ -364,18 +364,8 @@ static void interpolate_report_has_the_count(void **s)
     assert_int_equal(test_remove_dir(dir), 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(counts_cores_not_pus),
-        cmocka_unit_test(plan_precedence),
-        CONTEXT_TEST(bad_requests),
-        cmocka_unit_test(binding_of_this_process),
-        cmocka_unit_test(pocl_follows_the_api),
-        cmocka_unit_test(pocl_follows_the_binding),
-        cmocka_unit_test(runtime_default_sets_nothing),
-        cmocka_unit_test(cli_reports_the_count),
-        cmocka_unit_test(interpolate_report_has_the_count),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, cmocka_unit_test(counts_cores_not_pus), cmocka_unit_test(plan_precedence),
+          CONTEXT_TEST(bad_requests), cmocka_unit_test(binding_of_this_process),
+          cmocka_unit_test(pocl_follows_the_api), cmocka_unit_test(pocl_follows_the_binding),
+          cmocka_unit_test(runtime_default_sets_nothing), cmocka_unit_test(cli_reports_the_count),
+          cmocka_unit_test(interpolate_report_has_the_count))

@@ -176,12 +176,5 @@ static void nonmanifold_classes(void **state)
     limn_mesh_destroy(deg);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        CONTEXT_TEST(generated_meshes_closed_forms),
-        CONTEXT_TEST(nonmanifold_classes),
-        cmocka_unit_test(shared_meshes_match_stats),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated_meshes_closed_forms),
+          CONTEXT_TEST(nonmanifold_classes), cmocka_unit_test(shared_meshes_match_stats))
