@@ -39,11 +39,9 @@ limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
                                       const limn_interpolate_options *options,
                                       size_t max_memory, size_t *peak_bytes)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!mesh)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate_estimate: mesh is NULL");
+    limn_status begun = abi_begin(ctx, "limn_interpolate_estimate", "mesh", mesh);
+    if (begun)
+        return begun;
     limn_interpolate_options sized;
     limn_interpolate_options_default(&sized);
     limn_status checked = abi_options_in(ctx, "limn_interpolate_estimate", "options",

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Building the limit operator of a mesh on the context's device. */
+#include "base/abi.h"
 #include "solve/operator.h"
 #include "mesh/check.h"
 #include "base/context.h"
@@ -129,11 +130,9 @@ void operator_free(stencil_operator *op)
 limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
                                  double alpha, double *out)
 {
-    if (!ctx)
-        return LIMN_ERR_ARGUMENT;
-    ctx_clear(ctx);
-    if (!out)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_limit_positions: out is NULL");
+    limn_status begun = abi_begin(ctx, "limn_limit_positions", "out", out);
+    if (begun)
+        return begun;
     limn_status st = check_mesh_magnitude(ctx, "limn_limit_positions", NULL, mesh);
     if (!st)
         st = check_scheme(ctx, "limn_limit_positions", scheme);

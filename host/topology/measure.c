@@ -75,11 +75,8 @@ static limn_status measure_sized(limn_context *ctx, const limn_mesh *mesh, limn_
     if (begun)
         return begun;
     memset(out, 0, sizeof *out);
-    limn_status st = check_mesh(ctx, "limn_mesh_measure", NULL, mesh);
-    if (st)
-        return st;
     topology t;
-    st = topology_build(ctx, mesh, &t);
+    limn_status st = topology_build_checked(ctx, "limn_mesh_measure", mesh, &t);
     if (st)
         return st;
     out->closed = measure_topology_closed(&t);

@@ -14,11 +14,8 @@ static limn_status info_sized(limn_context *ctx, const limn_mesh *mesh, limn_mes
     limn_status begun = abi_begin(ctx, "limn_mesh_info_compute", "info", info);
     if (begun)
         return begun;
-    limn_status st = check_mesh(ctx, "limn_mesh_info_compute", NULL, mesh);
-    if (st)
-        return st;
     topology t;
-    st = topology_build(ctx, mesh, &t);
+    limn_status st = topology_build_checked(ctx, "limn_mesh_info_compute", mesh, &t);
     if (st)
         return st;
     memset(info, 0, sizeof *info);

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Topology construction: edges by bucketing half-edges on their lower vertex. */
+#include "mesh/check.h"
 #include "topology/topology.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
@@ -318,6 +319,13 @@ static limn_status count_components(limn_context *ctx, topology *t)
             t->boundary_loops++;
     free(parent);
     return LIMN_OK;
+}
+
+limn_status topology_build_checked(limn_context *ctx, const char *fn, const limn_mesh *mesh,
+                                   topology *out)
+{
+    limn_status st = check_mesh(ctx, fn, NULL, mesh);
+    return st ? st : topology_build(ctx, mesh, out);
 }
 
 limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *t)

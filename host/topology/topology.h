@@ -64,6 +64,10 @@ typedef struct topology {
  * face, a face that uses one vertex twice.
  */
 limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *out);
+/* check_mesh (the caller's name fn in its messages), then topology_build:
+   the opening of the calls that count a caller's mesh (info, measure). */
+limn_status topology_build_checked(limn_context *ctx, const char *fn, const limn_mesh *mesh,
+                                   topology *out);
 void topology_free(topology *topo);
 
 static inline uint32_t topology_face_size(const topology *t, uint32_t f)
