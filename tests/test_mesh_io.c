@@ -26,7 +26,6 @@
 #include "limn.h"
 #include "shell.h"
 
-static char tmpdir[64];
 static limn_context *ctx;
 
 /* ----------------------------------------------------------------- helpers */
@@ -55,7 +54,7 @@ static char *fmt(const char *f, ...)
     return b;
 }
 
-static const char *tmp_path(const char *name) { return fmt("%s/%s", tmpdir, name); }
+static const char *tmp_path(const char *name) { return fmt("%s/%s", test_dir, name); }
 
 static const char *write_bytes(const char *name, const void *data, size_t n)
 {
@@ -108,17 +107,14 @@ static int setup(void **state)
 {
     (void)state;
     umask(022); /* the modes the writers' files are checked against */
-    if (test_make_dir(tmpdir, sizeof tmpdir, "test_mesh_io") != 0)
-        return -1;
-    ctx = limn_context_create();
-    return ctx ? 0 : -1;
+    return test_scratch_make("test_mesh_io", &ctx);
 }
 
 static int teardown(void **state)
 {
     (void)state;
     limn_context_destroy(ctx);
-    remove_tree(tmpdir);
+    remove_tree(test_dir);
     return 0;
 }
 
