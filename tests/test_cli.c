@@ -31,7 +31,10 @@ static int setup(void **s)
 }
 
 /* Runs `limn ARGS` and captures stdout+stderr into test_text; returns the exit status. */
-static int limn(const char *args) { return test_limn(test_text, sizeof test_text, NULL, "%s", args); }
+static int limn(const char *args)
+{
+    return test_limn(test_text, sizeof test_text, NULL, "%s", args);
+}
 
 static const char *in_dir(const char *name) { return test_join(test_dir, name); }
 
@@ -55,7 +58,8 @@ static void expect_failure_opts(const char *name, const char *content, int statu
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' %s", path, out_path, opts);
     int rc = limn(args);
     if (rc != status || !strstr(test_text, message))
-        fail_msg("%s: exit %d (want %d), output:\n%s\nwanted: %s", name, rc, status, test_text, message);
+        fail_msg("%s: exit %d (want %d), output:\n%s\nwanted: %s", name, rc, status, test_text,
+                 message);
     no_output_left();
     unlink(path);
 }
@@ -146,7 +150,8 @@ static void option_spellings(void **s)
     assert_int_equal(mesh_len[0], mesh_len[1]);
     assert_memory_equal(mesh[0], mesh[1], mesh_len[0]);
     /* an unambiguous prefix is the option */
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s/in_eq2.obj' --max-it 3 -q", spot, test_dir);
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s/in_eq2.obj' --max-it 3 -q", spot,
+             test_dir);
     int rc = limn(args); /* 1 when 3 iterations do not converge */
     if (rc == 2 || strstr(test_text, "unknown option"))
         fail_msg("--max-it was not taken for --max-iter: exit %d, %s", rc, test_text);
@@ -213,7 +218,8 @@ static void bad_usage(void **s)
     }
     expect_run(2, "no output given", "interpolate '%s'", spot);
     expect_run(2, "cannot tell the format", "interpolate '%s' -o '%s/out.xyz'", spot, test_dir);
-    expect_run(1, "missing/dir/out.ply", "interpolate '%s' -o '%s/missing/dir/out.ply'", spot, test_dir);
+    expect_run(1, "missing/dir/out.ply", "interpolate '%s' -o '%s/missing/dir/out.ply'", spot,
+               test_dir);
     /* Loop on a mesh with quads */
     expect_run(1, "Loop subdivision needs triangles",
                "interpolate '%s' -o '%s' --scheme loop", spot, out_path);
@@ -375,8 +381,8 @@ static void version_and_help(void **s)
     assert_string_equal(test_text, expect);
 }
 
-TEST_MAIN(setup, test_scratch_teardown, cmocka_unit_test(version_and_help), cmocka_unit_test(malformed_inputs),
-          cmocka_unit_test(bad_usage), cmocka_unit_test(option_spellings),
-          cmocka_unit_test(singular_keeps_existing_output), cmocka_unit_test(good_run_and_report),
-          cmocka_unit_test(subdivide_and_surface),
+TEST_MAIN(setup, test_scratch_teardown, cmocka_unit_test(version_and_help),
+          cmocka_unit_test(malformed_inputs), cmocka_unit_test(bad_usage),
+          cmocka_unit_test(option_spellings), cmocka_unit_test(singular_keeps_existing_output),
+          cmocka_unit_test(good_run_and_report), cmocka_unit_test(subdivide_and_surface),
           cmocka_unit_test(subdivide_warns_of_dropped_colours))

@@ -100,7 +100,8 @@ static void each_fault(void **s)
                                           "was allowed)"
                                         : "running again on the reference backend (the "
                                           "fallback was allowed)"))
-                fail_msg("%s, %s --fallback reference: exit %d:\n%s", env, commands[c], rc, test_text);
+                fail_msg("%s, %s --fallback reference: exit %d:\n%s", env, commands[c], rc,
+                         test_text);
             assert_non_null(strstr(test_text, "reference (plain C"));
             assert_true(test_same_bytes(out, ref));
             unlink(out);
@@ -126,8 +127,9 @@ static void choices_and_usage(void **s)
     snprintf(out, sizeof out, "%s/out.ply", test_dir);
     int rc = run("", "interpolate '%s' -o '%s' --device opencl:no-such-device", spot(), out);
     assert_int_equal(rc, 1);
-    assert_non_null(strstr(test_text, "no OpenCL device matches --device='no-such-device': run 'limn "
-                                 "devices' to list them, or use --device reference"));
+    assert_non_null(strstr(test_text,
+                           "no OpenCL device matches --device='no-such-device': run 'limn "
+                           "devices' to list them, or use --device reference"));
     rc = run("", "interpolate '%s' -o '%s' --device opencl:no-such-device --fallback reference -q",
              spot(), out);
     assert_int_equal(rc, 0);
@@ -170,5 +172,5 @@ static void library(void **s)
     limn_mesh_destroy(m);
 }
 
-TEST_MAIN(setup, test_scratch_teardown, cmocka_unit_test(each_fault), cmocka_unit_test(choices_and_usage),
-          CONTEXT_TEST(library))
+TEST_MAIN(setup, test_scratch_teardown, cmocka_unit_test(each_fault),
+          cmocka_unit_test(choices_and_usage), CONTEXT_TEST(library))

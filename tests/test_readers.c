@@ -290,8 +290,9 @@ static void pipes_need_a_format(void **s)
     (void)s;
     write_str("p.obj", texts[0][1]);
     assert_int_equal(run_sh("cat p.obj | '%s' info /dev/stdin", bin()), 1);
-    assert_non_null(strstr(test_text, "/dev/stdin: not a regular file (a pipe: its size is unknown): "
-                                 "name its format (--input-format)"));
+    assert_non_null(strstr(test_text,
+                           "/dev/stdin: not a regular file (a pipe: its size is unknown): "
+                           "name its format (--input-format)"));
     assert_int_equal(run_sh("cat p.obj | '%s' info /dev/stdin --input-format obj", bin()), 0);
     assert_non_null(strstr(test_text, "vertices   4"));
     /* a FIFO with a mesh extension: refused without waiting for a writer */
