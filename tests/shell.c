@@ -26,6 +26,25 @@ int test_remove_dir(const char *dir)
     return system(cmd) == 0 ? 0 : -1;
 }
 
+char test_dir[64];
+char test_text[1 << 17];
+
+int test_scratch_make(const char *name, limn_context **ctx)
+{
+    if (test_make_dir(test_dir, sizeof test_dir, name) != 0)
+        return -1;
+    if (!ctx)
+        return 0;
+    *ctx = limn_context_create();
+    return *ctx ? 0 : -1;
+}
+
+int test_scratch_teardown(void **state)
+{
+    (void)state;
+    return test_remove_dir(test_dir);
+}
+
 const char *test_join(const char *dir, const char *name)
 {
     static char path[8][4200];

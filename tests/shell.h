@@ -6,6 +6,8 @@
 #ifndef LIMN_TEST_SHELL_H
 #define LIMN_TEST_SHELL_H
 
+#include "limn.h"
+
 #include <stdarg.h>
 #include <stddef.h>
 
@@ -17,6 +19,16 @@ int test_remove_dir(const char *dir);
 const char *test_join(const char *dir, const char *name);
 /* $LIMN_TEST_DATA/NAME (the repository's data/), rotating like test_join. */
 const char *test_data_path(const char *name);
+
+/* A test group's scratch: one directory for all its tests and the captured
+   output of the last command run. test_scratch_make (called by the group
+   setup) makes /tmp/limn_NAME_XXXXXX into test_dir and, when ctx is not
+   NULL, a context into *ctx; 0, or -1 on failure. test_scratch_teardown is
+   a group teardown: it removes test_dir. */
+extern char test_dir[64];
+extern char test_text[1 << 17];
+int test_scratch_make(const char *name, limn_context **ctx);
+int test_scratch_teardown(void **state);
 
 /* Writes n bytes to path (failing the test when it cannot); returns path. */
 const char *test_write_bytes(const char *path, const void *data, size_t n);

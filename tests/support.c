@@ -170,6 +170,17 @@ int test_all_triangles(const limn_mesh *mesh)
     return limn_mesh_face_count(mesh) > 0;
 }
 
+void test_dense_product(const double *a, size_t n, const double *x, size_t stride, double *y)
+{
+    for (size_t i = 0; i < n; i++)
+        for (size_t c = 0; c < 3; c++) {
+            double acc = 0.0;
+            for (size_t j = 0; j < n; j++)
+                acc += a[i * n + j] * x[stride * j + c];
+            y[stride * i + c] = acc;
+        }
+}
+
 double test_bbox_diagonal(const limn_mesh *mesh)
 {
     const double *p = limn_mesh_positions(mesh);

@@ -33,6 +33,11 @@ void test_oracle_faces(const limn_mesh *mesh, int **sizes, int **indices);
 int test_all_triangles(const limn_mesh *mesh);
 double test_bbox_diagonal(const limn_mesh *mesh);
 
+/* y = A x for a dense n x n matrix A (row-major) and the first 3 channels of
+   points stored stride doubles apart in x and y (3 or 4); y's other channels
+   are left as they are. */
+void test_dense_product(const double *a, size_t n, const double *x, size_t stride, double *y);
+
 /* Writes a file with the given text; returns 0 on success. */
 int test_write_text(const char *path, const char *text);
 int test_file_exists(const char *path);

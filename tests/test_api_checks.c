@@ -134,6 +134,27 @@ static void mutable_edits_are_checked(void **s)
 
 /* ------------------------------------------------------------------- enums */
 
+/* The default interpolate options with the method or the precision (what)
+   set to value: limn_interpolate refuses them naming both, and so does the
+   estimate when asked to check it. */
+static void refused_interpolate(limn_context *ctx, const limn_mesh *m, const char *what, int value,
+                                int estimate)
+{
+    limn_interpolate_options io;
+    limn_interpolate_options_default(&io);
+    if (strcmp(what, "method") == 0)
+        io.method = (limn_method)value;
+    else
+        io.precision = (limn_precision)value;
+    char says[64];
+    snprintf(says, sizeof says, "unknown %s %d", what, value);
+    limn_mesh *out = NULL;
+    size_t b;
+    REFUSED(ctx, limn_interpolate(ctx, m, &io, &out, NULL), says);
+    if (estimate)
+        REFUSED(ctx, limn_interpolate_estimate(ctx, m, &io, 0, &b), says);
+}
+
 static void unknown_enums_are_refused(void **s)
 {
     limn_context *ctx = *s;
@@ -179,19 +200,10 @@ static void unknown_enums_are_refused(void **s)
         REFUSED(ctx, limn_texture(ctx, m, &to, &out, NULL), "limn_texture", says);
         assert_string_equal(limn_scheme_name(bad), "unknown");
     }
-    limn_interpolate_options io;
-    limn_interpolate_options_default(&io);
-    io.method = (limn_method)99;
-    REFUSED(ctx, limn_interpolate(ctx, m, &io, &out, NULL), "unknown method 99");
-    REFUSED(ctx, limn_interpolate_estimate(ctx, m, &io, 0, &b), "unknown method 99");
-    io.method = (limn_method)-1;
-    REFUSED(ctx, limn_interpolate(ctx, m, &io, &out, NULL), "unknown method -1");
-    limn_interpolate_options_default(&io);
-    io.precision = (limn_precision)99;
-    REFUSED(ctx, limn_interpolate(ctx, m, &io, &out, NULL), "unknown precision 99");
-    REFUSED(ctx, limn_interpolate_estimate(ctx, m, &io, 0, &b), "unknown precision 99");
-    io.precision = (limn_precision)-1;
-    REFUSED(ctx, limn_interpolate(ctx, m, &io, &out, NULL), "unknown precision -1");
+    refused_interpolate(ctx, m, "method", 99, 1);
+    refused_interpolate(ctx, m, "method", -1, 0);
+    refused_interpolate(ctx, m, "precision", 99, 1);
+    refused_interpolate(ctx, m, "precision", -1, 0);
     assert_string_equal(limn_method_name((limn_method)99), "unknown");
     assert_string_equal(limn_precision_name((limn_precision)99), "unknown");
     assert_string_equal(limn_status_name((limn_status)99), "LIMN_ERR_UNKNOWN");

@@ -19,36 +19,31 @@
 
 #include <cmocka.h>
 
-static char dir[64];
 static char out_path[256];
-static char text[1 << 16];
 
 static int setup(void **s)
 {
     (void)s;
-    if (test_make_dir(dir, sizeof dir, "cli") != 0)
+    if (test_scratch_make("cli", NULL) != 0)
         return -1;
-    snprintf(out_path, sizeof out_path, "%s/out.ply", dir);
+    snprintf(out_path, sizeof out_path, "%s/out.ply", test_dir);
     return 0;
 }
 
-static int teardown(void **s)
+/* Runs `limn ARGS` and captures stdout+stderr into test_text; returns the exit status. */
+static int limn(const char *args)
 {
-    (void)s;
-    return test_remove_dir(dir);
+    return test_limn(test_text, sizeof test_text, NULL, "%s", args);
 }
 
-/* Runs `limn ARGS` and captures stdout+stderr into text; returns the exit status. */
-static int limn(const char *args) { return test_limn(text, sizeof text, NULL, "%s", args); }
-
-static const char *in_dir(const char *name) { return test_join(dir, name); }
+static const char *in_dir(const char *name) { return test_join(test_dir, name); }
 
 static void no_output_left(void)
 {
     char cmd[512];
-    snprintf(cmd, sizeof cmd, "ls -A '%s' | grep -v '^in_' | grep -q .", dir);
+    snprintf(cmd, sizeof cmd, "ls -A '%s' | grep -v '^in_' | grep -q .", test_dir);
     if (system(cmd) == 0) {
-        snprintf(cmd, sizeof cmd, "ls -la '%s' >&2", dir);
+        snprintf(cmd, sizeof cmd, "ls -la '%s' >&2", test_dir);
         (void)system(cmd);
         fail_msg("a failed run left files behind");
     }
@@ -62,8 +57,9 @@ static void expect_failure_opts(const char *name, const char *content, int statu
     char args[1024];
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' %s", path, out_path, opts);
     int rc = limn(args);
-    if (rc != status || !strstr(text, message))
-        fail_msg("%s: exit %d (want %d), output:\n%s\nwanted: %s", name, rc, status, text, message);
+    if (rc != status || !strstr(test_text, message))
+        fail_msg("%s: exit %d (want %d), output:\n%s\nwanted: %s", name, rc, status, test_text,
+                 message);
     no_output_left();
     unlink(path);
 }
@@ -77,7 +73,7 @@ static void expect_run(int status, const char *message, const char *fmt, ...)
     vsnprintf(args, sizeof args, fmt, ap);
     va_end(ap);
     assert_int_equal(limn(args), status);
-    assert_non_null(strstr(text, message));
+    assert_non_null(strstr(test_text, message));
 }
 
 static void expect_failure(const char *name, const char *content, int status, const char *message)
@@ -140,13 +136,13 @@ static void option_spellings(void **s)
     for (int k = 0; k < 2; k++) {
         snprintf(args, sizeof args,
                  "interpolate '%s' -o '%s/in_eq%d.obj' --report='%s/in_eq%d.json' %s -q", spot,
-                 dir, k, dir, k, spelling[k]);
+                 test_dir, k, test_dir, k, spelling[k]);
         if (limn(args) != 0)
-            fail_msg("%s: %s", spelling[k], text);
+            fail_msg("%s: %s", spelling[k], test_text);
         char path[512];
-        snprintf(path, sizeof path, "%s/in_eq%d.obj", dir, k);
+        snprintf(path, sizeof path, "%s/in_eq%d.obj", test_dir, k);
         mesh_len[k] = slurp(path, mesh[k], sizeof mesh[k]);
-        snprintf(path, sizeof path, "%s/in_eq%d.json", dir, k);
+        snprintf(path, sizeof path, "%s/in_eq%d.json", test_dir, k);
         slurp(path, report[k], sizeof report[k]);
         if (!strstr(report[k], "\"tolerance\": 1e-08,"))
             fail_msg("%s: the report's tolerance is not 1e-08:\n%s", spelling[k], report[k]);
@@ -154,10 +150,11 @@ static void option_spellings(void **s)
     assert_int_equal(mesh_len[0], mesh_len[1]);
     assert_memory_equal(mesh[0], mesh[1], mesh_len[0]);
     /* an unambiguous prefix is the option */
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s/in_eq2.obj' --max-it 3 -q", spot, dir);
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s/in_eq2.obj' --max-it 3 -q", spot,
+             test_dir);
     int rc = limn(args); /* 1 when 3 iterations do not converge */
-    if (rc == 2 || strstr(text, "unknown option"))
-        fail_msg("--max-it was not taken for --max-iter: exit %d, %s", rc, text);
+    if (rc == 2 || strstr(test_text, "unknown option"))
+        fail_msg("--max-it was not taken for --max-iter: exit %d, %s", rc, test_text);
 
     struct {
         const char *args;
@@ -183,12 +180,12 @@ static void option_spellings(void **s)
         snprintf(line, sizeof line, cases[i].args, spot);
         snprintf(args, sizeof args, "%s", line);
         int rc = limn(args);
-        if (rc != 2 || !strstr(text, cases[i].message))
-            fail_msg("limn %s: exit %d, output:\n%s\nwanted exit 2 and: %s", line, rc, text,
+        if (rc != 2 || !strstr(test_text, cases[i].message))
+            fail_msg("limn %s: exit %d, output:\n%s\nwanted exit 2 and: %s", line, rc, test_text,
                      cases[i].message);
     }
     assert_int_equal(limn("frobnicate"), 2);
-    assert_non_null(strstr(text, "limn: error: unknown command 'frobnicate'"));
+    assert_non_null(strstr(test_text, "limn: error: unknown command 'frobnicate'"));
 }
 
 static void bad_usage(void **s)
@@ -214,14 +211,15 @@ static void bad_usage(void **s)
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         snprintf(args, sizeof args, "interpolate '%s' -o '%s' %s", spot, out_path, cases[i].opts);
         int rc = limn(args);
-        if (rc == 0 || !strstr(text, cases[i].message))
-            fail_msg("%s: exit %d, output:\n%s\nwanted: %s", cases[i].opts, rc, text,
+        if (rc == 0 || !strstr(test_text, cases[i].message))
+            fail_msg("%s: exit %d, output:\n%s\nwanted: %s", cases[i].opts, rc, test_text,
                      cases[i].message);
         no_output_left();
     }
     expect_run(2, "no output given", "interpolate '%s'", spot);
-    expect_run(2, "cannot tell the format", "interpolate '%s' -o '%s/out.xyz'", spot, dir);
-    expect_run(1, "missing/dir/out.ply", "interpolate '%s' -o '%s/missing/dir/out.ply'", spot, dir);
+    expect_run(2, "cannot tell the format", "interpolate '%s' -o '%s/out.xyz'", spot, test_dir);
+    expect_run(1, "missing/dir/out.ply", "interpolate '%s' -o '%s/missing/dir/out.ply'", spot,
+               test_dir);
     /* Loop on a mesh with quads */
     expect_run(1, "Loop subdivision needs triangles",
                "interpolate '%s' -o '%s' --scheme loop", spot, out_path);
@@ -270,7 +268,7 @@ static void good_run_and_report(void **s)
     (void)s;
     char spot[512], report[300];
     snprintf(spot, sizeof spot, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
-    snprintf(report, sizeof report, "%s/report.json", dir);
+    snprintf(report, sizeof report, "%s/report.json", test_dir);
     expect_run(0, "iterations",
                "interpolate '%s' -o '%s' --report '%s' --tol 1e-7", spot, out_path, report);
     assert_true(test_file_exists(out_path));
@@ -296,7 +294,7 @@ static void good_run_and_report(void **s)
     unlink(report);
     unlink(out_path);
     assert_int_equal(limn("devices"), 0);
-    assert_non_null(strstr(text, "reference"));
+    assert_non_null(strstr(test_text, "reference"));
 }
 
 /* Issue 11.4: subdivide drops vertex colours, and says so. */
@@ -315,8 +313,8 @@ static void subdivide_warns_of_dropped_colours(void **s)
     char args[1024];
     snprintf(args, sizeof args, "subdivide '%s' -o '%s' -q", in, out_path);
     assert_int_equal(limn(args), 0);
-    if (!strstr(text, "limn subdivide: warning: the input's vertex colours were dropped"))
-        fail_msg("no warning about the colours:\n%s", text);
+    if (!strstr(test_text, "limn subdivide: warning: the input's vertex colours were dropped"))
+        fail_msg("no warning about the colours:\n%s", test_text);
     unlink(out_path);
     unlink(in);
 }
@@ -326,9 +324,9 @@ static void subdivide_and_surface(void **s)
     (void)s;
     char spot[512], args[4096], report[300], ctrl[300], surf[300];
     snprintf(spot, sizeof spot, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
-    snprintf(report, sizeof report, "%s/sub.json", dir);
-    snprintf(ctrl, sizeof ctrl, "%s/ctrl.ply", dir);
-    snprintf(surf, sizeof surf, "%s/surf.obj", dir);
+    snprintf(report, sizeof report, "%s/sub.json", test_dir);
+    snprintf(ctrl, sizeof ctrl, "%s/ctrl.ply", test_dir);
+    snprintf(surf, sizeof surf, "%s/surf.obj", test_dir);
     expect_run(0, "2930 vertices, 2928 faces",
                "subdivide '%s' -o '%s' --levels 2 --report '%s'", spot, out_path, report);
     FILE *f = fopen(report, "r");
@@ -356,13 +354,13 @@ static void subdivide_and_surface(void **s)
              "interpolate '%s' -o '%s' --surface '%s' --levels 7 --max-memory 64M", spot, ctrl,
              surf);
     assert_int_equal(limn(args), 1);
-    assert_non_null(strstr(text, "raise --max-memory"));
+    assert_non_null(strstr(test_text, "raise --max-memory"));
     no_output_left();
     snprintf(args, sizeof args,
              "interpolate '%s' -o '%s' --surface '%s' --levels 2 --limit --alpha 0.5", spot, ctrl,
              surf);
     assert_int_equal(limn(args), 0);
-    assert_non_null(strstr(text, "surface: "));
+    assert_non_null(strstr(test_text, "surface: "));
     assert_true(test_file_exists(ctrl));
     assert_true(test_file_exists(surf));
     expect_run(0, "\"vertices\": 2930, \"faces\": 2928", "info '%s' --json", surf);
@@ -375,16 +373,16 @@ static void version_and_help(void **s)
 {
     (void)s;
     assert_int_equal(limn("--help"), 0);
-    assert_non_null(strstr(text, "--version"));
+    assert_non_null(strstr(test_text, "--version"));
     assert_int_equal(limn("--version"), 0);
     char expect[64];
     snprintf(expect, sizeof expect, "limn %d.%d.%d\n", LIMN_VERSION_MAJOR, LIMN_VERSION_MINOR,
              LIMN_VERSION_PATCH);
-    assert_string_equal(text, expect);
+    assert_string_equal(test_text, expect);
 }
 
-TEST_MAIN(setup, teardown, cmocka_unit_test(version_and_help), cmocka_unit_test(malformed_inputs),
-          cmocka_unit_test(bad_usage), cmocka_unit_test(option_spellings),
-          cmocka_unit_test(singular_keeps_existing_output), cmocka_unit_test(good_run_and_report),
-          cmocka_unit_test(subdivide_and_surface),
+TEST_MAIN(setup, test_scratch_teardown, cmocka_unit_test(version_and_help),
+          cmocka_unit_test(malformed_inputs), cmocka_unit_test(bad_usage),
+          cmocka_unit_test(option_spellings), cmocka_unit_test(singular_keeps_existing_output),
+          cmocka_unit_test(good_run_and_report), cmocka_unit_test(subdivide_and_surface),
           cmocka_unit_test(subdivide_warns_of_dropped_colours))

@@ -25,27 +25,19 @@
 
 #include <cmocka.h>
 
-static char dir[64];
-static char text[1 << 16];
 
 static int setup(void **s)
 {
     (void)s;
-    if (test_make_dir(dir, sizeof dir, "faults") != 0)
+    if (test_scratch_make("faults", NULL) != 0)
         return -1;
     char empty[128];
-    snprintf(empty, sizeof empty, "%s/no_icd", dir);
+    snprintf(empty, sizeof empty, "%s/no_icd", test_dir);
     return mkdir(empty, 0755);
 }
 
-static int teardown(void **s)
-{
-    (void)s;
-    return test_remove_dir(dir);
-}
-
-/* Runs `env ENV limn ARGS`; output in text; returns the exit status. */
-#define run(env, ...) test_limn(text, sizeof text, env, __VA_ARGS__)
+/* Runs `env ENV limn ARGS`; output in test_text; returns the exit status. */
+#define run(env, ...) test_limn(test_text, sizeof test_text, env, __VA_ARGS__)
 static const char *spot(void) { return test_data_path("spot_control_mesh.obj"); }
 
 typedef struct fault {
@@ -78,7 +70,7 @@ static fault faults(size_t i, char *env, size_t size)
     };
     if (i >= sizeof table / sizeof *table)
         return (fault){NULL, NULL, NULL, 0};
-    snprintf(env, size, table[i].env, dir);
+    snprintf(env, size, table[i].env, test_dir);
     return table[i];
 }
 
@@ -88,28 +80,29 @@ static void each_fault(void **s)
 {
     (void)s;
     char out[256], ref[256], env[512], env2[600];
-    snprintf(out, sizeof out, "%s/out.ply", dir);
+    snprintf(out, sizeof out, "%s/out.ply", test_dir);
     static const char *const commands[] = {"interpolate '%s' -o '%s' %s",
                                            "subdivide '%s' -o '%s' --levels 2 %s"};
     for (size_t c = 0; c < 2; c++) {
-        snprintf(ref, sizeof ref, "%s/ref%zu.ply", dir, c);
+        snprintf(ref, sizeof ref, "%s/ref%zu.ply", test_dir, c);
         assert_int_equal(run("", commands[c], spot(), ref, "--device reference -q"), 0);
         fault f;
         for (size_t i = 0; (f = faults(i, env, sizeof env)).env; i++) {
             int rc = run(env, commands[c], spot(), out, "");
-            if (rc != 1 || !strstr(text, f.message) || !strstr(text, f.advice))
-                fail_msg("%s, %s: exit %d:\n%s\nwanted: %s ... %s", env, commands[c], rc, text,
+            if (rc != 1 || !strstr(test_text, f.message) || !strstr(test_text, f.advice))
+                fail_msg("%s, %s: exit %d:\n%s\nwanted: %s ... %s", env, commands[c], rc, test_text,
                          f.message, f.advice);
             assert_false(test_file_exists(out));
             /* allowed by the flag */
             rc = run(env, commands[c], spot(), out, "--fallback reference");
-            if (rc != 0 || !strstr(text, "warning: ") ||
-                !strstr(text, f.at_open ? "using the reference backend instead (the fallback "
+            if (rc != 0 || !strstr(test_text, "warning: ") ||
+                !strstr(test_text, f.at_open ? "using the reference backend instead (the fallback "
                                           "was allowed)"
                                         : "running again on the reference backend (the "
                                           "fallback was allowed)"))
-                fail_msg("%s, %s --fallback reference: exit %d:\n%s", env, commands[c], rc, text);
-            assert_non_null(strstr(text, "reference (plain C"));
+                fail_msg("%s, %s --fallback reference: exit %d:\n%s", env, commands[c], rc,
+                         test_text);
+            assert_non_null(strstr(test_text, "reference (plain C"));
             assert_true(test_same_bytes(out, ref));
             unlink(out);
             /* allowed by the environment; forbidden again by the flag */
@@ -131,28 +124,29 @@ static void choices_and_usage(void **s)
 {
     (void)s;
     char out[256], env[300];
-    snprintf(out, sizeof out, "%s/out.ply", dir);
+    snprintf(out, sizeof out, "%s/out.ply", test_dir);
     int rc = run("", "interpolate '%s' -o '%s' --device opencl:no-such-device", spot(), out);
     assert_int_equal(rc, 1);
-    assert_non_null(strstr(text, "no OpenCL device matches --device='no-such-device': run 'limn "
-                                 "devices' to list them, or use --device reference"));
+    assert_non_null(strstr(test_text,
+                           "no OpenCL device matches --device='no-such-device': run 'limn "
+                           "devices' to list them, or use --device reference"));
     rc = run("", "interpolate '%s' -o '%s' --device opencl:no-such-device --fallback reference -q",
              spot(), out);
     assert_int_equal(rc, 0);
-    assert_non_null(strstr(text, "no OpenCL device matches --device='no-such-device'"));
-    assert_non_null(strstr(text, "using the reference backend instead"));
+    assert_non_null(strstr(test_text, "no OpenCL device matches --device='no-such-device'"));
+    assert_non_null(strstr(test_text, "using the reference backend instead"));
     unlink(out);
     rc = run("LIMN_DEVICE=9.9", "subdivide '%s' -o '%s'", spot(), out);
     assert_int_equal(rc, 1);
-    assert_non_null(strstr(text, "no OpenCL device matches LIMN_DEVICE='9.9'"));
+    assert_non_null(strstr(test_text, "no OpenCL device matches LIMN_DEVICE='9.9'"));
     assert_false(test_file_exists(out));
     rc = run("", "interpolate '%s' -o '%s' --fallback gpu", spot(), out);
     assert_int_equal(rc, 2);
-    assert_non_null(strstr(text, "unknown fallback 'gpu': use 'reference' or 'none'"));
+    assert_non_null(strstr(test_text, "unknown fallback 'gpu': use 'reference' or 'none'"));
     assert_false(test_file_exists(out));
-    snprintf(env, sizeof env, "OCL_ICD_VENDORS=%s/no_icd", dir);
+    snprintf(env, sizeof env, "OCL_ICD_VENDORS=%s/no_icd", test_dir);
     assert_int_equal(run(env, "devices"), 1);
-    assert_non_null(strstr(text, "no OpenCL platform found"));
+    assert_non_null(strstr(test_text, "no OpenCL platform found"));
 }
 
 /* The library calls behind the flag. */
@@ -178,5 +172,5 @@ static void library(void **s)
     limn_mesh_destroy(m);
 }
 
-TEST_MAIN(setup, teardown, cmocka_unit_test(each_fault), cmocka_unit_test(choices_and_usage),
-          CONTEXT_TEST(library))
+TEST_MAIN(setup, test_scratch_teardown, cmocka_unit_test(each_fault),
+          cmocka_unit_test(choices_and_usage), CONTEXT_TEST(library))

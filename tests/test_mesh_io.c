@@ -26,7 +26,6 @@
 #include "limn.h"
 #include "shell.h"
 
-static char tmpdir[64];
 static limn_context *ctx;
 
 /* ----------------------------------------------------------------- helpers */
@@ -55,7 +54,7 @@ static char *fmt(const char *f, ...)
     return b;
 }
 
-static const char *tmp_path(const char *name) { return fmt("%s/%s", tmpdir, name); }
+static const char *tmp_path(const char *name) { return fmt("%s/%s", test_dir, name); }
 
 static const char *write_bytes(const char *name, const void *data, size_t n)
 {
@@ -108,17 +107,14 @@ static int setup(void **state)
 {
     (void)state;
     umask(022); /* the modes the writers' files are checked against */
-    if (test_make_dir(tmpdir, sizeof tmpdir, "test_mesh_io") != 0)
-        return -1;
-    ctx = limn_context_create();
-    return ctx ? 0 : -1;
+    return test_scratch_make("test_mesh_io", &ctx);
 }
 
 static int teardown(void **state)
 {
     (void)state;
     limn_context_destroy(ctx);
-    remove_tree(tmpdir);
+    remove_tree(test_dir);
     return 0;
 }
 
@@ -400,30 +396,40 @@ static void test_ply_variants(void **s)
 
 /* --------------------------------------------------------- malformed input */
 
+/* One malformed file: its name, its text and the start of the message. */
+struct bad_case {
+    const char *name, *text, *message;
+};
+
+/* Each file of the table must fail to read as a format error. */
+static void expect_format_errors(const struct bad_case *c, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        expect_fail(write_text(c[i].name, c[i].text), LIMN_ERR_FORMAT, c[i].message);
+}
+
+/* three vertices that a face may reference */
+#define V3 "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+
 static void test_bad_obj(void **s)
 {
     (void)s;
-    const char *v3 = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-    expect_fail(write_text("idx.obj", fmt("%s# c\nf 1 2 12\n", v3)), LIMN_ERR_FORMAT,
-                "idx.obj:5: face references vertex 12 but only 3 vertices are defined");
-    expect_fail(write_text("neg.obj", fmt("%sf -1 -2 -4\n", v3)), LIMN_ERR_FORMAT,
-                "neg.obj:4: face references vertex -4 but only 3 vertices are defined");
-    expect_fail(write_text("zero.obj", fmt("%sf 0 1 2\n", v3)), LIMN_ERR_FORMAT,
-                "zero.obj:4: face references vertex 0");
-    expect_fail(write_text("two.obj", fmt("%sf 1 2\n", v3)), LIMN_ERR_FORMAT,
-                "two.obj:4: face has 2 vertices (at least 3 needed)");
-    expect_fail(write_text("tok.obj", fmt("%sf 1 2 3x\n", v3)), LIMN_ERR_FORMAT,
-                "tok.obj:4: face: '3x' is not a vertex reference");
-    expect_fail(write_text("num.obj", "v 0 0 0\nv 1 abc 0\n"), LIMN_ERR_FORMAT,
-                "num.obj:2: vertex 2: coordinate 'abc' is not a number");
-    expect_fail(write_text("short.obj", "v 0 0\n"), LIMN_ERR_FORMAT,
-                "short.obj:1: vertex 1 has 2 coordinates (3 needed)");
-    expect_fail(write_text("nan.obj", "v 0 0 0\nv nan 0 0\n"), LIMN_ERR_FORMAT,
-                "nan.obj:2: vertex 2: coordinate 'nan' is not finite");
-    expect_fail(write_text("inf.obj", "v 0 1e999 0\n"), LIMN_ERR_FORMAT,
-                "inf.obj:1: vertex 1: coordinate '1e999' is not finite");
-    expect_fail(write_text("novert.obj", "# nothing\n\ng x\n"), LIMN_ERR_FORMAT,
-                "novert.obj: the file defines no vertices");
+    static const struct bad_case cases[] = {
+        {"idx.obj", V3 "# c\nf 1 2 12\n",
+         "idx.obj:5: face references vertex 12 but only 3 vertices are defined"},
+        {"neg.obj", V3 "f -1 -2 -4\n",
+         "neg.obj:4: face references vertex -4 but only 3 vertices are defined"},
+        {"zero.obj", V3 "f 0 1 2\n", "zero.obj:4: face references vertex 0"},
+        {"two.obj", V3 "f 1 2\n", "two.obj:4: face has 2 vertices (at least 3 needed)"},
+        {"tok.obj", V3 "f 1 2 3x\n", "tok.obj:4: face: '3x' is not a vertex reference"},
+        {"num.obj", "v 0 0 0\nv 1 abc 0\n",
+         "num.obj:2: vertex 2: coordinate 'abc' is not a number"},
+        {"short.obj", "v 0 0\n", "short.obj:1: vertex 1 has 2 coordinates (3 needed)"},
+        {"nan.obj", "v 0 0 0\nv nan 0 0\n", "nan.obj:2: vertex 2: coordinate 'nan' is not finite"},
+        {"inf.obj", "v 0 1e999 0\n", "inf.obj:1: vertex 1: coordinate '1e999' is not finite"},
+        {"novert.obj", "# nothing\n\ng x\n", "novert.obj: the file defines no vertices"},
+    };
+    expect_format_errors(cases, sizeof cases / sizeof cases[0]);
 }
 
 /* A binary LE header for a vertex (float x,y,z) and face (list uchar int) file. */
@@ -516,22 +522,23 @@ static void test_bad_ply(void **s)
 static void test_bad_off(void **s)
 {
     (void)s;
-    expect_fail(write_text("trunc.off", "OFF\n3 1 0\n0.000000 0 0\n1.000000 0 0\n0.000000 1 0\n"),
-                LIMN_ERR_FORMAT, "trunc.off:5: the file ends after 0 of 1 faces");
-    expect_fail(write_text("truncv.off", "OFF\n# c\n3 0 0\n0.00000000000000 0 0\n1 0 0.0000000\n"),
-                LIMN_ERR_FORMAT, "truncv.off:5: the file ends after 2 of 3 vertices");
-    expect_fail(write_text("neg.off", "OFF\n-3 1 0\n"), LIMN_ERR_FORMAT,
-                "neg.off:2: invalid counts: -3 vertices, 1 faces");
-    expect_fail(write_text("big.off", "OFF 100000000 1 0\n0 0 0\n"), LIMN_ERR_FORMAT,
-                "big.off:1: the header declares 100000000 vertices and 1 faces");
-    expect_fail(write_text("cnt.off", "OFF\n3 one 0\n"), LIMN_ERR_FORMAT,
-                "cnt.off:2: expected the counts 'vertices faces [edges]'");
-    expect_fail(write_text("idx.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"),
-                LIMN_ERR_FORMAT, "idx.off:6: face 0 references vertex 3 but only 3 vertices");
-    expect_fail(write_text("few.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n"),
-                LIMN_ERR_FORMAT, "few.off:6: face 0 declares 4 vertices but lists 3");
-    expect_fail(write_text("hdr.off", "PLY\n"), LIMN_ERR_FORMAT, "hdr.off:1: not an OFF file");
-    expect_fail(write_text("4d.off", "4OFF\n"), LIMN_ERR_FORMAT, "4d.off:1: 4OFF and nOFF");
+    static const struct bad_case cases[] = {
+        {"trunc.off", "OFF\n3 1 0\n0.000000 0 0\n1.000000 0 0\n0.000000 1 0\n",
+         "trunc.off:5: the file ends after 0 of 1 faces"},
+        {"truncv.off", "OFF\n# c\n3 0 0\n0.00000000000000 0 0\n1 0 0.0000000\n",
+         "truncv.off:5: the file ends after 2 of 3 vertices"},
+        {"neg.off", "OFF\n-3 1 0\n", "neg.off:2: invalid counts: -3 vertices, 1 faces"},
+        {"big.off", "OFF 100000000 1 0\n0 0 0\n",
+         "big.off:1: the header declares 100000000 vertices and 1 faces"},
+        {"cnt.off", "OFF\n3 one 0\n", "cnt.off:2: expected the counts 'vertices faces [edges]'"},
+        {"idx.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
+         "idx.off:6: face 0 references vertex 3 but only 3 vertices"},
+        {"few.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n",
+         "few.off:6: face 0 declares 4 vertices but lists 3"},
+        {"hdr.off", "PLY\n", "hdr.off:1: not an OFF file"},
+        {"4d.off", "4OFF\n", "4d.off:1: 4OFF and nOFF"},
+    };
+    expect_format_errors(cases, sizeof cases / sizeof cases[0]);
     /* accepted: counts on the header line, COFF colours, comments, face colours */
     limn_mesh *m = read_ok(write_text("ok.off", "COFF 3 1 # tri\n0 0 0 255 0 0 255\n1 0 0 0 0 0 0\n"
                                                 "\n0 1 0 1 1 1 1\n3 0 1 2 0.5 0.5 0.5\n"));

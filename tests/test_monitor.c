@@ -18,16 +18,25 @@
 
 #include <cmocka.h>
 
+/* Steps m with the residuals first * q^k, k = 0, 1, ... until its verdict;
+   returns the verdict, the step it came at in *k. */
+static monitor_verdict run_geometric(monitor *m, double first, double q, int *k)
+{
+    monitor_verdict v;
+    *k = 0;
+    while ((v = monitor_step(m, first * pow(q, *k), *k)) == MONITOR_CONTINUE)
+        ++*k;
+    return v;
+}
+
 /* residual 0.5^k from 1: <= 1e-3 first at k = 10 (0.5^10 = 9.77e-4) */
 static void geometric_converges(void **s)
 {
     (void)s;
     monitor m;
     monitor_init(&m, 1e-3, 1000, MONITOR_STALL_WINDOW, MONITOR_STALL_RATIO);
-    int k = 0;
-    monitor_verdict v;
-    while ((v = monitor_step(&m, pow(0.5, k), k)) == MONITOR_CONTINUE)
-        k++;
+    int k;
+    monitor_verdict v = run_geometric(&m, 1.0, 0.5, &k);
     assert_int_equal(v, MONITOR_CONVERGED);
     assert_int_equal(k, 10);
     assert_int_equal(m.steps, 11);
@@ -43,10 +52,8 @@ static void plateau_stalls_after_window(void **s)
     for (int w = 1; w <= MONITOR_WINDOW_MAX; w += 8) {
         monitor m;
         monitor_init(&m, 1e-9, 1000, w, MONITOR_STALL_RATIO);
-        int k = 0;
-        monitor_verdict v;
-        while ((v = monitor_step(&m, 2.0, k)) == MONITOR_CONTINUE)
-            k++;
+        int k;
+        monitor_verdict v = run_geometric(&m, 2.0, 1.0, &k);
         assert_int_equal(v, MONITOR_STALLED);
         assert_int_equal(k, w);
         assert_true(m.earlier == 2.0 && m.residual == 2.0);
@@ -69,10 +76,8 @@ static void cap(void **s)
     (void)s;
     monitor m;
     monitor_init(&m, 1e-12, 7, MONITOR_STALL_WINDOW, MONITOR_STALL_RATIO);
-    int k = 0;
-    monitor_verdict v;
-    while ((v = monitor_step(&m, pow(0.9, k), k)) == MONITOR_CONTINUE)
-        k++;
+    int k;
+    monitor_verdict v = run_geometric(&m, 1.0, 0.9, &k);
     assert_int_equal(v, MONITOR_CAPPED);
     assert_int_equal(k, 7);
     /* the cap reads the iteration given, not the residuals seen */

@@ -24,25 +24,17 @@
 
 #include <cmocka.h>
 
-static char dir[64];
-static char text[1 << 16];
 
 static int setup(void **s)
 {
     (void)s;
-    return test_make_dir(dir, sizeof dir, "mpi_cli");
+    return test_scratch_make("mpi_cli", NULL);
 }
 
-static int teardown(void **s)
-{
-    (void)s;
-    return test_remove_dir(dir);
-}
-
-static const char *at(const char *name) { return test_join(dir, name); }
+static const char *at(const char *name) { return test_join(test_dir, name); }
 
 /* Runs `limn ARGS` (ranks > 0: under the MPI launcher, killed after 300 s so
-   that a hang fails instead of blocking), output in text; the exit status.
+   that a hang fails instead of blocking), output in test_text; the exit status.
    Under the sanitizers the ranks run without LeakSanitizer: its
    stop-the-world tracer segfaults at exit while Open MPI's and PoCL's
    threads wind down ("Tracer caught signal 11 ... LeakSanitizer has
@@ -63,7 +55,7 @@ static int run(int ranks, const char *args)
                  getenv("LIMN_MPIEXEC"), ranks, getenv("LIMN_BIN"), args);
     else
         snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", getenv("LIMN_BIN"), args);
-    return test_run(text, sizeof text, cmd);
+    return test_run(test_text, sizeof test_text, cmd);
 }
 
 static size_t count(const char *hay, const char *needle)
@@ -158,19 +150,19 @@ static void interpolate_same(const char *input, const char *opts, int ranks, int
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' %s -q", input, one,
              at("one.json"), opts);
     if (run(0, args) != 0)
-        fail_msg("one process: %s", text);
+        fail_msg("one process: %s", test_text);
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' %s", input, many,
              at("many.json"), opts);
     int rc = run(ranks, args);
     if (rc != 0) {
-        fputs(text, stderr); /* whole: cmocka's message is cut short */
+        fputs(test_text, stderr); /* whole: cmocka's message is cut short */
         fail_msg("%d ranks: exit status %d", ranks, rc);
     }
     /* rank 0 printed the summary once, with every rank's line */
-    assert_int_equal(count(text, "  device: "), 1);
+    assert_int_equal(count(test_text, "  device: "), 1);
     char line[32];
     snprintf(line, sizeof line, "rank %d:", ranks - 1);
-    assert_non_null(strstr(text, line));
+    assert_non_null(strstr(test_text, line));
     assert_int_equal(report_iterations(at("one.json")), report_iterations(at("many.json")));
     if (exact)
         assert_true(test_same_bytes(one, many));
@@ -221,7 +213,7 @@ static void series_same(void **s)
             assert_int_equal(run(0, args), 0);
             snprintf(args, sizeof args, cmds[k], at("quad.obj"), at("s2.ply"));
             if (run(ranks, args) != 0)
-                fail_msg("%s", text);
+                fail_msg("%s", test_text);
             assert_true(test_same_bytes(at("s1.ply"), at("s2.ply")));
         }
     /* morph: every frame the same bytes */
@@ -236,7 +228,7 @@ static void series_same(void **s)
     snprintf(args, sizeof args, "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 -q", at("quad.obj"),
              at("to.ply"), at("f2"));
     if (run(3, args) != 0)
-        fail_msg("%s", text);
+        fail_msg("%s", test_text);
     for (int k = 0; k < 3; k++) {
         char a[64], b[64];
         snprintf(a, sizeof a, "f1/f%d.ply", k);
@@ -253,7 +245,7 @@ static void per_rank(void **s)
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --per-rank-output -q", at("tri.obj"),
              at("piece.ply"));
     if (run(3, args) != 0)
-        fail_msg("%s", text);
+        fail_msg("%s", test_text);
     assert_false(test_file_exists(at("piece.ply"))); /* the pieces instead */
     limn_context *ctx = limn_context_create();
     size_t total = 0;
@@ -271,7 +263,7 @@ static void per_rank(void **s)
     limn_context_destroy(ctx);
     /* one process refuses the option */
     assert_int_equal(run(0, args), 2);
-    assert_non_null(strstr(text, "--per-rank-output needs several MPI ranks"));
+    assert_non_null(strstr(test_text, "--per-rank-output needs several MPI ranks"));
 }
 
 /* The ranks of a node take the matching OpenCL devices in turn (local rank %
@@ -302,15 +294,15 @@ static void device_per_rank(void **s)
     int rc = run(3, args);
     unsetenv("OCL_ICD_VENDORS");
     if (rc != 0)
-        fail_msg("%s", text);
+        fail_msg("%s", test_text);
     assert_true(test_same_bytes(at("one.ply"), at("many.ply")));
     FILE *f = fopen(at("many.json"), "r");
     assert_non_null(f);
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    text[n] = '\0';
+    size_t n = fread(test_text, 1, sizeof test_text - 1, f);
+    test_text[n] = '\0';
     fclose(f);
     static const char *want[3] = {"device 0.0", "device 1.0", "device 0.0"};
-    const char *at_rank = text;
+    const char *at_rank = test_text;
     for (int r = 0; r < 3; r++) {
         char key[32];
         snprintf(key, sizeof key, "\"rank\": %d", r);
@@ -333,39 +325,39 @@ static void errors(void **s)
     /* a missing file and a malformed one: one message, status 1, nothing written */
     snprintf(args, sizeof args, "interpolate '%s' -o '%s'", at("missing.obj"), at("bad.ply"));
     assert_int_equal(run(3, args), 1);
-    assert_int_equal(count(text, "limn interpolate: error:"), 1);
-    assert_non_null(strstr(text, "missing.obj"));
+    assert_int_equal(count(test_text, "limn interpolate: error:"), 1);
+    assert_non_null(strstr(test_text, "missing.obj"));
     assert_false(test_file_exists(at("bad.ply")));
     assert_int_equal(test_write_text(at("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n"), 0);
     snprintf(args, sizeof args, "smooth '%s' -o '%s' --terms 2", at("broken.obj"), at("bad.ply"));
     assert_int_equal(run(2, args), 1);
-    assert_int_equal(count(text, "limn smooth: error:"), 1);
-    assert_non_null(strstr(text, "broken.obj"));
+    assert_int_equal(count(test_text, "limn smooth: error:"), 1);
+    assert_non_null(strstr(test_text, "broken.obj"));
     assert_false(test_file_exists(at("bad.ply")));
     /* Loop on quads fails on the root while building the operator */
     write_inputs();
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --scheme loop", at("quad.obj"),
              at("bad.ply"));
     assert_int_equal(run(2, args), 1);
-    assert_int_equal(count(text, "error:"), 1);
-    assert_non_null(strstr(text, "Loop"));
+    assert_int_equal(count(test_text, "error:"), 1);
+    assert_non_null(strstr(test_text, "Loop"));
     assert_false(test_file_exists(at("bad.ply")));
     /* a usage error, once */
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --tol -1", at("quad.obj"),
              at("bad.ply"));
     assert_int_equal(run(3, args), 2);
-    assert_int_equal(count(text, "--tol -1 must be positive"), 1);
+    assert_int_equal(count(test_text, "--tol -1 must be positive"), 1);
     /* a method that does not run distributed: an argument error (status 2),
        one message, nothing written */
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --method sgs", at("quad.obj"),
              at("bad.ply"));
     assert_int_equal(run(2, args), 2);
-    assert_int_equal(count(text, "method sgs is not available under MPI"), 1);
+    assert_int_equal(count(test_text, "method sgs is not available under MPI"), 1);
     assert_false(test_file_exists(at("bad.ply")));
     /* a command that does not run distributed */
     snprintf(args, sizeof args, "info '%s'", at("quad.obj"));
     assert_int_equal(run(2, args), 2);
-    assert_int_equal(count(text, "does not run on several MPI ranks"), 1);
+    assert_int_equal(count(test_text, "does not run on several MPI ranks"), 1);
     /* one rank under the launcher: as without it */
     snprintf(args, sizeof args, "info '%s'", at("quad.obj"));
     assert_int_equal(run(1, args), 0);
@@ -380,5 +372,5 @@ int main(void)
         cmocka_unit_test(series_same),           cmocka_unit_test(per_rank),
         cmocka_unit_test(device_per_rank),       cmocka_unit_test(errors),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, setup, test_scratch_teardown);
 }

@@ -27,29 +27,21 @@
 
 #include <cmocka.h>
 
-static char dir[64];
-static char text[1 << 17];
 
 static int setup(void **s)
 {
     (void)s;
-    return test_make_dir(dir, sizeof dir, "opencl");
+    return test_scratch_make("opencl", NULL);
 }
 
-static int teardown(void **s)
-{
-    (void)s;
-    return test_remove_dir(dir);
-}
-
-/* Runs `env ENV limn ARGS`; output (stdout and stderr) in text; returns the exit status. */
-#define run(env, ...) test_limn(text, sizeof text, env, __VA_ARGS__)
+/* Runs `env ENV limn ARGS`; output (stdout and stderr) in test_text; returns the exit status. */
+#define run(env, ...) test_limn(test_text, sizeof test_text, env, __VA_ARGS__)
 static const char *spot(void) { return test_data_path("spot_control_mesh.obj"); }
 
 static void expect(int rc, int want, const char *needle)
 {
-    if (rc != want || !strstr(text, needle))
-        fail_msg("exit %d (wanted %d), output:\n%s\nwanted: %s", rc, want, text, needle);
+    if (rc != want || !strstr(test_text, needle))
+        fail_msg("exit %d (wanted %d), output:\n%s\nwanted: %s", rc, want, test_text, needle);
 }
 
 static opencl_device_props fake(unsigned p, unsigned d, const char *name, const char *version,
@@ -125,8 +117,8 @@ static void real_skip(void **s)
 {
     (void)s;
     char ref[256], out[256];
-    snprintf(ref, sizeof ref, "%s/ref.ply", dir);
-    snprintf(out, sizeof out, "%s/out.ply", dir);
+    snprintf(ref, sizeof ref, "%s/ref.ply", test_dir);
+    snprintf(out, sizeof out, "%s/out.ply", test_dir);
     const char *two = "POCL_DEVICES='pthread pthread'";
     const char *two_bad = "POCL_DEVICES='pthread pthread' LIMN_TEST_FAULT=no-fp64";
     assert_int_equal(run(two, "interpolate '%s' -o '%s' -q", spot(), ref), 0);
@@ -154,7 +146,7 @@ static void real_skip(void **s)
     expect(rc, 0, "double precision NO, max work-group ");
     expect(rc, 0, "; limn: NO, no double precision");
     expect(rc, 0, "; limn: usable\n");
-    const char *last = strstr(text, "threads: ");
+    const char *last = strstr(test_text, "threads: ");
     assert_non_null(last);
     assert_null(strchr(last, '\n') ? strchr(strchr(last, '\n') + 1, '\n') : NULL);
     unlink(ref);
@@ -173,7 +165,7 @@ static void real_rusticl(void **s)
         skip();
     }
     char vendors[128], path[192], env[512], out[256];
-    snprintf(vendors, sizeof vendors, "%s/vendors", dir);
+    snprintf(vendors, sizeof vendors, "%s/vendors", test_dir);
     assert_int_equal(mkdir(vendors, 0755), 0);
     snprintf(path, sizeof path, "%s/rusticl.icd", vendors);
     char line[600];
@@ -182,7 +174,7 @@ static void real_rusticl(void **s)
     snprintf(path, sizeof path, "%s/pocl.icd", vendors);
     assert_int_equal(test_write_text(path, "libpocl.so.2\n"), 0);
     snprintf(env, sizeof env, "OCL_ICD_VENDORS=%s RUSTICL_ENABLE=llvmpipe", vendors);
-    snprintf(out, sizeof out, "%s/r.ply", dir);
+    snprintf(out, sizeof out, "%s/r.ply", test_dir);
     int rc = run(env, "devices");
     expect(rc, 0, "llvmpipe");
     expect(rc, 0, "double precision NO, max work-group ");
@@ -204,12 +196,12 @@ static void whole_build_log(void **s)
 {
     (void)s;
     char out[256];
-    snprintf(out, sizeof out, "%s/b.ply", dir);
+    snprintf(out, sizeof out, "%s/b.ply", test_dir);
     int rc = run("LIMN_TEST_EXTRA_BUILD_OPTIONS='-D LIMN_FORCE_BUILD_ERROR'",
                  "interpolate '%s' -o '%s'", spot(), out);
     expect(rc, 1, "(clBuildProgram) failed: CL_BUILD_PROGRAM_FAILURE");
     expect(rc, 1, "-D LIMN_FORCE_BUILD_ERROR\nbuild log:\n");
-    const char *log = strstr(text, "build log:\n");
+    const char *log = strstr(test_text, "build log:\n");
     assert_non_null(strstr(log, "forced build error 01"));
     assert_non_null(strstr(log, "forced build error: the end of the log"));
     if (strlen(log) <= 1500)
@@ -223,8 +215,8 @@ static void prefetch_dropped(void **s)
 {
     (void)s;
     char ref[256], out[256];
-    snprintf(ref, sizeof ref, "%s/p_ref.ply", dir);
-    snprintf(out, sizeof out, "%s/p_out.ply", dir);
+    snprintf(ref, sizeof ref, "%s/p_ref.ply", test_dir);
+    snprintf(out, sizeof out, "%s/p_out.ply", test_dir);
     assert_int_equal(run("", "interpolate '%s' -o '%s' -q", spot(), ref), 0);
     int rc = run("LIMN_TEST_FAULT=prefetch", "interpolate '%s' -o '%s' -q", spot(), out);
     expect(rc, 0, "built without prefetching the gathers (with it: clCreateKernel(interp_step) "
@@ -240,8 +232,8 @@ static void unwritable_pocl_cache(void **s)
 {
     (void)s;
     char out[256], file[192], env[512];
-    snprintf(out, sizeof out, "%s/c.ply", dir);
-    snprintf(file, sizeof file, "%s/a_file", dir);
+    snprintf(out, sizeof out, "%s/c.ply", test_dir);
+    snprintf(file, sizeof file, "%s/a_file", test_dir);
     assert_int_equal(test_write_text(file, "not a directory\n"), 0);
     const char *home = "-u POCL_CACHE_DIR -u XDG_CACHE_HOME HOME=/proc/self";
     int rc = run(home, "interpolate '%s' -o '%s'", spot(), out);
@@ -263,6 +255,6 @@ static void unwritable_pocl_cache(void **s)
     assert_false(test_file_exists(out));
 }
 
-TEST_MAIN(setup, teardown, cmocka_unit_test(pure_rule), cmocka_unit_test(real_skip),
+TEST_MAIN(setup, test_scratch_teardown, cmocka_unit_test(pure_rule), cmocka_unit_test(real_skip),
           cmocka_unit_test(real_rusticl), cmocka_unit_test(whole_build_log),
           cmocka_unit_test(prefetch_dropped), cmocka_unit_test(unwritable_pocl_cache))

@@ -28,11 +28,9 @@
 
 #include <cmocka.h>
 
-static char dir[64];
-static char text[1 << 16]; /* output of the last CLI run */
 static limn_context *ctx;
 
-static const char *path_in(const char *name) { return test_join(dir, name); }
+static const char *path_in(const char *name) { return test_join(test_dir, name); }
 
 static const char *write_bytes(const char *name, const void *data, size_t n)
 {
@@ -44,8 +42,8 @@ static const char *write_str(const char *name, const char *s)
     return write_bytes(name, s, strlen(s));
 }
 
-/* Runs a shell command line in dir (stderr too into text); its exit status. */
-#define run_sh(...) test_in_dir(text, sizeof text, dir, __VA_ARGS__)
+/* Runs a shell command line in test_dir (stderr too into test_text); its exit status. */
+#define run_sh(...) test_in_dir(test_text, sizeof test_text, test_dir, __VA_ARGS__)
 
 static const char *bin(void)
 {
@@ -95,7 +93,7 @@ static void assert_same_mesh(const limn_mesh *a, const limn_mesh *b)
         assert_memory_equal(limn_mesh_colors(a), limn_mesh_colors(b), nv * 3);
 }
 
-/* Reads name with its text as given and as the reference; they must agree. */
+/* Reads name with its test_text as given and as the reference; they must agree. */
 static void same_as(const char *name, const char *variant, size_t n, const char *reference)
 {
     char ref[64];
@@ -145,7 +143,7 @@ static void bom_is_skipped(void **s)
 
 /* ------------------------------------------------------------- line ends */
 
-/* text with every "\n" replaced by end */
+/* test_text with every "\n" replaced by end */
 static size_t with_ends(char *out, size_t cap, const char *in, const char *end)
 {
     size_t n = 0, e = strlen(end);
@@ -262,18 +260,18 @@ static void endless_inputs_are_bounded(void **s)
         int rc = run_sh("'%s' info /dev/zero --input-format %s --max-memory 64M", bin(),
                         formats[i]);
         double t = now() - t0;
-        if (rc != 1 || !strstr(text, "/dev/zero"))
-            fail_msg("/dev/zero as %s: exit %d:\n%s", formats[i], rc, text);
+        if (rc != 1 || !strstr(test_text, "/dev/zero"))
+            fail_msg("/dev/zero as %s: exit %d:\n%s", formats[i], rc, test_text);
         assert_true(t < 10.0); /* a mechanism, not a speed: it ends, well before 64M */
     }
-    /* text without NUL bytes and without end: the memory limit, or the line cap */
+    /* test_text without NUL bytes and without end: the memory limit, or the line cap */
     assert_int_equal(run_sh("yes 'v 0 0 0' | '%s' info /dev/stdin --input-format obj "
                             "--max-memory 16M", bin()), 1);
-    assert_non_null(strstr(text, "/dev/stdin:"));
-    assert_non_null(strstr(text, "reading stopped at the memory limit of 16.0 MiB"));
+    assert_non_null(strstr(test_text, "/dev/stdin:"));
+    assert_non_null(strstr(test_text, "reading stopped at the memory limit of 16.0 MiB"));
     assert_int_equal(run_sh("head -c 70000000 /dev/zero | tr '\\0' a | '%s' info /dev/stdin "
                             "--input-format off", bin()), 1);
-    assert_non_null(strstr(text, "/dev/stdin:1: a line longer than 64 MiB"));
+    assert_non_null(strstr(test_text, "/dev/stdin:1: a line longer than 64 MiB"));
     /* the library: a file larger than the context's limit */
     FILE *f = fopen(path_in("many.obj"), "w");
     assert_non_null(f);
@@ -292,14 +290,15 @@ static void pipes_need_a_format(void **s)
     (void)s;
     write_str("p.obj", texts[0][1]);
     assert_int_equal(run_sh("cat p.obj | '%s' info /dev/stdin", bin()), 1);
-    assert_non_null(strstr(text, "/dev/stdin: not a regular file (a pipe: its size is unknown): "
-                                 "name its format (--input-format)"));
+    assert_non_null(strstr(test_text,
+                           "/dev/stdin: not a regular file (a pipe: its size is unknown): "
+                           "name its format (--input-format)"));
     assert_int_equal(run_sh("cat p.obj | '%s' info /dev/stdin --input-format obj", bin()), 0);
-    assert_non_null(strstr(text, "vertices   4"));
+    assert_non_null(strstr(test_text, "vertices   4"));
     /* a FIFO with a mesh extension: refused without waiting for a writer */
     assert_int_equal(mkfifo(path_in("fifo.obj"), 0600), 0);
     assert_int_equal(run_sh("timeout 10 '%s' info fifo.obj", bin()), 1);
-    assert_non_null(strstr(text, "fifo.obj: not a regular file (a pipe"));
+    assert_non_null(strstr(test_text, "fifo.obj: not a regular file (a pipe"));
 }
 
 /* ------------------------------------------------------------------- JSON */
@@ -315,7 +314,7 @@ static void json_valid(const char *file, const char *key)
                         "assert all(c in v for c in \"\\\"\\\\\\n\\t\\ufffd\"), repr(v)' "
                         "'%s' '%s'", file, key);
         if (rc != 0)
-            fail_msg("%s is not the JSON expected: %s", file, text);
+            fail_msg("%s is not the JSON expected: %s", file, test_text);
         return;
     }
     size_t n = 0;
@@ -381,17 +380,14 @@ static void ply_dropped_properties_named(void **s)
 static int setup(void **s)
 {
     (void)s;
-    if (test_make_dir(dir, sizeof dir, "readers") != 0)
-        return -1;
-    ctx = limn_context_create();
-    return ctx ? 0 : -1;
+    return test_scratch_make("readers", &ctx);
 }
 
 static int teardown(void **s)
 {
     (void)s;
     limn_context_destroy(ctx);
-    return test_remove_dir(dir);
+    return test_scratch_teardown(s);
 }
 
 TEST_MAIN(setup, teardown, cmocka_unit_test(bom_is_skipped),

@@ -160,13 +160,34 @@ static double *power_e_minus_a(const dense *d, int i)
 /* y = X x for 3 channels. */
 static void apply(const double *x, size_t n, const double *v, double *y)
 {
-    for (size_t i = 0; i < n; i++)
-        for (int c = 0; c < 3; c++) {
-            double s = 0;
-            for (size_t k = 0; k < n; k++)
-                s += x[i * n + k] * v[3 * k + c];
-            y[3 * i + c] = s;
-        }
+    test_dense_product(x, n, v, 3, y);
+}
+
+/* sum_{i=0..top} (E - A)^i, each term times a unless a is NULL. */
+static double *power_sum(const dense *d, int top, const double *a)
+{
+    size_t n = d->n;
+    double *sum = calloc(n * n, sizeof *sum);
+    for (int i = 0; i <= top; i++) {
+        double *p = power_e_minus_a(d, i), *term = a ? mat_mul(p, a, n) : p;
+        for (size_t k = 0; k < n * n; k++)
+            sum[k] += term[k];
+        if (term != p)
+            free(term);
+        free(p);
+    }
+    return sum;
+}
+
+/* t = X^steps pos for 3 channels; t2 is scratch. */
+static void apply_steps(const double *x, size_t n, const double *pos, int steps, double *t,
+                        double *t2)
+{
+    memcpy(t, pos, 3 * n * sizeof *t);
+    for (int k = 0; k < steps; k++) {
+        apply(x, n, t, t2);
+        memcpy(t, t2, 3 * n * sizeof *t);
+    }
 }
 
 static void expect_close(const char *what, const double *a, const double *b, size_t count,
@@ -232,39 +253,16 @@ static void dense_check(const char *name, limn_mesh *m, limn_scheme scheme, doub
        term as dense matrices (it telescopes to E - (E - A)^3; DESIGN.md §1's
        "(E - (E - A)^{m+1}) A" has one factor A too many, as has seed 000's
        "T_k = D^k A T_0") */
-    double *filt = calloc(n * n, sizeof *filt);
-    for (int i = 0; i <= 2; i++) {
-        double *p = power_e_minus_a(&d, i), *pa = mat_mul(p, d.a, n);
-        for (size_t k = 0; k < n * n; k++)
-            filt[k] += pa[k];
-        free(p);
-        free(pa);
-    }
+    double *filt = power_sum(&d, 2, d.a);
     double *t = malloc(n3 * sizeof *t), *t2 = malloc(n3 * sizeof *t2);
-    memcpy(t, pos, n3 * sizeof *t);
-    for (int k = 0; k < 2; k++) {
-        apply(filt, n, t, t2);
-        memcpy(t, t2, n3 * sizeof *t);
-    }
+    apply_steps(filt, n, pos, 2, t, t2);
     CHECK_OK(ctx, limn_denoise(ctx, m, &o, 2, 2, 0, &out, NULL));
     expect_close("denoise", limn_mesh_positions(out), t, n3, scale, 1e-12);
     limn_mesh_destroy(out);
 
     /* sharpen from 1 to 3, 2 steps: T <- (E + sum_{i=1..3} (E - A)^i) T */
-    double *sh = calloc(n * n, sizeof *sh);
-    for (size_t r = 0; r < n; r++)
-        sh[r * n + r] = 1.0;
-    for (int i = 1; i <= 3; i++) {
-        double *p = power_e_minus_a(&d, i);
-        for (size_t k = 0; k < n * n; k++)
-            sh[k] += p[k];
-        free(p);
-    }
-    memcpy(t, pos, n3 * sizeof *t);
-    for (int k = 0; k < 2; k++) {
-        apply(sh, n, t, t2);
-        memcpy(t, t2, n3 * sizeof *t);
-    }
+    double *sh = power_sum(&d, 3, NULL);
+    apply_steps(sh, n, pos, 2, t, t2);
     CHECK_OK(ctx, limn_sharpen(ctx, m, &o, 1, 3, 2, &out, NULL));
     expect_close("sharpen", limn_mesh_positions(out), t, n3, scale, 1e-11);
     limn_mesh_destroy(out);

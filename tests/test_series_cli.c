@@ -19,23 +19,15 @@
 
 #include <cmocka.h>
 
-static char dir[64];
 static char spot[512];
-static char text[1 << 16];
 
 static int setup(void **s)
 {
     (void)s;
-    if (test_make_dir(dir, sizeof dir, "series") != 0)
+    if (test_scratch_make("series", NULL) != 0)
         return -1;
     snprintf(spot, sizeof spot, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
     return 0;
-}
-
-static int teardown(void **s)
-{
-    (void)s;
-    return test_remove_dir(dir);
 }
 
 /* Runs `limn ARGS` (with %s replaced by the temporary directory) and captures
@@ -47,16 +39,16 @@ static int limn(const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(args, sizeof args, fmt, ap);
     va_end(ap);
-    return test_in_dir(text, sizeof text, dir, "'%s' %s", getenv("LIMN_BIN"), args);
+    return test_in_dir(test_text, sizeof test_text, test_dir, "'%s' %s", getenv("LIMN_BIN"), args);
 }
 
 /* Nothing but the inputs (in_*) and the frames directory is in the directory. */
 static void nothing_written(const char *what)
 {
     char cmd[512];
-    snprintf(cmd, sizeof cmd, "cd '%s' && find . -type f ! -name 'in_*' | grep -q .", dir);
+    snprintf(cmd, sizeof cmd, "cd '%s' && find . -type f ! -name 'in_*' | grep -q .", test_dir);
     if (system(cmd) == 0) {
-        snprintf(cmd, sizeof cmd, "cd '%s' && find . -type f >&2", dir);
+        snprintf(cmd, sizeof cmd, "cd '%s' && find . -type f >&2", test_dir);
         (void)system(cmd);
         fail_msg("%s: a failed run left files behind", what);
     }
@@ -64,15 +56,15 @@ static void nothing_written(const char *what)
 
 static void expect(int rc, int status, const char *message, const char *what)
 {
-    if (rc != status || !strstr(text, message))
-        fail_msg("%s: exit %d (want %d), output:\n%s\nwanted: %s", what, rc, status, text,
+    if (rc != status || !strstr(test_text, message))
+        fail_msg("%s: exit %d (want %d), output:\n%s\nwanted: %s", what, rc, status, test_text,
                  message);
     nothing_written(what);
 }
 
 static void write_in(const char *name, const char *content)
 {
-    assert_int_equal(test_write_text(test_join(dir, name), content), 0);
+    assert_int_equal(test_write_text(test_join(test_dir, name), content), 0);
 }
 
 static void bad_usage(void **s)
@@ -127,7 +119,7 @@ static void bad_usage(void **s)
                                  "render"};
     for (size_t i = 0; i < sizeof cmds / sizeof *cmds; i++) {
         assert_int_equal(limn("%s --help", cmds[i]), 0);
-        assert_non_null(strstr(text, "usage: limn"));
+        assert_non_null(strstr(test_text, "usage: limn"));
     }
 }
 
@@ -142,9 +134,9 @@ static void bad_inputs(void **s)
     write_in("in_c.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     assert_int_equal(system("true"), 0);
     char a[300], b[300], c[300];
-    snprintf(a, sizeof a, "%s/in_a.obj", dir);
-    snprintf(b, sizeof b, "%s/in_b.obj", dir);
-    snprintf(c, sizeof c, "%s/in_c.obj", dir);
+    snprintf(a, sizeof a, "%s/in_a.obj", test_dir);
+    snprintf(b, sizeof b, "%s/in_b.obj", test_dir);
+    snprintf(c, sizeof c, "%s/in_c.obj", test_dir);
     expect(limn("morph '%s' '%s' -o 'f%%03d.ply' --frames 4", a, b), 1,
            "FROM and TO differ in topology: face 2 is (1 2 3) in FROM but (1 3 2) in TO",
            "morph, one face differs");
@@ -160,7 +152,7 @@ static void bad_inputs(void **s)
     /* an existing output survives a failed run untouched */
     write_in("in_keep.ply", "KEEP");
     assert_int_equal(limn("denoise '%s' -o in_keep.ply --keep-volume", c), 1);
-    FILE *f = fopen(strcat(strcpy(text, dir), "/in_keep.ply"), "rb");
+    FILE *f = fopen(strcat(strcpy(test_text, test_dir), "/in_keep.ply"), "rb");
     char buf[8] = "";
     assert_non_null(f);
     assert_int_equal(fread(buf, 1, sizeof buf, f), 4);
@@ -174,7 +166,7 @@ static void bad_inputs(void **s)
 static char *slurp(const char *name)
 {
     char path[300];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
+    snprintf(path, sizeof path, "%s/%s", test_dir, name);
     FILE *f = fopen(path, "rb");
     if (!f)
         fail_msg("%s was not written", name);
@@ -200,7 +192,7 @@ static const char *const shared_keys[] = {
 static void clean(void)
 {
     char cmd[256];
-    snprintf(cmd, sizeof cmd, "cd '%s' && rm -rf ./*", dir);
+    snprintf(cmd, sizeof cmd, "cd '%s' && rm -rf ./*", test_dir);
     assert_int_equal(system(cmd), 0);
 }
 
@@ -226,11 +218,11 @@ static void good_runs(void **s)
     has_keys(rep, shared_keys, sizeof shared_keys / sizeof *shared_keys);
     assert_non_null(strstr(rep, "\"products\": 3"));
     assert_int_equal(limn("info sp_band0.ply --json"), 0);
-    assert_non_null(strstr(text, "\"vertices\": 188, \"faces\": 180"));
+    assert_non_null(strstr(test_text, "\"vertices\": 188, \"faces\": 180"));
 
     /* denoise: volume change in the report */
     assert_int_equal(limn("denoise '%s' -o dn.ply --m 2 --steps 3 --report dn.json", spot), 0);
-    assert_non_null(strstr(text, "volume"));
+    assert_non_null(strstr(test_text, "volume"));
     rep = slurp("dn.json");
     has_keys(rep, shared_keys, sizeof shared_keys / sizeof *shared_keys);
     static const char *const dkeys[] = {"\"m\": 2", "\"steps\": 3", "\"products\": 9",
@@ -238,7 +230,7 @@ static void good_runs(void **s)
                                         "\"volume_change\": ", "\"closed\": true"};
     has_keys(rep, dkeys, sizeof dkeys / sizeof *dkeys);
     assert_int_equal(limn("denoise '%s' -o dk.ply --keep-volume -q --report dk.json", spot), 0);
-    assert_string_equal(text, "");
+    assert_string_equal(test_text, "");
     double change = strtod(strstr(slurp("dk.json"), "\"volume_change\": ") + 17, NULL);
     assert_true(change > -1e-9 && change < 1e-9);
 
@@ -250,7 +242,7 @@ static void good_runs(void **s)
     assert_non_null(strstr(slurp("sh.json"), "\"products\": 4"));
 
     /* morph: every frame, per-frame report */
-    assert_int_equal(system(strcat(strcat(strcpy(text, "mkdir "), dir), "/frames")), 0);
+    assert_int_equal(system(strcat(strcat(strcpy(test_text, "mkdir "), test_dir), "/frames")), 0);
     assert_int_equal(limn("morph '%s' sm.obj -o 'frames/q%%03d.ply' --frames 5 --report m.json",
                           spot),
                      0);
@@ -281,7 +273,7 @@ static void good_runs(void **s)
         0);
     assert_int_equal(limn("info t1.ply --json"), 0);
     char cmd[4096];
-    snprintf(cmd, sizeof cmd, "cmp -s '%s/t1.ply' '%s/t2.ply'", dir, dir);
+    snprintf(cmd, sizeof cmd, "cmp -s '%s/t1.ply' '%s/t2.ply'", test_dir, test_dir);
     assert_int_equal(system(cmd), 0);
     assert_non_null(strstr(slurp("t1.ply"), "property uchar red"));
 
@@ -305,7 +297,7 @@ static void good_runs(void **s)
                  "raw = zlib.decompress(idat)\n"
                  "assert (w, h) == (120, 90) and len(raw) == h * (3 * w + 1), (w, h, len(raw))\n"
                  "\"",
-                 dir);
+                 test_dir);
         if (system(cmd) != 0)
             fail_msg("the PNG does not decode");
     } else {
@@ -314,5 +306,5 @@ static void good_runs(void **s)
     clean();
 }
 
-TEST_MAIN(setup, teardown, cmocka_unit_test(bad_usage), cmocka_unit_test(bad_inputs),
+TEST_MAIN(setup, test_scratch_teardown, cmocka_unit_test(bad_usage), cmocka_unit_test(bad_inputs),
           cmocka_unit_test(good_runs))
