@@ -109,6 +109,15 @@ limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh *
     return LIMN_OK;
 }
 
+limn_status mesh_hand_over(limn_status st, limn_mesh *made, limn_mesh **out)
+{
+    if (st)
+        limn_mesh_destroy(made);
+    else
+        *out = made;
+    return st;
+}
+
 void limn_mesh_destroy(limn_mesh *mesh)
 {
     if (!mesh)

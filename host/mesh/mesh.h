@@ -19,6 +19,10 @@ struct limn_mesh {
 limn_status mesh_alloc(limn_context *ctx, size_t vertex_count, size_t face_count,
                        size_t index_count, limn_mesh **out);
 
+/* The end of a call that makes a mesh: on LIMN_OK *out = made, otherwise
+   made is destroyed (and *out left as it is); returns st. */
+limn_status mesh_hand_over(limn_status st, limn_mesh *made, limn_mesh **out);
+
 /* The bounding box (lo, hi; zeros for no vertices) and its diagonal. */
 double mesh_bbox_diagonal(const limn_mesh *mesh, double lo[3], double hi[3]);
 

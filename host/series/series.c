@@ -207,12 +207,7 @@ static limn_status result_mesh(limn_context *ctx, series_run *s, device_buffer *
         st = series_download(s, b, m->positions);
     if (!st)
         st = series_check_finite(ctx, m->positions, m->vertex_count, what);
-    if (st) {
-        limn_mesh_destroy(m);
-        return st;
-    }
-    *out = m;
-    return LIMN_OK;
+    return mesh_hand_over(st, m, out);
 }
 
 /* ------------------------------------------ the single process's engine */

@@ -476,12 +476,7 @@ static limn_status texture_sized(limn_context *ctx, const limn_mesh *mesh,
     free(w.carried);
     free(w.field);
     free(w.rgb);
-    if (st) {
-        limn_mesh_destroy(result);
-        return st;
-    }
-    *out = result;
-    return LIMN_OK;
+    return mesh_hand_over(st, result, out);
 }
 
 limn_status limn_texture(limn_context *ctx, const limn_mesh *mesh,

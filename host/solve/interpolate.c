@@ -108,13 +108,9 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
     free(buf);
     solver_destroy(&sv);
     operator_free(&op);
-    if (st) {
-        limn_mesh_destroy(out);
-        return st;
-    }
-    ctx_progress(ctx, "solve", 1.0);
-    *control = out;
-    return LIMN_OK;
+    if (!st)
+        ctx_progress(ctx, "solve", 1.0);
+    return mesh_hand_over(st, out, control);
 }
 
 limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
