@@ -288,6 +288,29 @@ static int fast_elements(fast *f)
     return 1;
 }
 
+/* What the general reader's growing arrays hold at the end: 256 bytes
+   doubled until n fit (growbuf_reserve's rule); 0 for an array never
+   pushed to. */
+static uint64_t grown(uint64_t n)
+{
+    uint64_t cap = 256;
+    while (cap < n)
+        cap *= 2;
+    return n ? cap : 0;
+}
+
+/* Whether the general reader would stay within the memory limit: it books
+   its arrays' capacities, which are larger than this path's exact sizes, so
+   a file it refuses must be refused the same way. used: booked before. */
+static int general_fits(const fast *f, size_t used)
+{
+    const growbuf_budget *b = &f->p->r.budget;
+    uint64_t nv = f->p->nv, nf = f->a.offsets.len ? f->a.offsets.len / 4 - 1 : 0;
+    uint64_t need = grown(nv * 24) + (f->p->colors ? grown(nv * 3) : 0) +
+                    grown((nf + 1) * 4) + grown(f->a.indices.len);
+    return used <= b->limit && need <= b->limit - used;
+}
+
 /* The file and header are for this path: binary, of known size, no
    tristrips, no lists in other elements (the vertex and face layouts are
    checked as they are read). */
@@ -322,7 +345,8 @@ int ply_fast_body(ply *p)
     f.map = map;
     mio_arrays_init(&f.a, &p->r);
     int exceeded = p->r.budget.exceeded;
-    int ok = fast_elements(&f) && mio_jump(&p->r, f.at);
+    size_t used = p->r.budget.used;
+    int ok = fast_elements(&f) && general_fits(&f, used) && mio_jump(&p->r, f.at);
     munmap(map, f.size);
     if (!ok) {
         mio_arrays_free(&f.a);
