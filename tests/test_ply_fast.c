@@ -320,6 +320,23 @@ static void corrupt(void **state)
         }
 }
 
+/* Vertices only (no face element), with another element after them. */
+static void no_faces(void **state)
+{
+    (void)state;
+    static const char head[] = "ply\nformat binary_little_endian 1.0\nelement vertex 2\n"
+                               "property float x\nproperty float y\nproperty float z\n"
+                               "element flag 1\nproperty uchar f\nend_header\n";
+    unsigned char file[sizeof head - 1 + 25] = {0};
+    memcpy(file, head, sizeof head - 1);
+    file[sizeof head - 1 + 3] = 0x3f; /* x of the first vertex: 0.5 */
+    limn_status st;
+    for (size_t cut = sizeof file; cut >= sizeof file - 1; cut--) {
+        both_ways(test_write_bytes(test_join(dir, "nofaces.ply"), file, cut), 0, 0, &st, NULL);
+        assert_int_equal(st, cut == sizeof file ? LIMN_OK : LIMN_ERR_FORMAT);
+    }
+}
+
 /* Under a memory limit the fast path gives way and the general reader's
    message stands. */
 static void memory_limit(void **state)
@@ -376,6 +393,7 @@ int main(void)
         cmocka_unit_test(shared_meshes),
         cmocka_unit_test(layouts),
         cmocka_unit_test(corrupt),
+        cmocka_unit_test(no_faces),
         cmocka_unit_test(memory_limit),
         cmocka_unit_test(threads_and_engaged),
     };

@@ -285,6 +285,11 @@ static int fast_elements(fast *f)
             f->at += e->count * e->min_size;
         ctx_progress(p->ctx, "read", (double)f->at / (double)f->size);
     }
+    if (!f->a.offsets.len) { /* no face element: no faces, the first offset all the same */
+        if (!mio_array_exact(&f->a.offsets, 4))
+            return 0;
+        memset(f->a.offsets.data, 0, 4);
+    }
     return 1;
 }
 
