@@ -2,11 +2,17 @@
 #include "support.h"
 
 #include <dirent.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+
+#include <cmocka.h>
 
 const char *test_shared_meshes(void)
 {
@@ -242,4 +248,20 @@ limn_mesh *test_mesh_fan(limn_context *ctx, int n, int triangles)
     free(off);
     free(idx);
     return m;
+}
+
+/* Same vertices (bit for bit), faces and colours. */
+void test_assert_same_mesh(const limn_mesh *a, const limn_mesh *b)
+{
+    size_t nv = limn_mesh_vertex_count(a), nf = limn_mesh_face_count(a);
+    assert_int_equal(nv, limn_mesh_vertex_count(b));
+    assert_int_equal(nf, limn_mesh_face_count(b));
+    assert_memory_equal(limn_mesh_positions(a), limn_mesh_positions(b), nv * 3 * sizeof(double));
+    assert_memory_equal(limn_mesh_face_offsets(a), limn_mesh_face_offsets(b),
+                        (nf + 1) * sizeof(uint32_t));
+    assert_memory_equal(limn_mesh_face_indices(a), limn_mesh_face_indices(b),
+                        limn_mesh_index_count(a) * sizeof(uint32_t));
+    assert_int_equal(limn_mesh_colors(a) != NULL, limn_mesh_colors(b) != NULL);
+    if (limn_mesh_colors(a))
+        assert_memory_equal(limn_mesh_colors(a), limn_mesh_colors(b), nv * 3);
 }

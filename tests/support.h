@@ -38,6 +38,10 @@ double test_bbox_diagonal(const limn_mesh *mesh);
    are left as they are. */
 void test_dense_product(const double *a, size_t n, const double *x, size_t stride, double *y);
 
+/* Fails the test unless a and b have the same vertices (bit for bit),
+   faces and colours. */
+void test_assert_same_mesh(const limn_mesh *a, const limn_mesh *b);
+
 /* Writes a file with the given text; returns 0 on success. */
 int test_write_text(const char *path, const char *text);
 int test_file_exists(const char *path);

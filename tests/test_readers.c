@@ -77,22 +77,6 @@ static void read_fails(const char *path, limn_format format, limn_status want, c
                  limn_context_message(ctx), limn_status_name(want), msg);
 }
 
-/* Same vertices (bit for bit), faces and colours. */
-static void assert_same_mesh(const limn_mesh *a, const limn_mesh *b)
-{
-    size_t nv = limn_mesh_vertex_count(a), nf = limn_mesh_face_count(a);
-    assert_int_equal(nv, limn_mesh_vertex_count(b));
-    assert_int_equal(nf, limn_mesh_face_count(b));
-    assert_memory_equal(limn_mesh_positions(a), limn_mesh_positions(b), nv * 3 * sizeof(double));
-    assert_memory_equal(limn_mesh_face_offsets(a), limn_mesh_face_offsets(b),
-                        (nf + 1) * sizeof(uint32_t));
-    assert_memory_equal(limn_mesh_face_indices(a), limn_mesh_face_indices(b),
-                        limn_mesh_index_count(a) * sizeof(uint32_t));
-    assert_int_equal(limn_mesh_colors(a) != NULL, limn_mesh_colors(b) != NULL);
-    if (limn_mesh_colors(a))
-        assert_memory_equal(limn_mesh_colors(a), limn_mesh_colors(b), nv * 3);
-}
-
 /* Reads name with its test_text as given and as the reference; they must agree. */
 static void same_as(const char *name, const char *variant, size_t n, const char *reference)
 {
@@ -100,7 +84,7 @@ static void same_as(const char *name, const char *variant, size_t n, const char 
     snprintf(ref, sizeof ref, "ref_%s", name);
     limn_mesh *a = read_ok(write_bytes(name, variant, n), LIMN_FORMAT_AUTO);
     limn_mesh *b = read_ok(write_str(ref, reference), LIMN_FORMAT_AUTO);
-    assert_same_mesh(a, b);
+    test_assert_same_mesh(a, b);
     limn_mesh_destroy(a);
     limn_mesh_destroy(b);
 }

@@ -221,6 +221,8 @@ struct device {
  * memory, or a kernel launch failed. Also (tests/test_opencl.c): no-fp64,
  * device 0.0 reports no double precision; prefetch, a kernel built with
  * prefetching cannot be created (as on Oclgrind before the SPIR test). Compiled in always, inert unless set.
+ * The readers have their own (mesh/io/mesh_ply.h): LIMN_TEST_PLY_GENERAL=1
+ * reads binary PLY with the general reader only, never the fast path.
  */
 int device_test_fault(const char *name);
 /* Whether the context allows the reference fallback (API, else LIMN_FALLBACK). */

@@ -5,11 +5,14 @@
  * properties skipped and named in one warning), a `face` element (list vertex_indices / vertex_index)
  * and/or a `tristrips` element (strips separated by -1), and skips every other
  * element. Counts in the header are checked against the file size before
- * anything is allocated. The writer is mesh_ply_write.c.
+ * anything is allocated. Binary files of the common layout are read by the
+ * fast path (mesh_ply_fast.c), which hands back to this reader whatever it
+ * does not handle. The writer is mesh_ply_write.c.
  */
 #include "mesh/io/formats.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "mesh/io/mesh_ply.h"
 #include "mesh/io/toolkit.h"
 
 #include <errno.h>
@@ -18,8 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { T_NONE, T_I8, T_U8, T_I16, T_U16, T_I32, T_U32, T_F32, T_F64, T_COUNT };
-static const unsigned char type_size[T_COUNT] = {0, 1, 1, 2, 2, 4, 4, 4, 8};
+const unsigned char ply_type_size[T_COUNT] = {0, 1, 1, 2, 2, 4, 4, 4, 8};
 static const char *const type_names[T_COUNT][2] = {
     {"", ""},          {"char", "int8"},   {"uchar", "uint8"},   {"short", "int16"},
     {"ushort", "uint16"}, {"int", "int32"}, {"uint", "uint32"}, {"float", "float32"},
@@ -28,52 +30,9 @@ static const char *const type_names[T_COUNT][2] = {
 static const long long type_min[T_COUNT] = {0, -128, 0, -32768, 0, -2147483647LL - 1, 0, 0, 0};
 static const long long type_max[T_COUNT] = {0, 127, 255, 32767, 65535, 2147483647LL,
                                             4294967295LL, 0, 0};
-#define IS_INT(t) ((t) >= T_I8 && (t) <= T_U32)
 
-enum { R_OTHER, R_X, R_Y, R_Z, R_RED, R_GREEN, R_BLUE, R_INDICES, R_COUNT };
 static const char *const role_names[R_COUNT] = {"", "x", "y", "z", "red", "green", "blue",
                                                  "vertex_indices"};
-enum { E_OTHER, E_VERTEX, E_FACE, E_TRISTRIPS };
-enum { F_NONE, F_ASCII, F_LE, F_BE };
-
-#define PLY_MAX_ELEMENTS 256
-#define PLY_MAX_PROPERTIES 1024
-
-typedef struct ply_prop {
-    unsigned char type;        /* scalar type, or the item type of a list */
-    unsigned char count_type;  /* T_NONE for a scalar */
-    unsigned char role;
-} ply_prop;
-
-typedef struct ply_elem {
-    int kind;
-    char name[40];
-    uint64_t count;
-    ply_prop *props;
-    size_t nprops;
-    int has_list;
-    uint64_t min_size;         /* least bytes one record takes in this format */
-    int roles[R_COUNT];        /* how many properties have each role */
-} ply_elem;
-
-typedef struct ply {
-    mio_reader r;
-    limn_context *ctx;
-    const char *path;
-    int format;
-    int in_header;             /* messages give the line, not a byte offset */
-    ply_elem elems[PLY_MAX_ELEMENTS];
-    size_t nelems;
-    const ply_elem *elem;      /* being read, for messages */
-    uint64_t index;            /* record being read */
-    uint64_t at;               /* binary: offset of the value being read */
-    char *tok;                 /* ascii: rest of the current line */
-    uint64_t nv;
-    int colors;
-    mio_arrays a;
-    char dropped[256];         /* vertex properties limn does not keep, for one warning */
-    size_t ndropped;
-} ply;
 
 static limn_status ply_err(ply *p, limn_status st, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -116,9 +75,9 @@ static uint64_t load(const unsigned char *b, unsigned n, int big)
     return v;
 }
 
-static long long bin_int(const unsigned char *b, int t, int big)
+long long ply_bin_int(const unsigned char *b, int t, int big)
 {
-    uint64_t v = load(b, type_size[t], big);
+    uint64_t v = load(b, ply_type_size[t], big);
     switch (t) {
     case T_I8: return v >= 0x80 ? (long long)v - 0x100 : (long long)v;
     case T_I16: return v >= 0x8000 ? (long long)v - 0x10000 : (long long)v;
@@ -127,7 +86,7 @@ static long long bin_int(const unsigned char *b, int t, int big)
     }
 }
 
-static double bin_double(const unsigned char *b, int t, int big)
+double ply_bin_double(const unsigned char *b, int t, int big)
 {
     if (t == T_F32) {
         uint32_t u = (uint32_t)load(b, 4, big);
@@ -141,7 +100,7 @@ static double bin_double(const unsigned char *b, int t, int big)
         memcpy(&d, &u, 8);
         return d;
     }
-    return (double)bin_int(b, t, big);
+    return (double)ply_bin_int(b, t, big);
 }
 
 /* ascii: the next token (NULL at the end of the file) */
@@ -167,7 +126,7 @@ static limn_status ply_next(ply *p, int t, const unsigned char **b, char **s)
     *s = NULL;
     if (p->format != F_ASCII) {
         p->at = mio_offset(&p->r);
-        *b = mio_bytes(&p->r, type_size[t]);
+        *b = mio_bytes(&p->r, ply_type_size[t]);
         return *b ? LIMN_OK : ply_truncated(p);
     }
     *s = ply_token(p);
@@ -182,7 +141,7 @@ static limn_status ply_int(ply *p, int t, long long *v)
     if (st)
         return st;
     if (b) {
-        *v = bin_int(b, t, p->format == F_BE);
+        *v = ply_bin_int(b, t, p->format == F_BE);
         return LIMN_OK;
     }
     if (!mio_parse_ll(&p->tok, v, 0))
@@ -201,7 +160,7 @@ static limn_status ply_double(ply *p, int t, double *v)
     if (st)
         return st;
     if (b) {
-        *v = bin_double(b, t, p->format == F_BE);
+        *v = ply_bin_double(b, t, p->format == F_BE);
         if (!isfinite(*v))
             return ply_err(p, LIMN_ERR_FORMAT, "a coordinate is not finite");
         return LIMN_OK;
@@ -218,7 +177,7 @@ static limn_status ply_skip(ply *p, int t, uint64_t n)
 {
     if (p->format != F_ASCII) {
         p->at = mio_offset(&p->r);
-        return n <= UINT64_MAX / 8 && mio_skip(&p->r, n * type_size[t]) ? LIMN_OK
+        return n <= UINT64_MAX / 8 && mio_skip(&p->r, n * ply_type_size[t]) ? LIMN_OK
                                                                         : ply_truncated(p);
     }
     for (uint64_t i = 0; i < n; i++) {
@@ -241,7 +200,7 @@ static limn_status ply_list_count(ply *p, const ply_prop *pr, long long *n)
     if (*n < 0)
         return ply_err(p, LIMN_ERR_FORMAT, "list count %lld is negative", *n);
     uint64_t left = mio_remaining(&p->r);
-    uint64_t least = p->format == F_ASCII ? 2 : type_size[pr->type];
+    uint64_t least = p->format == F_ASCII ? 2 : ply_type_size[pr->type];
     if (p->format == F_ASCII && left != UINT64_MAX)
         left += strlen(p->tok) + 1;
     if (left != UINT64_MAX && (uint64_t)*n > left / least)
@@ -322,7 +281,7 @@ static limn_status ply_property(ply *p, char **w, int nw)
     e->props[e->nprops++] = pr;
     e->roles[pr.role]++;
     e->has_list |= list;
-    e->min_size += p->format == F_ASCII ? 2 : type_size[list ? pr.count_type : pr.type];
+    e->min_size += p->format == F_ASCII ? 2 : ply_type_size[list ? pr.count_type : pr.type];
     return LIMN_OK;
 }
 
@@ -654,7 +613,8 @@ static limn_status ply_parse(ply *p)
     p->in_header = 1;
     limn_status st = ply_header(p);
     p->in_header = 0;
-    if (st || (st = ply_check(p)) || (st = ply_reserve(p)) || (st = ply_body(p)))
+    if (st || (st = ply_check(p)) ||
+        (!ply_fast_body(p) && ((st = ply_reserve(p)) || (st = ply_body(p)))))
         return st;
     int has_faces = 0;
     for (size_t i = 0; i < p->nelems; i++)

@@ -248,6 +248,16 @@ int mio_skip(mio_reader *r, uint64_t n)
     return 1;
 }
 
+int mio_jump(mio_reader *r, uint64_t offset)
+{
+    if (offset > (uint64_t)INT64_MAX || fseeko(r->f, (off_t)offset, SEEK_SET) != 0)
+        return 0;
+    r->buf_offset = offset;
+    r->start = r->end = 0;
+    r->eof = 0;
+    return 1;
+}
+
 void mio_skip_bom(mio_reader *r)
 {
     size_t avail;
@@ -358,6 +368,18 @@ void mio_arrays_free(mio_arrays *a)
     growbuf_free(&a->col);
     growbuf_free(&a->offsets);
     growbuf_free(&a->indices);
+}
+
+int mio_array_exact(growbuf *g, size_t n)
+{
+    if (!growbuf_budget_take(g->budget, n))
+        return 0;
+    if (!(g->data = malloc(n ? n : 1))) {
+        growbuf_budget_give(g->budget, n);
+        return 0;
+    }
+    g->len = g->cap = n;
+    return 1;
 }
 
 limn_status mio_make_mesh(limn_context *ctx, mio_arrays *a, limn_mesh **out)

@@ -64,6 +64,9 @@ int mio_skip(mio_reader *r, uint64_t n);
 static inline uint64_t mio_offset(const mio_reader *r) { return r->buf_offset + r->start; }
 /* Bytes left in the file after the current position (UINT64_MAX if unknown). */
 uint64_t mio_remaining(const mio_reader *r);
+/* Moves the reader to file offset `offset` (a reader that took the data by
+   other means, e.g. mapped); 0 when the file cannot seek there. */
+int mio_jump(mio_reader *r, uint64_t offset);
 /* Consumes a UTF-8 byte order mark (EF BB BF) at the start of the file. */
 void mio_skip_bom(mio_reader *r);
 /* Sets the message for a read error (r->error) and returns LIMN_ERR_IO
@@ -107,6 +110,9 @@ typedef struct mio_arrays {
 /* Charges the (zeroed) arrays to the reader's budget (max_memory). */
 void mio_arrays_init(mio_arrays *a, mio_reader *r);
 void mio_arrays_free(mio_arrays *a);
+/* Gives the empty g exactly n bytes (len n, contents unset), charged to its
+   budget; 0 when over the budget (budget->exceeded set) or out of memory. */
+int mio_array_exact(growbuf *g, size_t n);
 /* Builds a mesh from the arrays, taking their memory (they are left empty). */
 limn_status mio_make_mesh(limn_context *ctx, mio_arrays *a, limn_mesh **out);
 

@@ -1,0 +1,75 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The PLY reader's header model, shared by the general reader (mesh_ply.c)
+ * and its binary fast path (mesh_ply_fast.c).
+ */
+#ifndef LIMN_MESH_IO_MESH_PLY_H
+#define LIMN_MESH_IO_MESH_PLY_H
+
+#include "mesh/io/toolkit.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+enum { T_NONE, T_I8, T_U8, T_I16, T_U16, T_I32, T_U32, T_F32, T_F64, T_COUNT };
+extern const unsigned char ply_type_size[T_COUNT];
+#define IS_INT(t) ((t) >= T_I8 && (t) <= T_U32)
+
+enum { R_OTHER, R_X, R_Y, R_Z, R_RED, R_GREEN, R_BLUE, R_INDICES, R_COUNT };
+enum { E_OTHER, E_VERTEX, E_FACE, E_TRISTRIPS };
+enum { F_NONE, F_ASCII, F_LE, F_BE };
+
+#define PLY_MAX_ELEMENTS 256
+#define PLY_MAX_PROPERTIES 1024
+
+typedef struct ply_prop {
+    unsigned char type;        /* scalar type, or the item type of a list */
+    unsigned char count_type;  /* T_NONE for a scalar */
+    unsigned char role;
+} ply_prop;
+
+typedef struct ply_elem {
+    int kind;
+    char name[40];
+    uint64_t count;
+    ply_prop *props;
+    size_t nprops;
+    int has_list;
+    uint64_t min_size;         /* least bytes one record takes in this format */
+    int roles[R_COUNT];        /* how many properties have each role */
+} ply_elem;
+
+typedef struct ply {
+    mio_reader r;
+    limn_context *ctx;
+    const char *path;
+    int format;
+    int in_header;             /* messages give the line, not a byte offset */
+    ply_elem elems[PLY_MAX_ELEMENTS];
+    size_t nelems;
+    const ply_elem *elem;      /* being read, for messages */
+    uint64_t index;            /* record being read */
+    uint64_t at;               /* binary: offset of the value being read */
+    char *tok;                 /* ascii: rest of the current line */
+    uint64_t nv;
+    int colors;
+    mio_arrays a;
+    char dropped[256];         /* vertex properties limn does not keep, for one warning */
+    size_t ndropped;
+} ply;
+
+/* A binary scalar of type t at b (big: big endian), as the general reader
+   converts it. */
+long long ply_bin_int(const unsigned char *b, int t, int big);
+double ply_bin_double(const unsigned char *b, int t, int big);
+
+/* The fast path for a binary file of the common layout (fixed-size vertex
+   records, one face list, no tristrips; mesh_ply_fast.c), run after the
+   header is checked: 1 when it read the whole body into p->a and left the
+   reader after it; 0, with p->a and the reader untouched, when the layout,
+   the data or the memory limit is anything it does not handle (the general
+   reader then reads the body and gives its messages). The test-only
+   LIMN_TEST_PLY_GENERAL=1 makes it always 0. */
+int ply_fast_body(ply *p);
+
+#endif
