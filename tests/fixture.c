@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 #include "fixture.h"
+#include "support.h"
 
 #include <setjmp.h>
 #include <stdarg.h>
@@ -94,4 +95,12 @@ int test_context_teardown(void **state)
     test_release_teardown(state);
     limn_context_destroy(*state);
     return 0;
+}
+
+limn_mesh *test_read_shared(limn_context *ctx, const char *rel)
+{
+    limn_mesh *m = NULL;
+    if (limn_mesh_read(ctx, test_shared_path(rel), LIMN_FORMAT_AUTO, &m) != LIMN_OK)
+        fail_msg("%s: %s", rel, limn_context_message(ctx));
+    return m;
 }

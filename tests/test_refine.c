@@ -272,9 +272,7 @@ static void shared_vs_osd(void **s)
     };
     limn_context *ctx = *s;
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
-        limn_mesh *m = NULL;
-        assert_int_equal(limn_mesh_read(ctx, test_shared_path(cases[i].file), LIMN_FORMAT_AUTO, &m),
-                         LIMN_OK);
+        limn_mesh *m = test_read_shared(ctx, cases[i].file);
         for (int l = 1; l <= cases[i].levels; l++)
             against_osd(ctx, cases[i].file, m, cases[i].scheme, l);
         limn_mesh_destroy(m);

@@ -49,14 +49,6 @@ static limn_context *ctx_for(const char *device)
             fail_msg("%s failed: %s", #call, limn_context_message(ctx));                       \
     } while (0)
 
-/* A shared real mesh, read or the test fails. */
-static limn_mesh *read_shared(limn_context *ctx, const char *rel)
-{
-    limn_mesh *m = NULL;
-    CHECK_OK(ctx, limn_mesh_read(ctx, test_shared_path(rel), LIMN_FORMAT_AUTO, &m));
-    return m;
-}
-
 /* Icosahedron refined `levels` times by edge midpoints, projected to the unit sphere. */
 static limn_mesh *icosphere(limn_context *ctx, int levels)
 {
@@ -304,7 +296,7 @@ static void series_against_dense(void **s)
     dense_check("pyramid (mixed faces)", pyr, LIMN_SCHEME_CATMARK, 0.0);
     dense_check("quad fan (valence 5)", fan, LIMN_SCHEME_CATMARK, 0.0);
     if (test_shared_meshes()) {
-        limn_mesh *m = read_shared(ctx, "small/spot_control_mesh.obj");
+        limn_mesh *m = test_read_shared(ctx, "small/spot_control_mesh.obj");
         dense_check("spot_control_mesh", m, LIMN_SCHEME_CATMARK, 0.0);
         limn_mesh_destroy(m);
     }
@@ -363,7 +355,7 @@ static void bands_sum_and_energy(void **s)
     static const char *smooth[] = {"medium/bunny_closed.off", "medium/bob_quad.obj",
                                    "small/spot_triangulated.obj"};
     for (size_t i = 0; test_shared_meshes() && i < sizeof smooth / sizeof *smooth; i++) {
-        limn_mesh *m = read_shared(ctx, smooth[i]);
+        limn_mesh *m = test_read_shared(ctx, smooth[i]);
         bands_of(smooth[i], m, 8, 1);
         limn_mesh_destroy(m);
     }
@@ -418,7 +410,7 @@ static void denoise_brings_closer(void **s)
     static const char *files[] = {"medium/bunny_closed.off", "medium/bob_quad.obj",
                                   "medium/bun_zipper.ply"};
     for (size_t i = 0; test_shared_meshes() && i < sizeof files / sizeof *files; i++) {
-        limn_mesh *m = read_shared(ctx, files[i]);
+        limn_mesh *m = test_read_shared(ctx, files[i]);
         denoise_one(ctx, files[i], m, 0.3);
         limn_mesh_destroy(m);
     }
@@ -433,7 +425,7 @@ static void sharpen_raises_high_bands(void **s)
     test_perturb(m, 0.01, 7);
     if (test_shared_meshes()) {
         limn_mesh_destroy(m);
-        m = read_shared(ctx, "small/spot_triangulated.obj");
+        m = test_read_shared(ctx, "small/spot_triangulated.obj");
     }
     CHECK_OK(ctx, limn_sharpen(ctx, m, NULL, 1, 3, 2, &sharp, NULL));
     const int count = 8;
@@ -533,7 +525,7 @@ static void morph_frames(void **s)
     morph_to(ctx, "perturbed icosphere to ellipsoid", a, b, 0);
     morph_to(ctx, "perturbed icosphere to ellipsoid", a, b, 1);
     if (test_shared_meshes()) {
-        limn_mesh *m = read_shared(ctx, "small/spot_triangulated.obj");
+        limn_mesh *m = test_read_shared(ctx, "small/spot_triangulated.obj");
         limn_mesh *sp = spherized(ctx, m);
         morph_to(ctx, "spot to its sphere", m, sp, 0);
         morph_to(ctx, "spot to its sphere", m, sp, 1);
@@ -577,7 +569,7 @@ static void texture_colors(void **s)
     limn_mesh *m = icosphere(ctx, 2);
     if (test_shared_meshes()) {
         limn_mesh_destroy(m);
-        m = read_shared(ctx, "small/spot_control_mesh.obj");
+        m = test_read_shared(ctx, "small/spot_control_mesh.obj");
     }
     static const uint8_t colors[] = {20, 40, 120, 240, 220, 160, 140, 30, 10, 60, 200, 60};
     limn_texture_options o;
@@ -769,7 +761,7 @@ static void backends_agree(void **s)
     backends_on("quad grid 40x37", g);
     backends_on("triangle grid 40x37", tg);
     if (test_shared_meshes()) {
-        limn_mesh *m = read_shared(ctx, "medium/bunny_closed.off");
+        limn_mesh *m = test_read_shared(ctx, "medium/bunny_closed.off");
         backends_on("bunny_closed", test_keep_mesh(m));
     }
 }

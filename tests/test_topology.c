@@ -56,15 +56,12 @@ static void shared_meshes_match_stats(void **state)
         assert_non_null(p);
         char file[256];
         sscanf(p + 9, "%255[^\"]", file);
-        limn_mesh *m = NULL;
-        limn_status st = limn_mesh_read(ctx, test_shared_path(file), LIMN_FORMAT_AUTO, &m);
-        if (st)
-            fail_msg("%s: %s", file, limn_context_message(ctx));
+        limn_mesh *m = test_read_shared(ctx, file);
         double degenerate = 0, manifold = 0;
         json_number(line, "degenerate_faces", &degenerate);
         json_number(line, "manifold", &manifold);
         limn_mesh_info in = {.size = sizeof in};
-        st = limn_mesh_info_compute(ctx, m, &in);
+        limn_status st = limn_mesh_info_compute(ctx, m, &in);
         if (degenerate > 0) {
             /* Faces that repeat a vertex are refused, naming the face. */
             assert_int_equal(st, LIMN_ERR_TOPOLOGY);
