@@ -64,6 +64,15 @@ static void mesh_free(mesh *m) {
     memset(m, 0, sizeof *m);
 }
 
+/* A hand-built mesh: named, its scheme and nverts positions allocated, no faces yet. */
+static void mesh_start(mesh *m, const char *name, int scheme, int nverts) {
+    memset(m, 0, sizeof *m);
+    m->name = name;
+    m->scheme = scheme;
+    m->nverts = nverts;
+    m->pos = malloc(sizeof(double) * 3 * (size_t)nverts);
+}
+
 static unsigned long g_rng = 12345;
 static double urand(void) { /* [0,1) */
     g_rng = g_rng * 6364136223846793005UL + 1442695040888963407UL;
@@ -679,11 +688,7 @@ static void check_nonmanifold(const char *dir) {
     /* fin: three quad sheets on the line 0-1-2-3-4 */
     {
         mesh m;
-        memset(&m, 0, sizeof m);
-        m.name = "fin: 3 sheets on line 0-1-2-3-4";
-        m.scheme = 1;
-        m.nverts = 20;
-        m.pos = malloc(sizeof(double) * 60);
+        mesh_start(&m, "fin: 3 sheets on line 0-1-2-3-4", 1, 20);
         double dirs[3][3] = {{0, 1, 0}, {0, 0, 1}, {0, -0.7, -0.7}};
         int nv = 0;
         for (int i = 0; i < 5; ++i, ++nv) {
@@ -717,11 +722,7 @@ static void check_nonmanifold(const char *dir) {
     /* bow-tie: two 2x2 quad grids sharing their centre vertex 0 (two cones) */
     {
         mesh m;
-        memset(&m, 0, sizeof m);
-        m.name = "bow-tie: two cones share apex 0";
-        m.scheme = 1;
-        m.nverts = 17;
-        m.pos = malloc(sizeof(double) * 51);
+        mesh_start(&m, "bow-tie: two cones share apex 0", 1, 17);
         m.nfaces = 8;
         m.fs = malloc(sizeof(int) * 8);
         m.fi = malloc(sizeof(int) * 32);
