@@ -50,6 +50,18 @@ static void die(limn_context *ctx, const char *what)
     exit(1);
 }
 
+/* outdir/name opened for writing with its CSV header line, or the bench dies. */
+static FILE *open_csv(const char *outdir, const char *name, const char *header)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", outdir, name);
+    FILE *csv = fopen(path, "w");
+    if (!csv)
+        die(NULL, path);
+    fputs(header, csv);
+    return csv;
+}
+
 /* ------------------------------------------------------------- Taubin */
 
 typedef struct adjacency {
@@ -225,12 +237,9 @@ int main(int argc, char **argv)
     if (limn_context_set_device(ctx, device))
         die(ctx, "device");
     char path[4096];
-    snprintf(path, sizeof path, "%s/denoise_bench.csv", outdir);
-    FILE *csv = fopen(path, "w");
-    if (!csv)
-        die(NULL, path);
-    fprintf(csv, "mesh,sigma_edges,method,applications,mean_rel_distance,mean_normal_deg,"
-                 "volume_change,setup_seconds,filter_seconds\n");
+    FILE *csv = open_csv(outdir, "denoise_bench.csv",
+                         "mesh,sigma_edges,method,applications,mean_rel_distance,"
+                         "mean_normal_deg,volume_change,setup_seconds,filter_seconds\n");
     ms[0] = m;
     ks[0] = steps;
     static const char *files[] = {"medium/bunny_closed.off", "medium/horse.ply",
@@ -334,12 +343,9 @@ int main(int argc, char **argv)
     o.linear = 1;
     if (limn_morph(ctx, bunny, sphere, &o, log_frame, &linear, NULL))
         die(ctx, "linear morph");
-    snprintf(path, sizeof path, "%s/morph_volume.csv", outdir);
-    FILE *mc = fopen(path, "w");
-    if (!mc)
-        die(NULL, path);
-    fprintf(mc, "frame,series_volume,series_area,series_flipped,linear_volume,linear_area,"
-                "linear_flipped\n");
+    FILE *mc = open_csv(outdir, "morph_volume.csv",
+                        "frame,series_volume,series_area,series_flipped,linear_volume,"
+                        "linear_area,linear_flipped\n");
     printf("Morph bunny_closed -> its sphere (30 frames): series eq. 9 (m=2, p=0.8) vs linear\n\n");
     printf("| frame | series volume | series area | flips | linear volume | linear area | flips |\n");
     printf("|------:|--------------:|------------:|------:|--------------:|------------:|------:|\n");

@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 #include "fixture.h"
+#include "support.h"
 
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include <cmocka.h>
@@ -94,4 +96,24 @@ int test_context_teardown(void **state)
     test_release_teardown(state);
     limn_context_destroy(*state);
     return 0;
+}
+
+limn_mesh *test_read_shared(limn_context *ctx, const char *rel)
+{
+    limn_mesh *m = NULL;
+    if (limn_mesh_read(ctx, test_shared_path(rel), LIMN_FORMAT_AUTO, &m) != LIMN_OK)
+        fail_msg("%s: %s", rel, limn_context_message(ctx));
+    return m;
+}
+
+limn_mesh *test_read_shared_info(limn_context *ctx, const char *rel, int width,
+                                 limn_mesh_info *info)
+{
+    limn_mesh *m = test_read_shared(ctx, rel);
+    *info = (limn_mesh_info){.size = sizeof *info};
+    if (limn_mesh_info_compute(ctx, m, info) == LIMN_OK)
+        return m;
+    printf("  %-*s refused: %s\n", width, rel, limn_context_message(ctx));
+    limn_mesh_destroy(m);
+    return NULL;
 }

@@ -24,6 +24,14 @@ void *test_defer(void (*release)(void *), void *p);
 limn_mesh *test_keep_mesh(limn_mesh *m);
 limn_context *test_keep_context(limn_context *ctx);
 void *test_keep(void *p); /* free()'d */
+/* A shared real mesh (support.h's test_shared_path), read or the test fails
+   with the file and the context's message; the caller destroys it. */
+limn_mesh *test_read_shared(limn_context *ctx, const char *rel);
+/* test_read_shared, then the mesh's info into *info; NULL where limn refuses
+   the mesh (the refusal printed as "  REL refused: MESSAGE", REL padded to
+   width, and the mesh destroyed) so a sweep over the shared set goes on. */
+limn_mesh *test_read_shared_info(limn_context *ctx, const char *rel, int width,
+                                 limn_mesh_info *info);
 /* Releases the kept objects (the teardown of KEEP_TEST). */
 int test_release_teardown(void **state);
 

@@ -105,9 +105,7 @@ static void shared(void **s)
                                   "medium/beast.obj", "opensubdiv/catmark_car.obj"};
     limn_context *ctx = *s;
     for (size_t i = 0; i < sizeof files / sizeof *files; i++) {
-        limn_mesh *m = NULL;
-        assert_int_equal(limn_mesh_read(ctx, test_shared_path(files[i]), LIMN_FORMAT_AUTO, &m),
-                         LIMN_OK);
+        limn_mesh *m = test_read_shared(ctx, files[i]);
         agree_on(files[i], m, LIMN_SCHEME_CATMARK, 0.0);
         if (test_all_triangles(m))
             agree_on(files[i], m, LIMN_SCHEME_LOOP, 0.0);

@@ -38,6 +38,14 @@ static int limn(const char *args)
 
 static const char *in_dir(const char *name) { return test_join(test_dir, name); }
 
+/* Writes an input file (in_* names survive no_output_left) and returns its path. */
+static const char *write_input(const char *name, const char *content)
+{
+    const char *path = in_dir(name);
+    assert_int_equal(test_write_text(path, content), 0);
+    return path;
+}
+
 static void no_output_left(void)
 {
     char cmd[512];
@@ -52,8 +60,7 @@ static void no_output_left(void)
 static void expect_failure_opts(const char *name, const char *content, int status,
                                 const char *message, const char *opts)
 {
-    const char *path = in_dir(name);
-    assert_int_equal(test_write_text(path, content), 0);
+    const char *path = write_input(name, content);
     char args[1024];
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' %s", path, out_path, opts);
     int rc = limn(args);
@@ -239,12 +246,11 @@ static void bad_usage(void **s)
 static void singular_keeps_existing_output(void **s)
 {
     (void)s;
-    const char *cube = in_dir("in_cube.obj");
-    assert_int_equal(test_write_text(cube, "v -1 -1 -1\nv 1 -1 -1.1\nv 1 1 -1\nv -1 1 -1\n"
-                                           "v -1 -1 1\nv 1.2 -1 1\nv 1 1 1\nv -1 1 1\n"
-                                           "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\n"
-                                           "f 3 4 8 7\nf 4 1 5 8\n"),
-                     0);
+    const char *cube = write_input("in_cube.obj",
+                                   "v -1 -1 -1\nv 1 -1 -1.1\nv 1 1 -1\nv -1 1 -1\n"
+                                   "v -1 -1 1\nv 1.2 -1 1\nv 1 1 1\nv -1 1 1\n"
+                                   "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\n"
+                                   "f 3 4 8 7\nf 4 1 5 8\n");
     assert_int_equal(test_write_text(out_path, "KEEP"), 0);
     char args[1024];
     expect_run(1, "--alpha 0.5", "interpolate '%s' -o '%s'", cube, out_path);
@@ -301,15 +307,14 @@ static void good_run_and_report(void **s)
 static void subdivide_warns_of_dropped_colours(void **s)
 {
     (void)s;
-    const char *in = in_dir("in_rgb.ply");
-    assert_int_equal(test_write_text(in, "ply\nformat ascii 1.0\nelement vertex 4\n"
-                                         "property float x\nproperty float y\nproperty float z\n"
-                                         "property uchar red\nproperty uchar green\n"
-                                         "property uchar blue\nelement face 4\n"
-                                         "property list uchar int vertex_indices\nend_header\n"
-                                         "0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n"
-                                         "0 0 1 9 9 9\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"),
-                     0);
+    const char *in = write_input("in_rgb.ply",
+                                 "ply\nformat ascii 1.0\nelement vertex 4\n"
+                                 "property float x\nproperty float y\nproperty float z\n"
+                                 "property uchar red\nproperty uchar green\n"
+                                 "property uchar blue\nelement face 4\n"
+                                 "property list uchar int vertex_indices\nend_header\n"
+                                 "0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n"
+                                 "0 0 1 9 9 9\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
     char args[1024];
     snprintf(args, sizeof args, "subdivide '%s' -o '%s' -q", in, out_path);
     assert_int_equal(limn(args), 0);

@@ -121,15 +121,10 @@ static void folder(const char *sub)
     size_t count = test_list_meshes(sub, names, 128);
     limn_context *ctx = limn_context_create();
     for (size_t i = 0; i < count; i++) {
-        limn_mesh *m = NULL;
-        assert_int_equal(limn_mesh_read(ctx, test_shared_path(names[i]), LIMN_FORMAT_AUTO, &m),
-                         LIMN_OK);
-        limn_mesh_info info = {.size = sizeof info};
-        if (limn_mesh_info_compute(ctx, m, &info) != LIMN_OK) {
-            printf("  %-36s refused: %s\n", names[i], limn_context_message(ctx));
-            limn_mesh_destroy(m);
+        limn_mesh_info info;
+        limn_mesh *m = test_read_shared_info(ctx, names[i], 36, &info);
+        if (!m)
             continue;
-        }
         check_mesh(ctx, names[i], m, LIMN_SCHEME_CATMARK, 0.0);
         if (test_all_triangles(m))
             check_mesh(ctx, names[i], m, LIMN_SCHEME_LOOP, 0.0);

@@ -165,8 +165,7 @@ static void shared_ngons(void **s)
     for (size_t i = 0; i < sizeof names / sizeof *names; i++) {
         char rel[64];
         snprintf(rel, sizeof rel, "opensubdiv/%s.obj", names[i]);
-        limn_mesh *m = NULL;
-        assert_int_equal(limn_mesh_read(ctx, test_shared_path(rel), LIMN_FORMAT_AUTO, &m), LIMN_OK);
+        limn_mesh *m = test_read_shared(ctx, rel);
         check(names[i], m, LIMN_SCHEME_CATMARK, 0.0, 8);
         check(names[i], m, LIMN_SCHEME_CATMARK, 0.5, 8);
         limn_mesh_destroy(m);

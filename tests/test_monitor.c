@@ -29,16 +29,24 @@ static monitor_verdict run_geometric(monitor *m, double first, double q, int *k)
     return v;
 }
 
+/* A fresh monitor (tolerance, cap, stall window) stepped on first * q^k ends
+   with the verdict want at step want_k. */
+static void expect_geometric(monitor *m, double tol, int max_iter, int window, double first,
+                             double q, monitor_verdict want, int want_k)
+{
+    monitor_init(m, tol, max_iter, window, MONITOR_STALL_RATIO);
+    int k;
+    monitor_verdict v = run_geometric(m, first, q, &k);
+    assert_int_equal(v, want);
+    assert_int_equal(k, want_k);
+}
+
 /* residual 0.5^k from 1: <= 1e-3 first at k = 10 (0.5^10 = 9.77e-4) */
 static void geometric_converges(void **s)
 {
     (void)s;
     monitor m;
-    monitor_init(&m, 1e-3, 1000, MONITOR_STALL_WINDOW, MONITOR_STALL_RATIO);
-    int k;
-    monitor_verdict v = run_geometric(&m, 1.0, 0.5, &k);
-    assert_int_equal(v, MONITOR_CONVERGED);
-    assert_int_equal(k, 10);
+    expect_geometric(&m, 1e-3, 1000, MONITOR_STALL_WINDOW, 1.0, 0.5, MONITOR_CONVERGED, 10);
     assert_int_equal(m.steps, 11);
     assert_true(m.first == 1.0);
 }
@@ -51,11 +59,7 @@ static void plateau_stalls_after_window(void **s)
     (void)s;
     for (int w = 1; w <= MONITOR_WINDOW_MAX; w += 8) {
         monitor m;
-        monitor_init(&m, 1e-9, 1000, w, MONITOR_STALL_RATIO);
-        int k;
-        monitor_verdict v = run_geometric(&m, 2.0, 1.0, &k);
-        assert_int_equal(v, MONITOR_STALLED);
-        assert_int_equal(k, w);
+        expect_geometric(&m, 1e-9, 1000, w, 2.0, 1.0, MONITOR_STALLED, w);
         assert_true(m.earlier == 2.0 && m.residual == 2.0);
     }
     monitor m;
@@ -75,11 +79,7 @@ static void cap(void **s)
 {
     (void)s;
     monitor m;
-    monitor_init(&m, 1e-12, 7, MONITOR_STALL_WINDOW, MONITOR_STALL_RATIO);
-    int k;
-    monitor_verdict v = run_geometric(&m, 1.0, 0.9, &k);
-    assert_int_equal(v, MONITOR_CAPPED);
-    assert_int_equal(k, 7);
+    expect_geometric(&m, 1e-12, 7, MONITOR_STALL_WINDOW, 1.0, 0.9, MONITOR_CAPPED, 7);
     /* the cap reads the iteration given, not the residuals seen */
     monitor_init(&m, 1e-12, 7, MONITOR_STALL_WINDOW, MONITOR_STALL_RATIO);
     assert_int_equal(monitor_step(&m, 1.0, 6), MONITOR_CONTINUE);

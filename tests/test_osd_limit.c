@@ -93,15 +93,10 @@ static void folder(const char *sub, const char *device)
     limn_context *ctx = limn_context_create();
     assert_int_equal(limn_context_set_device(ctx, device), LIMN_OK);
     for (size_t i = 0; i < count; i++) {
-        limn_mesh *m = NULL;
-        if (limn_mesh_read(ctx, test_shared_path(names[i]), LIMN_FORMAT_AUTO, &m) != LIMN_OK)
-            fail_msg("%s: %s", names[i], limn_context_message(ctx));
-        limn_mesh_info info = {.size = sizeof info};
-        if (limn_mesh_info_compute(ctx, m, &info) != LIMN_OK) {
-            printf("  %-40s refused: %s\n", names[i], limn_context_message(ctx));
-            limn_mesh_destroy(m);
+        limn_mesh_info info;
+        limn_mesh *m = test_read_shared_info(ctx, names[i], 40, &info);
+        if (!m)
             continue;
-        }
         double cc = compare(ctx, names[i], m, LIMN_SCHEME_CATMARK);
         printf("  %-40s %7zu vertices  catmark %.1e", names[i], limn_mesh_vertex_count(m), cc);
         if (test_all_triangles(m))

@@ -137,10 +137,7 @@ static void kernels_match_reference(void **s)
     ops_on("shuffled quad grid 200x200", g, LIMN_SCHEME_CATMARK, 1);
     limn_mesh_destroy(g);
     if (test_shared_meshes()) {
-        limn_mesh *m = NULL;
-        assert_int_equal(limn_mesh_read(ctx, test_shared_path("medium/horse.ply"),
-                                        LIMN_FORMAT_AUTO, &m),
-                         LIMN_OK);
+        limn_mesh *m = test_read_shared(ctx, "medium/horse.ply");
         ops_on("medium/horse.ply", m, LIMN_SCHEME_LOOP, 0);
         ops_on("medium/horse.ply", m, LIMN_SCHEME_CATMARK, 0);
         limn_mesh_destroy(m);
@@ -267,9 +264,7 @@ static void medium_meshes_meet_tolerance(void **s)
     assert_true(count > 0);
     limn_context *ctx = *s;
     for (size_t i = 0; i < count; i++) {
-        limn_mesh *m = NULL;
-        assert_int_equal(limn_mesh_read(ctx, test_shared_path(names[i]), LIMN_FORMAT_AUTO, &m),
-                         LIMN_OK);
+        limn_mesh *m = test_read_shared(ctx, names[i]);
         limn_scheme schemes[2] = {LIMN_SCHEME_CATMARK, LIMN_SCHEME_LOOP};
         limn_method methods[2] = {LIMN_METHOD_AUTO, LIMN_METHOD_PAPER};
         for (int k = 0; k < (test_all_triangles(m) ? 4 : 2); k++)

@@ -143,29 +143,42 @@ static limn_mesh *subdivide(limn_context *ctx, const limn_mesh *m, limn_scheme s
     return out;
 }
 
+/* A mesh's faces in the oracles' form and an oracle's refined mesh, released together. */
+typedef struct {
+    int *sizes, *idx;
+    int nv, nf, *fs, *fi;
+    double *pos;
+} oracle_refined;
+
+static void oracle_refined_free(oracle_refined *o)
+{
+    void *owned[] = {o->sizes, o->idx, o->pos, o->fs, o->fi};
+    for (size_t k = 0; k < sizeof owned / sizeof *owned; k++)
+        free(owned[k]);
+}
+
 static void against_osd(limn_context *ctx, const char *name, const limn_mesh *m, limn_scheme s,
                         int levels)
 {
     limn_mesh *ours = subdivide(ctx, m, s, 0.0, levels, 0);
-    int *sizes, *idx, onv, onf, *osz, *oidx;
-    double *opos;
+    oracle_refined o;
     char err[512];
-    test_oracle_faces(m, &sizes, &idx);
+    test_oracle_faces(m, &o.sizes, &o.idx);
     if (osd_oracle_refine(s == LIMN_SCHEME_LOOP ? 0 : 1, (int)limn_mesh_vertex_count(m),
-                          limn_mesh_positions(m), (int)limn_mesh_face_count(m), sizes, idx, levels,
-                          &onv, &opos, &onf, &osz, &oidx, err, sizeof err))
+                          limn_mesh_positions(m), (int)limn_mesh_face_count(m), o.sizes, o.idx,
+                          levels, &o.nv, &o.pos, &o.nf, &o.fs, &o.fi, err, sizeof err))
         fail_msg("%s: OpenSubdiv: %s", name, err);
     size_t n = limn_mesh_vertex_count(ours), nf = limn_mesh_face_count(ours);
-    if (n != (size_t)onv || nf != (size_t)onf)
+    if (n != (size_t)o.nv || nf != (size_t)o.nf)
         fail_msg("%s level %d: limn %zu vertices %zu faces, OpenSubdiv %d and %d", name, levels, n,
-                 nf, onv, onf);
+                 nf, o.nv, o.nf);
     double scale = 1;
     for (size_t i = 0; i < 3 * n; i++)
-        scale = fmax(scale, fabs(opos[i]));
+        scale = fmax(scale, fabs(o.pos[i]));
     uint32_t *map = malloc(n * sizeof *map);
     /* input vertex i is vertex i, as in OpenSubdiv */
-    if (!match_points(limn_mesh_positions(ours), opos, n, limn_mesh_vertex_count(m), 1e-12 * scale,
-                      map))
+    if (!match_points(limn_mesh_positions(ours), o.pos, n, limn_mesh_vertex_count(m),
+                      1e-12 * scale, map))
         fail_msg("%s (%s) level %d: vertex positions differ from OpenSubdiv's", name,
                  limn_scheme_name(s), levels);
     int width = s == LIMN_SCHEME_LOOP ? 3 : 4;
@@ -174,10 +187,10 @@ static void against_osd(limn_context *ctx, const char *name, const limn_mesh *m,
     for (size_t f = 0; f < nf; f++) {
         our_sizes[f] = (int)(off[f + 1] - off[f]);
         assert_int_equal(our_sizes[f], width);
-        assert_int_equal(osz[f], width);
+        assert_int_equal(o.fs[f], width);
     }
     uint32_t *a = canonical_faces(nf, our_sizes, limn_mesh_face_indices(ours), map, width);
-    uint32_t *b = canonical_faces(nf, osz, (const uint32_t *)oidx, NULL, width);
+    uint32_t *b = canonical_faces(nf, o.fs, (const uint32_t *)o.fi, NULL, width);
     sort_tuples(a, nf, width);
     sort_tuples(b, nf, width);
     if (memcmp(a, b, nf * (size_t)width * 4) != 0)
@@ -203,11 +216,7 @@ static void against_osd(limn_context *ctx, const char *name, const limn_mesh *m,
     free(b);
     free(our_sizes);
     free(map);
-    free(sizes);
-    free(idx);
-    free(opos);
-    free(osz);
-    free(oidx);
+    oracle_refined_free(&o);
     limn_mesh_destroy(ours);
 }
 
@@ -263,9 +272,7 @@ static void shared_vs_osd(void **s)
     };
     limn_context *ctx = *s;
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
-        limn_mesh *m = NULL;
-        assert_int_equal(limn_mesh_read(ctx, test_shared_path(cases[i].file), LIMN_FORMAT_AUTO, &m),
-                         LIMN_OK);
+        limn_mesh *m = test_read_shared(ctx, cases[i].file);
         for (int l = 1; l <= cases[i].levels; l++)
             against_osd(ctx, cases[i].file, m, cases[i].scheme, l);
         limn_mesh_destroy(m);
@@ -283,26 +290,21 @@ static void alpha_first_step(void **s)
         test_perturb(meshes[i], 0.05, (unsigned)i);
         for (int l = 1; l <= 3; l++) {
             limn_mesh *ours = subdivide(ctx, meshes[i], LIMN_SCHEME_CATMARK, 0.5, l, 0);
-            int *sizes, *idx, onv, onf, *osz, *oidx;
-            double *opos;
+            oracle_refined o;
             char err[256];
-            test_oracle_faces(meshes[i], &sizes, &idx);
+            test_oracle_faces(meshes[i], &o.sizes, &o.idx);
             assert_int_equal(refine_oracle(1, 0.5, l, (int)limn_mesh_vertex_count(meshes[i]),
                                            limn_mesh_positions(meshes[i]),
-                                           (int)limn_mesh_face_count(meshes[i]), sizes, idx, &onv,
-                                           &opos, &onf, &osz, &oidx, err, sizeof err),
+                                           (int)limn_mesh_face_count(meshes[i]), o.sizes, o.idx,
+                                           &o.nv, &o.pos, &o.nf, &o.fs, &o.fi, err, sizeof err),
                              0);
             size_t n = limn_mesh_vertex_count(ours);
-            assert_int_equal(n, (size_t)onv);
+            assert_int_equal(n, (size_t)o.nv);
             uint32_t *map = malloc(n * sizeof *map);
-            assert_true(match_points(limn_mesh_positions(ours), opos, n,
+            assert_true(match_points(limn_mesh_positions(ours), o.pos, n,
                                      limn_mesh_vertex_count(meshes[i]), 1e-12 * 4, map));
             free(map);
-            free(sizes);
-            free(idx);
-            free(opos);
-            free(osz);
-            free(oidx);
+            oracle_refined_free(&o);
             limn_mesh_destroy(ours);
         }
         limn_mesh_destroy(meshes[i]);

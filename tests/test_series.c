@@ -296,9 +296,7 @@ static void series_against_dense(void **s)
     dense_check("pyramid (mixed faces)", pyr, LIMN_SCHEME_CATMARK, 0.0);
     dense_check("quad fan (valence 5)", fan, LIMN_SCHEME_CATMARK, 0.0);
     if (test_shared_meshes()) {
-        limn_mesh *m = NULL;
-        CHECK_OK(ctx, limn_mesh_read(ctx, test_shared_path("small/spot_control_mesh.obj"),
-                                     LIMN_FORMAT_AUTO, &m));
+        limn_mesh *m = test_read_shared(ctx, "small/spot_control_mesh.obj");
         dense_check("spot_control_mesh", m, LIMN_SCHEME_CATMARK, 0.0);
         limn_mesh_destroy(m);
     }
@@ -357,8 +355,7 @@ static void bands_sum_and_energy(void **s)
     static const char *smooth[] = {"medium/bunny_closed.off", "medium/bob_quad.obj",
                                    "small/spot_triangulated.obj"};
     for (size_t i = 0; test_shared_meshes() && i < sizeof smooth / sizeof *smooth; i++) {
-        limn_mesh *m = NULL;
-        CHECK_OK(ctx, limn_mesh_read(ctx, test_shared_path(smooth[i]), LIMN_FORMAT_AUTO, &m));
+        limn_mesh *m = test_read_shared(ctx, smooth[i]);
         bands_of(smooth[i], m, 8, 1);
         limn_mesh_destroy(m);
     }
@@ -413,8 +410,7 @@ static void denoise_brings_closer(void **s)
     static const char *files[] = {"medium/bunny_closed.off", "medium/bob_quad.obj",
                                   "medium/bun_zipper.ply"};
     for (size_t i = 0; test_shared_meshes() && i < sizeof files / sizeof *files; i++) {
-        limn_mesh *m = NULL;
-        CHECK_OK(ctx, limn_mesh_read(ctx, test_shared_path(files[i]), LIMN_FORMAT_AUTO, &m));
+        limn_mesh *m = test_read_shared(ctx, files[i]);
         denoise_one(ctx, files[i], m, 0.3);
         limn_mesh_destroy(m);
     }
@@ -429,9 +425,7 @@ static void sharpen_raises_high_bands(void **s)
     test_perturb(m, 0.01, 7);
     if (test_shared_meshes()) {
         limn_mesh_destroy(m);
-        m = NULL;
-        CHECK_OK(ctx, limn_mesh_read(ctx, test_shared_path("small/spot_triangulated.obj"),
-                                     LIMN_FORMAT_AUTO, &m));
+        m = test_read_shared(ctx, "small/spot_triangulated.obj");
     }
     CHECK_OK(ctx, limn_sharpen(ctx, m, NULL, 1, 3, 2, &sharp, NULL));
     const int count = 8;
@@ -531,9 +525,7 @@ static void morph_frames(void **s)
     morph_to(ctx, "perturbed icosphere to ellipsoid", a, b, 0);
     morph_to(ctx, "perturbed icosphere to ellipsoid", a, b, 1);
     if (test_shared_meshes()) {
-        limn_mesh *m = NULL;
-        CHECK_OK(ctx, limn_mesh_read(ctx, test_shared_path("small/spot_triangulated.obj"),
-                                     LIMN_FORMAT_AUTO, &m));
+        limn_mesh *m = test_read_shared(ctx, "small/spot_triangulated.obj");
         limn_mesh *sp = spherized(ctx, m);
         morph_to(ctx, "spot to its sphere", m, sp, 0);
         morph_to(ctx, "spot to its sphere", m, sp, 1);
@@ -577,9 +569,7 @@ static void texture_colors(void **s)
     limn_mesh *m = icosphere(ctx, 2);
     if (test_shared_meshes()) {
         limn_mesh_destroy(m);
-        m = NULL;
-        CHECK_OK(ctx, limn_mesh_read(ctx, test_shared_path("small/spot_control_mesh.obj"),
-                                     LIMN_FORMAT_AUTO, &m));
+        m = test_read_shared(ctx, "small/spot_control_mesh.obj");
     }
     static const uint8_t colors[] = {20, 40, 120, 240, 220, 160, 140, 30, 10, 60, 200, 60};
     limn_texture_options o;
@@ -692,6 +682,15 @@ static void compare_bits(const char *what, const double *a, const double *b, siz
     printf("  %-40s %zu of %zu values bit-identical\n", what, same, n);
 }
 
+/* The two backends' output positions agree ("<name> <step>" in the report). */
+static void compare_positions(const char *name, const char *step, const limn_mesh *x,
+                              const limn_mesh *y, size_t n3)
+{
+    char what[160];
+    snprintf(what, sizeof what, "%s %s", name, step);
+    compare_bits(what, limn_mesh_positions(x), limn_mesh_positions(y), n3);
+}
+
 static void backends_on(const char *name, limn_mesh *m)
 {
     limn_context *cl = ctx_for("opencl"), *ref = ctx_for("reference");
@@ -707,20 +706,17 @@ static void backends_on(const char *name, limn_mesh *m)
     limn_mesh *x = NULL, *y = NULL;
     CHECK_OK(cl, limn_denoise(cl, m, NULL, 2, 3, 0, &x, NULL));
     CHECK_OK(ref, limn_denoise(ref, m, NULL, 2, 3, 0, &y, NULL));
-    snprintf(what, sizeof what, "%s denoise", name);
-    compare_bits(what, limn_mesh_positions(x), limn_mesh_positions(y), n3);
+    compare_positions(name, "denoise", x, y, n3);
     limn_mesh_destroy(x);
     limn_mesh_destroy(y);
     CHECK_OK(cl, limn_sharpen(cl, m, NULL, 1, 4, 2, &x, NULL));
     CHECK_OK(ref, limn_sharpen(ref, m, NULL, 1, 4, 2, &y, NULL));
-    snprintf(what, sizeof what, "%s sharpen", name);
-    compare_bits(what, limn_mesh_positions(x), limn_mesh_positions(y), n3);
+    compare_positions(name, "sharpen", x, y, n3);
     limn_mesh_destroy(x);
     limn_mesh_destroy(y);
     CHECK_OK(cl, limn_smooth(cl, m, NULL, 4, &x, NULL));
     CHECK_OK(ref, limn_smooth(ref, m, NULL, 4, &y, NULL));
-    snprintf(what, sizeof what, "%s smooth", name);
-    compare_bits(what, limn_mesh_positions(x), limn_mesh_positions(y), n3);
+    compare_positions(name, "smooth", x, y, n3);
     /* morph from the mesh to its smoothed self */
     limn_morph_options o;
     limn_morph_options_default(&o);
@@ -746,8 +742,7 @@ static void backends_on(const char *name, limn_mesh *m)
     CHECK_OK(cl, limn_texture(cl, m, &t, &x, NULL));
     CHECK_OK(ref, limn_texture(ref, m, &t, &y, NULL));
     size_t nt = limn_mesh_vertex_count(x);
-    snprintf(what, sizeof what, "%s texture positions", name);
-    compare_bits(what, limn_mesh_positions(x), limn_mesh_positions(y), 3 * nt);
+    compare_positions(name, "texture positions", x, y, 3 * nt);
     assert_memory_equal(limn_mesh_colors(x), limn_mesh_colors(y), 3 * nt);
     limn_mesh_destroy(x);
     limn_mesh_destroy(y);
@@ -766,9 +761,7 @@ static void backends_agree(void **s)
     backends_on("quad grid 40x37", g);
     backends_on("triangle grid 40x37", tg);
     if (test_shared_meshes()) {
-        limn_mesh *m = NULL;
-        CHECK_OK(ctx, limn_mesh_read(ctx, test_shared_path("medium/bunny_closed.off"),
-                                     LIMN_FORMAT_AUTO, &m));
+        limn_mesh *m = test_read_shared(ctx, "medium/bunny_closed.off");
         backends_on("bunny_closed", test_keep_mesh(m));
     }
 }

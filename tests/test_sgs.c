@@ -156,6 +156,14 @@ static void read_back(struct device *dev, device_buffer *b, size_t n, double **o
     assert_int_equal(dev->ops->buffer_read(dev, b, 4 * n * sizeof(double), *out), LIMN_OK);
 }
 
+/* read_back of count buffers into count outputs, pairwise. */
+static void read_back_all(struct device *dev, size_t n, size_t count, device_buffer *const *from,
+                          double **const *to)
+{
+    for (size_t k = 0; k < count; k++)
+        read_back(dev, from[k], n, to[k]);
+}
+
 /* Runs a start sweep, one step's sweeps and an update on one backend and
    checks each against the dense definitions. */
 static void run_backend(const char *device, const limn_mesh *mesh, limn_scheme scheme,
@@ -194,9 +202,8 @@ static void run_backend(const char *device, const limn_mesh *mesh, limn_scheme s
     assert_int_equal(ops->sgs->sgs_lower(dev, &da, 1, &v, &nm), LIMN_OK);
     o->start_max = nm.max;
     o->start_sum = nm.sum;
-    read_back(dev, v.r, n, &o->r);
-    read_back(dev, v.u, n, &o->u);
-    read_back(dev, v.rhat, n, &o->rhat);
+    read_back_all(dev, n, 3, (device_buffer *[]){v.r, v.u, v.rhat},
+                  (double **[]){&o->r, &o->u, &o->rhat});
     double *want = vec4(n), *want2 = vec4(n), *tmp = vec4(n);
     dense_product(s, n, init[1], tmp);
     for (size_t i = 0; i < 4 * n; i++)
@@ -222,10 +229,8 @@ static void run_backend(const char *device, const limn_mesh *mesh, limn_scheme s
     device_norms dot;
     assert_int_equal(ops->sgs->sgs_lower(dev, &da, 0, &v, &dot), LIMN_OK);
     o->dot = dot.sum;
-    read_back(dev, v.phat, n, &o->phat);
-    read_back(dev, v.t, n, &o->t);
-    read_back(dev, v.u, n, &o->u2);
-    read_back(dev, v.st, n, &o->st);
+    read_back_all(dev, n, 4, (device_buffer *[]){v.phat, v.t, v.u, v.st},
+                  (double **[]){&o->phat, &o->t, &o->u2, &o->st});
     for (size_t i = 0; i < 4 * n; i++)
         want[i] = (i % 4 == 3) ? 0.0 : rhat0[i] + 0.5 * phat0[i];
     expect_close("phat = rhat + beta phat", o->phat, want, n);
@@ -258,9 +263,8 @@ static void run_backend(const char *device, const limn_mesh *mesh, limn_scheme s
     assert_int_equal(ops->sgs->sgs_update(dev, &da, 0.3, &v, &nm), LIMN_OK);
     o->update_max = nm.max;
     o->update_sum = nm.sum;
-    read_back(dev, v.x, n, &o->x);
-    read_back(dev, v.r, n, &o->r2);
-    read_back(dev, v.rhat, n, &o->rhat2);
+    read_back_all(dev, n, 3, (device_buffer *[]){v.x, v.r, v.rhat},
+                  (double **[]){&o->x, &o->r2, &o->rhat2});
     for (size_t i = 0; i < n; i++)
         for (int c = 0; c < 3; c++) {
             want[4 * i + c] = x0[4 * i + c] + 0.3 * o->t[4 * i + c];

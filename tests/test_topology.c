@@ -56,15 +56,12 @@ static void shared_meshes_match_stats(void **state)
         assert_non_null(p);
         char file[256];
         sscanf(p + 9, "%255[^\"]", file);
-        limn_mesh *m = NULL;
-        limn_status st = limn_mesh_read(ctx, test_shared_path(file), LIMN_FORMAT_AUTO, &m);
-        if (st)
-            fail_msg("%s: %s", file, limn_context_message(ctx));
+        limn_mesh *m = test_read_shared(ctx, file);
         double degenerate = 0, manifold = 0;
         json_number(line, "degenerate_faces", &degenerate);
         json_number(line, "manifold", &manifold);
         limn_mesh_info in = {.size = sizeof in};
-        st = limn_mesh_info_compute(ctx, m, &in);
+        limn_status st = limn_mesh_info_compute(ctx, m, &in);
         if (degenerate > 0) {
             /* Faces that repeat a vertex are refused, naming the face. */
             assert_int_equal(st, LIMN_ERR_TOPOLOGY);
@@ -95,35 +92,42 @@ static void shared_meshes_match_stats(void **state)
     assert_true(checked >= 40);
 }
 
+/* Closed forms of the generated meshes' info; -1 where a field is not asserted. */
+static const struct {
+    long vertices, edges, boundary_edges, boundary_loops, euler, nonmanifold, max_valence;
+} generated_info[] = {
+    /* 4 x 3 quad grid: V = 20, E = 4*4 + 5*3 = 31, F = 12, boundary 14, one loop. */
+    {20, 31, 14, 1, 1, 0, -1},
+    /* cube: closed, genus 0, all valence 3 */
+    {-1, 12, 0, -1, 2, -1, 3},
+    /* icosahedron: E = 30, valence 5 */
+    {-1, 30, -1, -1, 2, -1, 5},
+};
+
+static void expect_info_field(long want, size_t got)
+{
+    if (want >= 0)
+        assert_int_equal(got, (size_t)want);
+}
+
 static void generated_meshes_closed_forms(void **state)
 {
     limn_context *ctx = *state;
-    limn_mesh_info in = {.size = sizeof in};
-    /* 4 x 3 quad grid: V = 20, E = 4*4 + 5*3 = 31, F = 12, boundary 14, one loop. */
-    limn_mesh *g = test_mesh_grid(ctx, 4, 3, 0);
-    assert_int_equal(limn_mesh_info_compute(ctx, g, &in), LIMN_OK);
-    assert_int_equal(in.vertices, 20);
-    assert_int_equal(in.edges, 31);
-    assert_int_equal(in.boundary_edges, 14);
-    assert_int_equal(in.boundary_loops, 1);
-    assert_int_equal(in.euler_characteristic, 1);
-    assert_int_equal(in.nonmanifold_edges + in.nonmanifold_vertices, 0);
-    limn_mesh_destroy(g);
-    /* cube: closed, genus 0, all valence 3 */
-    limn_mesh *c = test_mesh_cube(ctx);
-    assert_int_equal(limn_mesh_info_compute(ctx, c, &in), LIMN_OK);
-    assert_int_equal(in.edges, 12);
-    assert_int_equal(in.euler_characteristic, 2);
-    assert_int_equal(in.boundary_edges, 0);
-    assert_int_equal(in.max_valence, 3);
-    limn_mesh_destroy(c);
-    /* icosahedron: E = 30, valence 5 */
-    limn_mesh *ico = test_mesh_icosahedron(ctx);
-    assert_int_equal(limn_mesh_info_compute(ctx, ico, &in), LIMN_OK);
-    assert_int_equal(in.edges, 30);
-    assert_int_equal(in.max_valence, 5);
-    assert_int_equal(in.euler_characteristic, 2);
-    limn_mesh_destroy(ico);
+    limn_mesh *meshes[] = {test_mesh_grid(ctx, 4, 3, 0), test_mesh_cube(ctx),
+                           test_mesh_icosahedron(ctx)};
+    for (size_t i = 0; i < sizeof meshes / sizeof *meshes; i++) {
+        limn_mesh_info in = {.size = sizeof in};
+        assert_int_equal(limn_mesh_info_compute(ctx, meshes[i], &in), LIMN_OK);
+        expect_info_field(generated_info[i].vertices, in.vertices);
+        expect_info_field(generated_info[i].edges, in.edges);
+        expect_info_field(generated_info[i].boundary_edges, in.boundary_edges);
+        expect_info_field(generated_info[i].boundary_loops, in.boundary_loops);
+        assert_int_equal(in.euler_characteristic, generated_info[i].euler);
+        expect_info_field(generated_info[i].nonmanifold,
+                          in.nonmanifold_edges + in.nonmanifold_vertices);
+        expect_info_field(generated_info[i].max_valence, in.max_valence);
+        limn_mesh_destroy(meshes[i]);
+    }
 }
 
 /* Two triangles sharing only a vertex (a bow tie) and a fin of three faces on

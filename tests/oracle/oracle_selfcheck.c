@@ -64,6 +64,15 @@ static void mesh_free(mesh *m) {
     memset(m, 0, sizeof *m);
 }
 
+/* A hand-built mesh: named, its scheme and nverts positions allocated, no faces yet. */
+static void mesh_start(mesh *m, const char *name, int scheme, int nverts) {
+    memset(m, 0, sizeof *m);
+    m->name = name;
+    m->scheme = scheme;
+    m->nverts = nverts;
+    m->pos = malloc(sizeof(double) * 3 * (size_t)nverts);
+}
+
 static unsigned long g_rng = 12345;
 static double urand(void) { /* [0,1) */
     g_rng = g_rng * 6364136223846793005UL + 1442695040888963407UL;
@@ -413,15 +422,22 @@ static void convergence(const mesh *m, double alpha, const double *ref, const ch
 }
 
 /* ------------------------------------------------------------- sections -- */
-static void check_closed_forms_vs_osd(const mesh *m) {
+/* The OSD limit of m, or NULL after a failed check when OSD refuses the mesh. */
+static double *osd_limit_checked(const mesh *m) {
     char err[2048];
     double *lim = malloc(sizeof(double) * 3 * (size_t)m->nverts);
     if (osd_oracle_limit(m->scheme, m->nverts, m->pos, m->nfaces, m->fs, m->fi, lim, err,
                          sizeof err)) {
         CHECK(0, "%s: osd_oracle_limit: %s", m->name, err);
         free(lim);
-        return;
+        return NULL;
     }
+    return lim;
+}
+
+static void check_closed_forms_vs_osd(const mesh *m) {
+    double *lim = osd_limit_checked(m);
+    if (!lim) return;
     double emax[4] = {0, 0, 0, 0};
     int cnt[4] = {0, 0, 0, 0};
     const char *kinds = "ibcu";
@@ -445,71 +461,90 @@ static void check_closed_forms_vs_osd(const mesh *m) {
 
 /* Regular closed forms named in the brief, computed independently of the general
    formula: CC interior (16 V + 4 sum E + sum D)/36, Loop valence 6 V/2 + mean/2. */
-static void check_regular_masks(void) {
-    char err[2048];
-    printf("\n== 3. Regular closed forms\n");
-    /* CC regular torus */
-    mesh t;
-    make_grid(&t, "cc_torus_8x6", 1, 8, 6, 1, 0, 0.15);
-    double *lim = malloc(sizeof(double) * 3 * (size_t)t.nverts);
-    double e = 1e300;
-    if (!osd_oracle_limit(1, t.nverts, t.pos, t.nfaces, t.fs, t.fi, lim, err, sizeof err)) {
-        e = 0;
-        int vy = 6;
-        for (int i = 0; i < 8; ++i)
-            for (int j = 0; j < 6; ++j) {
-                int v = i * vy + j;
-#define ID(a, b) ((((a) + 8) % 8) * vy + (((b) + 6) % 6))
-                int E[4] = {ID(i + 1, j), ID(i - 1, j), ID(i, j + 1), ID(i, j - 1)};
-                int D[4] = {ID(i + 1, j + 1), ID(i - 1, j + 1), ID(i + 1, j - 1), ID(i - 1, j - 1)};
-#undef ID
-                for (int c = 0; c < 3; ++c) {
-                    double x = 16 * t.pos[3 * v + c];
-                    for (int q = 0; q < 4; ++q) x += 4 * t.pos[3 * E[q] + c] + t.pos[3 * D[q] + c];
-                    double d = fabs(x / 36 - lim[3 * v + c]);
-                    if (d > e) e = d;
-                }
-            }
-    } else
-        printf("  %s\n", err);
-    printf("  CC regular interior (16,4,1)/36 vs OSD limit, 48 vertices: %.1e\n", e);
-    CHECK(e < 1e-14, "CC regular mask vs OSD %.3g", e);
-    convergence(&t, 0.0, lim, "brute force vs (16,4,1)/36 (== OSD)");
-    free(lim);
-    mesh_free(&t);
 
-    /* Loop regular torus (all valence 6) */
-    make_grid(&t, "loop_torus_8x6", 0, 8, 6, 1, 0, 0.15);
-    lim = malloc(sizeof(double) * 3 * (size_t)t.nverts);
-    e = 1e300;
-    if (!osd_oracle_limit(0, t.nverts, t.pos, t.nfaces, t.fs, t.fi, lim, err, sizeof err)) {
-        e = 0;
-        for (int v = 0; v < t.nverts; ++v) {
-            vinfo vi;
-            vertex_info(&t, v, &vi);
-            CHECK(vi.nnb == 6, "loop torus valence %d", vi.nnb);
+/* One grid of section 3 with its OSD limit; returns 0 when OSD refused (err printed),
+   so the caller's error stays at 1e300 and fails its check. */
+static int grid_with_osd_limit(mesh *t, const char *name, int scheme, int nx, int ny, int torus,
+                               int alternate, double jitter, double **lim) {
+    char err[2048];
+    make_grid(t, name, scheme, nx, ny, torus, alternate, jitter);
+    *lim = malloc(sizeof(double) * 3 * (size_t)t->nverts);
+    if (!osd_oracle_limit(scheme, t->nverts, t->pos, t->nfaces, t->fs, t->fi, *lim, err,
+                          sizeof err))
+        return 1;
+    printf("  %s\n", err);
+    return 0;
+}
+
+/* CC regular interior (16,4,1)/36 on the 8x6 torus: max error against lim. */
+static double cc_regular_error(const mesh *t, const double *lim) {
+    double e = 0;
+    int vy = 6;
+    for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 6; ++j) {
+            int v = i * vy + j;
+#define ID(a, b) ((((a) + 8) % 8) * vy + (((b) + 6) % 6))
+            int E[4] = {ID(i + 1, j), ID(i - 1, j), ID(i, j + 1), ID(i, j - 1)};
+            int D[4] = {ID(i + 1, j + 1), ID(i - 1, j + 1), ID(i + 1, j - 1), ID(i - 1, j - 1)};
+#undef ID
             for (int c = 0; c < 3; ++c) {
-                double mean = 0;
-                for (int q = 0; q < vi.nnb; ++q) mean += t.pos[3 * vi.nb[q] + c] / vi.nnb;
-                double d = fabs(0.5 * t.pos[3 * v + c] + 0.5 * mean - lim[3 * v + c]);
+                double x = 16 * t->pos[3 * v + c];
+                for (int q = 0; q < 4; ++q) x += 4 * t->pos[3 * E[q] + c] + t->pos[3 * D[q] + c];
+                double d = fabs(x / 36 - lim[3 * v + c]);
                 if (d > e) e = d;
             }
         }
-    } else
-        printf("  %s\n", err);
-    printf("  Loop valence 6: V/2 + mean/2 vs OSD limit, 48 vertices: %.1e\n", e);
-    CHECK(e < 1e-14, "Loop regular mask vs OSD %.3g", e);
-    convergence(&t, 0.0, lim, "brute force vs V/2 + mean/2 (== OSD)");
-    free(lim);
-    mesh_free(&t);
+    return e;
+}
+
+/* Loop valence 6: V/2 + mean/2 on the all-valence-6 torus: max error against lim. */
+static double loop_regular_error(const mesh *t, const double *lim) {
+    double e = 0;
+    for (int v = 0; v < t->nverts; ++v) {
+        vinfo vi;
+        vertex_info(t, v, &vi);
+        CHECK(vi.nnb == 6, "loop torus valence %d", vi.nnb);
+        for (int c = 0; c < 3; ++c) {
+            double mean = 0;
+            for (int q = 0; q < vi.nnb; ++q) mean += t->pos[3 * vi.nb[q] + c] / vi.nnb;
+            double d = fabs(0.5 * t->pos[3 * v + c] + 0.5 * mean - lim[3 * v + c]);
+            if (d > e) e = d;
+        }
+    }
+    return e;
+}
+
+static void check_regular_masks(void) {
+    static const struct {
+        const char *grid, *scheme_name, *form, *label;
+        int scheme;
+        double (*error)(const mesh *, const double *);
+    } regular[] = {
+        {"cc_torus_8x6", "CC", "CC regular interior (16,4,1)/36",
+         "brute force vs (16,4,1)/36 (== OSD)", 1, cc_regular_error},
+        {"loop_torus_8x6", "Loop", "Loop valence 6: V/2 + mean/2",
+         "brute force vs V/2 + mean/2 (== OSD)", 0, loop_regular_error},
+    };
+    printf("\n== 3. Regular closed forms\n");
+    mesh t;
+    double *lim;
+    for (size_t k = 0; k < sizeof regular / sizeof regular[0]; ++k) {
+        double e = 1e300;
+        if (grid_with_osd_limit(&t, regular[k].grid, regular[k].scheme, 8, 6, 1, 0, 0.15, &lim))
+            e = regular[k].error(&t, lim);
+        printf("  %s vs OSD limit, 48 vertices: %.1e\n", regular[k].form, e);
+        CHECK(e < 1e-14, "%s regular mask vs OSD %.3g", regular[k].scheme_name, e);
+        convergence(&t, 0.0, lim, regular[k].label);
+        free(lim);
+        mesh_free(&t);
+    }
 
     /* boundary (1,4,1)/6 and corners on open grids, both schemes */
     for (int s = 0; s <= 1; ++s) {
-        make_grid(&t, s ? "cc_open_grid_5x4" : "loop_open_grid_5x4", s, 5, 4, 0, 1, 0.1);
-        lim = malloc(sizeof(double) * 3 * (size_t)t.nverts);
         double eb1 = 1e300, ec = 1e300;
         int nb = 0, nc = 0;
-        if (!osd_oracle_limit(s, t.nverts, t.pos, t.nfaces, t.fs, t.fi, lim, err, sizeof err)) {
+        if (grid_with_osd_limit(&t, s ? "cc_open_grid_5x4" : "loop_open_grid_5x4", s, 5, 4, 0, 1,
+                                0.1, &lim)) {
             eb1 = ec = 0;
             for (int v = 0; v < t.nverts; ++v) {
                 vinfo vi;
@@ -531,8 +566,7 @@ static void check_regular_masks(void) {
                 else
                     nb++;
             }
-        } else
-            printf("  %s\n", err);
+        }
         printf("  %s boundary (1,4,1)/6 vs OSD: %d vertices %.1e; corners fixed: %d vertices "
                "%.1e\n",
                s ? "CC  " : "Loop", nb, eb1, nc, ec);
@@ -577,13 +611,8 @@ static int brute_refuses(const mesh *m, char *err, size_t errlen) {
 static void nonmanifold_case(mesh *m, const int *pinned, int npinned, int (*creases)[3],
                              int ncreases, int expect_refusal) {
     char err[2048];
-    double *lim = malloc(sizeof(double) * 3 * (size_t)m->nverts);
-    if (osd_oracle_limit(m->scheme, m->nverts, m->pos, m->nfaces, m->fs, m->fi, lim, err,
-                         sizeof err)) {
-        CHECK(0, "%s: osd_oracle_limit: %s", m->name, err);
-        free(lim);
-        return;
-    }
+    double *lim = osd_limit_checked(m);
+    if (!lim) return;
     int *nm = malloc(sizeof(int) * (size_t)m->nverts);
     osd_oracle_classify(m->scheme, m->nverts, m->nfaces, m->fs, m->fi, NULL, nm, NULL, err,
                         sizeof err);
@@ -659,11 +688,7 @@ static void check_nonmanifold(const char *dir) {
     /* fin: three quad sheets on the line 0-1-2-3-4 */
     {
         mesh m;
-        memset(&m, 0, sizeof m);
-        m.name = "fin: 3 sheets on line 0-1-2-3-4";
-        m.scheme = 1;
-        m.nverts = 20;
-        m.pos = malloc(sizeof(double) * 60);
+        mesh_start(&m, "fin: 3 sheets on line 0-1-2-3-4", 1, 20);
         double dirs[3][3] = {{0, 1, 0}, {0, 0, 1}, {0, -0.7, -0.7}};
         int nv = 0;
         for (int i = 0; i < 5; ++i, ++nv) {
@@ -697,11 +722,7 @@ static void check_nonmanifold(const char *dir) {
     /* bow-tie: two 2x2 quad grids sharing their centre vertex 0 (two cones) */
     {
         mesh m;
-        memset(&m, 0, sizeof m);
-        m.name = "bow-tie: two cones share apex 0";
-        m.scheme = 1;
-        m.nverts = 17;
-        m.pos = malloc(sizeof(double) * 51);
+        mesh_start(&m, "bow-tie: two cones share apex 0", 1, 17);
         m.nfaces = 8;
         m.fs = malloc(sizeof(int) * 8);
         m.fi = malloc(sizeof(int) * 32);
@@ -822,15 +843,9 @@ int main(int argc, char **argv) {
 
     printf("\n== 2. Brute force (up to 10 levels) vs OSD limit, base vertices\n");
     for (int k = 0; k < nm; ++k) {
-        char err[2048];
         mesh *m = &meshes[k];
-        double *lim = malloc(sizeof(double) * 3 * (size_t)m->nverts);
-        if (osd_oracle_limit(m->scheme, m->nverts, m->pos, m->nfaces, m->fs, m->fi, lim, err,
-                             sizeof err)) {
-            CHECK(0, "%s: osd_oracle_limit: %s", m->name, err);
-            free(lim);
-            continue;
-        }
+        double *lim = osd_limit_checked(m);
+        if (!lim) continue;
         convergence(m, 0.0, lim, "vs OSD limit");
         free(lim);
     }
