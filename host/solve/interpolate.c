@@ -37,7 +37,7 @@ static void report_operator(const stencil_operator *op, limn_report *r)
     r->bbox_diagonal = op->bbox_diagonal;
 }
 
-/* limn_interpolate on options and report of this library's layout. */
+/* limn_interpolate on options and report of this library's layout, both never NULL. */
 static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
                                      const limn_interpolate_options *options, limn_mesh **control,
                                      limn_report *report)
@@ -46,16 +46,13 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
     if (begun)
         return begun;
     *control = NULL;
-    limn_interpolate_options defaults;
-    limn_interpolate_options_default(&defaults);
-    const limn_interpolate_options *o = options ? options : &defaults;
+    const limn_interpolate_options *o = options; /* never NULL: abi_enter's copies */
     limn_status st = check_mesh_magnitude(ctx, "limn_interpolate", NULL, mesh);
     if (!st)
         st = solve_check_options(ctx, o);
     if (st)
         return st;
-    limn_report local;
-    limn_report *r = report ? report : &local;
+    limn_report *r = report;
     memset(r, 0, sizeof *r);
     r->vertices = mesh->vertex_count;
     r->faces = mesh->face_count;
