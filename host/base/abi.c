@@ -322,11 +322,6 @@ void abi_report_end(const abi_layout *l, void *dst_v, const void *local_v)
     piece_out(dst + tail_at, n - tail_at, src + lib_tail_at, l->size - lib_tail_at, 0);
 }
 
-size_t abi_size_of(const void *p)
-{
-    return size_at(p);
-}
-
 int abi_report_holds(const abi_layout *l, const void *p_v, size_t end)
 {
     const unsigned char *p = p_v;

@@ -112,9 +112,6 @@ limn_status abi_leave(const abi_call *c, limn_status st);
    caller's size fields stay as they are. */
 void abi_report_end(const abi_layout *layout, void *dst, const void *local);
 
-/* The caller's size field of any of these structs. */
-size_t abi_size_of(const void *p);
-
 /* Whether the caller's struct `p` (of this layout) holds the bytes up to
    `end` of the library's layout (offsetof + sizeof of a field after the
    embedded struct, or within a flat one). */

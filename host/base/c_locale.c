@@ -2,9 +2,6 @@
 /* Thread-local switches to the C locale (see c_locale.h). */
 #include "base/c_locale.h"
 
-#include <errno.h>
-#include <stdlib.h>
-
 int c_locale_enter(c_locale_scope *s)
 {
     /* glibc hands out its static C locale here: no allocation, cheap per call */
@@ -24,17 +21,4 @@ void c_locale_leave(c_locale_scope *s)
     uselocale(s->prev);
     freelocale(s->c);
     s->c = (locale_t)0;
-}
-
-double c_strtod(const char *text, char **end)
-{
-    c_locale_scope s;
-    int entered = c_locale_enter(&s);
-    errno = 0;
-    double v = strtod(text, end);
-    int e = errno; /* ERANGE is the caller's to see */
-    if (entered)
-        c_locale_leave(&s);
-    errno = e;
-    return v;
 }

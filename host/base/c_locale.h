@@ -24,7 +24,5 @@ typedef struct c_locale_scope {
 int c_locale_enter(c_locale_scope *s);
 /* Restores the thread's previous locale; harmless after a failed enter. */
 void c_locale_leave(c_locale_scope *s);
-/* strtod in the C locale, for callers outside an entered scope. */
-double c_strtod(const char *text, char **end);
 
 #endif

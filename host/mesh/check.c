@@ -75,15 +75,6 @@ limn_status check_scheme(limn_context *ctx, const char *fn, limn_scheme scheme)
                      fn, (int)scheme);
 }
 
-limn_status check_format(limn_context *ctx, const char *fn, limn_format format)
-{
-    if (format >= LIMN_FORMAT_AUTO && format <= LIMN_FORMAT_STL)
-        return LIMN_OK;
-    return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                     "%s: unknown format %d (LIMN_FORMAT_AUTO 0 .. LIMN_FORMAT_STL %d)", fn,
-                     (int)format, (int)LIMN_FORMAT_STL);
-}
-
 limn_status check_count(limn_context *ctx, const char *fn, const char *arg, long long value,
                         long long min, long long cap, const char *cap_name)
 {

@@ -25,7 +25,6 @@ limn_status check_mesh_magnitude(limn_context *ctx, const char *fn, const char *
                                  const limn_mesh *mesh);
 
 limn_status check_scheme(limn_context *ctx, const char *fn, limn_scheme scheme);
-limn_status check_format(limn_context *ctx, const char *fn, limn_format format);
 
 /* min <= value <= cap, else a message naming the argument, the value and the
    bound (the cap's macro in limn.h, cap_name, when the cap was hit). */

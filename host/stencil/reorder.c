@@ -130,16 +130,6 @@ limn_status stencil_permute(limn_context *ctx, const stencil_csr *a, const uint3
     return stencil_build(ctx, a->rows, a->cols, permuted_bound, permuted_fill, &p, out);
 }
 
-double stencil_mean_bandwidth(const stencil_csr *a)
-{
-    double sum = 0;
-    size_t nnz = a->row_offsets[a->rows];
-    for (size_t r = 0; r < a->rows; r++)
-        for (uint32_t k = a->row_offsets[r]; k < a->row_offsets[r + 1]; k++)
-            sum += a->columns[k] > r ? (double)(a->columns[k] - r) : (double)(r - a->columns[k]);
-    return nnz ? sum / (double)nnz : 0.0;
-}
-
 double stencil_mean_row_jump(const stencil_csr *a)
 {
     double sum = 0;

@@ -20,9 +20,6 @@ limn_status reorder_rcm(limn_context *ctx, const topology *t, uint32_t **order, 
 limn_status stencil_permute(limn_context *ctx, const stencil_csr *a, const uint32_t *order,
                             const uint32_t *rank, stencil_csr *out);
 
-/* Mean |column - row| over all entries. */
-double stencil_mean_bandwidth(const stencil_csr *a);
-
 /* Mean jump of the first column from one row to the next: small when the
    columns a run of rows reads stream through memory (scan order, refined
    meshes), large when they hop at random (shuffled vertices). */
