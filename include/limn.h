@@ -174,6 +174,18 @@ LIMN_API limn_status limn_context_threads(const limn_context *ctx, int *threads,
                                           const char **source);
 
 /*
+ * Threads limn's own host code uses (reading, topology, stencil rows,
+ * writing): `threads` > 0 as given; 0 (the default) the count
+ * limn_context_set_threads gave, else the cores (hwloc) inside the process's
+ * CPU binding, the count PoCL gets. Results are the same bytes for any count.
+ */
+LIMN_API limn_status limn_context_set_host_threads(limn_context *ctx, int threads);
+/* The host thread count in effect and where it came from ("API (host
+   threads)", "API", "binding via hwloc", "affinity mask"); *source is static. */
+LIMN_API limn_status limn_context_host_threads(limn_context *ctx, int *threads,
+                                               const char **source);
+
+/*
  * Whether the C reference backend may stand in when the OpenCL device cannot
  * be used: backend "reference" allows it, "none" (or NULL) forbids it.
  * Default: the environment LIMN_FALLBACK=reference, else none. When allowed,

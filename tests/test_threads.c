@@ -37,7 +37,7 @@ static unsigned count_in(const char *synthetic, const char *cpus)
     assert_int_equal(hwloc_topology_load(topo), 0);
     hwloc_bitmap_t set = hwloc_bitmap_alloc();
     assert_int_equal(hwloc_bitmap_list_sscanf(set, cpus), 0);
-    unsigned n = threads_count_cores(topo, set);
+    unsigned n = cores_count(topo, set);
     hwloc_bitmap_free(set);
     hwloc_topology_destroy(topo);
     return n;
@@ -178,7 +178,7 @@ static void binding_of_this_process(void **s)
     cpu_set_t all, one;
     assert_int_equal(sched_getaffinity(0, sizeof all, &all), 0);
     char why[160] = "";
-    unsigned n = threads_binding_cores(why, sizeof why);
+    unsigned n = cores_in_binding(why, sizeof why);
     print_message("cores inside the binding: hwloc %u, /sys %d (%d CPUs)\n", n, sys_cores(&all),
                   CPU_COUNT(&all));
     assert_int_equal((int)n, sys_cores(&all));
@@ -186,9 +186,36 @@ static void binding_of_this_process(void **s)
     CPU_ZERO(&one);
     CPU_SET(first_cpu(&all), &one);
     assert_int_equal(sched_setaffinity(0, sizeof one, &one), 0);
-    n = threads_binding_cores(why, sizeof why);
+    n = cores_in_binding(why, sizeof why);
     assert_int_equal(sched_setaffinity(0, sizeof all, &all), 0);
     assert_int_equal(n, 1);
+}
+
+/* Host threads: set_host_threads, else set_threads, else the binding's cores. */
+static void host_threads_precedence(void **s)
+{
+    limn_context *ctx = *s;
+    cpu_set_t all;
+    assert_int_equal(sched_getaffinity(0, sizeof all, &all), 0);
+    int n;
+    const char *src;
+    assert_int_equal(limn_context_host_threads(ctx, &n, &src), LIMN_OK);
+    assert_int_equal(n, sys_cores(&all));
+    assert_string_equal(src, "binding via hwloc");
+    assert_int_equal(limn_context_set_threads(ctx, 3), LIMN_OK);
+    assert_int_equal(limn_context_host_threads(ctx, &n, &src), LIMN_OK);
+    assert_int_equal(n, 3);
+    assert_string_equal(src, "API");
+    assert_int_equal(limn_context_set_host_threads(ctx, 5), LIMN_OK);
+    assert_int_equal(limn_context_host_threads(ctx, &n, &src), LIMN_OK);
+    assert_int_equal(n, 5);
+    assert_string_equal(src, "API (host threads)");
+    assert_int_equal(limn_context_set_host_threads(ctx, -1), LIMN_ERR_ARGUMENT);
+    assert_non_null(strstr(limn_context_message(ctx), "-1 is not a host thread count"));
+    assert_int_equal(limn_context_set_host_threads(ctx, 1000), LIMN_ERR_ARGUMENT);
+    assert_int_equal(limn_context_set_host_threads(NULL, 1), LIMN_ERR_ARGUMENT);
+    assert_int_equal(limn_context_host_threads(ctx, NULL, &src), LIMN_ERR_ARGUMENT);
+    assert_int_equal(limn_context_host_threads(NULL, &n, &src), LIMN_ERR_ARGUMENT);
 }
 
 /* --------------------------------------------- PoCL's compute units, in-process */
@@ -366,6 +393,7 @@ static void interpolate_report_has_the_count(void **s)
 
 TEST_MAIN(NULL, NULL, cmocka_unit_test(counts_cores_not_pus), cmocka_unit_test(plan_precedence),
           CONTEXT_TEST(bad_requests), cmocka_unit_test(binding_of_this_process),
+          CONTEXT_TEST(host_threads_precedence),
           cmocka_unit_test(pocl_follows_the_api), cmocka_unit_test(pocl_follows_the_binding),
           cmocka_unit_test(runtime_default_sets_nothing), cmocka_unit_test(cli_reports_the_count),
           cmocka_unit_test(interpolate_report_has_the_count))

@@ -24,6 +24,8 @@ struct limn_context {
     int device_slot;          /* of the OpenCL devices matching the choice, take number
                                  slot % count (MPI: the rank on its node); 0 = the first */
     int threads_request;      /* limn_context_set_threads; 0 = from the CPU binding */
+    int host_threads_request; /* limn_context_set_host_threads; 0 = as threads_request */
+    int host_threads_counted; /* cores in the binding (< 0: CPUs of the mask); 0 = not yet */
     size_t max_memory;        /* limn_context_set_max_memory; 0 = 3/4 of physical memory */
 };
 

@@ -13,7 +13,7 @@
 
 #include "limn.h"
 
-#include <hwloc.h>
+#include "base/cores.h"
 
 /* Where the count came from (the report's threads_source). */
 #define THREADS_SOURCE_BINDING "binding via hwloc"
@@ -41,13 +41,6 @@ typedef struct threads_plan {
  */
 void threads_plan_make(threads_plan *plan, const char *env_pthread, const char *env_cu,
                        int request, int binding_cores, const char *why);
-
-/* Cores of topo with at least one PU in set; PUs in set when the topology
-   has no core level. 0 for an empty set. */
-unsigned threads_count_cores(hwloc_topology_t topo, hwloc_const_cpuset_t set);
-
-/* Cores inside this process's CPU binding; 0 with a reason in why on failure. */
-unsigned threads_binding_cores(char *why, size_t why_size);
 
 /*
  * Once per process, before the first clGetPlatformIDs: decides from ctx's

@@ -3,7 +3,7 @@
  * The binary PLY fast path (mesh_ply.h): the layout scanners write (vertex
  * records of fixed-size scalars, one face list of any integer types, other
  * elements without lists) converted straight from the mapped file, over
- * ranges of records in parallel (ranges.h). Face records are found from
+ * ranges of records in parallel (base/parallel.h). Face records are found from
  * their counts: when every count is the first one's, record i lies at
  * i * stride (checked in parallel); else one serial pass over the counts
  * gives the face offsets, and the offsets give the records. Values are
@@ -18,7 +18,7 @@
 #endif
 #include "mesh/io/mesh_ply.h"
 #include "base/context.h"
-#include "mesh/io/ranges.h"
+#include "base/parallel.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -129,7 +129,7 @@ static int fast_vertex(fast *f, const ply_elem *e)
     v.base = f->map + f->at;
     v.pos = (double *)(void *)f->a.pos.data;
     v.col = f->a.col.data;
-    if (ranges_run((size_t)nv, ranges_threads(f->p->ctx, nv * v.stride), vertex_range, &v))
+    if (parallel_run((size_t)nv, parallel_threads(f->p->ctx, nv * v.stride), vertex_range, &v))
         return 0;
     f->at += nv * v.stride;
     return 1;
@@ -241,7 +241,7 @@ static int face_counts(const fast *f, uint64_t nf, fast_faces *ff, uint64_t *byt
     uint64_t stride = ff->fixed + (uint64_t)(k > 0 ? k : 0) * ff->isize;
     if (k >= 3 && (uint64_t)k <= (UINT32_MAX - 1) / nf && nf <= left / stride) {
         ff->k = (uint32_t)k;
-        if (!ranges_run((size_t)nf, ranges_threads(f->p->ctx, nf * ff->lead), uniform_range,
+        if (!parallel_run((size_t)nf, parallel_threads(f->p->ctx, nf * ff->lead), uniform_range,
                         ff)) {
             *bytes = nf * stride;
             return 1;
@@ -263,7 +263,7 @@ static int fast_face(fast *f, const ply_elem *e)
         !mio_array_exact(&f->a.indices, (size_t)ff.off[nf] * 4))
         return 0;
     ff.idx = (uint32_t *)(void *)f->a.indices.data;
-    if (ranges_run((size_t)nf, ranges_threads(f->p->ctx, bytes), face_range, &ff))
+    if (parallel_run((size_t)nf, parallel_threads(f->p->ctx, bytes), face_range, &ff))
         return 0;
     f->at += bytes;
     return 1;

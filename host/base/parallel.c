@@ -1,0 +1,134 @@
+/* SPDX-License-Identifier: MIT */
+/* Work split into ranges over host threads (parallel.h). */
+#ifndef _GNU_SOURCE
+#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT */
+#endif
+#include "base/parallel.h"
+#include "base/context.h"
+#include "base/cores.h"
+
+#include <pthread.h>
+#include <sched.h>
+#include <stdlib.h>
+
+typedef struct range_job {
+    parallel_fn fn;
+    void *arg;
+    size_t begin, end;
+    int result;
+} range_job;
+
+static void *range_main(void *job)
+{
+    range_job *j = job;
+    j->result = j->fn(j->arg, j->begin, j->end);
+    return NULL;
+}
+
+size_t parallel_cut(size_t n, unsigned parts, unsigned i)
+{
+    /* the first n % parts ranges are one longer */
+    size_t extra = n % parts;
+    return n / parts * i + (i < extra ? i : extra);
+}
+
+int parallel_run(size_t n, unsigned parts, parallel_fn fn, void *arg)
+{
+    range_job jobs[PARALLEL_MAX];
+    pthread_t tid[PARALLEL_MAX];
+    int started[PARALLEL_MAX] = {0};
+    if (parts < 1)
+        parts = 1;
+    if (parts > PARALLEL_MAX)
+        parts = PARALLEL_MAX;
+    if ((size_t)parts > n)
+        parts = n ? (unsigned)n : 1;
+    for (unsigned i = 0; i < parts; i++)
+        jobs[i] = (range_job){fn, arg, parallel_cut(n, parts, i), parallel_cut(n, parts, i + 1),
+                              0};
+    for (unsigned i = 1; i < parts; i++)
+        started[i] = pthread_create(&tid[i], NULL, range_main, &jobs[i]) == 0;
+    range_main(&jobs[0]);
+    int bad = jobs[0].result != 0;
+    for (unsigned i = 1; i < parts; i++) {
+        if (started[i])
+            pthread_join(tid[i], NULL);
+        else
+            range_main(&jobs[i]);
+        bad |= jobs[i].result != 0;
+    }
+    return bad;
+}
+
+/* The CPUs of the affinity mask, when hwloc cannot count cores. */
+static int affinity_cpus(void)
+{
+#ifdef CPU_COUNT
+    cpu_set_t set;
+    if (sched_getaffinity(0, sizeof set, &set) == 0)
+        return CPU_COUNT(&set);
+#endif
+    return 1;
+}
+
+unsigned parallel_host_threads(limn_context *ctx, const char **source)
+{
+    const char *from;
+    int n;
+    if (ctx && ctx->host_threads_request > 0) {
+        n = ctx->host_threads_request;
+        from = "API (host threads)";
+    } else if (ctx && ctx->threads_request > 0) {
+        n = ctx->threads_request;
+        from = "API";
+    } else {
+        int counted = ctx ? ctx->host_threads_counted : 0;
+        if (!counted) {
+            char why[128];
+            counted = (int)cores_in_binding(why, sizeof why);
+            if (counted <= 0)
+                counted = -affinity_cpus(); /* negative: from the mask */
+            if (ctx)
+                ctx->host_threads_counted = counted;
+        }
+        n = counted > 0 ? counted : -counted;
+        from = counted > 0 ? "binding via hwloc" : "affinity mask";
+    }
+    if (n < 1)
+        n = 1;
+    if (source)
+        *source = from;
+    return n > PARALLEL_MAX ? PARALLEL_MAX : (unsigned)n;
+}
+
+unsigned parallel_threads(limn_context *ctx, uint64_t bytes)
+{
+    unsigned n = parallel_host_threads(ctx, NULL);
+    uint64_t most = bytes / PARALLEL_GRAIN + 1;
+    return (uint64_t)n > most ? (unsigned)most : n;
+}
+
+limn_status limn_context_set_host_threads(limn_context *ctx, int threads)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    ctx_clear(ctx);
+    if (threads < 0 || threads > PARALLEL_MAX)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                        "limn_context_set_host_threads: %d is not a host thread count (1..%d, "
+                        "or 0 for the default)",
+                        threads, PARALLEL_MAX);
+    ctx->host_threads_request = threads;
+    return LIMN_OK;
+}
+
+limn_status limn_context_host_threads(limn_context *ctx, int *threads, const char **source)
+{
+    if (!ctx)
+        return LIMN_ERR_ARGUMENT;
+    ctx_clear(ctx);
+    if (!threads)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_context_host_threads: threads is NULL");
+    *threads = (int)parallel_host_threads(ctx, source);
+    return LIMN_OK;
+}
