@@ -23,6 +23,7 @@ int cli_sharpen(int argc, char **argv);
 int cli_morph(int argc, char **argv);
 int cli_texture(int argc, char **argv);
 int cli_render(int argc, char **argv);
+int cli_bench(int argc, char **argv);
 
 /* Strict number parsing for options; print a usage error naming the option. */
 int cli_parse_double(const char *opt, const char *text, double *out);
