@@ -203,6 +203,34 @@ LIMN_API limn_status limn_context_set_fallback(limn_context *ctx, const char *ba
  */
 LIMN_API limn_status limn_context_fall_back(limn_context *ctx, limn_status status);
 
+/*
+ * A STREAM-like triad on the context's device (OpenCL or the reference
+ * backend), the memory-bandwidth yardstick of `limn bench`: three arrays of
+ * `bytes` bytes each (rounded down to whole 4-double records; at least 32
+ * bytes), a[i] = b[i] + s c[i] in double, run `repeats` times (1..1000).
+ * gb_per_s is STREAM's count, 3 x 8 bytes per element over the best run's
+ * seconds. Each run is one kernel launch and a 32-byte blocking read of a
+ * (the wait); the device's one-time set-up and each kernel's first launch
+ * are done before the first timed run. After the runs a is read back and
+ * every element compared with b[i] + s c[i] computed on the host:
+ * `mismatches` counts the elements that differ (0 on a working device).
+ * Buffers above the device's largest allocation or memory are refused
+ * (LIMN_ERR_MEMORY, LIMN_ERR_DEVICE), naming the size. report is required.
+ */
+typedef struct limn_triad_report {
+    size_t size;              /* sizeof, set by the caller (see the top) */
+    size_t elements;          /* doubles per array */
+    size_t array_bytes;       /* 8 x elements */
+    int repeats;
+    double seconds_best, seconds_mean; /* per run */
+    double gb_per_s;          /* 24 x elements / seconds_best / 1e9 */
+    size_t mismatches;        /* elements of a that differ from b + s c */
+    char device[256];
+} limn_triad_report;
+
+LIMN_API limn_status limn_device_triad(limn_context *ctx, size_t bytes, int repeats,
+                                       limn_triad_report *report);
+
 /* --------------------------------------------------------------------- mesh */
 
 typedef struct limn_mesh limn_mesh;

@@ -75,6 +75,7 @@ ABI_FLAT(abi_series_options, limn_series_options, "limn_series_options_default()
          &series_defaults);
 ABI_FLAT(abi_series_report, limn_series_report, "sizeof(limn_series_report)", seconds_compute,
          NULL);
+ABI_FLAT(abi_triad_report, limn_triad_report, "sizeof(limn_triad_report)", device, NULL);
 ABI_FLAT(abi_mesh_measures, limn_mesh_measures, "sizeof(limn_mesh_measures)", centroid, NULL);
 ABI_FLAT(abi_mesh_comparison, limn_mesh_comparison, "sizeof(limn_mesh_comparison)", flipped_faces,
          NULL);

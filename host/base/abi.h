@@ -89,6 +89,7 @@ typedef struct abi_call {
         limn_mesh_info info;
         limn_mesh_measures measures;
         limn_mesh_comparison comparison;
+        limn_triad_report triad;
     } r;
 } abi_call;
 
@@ -120,6 +121,7 @@ int abi_report_holds(const abi_layout *layout, const void *p, size_t end);
 extern const abi_layout abi_repair_options, abi_repair_report, abi_mesh_info,
     abi_interpolate_options, abi_report, abi_subdivide_options, abi_subdivide_report,
     abi_series_options, abi_series_report, abi_morph_options, abi_mesh_measures,
-    abi_mesh_comparison, abi_texture_options, abi_render_options;
+    abi_mesh_comparison, abi_texture_options, abi_render_options,
+    abi_triad_report;
 
 #endif

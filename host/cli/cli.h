@@ -23,6 +23,7 @@ int cli_sharpen(int argc, char **argv);
 int cli_morph(int argc, char **argv);
 int cli_texture(int argc, char **argv);
 int cli_render(int argc, char **argv);
+int cli_bench(int argc, char **argv);
 
 /* Strict number parsing for options; print a usage error naming the option. */
 int cli_parse_double(const char *opt, const char *text, double *out);
@@ -47,6 +48,20 @@ typedef struct cli_repair {
     "                         repair them, with a warning saying what changed)\n"              \
     "  --drop-duplicate-faces remove later copies of a face (default: keep\n"                 \
     "                         them; their edges are sharp)\n"
+/* --host-threads N (every command that reads a mesh, and bench): limn's own
+   host threads (reading, topology, stencil rows, writing), 1..CLI_HOST_THREADS_MAX;
+   the output bytes are the same for any N. */
+#define CLI_HOST_THREADS_MAX 64
+#define CLI_HOST_THREADS_HELP                                                                  \
+    "  --host-threads N       threads of limn's own host work (reading, topology,\n"          \
+    "                         stencil rows, writing), 1..64; same bytes for any N\n"        \
+    "                         (default: the OpenCL thread count, else the cores\n"         \
+    "                         of the process's CPU binding)\n"
+/* "--host-threads V": V as an integer in 1..CLI_HOST_THREADS_MAX, or a usage
+   error naming it (exit status 2 returned); 0 on success. */
+int cli_parse_host_threads(const char *cmd, const char *text, int *out);
+/* limn_context_set_host_threads when n > 0 (0: the default, nothing set). */
+limn_status cli_set_host_threads(limn_context *ctx, int n);
 /* Where outputs go (README "Command line"). */
 #define CLI_PATHS_HELP                                                                         \
     "\n"                                                                                      \

@@ -122,6 +122,11 @@ int cli_args_parse(cli_args *a, const struct option *longopts, int argc, char **
 {
     int rc = cli_options(a->cmd, longopts, "ho:q", &argc, &argv);
     for (int i = 1; !rc && i < argc; i++) {
+        if (strcmp(argv[i], "--host-threads") == 0) {
+            const char *v = cli_args_value(a, argc, argv, &i);
+            rc = v ? cli_parse_host_threads(a->cmd, v, &a->host_threads) : EXIT_USAGE;
+            continue;
+        }
         rc = value_arg(a, argc, argv, &i);
         if (rc == CLI_OWN_UNKNOWN)
             rc = flag_arg(a, argv[i]);
@@ -205,7 +210,9 @@ limn_status cli_args_open(cli_args *a, limn_context *ctx, size_t max_memory, int
                           limn_mesh **mesh)
 {
     limn_context_set_max_memory(ctx, max_memory);
-    limn_status st = limn_context_set_device(ctx, a->device);
+    limn_status st = cli_set_host_threads(ctx, a->host_threads);
+    if (!st)
+        st = limn_context_set_device(ctx, a->device);
     if (!st && a->fallback)
         st = limn_context_set_fallback(ctx, a->fallback);
     if (!st && load)
@@ -239,4 +246,19 @@ json_out *cli_args_report(const cli_args *a, size_t vertices, size_t faces)
     json_integer(j, "vertices", (long long)vertices);
     json_integer(j, "faces", (long long)faces);
     return j;
+}
+
+int cli_parse_host_threads(const char *cmd, const char *text, int *out)
+{
+    if (!cli_parse_int("--host-threads", text, out))
+        return EXIT_USAGE;
+    if (*out < 1 || *out > CLI_HOST_THREADS_MAX)
+        return cli_usage_error(cmd, "--host-threads %s is outside 1..%d", text,
+                               CLI_HOST_THREADS_MAX);
+    return 0;
+}
+
+limn_status cli_set_host_threads(limn_context *ctx, int n)
+{
+    return n > 0 ? limn_context_set_host_threads(ctx, n) : LIMN_OK;
 }

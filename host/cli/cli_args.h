@@ -20,6 +20,7 @@ typedef struct cli_args {
     int quiet, overwrite_input;
     int per_rank;             /* --per-rank-output (under mpirun) */
     cli_repair repair;        /* --no-repair, --drop-duplicate-faces (cli.h) */
+    int host_threads;         /* --host-threads N (0: the default) */
 } cli_args;
 
 /* The long options cli_args_parse takes itself (cli_options tables); each
@@ -28,7 +29,8 @@ typedef struct cli_args {
    and interpolate per-rank-output. */
 #define CLI_ARGS_BASE_OPTIONS                                                                  \
     CLI_FLAG("help"), CLI_VALUE("output"), CLI_VALUE("report"), CLI_VALUE("input-format"),     \
-        CLI_FLAG("overwrite-input"), CLI_FLAG("quiet"), CLI_REPAIR_OPTIONS
+        CLI_FLAG("overwrite-input"), CLI_FLAG("quiet"), CLI_VALUE("host-threads"),             \
+        CLI_REPAIR_OPTIONS
 #define CLI_ARGS_OPTIONS                                                                       \
     CLI_ARGS_BASE_OPTIONS, CLI_VALUE("scheme"), CLI_VALUE("alpha"), CLI_VALUE("device"),       \
         CLI_VALUE("format")
@@ -44,7 +46,7 @@ typedef int (*cli_own_fn)(cli_args *a, void *user, int argc, char **argv, int *i
 /* cli_options over longopts (short options "ho:q"), then every argument in
    order: the shared options (-h, -o, --scheme, --alpha, --device,
    --fallback, --report, --format, --input-format, --overwrite-input,
-   --per-rank-output, -q, the repair policy), up to inputs_wanted positional
+   --per-rank-output, -q, --host-threads, the repair policy), up to inputs_wanted positional
    INPUTs, and the command's own through own (may be NULL). Returns 0, -1
    (help printed on rank 0: exit status 0) or an exit status. */
 int cli_args_parse(cli_args *a, const struct option *longopts, int argc, char **argv,
@@ -91,7 +93,7 @@ int cli_args_check_per_rank(cli_args *a);
    format and is not the input, the report is not the input either, and all
    can be written (cli_check_output, cli_check_outputs); 0 or an exit status. */
 int cli_args_check_meshes(cli_args *a, const char *surface);
-/* Sets the context's memory cap (the reader's too), device and fallback,
+/* Sets the context's memory cap (the reader's too), host threads, device and fallback,
    then with load reads and repairs INPUT into *mesh (cli_load_mesh). */
 limn_status cli_args_open(cli_args *a, limn_context *ctx, size_t max_memory, int load,
                           limn_mesh **mesh);

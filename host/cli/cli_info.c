@@ -6,7 +6,7 @@
 
 static const char *const help =
     "usage: limn info INPUT [--json] [--input-format F] [--max-memory SIZE]\n"
-    "                       [--no-repair] [--drop-duplicate-faces]\n"
+    "                       [--no-repair] [--drop-duplicate-faces] [--host-threads N]\n"
     "\n"
     "Prints vertex, face and edge counts, face kinds, boundary loops, components,\n"
     "non-manifold elements, the Euler characteristic, the bounding box and the\n"
@@ -14,7 +14,8 @@ static const char *const help =
     "the repair step, whose changes are printed as warnings. --json prints one line\n"
     "of JSON. A pipe or device is read only with --input-format; reading stops\n"
     "beyond --max-memory (default three quarters of physical memory).\n"
-    CLI_REPAIR_HELP;
+    CLI_REPAIR_HELP
+    CLI_HOST_THREADS_HELP;
 
 static limn_status print_json(limn_context *ctx, const char *input, const limn_mesh_info *in,
                               const char *scheme)
@@ -86,9 +87,10 @@ int cli_info(int argc, char **argv)
     limn_format fmt = LIMN_FORMAT_AUTO;
     cli_repair repair = {0, 0};
     size_t max_memory = 0;
-    static const struct option longopts[] = {CLI_FLAG("help"), CLI_FLAG("json"),
-                                             CLI_VALUE("input-format"), CLI_VALUE("max-memory"),
-                                             CLI_REPAIR_OPTIONS, CLI_OPTIONS_END};
+    int host_threads = 0;
+    static const struct option longopts[] = {
+        CLI_FLAG("help"),        CLI_FLAG("json"),         CLI_VALUE("input-format"),
+        CLI_VALUE("max-memory"), CLI_VALUE("host-threads"), CLI_REPAIR_OPTIONS, CLI_OPTIONS_END};
     int orc = cli_options("info", longopts, "h", &argc, &argv);
     if (orc)
         return orc;
@@ -103,6 +105,10 @@ int cli_info(int argc, char **argv)
             const char *v = cli_value(argc, argv, &i);
             if (!v || !limn_format_from_name(v, &fmt))
                 return cli_usage_error("info", "--input-format needs one of obj, ply, off, stl");
+        } else if (strcmp(argv[i], "--host-threads") == 0) {
+            const char *v = cli_value(argc, argv, &i);
+            if (!v || cli_parse_host_threads("info", v, &host_threads))
+                return v ? EXIT_USAGE : cli_usage_error("info", "--host-threads needs a value");
         } else if (strcmp(argv[i], "--max-memory") == 0) {
             const char *v = cli_value(argc, argv, &i);
             if (!v)
@@ -125,6 +131,7 @@ int cli_info(int argc, char **argv)
     limn_context_set_max_memory(ctx, max_memory);
     limn_mesh *mesh = NULL;
     limn_mesh_info in = {.size = sizeof in};
+    limn_context_set_host_threads(ctx, host_threads); /* 1..64 (parsed) or 0: the default */
     limn_status st = cli_load_mesh("info", ctx, input, fmt, &repair, 0, &mesh);
     if (!st)
         st = limn_mesh_info_compute(ctx, mesh, &in);

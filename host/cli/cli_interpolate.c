@@ -36,6 +36,7 @@ static const char *const help =
     "                         memory (of the solve, or of the surface) exceeds\n"
     "                         SIZE (bytes, or with K, M, G suffix)   [3/4 of RAM]\n"
     CLI_REPAIR_HELP
+    CLI_HOST_THREADS_HELP
     "  --method M             auto (the fastest measured: chebyshev),\n"
     "                         paper (the seeds' iteration, the reference),\n"
     "                         weighted, chebyshev (one fused step a product),\n"
@@ -219,6 +220,10 @@ static limn_status write_report(limn_context *ctx, const args *x, const limn_rep
     limn_context_threads(ctx, &threads, &threads_source);
     json_integer(j, "threads", threads);
     json_string(j, "threads_source", threads_source);
+    if (!limn_context_host_threads(ctx, &threads, &threads_source)) {
+        json_integer(j, "host_threads", threads);
+        json_string(j, "host_threads_source", threads_source);
+    }
     if (sr) {
         json_string(j, "surface", x->surface);
         json_integer(j, "surface_vertices", (long long)sr->vertices);

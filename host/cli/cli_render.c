@@ -24,6 +24,7 @@ static const char *const help =
     "  --background #rrggbb   background colour                          [#ffffff]\n"
     "  --report FILE.json     also write a JSON report\n"
     "  --input-format F / --overwrite-input / -q\n"
+    CLI_HOST_THREADS_HELP
     SERIES_HELP_EXIT;
 
 static int parse_hex_color(const char *v, uint8_t rgb[3])

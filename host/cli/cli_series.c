@@ -45,7 +45,9 @@ limn_status series_cli_load(series_cli *c, limn_context **ctx, limn_mesh **meshe
         fprintf(stderr, "limn %s: error: out of memory\n", c->a.cmd);
         return LIMN_ERR_MEMORY;
     }
-    limn_status st = limn_context_set_device(*ctx, c->a.device);
+    limn_status st = cli_set_host_threads(*ctx, c->a.host_threads);
+    if (!st)
+        st = limn_context_set_device(*ctx, c->a.device);
     c->a.quiet |= cli_mpi_rank() != 0; /* under mpirun rank 0 prints */
     cli_mpi_set_per_rank(c->a.per_rank);
     for (int k = 0; !st && cli_mpi_rank() == 0 && k < c->a.input_count; k++) {

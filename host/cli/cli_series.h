@@ -11,7 +11,8 @@
     "  --scheme S             auto, loop or catmark                  [auto]\n"                  \
     "  --alpha A              Catmull-Clark alpha in [0, 1]           [0]\n"                    \
     "  --report FILE.json     also write the report as JSON\n"                                 \
-    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
+    "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"                 \
+    CLI_HOST_THREADS_HELP
 #define SERIES_HELP_EXIT "\nExit status: 0 success, 1 failure (nothing written), 2 bad usage.\n"
 
 typedef struct series_cli {

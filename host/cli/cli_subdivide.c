@@ -24,6 +24,7 @@ static const char *const help =
     "  --fallback reference   run on the reference backend when OpenCL fails\n"
     "  --format F, --input-format F, --overwrite-input, -q (as in interpolate)\n"
     CLI_REPAIR_HELP
+    CLI_HOST_THREADS_HELP
     CLI_PATHS_HELP;
 
 static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)

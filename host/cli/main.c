@@ -33,6 +33,9 @@ static void usage(FILE *out)
             "      a shaded picture of a mesh, without a display\n"
             "  info INPUT [--json]       counts, boundaries, non-manifold elements, bbox\n"
             "  devices                   the OpenCL devices limn can use\n"
+            "  bench [--vertices N] [--scheme loop|catmark] [--json FILE] [-q]\n"
+            "      a whole job on a built mesh of N vertices, timed stage by stage,\n"
+            "      against a memory-bandwidth triad on the same device\n"
             "  --version                 print limn's version\n"
             "  --help                    this text\n"
             "\n"
@@ -54,6 +57,8 @@ static int dispatch(int argc, char **argv)
         return cli_devices(argc - 1, argv + 1);
     if (strcmp(cmd, "subdivide") == 0)
         return cli_subdivide(argc - 1, argv + 1);
+    if (strcmp(cmd, "bench") == 0)
+        return cli_bench(argc - 1, argv + 1);
     static const struct {
         const char *name;
         int (*run)(int, char **);

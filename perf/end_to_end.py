@@ -1,0 +1,165 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""The whole job side by side, in one run, on the 2.1M and 8.6M float32 PLYs.
+
+igea refined twice (2.1M vertices) and three times (8.6M), written as scanners
+write it (binary little endian, float32 x y z, `uchar int` face lists): limn's
+stages (`limn interpolate --report`), `limn info` and `limn subdivide --levels 1`
+wall times, `trimesh.load(process=False)` (with --python), OpenSubdiv's
+TopologyRefinerFactory creation (perf/osd_refine, 0 levels) and its limit
+stencil table (perf/osd_iteration, where it finishes within --osd-timeout),
+and the floor: reading the file from the page cache, and the solve loop's
+bytes over the triad `limn bench` measures on the same device.
+
+  python3 perf/end_to_end.py [--python VENV/bin/python] [--json out.json] [--only 2.1M]
+
+Needs a build with -DLIMN_BUILD_PERF=ON for the OpenSubdiv rows (left out
+with a note otherwise); --python: an interpreter with trimesh and numpy
+(pip install trimesh numpy). The 8.6M file needs ~6 GB of RAM."""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+TRIMESH = "import sys, time, trimesh\nt = time.perf_counter()\n" \
+          "m = trimesh.load(sys.argv[1], process=False)\n" \
+          "print(time.perf_counter() - t, len(m.vertices))\n"
+
+
+def wall(cmd, timeout=3600):
+    t = time.perf_counter()
+    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                       timeout=timeout)
+    return time.perf_counter() - t, r
+
+
+def make_inputs(a):
+    """The scanner-layout PLYs, made the way perf/read_bench.py makes them."""
+    limn, conv = os.path.join(a.build, "limn"), os.path.join(a.build, "perf", "read_bench")
+    files = {}
+    for name, levels, path in (("2.1M", 2, "/tmp/limn_read_bench/scanner_l2_f32.ply"),
+                               ("8.6M", 3, "/tmp/limn_e2e/scanner_l3_f32.ply")):
+        if a.only and name not in a.only:
+            continue
+        if not os.path.exists(path):
+            os.makedirs(os.path.dirname(path), exist_ok=True)
+            refined = os.path.join(os.path.dirname(path), "igea_l%d.ply" % levels)
+            if not os.path.exists(refined):
+                subprocess.run([limn, "subdivide", "--levels", str(levels), a.mesh, "-o",
+                                refined, "-q"], check=True)
+            subprocess.run([conv, "--scanner", refined, path], check=True)
+        files[name] = path
+    return files
+
+
+def floor_read(path):
+    best = 1e300
+    for _ in range(3):
+        t = time.perf_counter()
+        with open(path, "rb") as f:
+            while f.read(1 << 24):
+                pass
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+def limn_rows(a, path, tmp):
+    limn = os.path.join(a.build, "limn")
+    rep, out = os.path.join(tmp, "r.json"), os.path.join(tmp, "o.ply")
+    t, r = wall([limn, "interpolate", path, "-o", out, "--report", rep, "-q"])
+    if r.returncode:
+        sys.exit("limn interpolate failed: " + r.stderr)
+    j = json.load(open(rep))
+    row = {"vertices": j["vertices"], "interpolate_wall": t, "seconds": j["seconds"],
+           "peak_bytes_per_vertex": j["peak_rss_bytes"] / j["vertices"],
+           "method": j["method"], "products": j["products"],
+           "products_float": j.get("products_float", 0), "stencil_nonzeros": j["stencil_nonzeros"]}
+    row["info_wall"], _ = wall([limn, "info", path])
+    row["subdivide1_wall"], _ = wall([limn, "subdivide", path, "-o", out, "--levels", "1", "-q"])
+    os.remove(out)
+    return row, j
+
+
+def anchors(a, path, row):
+    if a.python:
+        r = subprocess.run([a.python, "-c", TRIMESH, path], stdout=subprocess.PIPE, text=True)
+        row["trimesh_load"] = float(r.stdout.split()[0]) if r.returncode == 0 else None
+    perf = os.path.join(a.build, "perf")
+    for key, cmd in (("osd_refiner", [os.path.join(perf, "osd_refine"), path, "0", "loop"]),
+                     ("osd_stencils", [os.path.join(perf, "osd_iteration"), path, "loop"])):
+        if not os.path.exists(cmd[0]):
+            row[key] = None
+            continue
+        try:
+            _, r = wall(cmd, timeout=a.osd_timeout)
+            j = json.loads(r.stdout.strip().splitlines()[-1]) if r.returncode == 0 else {}
+            row[key] = j.get("seconds_topology", j.get("seconds_stencils"))
+        except (subprocess.TimeoutExpired, ValueError, IndexError):
+            row[key] = None  # did not finish within --osd-timeout
+
+
+def loop_floor(a, report, tmp):
+    """Bytes the loop moves over the triad limn bench measures on this device."""
+    js = os.path.join(tmp, "b.json")
+    subprocess.run([os.path.join(a.build, "limn"), "bench", "--vertices", "20k", "-q",
+                    "--json", js], check=True)
+    triad = json.load(open(js))["triad"]["gb_per_s"]
+    sys.path.insert(0, os.path.join(ROOT, "perf"))
+    from run_suite import solve_bytes  # the one byte model (docs/performance.md)
+    return solve_bytes(report) / (triad * 1e9), triad
+
+
+def fmt(v):
+    return "–" if v is None else "%.2f" % v
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--mesh", default=os.path.join(ROOT, "..", "shared", "meshes", "large",
+                                                   "igea.ply"))
+    ap.add_argument("--python", help="an interpreter with trimesh and numpy")
+    ap.add_argument("--json", help="also write every figure here")
+    ap.add_argument("--only", nargs="*", help="2.1M and/or 8.6M (default both)")
+    ap.add_argument("--osd-timeout", type=float, default=300)
+    a = ap.parse_args()
+    rows = {}
+    with tempfile.TemporaryDirectory(prefix="limn_e2e_") as tmp:
+        for name, path in make_inputs(a).items():
+            row, report = limn_rows(a, path, tmp)
+            row["floor_read"] = floor_read(path)
+            row["floor_loop"], row["triad_gb_per_s"] = loop_floor(a, report, tmp)
+            anchors(a, path, row)
+            rows[name] = row
+    s = lambda r, k: r["seconds"].get(k)
+    lines = [("limn interpolate, end to end", lambda r: r["interpolate_wall"]),
+             ("  load (read + repair)", lambda r: s(r, "load")),
+             ("  topology", lambda r: s(r, "topology")), ("  stencil", lambda r: s(r, "stencil")),
+             ("  solve", lambda r: s(r, "solve")), ("  of which the loop", lambda r: s(r, "iterations")),
+             ("  OpenCL set-up", lambda r: s(r, "opencl_setup")), ("  write", lambda r: s(r, "write")),
+             ("peak bytes a vertex", lambda r: r["peak_bytes_per_vertex"]),
+             ("limn info", lambda r: r["info_wall"]),
+             ("limn subdivide --levels 1", lambda r: r["subdivide1_wall"]),
+             ("trimesh.load(process=False)", lambda r: r.get("trimesh_load")),
+             ("OpenSubdiv TopologyRefinerFactory", lambda r: r.get("osd_refiner")),
+             ("OpenSubdiv limit stencil table", lambda r: r.get("osd_stencils")),
+             ("floor: read the file (page cache)", lambda r: r["floor_read"]),
+             ("floor: loop bytes / triad", lambda r: r["floor_loop"])]
+    names = list(rows)
+    print("| seconds | " + " | ".join("%s (%d vertices)" % (n, rows[n]["vertices"]) for n in names) + " |")
+    print("|---|" + "---:|" * len(names))
+    for label, get in lines:
+        print("| %s | %s |" % (label, " | ".join(fmt(get(rows[n])) for n in names)))
+    if not a.python:
+        print("\ntrimesh.load: not measured (give --python VENV/bin/python with trimesh)")
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(rows, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
