@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The mesh file formats (mesh_obj.c, mesh_ply.c, mesh_ply_write.c,
- * mesh_off.c, mesh_stl.c), called by the dispatcher (dispatch.c).
+ * The mesh file formats, called by the dispatcher (dispatch.c): the readers
+ * (mesh_obj.c, mesh_ply.c, mesh_off.c, mesh_stl.c) and the writers
+ * (mesh_text_write.c: OBJ, OFF; mesh_ply_write.c; mesh_stl_write.c).
  *
  * Readers get an open FILE* positioned at the start and the path (for
  * messages only). They return LIMN_OK and a new mesh, or a status with a

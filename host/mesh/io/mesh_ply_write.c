@@ -8,6 +8,7 @@
 #include "mesh/io/formats.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "mesh/io/text_write.h"
 #include "mesh/io/toolkit.h"
 
 #include <stdlib.h>
