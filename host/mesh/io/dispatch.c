@@ -227,7 +227,7 @@ limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const ch
     else if (format == LIMN_FORMAT_STL)
         st = stl_write(ctx, mesh, path, af->f);
     else
-        st = ply_write(ctx, mesh, path, af->f, format);
+        st = ply_write(ctx, mesh, path, af->f, format, 0);
     c_locale_leave(&loc);
     if (st) {
         atomic_file_abort(af);
