@@ -341,6 +341,38 @@ LIMN_API limn_status limn_mesh_read_stream(limn_context *ctx, FILE *stream, cons
 LIMN_API limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh,
                                      const char *path, limn_format format);
 
+/* How positions are written: doubles (lossless, the default) or float32. */
+typedef enum limn_output_precision {
+    LIMN_OUTPUT_DOUBLE = 0, /* every format; lossless */
+    LIMN_OUTPUT_FLOAT = 1   /* PLY only ("property float x"; ascii: "%.17g" of the float) */
+} limn_output_precision;
+
+typedef struct limn_write_options {
+    size_t size;                     /* sizeof, set by limn_write_options_default() */
+    limn_output_precision precision; /* LIMN_OUTPUT_DOUBLE (default) or _FLOAT */
+} limn_write_options;
+
+LIMN_API void limn_write_options_default(limn_write_options *options);
+
+/* The error of the file as written: per vertex, the distance between its
+   position and the one written (float32 rounding; 0 for doubles). */
+typedef struct limn_write_report {
+    size_t size;          /* sizeof, set by the caller */
+    double max_error;     /* the largest distance */
+    double mean_error;    /* the mean distance over the vertices */
+    double bbox_diagonal; /* the mesh's, to make them relative */
+} limn_write_report;
+
+/*
+ * limn_mesh_write with options (NULL: the defaults, as limn_mesh_write) and
+ * a report (may be NULL). LIMN_OUTPUT_FLOAT for a format other than PLY is
+ * refused (LIMN_ERR_ARGUMENT), nothing written.
+ */
+LIMN_API limn_status limn_mesh_write_with(limn_context *ctx, const limn_mesh *mesh,
+                                          const char *path, limn_format format,
+                                          const limn_write_options *options,
+                                          limn_write_report *report);
+
 /* ------------------------------------------------------------------- repair */
 /*
  * The repair step for meshes from scans and unknown tools, run by the CLI
@@ -830,6 +862,12 @@ LIMN_API limn_status limn_output_set_create(limn_context *ctx, limn_output_set *
 LIMN_API limn_status limn_output_set_add_mesh(limn_context *ctx, limn_output_set *set,
                                               const limn_mesh *mesh, const char *path,
                                               limn_format format);
+/* limn_output_set_add_mesh with limn_mesh_write_with's options and report. */
+LIMN_API limn_status limn_output_set_add_mesh_with(limn_context *ctx, limn_output_set *set,
+                                                   const limn_mesh *mesh, const char *path,
+                                                   limn_format format,
+                                                   const limn_write_options *options,
+                                                   limn_write_report *report);
 /* Stages size bytes (a report, a document of the caller's own) as path. */
 LIMN_API limn_status limn_output_set_add_bytes(limn_context *ctx, limn_output_set *set,
                                                const char *path, const void *data,

@@ -8,6 +8,7 @@
 #include "shell.h"
 #include "support.h"
 
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -324,6 +325,71 @@ static void subdivide_warns_of_dropped_colours(void **s)
     unlink(in);
 }
 
+/* --output-precision float (issue 13.4): the PLY reads back as (float) of
+   the double output, the report's error is the distance between the two
+   read back; OBJ and a bad value refused before any work, nothing written. */
+static double report_number(const char *json, const char *key)
+{
+    const char *at = strstr(json, key);
+    assert_non_null(at);
+    return strtod(at + strlen(key) + 3, NULL); /* past `key": ` */
+}
+
+static void output_precision_float(void **s)
+{
+    (void)s;
+    char spot[512], args[4096], f[300], d[300], rep[300];
+    snprintf(spot, sizeof spot, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
+    snprintf(f, sizeof f, "%s/float.ply", test_dir);
+    snprintf(d, sizeof d, "%s/double.ply", test_dir);
+    snprintf(rep, sizeof rep, "%s/float.json", test_dir);
+    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --output-precision float --report '%s'",
+             spot, f, rep);
+    assert_int_equal(limn(args), 0);
+    assert_non_null(strstr(test_text, "output: float32 positions, error max"));
+    snprintf(args, sizeof args, "subdivide '%s' -o '%s' -q --output-precision double", spot, d);
+    assert_int_equal(limn(args), 0);
+    limn_context *ctx = limn_context_create();
+    limn_mesh *mf = NULL, *md = NULL;
+    assert_int_equal(limn_mesh_read(ctx, f, LIMN_FORMAT_AUTO, &mf), LIMN_OK);
+    assert_int_equal(limn_mesh_read(ctx, d, LIMN_FORMAT_AUTO, &md), LIMN_OK);
+    size_t n = limn_mesh_vertex_count(md);
+    assert_int_equal(limn_mesh_vertex_count(mf), n);
+    const double *pf = limn_mesh_positions(mf), *pd = limn_mesh_positions(md);
+    double most = 0, sum = 0;
+    for (size_t v = 0; v < n; v++) {
+        double d2 = 0;
+        for (int j = 0; j < 3; j++) {
+            assert_true(pf[3 * v + j] == (double)(float)pd[3 * v + j]);
+            d2 += (pf[3 * v + j] - pd[3 * v + j]) * (pf[3 * v + j] - pd[3 * v + j]);
+        }
+        sum += sqrt(d2);
+        most = fmax(most, sqrt(d2));
+    }
+    size_t len;
+    char *json = test_slurp(rep, &len);
+    assert_non_null(json);
+    assert_non_null(strstr(json, "\"precision\": \"float\""));
+    assert_true(most > 0 && report_number(json, "max_error") == most);
+    assert_true(fabs(report_number(json, "mean_error") - sum / (double)n) <= 1e-12 * most);
+    free(json);
+    limn_mesh_destroy(mf);
+    limn_mesh_destroy(md);
+    limn_context_destroy(ctx);
+    snprintf(f, sizeof f, "%s/float.obj", test_dir);
+    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --output-precision float", spot, f);
+    assert_int_equal(limn(args), 2);
+    assert_non_null(strstr(test_text, "--output-precision float is for PLY output only"));
+    assert_int_not_equal(access(f, F_OK), 0);
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --output-precision half", spot, d);
+    assert_int_equal(limn(args), 2);
+    assert_non_null(strstr(test_text, "'half' is not one of float, double"));
+    unlink(d);
+    unlink(rep);
+    snprintf(f, sizeof f, "%s/float.ply", test_dir);
+    unlink(f);
+}
+
 static void subdivide_and_surface(void **s)
 {
     (void)s;
@@ -390,4 +456,5 @@ TEST_MAIN(setup, test_scratch_teardown, cmocka_unit_test(version_and_help),
           cmocka_unit_test(malformed_inputs), cmocka_unit_test(bad_usage),
           cmocka_unit_test(option_spellings), cmocka_unit_test(singular_keeps_existing_output),
           cmocka_unit_test(good_run_and_report), cmocka_unit_test(subdivide_and_surface),
-          cmocka_unit_test(subdivide_warns_of_dropped_colours))
+          cmocka_unit_test(subdivide_warns_of_dropped_colours),
+          cmocka_unit_test(output_precision_float))

@@ -50,6 +50,8 @@ static const limn_subdivide_options subdivide_defaults = {
     .size = sizeof(limn_subdivide_options), .scheme = LIMN_SCHEME_AUTO, .levels = 1};
 static const limn_repair_options repair_defaults = {.size = sizeof(limn_repair_options),
                                                     .repeated_vertices = 1};
+static const limn_write_options write_defaults = {.size = sizeof(limn_write_options),
+                                                  .precision = LIMN_OUTPUT_DOUBLE};
 static const limn_render_options render_defaults = {.size = sizeof(limn_render_options),
                                                     .width = 400,
                                                     .height = 300,
@@ -60,6 +62,9 @@ static const limn_render_options render_defaults = {.size = sizeof(limn_render_o
                                                     .background = {255, 255, 255},
                                                     .color = {196, 202, 214}};
 
+ABI_FLAT(abi_write_options, limn_write_options, "limn_write_options_default()", precision,
+         &write_defaults);
+ABI_FLAT(abi_write_report, limn_write_report, "sizeof(limn_write_report)", bbox_diagonal, NULL);
 ABI_FLAT(abi_repair_options, limn_repair_options, "limn_repair_options_default()", duplicate_faces,
          &repair_defaults);
 ABI_FLAT(abi_repair_report, limn_repair_report, "sizeof(limn_repair_report)", boundary_loops, NULL);

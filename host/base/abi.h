@@ -80,6 +80,7 @@ typedef struct abi_call {
         limn_interpolate_options interpolate;
         limn_subdivide_options subdivide;
         limn_repair_options repair;
+        limn_write_options write;
     } o;
     union {
         limn_series_report series;
@@ -90,6 +91,7 @@ typedef struct abi_call {
         limn_mesh_measures measures;
         limn_mesh_comparison comparison;
         limn_triad_report triad;
+        limn_write_report write;
     } r;
 } abi_call;
 
@@ -121,7 +123,7 @@ int abi_report_holds(const abi_layout *layout, const void *p, size_t end);
 extern const abi_layout abi_repair_options, abi_repair_report, abi_mesh_info,
     abi_interpolate_options, abi_report, abi_subdivide_options, abi_subdivide_report,
     abi_series_options, abi_series_report, abi_morph_options, abi_mesh_measures,
-    abi_mesh_comparison, abi_texture_options, abi_render_options,
-    abi_triad_report;
+    abi_mesh_comparison, abi_texture_options, abi_render_options, abi_write_options,
+    abi_write_report, abi_triad_report;
 
 #endif

@@ -69,11 +69,40 @@ static int scheme_arg(cli_args *a, const char *opt, const char *v)
     return 0;
 }
 
+/* --output-precision float|double. */
+static int precision_arg(cli_args *a, int argc, char **argv, int *i)
+{
+    const char *v = cli_args_value(a, argc, argv, i);
+    if (!v)
+        return EXIT_USAGE;
+    if (strcmp(v, "float") == 0 || strcmp(v, "double") == 0) {
+        a->precision = v[0] == 'f' ? LIMN_OUTPUT_FLOAT : LIMN_OUTPUT_DOUBLE;
+        return 0;
+    }
+    return cli_usage_error(a->cmd, "--output-precision '%s' is not one of float, double", v);
+}
+
+/* --output-precision float needs PLY: refused before any work. */
+static int check_precision(const cli_args *a, const char *path)
+{
+    limn_format f = a->out_format;
+    if (a->precision != LIMN_OUTPUT_FLOAT || !path ||
+        (f == LIMN_FORMAT_AUTO && !limn_format_from_path(path, &f)))
+        return 0;
+    if (f == LIMN_FORMAT_PLY || f == LIMN_FORMAT_PLY_ASCII || f == LIMN_FORMAT_PLY_BINARY_BE)
+        return 0;
+    return cli_usage_error(a->cmd, "--output-precision float is for PLY output only, and %s is "
+                                   "%s (doubles, lossless)",
+                           path, f == LIMN_FORMAT_OBJ ? "OBJ" : f == LIMN_FORMAT_OFF ? "OFF" : "STL");
+}
+
 /* The shared options that take a value: 0 or an exit status when argv[*i]
    is one of them, CLI_OWN_UNKNOWN when not. */
 static int value_arg(cli_args *a, int argc, char **argv, int *i)
 {
     const char *s = argv[*i];
+    if (strcmp(s, "--output-precision") == 0) /* only in interpolate's and subdivide's tables */
+        return precision_arg(a, argc, argv, i);
     static const char *const names[] = {"-o",       "--output",   "--device", "--fallback",
                                         "--report", "--format",   "--input-format",
                                         "--scheme", "--alpha"};
@@ -197,7 +226,11 @@ int cli_args_check_per_rank(cli_args *a)
 int cli_args_check_meshes(cli_args *a, const char *surface)
 {
     const char *in = a->inputs[0];
-    int rc = cli_check_output(a->cmd, in, a->output, a->out_format, a->overwrite_input);
+    int rc = check_precision(a, a->output);
+    if (!rc && surface)
+        rc = check_precision(a, surface);
+    if (!rc)
+        rc = cli_check_output(a->cmd, in, a->output, a->out_format, a->overwrite_input);
     if (!rc && surface)
         rc = cli_check_output(a->cmd, in, surface, a->out_format, a->overwrite_input);
     if (!rc && a->report) /* OBJ: no format to check, only that it is not the input */
@@ -220,17 +253,58 @@ limn_status cli_args_open(cli_args *a, limn_context *ctx, size_t max_memory, int
     return st;
 }
 
-limn_status cli_args_stage_mesh(const cli_args *a, limn_context *ctx, limn_output_set *set,
+limn_status cli_args_stage_output(cli_args *a, limn_context *ctx, limn_output_set *set,
+                                  const limn_mesh *mesh, const char *path)
+{
+    limn_write_options o;
+    limn_write_options_default(&o);
+    o.precision = a->precision;
+    limn_write_report r = {.size = sizeof r};
+    limn_status st = limn_output_set_add_mesh_with(ctx, set, mesh, path, a->out_format, &o, &r);
+    if (!st && path == a->output) {
+        a->written = r;
+        a->wrote = 1;
+    }
+    return st;
+}
+
+limn_status cli_args_stage_mesh(cli_args *a, limn_context *ctx, limn_output_set *set,
                                 const limn_mesh *mesh, const limn_mesh *piece)
 {
     if (a->per_rank) {
         char *path = cli_mpi_rank_path(a->output);
-        limn_status st = path ? limn_output_set_add_mesh(ctx, set, piece, path, a->out_format)
+        limn_status st = path ? cli_args_stage_output(a, ctx, set, piece, path)
                               : cli_error(LIMN_ERR_MEMORY, "out of memory");
         free(path);
         return st;
     }
-    return mesh ? limn_output_set_add_mesh(ctx, set, mesh, a->output, a->out_format) : LIMN_OK;
+    return mesh ? cli_args_stage_output(a, ctx, set, mesh, a->output) : LIMN_OK;
+}
+
+/* The error of the float32 positions written, absolute and relative to the
+   bbox diagonal (README "Command line"). */
+static void written_json(const cli_args *a, json_out *j)
+{
+    const limn_write_report *r = &a->written;
+    double d = r->bbox_diagonal > 0 ? r->bbox_diagonal : 1;
+    json_object_begin(j, "output_precision");
+    json_string(j, "precision", a->precision == LIMN_OUTPUT_FLOAT ? "float" : "double");
+    json_number(j, "max_error", r->max_error);
+    json_number(j, "mean_error", r->mean_error);
+    json_number(j, "max_error_relative", r->max_error / d);
+    json_number(j, "mean_error_relative", r->mean_error / d);
+    json_object_end(j);
+}
+
+void cli_args_print_written(const cli_args *a)
+{
+    const limn_write_report *r = &a->written;
+    if (!a->wrote || a->precision != LIMN_OUTPUT_FLOAT)
+        return;
+    double d = r->bbox_diagonal > 0 ? r->bbox_diagonal : 1;
+    fprintf(stderr, "  output: float32 positions, error max %.3g (%.3g of the bbox diagonal), "
+                    "mean %.3g\n",
+            r->max_error, r->max_error / d, r->mean_error);
 }
 
 json_out *cli_args_report(const cli_args *a, size_t vertices, size_t faces)
@@ -245,6 +319,8 @@ json_out *cli_args_report(const cli_args *a, size_t vertices, size_t faces)
     json_string(j, "output", a->output);
     json_integer(j, "vertices", (long long)vertices);
     json_integer(j, "faces", (long long)faces);
+    if (a->wrote)
+        written_json(a, j);
     return j;
 }
 

@@ -21,6 +21,9 @@ typedef struct cli_args {
     int per_rank;             /* --per-rank-output (under mpirun) */
     cli_repair repair;        /* --no-repair, --drop-duplicate-faces (cli.h) */
     int host_threads;         /* --host-threads N (0: the default) */
+    limn_output_precision precision; /* --output-precision (interpolate, subdivide) */
+    limn_write_report written;       /* the error of the output as staged, when wrote */
+    int wrote;
 } cli_args;
 
 /* The long options cli_args_parse takes itself (cli_options tables); each
@@ -99,8 +102,14 @@ limn_status cli_args_open(cli_args *a, limn_context *ctx, size_t max_memory, int
                           limn_mesh **mesh);
 /* Stages the mesh output in set: with --per-rank-output this rank's piece
    at cli_mpi_rank_path(OUTPUT), else mesh (when not NULL) at OUTPUT. */
-limn_status cli_args_stage_mesh(const cli_args *a, limn_context *ctx, limn_output_set *set,
+limn_status cli_args_stage_mesh(cli_args *a, limn_context *ctx, limn_output_set *set,
                                 const limn_mesh *mesh, const limn_mesh *piece);
+/* Stages mesh as path with --output-precision; the output's error is kept
+   for the report when path is the output. */
+limn_status cli_args_stage_output(cli_args *a, limn_context *ctx, limn_output_set *set,
+                                  const limn_mesh *mesh, const char *path);
+/* The text report's line on the output's float32 error (nothing for doubles). */
+void cli_args_print_written(const cli_args *a);
 /* A report's first keys (json_begin): command, input, target (the second
    input, when there is one), output, vertices, faces; NULL when out of memory. */
 json_out *cli_args_report(const cli_args *a, size_t vertices, size_t faces);

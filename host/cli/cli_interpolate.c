@@ -27,6 +27,8 @@ static const char *const help =
     "                         reference backend instead, with a warning\n"
     "                         (default: LIMN_FALLBACK, else none: fail)\n"
     "  --format F             output format: obj, ply, ply-ascii, ply-be, off, stl\n"
+    "  --output-precision P   double (default, lossless) or float: PLY positions as\n"
+    "                         float32; the report gives the error as written\n"
     "  --input-format F       input format, when the extension does not say\n"
     "  --surface FILE         also refine P and write its subdivision surface\n"
     "  --levels K             refinement levels of the surface, 0..16    [2]\n"
@@ -149,7 +151,7 @@ static int parse(int argc, char **argv, args *x)
     limn_subdivide_options_default(&x->sub);
     x->sub.levels = 2;
     static const struct option longopts[] = {
-        CLI_ARGS_OPTIONS,          CLI_VALUE("tol"),        CLI_VALUE("max-iter"),
+        CLI_ARGS_OPTIONS,          CLI_VALUE("output-precision"), CLI_VALUE("tol"),        CLI_VALUE("max-iter"),
         CLI_VALUE("fallback"),     CLI_VALUE("surface"),    CLI_VALUE("levels"),
         CLI_FLAG("limit"),         CLI_VALUE("max-memory"), CLI_VALUE("method"),
         CLI_VALUE("precision"),    CLI_FLAG("no-reorder"),  CLI_FLAG("per-rank-output"),
@@ -329,7 +331,7 @@ int cli_interpolate(int argc, char **argv)
         double t1 = cli_now();
         st = cli_args_stage_mesh(&x.a, ctx, set, root ? control : NULL, piece);
         if (!st && root && x.surface)
-            st = limn_output_set_add_mesh(ctx, set, surface, x.surface, x.a.out_format);
+            st = cli_args_stage_output(&x.a, ctx, set, surface, x.surface);
         sec[1] = cli_now() - t1;
         sec[2] = cli_now() - t0;
     }
@@ -340,6 +342,7 @@ int cli_interpolate(int argc, char **argv)
         rc = cli_fail("interpolate", ctx, st);
     else if (!x.a.quiet) {
         print_summary(ctx, &x, &r, sec);
+        cli_args_print_written(&x.a);
         if (x.surface)
             fprintf(stderr, "  surface: %s, %zu vertices, %zu faces (%d levels%s), %.3f s\n",
                     x.surface, sr.vertices, sr.faces, sr.levels,

@@ -22,7 +22,8 @@ static const char *const help =
     "  --report FILE.json     also write the report as JSON\n"
     "  --device SPEC          reference | opencl | opencl:P.D | opencl:NAME\n"
     "  --fallback reference   run on the reference backend when OpenCL fails\n"
-    "  --format F, --input-format F, --overwrite-input, -q (as in interpolate)\n"
+    "  --format F, --input-format F, --output-precision P, --overwrite-input, -q\n"
+    "                         (as in interpolate)\n"
     CLI_REPAIR_HELP
     CLI_HOST_THREADS_HELP
     CLI_PATHS_HELP;
@@ -126,7 +127,7 @@ static int run(cli_args *a, const limn_subdivide_options *o)
         st = limn_output_set_create(ctx, &set);
     if (!st) {
         double t1 = cli_now();
-        st = limn_output_set_add_mesh(ctx, set, surface, a->output, a->out_format);
+        st = cli_args_stage_output(a, ctx, set, surface, a->output);
         sec[1] = cli_now() - t1;
         sec[2] = cli_now() - t0;
     }
@@ -134,8 +135,10 @@ static int run(cli_args *a, const limn_subdivide_options *o)
         st = write_report(ctx, a, &r, sec, set);
     st = cli_commit_outputs(ctx, st, set);
     int rc = st ? cli_fail("subdivide", ctx, st) : 0;
-    if (!st && !a->quiet)
+    if (!st && !a->quiet) {
         print_summary(a, &r, sec);
+        cli_args_print_written(a);
+    }
     limn_mesh_destroy(mesh);
     limn_mesh_destroy(surface);
     limn_context_destroy(ctx);
@@ -151,7 +154,7 @@ int cli_subdivide(int argc, char **argv)
     a.scheme = &o.scheme;
     a.alpha = &o.alpha;
     static const struct option longopts[] = {
-        CLI_ARGS_OPTIONS,  CLI_VALUE("fallback"),   CLI_VALUE("levels"),
+        CLI_ARGS_OPTIONS,  CLI_VALUE("output-precision"), CLI_VALUE("fallback"),   CLI_VALUE("levels"),
         CLI_FLAG("limit"), CLI_VALUE("max-memory"), CLI_OPTIONS_END};
     int rc = cli_args_parse(&a, longopts, argc, argv, own_option, &o);
     if (rc)

@@ -119,7 +119,7 @@ static void round_trip(const limn_mesh *m)
         limn_context_destroy(ctx);
         return;
     }
-    limn_status st = ply_write(ctx, m, "round-trip.ply", f, LIMN_FORMAT_PLY);
+    limn_status st = ply_write(ctx, m, "round-trip.ply", f, LIMN_FORMAT_PLY, 0);
     if (fclose(f) != 0 && !st)
         st = LIMN_ERR_MEMORY;
     limn_mesh *back = NULL;

@@ -9,6 +9,7 @@
 #endif
 
 #include "mesh/io/dispatch.h"
+#include "base/abi.h"
 #include "base/atomic_file.h"
 #include "base/c_locale.h"
 #include "base/context.h"
@@ -198,8 +199,42 @@ limn_status limn_mesh_read_stream(limn_context *ctx, FILE *stream, const char *n
 
 /* ------------------------------------------------------------------ write */
 
+/* The write options against the format, before any file exists. */
+static limn_status check_write_options(limn_context *ctx, const limn_write_options *o,
+                                       limn_format format)
+{
+    if (o->precision != LIMN_OUTPUT_DOUBLE && o->precision != LIMN_OUTPUT_FLOAT)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                        "limn_mesh_write: options->precision %d is neither LIMN_OUTPUT_DOUBLE "
+                        "nor LIMN_OUTPUT_FLOAT",
+                        (int)o->precision);
+    if (o->precision == LIMN_OUTPUT_FLOAT && format != LIMN_FORMAT_PLY &&
+        format != LIMN_FORMAT_PLY_ASCII && format != LIMN_FORMAT_PLY_BINARY_BE)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                        "limn_mesh_write: float precision is written to PLY only, not %s; "
+                        "nothing was written",
+                        format == LIMN_FORMAT_OBJ   ? "OBJ"
+                        : format == LIMN_FORMAT_OFF ? "OFF"
+                                                    : "STL (always float32)");
+    return LIMN_OK;
+}
+
+/* The format's writer into the open staged file. */
+static limn_status write_format(limn_context *ctx, const limn_mesh *mesh, const char *path,
+                                limn_format format, int single, FILE *f)
+{
+    if (format == LIMN_FORMAT_OBJ)
+        return obj_write(ctx, mesh, path, f);
+    if (format == LIMN_FORMAT_OFF)
+        return off_write(ctx, mesh, path, f);
+    if (format == LIMN_FORMAT_STL)
+        return stl_write(ctx, mesh, path, f);
+    return ply_write(ctx, mesh, path, f, format, single);
+}
+
 limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const char *path,
-                              limn_format format, atomic_file *af)
+                              limn_format format, const limn_write_options *options,
+                              limn_write_report *report, atomic_file *af)
 {
     memset(af, 0, sizeof *af);
     if (!mesh || !path || !*path)
@@ -211,38 +246,55 @@ limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const ch
     if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: unknown format %d",
                          (int)format);
+    if ((st = check_write_options(ctx, options, format)))
+        return st;
     st = check_mesh_writable(ctx, mesh, format); /* before any file exists */
     if (st)
         return st;
     st = atomic_file_open(ctx, path, af);
     if (st)
         return st;
-    c_locale_scope loc; /* "%.17g" with a '.', whatever the host's locale */
+    int single = options->precision == LIMN_OUTPUT_FLOAT;
+    c_locale_scope loc; /* the headers' printf with a '.', whatever the host's locale */
     if (!c_locale_enter(&loc))
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory for the C locale", path);
-    else if (format == LIMN_FORMAT_OBJ)
-        st = obj_write(ctx, mesh, path, af->f);
-    else if (format == LIMN_FORMAT_OFF)
-        st = off_write(ctx, mesh, path, af->f);
-    else if (format == LIMN_FORMAT_STL)
-        st = stl_write(ctx, mesh, path, af->f);
     else
-        st = ply_write(ctx, mesh, path, af->f, format);
+        st = write_format(ctx, mesh, path, format, single, af->f);
     c_locale_leave(&loc);
     if (st) {
         atomic_file_abort(af);
         return st;
     }
+    double lo[3], hi[3];
+    report->bbox_diagonal = mesh_bbox_diagonal(mesh, lo, hi);
+    if (single)
+        ply_float_error(mesh, &report->max_error, &report->mean_error);
     return atomic_file_finish(ctx, af);
+}
+
+void limn_write_options_default(limn_write_options *options)
+{
+    abi_default(&abi_write_options, options);
 }
 
 limn_status limn_mesh_write(limn_context *ctx, const limn_mesh *mesh, const char *path,
                             limn_format format)
 {
-    ctx_clear(ctx);
+    return limn_mesh_write_with(ctx, mesh, path, format, NULL, NULL);
+}
+
+limn_status limn_mesh_write_with(limn_context *ctx, const limn_mesh *mesh, const char *path,
+                                 limn_format format, const limn_write_options *options,
+                                 limn_write_report *report)
+{
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_mesh_write_with", &abi_write_options, options,
+                               &abi_write_report, report, NULL);
+    if (st)
+        return st;
     atomic_file af;
-    limn_status st = mesh_write_staged(ctx, mesh, path, format, &af);
-    return st ? st : atomic_file_commit(ctx, &af);
+    st = mesh_write_staged(ctx, mesh, path, format, c.options, c.report, &af);
+    return abi_leave(&c, st ? st : atomic_file_commit(ctx, &af));
 }
 
 int limn_format_from_path(const char *path, limn_format *out)

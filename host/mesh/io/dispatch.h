@@ -7,9 +7,11 @@
 
 /* limn_mesh_write without the final rename: the mesh is complete and synced
    in af's temporary file; atomic_file_commit makes it appear, _abort drops
-   it. Lets a command finish all its outputs before any of them appears. */
+   it. Lets a command finish all its outputs before any of them appears.
+   options and report are the library-side copies (abi.h), never NULL. */
 struct atomic_file;
 limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const char *path,
-                              limn_format format, struct atomic_file *af);
+                              limn_format format, const limn_write_options *options,
+                              limn_write_report *report, struct atomic_file *af);
 
 #endif

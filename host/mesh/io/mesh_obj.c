@@ -190,11 +190,3 @@ limn_status obj_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     memset(&o, 0, sizeof o);
     return mio_read(&o.r, &o.a, ctx, path, f, obj_parse, &o, out);
 }
-
-limn_status obj_write(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f)
-{
-    if (fprintf(f, "# limn: %zu vertices, %zu faces\n", m->vertex_count, m->face_count) < 0)
-        return mio_write_failed(ctx, path);
-    limn_status st = mio_write_vertices(ctx, m, path, f, "v ", NULL);
-    return st ? st : mio_write_faces(ctx, m, path, f, "f", 1);
-}

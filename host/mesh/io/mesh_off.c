@@ -342,11 +342,3 @@ limn_status off_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **o
     free(o);
     return st;
 }
-
-limn_status off_write(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f)
-{
-    if (fprintf(f, "OFF\n%zu %zu 0\n", m->vertex_count, m->face_count) < 0)
-        return mio_write_failed(ctx, path);
-    limn_status st = mio_write_vertices(ctx, m, path, f, "", NULL);
-    return st ? st : mio_write_faces(ctx, m, path, f, NULL, 0);
-}

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* The public face of atomic outputs (limn.h "outputs"): the preflight check
    and a set of staged outputs committed together, over atomic_file. */
+#include "base/abi.h"
 #include "base/atomic_file.h"
 #include "base/context.h"
 #include "mesh/io/dispatch.h"
@@ -70,13 +71,25 @@ limn_status limn_output_set_add_mesh(limn_context *ctx, limn_output_set *set,
                                      const limn_mesh *mesh, const char *path,
                                      limn_format format)
 {
-    ctx_clear(ctx);
-    limn_status st = next_slot(ctx, "limn_output_set_add_mesh", set, path);
+    return limn_output_set_add_mesh_with(ctx, set, mesh, path, format, NULL, NULL);
+}
+
+limn_status limn_output_set_add_mesh_with(limn_context *ctx, limn_output_set *set,
+                                          const limn_mesh *mesh, const char *path,
+                                          limn_format format, const limn_write_options *options,
+                                          limn_write_report *report)
+{
+    const char *fn = "limn_output_set_add_mesh";
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, fn, &abi_write_options, options, &abi_write_report,
+                               report, NULL);
     if (!st)
-        st = mesh_write_staged(ctx, mesh, path, format, &set->staged[set->n]);
+        st = next_slot(ctx, fn, set, path);
+    if (!st)
+        st = mesh_write_staged(ctx, mesh, path, format, c.options, c.report, &set->staged[set->n]);
     if (!st)
         set->n++;
-    return st;
+    return abi_leave(&c, st);
 }
 
 limn_status limn_output_set_add_bytes(limn_context *ctx, limn_output_set *set,

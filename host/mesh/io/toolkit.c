@@ -429,32 +429,3 @@ limn_status mio_write_failed(limn_context *ctx, const char *path)
     return ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: %s", path,
                      e ? strerror(e) : "write error");
 }
-
-limn_status mio_write_vertices(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f,
-                               const char *lead, const uint8_t *colors)
-{
-    const double *p = m->positions;
-    const uint8_t *c = colors;
-    for (size_t v = 0; v < m->vertex_count; v++, p += 3)
-        if (fprintf(f, "%s%.17g %.17g %.17g", lead, p[0], p[1], p[2]) < 0 ||
-            (c && fprintf(f, " %u %u %u", c[3 * v], c[3 * v + 1], c[3 * v + 2]) < 0) ||
-            fputc('\n', f) == EOF)
-            return mio_write_failed(ctx, path);
-    return LIMN_OK;
-}
-
-limn_status mio_write_faces(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f,
-                            const char *lead, unsigned base)
-{
-    for (size_t fc = 0; fc < m->face_count; fc++) {
-        uint32_t a = m->face_offsets[fc], b = m->face_offsets[fc + 1];
-        if ((lead ? fputs(lead, f) == EOF : fprintf(f, "%lu", (unsigned long)(b - a)) < 0))
-            return mio_write_failed(ctx, path);
-        for (uint32_t i = a; i < b; i++)
-            if (fprintf(f, " %lu", (unsigned long)m->face_indices[i] + base) < 0)
-                return mio_write_failed(ctx, path);
-        if (fputc('\n', f) == EOF)
-            return mio_write_failed(ctx, path);
-    }
-    return LIMN_OK;
-}

@@ -126,13 +126,5 @@ limn_status mio_read(mio_reader *r, mio_arrays *a, limn_context *ctx, const char
 
 /* Message for a failed write (errno) to the target path; returns LIMN_ERR_IO. */
 limn_status mio_write_failed(limn_context *ctx, const char *path);
-/* The text writers' lines. One line per vertex: lead, x y z (%.17g), and
-   " r g b" when colors is not NULL (3 bytes per vertex). */
-limn_status mio_write_vertices(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f,
-                               const char *lead, const uint8_t *colors);
-/* One line per face: lead, or the corner count when lead is NULL (OFF, PLY),
-   then " v" for each corner, numbered from base (OBJ counts from 1). */
-limn_status mio_write_faces(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f,
-                            const char *lead, unsigned base);
 
 #endif
