@@ -102,8 +102,9 @@ limn_status device_csr_add_float(struct device *dev, device_csr *csr)
 {
     if (csr->weights_f)
         return LIMN_OK;
-    limn_status st = dev->ops->buffer_create(dev, csr->nonzeros * sizeof(float), NULL,
-                                             &csr->weights_f);
+    /* to_float writes every entry */
+    limn_status st = dev->ops->buffer_scratch(dev, csr->nonzeros * sizeof(float),
+                                              &csr->weights_f);
     if (!st)
         st = dev->ops->mixed->to_float(dev, csr->nonzeros, csr->weights, csr->weights_f);
     return st;

@@ -170,6 +170,9 @@ typedef struct device_ops {
        reference backend, OpenCL CPU devices), else a copy as buffer_create. */
     limn_status (*buffer_share)(struct device *dev, size_t bytes, const void *host,
                                 device_buffer **out);
+    /* A buffer whose contents are undefined until written: for one that a
+       kernel writes whole before anything reads it (no zero fill). */
+    limn_status (*buffer_scratch)(struct device *dev, size_t bytes, device_buffer **out);
     /* Part of a buffer: bytes at byte offset `offset` (MPI halo rows). */
     limn_status (*buffer_write_at)(struct device *dev, device_buffer *buf, size_t offset,
                                    size_t bytes, const void *src);

@@ -68,6 +68,11 @@ static limn_status cl_buffer_create(struct device *dev, size_t bytes, const void
                        copy ? init : NULL, 1, out);
 }
 
+static limn_status cl_buffer_scratch(struct device *dev, size_t bytes, device_buffer **out)
+{
+    return make_buffer(dev, bytes, CL_MEM_READ_WRITE, NULL, 0, out);
+}
+
 /* In place on a device sharing host memory (PoCL's CPU device then neither
    allocates nor copies: measured, the 2.1M-vertex table's 190 MB); a copy on
    a discrete one. */
@@ -76,7 +81,11 @@ static limn_status cl_buffer_share(struct device *dev, size_t bytes, const void 
 {
     if (!bytes || !impl_of(dev)->host_unified)
         return cl_buffer_create(dev, bytes, host, out);
-    return make_buffer(dev, bytes, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, host, 0, out);
+    limn_status st =
+        make_buffer(dev, bytes, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, host, 0, out);
+    if (!st)
+        (*out)->shared = 1;
+    return st;
 }
 
 /* One blocking transfer between buf's bytes [offset, offset + bytes) and the
@@ -126,7 +135,10 @@ static limn_status cl_buffer_read_at(struct device *dev, device_buffer *buf, siz
 
 static void cl_buffer_release(struct device *dev, device_buffer *buf)
 {
-    (void)dev;
+    /* a kernel still queued (say, after a failed launch's report) may read the
+       caller's memory, which is freed once this returns */
+    if (buf && buf->shared)
+        clFinish(impl_of(dev)->queue);
     if (buf) {
         clReleaseMemObject(buf->mem);
         free(buf);
@@ -401,6 +413,7 @@ static const device_ops opencl_ops = {
     .kind = "opencl",
     .buffer_create = cl_buffer_create,
     .buffer_share = cl_buffer_share,
+    .buffer_scratch = cl_buffer_scratch,
     .buffer_write = cl_buffer_write,
     .buffer_read = cl_buffer_read,
     .buffer_release = cl_buffer_release,

@@ -34,6 +34,7 @@ typedef enum opencl_kernel_id {
 struct device_buffer {
     cl_mem mem;
     size_t bytes;
+    int shared;   /* CL_MEM_USE_HOST_PTR: the queue finishes before it is released */
 };
 
 typedef struct opencl_impl {

@@ -33,6 +33,22 @@ static limn_status ref_buffer_create(struct device *dev, size_t bytes, const voi
     return LIMN_OK;
 }
 
+static limn_status ref_buffer_scratch(struct device *dev, size_t bytes, device_buffer **out)
+{
+    device_buffer *b = calloc(1, sizeof *b);
+    void *data = malloc(bytes ? bytes : 1);
+    if (!b || !data) {
+        free(b);
+        free(data);
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for a %zu-byte buffer",
+                        bytes);
+    }
+    b->bytes = bytes;
+    b->data = data;
+    *out = b;
+    return LIMN_OK;
+}
+
 /* The host memory itself: nothing writes it while the buffer lives. */
 static limn_status ref_buffer_share(struct device *dev, size_t bytes, const void *host,
                                     device_buffer **out)
@@ -326,6 +342,7 @@ static const device_ops reference_ops = {
     .kind = "reference",
     .buffer_create = ref_buffer_create,
     .buffer_share = ref_buffer_share,
+    .buffer_scratch = ref_buffer_scratch,
     .buffer_write = ref_buffer_write,
     .buffer_read = ref_buffer_read,
     .buffer_release = ref_buffer_release,
