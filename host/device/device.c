@@ -67,31 +67,44 @@ static int gathers_scatter(const stencil_csr *a)
     return far * 10 > seen;
 }
 
-limn_status device_csr_upload(struct device *dev, const stencil_csr *host, device_csr *out)
+typedef limn_status (*buffer_from_host)(struct device *dev, size_t bytes, const void *host,
+                                        device_buffer **out);
+
+static limn_status csr_to_device(struct device *dev, const stencil_csr *host,
+                                 buffer_from_host make, device_csr *out)
 {
     memset(out, 0, sizeof *out);
     out->rows = host->rows;
     out->nonzeros = host->row_offsets[host->rows];
     out->gather_ahead = gathers_scatter(host);
-    limn_status st = dev->ops->buffer_create(dev, (host->rows + 1) * sizeof(uint32_t),
-                                             host->row_offsets, &out->row_offsets);
+    limn_status st = make(dev, (host->rows + 1) * sizeof(uint32_t), host->row_offsets,
+                          &out->row_offsets);
     if (!st)
-        st = dev->ops->buffer_create(dev, out->nonzeros * sizeof(uint32_t), host->columns,
-                                     &out->columns);
+        st = make(dev, out->nonzeros * sizeof(uint32_t), host->columns, &out->columns);
     if (!st)
-        st = dev->ops->buffer_create(dev, out->nonzeros * sizeof(double), host->weights,
-                                     &out->weights);
+        st = make(dev, out->nonzeros * sizeof(double), host->weights, &out->weights);
     if (st)
         device_csr_release(dev, out);
     return st;
+}
+
+limn_status device_csr_upload(struct device *dev, const stencil_csr *host, device_csr *out)
+{
+    return csr_to_device(dev, host, dev->ops->buffer_create, out);
+}
+
+limn_status device_csr_share(struct device *dev, const stencil_csr *host, device_csr *out)
+{
+    return csr_to_device(dev, host, dev->ops->buffer_share, out);
 }
 
 limn_status device_csr_add_float(struct device *dev, device_csr *csr)
 {
     if (csr->weights_f)
         return LIMN_OK;
-    limn_status st = dev->ops->buffer_create(dev, csr->nonzeros * sizeof(float), NULL,
-                                             &csr->weights_f);
+    /* to_float writes every entry */
+    limn_status st = dev->ops->buffer_scratch(dev, csr->nonzeros * sizeof(float),
+                                              &csr->weights_f);
     if (!st)
         st = dev->ops->mixed->to_float(dev, csr->nonzeros, csr->weights, csr->weights_f);
     return st;

@@ -165,6 +165,14 @@ typedef struct device_ops {
     limn_status (*buffer_read)(struct device *dev, device_buffer *buf, size_t bytes,
                                void *dst);
     void (*buffer_release)(struct device *dev, device_buffer *buf);
+    /* A buffer of host memory that outlives it and that nothing writes while
+       it lives: used in place where the device shares host memory (the
+       reference backend, OpenCL CPU devices), else a copy as buffer_create. */
+    limn_status (*buffer_share)(struct device *dev, size_t bytes, const void *host,
+                                device_buffer **out);
+    /* A buffer whose contents are undefined until written: for one that a
+       kernel writes whole before anything reads it (no zero fill). */
+    limn_status (*buffer_scratch)(struct device *dev, size_t bytes, device_buffer **out);
     /* Part of a buffer: bytes at byte offset `offset` (MPI halo rows). */
     limn_status (*buffer_write_at)(struct device *dev, device_buffer *buf, size_t offset,
                                    size_t bytes, const void *src);
@@ -243,6 +251,9 @@ limn_status device_csr_upload(struct device *dev, const stencil_csr *host, devic
    when present). */
 limn_status device_csr_add_float(struct device *dev, device_csr *csr);
 void device_csr_release(struct device *dev, device_csr *csr);
+/* device_csr_upload through buffer_share: `host` outlives the device table
+   and is not changed while it lives (the operator's own table). */
+limn_status device_csr_share(struct device *dev, const stencil_csr *host, device_csr *out);
 
 /* Uploads a Gauss-Seidel table (sgs_table_build); releases it with
    device_sgs_release. */

@@ -110,7 +110,7 @@ limn_status operator_build_ex(limn_context *ctx, const limn_mesh *mesh, limn_sch
     if (!st && !(flags & OPERATOR_HOST_ONLY))
         st = device_get(ctx, &op->dev);
     if (!st && !(flags & OPERATOR_HOST_ONLY))
-        st = device_csr_upload(op->dev, &op->host, &op->device);
+        st = device_csr_share(op->dev, &op->host, &op->device); /* op->host outlives it */
     if (st)
         operator_free(op);
     return st;

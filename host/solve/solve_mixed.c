@@ -173,10 +173,12 @@ limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *
     *converged = 0;
     r->omega = 1.0;
     limn_status st = device_csr_add_float(dev, &op->device);
+    /* no zero fill: residual_f writes every row of r (w = 0) before a step
+       reads it, and step j writes d[j & 1] whole before step j + 2 reads it */
     if (!st)
-        st = dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &s.r);
+        st = dev->ops->buffer_scratch(dev, 4 * n * sizeof(float), &s.r);
     for (int i = 0; i < 2 && !st; i++)
-        st = dev->ops->buffer_create(dev, 4 * n * sizeof(float), NULL, &s.d[i]);
+        st = dev->ops->buffer_scratch(dev, 4 * n * sizeof(float), &s.d[i]);
     double t_loop = clock_seconds(), compiles = dev->setup.kernels; /* first launches */
     for (int outer = 0; !st; outer++) {
         device_norms nr;

@@ -4,6 +4,7 @@
    topology. */
 #include "stencil/stencil.h"
 #include "base/context.h"
+#include "base/parallel.h"
 #include "scheme/scheme.h"
 #include "topology/topology.h"
 
@@ -48,16 +49,87 @@ static size_t sort_merge(uint32_t *cols, double *w, size_t n)
     return m;
 }
 
+/*
+ * Rows are built in parallel over contiguous ranges, in three passes with no
+ * per-row allocation: each range sums its rows' bounds (one prefix sum gives
+ * each range a bound-sized block), each range fills and merges its rows into
+ * its own block packed from the block's start, and the packed blocks move
+ * down to their final offsets in range order. A row's entries depend only
+ * on the row, so the table is the same bytes for any thread count.
+ */
+typedef struct stencil_job {
+    limn_context *ctx;
+    stencil_row_bound bound;
+    stencil_row_fill fill;
+    const void *user;
+    stencil_csr *out;
+    size_t rows;
+    unsigned parts;
+    size_t block[PARALLEL_MAX];  /* pass 1: the range's bound sum; then its block start */
+    size_t packed[PARALLEL_MAX]; /* pass 2: where the range's packed entries end */
+} stencil_job;
+
+/* Bytes of work a row stands for when choosing threads (about ten entries of
+   12 bytes, and the topology read to make them). */
+#define STENCIL_ROW_BYTES 128
+
+static unsigned range_index(const stencil_job *j, size_t begin)
+{
+    unsigned i = 0;
+    while (i + 1 < j->parts && parallel_cut(j->rows, j->parts, i + 1) <= begin)
+        i++;
+    return i;
+}
+
+static int bound_range(void *arg, size_t begin, size_t end)
+{
+    stencil_job *j = arg;
+    size_t sum = 0;
+    for (size_t r = begin; r < end; r++)
+        sum += j->bound(j->user, r);
+    j->block[range_index(j, begin)] = sum;
+    return 0;
+}
+
+static int fill_range(void *arg, size_t begin, size_t end)
+{
+    stencil_job *j = arg;
+    unsigned i = range_index(j, begin);
+    uint32_t *cols = j->out->columns, *offsets = j->out->row_offsets;
+    double *w = j->out->weights;
+    size_t k = j->block[i];
+    for (size_t r = begin; r < end; r++) {
+        size_t n = j->fill(j->user, r, cols + k, w + k);
+        k += sort_merge(cols + k, w + k, n);
+        offsets[r + 1] = (uint32_t)k; /* in the range's block until the move */
+        /* the calling thread runs range 0: progress from there only */
+        if (begin == 0 && (r & 0xFFFFF) == 0xFFFFF)
+            ctx_progress(j->ctx, "stencil", (double)r / (double)j->rows);
+    }
+    j->packed[i] = k;
+    return 0;
+}
+
 limn_status stencil_build(limn_context *ctx, size_t rows, size_t cols, stencil_row_bound bound,
                           stencil_row_fill fill, const void *user, stencil_csr *out)
 {
     memset(out, 0, sizeof *out);
+    stencil_job job = {.ctx = ctx, .bound = bound, .fill = fill, .user = user, .out = out,
+                       .rows = rows};
+    stencil_job *j = &job;
+    j->parts = parallel_threads(ctx, (uint64_t)rows * STENCIL_ROW_BYTES);
+    if ((size_t)j->parts > rows)
+        j->parts = rows ? (unsigned)rows : 1;
+    parallel_run(rows, j->parts, bound_range, j);
     size_t total = 0;
-    for (size_t r = 0; r < rows; r++)
-        total += bound(user, r);
+    for (unsigned i = 0; i < j->parts; i++) {
+        size_t sum = j->block[i];
+        j->block[i] = total;
+        total += sum;
+    }
     if (total > UINT32_MAX)
         return ctx_fail(ctx, LIMN_ERR_MEMORY,
-                         "a stencil table would hold %zu entries, more than 2^32", total);
+                        "a stencil table would hold %zu entries, more than 2^32", total);
     out->rows = rows;
     out->cols = cols;
     out->row_offsets = malloc((rows + 1) * sizeof *out->row_offsets);
@@ -66,16 +138,22 @@ limn_status stencil_build(limn_context *ctx, size_t rows, size_t cols, stencil_r
     if (!out->row_offsets || !out->columns || !out->weights) {
         stencil_free(out);
         return ctx_fail(ctx, LIMN_ERR_MEMORY,
-                         "out of memory for a stencil table of %zu entries", total);
+                        "out of memory for a stencil table of %zu entries", total);
     }
-    size_t k = 0;
     out->row_offsets[0] = 0;
-    for (size_t r = 0; r < rows; r++) {
-        size_t n = fill(user, r, out->columns + k, out->weights + k);
-        k += sort_merge(out->columns + k, out->weights + k, n);
-        out->row_offsets[r + 1] = (uint32_t)k;
-        if ((r & 0xFFFFF) == 0xFFFFF)
-            ctx_progress(ctx, "stencil", (double)r / (double)rows);
+    parallel_run(rows, j->parts, fill_range, j);
+    size_t k = 0; /* where the next range's packed entries go */
+    for (unsigned i = 0; i < j->parts; i++) {
+        size_t from = j->block[i], count = j->packed[i] - from;
+        if (from != k) {
+            memmove(out->columns + k, out->columns + from, count * sizeof *out->columns);
+            memmove(out->weights + k, out->weights + from, count * sizeof *out->weights);
+            uint32_t shift = (uint32_t)(from - k);
+            for (size_t r = parallel_cut(rows, j->parts, i);
+                 r < parallel_cut(rows, j->parts, i + 1); r++)
+                out->row_offsets[r + 1] -= shift;
+        }
+        k += count;
     }
     /* Shrink to the merged size (keeps the old block if realloc fails). */
     uint32_t *c = realloc(out->columns, (k ? k : 1) * sizeof *c);

@@ -34,6 +34,7 @@ typedef enum opencl_kernel_id {
 struct device_buffer {
     cl_mem mem;
     size_t bytes;
+    int shared;   /* CL_MEM_USE_HOST_PTR: the queue finishes before it is released */
 };
 
 typedef struct opencl_impl {
@@ -44,6 +45,7 @@ typedef struct opencl_impl {
     cl_kernel kernels[K_COUNT];
     int compiled[K_COUNT];    /* launched once (PoCL compiled its work-group function) */
     cl_ulong max_alloc;
+    cl_bool host_unified;     /* CL_DEVICE_HOST_UNIFIED_MEMORY: buffers may use host memory */
     cl_mem partials;          /* 3 doubles per work-item, grown on demand */
     size_t partials_items;
     double *host_partials;

@@ -33,6 +33,38 @@ static limn_status ref_buffer_create(struct device *dev, size_t bytes, const voi
     return LIMN_OK;
 }
 
+static limn_status ref_buffer_scratch(struct device *dev, size_t bytes, device_buffer **out)
+{
+    device_buffer *b = calloc(1, sizeof *b);
+    void *data = malloc(bytes ? bytes : 1);
+    if (!b || !data) {
+        free(b);
+        free(data);
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for a %zu-byte buffer",
+                        bytes);
+    }
+    b->bytes = bytes;
+    b->data = data;
+    *out = b;
+    return LIMN_OK;
+}
+
+/* The host memory itself: nothing writes it while the buffer lives. */
+static limn_status ref_buffer_share(struct device *dev, size_t bytes, const void *host,
+                                    device_buffer **out)
+{
+    if (!bytes)
+        return ref_buffer_create(dev, bytes, host, out);
+    device_buffer *b = calloc(1, sizeof *b);
+    if (!b)
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of memory for a buffer");
+    b->bytes = bytes;
+    b->data = (void *)host;
+    b->shared = 1;
+    *out = b;
+    return LIMN_OK;
+}
+
 static limn_status ref_buffer_write(struct device *dev, device_buffer *buf, size_t bytes,
                                     const void *src)
 {
@@ -73,7 +105,8 @@ static void ref_buffer_release(struct device *dev, device_buffer *buf)
 {
     (void)dev;
     if (buf) {
-        free(buf->data);
+        if (!buf->shared)
+            free(buf->data);
         free(buf);
     }
 }
@@ -308,6 +341,8 @@ static const device_series_ops reference_series = {ref_series_step};
 static const device_ops reference_ops = {
     .kind = "reference",
     .buffer_create = ref_buffer_create,
+    .buffer_share = ref_buffer_share,
+    .buffer_scratch = ref_buffer_scratch,
     .buffer_write = ref_buffer_write,
     .buffer_read = ref_buffer_read,
     .buffer_release = ref_buffer_release,

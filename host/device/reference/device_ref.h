@@ -12,6 +12,7 @@
 struct device_buffer {
     size_t bytes;
     void *data;
+    int shared; /* data is the caller's (buffer_share): not freed here */
 };
 
 /* The fixed chunks of the reductions: fn computes rows [begin, end) of one
