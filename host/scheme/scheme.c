@@ -15,6 +15,12 @@ double scheme_loop_limit_beta(uint32_t n)
 size_t scheme_limit_mask_bound(const topology *t, uint32_t v)
 {
     size_t bound = 1 + (t->vertex_edge_offsets[v + 1] - t->vertex_edge_offsets[v]);
+    size_t faces = t->vertex_corner_offsets[v + 1] - t->vertex_corner_offsets[v];
+    /* one face size throughout (scans, refined meshes): no lookups per face */
+    if (t->triangles == t->face_count)
+        return bound + 3 * faces;
+    if (t->quads == t->face_count)
+        return bound + 4 * faces;
     for (uint32_t i = t->vertex_corner_offsets[v]; i < t->vertex_corner_offsets[v + 1]; i++)
         bound += topology_face_size(t, t->corner_face[t->vertex_corners[i]]);
     return bound;
