@@ -42,9 +42,9 @@ static int obj_fast_face(tf_chunk *c, const char *s, const char *e)
         s = tf_skip(s, e);
         if (s == e)
             break;
-        const char *te = tf_token_end(s, e);
         long long v;
-        if (!tf_int(&s, te, &v, '/') || !obj_fast_refs(&s, te) || v <= 0 ||
+        if (!tf_int(&s, e, &v, '/') ||
+            (s < e && *s == '/' && !obj_fast_refs(&s, tf_token_end(s, e))) || v <= 0 ||
             v >= (long long)UINT32_MAX || !tf_push_index(c, (uint32_t)(v - 1)))
             return 0;
         if ((uint64_t)v > c->max_ref)
