@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * limn_mesh_read's binary PLY fast path against its general reader on the
- * same file (issue 13.1), in one run (perf/read_bench.py drives it):
+ * limn_mesh_read's fast paths (binary PLY; OBJ, OFF, ASCII PLY) against the
+ * general readers on the same file (issue 13.1), in one run
+ * (perf/read_bench.py drives it):
  *   read_bench --scanner IN OUT   writes IN as scanners write PLY (binary
  *                                 little endian, float x y z, `uchar int` lists)
- *   read_bench FILE [REPEAT]      best of REPEAT reads each way, the meshes
+ *   read_bench FILE [REPEAT [THREADS]]  best of REPEAT reads each way (THREADS
+ *                                 host threads, else the default), the meshes
  *                                 compared bit for bit; one line per way
  */
 #ifndef _POSIX_C_SOURCE
@@ -76,7 +78,9 @@ static int same(const limn_mesh *a, const limn_mesh *b)
     const uint32_t *oa = limn_mesh_face_offsets(a), *ob = limn_mesh_face_offsets(b);
     return memcmp(limn_mesh_positions(a), limn_mesh_positions(b), 24 * nv) == 0 &&
            memcmp(oa, ob, 4 * (nf + 1)) == 0 &&
-           memcmp(limn_mesh_face_indices(a), limn_mesh_face_indices(b), 4 * (size_t)oa[nf]) == 0;
+           memcmp(limn_mesh_face_indices(a), limn_mesh_face_indices(b), 4 * (size_t)oa[nf]) == 0 &&
+           !limn_mesh_colors(a) == !limn_mesh_colors(b) &&
+           (!limn_mesh_colors(a) || memcmp(limn_mesh_colors(a), limn_mesh_colors(b), 3 * nv) == 0);
 }
 
 int main(int argc, char **argv)
@@ -84,16 +88,20 @@ int main(int argc, char **argv)
     limn_context *ctx = limn_context_create();
     if (argc == 4 && strcmp(argv[1], "--scanner") == 0)
         return scanner(ctx, argv[2], argv[3]);
-    if (argc < 2 || argc > 3) {
-        fprintf(stderr, "usage: read_bench FILE [REPEAT] | read_bench --scanner IN OUT\n");
+    if (argc < 2 || argc > 4) {
+        fprintf(stderr,
+                "usage: read_bench FILE [REPEAT [THREADS]] | read_bench --scanner IN OUT\n");
         return 2;
     }
-    int repeat = argc == 3 ? atoi(argv[2]) : 3;
+    int repeat = argc >= 3 ? atoi(argv[2]) : 3;
+    if (argc == 4 && limn_context_set_host_threads(ctx, atoi(argv[3])) != LIMN_OK)
+        return fprintf(stderr, "read_bench: %s\n", limn_context_message(ctx)), 2;
     static const char *const ways[2] = {"general", "fast"};
     limn_mesh *kept[2] = {NULL, NULL};
     for (int w = 0; w < 2; w++) {
         double best = 1e300;
-        if (setenv("LIMN_TEST_PLY_GENERAL", w == 0 ? "1" : "0", 1) != 0)
+        if (setenv("LIMN_TEST_PLY_GENERAL", w == 0 ? "1" : "0", 1) != 0 ||
+            setenv("LIMN_TEST_TEXT_GENERAL", w == 0 ? "1" : "0", 1) != 0)
             return 1;
         for (int r = 0; r < (repeat > 0 ? repeat : 1); r++) {
             limn_mesh_destroy(kept[w]);

@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Binary PLY reading in one run (issue 13.1): limn_mesh_read's general
-reader and its fast path (build/perf/read_bench, meshes compared bit for bit)
-and trimesh.load of the same file as the anchor, on igea refined twice by Loop
-(2.1M vertices) written as scanners write it: binary little endian, float32
-x y z, `uchar int` face lists.
+"""Mesh reading in one run (issue 13.1): limn_mesh_read's general readers
+and fast paths (build/perf/read_bench, meshes compared bit for bit) and
+trimesh.load of the same file as the anchor, on igea refined twice by Loop
+(2.1M vertices) written as scanners write it (binary little endian, float32
+x y z, `uchar int` face lists) and, with --text, as limn writes OBJ, OFF and
+ASCII PLY.
 
-  python3 perf/read_bench.py [--python VENV/bin/python] [--repeat 5]
+  python3 perf/read_bench.py [--python VENV/bin/python] [--repeat 5] [--text]
+                             [--threads 1,2] [--work DIR]
 
 --python: an interpreter with trimesh and numpy (pip install trimesh numpy);
 without one the anchor is left out."""
@@ -38,6 +40,8 @@ def main():
     ap.add_argument("--work", default="/tmp/limn_read_bench")
     ap.add_argument("--python", default=sys.executable)
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--text", action="store_true", help="also OBJ, OFF and ASCII PLY")
+    ap.add_argument("--threads", default="", help="host thread counts, e.g. 1,2")
     a = ap.parse_args()
     os.makedirs(a.work, exist_ok=True)
     refined = os.path.join(a.work, "refined_l%d.ply" % a.levels)
@@ -48,16 +52,31 @@ def main():
     bench = os.path.join(a.build, "perf", "read_bench")
     if not os.path.exists(scanner):
         subprocess.run([bench, "--scanner", refined, scanner], check=True)
-    print("file: %s (%.1f MB)" % (scanner, os.path.getsize(scanner) / 1e6), flush=True)
+    files = [scanner]
+    for ext, fmt in (("obj", "obj"), ("off", "off"), ("ascii.ply", "ply-ascii")) if a.text else ():
+        path = os.path.join(a.work, "refined_l%d.%s" % (a.levels, ext))
+        if not os.path.exists(path):
+            subprocess.run([os.path.join(a.build, "limn"), "subdivide", "--levels", "0", refined,
+                            "-o", path, "--format", fmt, "-q"], check=True)
+        files.append(path)
+    for path in files:
+        measure(a, bench, path)
+
+
+def measure(a, bench, path):
+    print("file: %s (%.1f MB)" % (path, os.path.getsize(path) / 1e6), flush=True)
     best = 1e300
     for _ in range(a.repeat):  # the floor: the file's bytes from the page cache
         t = time.perf_counter()
-        with open(scanner, "rb") as f:
+        with open(path, "rb") as f:
             f.read()
         best = min(best, time.perf_counter() - t)
     print("floor (read the file into memory): %.3f s" % best, flush=True)
-    subprocess.run([bench, scanner, str(a.repeat)], check=True)
-    r = subprocess.run([a.python, "-c", TRIMESH, scanner, str(a.repeat)])
+    for threads in a.threads.split(",") if a.threads else [""]:
+        if threads:
+            print("host threads: %s" % threads, flush=True)
+        subprocess.run([bench, path, str(a.repeat)] + ([threads] if threads else []), check=True)
+    r = subprocess.run([a.python, "-c", TRIMESH, path, str(a.repeat)])
     if r.returncode:
         print("trimesh.load: not measured (no trimesh for %s)" % a.python)
 

@@ -148,6 +148,40 @@ static void round_trip(const limn_mesh *m)
     limn_context_destroy(ctx);
 }
 
+/* The text readers' fast path (text_fast.c) against the general reader
+   (LIMN_TEST_TEXT_GENERAL=1) on the same file: the same status, message,
+   warnings and mesh, bit for bit. */
+static void same_as_general(const char *input, limn_format format, limn_status st,
+                            const limn_mesh *m, limn_context *fast)
+{
+    limn_context *ctx = limn_context_create();
+    if (!ctx)
+        return;
+    setenv("LIMN_TEST_TEXT_GENERAL", "1", 1);
+    limn_mesh *g = NULL;
+    limn_status gst = limn_mesh_read(ctx, input, format, &g);
+    unsetenv("LIMN_TEST_TEXT_GENERAL");
+    const char *fw = limn_context_warnings(fast), *gw = limn_context_warnings(ctx);
+    if (gst != st || strcmp(limn_context_message(ctx), limn_context_message(fast)) != 0 ||
+        strcmp(fw ? fw : "", gw ? gw : "") != 0)
+        broken("the text fast path and the general reader disagree",
+               limn_context_message(ctx));
+    if (m && g) {
+        size_t nv = limn_mesh_vertex_count(m), nf = limn_mesh_face_count(m);
+        if (limn_mesh_vertex_count(g) != nv || limn_mesh_face_count(g) != nf ||
+            memcmp(limn_mesh_positions(g), limn_mesh_positions(m), 3 * nv * sizeof(double)) ||
+            memcmp(limn_mesh_face_offsets(g), limn_mesh_face_offsets(m),
+                   (nf + 1) * sizeof(uint32_t)) ||
+            memcmp(limn_mesh_face_indices(g), limn_mesh_face_indices(m),
+                   limn_mesh_index_count(m) * sizeof(uint32_t)) ||
+            !limn_mesh_colors(g) != !limn_mesh_colors(m) ||
+            (limn_mesh_colors(m) && memcmp(limn_mesh_colors(g), limn_mesh_colors(m), 3 * nv)))
+            broken("the text fast path reads a different mesh than the general reader", NULL);
+    }
+    limn_mesh_destroy(g);
+    limn_context_destroy(ctx);
+}
+
 int limn_fuzz_run(const char *name, const uint8_t *data, size_t size)
 {
     static int fd = -1;
@@ -177,6 +211,9 @@ int limn_fuzz_run(const char *name, const uint8_t *data, size_t size)
     limn_status st = limn_mesh_read(ctx, input, t->format, &m);
     if (pfd >= 0)
         close(pfd);
+    else if (t->format == LIMN_FORMAT_OBJ || t->format == LIMN_FORMAT_OFF ||
+             (t->format == LIMN_FORMAT_PLY && !t->prefix))
+        same_as_general(input, t->format, st, m, ctx);
     const char *msg = limn_context_message(ctx);
     if (st != LIMN_OK) {
         if (m)

@@ -7,6 +7,7 @@
 #include "mesh/io/formats.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "mesh/io/text_formats.h"
 #include "mesh/io/toolkit.h"
 
 #include <string.h>
@@ -20,7 +21,7 @@ static const char *const obj_skipped[] = {
     "stech", "call", "csh",
 };
 
-static int obj_is_skipped(const char *word, size_t n)
+int obj_skipped_record(const char *word, size_t n)
 {
     for (size_t i = 0; i < sizeof obj_skipped / sizeof obj_skipped[0]; i++)
         if (strlen(obj_skipped[i]) == n && memcmp(obj_skipped[i], word, n) == 0)
@@ -142,6 +143,8 @@ static limn_status obj_parse(void *state, int *binary)
     (void)binary; /* OBJ is text only */
     r->continuation = 1;
     mio_skip_bom(r);
+    if (obj_fast_read(r, &o->a, &o->vertices))
+        return LIMN_OK; /* mesh_obj_fast.c: the same mesh, faster */
     limn_status st = LIMN_OK;
     size_t unknown = 0;
     if (!growbuf_push_u32(&o->a.offsets, 0))
@@ -158,7 +161,7 @@ static limn_status obj_parse(void *state, int *binary)
             size_t n = 0;
             while (s[n] && !mio_space(s[n]))
                 n++;
-            if (!obj_is_skipped(s, n) && unknown++ == 0) {
+            if (!obj_skipped_record(s, n) && unknown++ == 0) {
                 char tok[64];
                 ctx_warn(ctx, "%s:%lu: unknown OBJ record %s ignored", path, r->line,
                           mio_token(s, tok));

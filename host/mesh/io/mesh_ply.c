@@ -6,8 +6,9 @@
  * and/or a `tristrips` element (strips separated by -1), and skips every other
  * element. Counts in the header are checked against the file size before
  * anything is allocated. Binary files of the common layout are read by the
- * fast path (mesh_ply_fast.c), which hands back to this reader whatever it
- * does not handle. The writer is mesh_ply_write.c.
+ * fast path (mesh_ply_fast.c), ascii ones of one record a line by
+ * mesh_ply_text_fast.c; both hand back to this reader whatever they do not
+ * handle. The writer is mesh_ply_write.c.
  */
 #include "mesh/io/formats.h"
 #include "base/context.h"
@@ -28,8 +29,8 @@ static const char *const type_names[T_COUNT][2] = {
     {"double", "float64"},
 };
 static const long long type_min[T_COUNT] = {0, -128, 0, -32768, 0, -2147483647LL - 1, 0, 0, 0};
-static const long long type_max[T_COUNT] = {0, 127, 255, 32767, 65535, 2147483647LL,
-                                            4294967295LL, 0, 0};
+const long long ply_type_max[T_COUNT] = {0, 127, 255, 32767, 65535, 2147483647LL, 4294967295LL,
+                                         0, 0};
 
 static const char *const role_names[R_COUNT] = {"", "x", "y", "z", "red", "green", "blue",
                                                  "vertex_indices"};
@@ -146,7 +147,7 @@ static limn_status ply_int(ply *p, int t, long long *v)
     }
     if (!mio_parse_ll(&p->tok, v, 0))
         return ply_err(p, LIMN_ERR_FORMAT, "%s is not an integer", mio_token(s, tok));
-    if (*v < type_min[t] || *v > type_max[t])
+    if (*v < type_min[t] || *v > ply_type_max[t])
         return ply_err(p, LIMN_ERR_FORMAT, "%lld is out of range for type %s", *v,
                        type_names[t][0]);
     return LIMN_OK;
@@ -614,7 +615,8 @@ static limn_status ply_parse(ply *p)
     limn_status st = ply_header(p);
     p->in_header = 0;
     if (st || (st = ply_check(p)) ||
-        (!ply_fast_body(p) && ((st = ply_reserve(p)) || (st = ply_body(p)))))
+        (!ply_fast_body(p) && !ply_text_fast_body(p) &&
+         ((st = ply_reserve(p)) || (st = ply_body(p)))))
         return st;
     int has_faces = 0;
     for (size_t i = 0; i < p->nelems; i++)

@@ -13,6 +13,7 @@
 
 enum { T_NONE, T_I8, T_U8, T_I16, T_U16, T_I32, T_U32, T_F32, T_F64, T_COUNT };
 extern const unsigned char ply_type_size[T_COUNT];
+extern const long long ply_type_max[T_COUNT]; /* of the integer types */
 #define IS_INT(t) ((t) >= T_I8 && (t) <= T_U32)
 
 enum { R_OTHER, R_X, R_Y, R_Z, R_RED, R_GREEN, R_BLUE, R_INDICES, R_COUNT };
@@ -71,5 +72,10 @@ double ply_bin_double(const unsigned char *b, int t, int big);
    reader then reads the body and gives its messages). The test-only
    LIMN_TEST_PLY_GENERAL=1 makes it always 0. */
 int ply_fast_body(ply *p);
+
+/* The same for an ascii file (mesh_ply_text_fast.c, text_fast.h): vertex
+   and face elements only, one record a line; LIMN_TEST_TEXT_GENERAL=1 makes
+   it always 0. */
+int ply_text_fast_body(ply *p);
 
 #endif
