@@ -320,7 +320,7 @@ typedef struct hand_mesh {
 } hand_mesh;
 
 /* Bow ties (several fans), fins, flipped pairs, boundaries, a 40-face fan and
-   a 40-gon (the long paths of the sorts), mixed face sizes, faces repeating a
+   a 300-gon (the long paths of the sorts), mixed face sizes, faces repeating a
    vertex (refused, naming the face): once, and tiled large enough for 4
    threads. */
 static void hand_built_as_before(void **state)
@@ -337,20 +337,21 @@ static void hand_built_as_before(void **state)
                           two_idx[] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3,
                                        0, 5, 4, 0, 4, 6, 0, 6, 5, 4, 5, 6};
     static const uint32_t deg_off[] = {0, 3, 7}, deg_idx[] = {0, 1, 2, 0, 1, 0, 3};
-    enum { FAN = 40 };
-    uint32_t fan_off[FAN + 1], fan_idx[3 * FAN], gon_off[3], gon_idx[2 * FAN + 3];
-    uint32_t bad_off[3], bad_idx[2 * FAN + 3];
+    /* GON > 256: the previous corner of the first is looked up (wrap 255) */
+    enum { FAN = 40, GON = 300 };
+    uint32_t fan_off[FAN + 1], fan_idx[3 * FAN], gon_off[3], gon_idx[GON + 3];
+    uint32_t bad_off[3], bad_idx[GON + 3];
     fan_off[0] = 0;
     for (uint32_t f = 0; f < FAN; f++) {
         fan_idx[3 * f] = 0, fan_idx[3 * f + 1] = 1 + f, fan_idx[3 * f + 2] = 1 + (f + 1) % FAN;
         fan_off[f + 1] = 3 * (f + 1);
     }
-    /* a 40-gon and a triangle on one of its edges; then the same with the
-       40-gon visiting vertex 7 twice */
-    gon_off[0] = 0, gon_off[1] = FAN, gon_off[2] = FAN + 3;
-    for (uint32_t c = 0; c < FAN; c++)
+    /* a 300-gon and a triangle on one of its edges; then the same with the
+       300-gon visiting vertex 7 twice */
+    gon_off[0] = 0, gon_off[1] = GON, gon_off[2] = GON + 3;
+    for (uint32_t c = 0; c < GON; c++)
         gon_idx[c] = c;
-    gon_idx[FAN] = 1, gon_idx[FAN + 1] = 0, gon_idx[FAN + 2] = FAN;
+    gon_idx[GON] = 1, gon_idx[GON + 1] = 0, gon_idx[GON + 2] = GON;
     memcpy(bad_off, gon_off, sizeof bad_off);
     memcpy(bad_idx, gon_idx, sizeof bad_idx);
     bad_idx[30] = 7;
@@ -358,8 +359,8 @@ static void hand_built_as_before(void **state)
         {"bow tie", 5, 2, bow_off, bow_idx},        {"fin", 5, 3, fin_off, fin_idx},
         {"flipped", 4, 2, flip_off, flip_idx},      {"mixed sizes", 8, 3, mix_off, mix_idx},
         {"two fans", 7, 8, two_off, two_idx},       {"fan of 40", FAN + 2, FAN, fan_off, fan_idx},
-        {"40-gon", FAN + 1, 2, gon_off, gon_idx},   {"repeat", 5, 2, deg_off, deg_idx},
-        {"40-gon repeat", FAN + 1, 2, bad_off, bad_idx},
+        {"300-gon", GON + 1, 2, gon_off, gon_idx},  {"repeat", 5, 2, deg_off, deg_idx},
+        {"300-gon repeat", GON + 1, 2, bad_off, bad_idx},
     };
     for (size_t i = 0; i < sizeof meshes / sizeof *meshes; i++) {
         const hand_mesh *h = &meshes[i];

@@ -269,7 +269,9 @@ static limn_status connect(limn_context *ctx, topo_build *b)
     /* the buckets' vertices are done with: give their room to vertex_edges */
     free(b->next);
     free(b->prev);
+    free(b->wrap);
     b->next = b->prev = NULL;
+    b->wrap = NULL;
     t->vertex_edges = malloc((ne ? 2 * ne : 1) * sizeof *t->vertex_edges);
     if (!t->vertex_edges)
         return no_memory(ctx, t);
@@ -313,12 +315,13 @@ limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *t
     b.cursor = malloc((nv ? nv : 1) * sizeof *b.cursor);
     b.next = malloc((nc ? nc : 1) * sizeof *b.next);
     b.prev = malloc((nc ? nc : 1) * sizeof *b.prev);
+    b.wrap = malloc(nc ? nc : 1);
     b.edge_base = malloc((nv + 1) * sizeof *b.edge_base);
     b.entry_base = malloc((nv + 1) * sizeof *b.entry_base);
     limn_status st = LIMN_OK;
     if (!t->corner_face || !t->vertex_corner_offsets || !t->vertex_corners ||
         !t->vertex_edge_offsets || !t->vertex_flags || !t->vertex_rule || !t->crease_neighbors ||
-        !b.cursor || !b.next || !b.prev || !b.edge_base || !b.entry_base)
+        !b.cursor || !b.next || !b.prev || !b.wrap || !b.edge_base || !b.entry_base)
         st = no_memory(ctx, t);
     if (!st)
         st = place(ctx, &b);
@@ -327,6 +330,7 @@ limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *t
     free(b.cursor);
     free(b.next);
     free(b.prev);
+    free(b.wrap);
     free(b.edge_base);
     free(b.entry_base);
     if (st)

@@ -39,6 +39,8 @@ typedef struct topo_build {
     unsigned parts;             /* ranges of every pass */
     _Atomic uint32_t *cursor;   /* vertex_count: counts, then fill cursors */
     uint32_t *next, *prev;      /* per vertex_corners slot: the corner's next and previous vertex */
+    uint8_t *wrap;              /* per slot: the previous corner is c - 1 (0), c + wrap (1..254),
+                                   or the face's last (255: looked up); saves two cache misses */
     uint32_t *edge_base;        /* vertex_count + 1: the first edge v owns */
     uint32_t *entry_base;       /* vertex_count + 1: v's first edge_corners entry */
     topo_counts counts[PARALLEL_MAX];

@@ -95,6 +95,7 @@ static int scatter_range(void *arg, size_t begin, size_t end)
             t->vertex_corners[slot] = c;
             b->next[slot] = t->face_indices[c + 1 < fe ? c + 1 : fb];
             b->prev[slot] = t->face_indices[c > fb ? c - 1 : fe - 1];
+            b->wrap[slot] = c > fb ? 0 : fe - 1 - c < 255 ? (uint8_t)(fe - 1 - c) : 255;
         }
     }
     return 0;

@@ -8,20 +8,22 @@
 
 #include <string.h>
 
-/* Sorts bucket [s, s + k) by corner, moving next and prev along. */
+/* Sorts bucket [s, s + k) by corner, moving next, prev and wrap along. */
 static int sort_bucket(topo_build *b, uint32_t s, uint32_t k, topo_scratch *sc)
 {
     uint32_t *c = b->t->vertex_corners + s, *n = b->next + s, *p = b->prev + s;
+    uint8_t *r = b->wrap + s;
     if (k <= 16) {
         for (uint32_t i = 1; i < k; i++)
             for (uint32_t j = i; j > 0 && c[j - 1] > c[j]; j--) {
                 uint32_t x = c[j], y = n[j], z = p[j];
-                c[j] = c[j - 1], n[j] = n[j - 1], p[j] = p[j - 1];
-                c[j - 1] = x, n[j - 1] = y, p[j - 1] = z;
+                uint8_t q = r[j];
+                c[j] = c[j - 1], n[j] = n[j - 1], p[j] = p[j - 1], r[j] = r[j - 1];
+                c[j - 1] = x, n[j - 1] = y, p[j - 1] = z, r[j - 1] = q;
             }
         return 1;
     }
-    if (!topo_scratch_reserve(sc, k, 3 * (size_t)k))
+    if (!topo_scratch_reserve(sc, k, 4 * (size_t)k))
         return 0;
     for (uint32_t i = 0; i < k; i++)
         sc->keys[i] = (uint64_t)c[i] << 32 | i;
@@ -29,11 +31,13 @@ static int sort_bucket(topo_build *b, uint32_t s, uint32_t k, topo_scratch *sc)
     uint32_t *w = sc->words;
     for (uint32_t i = 0; i < k; i++) {
         uint32_t from = (uint32_t)sc->keys[i];
-        w[i] = c[from], w[k + i] = n[from], w[2 * k + i] = p[from];
+        w[i] = c[from], w[k + i] = n[from], w[2 * k + i] = p[from], w[3 * k + i] = r[from];
     }
     memcpy(c, w, k * sizeof *c);
     memcpy(n, w + k, k * sizeof *n);
     memcpy(p, w + 2 * (size_t)k, k * sizeof *p);
+    for (uint32_t i = 0; i < k; i++)
+        r[i] = (uint8_t)w[3 * k + i];
     return 1;
 }
 
@@ -84,25 +88,15 @@ typedef struct ring_edge {
 /* ring edges live in the words of the scratch, 4 each */
 _Static_assert(sizeof(ring_edge) <= 4 * sizeof(uint32_t), "ring_edge is 4 words");
 
-/* The corner before c in its face. */
-static uint32_t corner_prev(const topology *t, uint32_t c)
+/* The corner before c (at slot) in its face. */
+static uint32_t corner_prev(const topo_build *b, uint32_t slot, uint32_t c)
 {
-    uint32_t f = t->corner_face[c];
-    return c > t->face_offsets[f] ? c - 1 : t->face_offsets[f + 1] - 1;
-}
-
-/* The ring edge to w (edges sorted by w; w is always present). */
-static const ring_edge *find_edge(const ring_edge *e, uint32_t count, uint32_t w)
-{
-    uint32_t lo = 0, hi = count;
-    while (hi - lo > 1) {
-        uint32_t mid = lo + (hi - lo) / 2;
-        if (e[mid].w <= w)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return e + lo;
+    uint8_t r = b->wrap[slot];
+    if (r == 0)
+        return c - 1;
+    if (r < 255)
+        return c + r;
+    return b->t->face_offsets[b->t->corner_face[c] + 1] - 1;
 }
 
 /* Writes owned edge {v, w} (keys: its corners at v as slot << 1, and at w as
@@ -114,7 +108,7 @@ static void write_edge(topo_build *b, uint32_t v, const ring_edge *re, const uin
     uint32_t s = t->vertex_corner_offsets[v], *out = t->edge_corners + *at;
     for (uint32_t i = 0; i < re->total; i++) {
         uint32_t slot = (uint32_t)keys[i] >> 1, c = t->vertex_corners[s + slot];
-        out[i] = keys[i] & 1 ? corner_prev(t, c) : c;
+        out[i] = keys[i] & 1 ? corner_prev(b, s + slot, c) : c;
     }
     topo_sort_u32(out, re->total);
     for (uint32_t i = 0; i < re->total; i++)
@@ -129,10 +123,11 @@ static void write_edge(topo_build *b, uint32_t v, const ring_edge *re, const uin
     k->inconsistent_edges += (re->flags & EDGE_INCONSISTENT) != 0;
 }
 
-/* v's edges, sorted by neighbour, into e (keys: scratch of 2 n); writes the
-   owned ones; returns the count. */
+/* v's edges, sorted by neighbour, into e (keys: scratch of 2 n), and for
+   each slot the index in e of its forward (fwd) and backward (back) edge;
+   writes the owned ones; returns the count. */
 static uint32_t ring_edges(topo_build *b, uint32_t v, uint64_t *keys, ring_edge *e,
-                           topo_counts *k)
+                           uint32_t *fwd, uint32_t *back, topo_counts *k)
 {
     topology *t = b->t;
     uint32_t s = t->vertex_corner_offsets[v], n = t->vertex_corner_offsets[v + 1] - s;
@@ -148,11 +143,16 @@ static uint32_t ring_edges(topo_build *b, uint32_t v, uint64_t *keys, ring_edge 
         uint32_t w = (uint32_t)(keys[i] >> 32), j = i, at_v = 0;
         ring_edge *re = &e[count++];
         re->forward = UINT32_MAX;
-        for (; j < 2 * n && (uint32_t)(keys[j] >> 32) == w; j++)
-            if (!(keys[j] & 1)) {
+        for (; j < 2 * n && (uint32_t)(keys[j] >> 32) == w; j++) {
+            uint32_t slot = (uint32_t)keys[j] >> 1;
+            if (keys[j] & 1) {
+                back[slot] = count - 1;
+            } else {
                 at_v++;
-                re->forward = (uint32_t)keys[j] >> 1;
+                re->forward = slot;
+                fwd[slot] = count - 1;
             }
+        }
         re->w = w;
         re->total = j - i;
         re->flags = re->total == 1  ? EDGE_BOUNDARY
@@ -169,8 +169,9 @@ static uint32_t ring_edges(topo_build *b, uint32_t v, uint64_t *keys, ring_edge 
 
 /* Orders v's corners into one fan, walking backwards across edges from a
    corner whose forward edge is a boundary (so an open fan is covered whole);
-   0 when they form several fans. ring: scratch of n. */
-static int order_fan(topo_build *b, uint32_t v, const ring_edge *e, uint32_t ne, uint32_t *ring)
+   0 when they form several fans. ring: scratch of n; fwd, back: ring_edges'. */
+static int order_fan(topo_build *b, uint32_t v, const ring_edge *e, const uint32_t *fwd,
+                     const uint32_t *back, uint32_t *ring)
 {
     topology *t = b->t;
     uint32_t s = t->vertex_corner_offsets[v], n = t->vertex_corner_offsets[v + 1] - s;
@@ -178,7 +179,7 @@ static int order_fan(topo_build *b, uint32_t v, const ring_edge *e, uint32_t ne,
         return 1;
     uint32_t start = 0;
     for (uint32_t i = 0; i < n; i++)
-        if (find_edge(e, ne, b->next[s + i])->flags & EDGE_BOUNDARY) {
+        if (e[fwd[i]].flags & EDGE_BOUNDARY) {
             start = i;
             break;
         }
@@ -188,8 +189,8 @@ static int order_fan(topo_build *b, uint32_t v, const ring_edge *e, uint32_t ne,
             return 0;
         ring[count++] = t->vertex_corners[s + i];
         /* across the edge to the previous vertex: its corner that leaves v */
-        const ring_edge *back = find_edge(e, ne, b->prev[s + i]);
-        i = back->total == 2 ? back->forward : UINT32_MAX;
+        const ring_edge *across = &e[back[i]];
+        i = across->total == 2 ? across->forward : UINT32_MAX;
     } while (i != UINT32_MAX && i != start);
     if (count != n)
         return 0;
@@ -198,9 +199,9 @@ static int order_fan(topo_build *b, uint32_t v, const ring_edge *e, uint32_t ne,
 }
 
 /* Flags, rule and crease neighbours of v from its edges (OpenSubdiv's rules:
-   topology.h); orders its fan. */
+   topology.h); orders its fan (ring, fwd, back: order_fan's). */
 static void classify(topo_build *b, uint32_t v, const ring_edge *e, uint32_t ne, uint32_t *ring,
-                     topo_counts *k)
+                     const uint32_t *fwd, const uint32_t *back, topo_counts *k)
 {
     topology *t = b->t;
     uint32_t nf = t->vertex_corner_offsets[v + 1] - t->vertex_corner_offsets[v];
@@ -217,7 +218,7 @@ static void classify(topo_build *b, uint32_t v, const ring_edge *e, uint32_t ne,
     if (ne > k->max_valence)
         k->max_valence = ne;
     uint8_t flags = boundary ? VERTEX_BOUNDARY : 0;
-    if (nonmanifold || !order_fan(b, v, e, ne, ring))
+    if (nonmanifold || !order_fan(b, v, e, fwd, back, ring))
         flags |= VERTEX_NONMANIFOLD;
     k->nonmanifold_vertices += (flags & VERTEX_NONMANIFOLD) != 0;
     t->vertex_flags[v] = flags;
@@ -247,14 +248,16 @@ static int edges_range(void *arg, size_t begin, size_t end)
     topo_scratch sc = {0};
     for (size_t v = begin; v < end; v++) {
         uint32_t n = t->vertex_corner_offsets[v + 1] - t->vertex_corner_offsets[v];
-        /* keys 2n, then ring edges (4 words each, at most 2n) and the fan (n) */
-        if (!topo_scratch_reserve(&sc, 2 * (size_t)n, 9 * (size_t)n + 1)) {
+        /* keys 2n, then ring edges (4 words each, at most 2n), the fan, fwd
+           and back (n each) */
+        if (!topo_scratch_reserve(&sc, 2 * (size_t)n, 11 * (size_t)n + 1)) {
             k->no_memory = 1;
             break;
         }
         ring_edge *e = (ring_edge *)(void *)sc.words;
-        uint32_t ne = ring_edges(b, (uint32_t)v, sc.keys, e, k);
-        classify(b, (uint32_t)v, e, ne, sc.words + 8 * (size_t)n + 1, k);
+        uint32_t *ring = sc.words + 8 * (size_t)n + 1, *fwd = ring + n, *back = fwd + n;
+        uint32_t ne = ring_edges(b, (uint32_t)v, sc.keys, e, fwd, back, k);
+        classify(b, (uint32_t)v, e, ne, ring, fwd, back, k);
     }
     topo_scratch_free(&sc);
     return k->no_memory;
