@@ -21,56 +21,55 @@ static int cmp_u32(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* Insertion sort for the short lists of rings and faces, qsort past that. */
+/* Insertion sort for the short lists of rings and faces, qsort past that
+   (one body for both widths). */
+#define SORT_SHORT(type, a, n, cmp)                                                           \
+    do {                                                                                      \
+        if ((n) > 24) {                                                                       \
+            qsort((a), (n), sizeof *(a), cmp);                                                \
+            break;                                                                            \
+        }                                                                                     \
+        for (size_t i_ = 1; i_ < (n); i_++) {                                                 \
+            type x_ = (a)[i_];                                                                \
+            size_t j_ = i_;                                                                   \
+            for (; j_ > 0 && (a)[j_ - 1] > x_; j_--)                                          \
+                (a)[j_] = (a)[j_ - 1];                                                        \
+            (a)[j_] = x_;                                                                     \
+        }                                                                                     \
+    } while (0)
+
 void topo_sort_u64(uint64_t *a, size_t n)
 {
-    if (n > 24) {
-        qsort(a, n, sizeof *a, cmp_u64);
-        return;
-    }
-    for (size_t i = 1; i < n; i++) {
-        uint64_t x = a[i];
-        size_t j = i;
-        for (; j > 0 && a[j - 1] > x; j--)
-            a[j] = a[j - 1];
-        a[j] = x;
-    }
+    SORT_SHORT(uint64_t, a, n, cmp_u64);
 }
 
 void topo_sort_u32(uint32_t *a, size_t n)
 {
-    if (n > 24) {
-        qsort(a, n, sizeof *a, cmp_u32);
-        return;
-    }
-    for (size_t i = 1; i < n; i++) {
-        uint32_t x = a[i];
-        size_t j = i;
-        for (; j > 0 && a[j - 1] > x; j--)
-            a[j] = a[j - 1];
-        a[j] = x;
-    }
+    SORT_SHORT(uint32_t, a, n, cmp_u32);
+}
+
+/* Room for want items of size bytes at *p (doubling, at least least). */
+static int grow(void **p, size_t *cap, size_t want, size_t size, size_t least)
+{
+    if (want <= *cap)
+        return 1;
+    size_t n = want < least ? least : 2 * want;
+    void *q = realloc(*p, n * size);
+    if (!q)
+        return 0;
+    *p = q;
+    *cap = n;
+    return 1;
 }
 
 int topo_scratch_reserve(topo_scratch *s, size_t keys, size_t words)
 {
-    if (keys > s->key_cap) {
-        size_t cap = keys < 64 ? 64 : 2 * keys;
-        uint64_t *k = realloc(s->keys, cap * sizeof *k);
-        if (!k)
-            return 0;
-        s->keys = k;
-        s->key_cap = cap;
-    }
-    if (words > s->word_cap) {
-        size_t cap = words < 256 ? 256 : 2 * words;
-        uint32_t *w = realloc(s->words, cap * sizeof *w);
-        if (!w)
-            return 0;
-        s->words = w;
-        s->word_cap = cap;
-    }
-    return 1;
+    void *k = s->keys, *w = s->words;
+    int ok = grow(&k, &s->key_cap, keys, sizeof *s->keys, 64);
+    s->keys = k;
+    ok = ok && grow(&w, &s->word_cap, words, sizeof *s->words, 256);
+    s->words = w;
+    return ok;
 }
 
 void topo_scratch_free(topo_scratch *s)
