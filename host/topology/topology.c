@@ -213,7 +213,7 @@ static limn_status no_memory(limn_context *ctx, const topology *t)
                     t->vertex_count);
 }
 
-/* Passes 1-3: corner_face, vertex buckets, and the counts that place edges. */
+/* Passes 1-3: face checks, vertex buckets, and the counts that place edges. */
 static limn_status place(limn_context *ctx, topo_build *b)
 {
     topology *t = b->t;
@@ -272,9 +272,11 @@ static limn_status connect(limn_context *ctx, topo_build *b)
     b->next = b->prev = NULL;
     b->wrap = NULL;
     t->vertex_edges = malloc((ne ? 2 * ne : 1) * sizeof *t->vertex_edges);
-    if (!t->vertex_edges)
+    t->corner_face = malloc((nc ? nc : 1) * sizeof *t->corner_face);
+    if (!t->vertex_edges || !t->corner_face)
         return no_memory(ctx, t);
     topo_vertex_edges(b);
+    topo_corner_faces(b);
     sum_counts(b);
     ctx_progress(ctx, "topology", 0.9);
     return count_components(ctx, t);
@@ -304,7 +306,6 @@ limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *t
     b.parts = parallel_threads(ctx, (uint64_t)nc * 60);
     for (unsigned i = 0; i < PARALLEL_MAX; i++)
         b.counts[i].bad_face = SIZE_MAX;
-    t->corner_face = malloc((nc ? nc : 1) * sizeof *t->corner_face);
     t->vertex_corner_offsets = malloc((nv + 1) * sizeof *t->vertex_corner_offsets);
     t->vertex_corners = malloc((nc ? nc : 1) * sizeof *t->vertex_corners);
     t->vertex_edge_offsets = malloc((nv + 1) * sizeof *t->vertex_edge_offsets);
@@ -318,7 +319,7 @@ limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *t
     b.edge_base = malloc((nv + 1) * sizeof *b.edge_base);
     b.entry_base = malloc((nv + 1) * sizeof *b.entry_base);
     limn_status st = LIMN_OK;
-    if (!t->corner_face || !t->vertex_corner_offsets || !t->vertex_corners ||
+    if (!t->vertex_corner_offsets || !t->vertex_corners ||
         !t->vertex_edge_offsets || !t->vertex_flags || !t->vertex_rule || !t->crease_neighbors ||
         !b.cursor || !b.next || !b.prev || !b.wrap || !b.edge_base || !b.entry_base)
         st = no_memory(ctx, t);

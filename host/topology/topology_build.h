@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The passes of topology_build (topology.c runs them in order):
- *  1. faces (parallel over faces): corner_face, face kinds, faces that use a
- *     vertex twice, and the corner count of every vertex;
+ *  1. faces (parallel over faces): face kinds, faces that use a vertex twice,
+ *     and the corner count of every vertex;
  *  2. scatter (parallel over faces): every corner with its next and previous
  *     vertex into its vertex's bucket (vertex_corners order);
  *  3. count (parallel over vertices): each bucket sorted by corner, then the
@@ -12,7 +12,8 @@
  *     bucket, so each vertex writes its owned edges, classifies itself and
  *     orders its fan without looking at another vertex;
  *  5. vertex edges: owned edges in place, the others through fill cursors,
- *     then each vertex's list sorted.
+ *     then each vertex's list sorted; corner_face (parallel over faces), last
+ *     so that it is not held beside the buckets.
  * Buckets are sorted and lists ordered by value, so every array is the same
  * for any thread count (and equal to the sequential build's: tests/oracle).
  */
@@ -66,6 +67,7 @@ void topo_sort_u32(uint32_t *a, size_t n);
    (recorded in its counts). */
 int topo_faces(topo_build *b);
 int topo_scatter(topo_build *b);
+int topo_corner_faces(topo_build *b);
 int topo_count(topo_build *b);
 int topo_edges(topo_build *b);
 int topo_vertex_edges(topo_build *b);

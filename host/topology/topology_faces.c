@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Topology passes over faces: corner_face, face checks, vertex buckets. */
+/* Topology passes over faces: face checks, vertex buckets, corner_face. */
 #include "topology/topology_build.h"
 
 #include <stdlib.h>
@@ -60,10 +60,8 @@ static int faces_range(void *arg, size_t begin, size_t end)
             k->bad_vertex = v[r];
             break;
         }
-        for (uint32_t c = fb; c < fe; c++) {
-            t->corner_face[c] = (uint32_t)f;
+        for (uint32_t c = fb; c < fe; c++)
             bump(&b->cursor[t->face_indices[c]], shared);
-        }
         if (d > k->max_face_size)
             k->max_face_size = d;
         if (d == 3)
@@ -99,6 +97,20 @@ static int scatter_range(void *arg, size_t begin, size_t end)
         }
     }
     return 0;
+}
+
+static int corner_face_range(void *arg, size_t begin, size_t end)
+{
+    topology *t = ((topo_build *)arg)->t;
+    for (size_t f = begin; f < end; f++)
+        for (uint32_t c = t->face_offsets[f]; c < t->face_offsets[f + 1]; c++)
+            t->corner_face[c] = (uint32_t)f;
+    return 0;
+}
+
+int topo_corner_faces(topo_build *b)
+{
+    return parallel_run(b->t->face_count, b->parts, corner_face_range, b);
 }
 
 int topo_scatter(topo_build *b)
