@@ -2,9 +2,13 @@
 /*
  * Topology counts against stats.jsonl of the shared meshes, which a separate
  * numpy/scipy script computed (see ../shared/meshes/README.md), and against
- * closed forms on generated meshes.
+ * closed forms on generated meshes; the parallel topology_build against the
+ * previous sequential one (tests/oracle/topology_previous.c), array by array,
+ * for 1, 2 and 4 host threads; one topology per run (the mesh's cache).
  */
 #include "support.h"
+#include "mesh/mesh.h"
+#include "topology_previous.h"
 
 #include <setjmp.h>
 #include <stdarg.h>
@@ -180,5 +184,254 @@ static void nonmanifold_classes(void **state)
     limn_mesh_destroy(deg);
 }
 
+/* ------------------------------------------- against the previous build */
+
+#define SAME_ARRAY(field, count)                                                               \
+    do {                                                                                       \
+        if ((count) > 0 && memcmp(a->field, b->field, (count) * sizeof *a->field) != 0)        \
+            fail_msg("%s: %s differs from the previous build", what, #field);                  \
+    } while (0)
+#define SAME_COUNT(field)                                                                      \
+    do {                                                                                       \
+        if (a->field != b->field)                                                              \
+            fail_msg("%s: %s is %zu, the previous build says %zu", what, #field,               \
+                     (size_t)a->field, (size_t)b->field);                                      \
+    } while (0)
+
+/* Every array and statistic of a equal to b's. */
+static void assert_same_topology(const topology *a, const topology *b, const char *what)
+{
+    SAME_COUNT(vertex_count);
+    SAME_COUNT(face_count);
+    SAME_COUNT(edge_count);
+    SAME_COUNT(corner_count);
+    SAME_COUNT(boundary_edges);
+    SAME_COUNT(nonmanifold_edges);
+    SAME_COUNT(inconsistent_edges);
+    SAME_COUNT(nonmanifold_vertices);
+    SAME_COUNT(referenced_vertices);
+    SAME_COUNT(components);
+    SAME_COUNT(boundary_loops);
+    SAME_COUNT(max_face_size);
+    SAME_COUNT(max_valence);
+    SAME_COUNT(triangles);
+    SAME_COUNT(quads);
+    SAME_COUNT(other_faces);
+    size_t nv = a->vertex_count, nc = a->corner_count, ne = a->edge_count;
+    SAME_ARRAY(corner_face, nc);
+    SAME_ARRAY(corner_edge, nc);
+    SAME_ARRAY(edge_vertices, 2 * ne);
+    SAME_ARRAY(edge_corner_offsets, ne + 1);
+    SAME_ARRAY(edge_corners, nc);
+    SAME_ARRAY(vertex_corner_offsets, nv + 1);
+    SAME_ARRAY(vertex_corners, nc);
+    SAME_ARRAY(vertex_edge_offsets, nv + 1);
+    SAME_ARRAY(vertex_edges, 2 * ne);
+    SAME_ARRAY(edge_flags, ne);
+    SAME_ARRAY(vertex_flags, nv);
+    SAME_ARRAY(vertex_rule, nv);
+    SAME_ARRAY(crease_neighbors, 2 * nv);
+}
+
+/* topology_build equal to the previous build for 1, 2 and 4 host threads,
+   or refused with the same message; returns 1 when built. */
+static int check_against_previous(limn_context *ctx, const limn_mesh *m, const char *what)
+{
+    topology old;
+    limn_status want = topology_previous_build(ctx, m, &old);
+    char message[512];
+    snprintf(message, sizeof message, "%s", limn_context_message(ctx));
+    static const int threads[] = {1, 2, 4};
+    for (int i = 0; i < 3; i++) {
+        assert_int_equal(limn_context_set_host_threads(ctx, threads[i]), LIMN_OK);
+        topology t;
+        limn_status got = topology_build(ctx, m, &t);
+        if (got != want)
+            fail_msg("%s (%d threads): status %d, the previous build %d (%s)", what, threads[i],
+                     got, want, limn_context_message(ctx));
+        if (got) {
+            assert_string_equal(limn_context_message(ctx), message);
+            continue;
+        }
+        assert_same_topology(&t, &old, what);
+        topology_free(&t);
+    }
+    assert_int_equal(limn_context_set_host_threads(ctx, 0), LIMN_OK);
+    if (!want)
+        topology_previous_free(&old);
+    return want == LIMN_OK;
+}
+
+static void shared_meshes_as_before(void **state)
+{
+    limn_context *ctx = *state;
+    if (!test_shared_meshes())
+        skip();
+    static const char *subs[] = {"small", "medium", "opensubdiv", "large"};
+    int built = 0, refused = 0;
+    for (int s = 0; s < 4; s++) {
+        const char *names[64];
+        size_t n = test_list_meshes(subs[s], names, 64);
+        for (size_t i = 0; i < n; i++) {
+            limn_mesh *m = test_read_shared(ctx, names[i]);
+            if (check_against_previous(ctx, m, names[i]))
+                built++;
+            else
+                refused++;
+            limn_mesh_destroy(m);
+        }
+    }
+    printf("  %d shared meshes as before, %d refused as before\n", built, refused);
+    assert_true(built >= 30);
+}
+
+/* n copies of the faces of (nf faces, off, idx over nv vertices), vertex v
+   of copy k at (v * n + k) * 2 + 1: copies interleave across the thread
+   ranges, and the even vertices stay isolated. */
+static limn_mesh *tiled(limn_context *ctx, size_t nv, size_t nf, const uint32_t *off,
+                        const uint32_t *idx, size_t n)
+{
+    size_t nc = off[nf], total_v = 2 * nv * n + 1;
+    uint32_t *o = malloc((nf * n + 1) * sizeof *o), *x = malloc(nc * n * sizeof *x);
+    double *p = calloc(3 * total_v, sizeof *p);
+    assert_true(o && x && p);
+    o[0] = 0;
+    for (size_t k = 0; k < n; k++)
+        for (size_t f = 0; f < nf; f++) {
+            size_t at = o[k * nf + f];
+            for (uint32_t c = off[f]; c < off[f + 1]; c++)
+                x[at++] = (uint32_t)((idx[c] * n + k) * 2 + 1);
+            o[k * nf + f + 1] = (uint32_t)at;
+        }
+    for (size_t v = 0; v < total_v; v++)
+        p[3 * v] = (double)v;
+    limn_mesh *m = NULL;
+    assert_int_equal(limn_mesh_create(ctx, total_v, p, nf * n, o, x, &m), LIMN_OK);
+    free(o);
+    free(x);
+    free(p);
+    return m;
+}
+
+typedef struct hand_mesh {
+    const char *name;
+    size_t nv, nf;
+    const uint32_t *off, *idx;
+} hand_mesh;
+
+/* Bow ties (several fans), fins, flipped pairs, boundaries, a 40-face fan and
+   a 300-gon (the long paths of the sorts), mixed face sizes, faces repeating a
+   vertex (refused, naming the face): once, and tiled large enough for 4
+   threads. */
+static void hand_built_as_before(void **state)
+{
+    limn_context *ctx = *state;
+    static const uint32_t bow_off[] = {0, 3, 6}, bow_idx[] = {0, 1, 2, 0, 3, 4};
+    static const uint32_t fin_off[] = {0, 3, 6, 9}, fin_idx[] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+    static const uint32_t flip_off[] = {0, 3, 6}, flip_idx[] = {0, 1, 2, 0, 1, 3};
+    /* a quad, a pentagon and a triangle around vertex 0, one boundary */
+    static const uint32_t mix_off[] = {0, 4, 9, 12},
+                          mix_idx[] = {0, 1, 2, 3, 0, 3, 4, 5, 6, 0, 6, 1};
+    /* two closed fans at vertex 0 (two tetrahedra sharing a vertex) */
+    static const uint32_t two_off[] = {0, 3, 6, 9, 12, 15, 18, 21, 24},
+                          two_idx[] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3,
+                                       0, 5, 4, 0, 4, 6, 0, 6, 5, 4, 5, 6};
+    static const uint32_t deg_off[] = {0, 3, 7}, deg_idx[] = {0, 1, 2, 0, 1, 0, 3};
+    /* GON > 256: the previous corner of the first is looked up (wrap 255) */
+    enum { FAN = 40, GON = 300 };
+    uint32_t fan_off[FAN + 1], fan_idx[3 * FAN], gon_off[3], gon_idx[GON + 3];
+    uint32_t bad_off[3], bad_idx[GON + 3];
+    fan_off[0] = 0;
+    for (uint32_t f = 0; f < FAN; f++) {
+        fan_idx[3 * f] = 0, fan_idx[3 * f + 1] = 1 + f, fan_idx[3 * f + 2] = 1 + (f + 1) % FAN;
+        fan_off[f + 1] = 3 * (f + 1);
+    }
+    /* a 300-gon and a triangle on one of its edges; then the same with the
+       300-gon visiting vertex 7 twice */
+    gon_off[0] = 0, gon_off[1] = GON, gon_off[2] = GON + 3;
+    for (uint32_t c = 0; c < GON; c++)
+        gon_idx[c] = c;
+    gon_idx[GON] = 1, gon_idx[GON + 1] = 0, gon_idx[GON + 2] = GON;
+    memcpy(bad_off, gon_off, sizeof bad_off);
+    memcpy(bad_idx, gon_idx, sizeof bad_idx);
+    bad_idx[30] = 7;
+    const hand_mesh meshes[] = {
+        {"bow tie", 5, 2, bow_off, bow_idx},        {"fin", 5, 3, fin_off, fin_idx},
+        {"flipped", 4, 2, flip_off, flip_idx},      {"mixed sizes", 8, 3, mix_off, mix_idx},
+        {"two fans", 7, 8, two_off, two_idx},       {"fan of 40", FAN + 2, FAN, fan_off, fan_idx},
+        {"300-gon", GON + 1, 2, gon_off, gon_idx},  {"repeat", 5, 2, deg_off, deg_idx},
+        {"300-gon repeat", GON + 1, 2, bad_off, bad_idx},
+    };
+    for (size_t i = 0; i < sizeof meshes / sizeof *meshes; i++) {
+        const hand_mesh *h = &meshes[i];
+        /* 1 copy (with isolated vertices), then enough corners for 4 ranges */
+        size_t copies[] = {1, (20u << 20) / (60 * h->off[h->nf]) + 1};
+        for (int c = 0; c < 2; c++) {
+            limn_mesh *m = tiled(ctx, h->nv, h->nf, h->off, h->idx, copies[c]);
+            int built = check_against_previous(ctx, m, h->name);
+            assert_int_equal(built, strstr(h->name, "repeat") == NULL);
+            limn_mesh_destroy(m);
+        }
+    }
+    /* the refusal names the first face in face order */
+    limn_mesh *m = tiled(ctx, 5, 2, deg_off, deg_idx, 1);
+    topology t;
+    assert_int_equal(topology_build(ctx, m, &t), LIMN_ERR_TOPOLOGY);
+    assert_non_null(strstr(limn_context_message(ctx), "face 1 uses vertex 1 twice"));
+    limn_mesh_destroy(m);
+}
+
+/* limn_mesh_repair leaves its topology on the mesh, and what follows (info,
+   measure, interpolate) uses it: one build for the whole run. Copies do not
+   carry it; a repair that changes the faces builds it afresh. */
+static void one_topology_per_run(void **state)
+{
+    limn_context *ctx = *state;
+    limn_mesh *m = test_mesh_icosahedron(ctx);
+    limn_repair_report rep = {.size = sizeof rep};
+    size_t before = topology_build_count();
+    assert_int_equal(limn_mesh_repair(ctx, m, NULL, &rep), LIMN_OK);
+    assert_non_null(m->topology);
+    limn_mesh_info in = {.size = sizeof in};
+    assert_int_equal(limn_mesh_info_compute(ctx, m, &in), LIMN_OK);
+    limn_mesh_measures me = {.size = sizeof me};
+    assert_int_equal(limn_mesh_measure(ctx, m, &me), LIMN_OK);
+    limn_mesh *control = NULL;
+    assert_int_equal(limn_interpolate(ctx, m, NULL, &control, NULL), LIMN_OK);
+    assert_int_equal(limn_mesh_repair(ctx, m, NULL, &rep), LIMN_OK);
+    assert_int_equal(topology_build_count() - before, 1);
+    assert_null(control->topology);
+    topology t, fresh;
+    assert_int_equal(topology_get(ctx, m, &t), LIMN_OK);
+    assert_true(t.borrowed && t.vertex_rule == m->topology->vertex_rule);
+    assert_int_equal(topology_previous_build(ctx, m, &fresh), LIMN_OK);
+    assert_same_topology(&t, &fresh, "cached");
+    topology_free(&t);
+    topology_previous_free(&fresh);
+    limn_mesh_destroy(control);
+    limn_mesh_destroy(m);
+
+    /* a duplicate face, removed: the repair drops the cache and builds anew */
+    static const double pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    static const uint32_t off[] = {0, 3, 6, 9}, idx[] = {0, 1, 2, 2, 1, 0, 0, 1, 3};
+    assert_int_equal(limn_mesh_create(ctx, 4, pos, 3, off, idx, &m), LIMN_OK);
+    limn_repair_options keep = {.size = sizeof keep}, drop = {.size = sizeof drop};
+    limn_repair_options_default(&keep);
+    limn_repair_options_default(&drop);
+    drop.duplicate_faces = 1;
+    assert_int_equal(limn_mesh_repair(ctx, m, &keep, &rep), LIMN_OK);
+    assert_int_equal(m->topology->face_count, 3);
+    assert_int_equal(limn_mesh_repair(ctx, m, &drop, &rep), LIMN_OK);
+    assert_int_equal(m->face_count, 2);
+    assert_int_equal(topology_get(ctx, m, &t), LIMN_OK);
+    assert_int_equal(topology_previous_build(ctx, m, &fresh), LIMN_OK);
+    assert_same_topology(&t, &fresh, "after the repair");
+    topology_free(&t);
+    topology_previous_free(&fresh);
+    limn_mesh_destroy(m);
+}
+
 TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated_meshes_closed_forms),
-          CONTEXT_TEST(nonmanifold_classes), cmocka_unit_test(shared_meshes_match_stats))
+          CONTEXT_TEST(nonmanifold_classes), cmocka_unit_test(shared_meshes_match_stats),
+          CONTEXT_TEST(shared_meshes_as_before), CONTEXT_TEST(hand_built_as_before),
+          CONTEXT_TEST(one_topology_per_run))

@@ -122,6 +122,8 @@ void limn_mesh_destroy(limn_mesh *mesh)
 {
     if (!mesh)
         return;
+    if (mesh->topology)
+        mesh->topology_drop(mesh->topology);
     free(mesh->positions);
     free(mesh->face_offsets);
     free(mesh->face_indices);

@@ -5,6 +5,8 @@
 
 #include "limn.h"
 
+struct topology;
+
 struct limn_mesh {
     size_t vertex_count;
     double *positions;        /* 3 * vertex_count */
@@ -12,6 +14,12 @@ struct limn_mesh {
     uint32_t *face_offsets;   /* face_count + 1 */
     uint32_t *face_indices;   /* face_offsets[face_count] */
     uint8_t *colors;          /* 3 * vertex_count, or NULL */
+    /* The topology limn_mesh_repair built (topology/topology.h topology_get),
+       kept for the calls after it; read-only once set, dropped when the faces
+       change, never copied. The drop function comes with it (the topology
+       layer sits above this one). */
+    struct topology *topology;
+    void (*topology_drop)(struct topology *);
 };
 
 /* Allocates a mesh with room for the given counts (contents uninitialised,

@@ -128,7 +128,8 @@ limn_status refine_plan_build(limn_context *ctx, const limn_mesh *base, limn_sch
     st = limn_mesh_copy(ctx, base, &plan->meshes[0]);
     for (int k = 0; !st && k < levels; k++) {
         topology t;
-        st = topology_build(ctx, plan->meshes[k], &t);
+        /* level 0 is a copy of base: the same faces, so base's cached topology */
+        st = k == 0 ? topology_get(ctx, base, &t) : topology_build(ctx, plan->meshes[k], &t);
         if (st)
             break;
         step_rows rows = {.t = &t, .scheme = plan->scheme, .alpha = k == 0 ? plan->alpha : 0.0};
@@ -205,7 +206,7 @@ void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, int 
     double c = (double)base->face_offsets[base->face_count];
     double e = c; /* an upper bound if the topology cannot be built */
     topology t;
-    if (topology_build(NULL, base, &t) == LIMN_OK) {
+    if (topology_get(NULL, base, &t) == LIMN_OK) {
         e = (double)t.edge_count;
         topology_free(&t);
     }

@@ -453,7 +453,7 @@ static limn_status morph_linear(limn_context *ctx, const limn_mesh *from, const 
                                 limn_morph_frame_fn fn, void *user, limn_series_report *r)
 {
     topology t;
-    limn_status st = topology_build(ctx, from, &t);
+    limn_status st = topology_get(ctx, from, &t);
     int closed = !st && measure_topology_closed(&t);
     if (!st) {
         double lo[3], hi[3];

@@ -85,7 +85,7 @@ limn_status operator_build_ex(limn_context *ctx, const limn_mesh *mesh, limn_sch
     op->bbox_diagonal = mesh_bbox_diagonal(mesh, lo, hi);
 
     double t0 = clock_seconds();
-    st = topology_build(ctx, mesh, &op->topo);
+    st = topology_get(ctx, mesh, &op->topo);
     if (st)
         return st;
     double t1 = clock_seconds();

@@ -76,7 +76,7 @@ static limn_status measure_sized(limn_context *ctx, const limn_mesh *mesh, limn_
         return begun;
     memset(out, 0, sizeof *out);
     topology t;
-    limn_status st = topology_build_checked(ctx, "limn_mesh_measure", mesh, &t);
+    limn_status st = topology_get_checked(ctx, "limn_mesh_measure", mesh, &t);
     if (st)
         return st;
     out->closed = measure_topology_closed(&t);

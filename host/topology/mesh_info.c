@@ -15,7 +15,7 @@ static limn_status info_sized(limn_context *ctx, const limn_mesh *mesh, limn_mes
     if (begun)
         return begun;
     topology t;
-    limn_status st = topology_build_checked(ctx, "limn_mesh_info_compute", mesh, &t);
+    limn_status st = topology_get_checked(ctx, "limn_mesh_info_compute", mesh, &t);
     if (st)
         return st;
     memset(info, 0, sizeof *info);

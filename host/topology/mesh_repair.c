@@ -125,6 +125,7 @@ static limn_status fix_repeats(limn_context *ctx, limn_mesh *m, limn_repair_repo
     free(pos);
     free(stack);
     free(w);
+    topology_uncache(m);
     free(m->face_offsets);
     free(m->face_indices);
     uint32_t *off = realloc(o.offsets, (o.faces + 1) * sizeof *off);
@@ -212,6 +213,7 @@ static void sort_keys(keyed **k, keyed **tmp, size_t n)
 /* Removes the faces marked in dup, keeping the order of the others. */
 static void remove_marked(limn_mesh *m, const uint8_t *dup)
 {
+    topology_uncache(m);
     size_t out = 0, w = 0;
     for (size_t f = 0; f < m->face_count; f++) {
         uint32_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
@@ -387,12 +389,13 @@ static limn_status repair_duplicates(limn_context *ctx, limn_mesh *mesh, int rem
     return LIMN_OK;
 }
 
-/* What stays as it is: counted into r, each with a warning. */
-static limn_status report_kept(limn_context *ctx, const limn_mesh *mesh, limn_repair_report *r)
+/* What stays as it is: counted into r, each with a warning. The topology
+   stays on the mesh for the calls after the repair (topology_get). */
+static limn_status report_kept(limn_context *ctx, limn_mesh *mesh, limn_repair_report *r)
 {
     size_t nv = mesh->vertex_count;
     topology t;
-    limn_status st = topology_build(ctx, mesh, &t);
+    limn_status st = topology_cache(ctx, mesh, &t);
     if (st)
         return st;
     size_t nm_edges = t.nonmanifold_edges - t.inconsistent_edges;

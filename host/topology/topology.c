@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* Topology construction: edges by bucketing half-edges on their lower vertex. */
+/* Topology construction (the passes: topology_build.h), the mesh's cached
+   topology, and the scratch and sorting the passes share. */
 #include "mesh/check.h"
-#include "topology/topology.h"
+#include "topology/topology_build.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
 
@@ -14,10 +15,91 @@ static int cmp_u64(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Insertion sort for the short lists of rings and faces, qsort past that
+   (one body for both widths). */
+#define SORT_SHORT(type, a, n, cmp)                                                           \
+    do {                                                                                      \
+        if ((n) > 24) {                                                                       \
+            qsort((a), (n), sizeof *(a), cmp);                                                \
+            break;                                                                            \
+        }                                                                                     \
+        for (size_t i_ = 1; i_ < (n); i_++) {                                                 \
+            type x_ = (a)[i_];                                                                \
+            size_t j_ = i_;                                                                   \
+            for (; j_ > 0 && (a)[j_ - 1] > x_; j_--)                                          \
+                (a)[j_] = (a)[j_ - 1];                                                        \
+            (a)[j_] = x_;                                                                     \
+        }                                                                                     \
+    } while (0)
+
+void topo_sort_u64(uint64_t *a, size_t n)
+{
+    SORT_SHORT(uint64_t, a, n, cmp_u64);
+}
+
+void topo_sort_u32(uint32_t *a, size_t n)
+{
+    SORT_SHORT(uint32_t, a, n, cmp_u32);
+}
+
+/* Room for want items of size bytes at *p (doubling, at least least). */
+static int grow(void **p, size_t *cap, size_t want, size_t size, size_t least)
+{
+    if (want <= *cap)
+        return 1;
+    size_t n = want < least ? least : 2 * want;
+    void *q = realloc(*p, n * size);
+    if (!q)
+        return 0;
+    *p = q;
+    *cap = n;
+    return 1;
+}
+
+int topo_scratch_reserve(topo_scratch *s, size_t keys, size_t words)
+{
+    void *k = s->keys, *w = s->words;
+    int ok = grow(&k, &s->key_cap, keys, sizeof *s->keys, 64);
+    s->keys = k;
+    ok = ok && grow(&w, &s->word_cap, words, sizeof *s->words, 256);
+    s->words = w;
+    return ok;
+}
+
+void topo_scratch_free(topo_scratch *s)
+{
+    free(s->keys);
+    free(s->words);
+    memset(s, 0, sizeof *s);
+}
+
+unsigned topo_range(const topo_build *b, size_t n, size_t begin)
+{
+    /* parallel_run's own clamping, then its cuts */
+    unsigned parts = b->parts < 1 ? 1 : b->parts;
+    if ((size_t)parts > n)
+        parts = n ? (unsigned)n : 1;
+    unsigned i = 0;
+    while (i + 1 < parts && parallel_cut(n, parts, i + 1) <= begin)
+        i++;
+    return i;
+}
+
 void topology_free(topology *t)
 {
     if (!t)
         return;
+    if (t->borrowed) {
+        /* a copy of the mesh's cached topology: the mesh frees it */
+        memset(t, 0, sizeof *t);
+        return;
+    }
     free(t->corner_face);
     free(t->corner_edge);
     free(t->edge_vertices);
@@ -32,249 +114,6 @@ void topology_free(topology *t)
     free(t->vertex_rule);
     free(t->crease_neighbors);
     memset(t, 0, sizeof *t);
-}
-
-/* Refuses faces that repeat a vertex; counts face kinds. */
-static limn_status check_faces(limn_context *ctx, topology *t, uint32_t *mark)
-{
-    for (uint32_t f = 0; f < t->face_count; f++) {
-        uint32_t b = t->face_offsets[f], e = t->face_offsets[f + 1], d = e - b;
-        for (uint32_t c = b; c < e; c++) {
-            uint32_t v = t->face_indices[c];
-            if (mark[v] == f + 1)
-                return ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
-                                 "face %u uses vertex %u twice (a degenerate face); remove it "
-                                 "or repair the mesh",
-                                 f, v);
-            mark[v] = f + 1;
-            t->corner_face[c] = f;
-        }
-        if (d > t->max_face_size)
-            t->max_face_size = d;
-        if (d == 3)
-            t->triangles++;
-        else if (d == 4)
-            t->quads++;
-        else
-            t->other_faces++;
-    }
-    return LIMN_OK;
-}
-
-/* Assigns an id to every undirected edge: half-edges bucketed by lower vertex,
-   then each bucket sorted by upper vertex, so ids are deterministic. */
-static limn_status build_edges(limn_context *ctx, topology *t)
-{
-    size_t nv = t->vertex_count, nc = t->corner_count;
-    uint32_t *bucket_off = calloc(nv + 1, sizeof *bucket_off);
-    uint64_t *bucket = malloc((nc ? nc : 1) * sizeof *bucket); /* (upper << 32) | corner */
-    if (!bucket_off || !bucket) {
-        free(bucket_off);
-        free(bucket);
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory building edges");
-    }
-    for (size_t c = 0; c < nc; c++) {
-        uint32_t a = t->face_indices[c], b = t->face_indices[topology_corner_next(t, (uint32_t)c)];
-        bucket_off[(a < b ? a : b) + 1]++;
-    }
-    for (size_t v = 0; v < nv; v++)
-        bucket_off[v + 1] += bucket_off[v];
-    uint32_t *fill = malloc((nv ? nv : 1) * sizeof *fill);
-    if (!fill) {
-        free(bucket_off);
-        free(bucket);
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory building edges");
-    }
-    memcpy(fill, bucket_off, nv * sizeof *fill);
-    for (size_t c = 0; c < nc; c++) {
-        uint32_t a = t->face_indices[c], b = t->face_indices[topology_corner_next(t, (uint32_t)c)];
-        uint32_t lo = a < b ? a : b, hi = a < b ? b : a;
-        bucket[fill[lo]++] = ((uint64_t)hi << 32) | c;
-    }
-    free(fill);
-    /* Upper bound on edges is the corner count. */
-    t->edge_vertices = malloc((nc ? nc : 1) * 2 * sizeof *t->edge_vertices);
-    t->edge_corner_offsets = malloc((nc + 1) * sizeof *t->edge_corner_offsets);
-    t->edge_corners = malloc((nc ? nc : 1) * sizeof *t->edge_corners);
-    if (!t->edge_vertices || !t->edge_corner_offsets || !t->edge_corners) {
-        free(bucket_off);
-        free(bucket);
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory building edges");
-    }
-    size_t ne = 0, k = 0;
-    for (size_t v = 0; v < nv; v++) {
-        uint64_t *b = bucket + bucket_off[v];
-        size_t n = bucket_off[v + 1] - bucket_off[v];
-        if (n > 1)
-            qsort(b, n, sizeof *b, cmp_u64);
-        for (size_t i = 0; i < n; i++) {
-            uint32_t hi = (uint32_t)(b[i] >> 32), c = (uint32_t)b[i];
-            if (i == 0 || (uint32_t)(b[i - 1] >> 32) != hi) {
-                t->edge_corner_offsets[ne] = (uint32_t)k;
-                t->edge_vertices[2 * ne] = (uint32_t)v;
-                t->edge_vertices[2 * ne + 1] = hi;
-                ne++;
-            }
-            t->edge_corners[k++] = c;
-            t->corner_edge[c] = (uint32_t)(ne - 1);
-        }
-    }
-    t->edge_corner_offsets[ne] = (uint32_t)k;
-    t->edge_count = ne;
-    free(bucket_off);
-    free(bucket);
-    return LIMN_OK;
-}
-
-static void classify_edges(topology *t)
-{
-    for (size_t e = 0; e < t->edge_count; e++) {
-        uint32_t b = t->edge_corner_offsets[e], n = t->edge_corner_offsets[e + 1] - b;
-        uint8_t flags = 0;
-        if (n == 1) {
-            flags = EDGE_BOUNDARY;
-            t->boundary_edges++;
-        } else if (n > 2) {
-            flags = EDGE_NONMANIFOLD;
-        } else {
-            /* Both corners start at the same vertex: same direction. */
-            uint32_t c0 = t->edge_corners[b], c1 = t->edge_corners[b + 1];
-            if (t->face_indices[c0] == t->face_indices[c1]) {
-                flags = EDGE_NONMANIFOLD | EDGE_INCONSISTENT;
-                t->inconsistent_edges++;
-            }
-        }
-        if (flags & EDGE_NONMANIFOLD)
-            t->nonmanifold_edges++;
-        t->edge_flags[e] = flags;
-    }
-}
-
-/* Vertex -> corners and vertex -> edges as CSR. */
-static limn_status build_vertex_incidence(limn_context *ctx, topology *t)
-{
-    size_t nv = t->vertex_count;
-    t->vertex_corner_offsets = calloc(nv + 1, sizeof(uint32_t));
-    t->vertex_corners = malloc((t->corner_count ? t->corner_count : 1) * sizeof(uint32_t));
-    t->vertex_edge_offsets = calloc(nv + 1, sizeof(uint32_t));
-    t->vertex_edges = malloc((t->edge_count ? 2 * t->edge_count : 1) * sizeof(uint32_t));
-    uint32_t *fill = malloc((nv ? nv : 1) * sizeof(uint32_t));
-    if (!t->vertex_corner_offsets || !t->vertex_corners || !t->vertex_edge_offsets ||
-        !t->vertex_edges || !fill) {
-        free(fill);
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory building vertex rings");
-    }
-    for (size_t c = 0; c < t->corner_count; c++)
-        t->vertex_corner_offsets[t->face_indices[c] + 1]++;
-    for (size_t e = 0; e < t->edge_count; e++) {
-        t->vertex_edge_offsets[t->edge_vertices[2 * e] + 1]++;
-        t->vertex_edge_offsets[t->edge_vertices[2 * e + 1] + 1]++;
-    }
-    for (size_t v = 0; v < nv; v++) {
-        t->vertex_corner_offsets[v + 1] += t->vertex_corner_offsets[v];
-        t->vertex_edge_offsets[v + 1] += t->vertex_edge_offsets[v];
-    }
-    memcpy(fill, t->vertex_corner_offsets, nv * sizeof(uint32_t));
-    for (size_t c = 0; c < t->corner_count; c++)
-        t->vertex_corners[fill[t->face_indices[c]]++] = (uint32_t)c;
-    memcpy(fill, t->vertex_edge_offsets, nv * sizeof(uint32_t));
-    for (size_t e = 0; e < t->edge_count; e++) {
-        t->vertex_edges[fill[t->edge_vertices[2 * e]]++] = (uint32_t)e;
-        t->vertex_edges[fill[t->edge_vertices[2 * e + 1]]++] = (uint32_t)e;
-    }
-    free(fill);
-    return LIMN_OK;
-}
-
-/* The corner on the other face of the edge leaving v backwards from corner c
-   (edge prev(c) -> c, i.e. between v and the previous vertex), or UINT32_MAX. */
-static uint32_t across_prev_edge(const topology *t, uint32_t c)
-{
-    uint32_t pc = topology_corner_prev(t, c);
-    uint32_t e = t->corner_edge[pc];
-    uint32_t b = t->edge_corner_offsets[e], n = t->edge_corner_offsets[e + 1] - b;
-    if (n != 2)
-        return UINT32_MAX;
-    uint32_t other = t->edge_corners[b] == pc ? t->edge_corners[b + 1] : t->edge_corners[b];
-    /* other runs v -> prev vertex; its corner is at v. */
-    return other;
-}
-
-/* Orders the corners of a vertex with only manifold edges into one fan
-   (walking backwards across edges); returns 0 when they form several fans. */
-static int order_fan(const topology *t, uint32_t v, uint32_t *scratch)
-{
-    uint32_t b = t->vertex_corner_offsets[v], n = t->vertex_corner_offsets[v + 1] - b;
-    if (n <= 1)
-        return 1;
-    uint32_t *ring = t->vertex_corners + b;
-    /* Start at a corner whose forward edge is a boundary, so the walk
-       backwards covers the whole open fan. */
-    uint32_t start = ring[0];
-    for (uint32_t i = 0; i < n; i++) {
-        uint32_t e = t->corner_edge[ring[i]];
-        if (t->edge_flags[e] & EDGE_BOUNDARY) {
-            start = ring[i];
-            break;
-        }
-    }
-    uint32_t count = 0, c = start;
-    do {
-        if (count == n)
-            return 0;
-        scratch[count++] = c;
-        c = across_prev_edge(t, c);
-    } while (c != UINT32_MAX && c != start);
-    if (count != n)
-        return 0;
-    memcpy(ring, scratch, n * sizeof *ring);
-    return 1;
-}
-
-static void classify_vertices(topology *t, uint32_t *scratch)
-{
-    for (uint32_t v = 0; v < t->vertex_count; v++) {
-        uint32_t eb = t->vertex_edge_offsets[v], ne = t->vertex_edge_offsets[v + 1] - eb;
-        uint32_t nf = t->vertex_corner_offsets[v + 1] - t->vertex_corner_offsets[v];
-        uint32_t boundary = 0, nonmanifold = 0, sharp[2] = {0, 0}, nsharp = 0;
-        for (uint32_t i = 0; i < ne; i++) {
-            uint32_t e = t->vertex_edges[eb + i];
-            uint8_t fl = t->edge_flags[e];
-            boundary += (fl & EDGE_BOUNDARY) != 0;
-            nonmanifold += (fl & EDGE_NONMANIFOLD) != 0;
-            if (fl & (EDGE_BOUNDARY | EDGE_NONMANIFOLD)) {
-                if (nsharp < 2)
-                    sharp[nsharp] = topology_edge_other(t, e, v);
-                nsharp++;
-            }
-        }
-        if (ne > t->max_valence)
-            t->max_valence = ne;
-        uint8_t flags = boundary ? VERTEX_BOUNDARY : 0;
-        if (nonmanifold || !order_fan(t, v, scratch))
-            flags |= VERTEX_NONMANIFOLD;
-        if (flags & VERTEX_NONMANIFOLD)
-            t->nonmanifold_vertices++;
-        t->vertex_flags[v] = flags;
-        if (nf)
-            t->referenced_vertices++;
-
-        vertex_rule rule;
-        int corner = nf == 1 && ne == 2;
-        int pinned_nonmanifold = (flags & VERTEX_NONMANIFOLD) &&
-                                 !(nonmanifold == 2 && boundary == 0 && nf > ne);
-        if (nf == 0)
-            rule = RULE_ISOLATED;
-        else if (corner || pinned_nonmanifold || nsharp > 2)
-            rule = RULE_CORNER;
-        else if (nsharp == 2)
-            rule = RULE_CREASE;
-        else
-            rule = RULE_SMOOTH;
-        t->vertex_rule[v] = (uint8_t)rule;
-        t->crease_neighbors[2 * v] = sharp[0];
-        t->crease_neighbors[2 * v + 1] = sharp[1];
-    }
 }
 
 static uint32_t find_root(uint32_t *parent, uint32_t x)
@@ -321,15 +160,138 @@ static limn_status count_components(limn_context *ctx, topology *t)
     return LIMN_OK;
 }
 
-limn_status topology_build_checked(limn_context *ctx, const char *fn, const limn_mesh *mesh,
-                                   topology *out)
+/* Sums what the ranges counted into t; LIMN_OK, or the first range's failure. */
+static limn_status gather(limn_context *ctx, topo_build *b)
 {
-    limn_status st = check_mesh(ctx, fn, NULL, mesh);
-    return st ? st : topology_build(ctx, mesh, out);
+    topology *t = b->t;
+    for (unsigned i = 0; i < PARALLEL_MAX; i++) {
+        const topo_counts *k = &b->counts[i];
+        if (k->no_memory)
+            return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the topology of %zu vertices",
+                            t->vertex_count);
+        /* ranges are in face order: the first range's bad face is the first one */
+        if (k->bad_face != SIZE_MAX)
+            return ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
+                            "face %zu uses vertex %u twice (a degenerate face); remove it "
+                            "or repair the mesh",
+                            k->bad_face, k->bad_vertex);
+    }
+    return LIMN_OK;
+}
+
+static void sum_counts(topo_build *b)
+{
+    topology *t = b->t;
+    for (unsigned i = 0; i < PARALLEL_MAX; i++) {
+        const topo_counts *k = &b->counts[i];
+        t->boundary_edges += k->boundary_edges;
+        t->nonmanifold_edges += k->nonmanifold_edges;
+        t->inconsistent_edges += k->inconsistent_edges;
+        t->nonmanifold_vertices += k->nonmanifold_vertices;
+        t->referenced_vertices += k->referenced_vertices;
+        t->triangles += k->triangles;
+        t->quads += k->quads;
+        t->other_faces += k->other_faces;
+        if (k->max_valence > t->max_valence)
+            t->max_valence = k->max_valence;
+        if (k->max_face_size > t->max_face_size)
+            t->max_face_size = k->max_face_size;
+    }
+}
+
+/* Counts into offsets: a[0] = 0, a[v + 1] += a[v]. */
+static void prefix(uint32_t *a, size_t n)
+{
+    a[0] = 0;
+    for (size_t v = 0; v < n; v++)
+        a[v + 1] += a[v];
+}
+
+static limn_status no_memory(limn_context *ctx, const topology *t)
+{
+    return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the topology of %zu vertices",
+                    t->vertex_count);
+}
+
+/* Passes 1-3: face checks, vertex buckets, and the counts that place edges. */
+static limn_status place(limn_context *ctx, topo_build *b)
+{
+    topology *t = b->t;
+    size_t nv = t->vertex_count;
+    for (size_t v = 0; v < nv; v++)
+        atomic_store_explicit(&b->cursor[v], 0, memory_order_relaxed);
+    topo_faces(b);
+    limn_status st = gather(ctx, b);
+    if (st)
+        return st;
+    ctx_progress(ctx, "topology", 0.15);
+    t->vertex_corner_offsets[0] = 0;
+    for (size_t v = 0; v < nv; v++) {
+        uint32_t at = t->vertex_corner_offsets[v];
+        t->vertex_corner_offsets[v + 1] =
+            at + atomic_load_explicit(&b->cursor[v], memory_order_relaxed);
+        atomic_store_explicit(&b->cursor[v], at, memory_order_relaxed);
+    }
+    topo_scatter(b);
+    ctx_progress(ctx, "topology", 0.3);
+    topo_count(b);
+    st = gather(ctx, b);
+    if (st)
+        return st;
+    prefix(t->vertex_edge_offsets, nv);
+    prefix(b->edge_base, nv);
+    prefix(b->entry_base, nv);
+    ctx_progress(ctx, "topology", 0.5);
+    return LIMN_OK;
+}
+
+/* Passes 4-5 and the components, once the edges are counted. */
+static limn_status connect(limn_context *ctx, topo_build *b)
+{
+    topology *t = b->t;
+    size_t ne = b->edge_base[t->vertex_count], nc = t->corner_count;
+    t->edge_count = ne;
+    t->edge_vertices = malloc((ne ? ne : 1) * 2 * sizeof *t->edge_vertices);
+    t->edge_corner_offsets = malloc((ne + 1) * sizeof *t->edge_corner_offsets);
+    t->edge_flags = malloc(ne ? ne : 1);
+    t->edge_corners = malloc((nc ? nc : 1) * sizeof *t->edge_corners);
+    t->corner_edge = malloc((nc ? nc : 1) * sizeof *t->corner_edge);
+    if (!t->edge_vertices || !t->edge_corner_offsets || !t->edge_flags || !t->edge_corners ||
+        !t->corner_edge)
+        return no_memory(ctx, t);
+    topo_edges(b);
+    limn_status st = gather(ctx, b);
+    if (st)
+        return st;
+    t->edge_corner_offsets[ne] = (uint32_t)nc;
+    ctx_progress(ctx, "topology", 0.8);
+    /* the buckets' vertices are done with: give their room to vertex_edges */
+    free(b->next);
+    free(b->prev);
+    free(b->wrap);
+    b->next = b->prev = NULL;
+    b->wrap = NULL;
+    t->vertex_edges = malloc((ne ? 2 * ne : 1) * sizeof *t->vertex_edges);
+    t->corner_face = malloc((nc ? nc : 1) * sizeof *t->corner_face);
+    if (!t->vertex_edges || !t->corner_face)
+        return no_memory(ctx, t);
+    topo_vertex_edges(b);
+    topo_corner_faces(b);
+    sum_counts(b);
+    ctx_progress(ctx, "topology", 0.9);
+    return count_components(ctx, t);
+}
+
+static atomic_size_t builds;
+
+size_t topology_build_count(void)
+{
+    return atomic_load(&builds);
 }
 
 limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *t)
 {
+    atomic_fetch_add(&builds, 1);
     memset(t, 0, sizeof *t);
     t->vertex_count = mesh->vertex_count;
     t->face_count = mesh->face_count;
@@ -337,35 +299,92 @@ limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *t
     t->face_indices = mesh->face_indices;
     t->corner_count = mesh->face_offsets[mesh->face_count];
     size_t nv = t->vertex_count, nc = t->corner_count;
-    uint32_t *scratch = calloc(nv > nc ? (nv ? nv : 1) : nc, sizeof *scratch);
-    t->corner_face = malloc((nc ? nc : 1) * sizeof *t->corner_face);
-    t->corner_edge = malloc((nc ? nc : 1) * sizeof *t->corner_edge);
+    topo_build b;
+    memset(&b, 0, sizeof b);
+    b.t = t;
+    /* about 60 bytes a corner are read and written */
+    b.parts = parallel_threads(ctx, (uint64_t)nc * 60);
+    for (unsigned i = 0; i < PARALLEL_MAX; i++)
+        b.counts[i].bad_face = SIZE_MAX;
+    t->vertex_corner_offsets = malloc((nv + 1) * sizeof *t->vertex_corner_offsets);
+    t->vertex_corners = malloc((nc ? nc : 1) * sizeof *t->vertex_corners);
+    t->vertex_edge_offsets = malloc((nv + 1) * sizeof *t->vertex_edge_offsets);
     t->vertex_flags = malloc(nv ? nv : 1);
     t->vertex_rule = malloc(nv ? nv : 1);
     t->crease_neighbors = malloc((nv ? nv : 1) * 2 * sizeof *t->crease_neighbors);
+    b.cursor = malloc((nv ? nv : 1) * sizeof *b.cursor);
+    b.next = malloc((nc ? nc : 1) * sizeof *b.next);
+    b.prev = malloc((nc ? nc : 1) * sizeof *b.prev);
+    b.wrap = malloc(nc ? nc : 1);
+    b.edge_base = malloc((nv + 1) * sizeof *b.edge_base);
+    b.entry_base = malloc((nv + 1) * sizeof *b.entry_base);
     limn_status st = LIMN_OK;
-    if (!scratch || !t->corner_face || !t->corner_edge || !t->vertex_flags || !t->vertex_rule ||
-        !t->crease_neighbors)
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the topology of %zu vertices", nv);
+    if (!t->vertex_corner_offsets || !t->vertex_corners ||
+        !t->vertex_edge_offsets || !t->vertex_flags || !t->vertex_rule || !t->crease_neighbors ||
+        !b.cursor || !b.next || !b.prev || !b.wrap || !b.edge_base || !b.entry_base)
+        st = no_memory(ctx, t);
     if (!st)
-        st = check_faces(ctx, t, scratch);
+        st = place(ctx, &b);
     if (!st)
-        st = build_edges(ctx, t);
-    if (!st) {
-        t->edge_flags = malloc(t->edge_count ? t->edge_count : 1);
-        if (!t->edge_flags)
-            st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for edge flags");
-    }
-    if (!st) {
-        classify_edges(t);
-        st = build_vertex_incidence(ctx, t);
-    }
-    if (!st) {
-        classify_vertices(t, scratch);
-        st = count_components(ctx, t);
-    }
-    free(scratch);
+        st = connect(ctx, &b);
+    free(b.cursor);
+    free(b.next);
+    free(b.prev);
+    free(b.wrap);
+    free(b.edge_base);
+    free(b.entry_base);
     if (st)
         topology_free(t);
+    else
+        ctx_progress(ctx, "topology", 1.0);
     return st;
+}
+
+/* ------------------------------------------------ the mesh's cached one */
+
+static void topology_destroy(struct topology *t)
+{
+    topology_free(t);
+    free(t);
+}
+
+limn_status topology_get(limn_context *ctx, const limn_mesh *mesh, topology *out)
+{
+    if (!mesh->topology)
+        return topology_build(ctx, mesh, out);
+    *out = *mesh->topology;
+    out->borrowed = 1;
+    return LIMN_OK;
+}
+
+limn_status topology_get_checked(limn_context *ctx, const char *fn, const limn_mesh *mesh,
+                                 topology *out)
+{
+    limn_status st = check_mesh(ctx, fn, NULL, mesh);
+    return st ? st : topology_get(ctx, mesh, out);
+}
+
+limn_status topology_cache(limn_context *ctx, limn_mesh *mesh, topology *out)
+{
+    if (!mesh->topology) {
+        topology *t = malloc(sizeof *t);
+        if (!t)
+            return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a topology");
+        limn_status st = topology_build(ctx, mesh, t);
+        if (st) {
+            free(t);
+            return st;
+        }
+        mesh->topology = t;
+        mesh->topology_drop = topology_destroy;
+    }
+    return topology_get(ctx, mesh, out);
+}
+
+void topology_uncache(limn_mesh *mesh)
+{
+    if (mesh->topology)
+        mesh->topology_drop(mesh->topology);
+    mesh->topology = NULL;
+    mesh->topology_drop = NULL;
 }

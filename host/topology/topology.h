@@ -57,18 +57,36 @@ typedef struct topology {
     size_t referenced_vertices, components, boundary_loops;
     size_t max_face_size, max_valence;
     size_t triangles, quads, other_faces;
+    /* a copy of a mesh's cached topology (topology_get): its arrays belong
+       to the mesh, read-only; topology_free only clears the copy */
+    int borrowed;
 } topology;
 
 /*
- * Builds the topology of mesh (which must outlive it). Refuses, naming the
+ * Builds the topology of mesh (which must outlive it), in parallel over the
+ * context's host threads, the same bytes for any count. Refuses, naming the
  * face, a face that uses one vertex twice.
  */
 limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *out);
-/* check_mesh (the caller's name fn in its messages), then topology_build:
+/*
+ * The topology of mesh: a borrowed copy of the one limn_mesh_repair left on
+ * it (one topology per run: repair, operator, info, measure and the series
+ * share it), else built into *out. Either way topology_free(out) after. The
+ * cache is only set or dropped by calls that take the mesh non-const, so
+ * threads may share a const mesh.
+ */
+limn_status topology_get(limn_context *ctx, const limn_mesh *mesh, topology *out);
+/* check_mesh (the caller's name fn in its messages), then topology_get:
    the opening of the calls that count a caller's mesh (info, measure). */
-limn_status topology_build_checked(limn_context *ctx, const char *fn, const limn_mesh *mesh,
-                                   topology *out);
+limn_status topology_get_checked(limn_context *ctx, const char *fn, const limn_mesh *mesh,
+                                 topology *out);
+/* topology_get after building the cache when it is missing (limn_mesh_repair). */
+limn_status topology_cache(limn_context *ctx, limn_mesh *mesh, topology *out);
+/* Drops the cached topology: before anything changes the faces. */
+void topology_uncache(limn_mesh *mesh);
 void topology_free(topology *topo);
+/* How many times topology_build ran in this process (tests: one per run). */
+size_t topology_build_count(void);
 
 static inline uint32_t topology_face_size(const topology *t, uint32_t f)
 {

@@ -1,0 +1,280 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Topology passes over vertices: each vertex's bucket (its corners with their
+ * next and previous vertex) holds everything about its edges, so the vertex
+ * counts, writes and classifies them without reading another vertex.
+ */
+#include "topology/topology_build.h"
+
+#include <string.h>
+
+/* Sorts bucket [s, s + k) by corner, moving next, prev and wrap along. */
+static int sort_bucket(topo_build *b, uint32_t s, uint32_t k, topo_scratch *sc)
+{
+    uint32_t *c = b->t->vertex_corners + s, *n = b->next + s, *p = b->prev + s;
+    uint8_t *r = b->wrap + s;
+    if (k <= 16) {
+        for (uint32_t i = 1; i < k; i++)
+            for (uint32_t j = i; j > 0 && c[j - 1] > c[j]; j--) {
+                uint32_t x = c[j], y = n[j], z = p[j];
+                uint8_t q = r[j];
+                c[j] = c[j - 1], n[j] = n[j - 1], p[j] = p[j - 1], r[j] = r[j - 1];
+                c[j - 1] = x, n[j - 1] = y, p[j - 1] = z, r[j - 1] = q;
+            }
+        return 1;
+    }
+    if (!topo_scratch_reserve(sc, k, 4 * (size_t)k))
+        return 0;
+    for (uint32_t i = 0; i < k; i++)
+        sc->keys[i] = (uint64_t)c[i] << 32 | i;
+    topo_sort_u64(sc->keys, k);
+    uint32_t *w = sc->words;
+    for (uint32_t i = 0; i < k; i++) {
+        uint32_t from = (uint32_t)sc->keys[i];
+        w[i] = c[from], w[k + i] = n[from], w[2 * k + i] = p[from], w[3 * k + i] = r[from];
+    }
+    memcpy(c, w, k * sizeof *c);
+    memcpy(n, w + k, k * sizeof *n);
+    memcpy(p, w + 2 * (size_t)k, k * sizeof *p);
+    for (uint32_t i = 0; i < k; i++)
+        r[i] = (uint8_t)w[3 * k + i];
+    return 1;
+}
+
+static int count_range(void *arg, size_t begin, size_t end)
+{
+    topo_build *b = arg;
+    topology *t = b->t;
+    topo_counts *k = &b->counts[topo_range(b, t->vertex_count, begin)];
+    topo_scratch sc = {0};
+    for (size_t v = begin; v < end && !k->no_memory; v++) {
+        uint32_t s = t->vertex_corner_offsets[v], n = t->vertex_corner_offsets[v + 1] - s;
+        if (!sort_bucket(b, s, n, &sc) || !topo_scratch_reserve(&sc, 0, 2 * (size_t)n)) {
+            k->no_memory = 1;
+            break;
+        }
+        /* neighbours: the next and previous vertices, each counted once */
+        uint32_t *w = sc.words, entries = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            w[2 * i] = b->next[s + i];
+            w[2 * i + 1] = b->prev[s + i];
+            entries += (w[2 * i] > v) + (w[2 * i + 1] > v);
+        }
+        topo_sort_u32(w, 2 * (size_t)n);
+        uint32_t valence = 0, owned = 0;
+        for (uint32_t i = 0; i < 2 * n; i++)
+            if (i == 0 || w[i] != w[i - 1]) {
+                valence++;
+                owned += w[i] > v;
+            }
+        t->vertex_edge_offsets[v + 1] = valence;
+        b->edge_base[v + 1] = owned;
+        b->entry_base[v + 1] = entries;
+    }
+    topo_scratch_free(&sc);
+    return k->no_memory;
+}
+
+int topo_count(topo_build *b)
+{
+    return parallel_run(b->t->vertex_count, b->parts, count_range, b);
+}
+
+/* One edge {v, w} as v sees it. */
+typedef struct ring_edge {
+    uint32_t w, total, forward; /* forward: the slot going v -> w, or UINT32_MAX */
+    uint8_t flags;
+} ring_edge;
+/* ring edges live in the words of the scratch, 4 each */
+_Static_assert(sizeof(ring_edge) <= 4 * sizeof(uint32_t), "ring_edge is 4 words");
+
+/* The corner before c (at slot) in its face. */
+static uint32_t corner_prev(const topo_build *b, uint32_t slot, uint32_t c)
+{
+    uint8_t r = b->wrap[slot];
+    if (r == 0)
+        return c - 1;
+    if (r < 255)
+        return c + r;
+    /* c starts a face of 256 corners or more: the next face's start, found
+       in face_offsets (corner_face comes later) */
+    const uint32_t *fo = b->t->face_offsets;
+    size_t lo = 0, hi = b->t->face_count;
+    while (hi - lo > 1) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (fo[mid] <= c)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return fo[lo + 1] - 1;
+}
+
+/* Writes owned edge {v, w} (keys: its corners at v as slot << 1, and at w as
+   slot << 1 | 1) with id id: vertices, corners in increasing order, flags. */
+static void write_edge(topo_build *b, uint32_t v, const ring_edge *re, const uint64_t *keys,
+                       uint32_t id, uint32_t *at, topo_counts *k)
+{
+    topology *t = b->t;
+    uint32_t s = t->vertex_corner_offsets[v], *out = t->edge_corners + *at;
+    for (uint32_t i = 0; i < re->total; i++) {
+        uint32_t slot = (uint32_t)keys[i] >> 1, c = t->vertex_corners[s + slot];
+        out[i] = keys[i] & 1 ? corner_prev(b, s + slot, c) : c;
+    }
+    topo_sort_u32(out, re->total);
+    for (uint32_t i = 0; i < re->total; i++)
+        t->corner_edge[out[i]] = id;
+    t->edge_vertices[2 * (size_t)id] = v;
+    t->edge_vertices[2 * (size_t)id + 1] = re->w;
+    t->edge_corner_offsets[id] = *at;
+    t->edge_flags[id] = re->flags;
+    *at += re->total;
+    k->boundary_edges += (re->flags & EDGE_BOUNDARY) != 0;
+    k->nonmanifold_edges += (re->flags & EDGE_NONMANIFOLD) != 0;
+    k->inconsistent_edges += (re->flags & EDGE_INCONSISTENT) != 0;
+}
+
+/* v's edges, sorted by neighbour, into e (keys: scratch of 2 n), and for
+   each slot the index in e of its forward (fwd) and backward (back) edge;
+   writes the owned ones; returns the count. */
+static uint32_t ring_edges(topo_build *b, uint32_t v, uint64_t *keys, ring_edge *e,
+                           uint32_t *fwd, uint32_t *back, topo_counts *k)
+{
+    topology *t = b->t;
+    uint32_t s = t->vertex_corner_offsets[v], n = t->vertex_corner_offsets[v + 1] - s;
+    /* slot << 1 fits: a vertex is in at most one corner of a face of >= 3,
+       so n <= UINT32_MAX / 3 */
+    for (uint32_t i = 0; i < n; i++) {
+        keys[2 * i] = (uint64_t)b->next[s + i] << 32 | (uint64_t)i << 1;
+        keys[2 * i + 1] = (uint64_t)b->prev[s + i] << 32 | (uint64_t)i << 1 | 1;
+    }
+    topo_sort_u64(keys, 2 * (size_t)n);
+    uint32_t count = 0, id = b->edge_base[v], at = b->entry_base[v];
+    for (uint32_t i = 0; i < 2 * n;) {
+        uint32_t w = (uint32_t)(keys[i] >> 32), j = i, at_v = 0;
+        ring_edge *re = &e[count++];
+        re->forward = UINT32_MAX;
+        for (; j < 2 * n && (uint32_t)(keys[j] >> 32) == w; j++) {
+            uint32_t slot = (uint32_t)keys[j] >> 1;
+            if (keys[j] & 1) {
+                back[slot] = count - 1;
+            } else {
+                at_v++;
+                re->forward = slot;
+                fwd[slot] = count - 1;
+            }
+        }
+        re->w = w;
+        re->total = j - i;
+        re->flags = re->total == 1  ? EDGE_BOUNDARY
+                    : re->total > 2 ? EDGE_NONMANIFOLD
+                    /* both corners start at the same vertex: same direction */
+                    : at_v != 1 ? EDGE_NONMANIFOLD | EDGE_INCONSISTENT
+                                : 0;
+        if (w > v)
+            write_edge(b, v, re, keys + i, id++, &at, k);
+        i = j;
+    }
+    return count;
+}
+
+/* Orders v's corners into one fan, walking backwards across edges from a
+   corner whose forward edge is a boundary (so an open fan is covered whole);
+   0 when they form several fans. ring: scratch of n; fwd, back: ring_edges'. */
+static int order_fan(topo_build *b, uint32_t v, const ring_edge *e, const uint32_t *fwd,
+                     const uint32_t *back, uint32_t *ring)
+{
+    topology *t = b->t;
+    uint32_t s = t->vertex_corner_offsets[v], n = t->vertex_corner_offsets[v + 1] - s;
+    if (n <= 1)
+        return 1;
+    uint32_t start = 0;
+    for (uint32_t i = 0; i < n; i++)
+        if (e[fwd[i]].flags & EDGE_BOUNDARY) {
+            start = i;
+            break;
+        }
+    uint32_t count = 0, i = start;
+    do {
+        if (count == n)
+            return 0;
+        ring[count++] = t->vertex_corners[s + i];
+        /* across the edge to the previous vertex: its corner that leaves v */
+        const ring_edge *across = &e[back[i]];
+        i = across->total == 2 ? across->forward : UINT32_MAX;
+    } while (i != UINT32_MAX && i != start);
+    if (count != n)
+        return 0;
+    memcpy(t->vertex_corners + s, ring, n * sizeof *ring);
+    return 1;
+}
+
+/* Flags, rule and crease neighbours of v from its edges (OpenSubdiv's rules:
+   topology.h); orders its fan (ring, fwd, back: order_fan's). */
+static void classify(topo_build *b, uint32_t v, const ring_edge *e, uint32_t ne, uint32_t *ring,
+                     const uint32_t *fwd, const uint32_t *back, topo_counts *k)
+{
+    topology *t = b->t;
+    uint32_t nf = t->vertex_corner_offsets[v + 1] - t->vertex_corner_offsets[v];
+    uint32_t boundary = 0, nonmanifold = 0, sharp[2] = {0, 0}, nsharp = 0;
+    for (uint32_t i = 0; i < ne; i++) {
+        boundary += (e[i].flags & EDGE_BOUNDARY) != 0;
+        nonmanifold += (e[i].flags & EDGE_NONMANIFOLD) != 0;
+        if (e[i].flags & (EDGE_BOUNDARY | EDGE_NONMANIFOLD)) {
+            if (nsharp < 2)
+                sharp[nsharp] = e[i].w;
+            nsharp++;
+        }
+    }
+    if (ne > k->max_valence)
+        k->max_valence = ne;
+    uint8_t flags = boundary ? VERTEX_BOUNDARY : 0;
+    if (nonmanifold || !order_fan(b, v, e, fwd, back, ring))
+        flags |= VERTEX_NONMANIFOLD;
+    k->nonmanifold_vertices += (flags & VERTEX_NONMANIFOLD) != 0;
+    t->vertex_flags[v] = flags;
+    k->referenced_vertices += nf > 0;
+    vertex_rule rule;
+    int corner = nf == 1 && ne == 2;
+    int pinned_nonmanifold =
+        (flags & VERTEX_NONMANIFOLD) && !(nonmanifold == 2 && boundary == 0 && nf > ne);
+    if (nf == 0)
+        rule = RULE_ISOLATED;
+    else if (corner || pinned_nonmanifold || nsharp > 2)
+        rule = RULE_CORNER;
+    else if (nsharp == 2)
+        rule = RULE_CREASE;
+    else
+        rule = RULE_SMOOTH;
+    t->vertex_rule[v] = (uint8_t)rule;
+    t->crease_neighbors[2 * (size_t)v] = sharp[0];
+    t->crease_neighbors[2 * (size_t)v + 1] = sharp[1];
+}
+
+static int edges_range(void *arg, size_t begin, size_t end)
+{
+    topo_build *b = arg;
+    topology *t = b->t;
+    topo_counts *k = &b->counts[topo_range(b, t->vertex_count, begin)];
+    topo_scratch sc = {0};
+    for (size_t v = begin; v < end; v++) {
+        uint32_t n = t->vertex_corner_offsets[v + 1] - t->vertex_corner_offsets[v];
+        /* keys 2n, then ring edges (4 words each, at most 2n), the fan, fwd
+           and back (n each) */
+        if (!topo_scratch_reserve(&sc, 2 * (size_t)n, 11 * (size_t)n + 1)) {
+            k->no_memory = 1;
+            break;
+        }
+        ring_edge *e = (ring_edge *)(void *)sc.words;
+        uint32_t *ring = sc.words + 8 * (size_t)n + 1, *fwd = ring + n, *back = fwd + n;
+        uint32_t ne = ring_edges(b, (uint32_t)v, sc.keys, e, fwd, back, k);
+        classify(b, (uint32_t)v, e, ne, ring, fwd, back, k);
+    }
+    topo_scratch_free(&sc);
+    return k->no_memory;
+}
+
+int topo_edges(topo_build *b)
+{
+    return parallel_run(b->t->vertex_count, b->parts, edges_range, b);
+}
