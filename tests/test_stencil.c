@@ -106,13 +106,19 @@ typedef struct limit_user {
 static size_t limit_bound(const void *user, size_t r)
 {
     const limit_user *u = user;
-    return scheme_limit_mask_bound(u->t, (uint32_t)r);
+    return scheme_limit_mask_bound(u->t, u->scheme, (uint32_t)r);
 }
 
 static size_t limit_fill(const void *user, size_t r, uint32_t *cols, double *w)
 {
     const limit_user *u = user;
-    return scheme_limit_mask(u->t, u->scheme, u->alpha, (uint32_t)r, cols, w);
+    size_t n = scheme_limit_mask(u->t, u->scheme, u->alpha, (uint32_t)r, cols, w);
+    /* the bound holds every row, and is exact for smooth ones */
+    size_t bound = scheme_limit_mask_bound(u->t, u->scheme, (uint32_t)r);
+    assert_true(n <= bound);
+    if (u->t->vertex_rule[r] == RULE_SMOOTH)
+        assert_int_equal(n, bound);
+    return n;
 }
 
 typedef struct permuted_user {

@@ -12,18 +12,22 @@ double scheme_loop_limit_beta(uint32_t n)
     return 3.0 / (11.0 - 8.0 * (0.375 + c * c));
 }
 
-size_t scheme_limit_mask_bound(const topology *t, uint32_t v)
+size_t scheme_limit_mask_bound(const topology *t, limn_scheme scheme, uint32_t v)
 {
+    /* exactly what scheme_limit_mask writes for a smooth vertex: v, its n
+       neighbours and, for Catmull-Clark, the d - 3 other vertices of each
+       face; a sharp vertex writes at most 3. A tight bound keeps the stencil
+       build's scratch (and its first-touch page faults) small. */
     size_t bound = 1 + (t->vertex_edge_offsets[v + 1] - t->vertex_edge_offsets[v]);
-    size_t faces = t->vertex_corner_offsets[v + 1] - t->vertex_corner_offsets[v];
-    /* one face size throughout (scans, refined meshes): no lookups per face */
-    if (t->triangles == t->face_count)
-        return bound + 3 * faces;
-    if (t->quads == t->face_count)
-        return bound + 4 * faces;
-    for (uint32_t i = t->vertex_corner_offsets[v]; i < t->vertex_corner_offsets[v + 1]; i++)
-        bound += topology_face_size(t, t->corner_face[t->vertex_corners[i]]);
-    return bound;
+    if (scheme != LIMN_SCHEME_LOOP && t->triangles != t->face_count) {
+        uint32_t b = t->vertex_corner_offsets[v], e = t->vertex_corner_offsets[v + 1];
+        if (t->quads == t->face_count)
+            bound += e - b;
+        else
+            for (uint32_t i = b; i < e; i++)
+                bound += topology_face_size(t, t->corner_face[t->vertex_corners[i]]) - 3;
+    }
+    return bound < 3 ? 3 : bound;
 }
 
 static size_t loop_smooth(const topology *t, uint32_t v, uint32_t *cols, double *w)

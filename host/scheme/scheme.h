@@ -10,8 +10,9 @@
 
 #include "topology/topology.h"
 
-/* Upper bound on the entries scheme_limit_mask writes for vertex v. */
-size_t scheme_limit_mask_bound(const topology *t, uint32_t v);
+/* Upper bound on the entries scheme_limit_mask writes for vertex v under
+   scheme (exact for a smooth vertex, before repeats are merged). */
+size_t scheme_limit_mask_bound(const topology *t, limn_scheme scheme, uint32_t v);
 
 /*
  * Writes the limit mask of vertex v as (column, weight) pairs into cols and

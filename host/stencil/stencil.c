@@ -174,7 +174,7 @@ typedef struct limit_rows {
 static size_t limit_bound(const void *user, size_t r)
 {
     const limit_rows *lr = user;
-    return scheme_limit_mask_bound(lr->t, (uint32_t)r);
+    return scheme_limit_mask_bound(lr->t, lr->scheme, (uint32_t)r);
 }
 
 static size_t limit_fill(const void *user, size_t r, uint32_t *cols, double *w)
