@@ -382,8 +382,10 @@ static void hand_built_as_before(void **state)
 }
 
 /* limn_mesh_repair leaves its topology on the mesh, and what follows (info,
-   measure, interpolate) uses it: one build for the whole run. Copies do not
-   carry it; a repair that changes the faces builds it afresh. */
+   measure, interpolate) uses it: one build for the whole run. The operator
+   keeps it (slimmed after its stencils), so the next call builds its own.
+   Copies do not carry it; a repair that changes the faces builds it afresh;
+   while it is lent, a second reader builds its own. */
 static void one_topology_per_run(void **state)
 {
     limn_context *ctx = *state;
@@ -397,16 +399,27 @@ static void one_topology_per_run(void **state)
     limn_mesh_measures me = {.size = sizeof me};
     assert_int_equal(limn_mesh_measure(ctx, m, &me), LIMN_OK);
     limn_mesh *control = NULL;
+    assert_non_null(m->topology);
     assert_int_equal(limn_interpolate(ctx, m, NULL, &control, NULL), LIMN_OK);
-    assert_int_equal(limn_mesh_repair(ctx, m, NULL, &rep), LIMN_OK);
     assert_int_equal(topology_build_count() - before, 1);
+    assert_null(m->topology); /* handed to the operator, freed with it */
+    assert_int_equal(limn_mesh_repair(ctx, m, NULL, &rep), LIMN_OK);
+    assert_int_equal(topology_build_count() - before, 2);
     assert_null(control->topology);
-    topology t, fresh;
+    topology t, second, fresh;
+    const topology *cached = m->topology;
     assert_int_equal(topology_get(ctx, m, &t), LIMN_OK);
-    assert_true(t.borrowed && t.vertex_rule == m->topology->vertex_rule);
+    assert_true(t.lent == cached && t.vertex_rule == cached->vertex_rule);
+    assert_null(m->topology); /* out on loan: another reader builds its own */
+    assert_int_equal(topology_get(ctx, m, &second), LIMN_OK);
+    assert_null(second.lent);
+    assert_int_equal(topology_build_count() - before, 3);
     assert_int_equal(topology_previous_build(ctx, m, &fresh), LIMN_OK);
     assert_same_topology(&t, &fresh, "cached");
+    assert_same_topology(&second, &fresh, "built while the cache was lent");
+    topology_free(&second);
     topology_free(&t);
+    assert_ptr_equal(m->topology, cached); /* given back */
     topology_previous_free(&fresh);
     limn_mesh_destroy(control);
     limn_mesh_destroy(m);

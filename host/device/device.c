@@ -171,3 +171,10 @@ void device_sgs_release(struct device *dev, device_sgs *d)
     free(d->colour_begin);
     memset(d, 0, sizeof *d);
 }
+
+void *device_host_alloc(size_t bytes)
+{
+    const size_t page = 4096;
+    size_t rounded = bytes ? (bytes + page - 1) / page * page : page;
+    return rounded < bytes ? NULL : aligned_alloc(page, rounded);
+}

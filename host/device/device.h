@@ -167,7 +167,9 @@ typedef struct device_ops {
     void (*buffer_release)(struct device *dev, device_buffer *buf);
     /* A buffer of host memory that outlives it and that nothing writes while
        it lives: used in place where the device shares host memory (the
-       reference backend, OpenCL CPU devices), else a copy as buffer_create. */
+       reference backend, OpenCL CPU devices), else a copy as buffer_create.
+       Vectors the kernels read whole (double4 rows) must come from
+       device_host_alloc: aligned loads. */
     limn_status (*buffer_share)(struct device *dev, size_t bytes, const void *host,
                                 device_buffer **out);
     /* A buffer whose contents are undefined until written: for one that a
@@ -251,6 +253,11 @@ limn_status device_csr_upload(struct device *dev, const stencil_csr *host, devic
    when present). */
 limn_status device_csr_add_float(struct device *dev, device_csr *csr);
 void device_csr_release(struct device *dev, device_csr *csr);
+/* Host memory for vectors a device buffer may use in place (buffer_share):
+   page aligned, so above any device's base address alignment; contents
+   undefined; free() it. NULL when out of memory. */
+void *device_host_alloc(size_t bytes);
+
 /* device_csr_upload through buffer_share: `host` outlives the device table
    and is not changed while it lives (the operator's own table). */
 limn_status device_csr_share(struct device *dev, const stencil_csr *host, device_csr *out);

@@ -14,11 +14,14 @@ struct limn_mesh {
     uint32_t *face_offsets;   /* face_count + 1 */
     uint32_t *face_indices;   /* face_offsets[face_count] */
     uint8_t *colors;          /* 3 * vertex_count, or NULL */
-    /* The topology limn_mesh_repair built (topology/topology.h topology_get),
-       kept for the calls after it; read-only once set, dropped when the faces
-       change, never copied. The drop function comes with it (the topology
-       layer sits above this one). */
-    struct topology *topology;
+    /* The topology limn_mesh_repair built (topology/topology.h): lent to one
+       call at a time (taken out of the slot atomically and put back, so calls
+       on a const mesh from several threads never share it; a call finding the
+       slot empty builds its own) and handed over for good to the first
+       operator, which frees it once its stencils are built. Dropped when the
+       faces change, never copied. The drop function comes with it (the
+       topology layer sits above this one). */
+    struct topology *_Atomic topology;
     void (*topology_drop)(struct topology *);
 };
 

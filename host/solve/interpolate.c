@@ -81,7 +81,8 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
     report_operator(&op, r);
     double diag = op.bbox_diagonal;
     size_t n = mesh->vertex_count;
-    double *buf = calloc(n ? 4 * n : 4, sizeof *buf);
+    /* every entry is written by operator_pack (padding included) */
+    double *buf = n < SIZE_MAX / 32 ? device_host_alloc(4 * n * sizeof *buf) : NULL;
     double t0 = clock_seconds();
     if (!buf)
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);

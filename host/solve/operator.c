@@ -85,7 +85,7 @@ limn_status operator_build_ex(limn_context *ctx, const limn_mesh *mesh, limn_sch
     op->bbox_diagonal = mesh_bbox_diagonal(mesh, lo, hi);
 
     double t0 = clock_seconds();
-    st = topology_get(ctx, mesh, &op->topo);
+    st = topology_take(ctx, mesh, &op->topo);
     if (st)
         return st;
     double t1 = clock_seconds();
@@ -107,6 +107,9 @@ limn_status operator_build_ex(limn_context *ctx, const limn_mesh *mesh, limn_sch
         }
         op->seconds_reorder = clock_seconds() - t2;
     }
+    /* the rest of the run reads only the row rules and the statistics */
+    if (!st)
+        topology_slim(&op->topo);
     if (!st && !(flags & OPERATOR_HOST_ONLY))
         st = device_get(ctx, &op->dev);
     if (!st && !(flags & OPERATOR_HOST_ONLY))

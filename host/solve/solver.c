@@ -108,7 +108,11 @@ limn_status solver_solve(solver *s, stencil_operator *op, double diag, double *b
     s->dev = op->dev;
     /* a start (CG) gives P; the stationary loop below measures its residual on
        the whole system (and polishes, should rounding leave it short) */
-    limn_status st = s->dev->ops->buffer_create(s->dev, 4 * n * sizeof(double), buf, &s->m);
+    /* M in place where the device shares host memory, unless a start (CG)
+       overwrites buf with its P while M is still needed */
+    limn_status st =
+        s->ops->block ? s->dev->ops->buffer_create(s->dev, 4 * n * sizeof(double), buf, &s->m)
+                      : s->dev->ops->buffer_share(s->dev, 4 * n * sizeof(double), buf, &s->m);
     if (!st && s->ops->block)
         st = run_start(s, op, o->tolerance * diag, buf, r);
     if (!st)
@@ -124,6 +128,15 @@ limn_status solver_solve(solver *s, stencil_operator *op, double diag, double *b
         st = solve_iterate(s->ctx, step_local, &ls, op->vertex_count, op->scheme,
                            op->alpha, o, diag, s->ops->kind, &s->which, r);
     r->seconds_iterations += clock_seconds() - t_loop - (s->dev->setup.kernels - compiles);
+    /* M (perhaps buf itself) and the other iterate are done with: released
+       before P lands in buf, which also lowers the peak */
+    if (s->m)
+        s->dev->ops->buffer_release(s->dev, s->m);
+    s->m = NULL;
+    if (s->p[1 - s->which]) {
+        s->dev->ops->buffer_release(s->dev, s->p[1 - s->which]);
+        s->p[1 - s->which] = NULL;
+    }
     if (!st)
         st = s->dev->ops->buffer_read(s->dev, s->p[s->which], 4 * n * sizeof(double), buf);
     return st;

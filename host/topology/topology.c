@@ -6,6 +6,7 @@
 #include "base/context.h"
 #include "mesh/mesh.h"
 
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -91,12 +92,25 @@ unsigned topo_range(const topo_build *b, size_t n, size_t begin)
     return i;
 }
 
+void topology_free(topology *t);
+
+static void topology_destroy(struct topology *t)
+{
+    topology_free(t);
+    free(t);
+}
+
 void topology_free(topology *t)
 {
     if (!t)
         return;
-    if (t->borrowed) {
-        /* a copy of the mesh's cached topology: the mesh frees it */
+    if (t->lent) {
+        /* the mesh's own: back into its slot (freed if the slot was filled
+           meanwhile, which only a call changing the mesh could do) */
+        struct topology *_Atomic *slot = &((limn_mesh *)t->lent_by)->topology;
+        struct topology *expected = NULL;
+        if (!atomic_compare_exchange_strong(slot, &expected, t->lent))
+            topology_destroy(t->lent);
         memset(t, 0, sizeof *t);
         return;
     }
@@ -342,19 +356,48 @@ limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *t
 
 /* ------------------------------------------------ the mesh's cached one */
 
-static void topology_destroy(struct topology *t)
+
+/* The mesh's topology out of its slot (NULL when empty or out on loan). */
+static topology *slot_take(const limn_mesh *mesh)
 {
-    topology_free(t);
-    free(t);
+    return atomic_exchange(&((limn_mesh *)mesh)->topology, NULL);
 }
 
 limn_status topology_get(limn_context *ctx, const limn_mesh *mesh, topology *out)
 {
-    if (!mesh->topology)
+    topology *t = slot_take(mesh);
+    if (!t)
         return topology_build(ctx, mesh, out);
-    *out = *mesh->topology;
-    out->borrowed = 1;
+    *out = *t;
+    out->lent_by = mesh;
+    out->lent = t;
     return LIMN_OK;
+}
+
+limn_status topology_take(limn_context *ctx, const limn_mesh *mesh, topology *out)
+{
+    topology *t = slot_take(mesh);
+    if (!t)
+        return topology_build(ctx, mesh, out);
+    *out = *t;
+    free(t);
+    return LIMN_OK;
+}
+
+void topology_slim(topology *t)
+{
+    if (t->lent)
+        return; /* the mesh's: it stays whole */
+    uint32_t **arrays[] = {&t->corner_face,         &t->corner_edge,  &t->edge_vertices,
+                           &t->edge_corner_offsets, &t->edge_corners, &t->vertex_corner_offsets,
+                           &t->vertex_corners,      &t->vertex_edges, &t->crease_neighbors};
+    for (size_t i = 0; i < sizeof arrays / sizeof *arrays; i++) {
+        free(*arrays[i]);
+        *arrays[i] = NULL;
+    }
+    free(t->edge_flags);
+    free(t->vertex_flags);
+    t->edge_flags = t->vertex_flags = NULL;
 }
 
 limn_status topology_get_checked(limn_context *ctx, const char *fn, const limn_mesh *mesh,
@@ -375,16 +418,15 @@ limn_status topology_cache(limn_context *ctx, limn_mesh *mesh, topology *out)
             free(t);
             return st;
         }
-        mesh->topology = t;
         mesh->topology_drop = topology_destroy;
+        atomic_store(&mesh->topology, t);
     }
     return topology_get(ctx, mesh, out);
 }
 
 void topology_uncache(limn_mesh *mesh)
 {
-    if (mesh->topology)
-        mesh->topology_drop(mesh->topology);
-    mesh->topology = NULL;
-    mesh->topology_drop = NULL;
+    topology *t = slot_take(mesh);
+    if (t)
+        topology_destroy(t);
 }

@@ -57,9 +57,9 @@ typedef struct topology {
     size_t referenced_vertices, components, boundary_loops;
     size_t max_face_size, max_valence;
     size_t triangles, quads, other_faces;
-    /* a copy of a mesh's cached topology (topology_get): its arrays belong
-       to the mesh, read-only; topology_free only clears the copy */
-    int borrowed;
+    /* lent by a mesh (topology_get): topology_free puts it back there */
+    const struct limn_mesh *lent_by;
+    struct topology *lent;
 } topology;
 
 /*
@@ -69,17 +69,25 @@ typedef struct topology {
  */
 limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *out);
 /*
- * The topology of mesh: a borrowed copy of the one limn_mesh_repair left on
- * it (one topology per run: repair, operator, info, measure and the series
- * share it), else built into *out. Either way topology_free(out) after. The
- * cache is only set or dropped by calls that take the mesh non-const, so
- * threads may share a const mesh.
+ * The topology of mesh, read-only: the one limn_mesh_repair left on it, lent
+ * (one topology per run: repair, info, measure and the operator share it),
+ * else built into *out. Either way topology_free(out) after, which puts a
+ * lent one back. Another thread's call on the same const mesh meanwhile
+ * finds the slot empty and builds its own.
  */
 limn_status topology_get(limn_context *ctx, const limn_mesh *mesh, topology *out);
 /* check_mesh (the caller's name fn in its messages), then topology_get:
    the opening of the calls that count a caller's mesh (info, measure). */
 limn_status topology_get_checked(limn_context *ctx, const char *fn, const limn_mesh *mesh,
                                  topology *out);
+/* topology_get, but the mesh's topology is handed over for good (the
+   operator, which slims it after its stencils: the mesh's memory stays
+   lean through the solve); a later call builds its own. */
+limn_status topology_take(limn_context *ctx, const limn_mesh *mesh, topology *out);
+/* Frees what an operator no longer reads once its stencils and order are
+   built: keeps vertex_rule, vertex_edge_offsets (the row scales) and the
+   statistics. */
+void topology_slim(topology *t);
 /* topology_get after building the cache when it is missing (limn_mesh_repair). */
 limn_status topology_cache(limn_context *ctx, limn_mesh *mesh, topology *out);
 /* Drops the cached topology: before anything changes the faces. */
