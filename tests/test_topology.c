@@ -444,7 +444,110 @@ static void one_topology_per_run(void **state)
     limn_mesh_destroy(m);
 }
 
+/* The repair's face checks run over ranges of faces (topology/face_keys.c):
+   a grid of 240k triangles with duplicates (same set, other order or
+   orientation) and repeated vertices planted at known faces, among them a
+   60-corner face (the sorted path), gives the same report and faces for 1,
+   2 and 4 host threads, and the counts the planting implies. */
+static limn_mesh *planted_mesh(limn_context *ctx, int with_repeats)
+{
+    enum { N = 347 }; /* vertices a side */
+    size_t nv = (size_t)N * N, cells = (size_t)(N - 1) * (N - 1);
+    size_t nf = 2 * cells + 4 + (with_repeats ? 2 : 0);
+    double *pos = malloc(3 * nv * sizeof *pos);
+    uint32_t *off = malloc((nf + 1) * sizeof *off), *idx = malloc((6 * cells + 200) * sizeof *idx);
+    assert_non_null(pos);
+    assert_non_null(off);
+    assert_non_null(idx);
+    for (size_t v = 0; v < nv; v++) {
+        pos[3 * v] = (double)(v % N);
+        pos[3 * v + 1] = (double)(v / N);
+        pos[3 * v + 2] = 0.0;
+    }
+    size_t f = 0, c = 0;
+    off[0] = 0;
+#define FACE(...)                                                                              \
+    do {                                                                                       \
+        uint32_t face_[] = {__VA_ARGS__};                                                      \
+        for (size_t i_ = 0; i_ < sizeof face_ / sizeof *face_; i_++)                           \
+            idx[c++] = face_[i_];                                                              \
+        off[++f] = (uint32_t)c;                                                                \
+    } while (0)
+    for (uint32_t y = 0; y + 1 < N; y++)
+        for (uint32_t x = 0; x + 1 < N; x++) {
+            uint32_t a = y * N + x, b = a + 1, d = a + N, e = d + 1;
+            FACE(a, b, e);
+            FACE(a, e, d);
+            if (with_repeats && y == 200 && x == 100)
+                FACE(a, b, b, e); /* a repeat in the second half */
+            if (with_repeats && y == 300 && x == 7) {
+                uint32_t big[60];
+                for (int i = 0; i < 60; i++)
+                    big[i] = (uint32_t)(i < 59 ? 5000 + i : 5000 + 31); /* back to corner 31 */
+                for (int i = 0; i < 60; i++)
+                    idx[c++] = big[i];
+                off[++f] = (uint32_t)c;
+            }
+        }
+    FACE(1, N + 1, 0);          /* face 1 again, rotated */
+    FACE(N + 1, 1, 0);          /* and reversed */
+    FACE(3 * N + 5, 3 * N + 6, 4 * N + 6); /* a copy of a face deep in the grid */
+    FACE(7, 8, N + 8);
+#undef FACE
+    assert_int_equal(f, nf);
+    limn_mesh *m = NULL;
+    assert_int_equal(limn_mesh_create(ctx, nv, pos, nf, off, idx, &m), LIMN_OK);
+    free(pos);
+    free(off);
+    free(idx);
+    return m;
+}
+
+static void repair_same_for_any_thread_count(void **state)
+{
+    static const int thread_counts[] = {1, 2, 4};
+    limn_context *ctx = *state;
+    for (int repeats = 0; repeats < 2; repeats++) {
+        limn_repair_report first = {.size = sizeof first};
+        limn_mesh *first_mesh = NULL;
+        for (size_t k = 0; k < sizeof thread_counts / sizeof *thread_counts; k++) {
+            assert_int_equal(limn_context_set_host_threads(ctx, thread_counts[k]), LIMN_OK);
+            limn_mesh *m = planted_mesh(ctx, repeats);
+            limn_repair_options o = {.size = sizeof o};
+            limn_repair_options_default(&o);
+            o.duplicate_faces = 1;
+            limn_repair_report r = {.size = sizeof r};
+            assert_int_equal(limn_mesh_repair(ctx, m, &o, &r), LIMN_OK);
+            /* the planted repeat (a b b e) becomes a copy of the face before it */
+            size_t cells = 346 * 346, planted = 2 * (200 * 346 + 100) + 2;
+            assert_int_equal(r.duplicate_faces, repeats ? 5 : 4);
+            assert_int_equal(r.first_duplicate_face, repeats ? planted : 2 * cells);
+            assert_int_equal(r.repeat_faces, repeats ? 2 : 0);
+            if (repeats) {
+                assert_int_equal(r.first_repeat_face, planted);
+                assert_int_equal(r.first_repeat_vertex, 200 * 347 + 100 + 1);
+                assert_int_equal(r.faces_split, 1); /* the 60-corner face, in two */
+            }
+            if (k == 0) {
+                first = r;
+                first_mesh = m;
+                continue;
+            }
+            assert_memory_equal(&r, &first, sizeof r);
+            assert_int_equal(m->face_count, first_mesh->face_count);
+            assert_memory_equal(m->face_offsets, first_mesh->face_offsets,
+                                (m->face_count + 1) * sizeof *m->face_offsets);
+            assert_memory_equal(m->face_indices, first_mesh->face_indices,
+                                m->face_offsets[m->face_count] * sizeof *m->face_indices);
+            limn_mesh_destroy(m);
+        }
+        limn_mesh_destroy(first_mesh);
+    }
+    assert_int_equal(limn_context_set_host_threads(ctx, 0), LIMN_OK);
+}
+
 TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated_meshes_closed_forms),
           CONTEXT_TEST(nonmanifold_classes), cmocka_unit_test(shared_meshes_match_stats),
           CONTEXT_TEST(shared_meshes_as_before), CONTEXT_TEST(hand_built_as_before),
-          CONTEXT_TEST(one_topology_per_run))
+          CONTEXT_TEST(one_topology_per_run),
+          CONTEXT_TEST(repair_same_for_any_thread_count))

@@ -16,6 +16,7 @@
 #include "base/abi.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "topology/face_keys.h"
 #include "topology/topology.h"
 
 #include <stdint.h>
@@ -138,78 +139,6 @@ static limn_status fix_repeats(limn_context *ctx, limn_mesh *m, limn_repair_repo
 
 /* ------------------------------------------------------------- duplicates */
 
-static uint64_t mix(uint64_t h)
-{
-    h ^= h >> 33;
-    h *= 0xff51afd7ed558ccdULL;
-    h ^= h >> 33;
-    h *= 0xc4ceb9fe1a85ec53ULL;
-    h ^= h >> 33;
-    return h;
-}
-
-static int cmp_u32(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return (x > y) - (x < y);
-}
-
-/* The vertices of face f in increasing order, into buf (room for its size). */
-static const uint32_t *sorted_face(const limn_mesh *m, uint32_t f, uint32_t *buf, uint32_t *d)
-{
-    uint32_t b = m->face_offsets[f];
-    *d = m->face_offsets[f + 1] - b;
-    memcpy(buf, m->face_indices + b, *d * sizeof *buf);
-    if (*d <= 8) {
-        for (uint32_t i = 1; i < *d; i++)
-            for (uint32_t j = i; j > 0 && buf[j - 1] > buf[j]; j--) {
-                uint32_t t = buf[j];
-                buf[j] = buf[j - 1];
-                buf[j - 1] = t;
-            }
-    } else {
-        qsort(buf, *d, sizeof *buf, cmp_u32);
-    }
-    return buf;
-}
-
-typedef struct keyed {
-    uint64_t hash;   /* of the sorted vertex list */
-    uint32_t face;
-} keyed;
-
-/* Every face's hash and number into k (buf: room for the largest face). */
-static void hash_faces(const limn_mesh *m, keyed *k, uint32_t *buf)
-{
-    for (size_t f = 0; f < m->face_count; f++) {
-        uint32_t d;
-        const uint32_t *v = sorted_face(m, (uint32_t)f, buf, &d);
-        uint64_t h = mix(d);
-        for (uint32_t i = 0; i < d; i++)
-            h = mix(h ^ (v[i] + 0x9e3779b97f4a7c15ULL));
-        k[f].hash = h;
-        k[f].face = (uint32_t)f;
-    }
-}
-
-/* LSD radix sort of *k (n keys) on the high 32 bits of the hash, 8 bits a
-   pass, stable; *tmp is as large; the two may come back swapped. */
-static void sort_keys(keyed **k, keyed **tmp, size_t n)
-{
-    for (int shift = 32; shift < 64; shift += 8) {
-        size_t count[257] = {0};
-        for (size_t i = 0; i < n; i++)
-            count[(((*k)[i].hash >> shift) & 255) + 1]++;
-        for (int b = 0; b < 256; b++)
-            count[b + 1] += count[b];
-        for (size_t i = 0; i < n; i++)
-            (*tmp)[count[((*k)[i].hash >> shift) & 255]++] = (*k)[i];
-        keyed *t = *k;
-        *k = *tmp;
-        *tmp = t;
-    }
-}
-
 /* Removes the faces marked in dup, keeping the order of the others. */
 static void remove_marked(limn_mesh *m, const uint8_t *dup)
 {
@@ -240,18 +169,18 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
     for (size_t f = 0; f < nf; f++)
         if (m->face_offsets[f + 1] - m->face_offsets[f] > maxd)
             maxd = m->face_offsets[f + 1] - m->face_offsets[f];
-    keyed *k = malloc(nf * sizeof *k), *tmp = malloc(nf * sizeof *tmp);
+    face_key *k = NULL;
+    limn_status st = face_keys_sorted(ctx, m, maxd, &k);
+    if (st)
+        return st;
     uint32_t *buf = malloc(2 * (size_t)maxd * sizeof *buf);
     uint8_t *dup = calloc(nf, 1);
-    if (!k || !tmp || !buf || !dup) {
+    if (!buf || !dup) {
         free(k);
-        free(tmp);
         free(buf);
         free(dup);
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
     }
-    hash_faces(m, k, buf);
-    sort_keys(&k, &tmp, nf);
     for (size_t i = 0; i < nf;) {
         size_t j = i + 1;
         while (j < nf && (k[j].hash >> 32) == (k[i].hash >> 32))
@@ -262,8 +191,8 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
                 if (k[y].hash != k[x].hash || dup[k[y].face])
                     continue;
                 uint32_t dx, dy;
-                const uint32_t *vx = sorted_face(m, k[x].face, buf, &dx);
-                const uint32_t *vy = sorted_face(m, k[y].face, buf + maxd, &dy);
+                const uint32_t *vx = face_sorted_vertices(m, k[x].face, buf, &dx);
+                const uint32_t *vy = face_sorted_vertices(m, k[y].face, buf + maxd, &dy);
                 if (dx != dy || memcmp(vx, vy, dx * sizeof *vx) != 0)
                     continue;
                 uint32_t f = k[x].face;
@@ -278,7 +207,6 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
         i = j;
     }
     free(k);
-    free(tmp);
     free(buf);
     if (remove && r->duplicate_faces) {
         remove_marked(m, dup);
@@ -290,31 +218,6 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
 
 /* ---------------------------------------------------------------- entry */
 
-/* The first face using a vertex twice (*face, or SIZE_MAX) and that vertex. */
-static limn_status first_repeat(limn_context *ctx, const limn_mesh *mesh, size_t *face,
-                                uint32_t *vertex)
-{
-    size_t nv = mesh->vertex_count, nf = mesh->face_count;
-    uint32_t *mark = calloc(nv ? nv : 1, sizeof *mark);
-    if (!mark)
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory repairing the mesh");
-    size_t first = SIZE_MAX;
-    uint32_t first_v = 0;
-    for (size_t f = 0; f < nf && first == SIZE_MAX; f++)
-        for (uint32_t c = mesh->face_offsets[f]; c < mesh->face_offsets[f + 1]; c++) {
-            uint32_t v = mesh->face_indices[c];
-            if (mark[v] == f + 1) {
-                first = f;
-                first_v = v;
-                break;
-            }
-            mark[v] = (uint32_t)(f + 1);
-        }
-    free(mark);
-    *face = first;
-    *vertex = first_v;
-    return LIMN_OK;
-}
 
 /* The warning saying what fix_repeats changed. */
 static void warn_repeats(limn_context *ctx, const limn_repair_report *r, size_t faces_left)
@@ -347,7 +250,7 @@ static limn_status repair_repeats(limn_context *ctx, limn_mesh *mesh, const limn
 {
     size_t first = SIZE_MAX;
     uint32_t first_v = 0;
-    limn_status st = first_repeat(ctx, mesh, &first, &first_v);
+    limn_status st = face_first_repeat(ctx, mesh, &first, &first_v);
     if (st || first == SIZE_MAX)
         return st;
     if (!o->repeated_vertices)
