@@ -11,6 +11,7 @@
 #include "support.h"
 
 #include "scheme/scheme.h"
+#include "scheme/scheme_refine.h"
 #include "stencil/reorder.h"
 #include "stencil/stencil.h"
 #include "topology/topology.h"
@@ -145,12 +146,41 @@ static size_t permuted_fill(const void *user, size_t r, uint32_t *cols, double *
 }
 
 /* The limit table and its RCM permutation, each thread count against the oracle. */
+/* The refinement masks stay within their bounds, exactly at smooth vertices
+   and at edges between two faces. */
+static void check_refine_bounds(const topology *t, limn_scheme scheme, double alpha)
+{
+    size_t room = 16 + 2 * t->max_valence * (t->max_face_size + 1);
+    uint32_t *cols = malloc(room * sizeof *cols);
+    double *w = malloc(room * sizeof *w);
+    assert_non_null(cols);
+    assert_non_null(w);
+    for (uint32_t v = 0; v < t->vertex_count; v++) {
+        size_t bound = scheme_refine_vertex_bound(t, scheme, v);
+        assert_true(bound <= room);
+        size_t n = scheme_refine_vertex_mask(t, scheme, alpha, v, cols, w);
+        assert_true(n <= bound);
+        if (t->vertex_rule[v] == RULE_SMOOTH)
+            assert_int_equal(n, bound);
+    }
+    for (uint32_t e = 0; e < t->edge_count; e++) {
+        size_t bound = scheme_refine_edge_bound(t, scheme, e);
+        size_t n = scheme_refine_edge_mask(t, scheme, e, cols, w);
+        assert_true(n <= bound);
+        if (!(t->edge_flags[e] & (EDGE_BOUNDARY | EDGE_NONMANIFOLD)))
+            assert_int_equal(n, bound);
+    }
+    free(cols);
+    free(w);
+}
+
 static void check_mesh(limn_context *ctx, const char *name, const limn_mesh *mesh,
                        limn_scheme scheme, double alpha)
 {
     topology t;
     if (topology_build(ctx, mesh, &t))
         fail_msg("%s: %s", name, limn_context_message(ctx));
+    check_refine_bounds(&t, scheme, alpha);
     limit_user lu = {&t, scheme, alpha};
     stencil_csr want, want_p;
     oracle_build(t.vertex_count, t.vertex_count, limit_bound, limit_fill, &lu, &want);

@@ -29,10 +29,10 @@ static size_t step_bound(const void *user, size_t r)
 {
     const step_rows *s = user;
     if (r < s->face_base)
-        return scheme_refine_vertex_bound(s->t, (uint32_t)r);
+        return scheme_refine_vertex_bound(s->t, s->scheme, (uint32_t)r);
     if (r < s->edge_base)
         return topology_face_size(s->t, (uint32_t)(r - s->face_base));
-    return scheme_refine_edge_bound(s->t, (uint32_t)(r - s->edge_base));
+    return scheme_refine_edge_bound(s->t, s->scheme, (uint32_t)(r - s->edge_base));
 }
 
 static size_t step_fill(const void *user, size_t r, uint32_t *cols, double *w)

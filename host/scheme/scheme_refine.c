@@ -11,16 +11,26 @@ double scheme_loop_refine_beta(uint32_t n)
     return (0.625 - c * c) / (double)n;
 }
 
-size_t scheme_refine_vertex_bound(const topology *t, uint32_t v)
+size_t scheme_refine_vertex_bound(const topology *t, limn_scheme scheme, uint32_t v)
 {
+    /* exact for a smooth vertex (Loop: v and its n neighbours; Catmull-Clark
+       adds every vertex of its faces); a sharp one writes at most 3 */
     size_t bound = 1 + (t->vertex_edge_offsets[v + 1] - t->vertex_edge_offsets[v]);
-    for (uint32_t i = t->vertex_corner_offsets[v]; i < t->vertex_corner_offsets[v + 1]; i++)
-        bound += topology_face_size(t, t->corner_face[t->vertex_corners[i]]);
-    return bound;
+    if (scheme != LIMN_SCHEME_LOOP) {
+        uint32_t b = t->vertex_corner_offsets[v], e = t->vertex_corner_offsets[v + 1];
+        if (t->triangles == t->face_count || t->quads == t->face_count)
+            bound += (size_t)(e - b) * (t->quads == t->face_count ? 4 : 3);
+        else
+            for (uint32_t i = b; i < e; i++)
+                bound += topology_face_size(t, t->corner_face[t->vertex_corners[i]]);
+    }
+    return bound < 3 ? 3 : bound;
 }
 
-size_t scheme_refine_edge_bound(const topology *t, uint32_t e)
+size_t scheme_refine_edge_bound(const topology *t, limn_scheme scheme, uint32_t e)
 {
+    if (scheme == LIMN_SCHEME_LOOP)
+        return 4; /* the ends and the two opposite vertices; a sharp edge 2 */
     size_t bound = 2;
     for (uint32_t j = t->edge_corner_offsets[e]; j < t->edge_corner_offsets[e + 1]; j++)
         bound += topology_face_size(t, t->corner_face[t->edge_corners[j]]);

@@ -23,9 +23,10 @@ double scheme_loop_refine_beta(uint32_t valence);
 size_t scheme_sharp_vertex_mask(const topology *t, uint32_t v, double centre, double side,
                                 uint32_t *cols, double *w);
 
-/* Upper bounds on the entries of each mask. */
-size_t scheme_refine_vertex_bound(const topology *t, uint32_t v);
-size_t scheme_refine_edge_bound(const topology *t, uint32_t e);
+/* Upper bounds on the entries of each mask under scheme (exact where the
+   element is smooth, so the stencil build's scratch stays small). */
+size_t scheme_refine_vertex_bound(const topology *t, limn_scheme scheme, uint32_t v);
+size_t scheme_refine_edge_bound(const topology *t, limn_scheme scheme, uint32_t e);
 
 size_t scheme_refine_vertex_mask(const topology *t, limn_scheme scheme, double alpha, uint32_t v,
                                  uint32_t *cols, double *w);
