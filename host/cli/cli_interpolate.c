@@ -49,7 +49,7 @@ static const char *const help =
     "                         float: corrections iterated in float, residuals\n"
     "                         and the stop test in double (not cg, sgs)  [auto]\n"
     "  --no-reorder           keep the input vertex order inside the solve\n"
-    "                         (default: reverse Cuthill-McKee order)\n"
+    "                         (default: RCM for paper, weighted)\n"
     "  --overwrite-input      allow OUTPUT to be the INPUT file\n"
     "  -q, --quiet            no summary and no progress on stderr\n"
     CLI_MPI_HELP

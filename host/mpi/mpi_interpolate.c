@@ -197,7 +197,7 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
     limn_method method;
     st = check_interpolate(&p, mesh, o, control, &method, r);
     if (!st)
-        st = mpi_distribute(&p, mesh, o->scheme, o->alpha, o->reorder);
+        st = mpi_distribute(&p, mesh, o->scheme, o->alpha, solve_reorder_wanted(o, method));
     double t0 = MPI_Wtime();
     double *m4 = NULL, *p4 = NULL, *xyz = NULL;
     if (!st)

@@ -75,7 +75,8 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
     device_setup_times setup = device_setup_of(ctx);
 
     stencil_operator op;
-    st = operator_build_ex(ctx, mesh, o->scheme, o->alpha, o->reorder ? OPERATOR_REORDER : 0, &op);
+    int flags = solve_reorder_wanted(o, method) ? OPERATOR_REORDER : 0;
+    st = operator_build_ex(ctx, mesh, o->scheme, o->alpha, flags, &op);
     if (st)
         return st;
     report_operator(&op, r);

@@ -34,6 +34,11 @@ solve_kind solve_kind_of(limn_method method)
     return ops ? ops->kind : SOLVE_PAPER;
 }
 
+int solve_reorder_wanted(const limn_interpolate_options *o, limn_method method)
+{
+    return o->reorder && (method == LIMN_METHOD_PAPER || method == LIMN_METHOD_WEIGHTED);
+}
+
 limn_status solve_check_options(limn_context *ctx, const limn_interpolate_options *o)
 {
     limn_status st = check_scheme(ctx, "limn_interpolate", o->scheme);

@@ -34,6 +34,17 @@ limn_status solve_iterate(limn_context *ctx, solve_step_fn step, void *user, siz
                           limn_scheme scheme, double alpha, const limn_interpolate_options *o,
                           double diag, solve_kind kind, int *which, limn_report *r);
 
+/*
+ * Whether the solve renumbers its rows for locality (OPERATOR_REORDER) with
+ * `method` (resolved from auto): when the options allow it and the method
+ * takes many products (paper, weighted: 23-82 at 1e-6). The renumbering
+ * (RCM: three sequential graph sweeps and the table's permutation) costs
+ * about 30 iterations of a shuffled mesh's loop, more than Chebyshev, CG or
+ * SGS run in all (docs/performance.md "The whole job, end to end"). The
+ * single process and MPI ask the same, so their bytes agree.
+ */
+int solve_reorder_wanted(const limn_interpolate_options *o, limn_method method);
+
 /* Refuses bad interpolation options with a message (iterate.c). */
 limn_status solve_check_options(limn_context *ctx, const limn_interpolate_options *o);
 
