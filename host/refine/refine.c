@@ -174,9 +174,9 @@ limn_status refine_plan_apply(limn_context *ctx, const refine_plan *plan, int fr
     for (int k = from; !st && k < plan->levels; k++) {
         device_csr a;
         const stencil_csr *h = &plan->steps[k];
-        st = device_csr_upload(dev, h, &a);
+        st = device_csr_share(dev, h, &a); /* the plan's table outlives it */
         if (!st)
-            st = dev->ops->buffer_create(dev, 4 * h->rows * sizeof(double), NULL, &y);
+            st = dev->ops->buffer_scratch(dev, 4 * h->rows * sizeof(double), &y);
         if (!st)
             st = dev->ops->spmv(dev, &a, x, y);
         if (!st) {

@@ -251,10 +251,10 @@ static limn_status level_positions(limn_context *ctx, refine_plan *plan)
     for (int k = 0; !st && k < plan->levels; k++) {
         device_csr a;
         const stencil_csr *h = &plan->steps[k];
-        st = device_csr_upload(dev, h, &a);
+        st = device_csr_share(dev, h, &a); /* the plan's table outlives it */
         if (st)
             break;
-        st = dev->ops->buffer_create(dev, 4 * h->rows * sizeof(double), NULL, &y);
+        st = dev->ops->buffer_scratch(dev, 4 * h->rows * sizeof(double), &y);
         if (!st)
             st = dev->ops->spmv(dev, &a, x, y);
         device_csr_release(dev, &a);
