@@ -401,6 +401,42 @@ static void memory_refusal(void **s)
     limn_mesh_destroy(g);
 }
 
+/* The child faces are written over ranges of faces (refine.c child_range):
+   grids large enough for several ranges give the same mesh, positions and
+   faces, for 1, 2 and 4 host threads, in both schemes. */
+static void same_for_any_thread_count(void **state)
+{
+    limn_context *ctx = *state;
+    static const int threads[] = {1, 2, 4};
+    for (int quads = 0; quads < 2; quads++) {
+        limn_mesh *g = test_keep_mesh(quads ? test_mesh_grid(ctx, 400, 400, 0)
+                                            : test_mesh_grid(ctx, 300, 300, 1));
+        limn_scheme s = quads ? LIMN_SCHEME_CATMARK : LIMN_SCHEME_LOOP;
+        limn_mesh *first = NULL;
+        for (size_t k = 0; k < sizeof threads / sizeof *threads; k++) {
+            assert_int_equal(limn_context_set_host_threads(ctx, threads[k]), LIMN_OK);
+            limn_mesh *out = subdivide(ctx, g, s, 0.0, 1, 0);
+            if (!first) {
+                first = out;
+                continue;
+            }
+            size_t nf = limn_mesh_face_count(out), ni = limn_mesh_index_count(out);
+            assert_int_equal(nf, limn_mesh_face_count(first));
+            assert_int_equal(ni, limn_mesh_index_count(first));
+            assert_memory_equal(limn_mesh_face_offsets(out), limn_mesh_face_offsets(first),
+                                (nf + 1) * sizeof(uint32_t));
+            assert_memory_equal(limn_mesh_face_indices(out), limn_mesh_face_indices(first),
+                                ni * sizeof(uint32_t));
+            assert_memory_equal(limn_mesh_positions(out), limn_mesh_positions(first),
+                                3 * limn_mesh_vertex_count(out) * sizeof(double));
+            limn_mesh_destroy(out);
+        }
+        limn_mesh_destroy(first);
+    }
+    assert_int_equal(limn_context_set_host_threads(ctx, 0), LIMN_OK);
+}
+
 TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated_vs_osd), CONTEXT_TEST(shared_vs_osd),
           CONTEXT_TEST(alpha_first_step), CONTEXT_TEST(surface_passes_through_input),
-          CONTEXT_TEST(backends_agree), CONTEXT_TEST(memory_refusal))
+          CONTEXT_TEST(backends_agree), CONTEXT_TEST(memory_refusal),
+          CONTEXT_TEST(same_for_any_thread_count))

@@ -8,6 +8,7 @@
  */
 #include "refine/refine.h"
 #include "base/context.h"
+#include "base/parallel.h"
 #include "device/device.h"
 #include "mesh/mesh.h"
 #include "solve/operator.h"
@@ -48,6 +49,55 @@ static size_t step_fill(const void *user, size_t r, uint32_t *cols, double *w)
 /* Faces of level k+1. Catmull-Clark: face f of d corners -> d quads
    (v_j, e_j, face point, e_{j-1}); Loop: 3 corner triangles + the middle one.
    Orientation is kept. */
+typedef struct child_job {
+    const topology *t;
+    limn_scheme scheme;
+    limn_mesh *m;
+    uint32_t nv, edge_base;
+} child_job;
+
+/* The children of faces [begin, end): where they go follows from the face
+   (Loop: 4 triangles a face; Catmull-Clark: a quad a corner), so ranges
+   write disjoint parts and the faces are the same for any thread count. */
+static int child_range(void *arg, size_t begin, size_t end)
+{
+    const child_job *j = arg;
+    const topology *t = j->t;
+    limn_mesh *m = j->m;
+    for (size_t f = begin; f < end; f++) {
+        uint32_t b = t->face_offsets[f], e = t->face_offsets[f + 1];
+        if (j->scheme == LIMN_SCHEME_LOOP) {
+            uint32_t v[3], ep[3];
+            for (uint32_t i = 0; i < 3; i++) {
+                v[i] = t->face_indices[b + i];
+                ep[i] = j->edge_base + t->corner_edge[b + i]; /* edge v[i] -> v[i+1] */
+            }
+            uint32_t tris[4][3] = {{v[0], ep[0], ep[2]},
+                                   {v[1], ep[1], ep[0]},
+                                   {v[2], ep[2], ep[1]},
+                                   {ep[0], ep[1], ep[2]}};
+            size_t k = 12 * f;
+            for (int q = 0; q < 4; q++) {
+                for (int i = 0; i < 3; i++)
+                    m->face_indices[k++] = tris[q][i];
+                m->face_offsets[4 * f + (size_t)q + 1] = (uint32_t)k;
+            }
+        } else {
+            uint32_t fp = j->nv + (uint32_t)f;
+            for (uint32_t c = b; c < e; c++) {
+                uint32_t pc = topology_corner_prev(t, c);
+                size_t k = 4 * (size_t)c;
+                m->face_indices[k] = t->face_indices[c];
+                m->face_indices[k + 1] = j->edge_base + t->corner_edge[c];
+                m->face_indices[k + 2] = fp;
+                m->face_indices[k + 3] = j->edge_base + t->corner_edge[pc];
+                m->face_offsets[(size_t)c + 1] = (uint32_t)(k + 4);
+            }
+        }
+    }
+    return 0;
+}
+
 static limn_status child_faces(limn_context *ctx, const topology *t, limn_scheme scheme,
                                size_t child_vertices, limn_mesh **out)
 {
@@ -59,37 +109,9 @@ static limn_status child_faces(limn_context *ctx, const topology *t, limn_scheme
     limn_mesh *m = *out;
     memset(m->positions, 0, child_vertices * 3 * sizeof(double));
     uint32_t nv = (uint32_t)t->vertex_count;
-    uint32_t edge_base = scheme == LIMN_SCHEME_LOOP ? nv : nv + (uint32_t)t->face_count;
-    size_t f_out = 0, k = 0;
-    for (uint32_t f = 0; f < t->face_count; f++) {
-        uint32_t b = t->face_offsets[f], e = t->face_offsets[f + 1];
-        if (scheme == LIMN_SCHEME_LOOP) {
-            uint32_t v[3], ep[3];
-            for (uint32_t j = 0; j < 3; j++) {
-                v[j] = t->face_indices[b + j];
-                ep[j] = edge_base + t->corner_edge[b + j]; /* edge v[j] -> v[j+1] */
-            }
-            uint32_t tris[4][3] = {{v[0], ep[0], ep[2]},
-                                   {v[1], ep[1], ep[0]},
-                                   {v[2], ep[2], ep[1]},
-                                   {ep[0], ep[1], ep[2]}};
-            for (int q = 0; q < 4; q++) {
-                for (int j = 0; j < 3; j++)
-                    m->face_indices[k++] = tris[q][j];
-                m->face_offsets[++f_out] = (uint32_t)k;
-            }
-        } else {
-            uint32_t fp = nv + f;
-            for (uint32_t c = b; c < e; c++) {
-                uint32_t pc = topology_corner_prev(t, c);
-                m->face_indices[k++] = t->face_indices[c];
-                m->face_indices[k++] = edge_base + t->corner_edge[c];
-                m->face_indices[k++] = fp;
-                m->face_indices[k++] = edge_base + t->corner_edge[pc];
-                m->face_offsets[++f_out] = (uint32_t)k;
-            }
-        }
-    }
+    child_job j = {t, scheme, m, nv,
+                   scheme == LIMN_SCHEME_LOOP ? nv : nv + (uint32_t)t->face_count};
+    parallel_run(t->face_count, parallel_threads(ctx, (uint64_t)ni * 4), child_range, &j);
     return LIMN_OK;
 }
 
