@@ -103,8 +103,10 @@ unsigned parallel_host_threads(limn_context *ctx, const char **source)
 
 unsigned parallel_threads(limn_context *ctx, uint64_t bytes)
 {
-    unsigned n = parallel_host_threads(ctx, NULL);
     uint64_t most = bytes / PARALLEL_GRAIN + 1;
+    if (most == 1)
+        return 1; /* small work: no need to count the cores (hwloc, a few ms) */
+    unsigned n = parallel_host_threads(ctx, NULL);
     return (uint64_t)n > most ? (unsigned)most : n;
 }
 
