@@ -32,17 +32,33 @@ size_t parallel_cut(size_t n, unsigned parts, unsigned i)
     return n / parts * i + (i < extra ? i : extra);
 }
 
-int parallel_run(size_t n, unsigned parts, parallel_fn fn, void *arg)
+/* parallel_run's number of ranges for n items. */
+static unsigned clamp_parts(size_t n, unsigned parts)
 {
-    range_job jobs[PARALLEL_MAX];
-    pthread_t tid[PARALLEL_MAX];
-    int started[PARALLEL_MAX] = {0};
     if (parts < 1)
         parts = 1;
     if (parts > PARALLEL_MAX)
         parts = PARALLEL_MAX;
     if ((size_t)parts > n)
         parts = n ? (unsigned)n : 1;
+    return parts;
+}
+
+unsigned parallel_part(size_t n, unsigned parts, size_t begin)
+{
+    parts = clamp_parts(n, parts);
+    unsigned i = 0;
+    while (i + 1 < parts && parallel_cut(n, parts, i + 1) <= begin)
+        i++;
+    return i;
+}
+
+int parallel_run(size_t n, unsigned parts, parallel_fn fn, void *arg)
+{
+    range_job jobs[PARALLEL_MAX];
+    pthread_t tid[PARALLEL_MAX];
+    int started[PARALLEL_MAX] = {0};
+    parts = clamp_parts(n, parts);
     for (unsigned i = 0; i < parts; i++)
         jobs[i] = (range_job){fn, arg, parallel_cut(n, parts, i), parallel_cut(n, parts, i + 1),
                               0};

@@ -23,6 +23,9 @@ int parallel_run(size_t n, unsigned parts, parallel_fn fn, void *arg);
 
 /* Where range i of `parts` over [0, n) starts (parallel_run's split). */
 size_t parallel_cut(size_t n, unsigned parts, unsigned i);
+/* Which of parallel_run's ranges (same clamping of parts) starts at begin:
+   for fn to find its own slot of per-range results. */
+unsigned parallel_part(size_t n, unsigned parts, size_t begin);
 
 /*
  * Threads for `bytes` of work: the context's host thread count

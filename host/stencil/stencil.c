@@ -75,10 +75,7 @@ typedef struct stencil_job {
 
 static unsigned range_index(const stencil_job *j, size_t begin)
 {
-    unsigned i = 0;
-    while (i + 1 < j->parts && parallel_cut(j->rows, j->parts, i + 1) <= begin)
-        i++;
-    return i;
+    return parallel_part(j->rows, j->parts, begin);
 }
 
 static int bound_range(void *arg, size_t begin, size_t end)

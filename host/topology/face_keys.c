@@ -82,9 +82,7 @@ static int repeat_range(void *arg, size_t begin, size_t end)
     uint64_t *scratch = j->maxd > 32 ? malloc(j->maxd * sizeof *scratch) : NULL;
     if (j->maxd > 32 && !scratch)
         return 1;
-    unsigned part = 0;
-    while (part + 1 < j->parts && parallel_cut(m->face_count, j->parts, part + 1) <= begin)
-        part++;
+    unsigned part = parallel_part(m->face_count, j->parts, begin);
     j->face[part] = SIZE_MAX;
     for (size_t f = begin; f < end; f++) {
         const uint32_t *v = m->face_indices + m->face_offsets[f];
@@ -157,10 +155,7 @@ typedef struct key_job {
 
 static unsigned part_of(const key_job *j, size_t begin)
 {
-    unsigned part = 0;
-    while (part + 1 < j->parts && parallel_cut(j->m->face_count, j->parts, part + 1) <= begin)
-        part++;
-    return part;
+    return parallel_part(j->m->face_count, j->parts, begin);
 }
 
 static int hash_range(void *arg, size_t begin, size_t end)

@@ -82,14 +82,7 @@ void topo_scratch_free(topo_scratch *s)
 
 unsigned topo_range(const topo_build *b, size_t n, size_t begin)
 {
-    /* parallel_run's own clamping, then its cuts */
-    unsigned parts = b->parts < 1 ? 1 : b->parts;
-    if ((size_t)parts > n)
-        parts = n ? (unsigned)n : 1;
-    unsigned i = 0;
-    while (i + 1 < parts && parallel_cut(n, parts, i + 1) <= begin)
-        i++;
-    return i;
+    return parallel_part(n, b->parts, begin);
 }
 
 void topology_free(topology *t);
