@@ -6,6 +6,7 @@ progress callback."""
 
 import gc
 import os
+import tracemalloc
 
 import numpy as np
 import pytest
@@ -15,7 +16,6 @@ from conftest import SPOT
 
 pytestmark = pytest.mark.filterwarnings("ignore::limn.LimnWarning")
 
-tracemalloc = pytest.importorskip("tracemalloc")
 
 
 def rss_bytes():
