@@ -20,7 +20,7 @@ repo=$(pwd)
 rm -rf "$venv"
 "$py" -m venv "$venv"
 "$venv/bin/python" -m pip install -q pytest numpy trimesh
-"$venv/bin/python" -m pip install -q -C cmake.define.LIMN_PYTHON_WERROR=ON ./python
+"$venv/bin/python" -m pip install -q --config-settings=cmake.define.LIMN_PYTHON_WERROR=ON ./python
 # from a neutral directory: the installed package is tested, not python/src
 cd "$venv"
 LIMN_CLI=$build/limn "$venv/bin/python" -m pytest -q -p no:cacheprovider "$repo/python/tests"

@@ -123,7 +123,11 @@ static int context_init(LimnContext *self, PyObject *args, PyObject *kw)
     (void)kw;
     if (self->ctx)
         return 0;
-    self->ctx = limn_context_create();
+    limn_context *ctx;
+    Py_BEGIN_ALLOW_THREADS
+    ctx = limn_context_create();
+    Py_END_ALLOW_THREADS
+    self->ctx = ctx;
     self->warnings = PyList_New(0);
     if (!self->ctx || !self->warnings) {
         PyErr_NoMemory();
@@ -135,7 +139,10 @@ static int context_init(LimnContext *self, PyObject *args, PyObject *kw)
 
 static void context_dealloc(LimnContext *self)
 {
-    limn_context_destroy(self->ctx);
+    limn_context *ctx = self->ctx;
+    Py_BEGIN_ALLOW_THREADS
+    limn_context_destroy(ctx); /* may close an OpenCL context: not under the GIL */
+    Py_END_ALLOW_THREADS
     Py_XDECREF(self->progress);
     Py_XDECREF(self->exc_type);
     Py_XDECREF(self->exc_value);

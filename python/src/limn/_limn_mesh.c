@@ -5,7 +5,10 @@
 
 static void mesh_dealloc(LimnMesh *self)
 {
-    limn_mesh_destroy(self->mesh);
+    limn_mesh *mesh = self->mesh;
+    Py_BEGIN_ALLOW_THREADS
+    limn_mesh_destroy(mesh);
+    Py_END_ALLOW_THREADS
     Py_TYPE(self)->tp_free((PyObject *)self);
 }
 
