@@ -106,3 +106,20 @@ def test_trimesh_in_and_out():
     # the limit surface passes through the input's vertices (to the tolerance)
     err = np.abs(V2[: len(box.vertices)] - box.vertices).max()
     assert err <= 1e-6 * np.linalg.norm(np.ptp(box.vertices, axis=0)) * 1.01
+
+
+def test_version_is_the_library_and_the_package():
+    import importlib.metadata
+    assert limn.__version__ == importlib.metadata.version("limn")
+    assert limn.__version__.count(".") == 2
+
+
+def test_every_listed_device_runs_and_agrees_with_the_reference():
+    V, F = spot()
+    devices = limn.devices()
+    assert devices[-1]["spec"] == "reference"
+    want, _ = limn.interpolate(V, F, device="reference")
+    for d in devices:
+        if d["usable"]:
+            P, rep = limn.interpolate(V, F, device=d["spec"])
+            assert P.tobytes() == want.tobytes(), d["spec"]  # the backends are bit-identical
