@@ -25,7 +25,9 @@ def test_mixed_faces_every_form_same_result():
     as_list = [list(map(int, idx[a:b])) for a, b in zip(off[:-1], off[1:])]
     as_arrays = [idx[a:b] for a, b in zip(off[:-1], off[1:])]
     want, _ = limn.interpolate(V, (off, idx), **REF)
-    for F in (as_list, as_arrays, (off.astype(np.uint32), idx.astype(np.int32)),
+    ragged = np.empty(len(as_arrays), dtype=object)  # a ragged object array, as from pandas
+    ragged[:] = as_arrays
+    for F in (as_list, as_arrays, ragged, (off.astype(np.uint32), idx.astype(np.int32)),
               limn.read(SPOT, faces="list")[1]):
         P, _ = limn.interpolate(V, F, **REF)
         assert P.tobytes() == want.tobytes()

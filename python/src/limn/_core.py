@@ -197,7 +197,7 @@ def faces(F, name="F"):
             raise ValueError("%s: offsets must start at 0, never decrease and end at the "
                              "number of indices (%d)" % (name, idx.size))
         return off, idx
-    if isinstance(F, np.ndarray):
+    if isinstance(F, np.ndarray) and not (F.dtype == object and F.ndim == 1):
         if F.ndim != 2:
             raise ValueError("%s must have shape (m, k), be a list of index sequences or a "
                              "tuple (offsets, indices); got an array of shape %s"
