@@ -51,6 +51,8 @@ int limn_py_enter(LimnContext *c);
 void limn_py_leave(LimnContext *c);
 PyObject *limn_py_str(const char *s);
 
+/* PyArg "O&" converter: a Mesh object -> its limn_mesh * (TypeError otherwise). */
+int limn_py_mesh_arg(PyObject *o, void *out);
 /* A new Mesh object owning m (NULL and an exception when out of memory). */
 PyObject *limn_py_mesh_new(limn_mesh *m);
 

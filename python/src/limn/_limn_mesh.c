@@ -85,7 +85,7 @@ static PyObject *ctx_mesh_create(LimnContext *c, PyObject *args)
     return mesh_result(c, st, mesh);
 }
 
-static int mesh_arg(PyObject *o, void *out)
+int limn_py_mesh_arg(PyObject *o, void *out)
 {
     if (!PyObject_TypeCheck(o, &LimnMesh_Type)) {
         PyErr_SetString(PyExc_TypeError, "a limn._limn.Mesh is expected");
@@ -101,7 +101,7 @@ static PyObject *ctx_copy_out(LimnContext *c, PyObject *args)
 {
     limn_mesh *mesh;
     PyObject *po, *oo, *io, *co;
-    if (!PyArg_ParseTuple(args, "O&OOOO", mesh_arg, &mesh, &po, &oo, &io, &co))
+    if (!PyArg_ParseTuple(args, "O&OOOO", limn_py_mesh_arg, &mesh, &po, &oo, &io, &co))
         return NULL;
     size_t n = limn_mesh_vertex_count(mesh), m = limn_mesh_face_count(mesh);
     size_t k = limn_mesh_index_count(mesh);
@@ -133,7 +133,7 @@ static PyObject *ctx_set_colors(LimnContext *c, PyObject *args)
 {
     limn_mesh *mesh;
     PyObject *co;
-    if (!PyArg_ParseTuple(args, "O&O", mesh_arg, &mesh, &co))
+    if (!PyArg_ParseTuple(args, "O&O", limn_py_mesh_arg, &mesh, &co))
         return NULL;
     Py_buffer b = {0};
     Py_ssize_t n = (Py_ssize_t)limn_mesh_vertex_count(mesh);
@@ -173,7 +173,7 @@ static PyObject *ctx_write(LimnContext *c, PyObject *args)
     limn_mesh *mesh;
     const char *path;
     int format, single;
-    if (!PyArg_ParseTuple(args, "O&yip", mesh_arg, &mesh, &path, &format, &single) ||
+    if (!PyArg_ParseTuple(args, "O&yip", limn_py_mesh_arg, &mesh, &path, &format, &single) ||
         limn_py_enter(c) < 0)
         return NULL;
     limn_write_options o;
@@ -208,7 +208,7 @@ static PyObject *ctx_repair(LimnContext *c, PyObject *args)
 {
     limn_mesh *mesh;
     int repeated, duplicates;
-    if (!PyArg_ParseTuple(args, "O&pp", mesh_arg, &mesh, &repeated, &duplicates) ||
+    if (!PyArg_ParseTuple(args, "O&pp", limn_py_mesh_arg, &mesh, &repeated, &duplicates) ||
         limn_py_enter(c) < 0)
         return NULL;
     limn_repair_options o;
@@ -226,7 +226,7 @@ static PyObject *ctx_repair(LimnContext *c, PyObject *args)
 static PyObject *ctx_measure(LimnContext *c, PyObject *args)
 {
     limn_mesh *mesh;
-    if (!PyArg_ParseTuple(args, "O&", mesh_arg, &mesh) || limn_py_enter(c) < 0)
+    if (!PyArg_ParseTuple(args, "O&", limn_py_mesh_arg, &mesh) || limn_py_enter(c) < 0)
         return NULL;
     limn_mesh_measures r = {.size = sizeof r};
     limn_status st;
@@ -242,7 +242,7 @@ static PyObject *ctx_measure(LimnContext *c, PyObject *args)
 static PyObject *ctx_compare(LimnContext *c, PyObject *args)
 {
     limn_mesh *a, *b;
-    if (!PyArg_ParseTuple(args, "O&O&", mesh_arg, &a, mesh_arg, &b) || limn_py_enter(c) < 0)
+    if (!PyArg_ParseTuple(args, "O&O&", limn_py_mesh_arg, &a, limn_py_mesh_arg, &b) || limn_py_enter(c) < 0)
         return NULL;
     limn_mesh_comparison r = {.size = sizeof r};
     limn_status st;

@@ -6,16 +6,6 @@
 
 #include <string.h>
 
-static int mesh_arg(PyObject *o, void *out)
-{
-    if (!PyObject_TypeCheck(o, &LimnMesh_Type)) {
-        PyErr_SetString(PyExc_TypeError, "a limn._limn.Mesh is expected");
-        return 0;
-    }
-    *(limn_mesh **)out = ((LimnMesh *)o)->mesh;
-    return 1;
-}
-
 /* (Mesh, report) or NULL with the exception (out and report dropped). */
 static PyObject *mesh_and_report(LimnContext *c, limn_status st, limn_mesh *out, PyObject *rep)
 {
@@ -111,7 +101,7 @@ static PyObject *ctx_interpolate(LimnContext *c, PyObject *args)
     limn_interpolate_options o;
     limn_interpolate_options_default(&o);
     int scheme, method, precision;
-    if (!PyArg_ParseTuple(args, "O&iddipii", mesh_arg, &mesh, &scheme, &o.alpha, &o.tolerance,
+    if (!PyArg_ParseTuple(args, "O&iddipii", limn_py_mesh_arg, &mesh, &scheme, &o.alpha, &o.tolerance,
                           &o.max_iterations, &o.reorder, &method, &precision) ||
         limn_py_enter(c) < 0)
         return NULL;
@@ -155,7 +145,7 @@ static PyObject *ctx_subdivide(LimnContext *c, PyObject *args)
     limn_subdivide_options_default(&o);
     int scheme;
     unsigned long long max_memory;
-    if (!PyArg_ParseTuple(args, "O&idipK", mesh_arg, &mesh, &scheme, &o.alpha, &o.levels,
+    if (!PyArg_ParseTuple(args, "O&idipK", limn_py_mesh_arg, &mesh, &scheme, &o.alpha, &o.levels,
                           &o.limit, &max_memory) ||
         limn_py_enter(c) < 0)
         return NULL;
@@ -206,55 +196,45 @@ static limn_series_options series_options(int scheme, double alpha)
     return o;
 }
 
-/* smooth(mesh, scheme, alpha, terms) */
+typedef enum { FILTER_SMOOTH, FILTER_DENOISE, FILTER_SHARPEN } filter_kind;
+
+/* smooth(mesh, scheme, alpha, terms), denoise(mesh, scheme, alpha, m, steps,
+   keep_volume), sharpen(mesh, scheme, alpha, from, to, steps) */
+static PyObject *filter(LimnContext *c, PyObject *args, filter_kind kind)
+{
+    static const char *const formats[] = {"O&idi", "O&idiip", "O&idiii"};
+    limn_mesh *mesh;
+    int scheme, a = 0, b = 0, d = 0;
+    double alpha;
+    if (!PyArg_ParseTuple(args, formats[kind], limn_py_mesh_arg, &mesh, &scheme, &alpha, &a, &b, &d) ||
+        limn_py_enter(c) < 0)
+        return NULL;
+    limn_series_options o = series_options(scheme, alpha);
+    limn_series_report r = {.size = sizeof r};
+    limn_mesh *out = NULL;
+    limn_status st;
+    if (kind == FILTER_SMOOTH)
+        CALL(c, st, limn_smooth(c->ctx, mesh, &o, a, &out, &r));
+    else if (kind == FILTER_DENOISE)
+        CALL(c, st, limn_denoise(c->ctx, mesh, &o, a, b, d, &out, &r));
+    else
+        CALL(c, st, limn_sharpen(c->ctx, mesh, &o, a, b, d, &out, &r));
+    return series_result(c, st, out, &r);
+}
+
 static PyObject *ctx_smooth(LimnContext *c, PyObject *args)
 {
-    limn_mesh *mesh;
-    int scheme, terms;
-    double alpha;
-    if (!PyArg_ParseTuple(args, "O&idi", mesh_arg, &mesh, &scheme, &alpha, &terms) ||
-        limn_py_enter(c) < 0)
-        return NULL;
-    limn_series_options o = series_options(scheme, alpha);
-    limn_series_report r = {.size = sizeof r};
-    limn_mesh *out = NULL;
-    limn_status st;
-    CALL(c, st, limn_smooth(c->ctx, mesh, &o, terms, &out, &r));
-    return series_result(c, st, out, &r);
+    return filter(c, args, FILTER_SMOOTH);
 }
 
-/* denoise(mesh, scheme, alpha, m, steps, keep_volume) */
 static PyObject *ctx_denoise(LimnContext *c, PyObject *args)
 {
-    limn_mesh *mesh;
-    int scheme, m, steps, keep;
-    double alpha;
-    if (!PyArg_ParseTuple(args, "O&idiip", mesh_arg, &mesh, &scheme, &alpha, &m, &steps, &keep) ||
-        limn_py_enter(c) < 0)
-        return NULL;
-    limn_series_options o = series_options(scheme, alpha);
-    limn_series_report r = {.size = sizeof r};
-    limn_mesh *out = NULL;
-    limn_status st;
-    CALL(c, st, limn_denoise(c->ctx, mesh, &o, m, steps, keep, &out, &r));
-    return series_result(c, st, out, &r);
+    return filter(c, args, FILTER_DENOISE);
 }
 
-/* sharpen(mesh, scheme, alpha, from, to, steps) */
 static PyObject *ctx_sharpen(LimnContext *c, PyObject *args)
 {
-    limn_mesh *mesh;
-    int scheme, from, to, steps;
-    double alpha;
-    if (!PyArg_ParseTuple(args, "O&idiii", mesh_arg, &mesh, &scheme, &alpha, &from, &to, &steps) ||
-        limn_py_enter(c) < 0)
-        return NULL;
-    limn_series_options o = series_options(scheme, alpha);
-    limn_series_report r = {.size = sizeof r};
-    limn_mesh *out = NULL;
-    limn_status st;
-    CALL(c, st, limn_sharpen(c->ctx, mesh, &o, from, to, steps, &out, &r));
-    return series_result(c, st, out, &r);
+    return filter(c, args, FILTER_SHARPEN);
 }
 
 /* bands(mesh, scheme, alpha, count, bands float64[(count+1)*n*3], energy float64[count+1]) */
@@ -264,7 +244,7 @@ static PyObject *ctx_bands(LimnContext *c, PyObject *args)
     int scheme, count;
     double alpha;
     PyObject *bo, *eo;
-    if (!PyArg_ParseTuple(args, "O&idiOO", mesh_arg, &mesh, &scheme, &alpha, &count, &bo, &eo))
+    if (!PyArg_ParseTuple(args, "O&idiOO", limn_py_mesh_arg, &mesh, &scheme, &alpha, &count, &bo, &eo))
         return NULL;
     if (count < 0 || count > LIMN_MAX_TERMS) { /* the buffer sizes below need it */
         limn_py_raise(LIMN_ERR_ARGUMENT, "bands: count is outside 0..LIMN_MAX_TERMS (10000)");
@@ -325,7 +305,7 @@ static PyObject *ctx_morph(LimnContext *c, PyObject *args)
     limn_morph_options_default(&o);
     int scheme;
     PyObject *po, *so;
-    if (!PyArg_ParseTuple(args, "O&O&idiidpOO", mesh_arg, &from, mesh_arg, &to, &scheme,
+    if (!PyArg_ParseTuple(args, "O&O&idiidpOO", limn_py_mesh_arg, &from, limn_py_mesh_arg, &to, &scheme,
                           &o.series.alpha, &o.frames, &o.m, &o.p, &o.linear, &po, &so))
         return NULL;
     o.series.scheme = (limn_scheme)scheme;
@@ -367,7 +347,7 @@ static PyObject *ctx_texture(LimnContext *c, PyObject *args)
     int scheme;
     Py_buffer colors;
     unsigned long long seed, max_memory;
-    if (!PyArg_ParseTuple(args, "O&idiy*KddK", mesh_arg, &mesh, &scheme, &o.series.alpha,
+    if (!PyArg_ParseTuple(args, "O&idiy*KddK", limn_py_mesh_arg, &mesh, &scheme, &o.series.alpha,
                           &o.levels, &colors, &seed, &o.frequency, &o.tolerance, &max_memory))
         return NULL;
     if (limn_py_enter(c) < 0) {
