@@ -7,14 +7,16 @@
 #                            Oclgrind for tests/test_oclgrind.sh), and
 #                            Open MPI + METIS so that the MPI layer is built and
 #                            tested (optional for users: LIMN_MPI, README "MPI"),
-#                            and locales (test_locale generates de_DE.UTF-8)
+#                            and locales (test_locale generates de_DE.UTF-8),
+#                            and python3-venv + python3-dev for the Python
+#                            package's tests (scripts/test_python.sh)
 set -euo pipefail
 
 packages=(gcc g++ make cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
           libhwloc-dev)
 if [[ "${1:-}" == "--test" ]]; then
     packages+=(libcmocka-dev libosd-dev clang-14 libclang-rt-14-dev oclgrind
-               libopenmpi-dev openmpi-bin libmetis-dev locales)
+               libopenmpi-dev openmpi-bin libmetis-dev locales python3-venv python3-dev)
 fi
 
 missing=()

@@ -6,8 +6,10 @@
 #      LIMN_FUZZ_SECONDS per target, default 60; 0 skips);
 #   2. the whole test suite once under ASan + UBSan (LIMN_SANITIZE_RUN=0 skips);
 #   3. the whole test suite, plain (test_oclgrind among it: every kernel
-#      family under Oclgrind, no diagnostic, PoCL's bytes): its CTest summary
-#      closes the output.
+#      family under Oclgrind, no diagnostic, PoCL's bytes);
+#   4. the Python package (scripts/test_python.sh: pip install ./python in a
+#      fresh venv under the build directory, pytest against the CLI;
+#      LIMN_PYTHON_TESTS=0 skips).
 # Build directories: LIMN_BUILD_DIR (build), LIMN_FUZZ_DIR (build-fuzz),
 # LIMN_SANITIZE_DIR (build-sanitize).
 set -euo pipefail
@@ -32,3 +34,7 @@ if [[ "${LIMN_SANITIZE_RUN:-1}" != 0 ]]; then
 fi
 echo "== limn: the whole test suite ($((SECONDS - start)) s so far)"
 ctest --test-dir "${LIMN_BUILD_DIR:-build}" --output-on-failure
+if [[ "${LIMN_PYTHON_TESTS:-1}" != 0 ]]; then
+    echo "== limn: the Python package (scripts/test_python.sh, $((SECONDS - start)) s so far)"
+    bash scripts/test_python.sh
+fi
