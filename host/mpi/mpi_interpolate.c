@@ -85,14 +85,12 @@ static limn_status iterate(mpi_part *p, const limn_interpolate_options *o, limn_
     return mpi_agree(p, st);
 }
 
-/* The checks of limn_interpolate_mpi (agreed), then the method: auto as in
-   limn_interpolate, so that both give the same answer. */
-static limn_status check_interpolate(mpi_part *p, const limn_mesh *mesh,
-                                     const limn_interpolate_options *o, limn_mesh **control,
-                                     limn_method *method, limn_report *r)
+limn_status mpi_interpolate_method(mpi_part *p, const limn_interpolate_options *o,
+                                   limn_status st, limn_method *method, limn_report *r)
 {
     limn_context *ctx = p->ctx;
-    limn_status st = solve_check_options(ctx, o);
+    if (!st)
+        st = solve_check_options(ctx, o);
     /* the float path (solve_mixed.c) is single-process for now */
     if (!st && o->precision == LIMN_PRECISION_FLOAT)
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
@@ -100,11 +98,6 @@ static limn_status check_interpolate(mpi_part *p, const limn_mesh *mesh,
                        "or auto");
     r->precision = "double";
     r->precision_reason = "MPI runs in double";
-    if (!st && p->rank == p->root && (!mesh || !control))
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                       "limn_interpolate_mpi: the root rank needs the mesh and control");
-    if (!st && p->rank == p->root)
-        st = check_mesh_magnitude(ctx, "limn_interpolate_mpi", NULL, mesh);
     if (!st && o->method == LIMN_METHOD_SGS)
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                        "method sgs is not available under MPI yet (its sweeps run colour by "
@@ -117,6 +110,20 @@ static limn_status check_interpolate(mpi_part *p, const limn_mesh *mesh,
                              "mesh (fewest fused steps; cg uses as few products, each costlier)"
                            : "chosen by the caller";
     return st;
+}
+
+/* The root's checks of limn_interpolate_mpi, then the options' (agreed). */
+static limn_status check_interpolate(mpi_part *p, const limn_mesh *mesh,
+                                     const limn_interpolate_options *o, limn_mesh **control,
+                                     limn_method *method, limn_report *r)
+{
+    limn_status st = LIMN_OK;
+    if (p->rank == p->root && (!mesh || !control))
+        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                       "limn_interpolate_mpi: the root rank needs the mesh and control");
+    if (!st && p->rank == p->root)
+        st = check_mesh_magnitude(p->ctx, "limn_interpolate_mpi", NULL, mesh);
+    return mpi_interpolate_method(p, o, st, method, r);
 }
 
 /* The distributed operator's part of the report, and the vectors: m4 and
@@ -158,6 +165,19 @@ static limn_status cg_start(mpi_part *p, const limn_interpolate_options *o, cons
         r->products = stats.products;
         r->iterations = stats.iterations;
     }
+    return st;
+}
+
+limn_status mpi_interpolate_rows(mpi_part *p, const limn_interpolate_options *o,
+                                 limn_method *method, const double *m4, double *p4,
+                                 limn_report *r)
+{
+    memcpy(p4, m4, 4 * p->n_owned * sizeof *p4);
+    limn_status st = LIMN_OK;
+    if (*method == LIMN_METHOD_CG)
+        st = cg_start(p, o, m4, p4, method, r);
+    if (!st)
+        st = iterate(p, o, *method, m4, p4, p4, r);
     return st;
 }
 
@@ -205,11 +225,7 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
     if (!st)
         st = mpi_scatter_rows(&p, p.rank == p.root ? mesh->positions : NULL, m4);
     if (!st)
-        memcpy(p4, m4, 4 * p.n_owned * sizeof *p4);
-    if (!st && method == LIMN_METHOD_CG)
-        st = cg_start(&p, o, m4, p4, &method, r);
-    if (!st)
-        st = iterate(&p, o, method, m4, p4, p4, r);
+        st = mpi_interpolate_rows(&p, o, &method, m4, p4, r);
     if (!st)
         st = mpi_gather_rows(&p, p4, xyz);
     limn_mesh *out = NULL;

@@ -158,6 +158,22 @@ void mpi_halo_free(mpi_halo *h);
 limn_status mpi_solve_cg(mpi_part *p, const double *m4, double tol_abs, int max_iter, double *p4,
                          solve_stats *stats);
 
+/* ----------------------------------------------------------- mpi_interpolate.c */
+
+/* The option checks of an interpolation over the ranks (after st, this
+   rank's own checks so far), agreed, and the method (auto = chebyshev)
+   with its reason in r. */
+limn_status mpi_interpolate_method(mpi_part *p, const limn_interpolate_options *o,
+                                   limn_status st, limn_method *method, limn_report *r);
+
+/* The solve on p's rows after the checks: m4 the owned rows of M (4 doubles
+   a row, w = 0), p4 (owned and ghost rows) gets P's owned rows; *method may
+   change (cg falls back to the seeds' iteration where it cannot run); r gets
+   the iteration's figures. Collective; agreed. */
+limn_status mpi_interpolate_rows(mpi_part *p, const limn_interpolate_options *o,
+                                 limn_method *method, const double *m4, double *p4,
+                                 limn_report *r);
+
 /* ---------------------------------------------------------------- mpi_piece.c */
 
 /* Collective, after a result is gathered on root (xyz_root: 3 per input
