@@ -179,9 +179,12 @@ limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh,
 
 /* Writes the whole mesh to path: every rank writes its blocks at their
    offsets (MPI-IO), the same bytes as limn_mesh_write_with of the whole
-   mesh, the file whole or not at all. options may be NULL (defaults). */
+   mesh, the file whole or not at all. options (NULL: the defaults) and
+   report (may be NULL; its mean error is summed over the ranks, so it may
+   differ from the single process's in the last bits) as there. */
 limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh *mesh, const char *path,
-                                const limn_write_options *options);
+                                limn_format format, const limn_write_options *options,
+                                limn_write_report *report);
 
 /* limn_interpolate on a distributed mesh: the vertices partitioned over the
    ranks in parallel (PT-Scotch), each rank building its own rows from the

@@ -94,7 +94,7 @@ static limn_status distributed(limn_context *ctx, const char *in,
     if (!st)
         st = limn_interpolate_mpi_mesh(ctx, m, o, &p, r, NULL, NULL);
     if (!st)
-        st = limn_mpi_mesh_write(ctx, p, out, NULL);
+        st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
     limn_mpi_mesh_destroy(m);
     limn_mpi_mesh_destroy(p);
     return st;
@@ -190,7 +190,7 @@ static void repair_case(limn_context *ctx)
     if (!st)
         st = limn_interpolate_mpi_mesh(ctx, m, &o, &p, &r, NULL, NULL);
     if (!st)
-        st = limn_mpi_mesh_write(ctx, p, out, NULL);
+        st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
     CHECK(st == LIMN_OK, "repair pipeline: %s", limn_context_message(ctx));
     if (rank == 0 && ok && !st)
         CHECK(same_files(ref, out), "repaired mesh: output differs from one process's");
@@ -256,7 +256,7 @@ static void split_and_create(limn_context *ctx, const limn_mesh *mesh)
     if (!st)
         st = limn_interpolate_mpi_mesh(ctx, c, &o, &p, &r, NULL, NULL);
     if (!st)
-        st = limn_mpi_mesh_write(ctx, p, out, NULL);
+        st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
     CHECK(st == LIMN_OK, "created mesh: %s", limn_context_message(ctx));
     if (rank == 0 && ok && !st)
         CHECK(same_files(ref, out), "uneven blocks: output differs from one process's");
