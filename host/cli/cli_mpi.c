@@ -144,6 +144,70 @@ limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_m
     return st;
 }
 
+int cli_mpi_sliced(const char *input, limn_format in_format, const char *output, int per_rank)
+{
+    if (g.size == 1 || per_rank || strcmp(input, "-") == 0 || strcmp(output, "-") == 0)
+        return 0;
+    limn_format f;
+    if (!limn_format_from_path(input, &f) || (in_format != LIMN_FORMAT_AUTO && in_format != f))
+        return 0;
+    return f == LIMN_FORMAT_PLY || f == LIMN_FORMAT_OBJ || f == LIMN_FORMAT_OFF;
+}
+
+/* Every rank's slice of input, repaired by the command's policy. */
+static limn_status read_sliced(limn_context *ctx, const char *cmd, const char *input,
+                               const cli_repair *repair, limn_mpi_mesh **mesh)
+{
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, input, mesh);
+    cli_print_warnings(cmd, ctx);
+    if (st)
+        return st;
+    limn_repair_options o;
+    limn_repair_options_default(&o);
+    o.repeated_vertices = !repair->off;
+    o.duplicate_faces = repair->drop_duplicates;
+    limn_repair_report rep = {.size = sizeof rep};
+    st = limn_mpi_mesh_repair(ctx, *mesh, &o, &rep);
+    cli_print_warnings(cmd, ctx);
+    if (!st && limn_mpi_mesh_face_total(*mesh) == 0)
+        st = rep.faces_before
+                 ? cli_error(LIMN_ERR_TOPOLOGY,
+                             "%s: no faces are left after the repair (all %zu were degenerate): "
+                             "nothing to %s",
+                             input, rep.faces_before, cmd)
+                 : cli_error(LIMN_ERR_TOPOLOGY,
+                             "%s: the mesh has no faces (a point cloud?): nothing to %s", input,
+                             cmd);
+    return st;
+}
+
+limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                       const limn_interpolate_options *o, limn_report *r,
+                                       limn_write_report *written, double seconds[2])
+{
+    limn_mpi_mesh *mesh = NULL, *control = NULL;
+    double t0 = MPI_Wtime();
+    limn_status st = read_sliced(ctx, job->cmd, job->input, job->repair, &mesh);
+    seconds[0] = MPI_Wtime() - t0;
+    limn_mpi_options mo = options();
+    mo.keep_piece = 0;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    if (!st) {
+        st = limn_interpolate_mpi_mesh(ctx, mesh, o, &control, r, &mo, &res);
+        cli_print_warnings(job->cmd, ctx);
+        collect(&res);
+        limn_mpi_result_free(&res);
+    }
+    double t1 = MPI_Wtime();
+    if (!st)
+        st = limn_mpi_mesh_write(ctx, control, job->output, job->out_format, job->write,
+                                 written);
+    seconds[1] = MPI_Wtime() - t1;
+    limn_mpi_mesh_destroy(mesh);
+    limn_mpi_mesh_destroy(control);
+    return st;
+}
+
 void cli_mpi_json(json_out *j)
 {
     if (g.size == 1 || !g.all)

@@ -51,6 +51,18 @@ limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_m
     (void)ctx, (void)from, (void)to, (void)o, (void)fn, (void)user, (void)r;
     return none();
 }
+int cli_mpi_sliced(const char *input, limn_format in_format, const char *output, int per_rank)
+{
+    (void)input, (void)in_format, (void)output, (void)per_rank;
+    return 0;
+}
+limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                       const limn_interpolate_options *o, limn_report *r,
+                                       limn_write_report *written, double seconds[2])
+{
+    (void)ctx, (void)job, (void)o, (void)r, (void)written, (void)seconds;
+    return none();
+}
 char *cli_mpi_rank_path(const char *path)
 {
     (void)path;
