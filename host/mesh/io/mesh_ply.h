@@ -57,7 +57,15 @@ typedef struct ply {
     mio_arrays a;
     char dropped[256];         /* vertex properties limn does not keep, for one warning */
     size_t ndropped;
+    char slice_comment[256];   /* after "comment limn-slice " (mesh_slice_split.c), or "" */
 } ply;
+
+/* The header of f read and checked as ply_read does (warnings included)
+   into p (zeroed here): for readers of parts of the body (mesh_slice_ply.c).
+   p->r is then at the body's first byte. ply_close frees p's contents, also
+   after a failure. */
+limn_status ply_open(ply *p, limn_context *ctx, const char *path, FILE *f);
+void ply_close(ply *p);
 
 /* A binary scalar of type t at b (big: big endian), as the general reader
    converts it. */
@@ -77,5 +85,19 @@ int ply_fast_body(ply *p);
    and face elements only, one record a line; LIMN_TEST_TEXT_GENERAL=1 makes
    it always 0. */
 int ply_text_fast_body(ply *p);
+
+/* The ascii body's line parser as the fast path sets it up, for a reader of
+   parts of the file (mesh_slice_text.c): the elements with records in file
+   order (order[1] == order[0] when there is one), records of order[0]. */
+struct tf_text;
+typedef struct ply_text {
+    const ply_elem *order[2];
+    uint64_t first;
+} ply_text;
+/* Sets t's line function, format (pt, which must outlive t), nv, colours
+   and record count for p's ascii body; 0 when the layout is one the line
+   parser does not take (other elements with records, tristrips, lists
+   beside the face indices). */
+int ply_text_setup(const ply *p, ply_text *pt, struct tf_text *t);
 
 #endif
