@@ -117,6 +117,10 @@ limn_status mpi_open_device(mpi_part *p);
    cut. One rank, or fewer vertices than ranks, needs no METIS. */
 limn_status mpi_partition(limn_context *ctx, const limn_mesh *mesh, int parts,
                           uint32_t *part_of, size_t *edge_cut);
+/* The edge cut of a given partition (part_of[v] < parts, checked), as
+   mpi_partition counts it. */
+limn_status mpi_edge_cut(limn_context *ctx, const limn_mesh *mesh, int parts,
+                         const uint32_t *part_of, size_t *edge_cut);
 
 /* ----------------------------------------------------------- mpi_distribute.c */
 
@@ -127,6 +131,13 @@ limn_status mpi_partition(limn_context *ctx, const limn_mesh *mesh, int parts,
  */
 limn_status mpi_distribute(mpi_part *p, const limn_mesh *mesh, limn_scheme scheme, double alpha,
                            int reorder);
+/* The same with the root's partition given (part_of: a rank per input
+   vertex, on the root; NULL: METIS as mpi_distribute). */
+limn_status mpi_distribute_part(mpi_part *p, const limn_mesh *mesh, limn_scheme scheme,
+                                double alpha, int reorder, const uint32_t *part_of);
+/* Every rank: device views of its rows (p->host), halo buffers, statistics
+   (mpi_halo.c; used by mpi_distribute and mpi_local_build). */
+limn_status mpi_open_rows(mpi_part *p);
 
 /* ----------------------------------------------------------------- mpi_halo.c */
 
