@@ -236,6 +236,77 @@ static void compare(const char *name, const mpi_part *a, const mpi_part *b)
     compare_halo(name, &a->halo, &b->halo);
 }
 
+/* Collective: limn_interpolate on rank 0 (input order: reorder off) against
+   mpi_interpolate_part on the local rows b (m4: its owned positions); the
+   same bits for the paper iteration and Chebyshev, 1e-12 of the scale for
+   CG (its dot products are reduced over ranks). */
+static void solve_case(limn_context *ctx, const char *name, const limn_mesh *rep, mpi_part *b,
+                       const double *m4, limn_scheme scheme, double alpha, limn_method method)
+{
+    limn_interpolate_options o;
+    limn_interpolate_options_default(&o);
+    o.scheme = scheme;
+    o.alpha = alpha;
+    o.method = method;
+    o.reorder = 0;
+    limn_mesh *single = NULL;
+    limn_report rs = {.size = sizeof rs}, rd = {.size = sizeof rd};
+    limn_status ss = rank == 0 ? limn_interpolate(ctx, rep, &o, &single, &rs) : LIMN_OK;
+    MPI_Bcast(&ss, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    CHECK(ss == LIMN_OK, "%s: single process: %s", name, limn_context_message(ctx));
+    size_t no = b->n_owned, nl = no + b->n_ghost, n = b->n_global;
+    double *p4 = calloc(4 * (nl ? nl : 1), sizeof *p4), *xyz = malloc(3 * (no ? no : 1) * 8);
+    limn_status st = ss ? ss : mpi_interpolate_part(b, &o, m4, p4, &rd);
+    CHECK(st == LIMN_OK, "%s: local rows: %s", name, limn_context_message(ctx));
+    int cnt = (int)no, *cnts = calloc((size_t)size, sizeof *cnts), *displ = calloc((size_t)size, sizeof *displ);
+    int *c3 = calloc((size_t)size, sizeof *c3), *d3 = calloc((size_t)size, sizeof *d3);
+    for (size_t i = 0; i < no; i++)
+        memcpy(xyz + 3 * i, p4 + 4 * i, 3 * sizeof *xyz);
+    MPI_Gather(&cnt, 1, MPI_INT, cnts, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    for (int r = 1; r < size; r++)
+        displ[r] = displ[r - 1] + cnts[r - 1];
+    for (int r = 0; r < size; r++) {
+        c3[r] = 3 * cnts[r];
+        d3[r] = 3 * displ[r];
+    }
+    uint32_t *ids = malloc((n ? n : 1) * sizeof *ids);
+    double *got = malloc(3 * (n ? n : 1) * sizeof *got), *out = malloc(3 * (n ? n : 1) * 8);
+    MPI_Gatherv(b->owned_ids, cnt, MPI_UINT32_T, ids, cnts, displ, MPI_UINT32_T, 0,
+                MPI_COMM_WORLD);
+    MPI_Gatherv(xyz, 3 * cnt, MPI_DOUBLE, got, c3, d3, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    if (rank == 0 && !st && !ss) {
+        for (size_t i = 0; i < n; i++)
+            memcpy(out + 3 * (size_t)ids[i], got + 3 * i, 3 * sizeof *out);
+        const double *ref = limn_mesh_positions(single);
+        size_t differ = 0;
+        double worst = 0, scale = 0;
+        for (size_t i = 0; i < 3 * n; i++) {
+            differ += out[i] != ref[i];
+            worst = fmax(worst, fabs(out[i] - ref[i]));
+            scale = fmax(scale, fabs(ref[i]));
+        }
+        int exact = strcmp(rd.method, "cg") != 0;
+        CHECK(rd.iterations == rs.iterations && !strcmp(rd.method, rs.method),
+              "%s: %s, %d iterations; single process %s, %d", name, rd.method, rd.iterations,
+              rs.method, rs.iterations);
+        CHECK(exact ? differ == 0 : worst <= 1e-12 * scale,
+              "%s %s: %zu of %zu values differ from the single process (by %.3g of %.3g)", name,
+              rd.method, differ, 3 * n, worst, scale);
+        printf("    solve %-10s %d iterations, %zu/%zu values bit-identical\n", rd.method,
+               rd.iterations, 3 * n - differ, 3 * n);
+    }
+    limn_mesh_destroy(single);
+    free(p4);
+    free(xyz);
+    free(cnts);
+    free(displ);
+    free(c3);
+    free(d3);
+    free(ids);
+    free(got);
+    free(out);
+}
+
 /* Rank r's faces: uneven ranges (rank r gets a share growing with r). */
 static void face_range(size_t nf, size_t *begin, size_t *count)
 {
@@ -246,7 +317,7 @@ static void face_range(size_t nf, size_t *begin, size_t *count)
 
 /* The local path from blocks and face ranges of the unrepaired mesh. */
 static limn_status local_path(limn_context *ctx, const limn_mesh *mesh, const uint32_t *part,
-                              limn_scheme scheme, double alpha, mpi_part *b,
+                              limn_scheme scheme, double alpha, mpi_part *b, double **m4,
                               mpi_local_stats *stats)
 {
     size_t n = limn_mesh_vertex_count(mesh), nf = limn_mesh_face_count(mesh), fb, fc;
@@ -262,7 +333,7 @@ static limn_status local_path(limn_context *ctx, const limn_mesh *mesh, const ui
     if (!st)
         st = mpi_local_build(b, vtxdist, limn_mesh_positions(mesh) + 3 * vtxdist[rank],
                              part + vtxdist[rank], fb, fc, off2, idx + off[fb], scheme, alpha,
-                             NULL, stats);
+                             NULL, m4, stats);
     free(vtxdist);
     free(off2);
     return st;
@@ -285,7 +356,8 @@ static void local_case(limn_context *ctx, const char *name, const limn_mesh *mes
                                  rank == 0 ? part : NULL);
     CHECK(sa == LIMN_OK, "%s: root path: %s", name, limn_context_message(ctx));
     mpi_local_stats stats;
-    limn_status sb = local_path(ctx, mesh, part, scheme, alpha, &b, &stats);
+    double *m4 = NULL;
+    limn_status sb = local_path(ctx, mesh, part, scheme, alpha, &b, &m4, &stats);
     CHECK(sb == LIMN_OK, "%s: local path: %s", name, limn_context_message(ctx));
     if (!sa && !sb)
         compare(name, &a, &b);
@@ -301,8 +373,13 @@ static void local_case(limn_context *ctx, const char *name, const limn_mesh *mes
                "array %llu (%.2f of n)\n",
                name, limn_scheme_name(a.scheme), alpha, n, a.n_owned, worst,
                n ? (double)worst / (double)n : 0.0);
+    static const limn_method methods[] = {LIMN_METHOD_PAPER, LIMN_METHOD_CHEBYSHEV,
+                                          LIMN_METHOD_CG};
+    for (size_t k = 0; !sb && k < sizeof methods / sizeof *methods; k++)
+        solve_case(ctx, name, rep, &b, m4, scheme, alpha, methods[k]);
     mpi_part_end(&a);
     mpi_part_end(&b);
+    free(m4);
     free(part);
     limn_mesh_destroy(rep);
 }
@@ -315,7 +392,7 @@ static void bad_partition(limn_context *ctx, const limn_mesh *mesh)
     part[n - 1] = (uint32_t)size; /* in the last rank's block */
     mpi_part b;
     mpi_local_stats stats;
-    limn_status st = local_path(ctx, mesh, part, LIMN_SCHEME_CATMARK, 0.0, &b, &stats);
+    limn_status st = local_path(ctx, mesh, part, LIMN_SCHEME_CATMARK, 0.0, &b, NULL, &stats);
     char want[128];
     snprintf(want, sizeof want, "vertex %zu is given to part %d", n - 1, size);
     CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), want),

@@ -86,8 +86,9 @@ static limn_status iterate(mpi_part *p, const limn_interpolate_options *o, limn_
 }
 
 /* The checks of limn_interpolate_mpi (agreed), then the method: auto as in
-   limn_interpolate, so that both give the same answer. */
-static limn_status check_interpolate(mpi_part *p, const limn_mesh *mesh,
+   limn_interpolate, so that both give the same answer. rows_here: the rows
+   are built already (mpi_interpolate_part), no mesh on the root. */
+static limn_status check_interpolate(mpi_part *p, int rows_here, const limn_mesh *mesh,
                                      const limn_interpolate_options *o, limn_mesh **control,
                                      limn_method *method, limn_report *r)
 {
@@ -100,10 +101,10 @@ static limn_status check_interpolate(mpi_part *p, const limn_mesh *mesh,
                        "or auto");
     r->precision = "double";
     r->precision_reason = "MPI runs in double";
-    if (!st && p->rank == p->root && (!mesh || !control))
+    if (!st && !rows_here && p->rank == p->root && (!mesh || !control))
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                        "limn_interpolate_mpi: the root rank needs the mesh and control");
-    if (!st && p->rank == p->root)
+    if (!st && !rows_here && p->rank == p->root)
         st = check_mesh_magnitude(ctx, "limn_interpolate_mpi", NULL, mesh);
     if (!st && o->method == LIMN_METHOD_SGS)
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
@@ -179,6 +180,24 @@ static limn_status hand_out(limn_context *ctx, limn_status st, limn_mesh *out,
     return LIMN_OK;
 }
 
+limn_status mpi_interpolate_part(mpi_part *p, const limn_interpolate_options *o,
+                                 const double *m4, double *p4, limn_report *r)
+{
+    memset(r, 0, sizeof *r);
+    limn_method method;
+    limn_status st = check_interpolate(p, 1, NULL, o, NULL, &method, r);
+    MPI_REPORT_OPERATOR(r, p);
+    r->reordered = p->reordered;
+    r->omega = 1.0;
+    if (!st)
+        memcpy(p4, m4, 4 * p->n_owned * sizeof *p4);
+    if (!st && method == LIMN_METHOD_CG)
+        st = cg_start(p, o, m4, p4, &method, r);
+    if (!st)
+        st = iterate(p, o, method, m4, p4, p4, r);
+    return mpi_agree(p, st);
+}
+
 /* limn_interpolate_mpi on structs of this library's layout. */
 static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
                                          const limn_interpolate_options *o,
@@ -195,7 +214,7 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
         return st;
     }
     limn_method method;
-    st = check_interpolate(&p, mesh, o, control, &method, r);
+    st = check_interpolate(&p, 0, mesh, o, control, &method, r);
     if (!st)
         st = mpi_distribute(&p, mesh, o->scheme, o->alpha, solve_reorder_wanted(o, method));
     double t0 = MPI_Wtime();

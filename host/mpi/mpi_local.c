@@ -471,11 +471,25 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
     return st;
 }
 
+/* The positions of the owned rows, 4 doubles a row (w = 0), local order. */
+static limn_status owned_positions(mpi_part *p, const local_sub *s, const double *pos,
+                                   double **rows4)
+{
+    size_t no = p->n_owned;
+    double *r = calloc(no ? 4 * no : 4, sizeof *r);
+    if (!r)
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu rows", no);
+    for (size_t l = 0; l < no; l++)
+        memcpy(r + 4 * l, pos + 3 * find_u32(s->ids, s->n, p->owned_ids[l]), 3 * sizeof *r);
+    *rows4 = r;
+    return LIMN_OK;
+}
+
 limn_status mpi_local_build(mpi_part *p, const size_t *vtxdist, const double *positions,
                             const uint32_t *part_of, size_t face_begin, size_t face_count,
                             const uint32_t *face_offsets, const uint32_t *face_indices,
                             limn_scheme scheme, double alpha, const limn_repair_options *repair,
-                            mpi_local_stats *stats)
+                            double **owned_rows4, mpi_local_stats *stats)
 {
     double t0 = MPI_Wtime();
     local_sub s;
@@ -484,6 +498,8 @@ limn_status mpi_local_build(mpi_part *p, const size_t *vtxdist, const double *po
     memset(&t, 0, sizeof t);
     if (stats)
         memset(stats, 0, sizeof *stats);
+    if (owned_rows4)
+        *owned_rows4 = NULL;
     s.stats = stats;
     faces_in f = {face_begin, face_count, face_offsets, face_indices};
     size_t nb = vtxdist[p->rank + 1] - vtxdist[p->rank];
@@ -493,9 +509,12 @@ limn_status mpi_local_build(mpi_part *p, const size_t *vtxdist, const double *po
     limn_status st = build_sub(p, &s, &t, vtxdist, positions, part_of, &f, repair);
     if (!st)
         st = sub_operator(p, &s, t.mesh, scheme, alpha);
-    tmp_free(&t);
     if (!st)
         st = mpi_local_rows(p, &s);
+    if (!st && owned_rows4)
+        st = owned_positions(p, &s, t.pos, owned_rows4);
+    st = mpi_agree(p, st);
+    tmp_free(&t);
     operator_free(&s.op);
     free(s.ids);
     free(s.part);
@@ -505,5 +524,10 @@ limn_status mpi_local_build(mpi_part *p, const size_t *vtxdist, const double *po
     p->stats.seconds_distribute = MPI_Wtime() - t0;
     if (stats)
         stats->seconds = p->stats.seconds_distribute;
-    return mpi_agree(p, st);
+    st = mpi_agree(p, st);
+    if (st && owned_rows4) {
+        free(*owned_rows4);
+        *owned_rows4 = NULL;
+    }
+    return st;
 }

@@ -43,13 +43,16 @@ typedef struct mpi_local_stats {
  * global vertex ids). repair: as limn_mesh_repair's options (NULL: the
  * defaults). Fills *p as mpi_distribute does (same owned-row classes, ghost
  * order and halo; p->has_global stays 0) and opens the device with the rows;
- * every rank gets the same status and message. stats may be NULL.
+ * every rank gets the same status and message. owned_rows4 (may be NULL)
+ * gets the input positions of the owned rows, 4 doubles a row (w = 0), in
+ * local order (caller frees): the right-hand side of a solve. stats may be
+ * NULL.
  */
 limn_status mpi_local_build(mpi_part *p, const size_t *vtxdist, const double *positions,
                             const uint32_t *part_of, size_t face_begin, size_t face_count,
                             const uint32_t *face_offsets, const uint32_t *face_indices,
                             limn_scheme scheme, double alpha, const limn_repair_options *repair,
-                            mpi_local_stats *stats);
+                            double **owned_rows4, mpi_local_stats *stats);
 
 /* ------------------------------------------------------- mpi_local_comm.c */
 

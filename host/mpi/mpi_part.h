@@ -158,6 +158,15 @@ limn_status mpi_overlapped(mpi_part *p, const device_csr *table, device_buffer *
 limn_status mpi_exchange(mpi_part *p, device_buffer *x, limn_status prior);
 void mpi_halo_free(mpi_halo *h);
 
+/* ------------------------------------------------------------ mpi_interpolate.c */
+
+/* limn_interpolate_mpi's solve on a part already built (mpi_local_build),
+   every rank with its rows: m4 the owned rows' positions (4 doubles a row),
+   p4 (owned + ghost rows, 4 doubles) gets the control points of the owned
+   rows. Options as limn_interpolate's (checked; the root needs no mesh). */
+limn_status mpi_interpolate_part(mpi_part *p, const limn_interpolate_options *o,
+                                 const double *m4, double *p4, limn_report *r);
+
 /* ------------------------------------------------------------------- mpi_cg.c */
 
 /*
