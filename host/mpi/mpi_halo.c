@@ -124,3 +124,37 @@ limn_status mpi_exchange(mpi_part *p, device_buffer *x, limn_status prior)
     device_norms unused;
     return mpi_overlapped(p, &p->all, x, no_rows, NULL, prior, &unused);
 }
+
+/* Every rank: device views of its rows, halo buffers, statistics. */
+limn_status mpi_open_rows(mpi_part *p)
+{
+    mpi_halo *h = &p->halo;
+    size_t nidx = h->n_send ? h->send_off[h->n_send - 1] + h->send_cnt[h->n_send - 1] : 0;
+    size_t span = p->send_end - p->send_begin;
+    h->stage4 = calloc(span ? 4 * span : 1, sizeof *h->stage4);
+    h->send3 = calloc(nidx ? 3 * nidx : 1, sizeof *h->send3);
+    h->recv3 = calloc(p->n_ghost ? 3 * p->n_ghost : 1, sizeof *h->recv3);
+    h->ghost4 = calloc(p->n_ghost ? 4 * p->n_ghost : 1, sizeof *h->ghost4);
+    h->req = malloc((size_t)(h->n_recv + h->n_send + 1) * sizeof *h->req);
+    if (!h->stage4 || !h->send3 || !h->recv3 || !h->ghost4 || !h->req)
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the halo buffers");
+    p->n_split = p->n_interior / DEVICE_ROWS_PER_ITEM * DEVICE_ROWS_PER_ITEM;
+    p->stats.owned = p->n_owned;
+    p->stats.ghosts = p->n_ghost;
+    p->stats.interior_rows = p->n_interior;
+    p->stats.edge_cut = p->edge_cut;
+    p->stats.halo_bytes_sent = 3 * sizeof(double) * nidx;
+    p->stats.halo_bytes_received = 3 * sizeof(double) * p->n_ghost;
+    int neighbours = h->n_recv;
+    for (int s = 0; s < h->n_send; s++) {
+        int known = 0;
+        for (int q = 0; q < h->n_recv; q++)
+            known |= h->recv_rank[q] == h->send_rank[s];
+        neighbours += !known;
+    }
+    p->stats.neighbours = neighbours;
+    limn_status st = mpi_open_device(p);
+    if (!st)
+        st = device_csr_upload(p->dev, &p->host, &p->all);
+    return st;
+}

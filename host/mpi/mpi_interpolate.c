@@ -199,6 +199,20 @@ static limn_status hand_out(limn_context *ctx, limn_status st, limn_mesh *out,
     return LIMN_OK;
 }
 
+limn_status mpi_interpolate_part(mpi_part *p, const limn_interpolate_options *o,
+                                 const double *m4, double *p4, limn_report *r)
+{
+    memset(r, 0, sizeof *r);
+    limn_method method;
+    limn_status st = mpi_interpolate_method(p, o, LIMN_OK, &method, r);
+    MPI_REPORT_OPERATOR(r, p);
+    r->reordered = p->reordered;
+    r->omega = 1.0;
+    if (!st)
+        st = mpi_interpolate_rows(p, o, &method, m4, p4, r);
+    return mpi_agree(p, st);
+}
+
 /* limn_interpolate_mpi on structs of this library's layout. */
 static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
                                          const limn_interpolate_options *o,

@@ -117,6 +117,10 @@ limn_status mpi_open_device(mpi_part *p);
    cut. One rank, or fewer vertices than ranks, needs no METIS. */
 limn_status mpi_partition(limn_context *ctx, const limn_mesh *mesh, int parts,
                           uint32_t *part_of, size_t *edge_cut);
+/* The edge cut of a given partition (part_of[v] < parts, checked), as
+   mpi_partition counts it. */
+limn_status mpi_edge_cut(limn_context *ctx, const limn_mesh *mesh, int parts,
+                         const uint32_t *part_of, size_t *edge_cut);
 
 /* ----------------------------------------------------------- mpi_distribute.c */
 
@@ -127,6 +131,13 @@ limn_status mpi_partition(limn_context *ctx, const limn_mesh *mesh, int parts,
  */
 limn_status mpi_distribute(mpi_part *p, const limn_mesh *mesh, limn_scheme scheme, double alpha,
                            int reorder);
+/* The same with the root's partition given (part_of: a rank per input
+   vertex, on the root; NULL: METIS as mpi_distribute). */
+limn_status mpi_distribute_part(mpi_part *p, const limn_mesh *mesh, limn_scheme scheme,
+                                double alpha, int reorder, const uint32_t *part_of);
+/* Every rank: device views of its rows (p->host), halo buffers, statistics
+   (mpi_halo.c; used by mpi_distribute and mpi_local_build). */
+limn_status mpi_open_rows(mpi_part *p);
 
 /* ----------------------------------------------------------------- mpi_halo.c */
 
@@ -146,6 +157,15 @@ limn_status mpi_overlapped(mpi_part *p, const device_csr *table, device_buffer *
 /* Just the exchange (x's ghosts made current). */
 limn_status mpi_exchange(mpi_part *p, device_buffer *x, limn_status prior);
 void mpi_halo_free(mpi_halo *h);
+
+/* ------------------------------------------------------------ mpi_interpolate.c */
+
+/* limn_interpolate_mpi's solve on a part already built (mpi_local_build),
+   every rank with its rows: m4 the owned rows' positions (4 doubles a row),
+   p4 (owned + ghost rows, 4 doubles) gets the control points of the owned
+   rows. Options as limn_interpolate's (checked; the root needs no mesh). */
+limn_status mpi_interpolate_part(mpi_part *p, const limn_interpolate_options *o,
+                                 const double *m4, double *p4, limn_report *r);
 
 /* ------------------------------------------------------------------- mpi_cg.c */
 
