@@ -26,6 +26,10 @@
  * sizeof r.stats};`). A size refused on one rank is refused on every rank (one
  * Allreduce over comm before any other work). A result too short to hold the
  * piece fields gets no piece.
+ *
+ * Installed (docs/mpi.md "Installing the MPI layer"): liblimn_mpi.so / .a,
+ * linked together with liblimn.so / .a of the same install
+ * (find_package(limn COMPONENTS mpi): limn::mpi; pkg-config limn-mpi).
  */
 #ifndef LIMN_MPI_H
 #define LIMN_MPI_H
@@ -43,7 +47,7 @@ typedef struct limn_mpi_options {
     int keep_piece;           /* 1: return this rank's piece in limn_mpi_result; default 0 */
 } limn_mpi_options;
 
-void limn_mpi_options_default(limn_mpi_options *options);
+LIMN_API void limn_mpi_options_default(limn_mpi_options *options);
 
 /* What one rank did (each rank fills its own). */
 typedef struct limn_mpi_stats {
@@ -80,7 +84,7 @@ typedef struct limn_mpi_result {
     uint32_t *piece_vertices;
 } limn_mpi_result;
 
-void limn_mpi_result_free(limn_mpi_result *result);
+LIMN_API void limn_mpi_result_free(limn_mpi_result *result);
 
 /*
  * limn_interpolate over comm. mesh: the input on root (NULL elsewhere);
@@ -92,29 +96,30 @@ void limn_mpi_result_free(limn_mpi_result *result);
  * each rank first sums its own rows, so it agrees with the single process to
  * rounding (README "MPI" has the measured gap).
  */
-limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                                 const limn_interpolate_options *options, limn_mesh **control,
-                                 limn_report *report, const limn_mpi_options *mpi,
-                                 limn_mpi_result *result);
+LIMN_API limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm,
+                                          const limn_mesh *mesh,
+                                          const limn_interpolate_options *options,
+                                          limn_mesh **control, limn_report *report,
+                                          const limn_mpi_options *mpi, limn_mpi_result *result);
 
 /* limn_smooth over comm (input and *out on root). */
-limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                            const limn_series_options *options, int terms, limn_mesh **out,
-                            limn_series_report *report, const limn_mpi_options *mpi,
-                            limn_mpi_result *result);
+LIMN_API limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                     const limn_series_options *options, int terms, limn_mesh **out,
+                                     limn_series_report *report, const limn_mpi_options *mpi,
+                                     limn_mpi_result *result);
 
 /* limn_denoise over comm (input and *out on root). */
-limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                             const limn_series_options *options, int m, int steps,
-                             int keep_volume, limn_mesh **out, limn_series_report *report,
-                             const limn_mpi_options *mpi, limn_mpi_result *result);
+LIMN_API limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                      const limn_series_options *options, int m, int steps,
+                                      int keep_volume, limn_mesh **out, limn_series_report *report,
+                                      const limn_mpi_options *mpi, limn_mpi_result *result);
 
 /* limn_morph over comm: FROM and TO on root; fn is called on root only, once
    per frame in order (its failure stops every rank). keep_piece is ignored. */
-limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
-                           const limn_mesh *to, const limn_morph_options *options,
-                           limn_morph_frame_fn fn, void *user, limn_series_report *report,
-                           const limn_mpi_options *mpi, limn_mpi_result *result);
+LIMN_API limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
+                                    const limn_mesh *to, const limn_morph_options *options,
+                                    limn_morph_frame_fn fn, void *user, limn_series_report *report,
+                                    const limn_mpi_options *mpi, limn_mpi_result *result);
 
 
 /* ------------------------------------------------------- distributed meshes
