@@ -139,46 +139,46 @@ typedef struct limn_mpi_mesh limn_mpi_mesh;
    offsets, OBJ / OFF / ASCII PLY by byte ranges cut at line ends (the format
    from the extension); STL is refused (its vertices are welded over the
    whole file). The blocks' concatenation is limn_mesh_read's mesh. */
-limn_status limn_mpi_mesh_read(limn_context *ctx, MPI_Comm comm, const char *path,
+LIMN_API limn_status limn_mpi_mesh_read(limn_context *ctx, MPI_Comm comm, const char *path,
                                limn_mpi_mesh **out);
 
 /* The same from a split input: rank p reads NAME.r<p>.ply (name given with
    or without ".ply"), made by limn_mpi_mesh_write_split or by the caller in
    the format of docs/mpi.md; the ranks must be as many as the files. */
-limn_status limn_mpi_mesh_read_split(limn_context *ctx, MPI_Comm comm, const char *name,
+LIMN_API limn_status limn_mpi_mesh_read_split(limn_context *ctx, MPI_Comm comm, const char *name,
                                      limn_mpi_mesh **out);
 /* Writes the split input of mesh: rank p writes NAME.r<p>.ply, its blocks. */
-limn_status limn_mpi_mesh_write_split(limn_context *ctx, const limn_mpi_mesh *mesh,
+LIMN_API limn_status limn_mpi_mesh_write_split(limn_context *ctx, const limn_mpi_mesh *mesh,
                                       const char *name);
 
 /* A distributed mesh from every rank's own arrays (copied): this rank's
    vertex_count vertices follow the previous ranks' ones, its face_count
    faces (CSR, face_offsets[0] = 0) the previous ranks' faces; face indices
    are global. */
-limn_status limn_mpi_mesh_create(limn_context *ctx, MPI_Comm comm, size_t vertex_count,
+LIMN_API limn_status limn_mpi_mesh_create(limn_context *ctx, MPI_Comm comm, size_t vertex_count,
                                  const double *positions, size_t face_count,
                                  const uint32_t *face_offsets, const uint32_t *face_indices,
                                  limn_mpi_mesh **out);
 
-void limn_mpi_mesh_destroy(limn_mpi_mesh *mesh);
+LIMN_API void limn_mpi_mesh_destroy(limn_mpi_mesh *mesh);
 
 /* This rank's blocks (pointers valid until the handle is destroyed) and the
    whole mesh's counts. */
-size_t limn_mpi_mesh_vertex_begin(const limn_mpi_mesh *mesh);
-size_t limn_mpi_mesh_vertex_count(const limn_mpi_mesh *mesh);
-size_t limn_mpi_mesh_vertex_total(const limn_mpi_mesh *mesh);
-size_t limn_mpi_mesh_face_begin(const limn_mpi_mesh *mesh);
-size_t limn_mpi_mesh_face_count(const limn_mpi_mesh *mesh);
-size_t limn_mpi_mesh_face_total(const limn_mpi_mesh *mesh);
-const double *limn_mpi_mesh_positions(const limn_mpi_mesh *mesh);
-const uint32_t *limn_mpi_mesh_face_offsets(const limn_mpi_mesh *mesh);
-const uint32_t *limn_mpi_mesh_face_indices(const limn_mpi_mesh *mesh);
+LIMN_API size_t limn_mpi_mesh_vertex_begin(const limn_mpi_mesh *mesh);
+LIMN_API size_t limn_mpi_mesh_vertex_count(const limn_mpi_mesh *mesh);
+LIMN_API size_t limn_mpi_mesh_vertex_total(const limn_mpi_mesh *mesh);
+LIMN_API size_t limn_mpi_mesh_face_begin(const limn_mpi_mesh *mesh);
+LIMN_API size_t limn_mpi_mesh_face_count(const limn_mpi_mesh *mesh);
+LIMN_API size_t limn_mpi_mesh_face_total(const limn_mpi_mesh *mesh);
+LIMN_API const double *limn_mpi_mesh_positions(const limn_mpi_mesh *mesh);
+LIMN_API const uint32_t *limn_mpi_mesh_face_offsets(const limn_mpi_mesh *mesh);
+LIMN_API const uint32_t *limn_mpi_mesh_face_indices(const limn_mpi_mesh *mesh);
 
 /* limn_mesh_repair over the ranks: faces that use a vertex twice are
    repaired as the single process repairs them (the face blocks renumbered),
    report (may be NULL) and warnings with global numbers. Duplicate faces are
    not looked for yet under MPI (options->duplicate_faces is refused). */
-limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh,
+LIMN_API limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh,
                                  const limn_repair_options *options,
                                  limn_repair_report *report);
 
@@ -187,7 +187,7 @@ limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh,
    mesh, the file whole or not at all. options (NULL: the defaults) and
    report (may be NULL; its mean error is summed over the ranks, so it may
    differ from the single process's in the last bits) as there. */
-limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh *mesh, const char *path,
+LIMN_API limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh *mesh, const char *path,
                                 limn_format format, const limn_write_options *options,
                                 limn_write_report *report);
 
@@ -195,7 +195,7 @@ limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh *mesh, co
    ranks in parallel (PT-Scotch), each rank building its own rows from the
    faces around its vertices; *control gets a distributed mesh with the same
    blocks. The results of limn_interpolate_mpi (the single process's). */
-limn_status limn_interpolate_mpi_mesh(limn_context *ctx, const limn_mpi_mesh *mesh,
+LIMN_API limn_status limn_interpolate_mpi_mesh(limn_context *ctx, const limn_mpi_mesh *mesh,
                                       const limn_interpolate_options *options,
                                       limn_mpi_mesh **control, limn_report *report,
                                       const limn_mpi_options *mpi, limn_mpi_result *result);
