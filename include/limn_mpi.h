@@ -138,9 +138,10 @@ typedef struct limn_mpi_mesh limn_mpi_mesh;
 /* Every rank reads its own slice of the file at path: binary PLY by byte
    offsets, OBJ / OFF / ASCII PLY by byte ranges cut at line ends (the format
    from the extension); STL is refused (its vertices are welded over the
-   whole file). The blocks' concatenation is limn_mesh_read's mesh. */
+   whole file); format LIMN_FORMAT_AUTO from the extension, or one of those.
+   The blocks' concatenation is limn_mesh_read's mesh. */
 LIMN_API limn_status limn_mpi_mesh_read(limn_context *ctx, MPI_Comm comm, const char *path,
-                               limn_mpi_mesh **out);
+                                        limn_format format, limn_mpi_mesh **out);
 
 /* The same from a split input: rank p reads NAME.r<p>.ply (name given with
    or without ".ply"), made by limn_mpi_mesh_write_split or by the caller in

@@ -88,7 +88,7 @@ static limn_status distributed(limn_context *ctx, const char *in,
                                limn_report *r)
 {
     limn_mpi_mesh *m = NULL, *p = NULL;
-    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, &m);
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &m);
     if (!st)
         st = limn_mpi_mesh_repair(ctx, m, NULL, NULL);
     if (!st)
@@ -181,7 +181,7 @@ static void repair_case(limn_context *ctx)
     limn_mpi_mesh *m = NULL, *p = NULL;
     limn_repair_report rr = {.size = sizeof rr};
     limn_report r = {.size = sizeof r};
-    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, &m);
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &m);
     if (!st)
         st = limn_mpi_mesh_repair(ctx, m, NULL, &rr);
     CHECK(st == LIMN_OK && rr.repeat_faces == 2 && rr.faces_after == rr.faces_before + 1,
@@ -220,7 +220,7 @@ static void split_and_create(limn_context *ctx, const limn_mesh *mesh)
         ok = limn_mesh_write(ctx, mesh, in, LIMN_FORMAT_AUTO) == LIMN_OK && single(ctx, in, &o, ref);
     MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
     limn_mpi_mesh *a = NULL, *b = NULL, *c = NULL, *p = NULL;
-    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, &a);
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &a);
     if (!st)
         st = limn_mpi_mesh_write_split(ctx, a, name);
     if (!st)

@@ -231,7 +231,7 @@ int cli_mpi_sliced(const char *input, limn_format in_format, const char *output,
 typedef struct cli_sliced_job {
     const char *cmd, *input, *output;
     const cli_repair *repair;
-    limn_format out_format;
+    limn_format in_format, out_format;
     const limn_write_options *write;
 } cli_sliced_job;
 /* interpolate on slices (limn_mpi.h's distributed meshes): every rank reads
@@ -241,6 +241,9 @@ typedef struct cli_sliced_job {
 limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *job,
                                        const limn_interpolate_options *o, limn_report *r,
                                        limn_write_report *written, double seconds[2]);
+/* Collective: every rank's peak resident memory so far, to rank 0, for the
+   report's per_rank entries. */
+void cli_mpi_note_memory(void);
 void cli_mpi_json(json_out *j);
 void cli_mpi_print(void);
 #define CLI_MPI_HELP                                                                           \

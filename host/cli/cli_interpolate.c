@@ -308,7 +308,7 @@ static int interpolate_sliced(args *x)
     limn_write_options_default(&wo);
     wo.precision = x->a.precision;
     cli_sliced_job job = {"interpolate", x->a.inputs[0], x->a.output, &x->a.repair,
-                          x->a.out_format, &wo};
+                          x->a.in_format, x->a.out_format, &wo};
     double sec[3] = {0, 0, 0}, t0 = cli_now();
     limn_status st = cli_mpi_agree(ctx, cli_args_open(&x->a, ctx, x->sub.max_memory, 0, NULL));
     if (!st) {
@@ -317,6 +317,7 @@ static int interpolate_sliced(args *x)
         cli_progress_done();
     }
     sec[2] = cli_now() - t0;
+    cli_mpi_note_memory();
     x->a.written = wr;
     x->a.wrote = !st;
     limn_output_set *set = NULL;
@@ -383,6 +384,7 @@ int cli_interpolate(int argc, char **argv)
         sec[1] = cli_now() - t1;
         sec[2] = cli_now() - t0;
     }
+    cli_mpi_note_memory();
     if (!st && root && x.a.report)
         st = write_report(ctx, &x, &r, x.surface ? &sr : NULL, sec, set);
     st = cli_commit_outputs(ctx, st, set);

@@ -19,7 +19,8 @@ static struct {
     int rank, size;
     int per_rank;               /* --per-rank-output was given */
     limn_mpi_stats *all;        /* root: every rank's figures of the last call */
-} g = {0, 1, 0, NULL};
+    long long *rss;             /* root: every rank's peak resident bytes (cli_mpi_note_memory) */
+} g = {0, 1, 0, NULL, NULL};
 
 int cli_mpi_launched(void)
 {
@@ -155,10 +156,12 @@ int cli_mpi_sliced(const char *input, limn_format in_format, const char *output,
 }
 
 /* Every rank's slice of input, repaired by the command's policy. */
-static limn_status read_sliced(limn_context *ctx, const char *cmd, const char *input,
-                               const cli_repair *repair, limn_mpi_mesh **mesh)
+static limn_status read_sliced(limn_context *ctx, const cli_sliced_job *job,
+                               limn_mpi_mesh **mesh)
 {
-    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, input, mesh);
+    const char *cmd = job->cmd, *input = job->input;
+    const cli_repair *repair = job->repair;
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, input, job->in_format, mesh);
     cli_print_warnings(cmd, ctx);
     if (st)
         return st;
@@ -187,7 +190,7 @@ limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *
 {
     limn_mpi_mesh *mesh = NULL, *control = NULL;
     double t0 = MPI_Wtime();
-    limn_status st = read_sliced(ctx, job->cmd, job->input, job->repair, &mesh);
+    limn_status st = read_sliced(ctx, job, &mesh);
     seconds[0] = MPI_Wtime() - t0;
     limn_mpi_options mo = options();
     mo.keep_piece = 0;
@@ -206,6 +209,16 @@ limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *
     limn_mpi_mesh_destroy(mesh);
     limn_mpi_mesh_destroy(control);
     return st;
+}
+
+void cli_mpi_note_memory(void)
+{
+    if (g.size == 1)
+        return;
+    free(g.rss);
+    g.rss = g.rank == 0 ? calloc((size_t)g.size, sizeof *g.rss) : NULL;
+    long long mine = (long long)cli_peak_rss();
+    MPI_Gather(&mine, 1, MPI_LONG_LONG, g.rss, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
 }
 
 void cli_mpi_json(json_out *j)
@@ -236,6 +249,8 @@ void cli_mpi_json(json_out *j)
         json_number(j, "seconds_halo", s->seconds_halo);
         json_number(j, "seconds_wait", s->seconds_wait);
         json_number(j, "seconds_reduce", s->seconds_reduce);
+        if (g.rss)
+            json_integer(j, "peak_rss_bytes", g.rss[r]);
         json_object_end(j);
     }
     json_array_end(j);
@@ -246,8 +261,8 @@ void cli_mpi_print(void)
 {
     if (g.size == 1 || !g.all)
         return;
-    fprintf(stderr, "  MPI: %d ranks, METIS edge cut %zu, partition and rows on rank 0 %.3f s\n",
-            g.size, g.all[0].edge_cut, g.all[0].seconds_partition);
+    fprintf(stderr, "  MPI: %d ranks, edge cut %zu, partition %.3f s (rank 0)\n", g.size,
+            g.all[0].edge_cut, g.all[0].seconds_partition);
     for (int r = 0; r < g.size; r++) {
         const limn_mpi_stats *s = &g.all[r];
         double n = s->exchanges > 0 ? (double)s->exchanges : 1.0;
@@ -315,6 +330,8 @@ int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **))
     }
     free(g.all);
     g.all = NULL;
+    free(g.rss);
+    g.rss = NULL;
     MPI_Finalize();
     return rc;
 }

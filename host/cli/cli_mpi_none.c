@@ -17,6 +17,7 @@ limn_status cli_mpi_agree(limn_context *ctx, limn_status st)
 int cli_mpi_root_rc(int rc) { return rc; }
 void cli_mpi_set_per_rank(int on) { (void)on; }
 int cli_mpi_per_rank(void) { return 0; }
+void cli_mpi_note_memory(void) {}
 void cli_mpi_json(json_out *j) { (void)j; }
 void cli_mpi_print(void) {}
 

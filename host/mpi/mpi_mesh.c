@@ -110,7 +110,7 @@ static void slice_sums(mpi_part *p, const mesh_slice_counts *mine, mesh_slice_co
 }
 
 limn_status limn_mpi_mesh_read(limn_context *ctx, MPI_Comm comm, const char *path,
-                               limn_mpi_mesh **out)
+                               limn_format format, limn_mpi_mesh **out)
 {
     mpi_part p;
     limn_status st = mpi_part_begin(ctx, comm, NULL, &p);
@@ -120,11 +120,11 @@ limn_status limn_mpi_mesh_read(limn_context *ctx, MPI_Comm comm, const char *pat
     st = p.comm == MPI_COMM_NULL ? st : mpi_agree(&p, st);
     mesh_slice_counts mine = {0}, before, total;
     if (!st)
-        st = mpi_agree(&p, mesh_slice_count(ctx, path, (unsigned)p.rank, (unsigned)p.size, &mine));
+        st = mpi_agree(&p, mesh_slice_count(ctx, path, format, (unsigned)p.rank, (unsigned)p.size, &mine));
     mesh_slice s = {0};
     if (!st) {
         slice_sums(&p, &mine, &before, &total);
-        st = mpi_agree(&p, mesh_slice_read(ctx, path, (unsigned)p.rank, (unsigned)p.size, &before,
+        st = mpi_agree(&p, mesh_slice_read(ctx, path, format, (unsigned)p.rank, (unsigned)p.size, &before,
                                            &total, &s));
     }
     if (!st)
