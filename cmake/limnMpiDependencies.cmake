@@ -25,3 +25,7 @@ endmacro()
 set(LIMN_MPI_MISSING)
 set(LIMN_MPI_DEPENDENCIES)
 _limn_mpi_library(limn::metis metis.h metis)
+# PT-Scotch (libptscotch-dev: headers in include/scotch, no pkg-config file);
+# Debian's libptscotch holds the sequential Scotch routines too
+_limn_mpi_library(limn::ptscotch ptscotch.h ptscotch scotch)
+_limn_mpi_library(limn::ptscotcherr ptscotch.h ptscotcherr scotch)
