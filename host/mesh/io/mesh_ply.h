@@ -72,6 +72,23 @@ void ply_close(ply *p);
 long long ply_bin_int(const unsigned char *b, int t, int big);
 double ply_bin_double(const unsigned char *b, int t, int big);
 
+/* The binary record layouts the fast path and the slice reader
+   (mesh_slice_ply.c) take (mesh_ply_fast.c). A vertex record: fixed-size
+   scalars, x y z (and red green blue) at off[] within stride bytes; 0 when a
+   property is a list. A face record: scalars and the count (before bytes
+   before it, the indices from lead), the indices, scalars (fixed bytes in all
+   beside the indices); 0 unless its one list is the indices. */
+typedef struct ply_vertex_layout {
+    size_t stride, off[6];
+    unsigned char type[3];
+} ply_vertex_layout;
+typedef struct ply_face_layout {
+    size_t before, lead, fixed, isize;
+    unsigned char ctype, itype;
+} ply_face_layout;
+int ply_vertex_records(const ply_elem *e, ply_vertex_layout *v);
+int ply_face_records(const ply_elem *e, ply_face_layout *f);
+
 /* The fast path for a binary file of the common layout (fixed-size vertex
    records, one face list, no tristrips; mesh_ply_fast.c), run after the
    header is checked: 1 when it read the whole body into p->a and left the

@@ -5,6 +5,9 @@
  * handed to the binary PLY reader (mesh_slice_ply.c) or the text one
  * (mesh_slice_text.c); slices of a mesh in memory.
  */
+#ifndef _DEFAULT_SOURCE
+#define _DEFAULT_SOURCE /* madvise */
+#endif
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L /* fileno, mmap */
 #endif
@@ -19,6 +22,7 @@
 #include <strings.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 void mesh_slice_free(mesh_slice *s)
 {
@@ -98,6 +102,15 @@ void slice_file_close(slice_file *sf)
         fclose(sf->f);
     sf->map = NULL;
     sf->f = NULL;
+}
+
+void slice_file_release(const slice_file *sf, uint64_t begin, uint64_t end)
+{
+    long page = sysconf(_SC_PAGESIZE);
+    uint64_t pg = page > 0 ? (uint64_t)page : 4096;
+    uint64_t a = (begin + pg - 1) / pg * pg, b = (end < sf->size ? end : sf->size) / pg * pg;
+    if (b > a)
+        madvise((void *)(uintptr_t)(sf->map + a), (size_t)(b - a), MADV_DONTNEED);
 }
 
 /* ------------------------------------------------------------- dispatch */

@@ -25,6 +25,10 @@ typedef struct slice_file {
    refused with a message); slice_file_close undoes what was done. */
 limn_status slice_file_open(limn_context *ctx, const char *path, slice_file *sf);
 void slice_file_close(slice_file *sf);
+/* Drops the pages of [begin, end) read so far from the process (they stay
+   in the page cache): a scan over what is not the part's keeps its resident
+   memory to the part's own. */
+void slice_file_release(const slice_file *sf, uint64_t begin, uint64_t end);
 
 /* Moves s's arrays into out (zeroed on failure: s freed). */
 limn_status slice_hand_over(limn_status st, mesh_slice *s, mesh_slice *out);

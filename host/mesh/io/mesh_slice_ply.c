@@ -24,10 +24,8 @@ typedef struct ply_layout {
     const slice_file *sf;
     int big;
     uint64_t nv, nf;
-    size_t vstride, voff[3];
-    unsigned char vtype[3];
-    size_t fbefore, flead, ffixed, isize; /* before the count, before the indices, not indices */
-    unsigned char ctype, itype;
+    ply_vertex_layout v;
+    ply_face_layout f;
     uint64_t fstart;   /* file offset of the face block */
     uint64_t vstart;   /* of the vertex block; when vafter, counted from the face block's end */
     int vafter;
@@ -61,45 +59,6 @@ static limn_status refuse(const ply_layout *l, const char *why, const char *name
 
 /* ------------------------------------------------------------------ layout */
 
-static int vertex_layout(const ply_elem *e, ply_layout *l)
-{
-    size_t at = 0;
-    for (size_t k = 0; k < e->nprops; k++) {
-        const ply_prop *pr = &e->props[k];
-        if (pr->count_type)
-            return 0;
-        if (pr->role >= R_X && pr->role <= R_Z) {
-            l->voff[pr->role - R_X] = at;
-            l->vtype[pr->role - R_X] = pr->type;
-        }
-        at += ply_type_size[pr->type];
-    }
-    l->vstride = at;
-    return 1;
-}
-
-static int face_layout(const ply_elem *e, ply_layout *l)
-{
-    size_t at = 0, lists = 0;
-    for (size_t k = 0; k < e->nprops; k++) {
-        const ply_prop *pr = &e->props[k];
-        if (!pr->count_type) {
-            at += ply_type_size[pr->type];
-            continue;
-        }
-        if (pr->role != R_INDICES || lists++)
-            return 0;
-        l->fbefore = at;
-        l->ctype = pr->count_type;
-        l->itype = pr->type;
-        at += ply_type_size[pr->count_type];
-        l->flead = at;
-    }
-    l->ffixed = at;
-    l->isize = ply_type_size[l->itype];
-    return lists == 1;
-}
-
 /* The blocks' places from the header (file offsets: ply_check has checked
    the fixed sizes against the file's). */
 static limn_status layout(const slice_file *sf, const ply *p, ply_layout *l)
@@ -115,13 +74,13 @@ static limn_status layout(const slice_file *sf, const ply *p, ply_layout *l)
         if (e->kind == E_TRISTRIPS && e->count)
             return refuse(l, "it has triangle strips", "");
         if (e->kind == E_VERTEX) {
-            if (!vertex_layout(e, l))
+            if (!ply_vertex_records(e, &l->v))
                 return refuse(l, "a list in the vertex element", "");
             l->vstart = at;
             l->vafter = after;
-            at += e->count * l->vstride;
+            at += e->count * l->v.stride;
         } else if (e->kind == E_FACE) {
-            if (!face_layout(e, l))
+            if (!ply_face_records(e, &l->f))
                 return refuse(l, "a list beside the vertex indices in the element ", e->name);
             l->fstart = at;
             l->nf = e->count;
@@ -141,7 +100,7 @@ static limn_status layout(const slice_file *sf, const ply *p, ply_layout *l)
 
 static long long count_at(const ply_layout *l, uint64_t at)
 {
-    return ply_bin_int(l->sf->map + at + l->fbefore, l->ctype, l->big);
+    return ply_bin_int(l->sf->map + at + l->f.before, l->f.ctype, l->big);
 }
 
 /* The fixed count k of the first face, when its records could all lie at a
@@ -149,19 +108,19 @@ static long long count_at(const ply_layout *l, uint64_t at)
 static uint32_t first_count(const ply_layout *l)
 {
     uint64_t size = l->sf->size;
-    if (l->nf == 0 || l->fstart > size || size - l->fstart < l->ffixed)
+    if (l->nf == 0 || l->fstart > size || size - l->fstart < l->f.fixed)
         return 0;
     long long k = count_at(l, l->fstart);
     if (k < 3 || (uint64_t)k > (UINT32_MAX - 1) / l->nf)
         return 0;
-    uint64_t stride = l->ffixed + (uint64_t)k * l->isize;
+    uint64_t stride = l->f.fixed + (uint64_t)k * l->f.isize;
     return l->nf <= (size - l->fstart) / stride ? (uint32_t)k : 0;
 }
 
 /* Whether faces [fb, fe) all have count k at the stride k gives. */
 static int regular_block(const ply_layout *l, uint32_t k, uint64_t fb, uint64_t fe)
 {
-    uint64_t stride = l->ffixed + (uint64_t)k * l->isize;
+    uint64_t stride = l->f.fixed + (uint64_t)k * l->f.isize;
     for (uint64_t i = fb; i < fe; i++)
         if (count_at(l, l->fstart + i * stride) != k)
             return 0;
@@ -190,28 +149,35 @@ limn_status slice_ply_count(const slice_file *sf, const ply *p, unsigned part, u
 
 /* ------------------------------------------------------------------- read */
 
+#define RELEASE_BYTES ((uint64_t)16 << 20)
+
 /* Steps over n face records from *at (face number first): each count
-   checked as the general reader checks it; *corners gets their sum. */
+   checked as the general reader checks it; *corners gets their sum (NULL:
+   the records are not the part's, their pages are released as it goes). */
 static limn_status scan(const ply_layout *l, uint64_t *at, uint64_t first, uint64_t n,
                         uint64_t *corners)
 {
-    uint64_t size = l->sf->size, sum = 0, a = *at;
+    uint64_t size = l->sf->size, sum = 0, a = *at, told = a;
     for (uint64_t i = 0; i < n; i++) {
-        if (a > size || size - a < l->ffixed)
+        if (!corners && a - told >= RELEASE_BYTES) {
+            slice_file_release(l->sf, told, a);
+            told = a;
+        }
+        if (a > size || size - a < l->f.fixed)
             return at_fail(l, LIMN_ERR_FORMAT, a, "face", first + i,
                            "the file ends early (truncated)");
         long long c = count_at(l, a);
-        if (c < 0 || (uint64_t)c > (size - a - l->ffixed) / l->isize)
-            return at_fail(l, LIMN_ERR_FORMAT, a + l->fbefore, "face", first + i,
+        if (c < 0 || (uint64_t)c > (size - a - l->f.fixed) / l->f.isize)
+            return at_fail(l, LIMN_ERR_FORMAT, a + l->f.before, "face", first + i,
                            "list count %lld is larger than the rest of the file (%llu bytes) "
-                           "allows", c, (unsigned long long)(size - a - l->flead));
+                           "allows", c, (unsigned long long)(size - a - l->f.lead));
         if (c < 3)
-            return at_fail(l, LIMN_ERR_FORMAT, a + l->fbefore, "face", first + i,
+            return at_fail(l, LIMN_ERR_FORMAT, a + l->f.before, "face", first + i,
                            "face has %lld vertices (at least 3 needed)", c);
         if ((uint64_t)c > UINT32_MAX - 1 - sum)
             return at_fail(l, LIMN_ERR_FORMAT, a, "face", first + i, "too many face indices");
         sum += (uint64_t)c;
-        a += l->ffixed + (uint64_t)c * l->isize;
+        a += l->f.fixed + (uint64_t)c * l->f.isize;
     }
     *at = a;
     if (corners)
@@ -221,12 +187,12 @@ static limn_status scan(const ply_layout *l, uint64_t *at, uint64_t first, uint6
 
 static limn_status read_vertices(const ply_layout *l, uint64_t vstart, mesh_slice *s)
 {
-    const unsigned char *rec = l->sf->map + vstart + s->vertex_begin * l->vstride;
-    for (size_t i = 0; i < s->vertex_count; i++, rec += l->vstride)
+    const unsigned char *rec = l->sf->map + vstart + s->vertex_begin * l->v.stride;
+    for (size_t i = 0; i < s->vertex_count; i++, rec += l->v.stride)
         for (int c = 0; c < 3; c++) {
-            double x = ply_bin_double(rec + l->voff[c], l->vtype[c], l->big);
+            double x = ply_bin_double(rec + l->v.off[c], l->v.type[c], l->big);
             if (!isfinite(x))
-                return at_fail(l, LIMN_ERR_FORMAT, (uint64_t)(rec + l->voff[c] - l->sf->map),
+                return at_fail(l, LIMN_ERR_FORMAT, (uint64_t)(rec + l->v.off[c] - l->sf->map),
                                "vertex", s->vertex_begin + i, "a coordinate is not finite");
             s->positions[3 * i + c] = x;
         }
@@ -240,9 +206,9 @@ static limn_status read_faces(const ply_layout *l, uint64_t at, uint64_t limit, 
     s->face_offsets[0] = 0;
     for (size_t f = 0; f < s->face_count; f++) {
         uint32_t c = (uint32_t)count_at(l, at);
-        const unsigned char *b = l->sf->map + at + l->flead;
-        for (uint32_t j = 0; j < c; j++, b += l->isize) {
-            long long v = ply_bin_int(b, l->itype, l->big);
+        const unsigned char *b = l->sf->map + at + l->f.lead;
+        for (uint32_t j = 0; j < c; j++, b += l->f.isize) {
+            long long v = ply_bin_int(b, l->f.itype, l->big);
             if (v < 0 || (uint64_t)v >= limit)
                 return at_fail(l, LIMN_ERR_FORMAT, (uint64_t)(b - l->sf->map), "face",
                                s->face_begin + f,
@@ -252,7 +218,7 @@ static limn_status read_faces(const ply_layout *l, uint64_t at, uint64_t limit, 
         }
         n += c;
         s->face_offsets[f + 1] = n;
-        at += l->ffixed + (uint64_t)c * l->isize;
+        at += l->f.fixed + (uint64_t)c * l->f.isize;
     }
     return LIMN_OK;
 }
@@ -263,7 +229,7 @@ static limn_status places(const ply_layout *l, int regular, const mesh_slice *s,
                           uint64_t *corners, uint64_t *vat)
 {
     uint32_t k = regular ? first_count(l) : 0;
-    uint64_t stride = l->ffixed + (uint64_t)k * l->isize, end;
+    uint64_t stride = l->f.fixed + (uint64_t)k * l->f.isize, end;
     limn_status st = LIMN_OK;
     *fat = l->fstart;
     if (k) {
@@ -282,7 +248,7 @@ static limn_status places(const ply_layout *l, int regular, const mesh_slice *s,
                       l->nf - s->face_begin - s->face_count, NULL);
     }
     *vat = l->vafter ? end + l->vstart : l->vstart;
-    if (!st && (*vat > l->sf->size || (l->sf->size - *vat) / l->vstride < l->nv))
+    if (!st && (*vat > l->sf->size || (l->sf->size - *vat) / l->v.stride < l->nv))
         return ctx_fail(l->sf->ctx, LIMN_ERR_FORMAT,
                         "%s: byte %llu: the vertex element does not fit in the file "
                         "(truncated)", l->sf->path, (unsigned long long)*vat);

@@ -171,12 +171,15 @@ static limn_status plain(const text_run *r, const char *s, const char *e, int te
 {
     size_t n = (size_t)(e - s);
     const char *cr = memchr(s, '\r', n);
+    if (n > MIO_MAX_LINE)
+        return line_fail(r, "a line longer than 64 MiB");
     if (memchr(s, '\0', n))
         return line_fail(r, "a NUL byte: binary data in a text file");
     if (cr && cr != e - 1)
         return line_fail(r, "a carriage return inside a line (old Mac line ends are not read "
                             "in slices)");
-    if (r->x->kind == SLICE_OBJ && terminated && e > s && e[-1 - (cr != NULL)] == '\\')
+    const char *end = cr ? cr : e;
+    if (r->x->kind == SLICE_OBJ && terminated && end > s && end[-1] == '\\')
         return line_fail(r, "a '\\' line continuation (not read in slices)");
     return LIMN_OK;
 }
@@ -248,10 +251,13 @@ static limn_status parse(text_run *r, size_t a, size_t b)
     while (q < stop && !st) {
         const char *nl = memchr(q, '\n', (size_t)(stop - q)), *le = nl ? nl : stop;
         const char *s = tf_skip(q, le);
-        if (x->kind != SLICE_OBJ && r->record >= records)
-            break; /* data after the last record, ignored as limn_mesh_read ignores it */
-        if (!(st = plain(r, q, le, nl != NULL)) && s < le &&
-            !(hash_comments(x) && *s == '#')) {
+        int line = s < le && !(hash_comments(x) && *s == '#');
+        /* after the last record: lines up to the first with content checked
+           (the whole reader reads that far to warn of it), the rest ignored */
+        int after = x->kind != SLICE_OBJ && r->record >= records;
+        if (!(st = plain(r, q, le, nl != NULL)) && line && after)
+            break;
+        if (!st && line) {
             st = content(r, s, le);
             r->record++;
         }
