@@ -401,6 +401,46 @@ static void bad_partition(limn_context *ctx, const limn_mesh *mesh)
     free(part);
 }
 
+/* Repair off and a face using a vertex twice: every rank gets the single
+   process's message (input face numbering). */
+static void repair_off(limn_context *ctx, const limn_mesh *mesh)
+{
+    limn_repair_options ro;
+    limn_repair_options_default(&ro);
+    ro.repeated_vertices = 0;
+    limn_mesh *copy = NULL;
+    limn_mesh_copy(ctx, mesh, &copy);
+    limn_status want = limn_mesh_repair(ctx, copy, &ro, NULL);
+    char msg[512];
+    snprintf(msg, sizeof msg, "%s", limn_context_message(ctx));
+    limn_mesh_destroy(copy);
+    size_t n = limn_mesh_vertex_count(mesh), nf = limn_mesh_face_count(mesh), fb, fc;
+    size_t *vtxdist = malloc(((size_t)size + 1) * sizeof *vtxdist);
+    uint32_t *part = calloc(n, sizeof *part);
+    for (int r = 0; r <= size; r++)
+        vtxdist[r] = n * (size_t)r / (size_t)size;
+    face_range(nf, &fb, &fc);
+    const uint32_t *off = limn_mesh_face_offsets(mesh), *idx = limn_mesh_face_indices(mesh);
+    uint32_t *off2 = malloc((fc + 1) * sizeof *off2);
+    for (size_t f = 0; f <= fc; f++)
+        off2[f] = off[fb + f] - off[fb];
+    mpi_part b;
+    limn_status st = mpi_part_begin(ctx, MPI_COMM_WORLD, NULL, &b);
+    if (!st)
+        st = mpi_local_build(&b, vtxdist, limn_mesh_positions(mesh) + 3 * vtxdist[rank],
+                             part + vtxdist[rank], fb, fc, off2, idx + off[fb],
+                             LIMN_SCHEME_CATMARK, 0.0, &ro, NULL, NULL);
+    if (rank == 0)
+        printf("  repair off: \"%s\"\n", limn_context_message(ctx));
+    CHECK(want == LIMN_ERR_TOPOLOGY && st == want && !strcmp(msg, limn_context_message(ctx)),
+          "repair off: status %d, message \"%s\"; single process %d, \"%s\"", (int)st,
+          limn_context_message(ctx), (int)want, msg);
+    mpi_part_end(&b);
+    free(vtxdist);
+    free(part);
+    free(off2);
+}
+
 static void shared_meshes(limn_context *ctx)
 {
     int shared = rank == 0 ? test_shared_meshes() != NULL : 0;
@@ -460,6 +500,7 @@ int main(int argc, char **argv)
     local_case(ctx, "quad fan (valence 7)", fan, LIMN_SCHEME_CATMARK, 0.5);
     local_case(ctx, "pyramid (fewer vertices than 5 ranks)", pyr, LIMN_SCHEME_AUTO, 0.0);
     bad_partition(ctx, quad);
+    repair_off(ctx, nm_q);
     shared_meshes(ctx);
     limn_mesh *all[] = {tri, quad, hex, comp_t, comp_q, nm_t, nm_q, fan, pyr};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++)

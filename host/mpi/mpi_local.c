@@ -9,6 +9,7 @@
 
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "topology/face_keys.h"
 
 #include <limits.h>
 #include <math.h>
@@ -137,11 +138,32 @@ static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *co
     return st;
 }
 
+/* With repair off, limn_mesh_repair's refusal of the first face that uses a
+   vertex twice, in input numbering (the lowest failing rank's message is the
+   one every rank gets: with face ranges in rank order, the first face). */
+static limn_status refuse_repeats(mpi_part *p, const faces_in *f, size_t vertex_total)
+{
+    limn_mesh view = {.vertex_count = vertex_total,
+                      .face_count = f->count,
+                      .face_offsets = (uint32_t *)f->off,
+                      .face_indices = (uint32_t *)f->idx};
+    size_t first = SIZE_MAX;
+    uint32_t v = 0;
+    limn_status st = face_first_repeat(p->ctx, &view, &first, &v);
+    if (st || first == SIZE_MAX)
+        return st;
+    return ctx_fail(p->ctx, LIMN_ERR_TOPOLOGY,
+                    "face %zu uses vertex %u twice (a degenerate face) and repair is off: "
+                    "remove the face, or allow the repair (drop --no-repair)",
+                    f->begin + first, v);
+}
+
 /* The parts of the vertices this rank's faces use, from their block owners
    (checked: each part is a rank), and the part of every face corner. */
 static limn_status ref_parts(mpi_part *p, local_sub *s, const size_t *vtxdist,
                              const uint32_t *part_of, const faces_in *f, uint32_t **ref,
-                             size_t *nref, uint32_t **ref_part, uint32_t **corner_part)
+                             const limn_repair_options *repair, size_t *nref,
+                             uint32_t **ref_part, uint32_t **corner_part)
 {
     limn_status st = referenced(p, f->count, f->off, f->idx, ref, nref, corner_part);
     size_t bad = SIZE_MAX, nb = vtxdist[p->rank + 1] - vtxdist[p->rank];
@@ -165,6 +187,8 @@ static limn_status ref_parts(mpi_part *p, local_sub *s, const size_t *vtxdist,
                               "face %zu uses vertex %u but there are %zu vertices", f->begin + i,
                               f->idx[c], vtxdist[p->size]);
     }
+    if (!st && repair && !repair->repeated_vertices)
+        st = refuse_repeats(p, f, vtxdist[p->size]);
     *ref_part = st ? NULL : malloc((*nref ? *nref : 1) * sizeof **ref_part);
     if (!st && !*ref_part)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", *nref);
@@ -460,7 +484,8 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
 {
     size_t nref = 0, nw = 0, n_own = 0, nf = 0;
     limn_status st =
-        ref_parts(p, s, vtxdist, part_of, f, &t->ref, &nref, &t->ref_part, &t->corner_part);
+        ref_parts(p, s, vtxdist, part_of, f, &t->ref, repair, &nref, &t->ref_part,
+                  &t->corner_part);
     if (!st)
         st = send_faces(p, f, t->corner_part, &t->words, &nw);
     if (!st)
