@@ -9,8 +9,9 @@
  * the same columns (mapped back) in the same order and the same weights bit
  * for bit, for Loop and Catmull-Clark (alpha 0 and 0.5), on meshes with
  * boundaries, corners, non-manifold edges and vertices, several components
- * and isolated vertices. So ranks could build their own rows from their faces;
- * the MPI layer ships the root's rows instead (mpi_distribute.c says why).
+ * and isolated vertices. So ranks can build their own rows from their faces
+ * (mpi_local.c; test_mpi_local). And the RCM permutation keeps each row's
+ * entries in order, so a reordered solve gives the input order's bits.
  */
 #include "support.h"
 
@@ -167,4 +168,68 @@ static void shared(void **st)
     }
 }
 
-TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated), CONTEXT_TEST(shared))
+/* A grid renumbered at random (its rows hop around memory: RCM runs). */
+static limn_mesh *shuffled_grid(limn_context *ctx, int nx, int ny, int tri)
+{
+    limn_mesh *g = test_mesh_grid(ctx, nx, ny, tri);
+    size_t n = limn_mesh_vertex_count(g), nf = limn_mesh_face_count(g);
+    const uint32_t *off = limn_mesh_face_offsets(g), *idx = limn_mesh_face_indices(g);
+    uint32_t *perm = malloc(n * sizeof *perm), *idx2 = malloc(off[nf] * sizeof *idx2);
+    double *pos = malloc(3 * n * sizeof *pos);
+    unsigned long long x = 7;
+    for (size_t i = 0; i < n; i++)
+        perm[i] = (uint32_t)i;
+    for (size_t i = n - 1; i > 0; i--) {
+        x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+        size_t j = (size_t)(x >> 33) % (i + 1), t = perm[i];
+        perm[i] = perm[j];
+        perm[j] = (uint32_t)t;
+    }
+    for (size_t i = 0; i < n; i++)
+        memcpy(pos + 3 * perm[i], limn_mesh_positions(g) + 3 * i, 3 * sizeof *pos);
+    for (size_t k = 0; k < off[nf]; k++)
+        idx2[k] = perm[idx[k]];
+    limn_mesh *m = NULL;
+    assert_int_equal(limn_mesh_create(ctx, n, pos, nf, off, idx2, &m), LIMN_OK);
+    limn_mesh_destroy(g);
+    free(perm);
+    free(idx2);
+    free(pos);
+    return m;
+}
+
+/* The RCM permutation keeps each row's entries in their order (columns
+   renamed, stencil_permute), so a reordered solve sums every row as the
+   input-order one does: the paper and weighted iterations give the same
+   bits with and without reordering, and so do rows built per rank. */
+static void reordered(void **st)
+{
+    limn_context *ctx = *st;
+    assert_int_equal(limn_context_set_device(ctx, "reference"), LIMN_OK);
+    limn_mesh *tri = test_keep_mesh(shuffled_grid(ctx, 90, 60, 1));
+    limn_mesh *quad = test_keep_mesh(shuffled_grid(ctx, 90, 60, 0));
+    static const limn_method methods[] = {LIMN_METHOD_PAPER, LIMN_METHOD_WEIGHTED};
+    for (int k = 0; k < 4; k++) {
+        limn_interpolate_options o;
+        limn_interpolate_options_default(&o);
+        o.method = methods[k % 2];
+        o.alpha = k < 2 ? 0.0 : 0.5;
+        const limn_mesh *m = k < 2 ? tri : quad;
+        limn_mesh *a = NULL, *b = NULL;
+        limn_report ra = {.size = sizeof ra}, rb = {.size = sizeof rb};
+        assert_int_equal(limn_interpolate(ctx, m, &o, &a, &ra), LIMN_OK);
+        o.reorder = 0;
+        assert_int_equal(limn_interpolate(ctx, m, &o, &b, &rb), LIMN_OK);
+        assert_int_equal(ra.reordered, 1);
+        assert_int_equal(rb.reordered, 0);
+        assert_int_equal(ra.iterations, rb.iterations);
+        size_t n3 = 3 * limn_mesh_vertex_count(m);
+        assert_memory_equal(limn_mesh_positions(a), limn_mesh_positions(b), n3 * sizeof(double));
+        printf("  shuffled %s grid, %-8s: RCM and input order, %d iterations, same bits\n",
+               k < 2 ? "triangle" : "quad", ra.method, ra.iterations);
+        limn_mesh_destroy(a);
+        limn_mesh_destroy(b);
+    }
+}
+
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated), CONTEXT_TEST(shared), CONTEXT_TEST(reordered))

@@ -105,6 +105,34 @@ static limn_mesh *finish(limn_context *ctx, builder *b)
     return m;
 }
 
+/* A grid whose vertices are renumbered at random: its rows hop around
+   memory, so the single process's paper iteration reorders (RCM). */
+static limn_mesh *shuffled(limn_context *ctx, int tri)
+{
+    builder b = {0};
+    add_grid(&b, 90, 60, tri, 0, 0.0);
+    uint32_t *perm = malloc(b.nv * sizeof *perm);
+    double *pos = malloc(3 * b.nv * sizeof *pos);
+    unsigned long long x = 99;
+    for (size_t i = 0; i < b.nv; i++)
+        perm[i] = (uint32_t)i;
+    for (size_t i = b.nv - 1; i > 0; i--) {
+        x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+        size_t j = (size_t)(x >> 33) % (i + 1);
+        uint32_t t = perm[i];
+        perm[i] = perm[j];
+        perm[j] = t;
+    }
+    for (size_t i = 0; i < b.nv; i++)
+        memcpy(pos + 3 * perm[i], b.pos + 3 * i, 3 * sizeof *pos);
+    for (size_t k = 0; k < b.ni; k++)
+        b.idx[k] = perm[b.idx[k]];
+    memcpy(b.pos, pos, 3 * b.nv * sizeof *pos);
+    free(pos);
+    free(perm);
+    return finish(ctx, &b);
+}
+
 /* Two components and an isolated vertex. */
 static limn_mesh *components(limn_context *ctx, int tri)
 {
@@ -236,10 +264,12 @@ static void compare(const char *name, const mpi_part *a, const mpi_part *b)
     compare_halo(name, &a->halo, &b->halo);
 }
 
-/* Collective: limn_interpolate on rank 0 (input order: reorder off) against
+/* Collective: limn_interpolate on rank 0 (default options: the paper
+   iteration reorders where rows hop around memory) against
    mpi_interpolate_part on the local rows b (m4: its owned positions); the
-   same bits for the paper iteration and Chebyshev, 1e-12 of the scale for
-   CG (its dot products are reduced over ranks). */
+   same bits for the paper iteration and Chebyshev (a permuted row keeps its
+   entries' order, stencil_permute), 1e-12 of the scale for CG (its dot
+   products are reduced over ranks). */
 static void solve_case(limn_context *ctx, const char *name, const limn_mesh *rep, mpi_part *b,
                        const double *m4, limn_scheme scheme, double alpha, limn_method method)
 {
@@ -248,7 +278,6 @@ static void solve_case(limn_context *ctx, const char *name, const limn_mesh *rep
     o.scheme = scheme;
     o.alpha = alpha;
     o.method = method;
-    o.reorder = 0;
     limn_mesh *single = NULL;
     limn_report rs = {.size = sizeof rs}, rd = {.size = sizeof rd};
     limn_status ss = rank == 0 ? limn_interpolate(ctx, rep, &o, &single, &rs) : LIMN_OK;
@@ -286,14 +315,17 @@ static void solve_case(limn_context *ctx, const char *name, const limn_mesh *rep
             scale = fmax(scale, fabs(ref[i]));
         }
         int exact = strcmp(rd.method, "cg") != 0;
+        if (strstr(name, "(RCM)") && method == LIMN_METHOD_PAPER)
+            CHECK(rs.reordered, "%s: the single process did not reorder", name);
         CHECK(rd.iterations == rs.iterations && !strcmp(rd.method, rs.method),
               "%s: %s, %d iterations; single process %s, %d", name, rd.method, rd.iterations,
               rs.method, rs.iterations);
         CHECK(exact ? differ == 0 : worst <= 1e-12 * scale,
               "%s %s: %zu of %zu values differ from the single process (by %.3g of %.3g)", name,
               rd.method, differ, 3 * n, worst, scale);
-        printf("    solve %-10s %d iterations, %zu/%zu values bit-identical\n", rd.method,
-               rd.iterations, 3 * n - differ, 3 * n);
+        printf("    solve %-10s %d iterations, %zu/%zu values bit-identical%s\n", rd.method,
+               rd.iterations, 3 * n - differ, 3 * n,
+               rs.reordered ? " (one process reordered)" : "");
     }
     limn_mesh_destroy(single);
     free(p4);
@@ -401,6 +433,46 @@ static void bad_partition(limn_context *ctx, const limn_mesh *mesh)
     free(part);
 }
 
+/* Repair off and a face using a vertex twice: every rank gets the single
+   process's message (input face numbering). */
+static void repair_off(limn_context *ctx, const limn_mesh *mesh)
+{
+    limn_repair_options ro;
+    limn_repair_options_default(&ro);
+    ro.repeated_vertices = 0;
+    limn_mesh *copy = NULL;
+    limn_mesh_copy(ctx, mesh, &copy);
+    limn_status want = limn_mesh_repair(ctx, copy, &ro, NULL);
+    char msg[512];
+    snprintf(msg, sizeof msg, "%s", limn_context_message(ctx));
+    limn_mesh_destroy(copy);
+    size_t n = limn_mesh_vertex_count(mesh), nf = limn_mesh_face_count(mesh), fb, fc;
+    size_t *vtxdist = malloc(((size_t)size + 1) * sizeof *vtxdist);
+    uint32_t *part = calloc(n, sizeof *part);
+    for (int r = 0; r <= size; r++)
+        vtxdist[r] = n * (size_t)r / (size_t)size;
+    face_range(nf, &fb, &fc);
+    const uint32_t *off = limn_mesh_face_offsets(mesh), *idx = limn_mesh_face_indices(mesh);
+    uint32_t *off2 = malloc((fc + 1) * sizeof *off2);
+    for (size_t f = 0; f <= fc; f++)
+        off2[f] = off[fb + f] - off[fb];
+    mpi_part b;
+    limn_status st = mpi_part_begin(ctx, MPI_COMM_WORLD, NULL, &b);
+    if (!st)
+        st = mpi_local_build(&b, vtxdist, limn_mesh_positions(mesh) + 3 * vtxdist[rank],
+                             part + vtxdist[rank], fb, fc, off2, idx + off[fb],
+                             LIMN_SCHEME_CATMARK, 0.0, &ro, NULL, NULL);
+    if (rank == 0)
+        printf("  repair off: \"%s\"\n", limn_context_message(ctx));
+    CHECK(want == LIMN_ERR_TOPOLOGY && st == want && !strcmp(msg, limn_context_message(ctx)),
+          "repair off: status %d, message \"%s\"; single process %d, \"%s\"", (int)st,
+          limn_context_message(ctx), (int)want, msg);
+    mpi_part_end(&b);
+    free(vtxdist);
+    free(part);
+    free(off2);
+}
+
 static void shared_meshes(limn_context *ctx)
 {
     int shared = rank == 0 ? test_shared_meshes() != NULL : 0;
@@ -446,6 +518,7 @@ int main(int argc, char **argv)
     limn_mesh *comp_t = components(ctx, 1), *comp_q = components(ctx, 0);
     limn_mesh *nm_t = nonmanifold(ctx, 1), *nm_q = nonmanifold(ctx, 0);
     limn_mesh *fan = test_mesh_fan(ctx, 7, 0), *pyr = test_mesh_pyramid(ctx);
+    limn_mesh *shuf_t = shuffled(ctx, 1), *shuf_q = shuffled(ctx, 0);
     local_case(ctx, "triangle grid (boundary)", tri, LIMN_SCHEME_LOOP, 0.0);
     local_case(ctx, "triangle grid, scheme auto", tri, LIMN_SCHEME_AUTO, 0.0);
     local_case(ctx, "quad grid (boundary)", quad, LIMN_SCHEME_CATMARK, 0.0);
@@ -459,9 +532,12 @@ int main(int argc, char **argv)
     local_case(ctx, "fin, pinch, duplicate, repeated corners", nm_q, LIMN_SCHEME_CATMARK, 0.5);
     local_case(ctx, "quad fan (valence 7)", fan, LIMN_SCHEME_CATMARK, 0.5);
     local_case(ctx, "pyramid (fewer vertices than 5 ranks)", pyr, LIMN_SCHEME_AUTO, 0.0);
+    local_case(ctx, "shuffled triangle grid (RCM)", shuf_t, LIMN_SCHEME_LOOP, 0.0);
+    local_case(ctx, "shuffled quad grid (RCM)", shuf_q, LIMN_SCHEME_CATMARK, 0.5);
     bad_partition(ctx, quad);
+    repair_off(ctx, nm_q);
     shared_meshes(ctx);
-    limn_mesh *all[] = {tri, quad, hex, comp_t, comp_q, nm_t, nm_q, fan, pyr};
+    limn_mesh *all[] = {tri, quad, hex, comp_t, comp_q, nm_t, nm_q, fan, pyr, shuf_t, shuf_q};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++)
         limn_mesh_destroy(all[k]);
     limn_context_destroy(ctx);

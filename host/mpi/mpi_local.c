@@ -9,38 +9,40 @@
 
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "topology/face_keys.h"
 
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-static int cmp_u32(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : x > y;
-}
-static int cmp_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* The distinct vertices of this rank's faces, increasing (*ref, *nref). */
+/* The distinct vertices of this rank's faces, increasing (*ref, *nref), and
+   for each face corner the index of its vertex in that list (*corner_ref). */
 static limn_status referenced(mpi_part *p, size_t nf, const uint32_t *off, const uint32_t *idx,
-                              uint32_t **ref, size_t *nref)
+                              uint32_t **ref, size_t *nref, uint32_t **corner_ref)
 {
     size_t nc = off[nf], k = 0;
-    uint32_t *r = malloc((nc ? nc : 1) * sizeof *r);
-    if (!r)
+    uint64_t *key = malloc((nc ? nc : 1) * sizeof *key);
+    uint32_t *r = malloc((nc ? nc : 1) * sizeof *r), *cr = malloc((nc ? nc : 1) * sizeof *cr);
+    if (!key || !r || !cr) {
+        free(key);
+        free(r);
+        free(cr);
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu face corners", nc);
-    memcpy(r, idx, nc * sizeof *r);
-    qsort(r, nc, sizeof *r, cmp_u32);
-    for (size_t i = 0; i < nc; i++)
-        if (i == 0 || r[i] != r[i - 1])
-            r[k++] = r[i];
+    }
+    for (size_t c = 0; c < nc; c++)
+        key[c] = (uint64_t)idx[c] << 32 | c;
+    mpi_local_sort(key, nc);
+    for (size_t i = 0; i < nc; i++) {
+        uint32_t v = (uint32_t)(key[i] >> 32);
+        if (i == 0 || v != r[k - 1])
+            r[k++] = v;
+        cr[(uint32_t)key[i]] = (uint32_t)(k - 1);
+    }
+    free(key);
     *ref = r;
     *nref = k;
+    *corner_ref = cr;
     return LIMN_OK;
 }
 
@@ -60,18 +62,16 @@ static size_t find_u32(const uint32_t *a, size_t n, uint32_t v)
 /* Face record: face id (2 words), corner count d, d vertices, d parts. */
 static size_t record_words(uint32_t d) { return 3 + 2 * (size_t)d; }
 
-/* The distinct parts of face f's vertices into parts (count returned). */
-static size_t face_parts(const uint32_t *v, uint32_t d, const uint32_t *ref, size_t nref,
-                         const uint32_t *ref_part, uint32_t *parts)
+/* The distinct parts of a face's d corners (their parts cp) into parts. */
+static size_t face_parts(const uint32_t *cp, uint32_t d, uint32_t *parts)
 {
     size_t np = 0;
     for (uint32_t c = 0; c < d; c++) {
-        uint32_t q = ref_part[find_u32(ref, nref, v[c])];
         int seen = 0;
         for (size_t k = 0; k < np; k++)
-            seen |= parts[k] == q;
+            seen |= parts[k] == cp[c];
         if (!seen)
-            parts[np++] = q;
+            parts[np++] = cp[c];
     }
     return np;
 }
@@ -83,8 +83,8 @@ typedef struct faces_in {
 
 /* Each face to every distinct part among its vertices (records above);
    *recv, *nrecv: the records this rank receives. */
-static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *ref, size_t nref,
-                              const uint32_t *ref_part, uint32_t **recv, size_t *nrecv)
+static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *corner_part,
+                              uint32_t **recv, size_t *nrecv)
 {
     size_t R = (size_t)p->size, maxd = 0;
     for (size_t i = 0; i < f->count; i++)
@@ -97,9 +97,9 @@ static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *re
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory sending faces");
     for (int pass = 0; !st && pass < 2; pass++) {
         for (size_t i = 0; i < f->count; i++) {
-            const uint32_t *v = f->idx + f->off[i];
+            const uint32_t *v = f->idx + f->off[i], *cp = corner_part + f->off[i];
             uint32_t d = f->off[i + 1] - f->off[i];
-            size_t np = face_parts(v, d, ref, nref, ref_part, parts);
+            size_t np = face_parts(cp, d, parts);
             for (size_t k = 0; k < np; k++) {
                 if (pass == 0) {
                     at[parts[k] + 1] += record_words(d);
@@ -112,7 +112,7 @@ static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *re
                 w[2] = d;
                 for (uint32_t c = 0; c < d; c++) {
                     w[3 + c] = v[c];
-                    w[3 + d + c] = ref_part[find_u32(ref, nref, v[c])];
+                    w[3 + d + c] = cp[c];
                 }
                 at[parts[k]] += record_words(d);
             }
@@ -138,13 +138,34 @@ static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *re
     return st;
 }
 
+/* With repair off, limn_mesh_repair's refusal of the first face that uses a
+   vertex twice, in input numbering (the lowest failing rank's message is the
+   one every rank gets: with face ranges in rank order, the first face). */
+static limn_status refuse_repeats(mpi_part *p, const faces_in *f, size_t vertex_total)
+{
+    limn_mesh view = {.vertex_count = vertex_total,
+                      .face_count = f->count,
+                      .face_offsets = (uint32_t *)f->off,
+                      .face_indices = (uint32_t *)f->idx};
+    size_t first = SIZE_MAX;
+    uint32_t v = 0;
+    limn_status st = face_first_repeat(p->ctx, &view, &first, &v);
+    if (st || first == SIZE_MAX)
+        return st;
+    return ctx_fail(p->ctx, LIMN_ERR_TOPOLOGY,
+                    "face %zu uses vertex %u twice (a degenerate face) and repair is off: "
+                    "remove the face, or allow the repair (drop --no-repair)",
+                    f->begin + first, v);
+}
+
 /* The parts of the vertices this rank's faces use, from their block owners
-   (checked: each part is a rank). */
+   (checked: each part is a rank), and the part of every face corner. */
 static limn_status ref_parts(mpi_part *p, local_sub *s, const size_t *vtxdist,
                              const uint32_t *part_of, const faces_in *f, uint32_t **ref,
-                             size_t *nref, uint32_t **ref_part)
+                             const limn_repair_options *repair, size_t *nref,
+                             uint32_t **ref_part, uint32_t **corner_part)
 {
-    limn_status st = referenced(p, f->count, f->off, f->idx, ref, nref);
+    limn_status st = referenced(p, f->count, f->off, f->idx, ref, nref, corner_part);
     size_t bad = SIZE_MAX, nb = vtxdist[p->rank + 1] - vtxdist[p->rank];
     for (size_t i = 0; !st && i < nb && bad == SIZE_MAX; i++)
         if (part_of[i] >= (uint32_t)p->size)
@@ -166,6 +187,8 @@ static limn_status ref_parts(mpi_part *p, local_sub *s, const size_t *vtxdist,
                               "face %zu uses vertex %u but there are %zu vertices", f->begin + i,
                               f->idx[c], vtxdist[p->size]);
     }
+    if (!st && repair && !repair->repeated_vertices)
+        st = refuse_repeats(p, f, vtxdist[p->size]);
     *ref_part = st ? NULL : malloc((*nref ? *nref : 1) * sizeof **ref_part);
     if (!st && !*ref_part)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", *nref);
@@ -173,6 +196,8 @@ static limn_status ref_parts(mpi_part *p, local_sub *s, const size_t *vtxdist,
     st = mpi_agree(p, st);
     if (!st)
         st = mpi_local_fetch(p, s, vtxdist, *ref, *nref, part_of, sizeof(uint32_t), *ref_part);
+    for (size_t c = 0; !st && c < f->off[f->count]; c++)
+        (*corner_part)[c] = (*ref_part)[(*corner_part)[c]];
     return st;
 }
 
@@ -230,47 +255,58 @@ static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_
     n = 0;
     for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
         r[n++] = (face_rec){(uint64_t)w[at] | (uint64_t)w[at + 1] << 32, at};
-    qsort(r, n, sizeof *r, cmp_rec);
+    int sorted = 1; /* usually: senders' ranges follow each other */
+    for (size_t i = 1; i < n && sorted; i++)
+        sorted = r[i - 1].id < r[i].id;
+    if (!sorted)
+        qsort(r, n, sizeof *r, cmp_rec);
     *recs = r;
     *nf = n;
     return LIMN_OK;
 }
 
 /* The sub-mesh's vertices: owned ones and those of the received faces,
-   increasing, each with its part (s->ids, s->part, s->owned). */
+   increasing, each with its part (s->ids, s->part, s->owned). Each corner's
+   part word in w is then overwritten with its vertex's sub-mesh index. */
 static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, size_t n_own,
-                                const uint32_t *w, size_t nw)
+                                uint32_t *w, size_t nw)
 {
     size_t cap = n_own + nw, n = 0, k = 0;
     uint64_t *key = malloc((cap ? cap : 1) * sizeof *key);
-    if (!key)
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
-    for (size_t i = 0; i < n_own; i++)
-        key[n++] = (uint64_t)own[i] << 32 | (uint32_t)p->rank;
-    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
-        for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
-            key[n++] = (uint64_t)w[at + 3 + c] << 32 | w[at + 3 + d + c];
-    qsort(key, n, sizeof *key, cmp_u64);
-    for (size_t i = 0; i < n; i++)
-        if (i == 0 || key[i] >> 32 != key[i - 1] >> 32)
-            key[k++] = key[i];
-    s->n = k;
-    s->n_owned = n_own;
-    s->ids = malloc((k ? k : 1) * sizeof *s->ids);
-    s->part = malloc((k ? k : 1) * sizeof *s->part);
+    s->ids = malloc((cap ? cap : 1) * sizeof *s->ids);
+    s->part = malloc((cap ? cap : 1) * sizeof *s->part);
     s->owned = malloc((n_own ? n_own : 1) * sizeof *s->owned);
-    mpi_local_note(s, k);
-    if (!s->ids || !s->part || !s->owned) {
+    if (!key || !s->ids || !s->part || !s->owned) {
         free(key);
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
     }
-    for (size_t i = 0, o = 0; i < k; i++) {
-        s->ids[i] = (uint32_t)(key[i] >> 32);
-        s->part[i] = (uint32_t)key[i];
-        if (s->part[i] == (uint32_t)p->rank)
-            s->owned[o++] = (uint32_t)i;
+    /* key: id, then where the corner's part is (UINT32_MAX: an owned vertex) */
+    for (size_t i = 0; i < n_own; i++)
+        key[n++] = (uint64_t)own[i] << 32 | UINT32_MAX;
+    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+        for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
+            key[n++] = (uint64_t)w[at + 3 + c] << 32 | (uint32_t)(at + 3 + d + c);
+    mpi_local_sort(key, n);
+    for (size_t i = 0, o = 0; i < n; i++) {
+        uint32_t id = (uint32_t)(key[i] >> 32), x = (uint32_t)key[i];
+        if (i == 0 || id != s->ids[k - 1]) {
+            s->ids[k] = id;
+            s->part[k] = x == UINT32_MAX ? (uint32_t)p->rank : w[x];
+            if (s->part[k] == (uint32_t)p->rank && o < n_own)
+                s->owned[o++] = (uint32_t)k;
+            k++;
+        }
+        if (x != UINT32_MAX)
+            w[x] = (uint32_t)(k - 1);
     }
     free(key);
+    uint32_t *ids = realloc(s->ids, (k ? k : 1) * sizeof *ids);
+    uint32_t *part = realloc(s->part, (k ? k : 1) * sizeof *part);
+    s->ids = ids ? ids : s->ids; /* shrinking: the old block stays valid */
+    s->part = part ? part : s->part;
+    s->n = k;
+    s->n_owned = n_own;
+    mpi_local_note(s, k);
     return LIMN_OK;
 }
 
@@ -290,7 +326,7 @@ static limn_status sub_mesh(mpi_part *p, local_sub *s, const uint32_t *w, const 
     for (size_t i = 0, k = 0; !st && i < nf; i++) {
         const uint32_t *r = w + recs[i].at;
         for (uint32_t c = 0; c < r[2]; c++)
-            idx[k++] = (uint32_t)find_u32(s->ids, s->n, r[3 + c]);
+            idx[k++] = r[3 + r[2] + c]; /* sub_vertices left the local index there */
         off[i + 1] = (uint32_t)k;
     }
     if (!st)
@@ -351,7 +387,7 @@ static limn_status local_cut(mpi_part *p, const local_sub *s, const limn_mesh *m
             e[n++] = (uint64_t)a << 32 | (s->ids[u] ^ s->ids[v] ^ a);
         }
     }
-    qsort(e, n, sizeof *e, cmp_u64);
+    mpi_local_sort(e, n);
     for (size_t i = 0; i < n; i++)
         *cut += i == 0 || e[i] != e[i - 1];
     free(e);
@@ -423,7 +459,7 @@ static limn_status sub_operator(mpi_part *p, local_sub *s, const limn_mesh *m, l
 }
 
 typedef struct local_tmp {
-    uint32_t *ref, *ref_part, *own, *words;
+    uint32_t *ref, *ref_part, *corner_part, *own, *words;
     face_rec *recs;
     double *pos;
     limn_mesh *mesh;
@@ -433,6 +469,7 @@ static void tmp_free(local_tmp *t)
 {
     free(t->ref);
     free(t->ref_part);
+    free(t->corner_part);
     free(t->own);
     free(t->words);
     free(t->recs);
@@ -446,9 +483,11 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
                              const limn_repair_options *repair)
 {
     size_t nref = 0, nw = 0, n_own = 0, nf = 0;
-    limn_status st = ref_parts(p, s, vtxdist, part_of, f, &t->ref, &nref, &t->ref_part);
+    limn_status st =
+        ref_parts(p, s, vtxdist, part_of, f, &t->ref, repair, &nref, &t->ref_part,
+                  &t->corner_part);
     if (!st)
-        st = send_faces(p, f, t->ref, nref, t->ref_part, &t->words, &nw);
+        st = send_faces(p, f, t->corner_part, &t->words, &nw);
     if (!st)
         st = owned_ids(p, s, vtxdist, part_of, &t->own, &n_own);
     if (!st)

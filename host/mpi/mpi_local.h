@@ -72,6 +72,9 @@ limn_status mpi_local_fetch(mpi_part *p, struct local_sub *s, const size_t *vtxd
                             const uint32_t *ids, size_t n, const void *mine, size_t elem,
                             void *out);
 
+/* Sorts n keys increasing (radix passes; qsort when short or out of memory). */
+void mpi_local_sort(uint64_t *a, size_t n);
+
 /* Notes a per-vertex array of `entries` in s->stats. */
 void mpi_local_note(struct local_sub *s, size_t entries);
 

@@ -116,3 +116,41 @@ limn_status mpi_local_fetch(mpi_part *p, local_sub *s, const size_t *vtxdist,
     free(cnt);
     return st;
 }
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+void mpi_local_sort(uint64_t *a, size_t n)
+{
+    uint64_t diff = 0;
+    for (size_t i = 1; i < n; i++)
+        diff |= a[i] ^ a[0];
+    uint64_t *b = n > 256 ? malloc(n * sizeof *b) : NULL, *src = a, *dst = b;
+    size_t *count = b ? malloc(65537 * sizeof *count) : NULL;
+    if (!count) { /* short lists, or no room for the radix passes */
+        free(b);
+        qsort(a, n, sizeof *a, cmp_u64);
+        return;
+    }
+    for (int shift = 0; shift < 64; shift += 16) { /* stable LSD passes, 16 bits each */
+        if (!((diff >> shift) & 0xffff))
+            continue; /* every key has the same digit here */
+        memset(count, 0, 65537 * sizeof *count);
+        for (size_t i = 0; i < n; i++)
+            count[((src[i] >> shift) & 0xffff) + 1]++;
+        for (size_t d = 0; d < 65536; d++)
+            count[d + 1] += count[d];
+        for (size_t i = 0; i < n; i++)
+            dst[count[(src[i] >> shift) & 0xffff]++] = src[i];
+        uint64_t *t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != a)
+        memcpy(a, src, n * sizeof *a);
+    free(b);
+    free(count);
+}
