@@ -404,6 +404,11 @@ limn_status mpi_dgraph_partition(limn_context *ctx, MPI_Comm comm, const size_t 
         uint64_t mine = (uint64_t)g.xadj[g.n_local], all = 0;
         MPI_Allreduce(&mine, &all, 1, MPI_UINT64_T, MPI_SUM, comm);
         g.edges_global = (size_t)(all / 2);
+        if (all >= DG_NUM_MAX) /* the same on every rank */
+            st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                          "distributed partition: %zu edges: more than PT-Scotch's %zu-bit "
+                          "indices take (a 64-bit build of PT-Scotch would)",
+                          g.edges_global, 8 * sizeof(SCOTCH_Num));
     }
     uint64_t cut_twice = 0;
     if (st == LIMN_OK) {
