@@ -91,6 +91,10 @@ void mpi_part_end(mpi_part *p);
  * real one). One Allreduce when all is well.
  */
 limn_status mpi_agree(mpi_part *p, limn_status st);
+/* mpi_agree over any communicator (rank and size in it; echo: this rank's
+   failure only repeats another rank's). */
+limn_status mpi_agree_comm(limn_context *ctx, MPI_Comm comm, int rank, int size, int echo,
+                           limn_status st);
 
 /* Local norms -> global ones (max exact, sums in double-double so that the
    result does not depend on how MPI associates them), together with a
