@@ -109,6 +109,22 @@ limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *
                              int keep_volume, limn_mesh **out, limn_series_report *report,
                              const limn_mpi_options *mpi, limn_mpi_result *result);
 
+/* limn_sharpen over comm (input and *out on root): the single process's bits. */
+limn_status limn_sharpen_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                             const limn_series_options *options, int from, int to, int steps,
+                             limn_mesh **out, limn_series_report *report,
+                             const limn_mpi_options *mpi, limn_mpi_result *result);
+
+/* limn_bands over comm: mesh, bands ((count + 1) * 3 * vertices doubles) and
+   energy (count + 1) on root (bands and energy may be NULL there; ignored
+   elsewhere). Bands and energies are the single process's bits: each band
+   is gathered to the root, which sums its energy as the single process's
+   device does. keep_piece is ignored. */
+limn_status limn_bands_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                           const limn_series_options *options, int count, double *bands,
+                           double *energy, limn_series_report *report,
+                           const limn_mpi_options *mpi, limn_mpi_result *result);
+
 /* limn_morph over comm: FROM and TO on root; fn is called on root only, once
    per frame in order (its failure stops every rank). keep_piece is ignored. */
 limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
