@@ -143,6 +143,10 @@ typedef limn_status (*mpi_rows_fn)(void *user, const device_csr *rows, device_no
  */
 limn_status mpi_overlapped(mpi_part *p, const device_csr *table, device_buffer *x,
                            mpi_rows_fn fn, void *user, limn_status prior, device_norms *norms);
+/* The same on a float vector (4 floats a row, 3 sent a vertex): the
+   corrections of the float path (solve_mixed.c). */
+limn_status mpi_overlapped_f(mpi_part *p, const device_csr *table, device_buffer *x_f,
+                             mpi_rows_fn fn, void *user, limn_status prior, device_norms *norms);
 /* Just the exchange (x's ghosts made current). */
 limn_status mpi_exchange(mpi_part *p, device_buffer *x, limn_status prior);
 void mpi_halo_free(mpi_halo *h);
