@@ -3,8 +3,8 @@
  * `mpirun -np N limn ...` as a user meets it (2 and 3 ranks; bands and
  * sharpen also 5): interpolate (--precision float too), bands, smooth,
  * denoise, sharpen and morph write the very bytes of one process (paper
- * iteration and series: every row is summed in the same order), weighted and
- * cg agree to 1e-12 with the same iteration count; --per-rank-output writes
+ * iteration and series: every row is summed in the same order), weighted,
+ * cg and sgs agree to 1e-12 with the same iteration count; --per-rank-output writes
  * one piece per rank; a bad input gives one message, exit status 1 on every
  * rank, no output and no hang; commands that do not run distributed refuse.
  * Meshes: generated with several components, boundaries and an isolated
@@ -187,6 +187,8 @@ static void interpolate_generated(void **s)
         interpolate_same(at("quad.obj"), "--alpha 0.5 --method weighted", ranks, 0);
         interpolate_same(at("quad.obj"), "--alpha 0.5 --method cg", ranks, 0);
         interpolate_same(at("tri.obj"), "--precision float", ranks, 1);
+        interpolate_same(at("tri.obj"), "--method sgs", ranks, 0);
+        interpolate_same(at("quad.obj"), "--alpha 0.5 --method sgs", ranks, 0);
         interpolate_same(at("quad.obj"), "--alpha 0.5 --precision float --method paper", ranks,
                          1);
     }
@@ -391,12 +393,12 @@ static void errors(void **s)
              at("bad.ply"));
     assert_int_equal(run(3, args), 2);
     assert_int_equal(count(test_text, "--tol -1 must be positive"), 1);
-    /* a method that does not run distributed: an argument error (status 2),
-       one message, nothing written */
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --method sgs", at("quad.obj"),
-             at("bad.ply"));
-    assert_int_equal(run(2, args), 2);
-    assert_int_equal(count(test_text, "method sgs is not available under MPI"), 1);
+    /* options the single process refuses: an argument error (status 2), one
+       message, nothing written */
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --method cg --precision float",
+             at("quad.obj"), at("bad.ply"));
+    assert_int_equal(run(3, args), 2);
+    assert_int_equal(count(test_text, "precision float runs the chebyshev"), 1);
     assert_false(test_file_exists(at("bad.ply")));
     /* a command that does not run distributed */
     snprintf(args, sizeof args, "info '%s'", at("quad.obj"));

@@ -247,6 +247,7 @@ static void all_cases(limn_context *ctx, const char *name, const limn_mesh *mesh
                                          LIMN_METHOD_WEIGHTED};
     for (size_t k = 0; k < sizeof floats / sizeof *floats; k++)
         solve_case(ctx, name, mesh, scheme, alpha, floats[k], LIMN_PRECISION_FLOAT);
+    solve_case(ctx, name, mesh, scheme, alpha, LIMN_METHOD_SGS, LIMN_PRECISION_DOUBLE);
 }
 
 static void shared_cases(limn_context *ctx)

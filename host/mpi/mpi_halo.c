@@ -44,20 +44,21 @@ typedef struct width {
 /* Posts the receives and the sends of x's values. Every call is made even
    when reading x failed (what is sent is then meaningless, and the failure
    is returned), so that no neighbour waits for a message that never comes. */
-static limn_status post(mpi_part *p, device_buffer *x, width w, limn_status st)
+static limn_status post(mpi_part *p, const mpi_send_view *v, device_buffer *x, width w,
+                        limn_status st)
 {
     mpi_halo *h = &p->halo;
-    char *recv = (char *)h->recv3, *send = (char *)h->send3, *stage = (char *)h->stage4;
+    char *recv = (char *)h->recv3, *send = (char *)h->send3, *stage = (char *)v->stage;
     for (int q = 0; q < h->n_recv; q++)
         MPI_Irecv(recv + 3 * w.bytes * h->recv_off[q], (int)(3 * h->recv_cnt[q]), w.type,
                   h->recv_rank[q], TAG_HALO, p->comm, &h->req[q]);
-    size_t span = p->send_end - p->send_begin;
+    size_t span = v->end - v->begin;
     if (!st && h->n_send && span)
-        st = p->dev->ops->buffer_read_at(p->dev, x, 4 * w.bytes * p->send_begin,
-                                         4 * w.bytes * span, stage);
+        st = p->dev->ops->buffer_read_at(p->dev, x, 4 * w.bytes * v->begin, 4 * w.bytes * span,
+                                         stage);
     for (int q = 0; q < h->n_send; q++) {
         char *out = send + 3 * w.bytes * h->send_off[q];
-        const uint32_t *idx = h->send_idx + h->send_off[q];
+        const uint32_t *idx = v->idx + h->send_off[q];
         for (size_t k = 0; k < h->send_cnt[q]; k++)
             memcpy(out + 3 * w.bytes * k, stage + 4 * w.bytes * idx[k], 3 * w.bytes);
         MPI_Isend(out, (int)(3 * h->send_cnt[q]), w.type, h->send_rank[q], TAG_HALO, p->comm,
@@ -68,7 +69,8 @@ static limn_status post(mpi_part *p, device_buffer *x, width w, limn_status st)
 
 /* Waits for every receive and send, then writes the ghosts into x (the
    fourth value of a row zero bits: 0.0 in either width). */
-static limn_status finish(mpi_part *p, device_buffer *x, width w, limn_status st)
+static limn_status finish(mpi_part *p, size_t ghost_at, device_buffer *x, width w,
+                          limn_status st)
 {
     mpi_halo *h = &p->halo;
     double t0 = MPI_Wtime();
@@ -82,7 +84,7 @@ static limn_status finish(mpi_part *p, device_buffer *x, width w, limn_status st
         memcpy(ghost + 4 * w.bytes * i, recv + 3 * w.bytes * i, 3 * w.bytes);
         memset(ghost + 4 * w.bytes * i + 3 * w.bytes, 0, w.bytes);
     }
-    return p->dev->ops->buffer_write_at(p->dev, x, 4 * w.bytes * p->n_owned,
+    return p->dev->ops->buffer_write_at(p->dev, x, 4 * w.bytes * ghost_at,
                                         4 * w.bytes * p->n_ghost, ghost);
 }
 
@@ -102,7 +104,9 @@ static limn_status overlapped(mpi_part *p, const device_csr *table, device_buffe
     outer.row_begin = p->n_split;
     outer.rows = p->n_owned - p->n_split;
     double t0 = MPI_Wtime();
-    limn_status st = post(p, x, w, prior);
+    const mpi_send_view v = {p->send_begin, p->send_end, p->halo.send_idx, p->n_owned,
+                             p->halo.stage4};
+    limn_status st = post(p, &v, x, w, prior);
     double t1 = MPI_Wtime();
     device_norms part;
     if (!st && inner.rows) {
@@ -110,7 +114,7 @@ static limn_status overlapped(mpi_part *p, const device_csr *table, device_buffe
         add_norms(norms, &part);
     }
     double t2 = MPI_Wtime();
-    st = finish(p, x, w, st);
+    st = finish(p, p->n_owned, x, w, st);
     double t3 = MPI_Wtime();
     if (!st && outer.rows) {
         st = fn(user, &outer, &part);
@@ -149,4 +153,16 @@ limn_status mpi_exchange(mpi_part *p, device_buffer *x, limn_status prior)
 {
     device_norms unused;
     return mpi_overlapped(p, &p->all, x, no_rows, NULL, prior, &unused);
+}
+
+limn_status mpi_exchange_view(mpi_part *p, const mpi_send_view *v, device_buffer *x,
+                              limn_status prior)
+{
+    const width doubles = {sizeof(double), MPI_DOUBLE};
+    double t0 = MPI_Wtime();
+    limn_status st = post(p, v, x, doubles, prior);
+    st = finish(p, v->ghost_at, x, doubles, st);
+    p->stats.seconds_halo += MPI_Wtime() - t0;
+    p->stats.exchanges++;
+    return st;
 }

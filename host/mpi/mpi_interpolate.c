@@ -171,10 +171,6 @@ static limn_status check_interpolate(mpi_part *p, const limn_mesh *mesh,
                        "limn_interpolate_mpi: the root rank needs the mesh and control");
     if (!st && p->rank == p->root)
         st = check_mesh_magnitude(ctx, "limn_interpolate_mpi", NULL, mesh);
-    if (!st && o->method == LIMN_METHOD_SGS)
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                       "method sgs is not available under MPI yet (its sweeps run colour by "
-                       "colour over the whole mesh): use --method chebyshev, cg or auto");
     *method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_CHEBYSHEV : o->method;
     limn_precision unused; /* refusals only: the choice follows the vertex count */
     if (!st)
@@ -207,15 +203,28 @@ static limn_status open_vectors(mpi_part *p, limn_report *r, double **m4, double
     return mpi_agree(p, st);
 }
 
-/* CG gives the start p4; the seeds' step measures its residual on the
-   whole system (and polishes, should rounding leave it short). Where CG
-   cannot run, the seeds' iteration from M (the method changed to it). */
+/* CG (or SGS-preconditioned CG) gives the start p4; the seeds' step
+   measures its residual on the whole system (and polishes, should rounding
+   leave it short). Where it cannot run, the seeds' iteration from M (the
+   method changed to it), with the single process's warning and reason. */
 static limn_status cg_start(mpi_part *p, const limn_interpolate_options *o, const double *m4,
                             double *p4, limn_method *method, limn_report *r)
 {
     solve_stats stats = {.catmark_alpha0 = p->scheme == LIMN_SCHEME_CATMARK && p->alpha == 0.0};
-    limn_status st = mpi_solve_cg(p, m4, o->tolerance * p->diag, o->max_iterations, p4, &stats);
-    if (st == LIMN_ERR_TOPOLOGY) {
+    int sgs = *method == LIMN_METHOD_SGS;
+    double tol_abs = o->tolerance * p->diag;
+    limn_status st = sgs ? mpi_solve_sgs(p, m4, tol_abs, o->max_iterations, p4, &stats)
+                         : mpi_solve_cg(p, m4, tol_abs, o->max_iterations, p4, &stats);
+    if (st == LIMN_ERR_TOPOLOGY && sgs) {
+        ctx_warn(p->ctx, "sgs (Gauss-Seidel-preconditioned CG) needs the limit operator to be "
+                         "block triangular by vertex rule with symmetric, positive blocks, "
+                         "which this mesh's is not: used the seeds' iteration");
+        *method = LIMN_METHOD_PAPER;
+        r->method = limn_method_name(*method);
+        r->method_reason = "sgs cannot run on this operator (see the warning)";
+        memcpy(p4, m4, 4 * p->n_owned * sizeof *p4);
+        st = LIMN_OK;
+    } else if (st == LIMN_ERR_TOPOLOGY) {
         ctx_warn(p->ctx, "conjugate gradients need the limit operator to be block triangular "
                          "by vertex rule, which this mesh's is not: used the seeds' iteration");
         *method = LIMN_METHOD_PAPER;
@@ -278,7 +287,7 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
         st = mpi_scatter_rows(&p, p.rank == p.root ? mesh->positions : NULL, m4);
     if (!st)
         memcpy(p4, m4, 4 * p.n_owned * sizeof *p4);
-    if (!st && method == LIMN_METHOD_CG)
+    if (!st && (method == LIMN_METHOD_CG || method == LIMN_METHOD_SGS))
         st = cg_start(&p, o, m4, p4, &method, r);
     if (!st)
         st = iterate(&p, o, method, precision, m4, p4, p4, r);
