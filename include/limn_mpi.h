@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * limn over MPI (optional, built with -DLIMN_MPI=ON): the interpolation and
- * the series filters of limn.h with the mesh's vertices split across the
- * ranks of the caller's communicator (README "MPI").
+ * the series filters (bands, smooth, denoise, sharpen, morph) of limn.h with
+ * the mesh's vertices split across the ranks of the caller's communicator
+ * (README "MPI").
  *
  * Every call here is collective over comm: every rank calls it, with the same
  * options; the input mesh is read only on the root rank (others pass NULL)
@@ -88,9 +89,11 @@ void limn_mpi_result_free(limn_mpi_result *result);
  * is filled on every rank with the global figures. mpi and result may be
  * NULL. Methods as limn_interpolate (auto = chebyshev): paper, chebyshev and
  * weighted take the single process's iteration count (paper and chebyshev
- * its bits); cg reduces its dot products over the ranks in double-double, but
- * each rank first sums its own rows, so it agrees with the single process to
- * rounding (README "MPI" has the measured gap).
+ * its bits), in double and in float (precision chosen as limn_interpolate
+ * does, on the whole mesh's vertex count); cg and sgs reduce their dot
+ * products over the ranks in double-double, but each rank first sums its own
+ * rows, so they agree with the single process to rounding (README "MPI" has
+ * the measured gap); sgs sweeps with the root's colouring.
  */
 limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
                                  const limn_interpolate_options *options, limn_mesh **control,
