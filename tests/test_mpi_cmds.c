@@ -296,6 +296,12 @@ int main(int argc, char **argv)
                LIMN_PRECISION_FLOAT);
     errors(ctx, quad);
 
+    /* a small open grid: ranks without rows of a tier (pinned corners, creases,
+       smooth rows) */
+    limn_mesh *grid = test_mesh_grid(ctx, 3, 3, 0);
+    all_cases(ctx, "grid 3x3", grid, LIMN_SCHEME_CATMARK, 0.5);
+    limn_mesh_destroy(grid);
+
     /* tiny meshes: ranks without rows */
     static const double one_pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0.2};
     static const uint32_t one_off[] = {0, 3}, one_idx[] = {0, 1, 2};

@@ -343,7 +343,7 @@ static limn_status block_sgs(mpi_part *p, void *user, const mpi_block *bl, const
     double *xs = malloc(4 * (nt ? nt : 1) * sizeof *xs);
     if (!st && !xs)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
-    if (!st)
+    if (!st && nt)
         st = p->dev->ops->buffer_read_at(p->dev, s.v.x, 0, 4 * nt * sizeof(double), xs);
     for (size_t i = 0; !st && i < nt; i++)
         memcpy(bl->x4 + 4 * (size_t)k.row_of[tab.order[i]], xs + 4 * i, 3 * sizeof(double));
