@@ -256,8 +256,10 @@ static limn_status lower(sgs_run *s, int start, limn_status st, device_norms *ou
     for (size_t c = 0; c < s->da.colours; c++) {
         device_sgs one = colour_view(&s->da, c);
         device_norms n;
+        double t0 = MPI_Wtime();
         if (!st)
             st = p->dev->ops->sgs->sgs_lower(p->dev, &one, start, &s->v, &n);
+        p->stats.seconds_compute += MPI_Wtime() - t0;
         if (!st) {
             loc.max = n.max > loc.max ? n.max : loc.max;
             loc.sum += n.sum;
@@ -276,8 +278,10 @@ static limn_status upper(sgs_run *s, double beta)
     limn_status st = LIMN_OK;
     for (size_t c = s->da.colours; c-- > 0;) {
         device_sgs one = colour_view(&s->da, c);
+        double t0 = MPI_Wtime();
         if (!st)
             st = p->dev->ops->sgs->sgs_upper(p->dev, &one, beta, &s->v);
+        p->stats.seconds_compute += MPI_Wtime() - t0;
         st = mpi_exchange_view(p, &s->view, s->v.t, st);
     }
     return st;
