@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * limn over MPI (optional, built with -DLIMN_MPI=ON): the interpolation and
- * the series filters of limn.h with the mesh's vertices split across the
- * ranks of the caller's communicator (README "MPI").
+ * the series filters (bands, smooth, denoise, sharpen, morph) of limn.h with
+ * the mesh's vertices split across the ranks of the caller's communicator
+ * (README "MPI").
  *
  * Every call here is collective over comm: every rank calls it, with the same
  * options; the input mesh is read only on the root rank (others pass NULL)
@@ -92,9 +93,11 @@ LIMN_API void limn_mpi_result_free(limn_mpi_result *result);
  * is filled on every rank with the global figures. mpi and result may be
  * NULL. Methods as limn_interpolate (auto = chebyshev): paper, chebyshev and
  * weighted take the single process's iteration count (paper and chebyshev
- * its bits); cg reduces its dot products over the ranks in double-double, but
- * each rank first sums its own rows, so it agrees with the single process to
- * rounding (README "MPI" has the measured gap).
+ * its bits), in double and in float (precision chosen as limn_interpolate
+ * does, on the whole mesh's vertex count); cg and sgs reduce their dot
+ * products over the ranks in double-double, but each rank first sums its own
+ * rows, so they agree with the single process to rounding (README "MPI" has
+ * the measured gap); sgs sweeps with the root's colouring.
  */
 LIMN_API limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm,
                                           const limn_mesh *mesh,
@@ -113,6 +116,22 @@ LIMN_API limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const li
                                       const limn_series_options *options, int m, int steps,
                                       int keep_volume, limn_mesh **out, limn_series_report *report,
                                       const limn_mpi_options *mpi, limn_mpi_result *result);
+
+/* limn_sharpen over comm (input and *out on root): the single process's bits. */
+limn_status limn_sharpen_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                             const limn_series_options *options, int from, int to, int steps,
+                             limn_mesh **out, limn_series_report *report,
+                             const limn_mpi_options *mpi, limn_mpi_result *result);
+
+/* limn_bands over comm: mesh, bands ((count + 1) * 3 * vertices doubles) and
+   energy (count + 1) on root (bands and energy may be NULL there; ignored
+   elsewhere). Bands and energies are the single process's bits: each band
+   is gathered to the root, which sums its energy as the single process's
+   device does. keep_piece is ignored. */
+limn_status limn_bands_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                           const limn_series_options *options, int count, double *bands,
+                           double *energy, limn_series_report *report,
+                           const limn_mpi_options *mpi, limn_mpi_result *result);
 
 /* limn_morph over comm: FROM and TO on root; fn is called on root only, once
    per frame in order (its failure stops every rank). keep_piece is ignored. */

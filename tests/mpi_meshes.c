@@ -1,14 +1,15 @@
 /* SPDX-License-Identifier: MIT */
-/* The generated meshes of the MPI tests (mpi_meshes.h). */
+/* Meshes of the MPI tests (mpi_meshes.h). */
 #include "mpi_meshes.h"
 
 #include "support.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 /* Appends b to a (indices shifted), with an offset in space; frees both. */
-limn_mesh *test_mpi_join(limn_context *ctx, limn_mesh *a, limn_mesh *b, double dx)
+static limn_mesh *join(limn_context *ctx, limn_mesh *a, limn_mesh *b, double dx)
 {
     size_t na = limn_mesh_vertex_count(a), nb = limn_mesh_vertex_count(b);
     size_t fa = limn_mesh_face_count(a), fb = limn_mesh_face_count(b);
@@ -37,7 +38,7 @@ limn_mesh *test_mpi_join(limn_context *ctx, limn_mesh *a, limn_mesh *b, double d
 }
 
 /* Renumbers the vertices by a fixed pseudo-random permutation. */
-limn_mesh *test_mpi_shuffle(limn_context *ctx, limn_mesh *a, unsigned seed)
+static limn_mesh *shuffle(limn_context *ctx, limn_mesh *a, unsigned seed)
 {
     size_t n = limn_mesh_vertex_count(a), nf = limn_mesh_face_count(a);
     const uint32_t *off = limn_mesh_face_offsets(a), *idx = limn_mesh_face_indices(a);
@@ -68,7 +69,7 @@ limn_mesh *test_mpi_shuffle(limn_context *ctx, limn_mesh *a, unsigned seed)
 
 /* Adds `count` isolated vertices and, with fin, a triangle on the interior
    edge (1, grid_stride + 1) of the first grid: three faces on one edge. */
-limn_mesh *test_mpi_extras(limn_context *ctx, limn_mesh *a, int count, int fin, uint32_t stride)
+static limn_mesh *extras(limn_context *ctx, limn_mesh *a, int count, int fin, uint32_t stride)
 {
     size_t n = limn_mesh_vertex_count(a), nf = limn_mesh_face_count(a);
     const uint32_t *off = limn_mesh_face_offsets(a);
@@ -101,14 +102,14 @@ limn_mesh *test_mpi_extras(limn_context *ctx, limn_mesh *a, int count, int fin, 
 
 /* Several components, boundaries, corners, a non-manifold fin, isolated
    vertices; the last component shuffled (RCM runs on it). */
-limn_mesh *test_mpi_composite(limn_context *ctx, int triangles)
+limn_mesh *mpi_test_composite(limn_context *ctx, int triangles)
 {
     limn_mesh *m = test_mesh_grid(ctx, 30, 20, triangles);
-    m = test_mpi_extras(ctx, m, 2, 1, 31);
-    m = test_mpi_join(ctx, m, test_mesh_icosahedron(ctx), 40.0);
+    m = extras(ctx, m, 2, 1, 31);
+    m = join(ctx, m, test_mesh_icosahedron(ctx), 40.0);
     if (!triangles)
-        m = test_mpi_join(ctx, m, test_mesh_pyramid(ctx), 50.0);
-    limn_mesh *big = test_mpi_shuffle(ctx, test_mesh_grid(ctx, 70, 60, triangles), 7);
+        m = join(ctx, m, test_mesh_pyramid(ctx), 50.0);
+    limn_mesh *big = shuffle(ctx, test_mesh_grid(ctx, 70, 60, triangles), 7);
     test_perturb(big, 0.05, 3);
-    return test_mpi_join(ctx, m, big, 60.0);
+    return join(ctx, m, big, 60.0);
 }

@@ -40,8 +40,6 @@ static int rank, size, failures, checks;
         }                                                                                      \
     } while (0)
 
-/* ------------------------------------------------------------------ meshes */
-
 /* ------------------------------------------------------------- comparisons */
 
 /* Root: b against the reference a (3 per vertex); returns the identical count. */
@@ -354,7 +352,7 @@ int main(int argc, char **argv)
     if (rank == 0)
         printf("test_mpi: %d ranks\n", size);
 
-    limn_mesh *tri = test_mpi_composite(ctx, 1), *quad = test_mpi_composite(ctx, 0);
+    limn_mesh *tri = mpi_test_composite(ctx, 1), *quad = mpi_test_composite(ctx, 0);
     interpolate_case(ctx, "composite", tri, LIMN_SCHEME_LOOP, 0.0, LIMN_METHOD_PAPER);
     interpolate_case(ctx, "composite", tri, LIMN_SCHEME_LOOP, 0.0, LIMN_METHOD_WEIGHTED);
     interpolate_case(ctx, "composite", tri, LIMN_SCHEME_LOOP, 0.0, LIMN_METHOD_CG);

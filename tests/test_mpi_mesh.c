@@ -18,6 +18,7 @@
  * Not cmocka: a failed assertion on one rank would leave the others in a
  * collective; checks count failures and the ranks agree at the end.
  */
+#include "mpi_meshes.h"
 #include "support.h"
 
 #include "limn_mpi.h"
@@ -329,7 +330,7 @@ int main(int argc, char **argv)
     }
     MPI_Bcast(dir, sizeof dir, MPI_CHAR, 0, MPI_COMM_WORLD);
     limn_context *ctx = limn_context_create();
-    limn_mesh *tri = test_mpi_composite(ctx, 1), *quad = test_mpi_composite(ctx, 0);
+    limn_mesh *tri = mpi_test_composite(ctx, 1), *quad = mpi_test_composite(ctx, 0);
     static const char *const exts[] = {"ply", "obj", "off"};
     for (size_t e = 0; e < 3; e++) {
         pipeline_case(ctx, "composite tri", tri, exts[e], LIMN_SCHEME_LOOP, 0.0,

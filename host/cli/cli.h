@@ -220,6 +220,12 @@ limn_status cli_mpi_smooth(limn_context *ctx, const limn_mesh *mesh,
 limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
                             const limn_series_options *o, int m, int steps, int keep_volume,
                             limn_mesh **out, limn_series_report *r, limn_mesh **piece);
+limn_status cli_mpi_sharpen(limn_context *ctx, const limn_mesh *mesh,
+                            const limn_series_options *o, int from, int to, int steps,
+                            limn_mesh **out, limn_series_report *r, limn_mesh **piece);
+/* bands and energy: the root's (NULL elsewhere). */
+limn_status cli_mpi_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *o,
+                          int count, double *bands, double *energy, limn_series_report *r);
 limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
                           const limn_morph_options *o, limn_morph_frame_fn fn, void *user,
                           limn_series_report *r);

@@ -2,8 +2,8 @@
 /*
  * limn under mpirun (built with LIMN_MPI). main() calls cli_mpi_main when an
  * MPI launcher started the process; with one rank everything runs exactly as
- * without MPI. With several, interpolate, smooth, denoise and morph run
- * distributed (include/limn_mpi.h): the root (rank 0) reads, writes and
+ * without MPI. With several, interpolate, bands, smooth, denoise, sharpen and
+ * morph run distributed (include/limn_mpi.h): the root (rank 0) reads, writes and
  * prints, every rank computes its share, and every failure is agreed on so
  * that all ranks exit with the same status and the message is printed once.
  * The other commands refuse to run on several ranks.
@@ -129,6 +129,32 @@ limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
                                       &mo, &res);
     collect(&res);
     adopt_piece(&res, piece);
+    return st;
+}
+
+limn_status cli_mpi_sharpen(limn_context *ctx, const limn_mesh *mesh,
+                            const limn_series_options *o, int from, int to, int steps,
+                            limn_mesh **out, limn_series_report *r, limn_mesh **piece)
+{
+    limn_mpi_options mo = options();
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    limn_status st =
+        limn_sharpen_mpi(ctx, MPI_COMM_WORLD, mesh, o, from, to, steps, out, r, &mo, &res);
+    collect(&res);
+    adopt_piece(&res, piece);
+    return st;
+}
+
+limn_status cli_mpi_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *o,
+                          int count, double *bands, double *energy, limn_series_report *r)
+{
+    limn_mpi_options mo = options();
+    mo.keep_piece = 0;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    limn_status st =
+        limn_bands_mpi(ctx, MPI_COMM_WORLD, mesh, o, count, bands, energy, r, &mo, &res);
+    collect(&res);
+    limn_mpi_result_free(&res);
     return st;
 }
 
@@ -295,7 +321,7 @@ char *cli_mpi_rank_path(const char *path)
 
 static int distributed(const char *cmd)
 {
-    static const char *names[] = {"interpolate", "smooth", "denoise", "morph"};
+    static const char *names[] = {"interpolate", "bands", "smooth", "denoise", "sharpen", "morph"};
     for (size_t k = 0; k < sizeof names / sizeof *names; k++)
         if (strcmp(cmd, names[k]) == 0)
             return 1;
@@ -318,7 +344,8 @@ int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **))
         if (g.rank == 0)
             fprintf(stderr,
                     "limn %s: does not run on several MPI ranks (%d here): run it without "
-                    "mpirun; interpolate, smooth, denoise and morph run distributed\n",
+                    "mpirun; interpolate, bands, smooth, denoise, sharpen and morph run "
+                    "distributed\n",
                     argv[1], g.size);
         rc = EXIT_USAGE;
     } else {

@@ -45,6 +45,20 @@ limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
         (void)piece;
     return none();
 }
+limn_status cli_mpi_sharpen(limn_context *ctx, const limn_mesh *mesh,
+                            const limn_series_options *o, int from, int to, int steps,
+                            limn_mesh **out, limn_series_report *r, limn_mesh **piece)
+{
+    (void)ctx, (void)mesh, (void)o, (void)from, (void)to, (void)steps, (void)out, (void)r,
+        (void)piece;
+    return none();
+}
+limn_status cli_mpi_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *o,
+                          int count, double *bands, double *energy, limn_series_report *r)
+{
+    (void)ctx, (void)mesh, (void)o, (void)count, (void)bands, (void)energy, (void)r;
+    return none();
+}
 limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
                           const limn_morph_options *o, limn_morph_frame_fn fn, void *user,
                           limn_series_report *r)
