@@ -31,6 +31,7 @@ typedef struct dg_state {
     limn_context *ctx;
     MPI_Comm comm;
     int rank, size, parts;
+    mpi_dgraph_strategy strategy;
     const size_t *vtxdist;
     size_t n_global, begin, n_local;
     SCOTCH_Num *xadj, *adj; /* this block's adjacency, global ids */
@@ -259,48 +260,68 @@ static void dg_trivial(dg_state *g)
     }
 }
 
-/* Fixed strategy and seed, and a Scotch context that is deterministic (its
-   threads may not change the result) with a fixed random seed: the same
-   parts on every run for the same graph and rank count. Imbalance bound 3%
-   (METIS's default ufactor 30). */
+static SCOTCH_Num dg_flags(mpi_dgraph_strategy s)
+{
+    return s == MPI_DGRAPH_SPEED     ? SCOTCH_STRATSPEED
+           : s == MPI_DGRAPH_DEFAULT ? SCOTCH_STRATDEFAULT
+                                     : SCOTCH_STRATQUALITY;
+}
+
+/* A Scotch context that is deterministic with a fixed random seed and one
+   thread (with Scotch's default of a thread per core, oversubscribed ranks
+   were seen spinning for minutes): the same parts on every run for the same
+   graph and rank count. Local: returns nonzero on failure. */
+static int dg_context(SCOTCH_Context *cont)
+{
+    if (SCOTCH_contextInit(cont))
+        return 1;
+    int rc = SCOTCH_contextOptionSetNum(cont, SCOTCH_OPTIONNUMDETERMINISTIC, 1) ||
+             SCOTCH_contextOptionSetNum(cont, SCOTCH_OPTIONNUMRANDOMFIXEDSEED, 1) ||
+             SCOTCH_contextThreadSpawn(cont, 1, NULL);
+    if (!rc)
+        SCOTCH_contextRandomSeed(cont, DG_SEED);
+    else
+        SCOTCH_contextExit(cont);
+    return rc;
+}
+
+/* Collective: the fixed strategy (imbalance bound 3%, METIS's default
+   ufactor 30) and context made and agreed on, the graph into d, then the
+   partition in a copy bound to the context. */
 static limn_status dg_scotch_part(dg_state *g, SCOTCH_Dgraph *d, SCOTCH_Num *part)
 {
     SCOTCH_Strat strat;
     SCOTCH_Context cont;
     SCOTCH_Dgraph bound;
     SCOTCH_Num n = (SCOTCH_Num)g->n_local, edges = g->xadj[g->n_local];
-    if (SCOTCH_stratInit(&strat))
-        return ctx_fail(g->ctx, LIMN_ERR_MEMORY, "PT-Scotch: could not make a strategy");
-    int rc = SCOTCH_contextInit(&cont), bound_made = 0;
+    int strat_made = SCOTCH_stratInit(&strat) == 0, cont_made = strat_made && !dg_context(&cont);
+    int ready = cont_made && !SCOTCH_stratDgraphMapBuild(&strat, dg_flags(g->strategy),
+                                                         (SCOTCH_Num)g->size,
+                                                         (SCOTCH_Num)g->parts, 0.03);
+    limn_status st = ready ? LIMN_OK
+                               : ctx_fail(g->ctx, LIMN_ERR_MEMORY,
+                                          "PT-Scotch: could not set up on rank %d", g->rank);
+    st = dg_agree(g, st); /* every rank has the failing rank's message */
+    int rc = st != LIMN_OK, bound_made = 0;
     if (!rc)
-        rc = SCOTCH_contextOptionSetNum(&cont, SCOTCH_OPTIONNUMDETERMINISTIC, 1) ||
-             SCOTCH_contextOptionSetNum(&cont, SCOTCH_OPTIONNUMRANDOMFIXEDSEED, 1) ||
-             SCOTCH_contextThreadSpawn(&cont, 1, NULL);
-    if (!rc) {
-        SCOTCH_contextRandomSeed(&cont, DG_SEED);
         rc = SCOTCH_dgraphBuild(d, 0, n, n, g->xadj, g->xadj + 1, NULL, NULL, edges, edges,
                                 g->adj, NULL, NULL);
-    }
-    if (!rc)
-        rc = SCOTCH_stratDgraphMapBuild(&strat, SCOTCH_STRATQUALITY, (SCOTCH_Num)g->size,
-                                        (SCOTCH_Num)g->parts, 0.03);
     if (!rc)
         bound_made = !(rc = SCOTCH_contextBindDgraph(&cont, d, &bound));
-    if (!rc) {
-        SCOTCH_randomSeed(DG_SEED);
-        SCOTCH_randomReset();
+    if (!rc)
         rc = SCOTCH_dgraphPart(&bound, (SCOTCH_Num)g->parts, &strat, part);
-    }
     if (bound_made)
         SCOTCH_dgraphExit(&bound);
-    SCOTCH_contextExit(&cont);
-    SCOTCH_stratExit(&strat);
-    if (rc)
-        return ctx_fail(g->ctx, LIMN_ERR_MEMORY,
-                        "PT-Scotch could not partition %zu vertices (%zu edges) into %d parts "
-                        "(rank %d; its message is on standard error)",
-                        g->n_global, g->edges_global, g->parts, g->rank);
-    return LIMN_OK;
+    if (cont_made)
+        SCOTCH_contextExit(&cont);
+    if (strat_made)
+        SCOTCH_stratExit(&strat);
+    if (st == LIMN_OK && rc)
+        st = ctx_fail(g->ctx, LIMN_ERR_MEMORY,
+                      "PT-Scotch could not partition %zu vertices (%zu edges) into %d parts "
+                      "(rank %d; its message is on standard error)",
+                      g->n_global, g->edges_global, g->parts, g->rank);
+    return st;
 }
 
 /* Scotch's parts, and the edges cut (counted from this block's lists, the
@@ -315,7 +336,7 @@ static limn_status dg_scotch(dg_state *g, uint64_t *cut_twice)
                                              "PT-Scotch: out of memory for a graph on rank %d",
                                              g->rank);
     st = dg_agree(g, st);
-    if (st == LIMN_OK)
+    if (st == LIMN_OK) /* agrees itself before its collective calls */
         st = dg_agree(g, dg_scotch_part(g, &d, part));
     SCOTCH_Num local_and_ghosts = 0, *gst = NULL, *halo = NULL;
     if (st == LIMN_OK && SCOTCH_dgraphGhst(&d))
@@ -381,8 +402,19 @@ limn_status mpi_dgraph_partition(limn_context *ctx, MPI_Comm comm, const size_t 
                                  const uint32_t *face_indices, int parts, uint32_t **part_of,
                                  mpi_dgraph_stats *stats)
 {
+    return mpi_dgraph_partition_with(ctx, comm, vtxdist, face_count, face_offsets, face_indices,
+                                     parts, MPI_DGRAPH_QUALITY, part_of, stats);
+}
+
+limn_status mpi_dgraph_partition_with(limn_context *ctx, MPI_Comm comm, const size_t *vtxdist,
+                                      size_t face_count, const uint32_t *face_offsets,
+                                      const uint32_t *face_indices, int parts,
+                                      mpi_dgraph_strategy strategy, uint32_t **part_of,
+                                      mpi_dgraph_stats *stats)
+{
     double t0 = MPI_Wtime();
-    dg_state g = {.ctx = ctx, .comm = comm, .parts = parts, .vtxdist = vtxdist};
+    dg_state g = {.ctx = ctx, .comm = comm, .parts = parts, .strategy = strategy,
+                  .vtxdist = vtxdist};
     MPI_Comm_rank(comm, &g.rank);
     MPI_Comm_size(comm, &g.size);
     g.n_global = vtxdist[g.size];
@@ -410,6 +442,7 @@ limn_status mpi_dgraph_partition(limn_context *ctx, MPI_Comm comm, const size_t 
                           "indices take (a 64-bit build of PT-Scotch would)",
                           g.edges_global, 8 * sizeof(SCOTCH_Num));
     }
+    double t_graph = MPI_Wtime() - t0;
     uint64_t cut_twice = 0;
     if (st == LIMN_OK) {
         if (parts <= 1 || g.n_global <= (size_t)parts || g.edges_global == 0) {
@@ -422,8 +455,10 @@ limn_status mpi_dgraph_partition(limn_context *ctx, MPI_Comm comm, const size_t 
     mpi_dgraph_stats s = {0};
     if (st == LIMN_OK)
         st = dg_stats(&g, cut_twice, &s);
-    double dt = MPI_Wtime() - t0;
-    MPI_Allreduce(&dt, &s.seconds, 1, MPI_DOUBLE, MPI_MAX, comm);
+    double dt[2] = {MPI_Wtime() - t0, t_graph}, dmax[2];
+    MPI_Allreduce(dt, dmax, 2, MPI_DOUBLE, MPI_MAX, comm);
+    s.seconds = dmax[0];
+    s.seconds_graph = dmax[1];
     free(g.xadj);
     free(g.adj);
     if (st == LIMN_OK) {

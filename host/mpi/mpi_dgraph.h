@@ -32,7 +32,16 @@ typedef struct mpi_dgraph_stats {
     size_t part_min;        /* vertices of the smallest part */
     double imbalance;       /* part_max / (vertices / parts): 1 is perfect */
     double seconds;         /* wall time of the call, the slowest rank's */
+    double seconds_graph;   /* of which the edge exchange and the adjacency */
 } mpi_dgraph_stats;
+
+/* PT-Scotch's strategy flags (SCOTCH_STRATQUALITY, SCOTCH_STRATDEFAULT,
+   SCOTCH_STRATSPEED); mpi_dgraph_partition takes QUALITY. */
+typedef enum mpi_dgraph_strategy {
+    MPI_DGRAPH_QUALITY,
+    MPI_DGRAPH_DEFAULT,
+    MPI_DGRAPH_SPEED
+} mpi_dgraph_strategy;
 
 /*
  * Collective over comm. vtxdist[size+1] (the same on every rank, from 0,
@@ -49,5 +58,11 @@ limn_status mpi_dgraph_partition(limn_context *ctx, MPI_Comm comm, const size_t 
                                  size_t face_count, const uint32_t *face_offsets,
                                  const uint32_t *face_indices, int parts, uint32_t **part_of,
                                  mpi_dgraph_stats *stats);
+/* The same with another strategy (perf/partition_compare). */
+limn_status mpi_dgraph_partition_with(limn_context *ctx, MPI_Comm comm, const size_t *vtxdist,
+                                      size_t face_count, const uint32_t *face_offsets,
+                                      const uint32_t *face_indices, int parts,
+                                      mpi_dgraph_strategy strategy, uint32_t **part_of,
+                                      mpi_dgraph_stats *stats);
 
 #endif
