@@ -111,26 +111,7 @@ static limn_mesh *shuffled(limn_context *ctx, int tri)
 {
     builder b = {0};
     add_grid(&b, 90, 60, tri, 0, 0.0);
-    uint32_t *perm = malloc(b.nv * sizeof *perm);
-    double *pos = malloc(3 * b.nv * sizeof *pos);
-    unsigned long long x = 99;
-    for (size_t i = 0; i < b.nv; i++)
-        perm[i] = (uint32_t)i;
-    for (size_t i = b.nv - 1; i > 0; i--) {
-        x = x * 6364136223846793005ULL + 1442695040888963407ULL;
-        size_t j = (size_t)(x >> 33) % (i + 1);
-        uint32_t t = perm[i];
-        perm[i] = perm[j];
-        perm[j] = t;
-    }
-    for (size_t i = 0; i < b.nv; i++)
-        memcpy(pos + 3 * perm[i], b.pos + 3 * i, 3 * sizeof *pos);
-    for (size_t k = 0; k < b.ni; k++)
-        b.idx[k] = perm[b.idx[k]];
-    memcpy(b.pos, pos, 3 * b.nv * sizeof *pos);
-    free(pos);
-    free(perm);
-    return finish(ctx, &b);
+    return test_mesh_shuffle(ctx, finish(ctx, &b), 99);
 }
 
 /* Two components and an isolated vertex. */
@@ -349,7 +330,8 @@ static void face_range(size_t nf, size_t *begin, size_t *count)
 
 /* The local path from blocks and face ranges of the unrepaired mesh. */
 static limn_status local_path(limn_context *ctx, const limn_mesh *mesh, const uint32_t *part,
-                              limn_scheme scheme, double alpha, mpi_part *b, double **m4,
+                              limn_scheme scheme, double alpha,
+                              const limn_repair_options *repair, mpi_part *b, double **m4,
                               mpi_local_stats *stats)
 {
     size_t n = limn_mesh_vertex_count(mesh), nf = limn_mesh_face_count(mesh), fb, fc;
@@ -365,7 +347,7 @@ static limn_status local_path(limn_context *ctx, const limn_mesh *mesh, const ui
     if (!st)
         st = mpi_local_build(b, vtxdist, limn_mesh_positions(mesh) + 3 * vtxdist[rank],
                              part + vtxdist[rank], fb, fc, off2, idx + off[fb], scheme, alpha,
-                             NULL, m4, stats);
+                             repair, m4, stats);
     free(vtxdist);
     free(off2);
     return st;
@@ -389,7 +371,7 @@ static void local_case(limn_context *ctx, const char *name, const limn_mesh *mes
     CHECK(sa == LIMN_OK, "%s: root path: %s", name, limn_context_message(ctx));
     mpi_local_stats stats;
     double *m4 = NULL;
-    limn_status sb = local_path(ctx, mesh, part, scheme, alpha, &b, &m4, &stats);
+    limn_status sb = local_path(ctx, mesh, part, scheme, alpha, NULL, &b, &m4, &stats);
     CHECK(sb == LIMN_OK, "%s: local path: %s", name, limn_context_message(ctx));
     if (!sa && !sb)
         compare(name, &a, &b);
@@ -424,7 +406,7 @@ static void bad_partition(limn_context *ctx, const limn_mesh *mesh)
     part[n - 1] = (uint32_t)size; /* in the last rank's block */
     mpi_part b;
     mpi_local_stats stats;
-    limn_status st = local_path(ctx, mesh, part, LIMN_SCHEME_CATMARK, 0.0, &b, NULL, &stats);
+    limn_status st = local_path(ctx, mesh, part, LIMN_SCHEME_CATMARK, 0.0, NULL, &b, NULL, &stats);
     char want[128];
     snprintf(want, sizeof want, "vertex %zu is given to part %d", n - 1, size);
     CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), want),
@@ -446,31 +428,16 @@ static void repair_off(limn_context *ctx, const limn_mesh *mesh)
     char msg[512];
     snprintf(msg, sizeof msg, "%s", limn_context_message(ctx));
     limn_mesh_destroy(copy);
-    size_t n = limn_mesh_vertex_count(mesh), nf = limn_mesh_face_count(mesh), fb, fc;
-    size_t *vtxdist = malloc(((size_t)size + 1) * sizeof *vtxdist);
-    uint32_t *part = calloc(n, sizeof *part);
-    for (int r = 0; r <= size; r++)
-        vtxdist[r] = n * (size_t)r / (size_t)size;
-    face_range(nf, &fb, &fc);
-    const uint32_t *off = limn_mesh_face_offsets(mesh), *idx = limn_mesh_face_indices(mesh);
-    uint32_t *off2 = malloc((fc + 1) * sizeof *off2);
-    for (size_t f = 0; f <= fc; f++)
-        off2[f] = off[fb + f] - off[fb];
+    uint32_t *part = calloc(limn_mesh_vertex_count(mesh), sizeof *part);
     mpi_part b;
-    limn_status st = mpi_part_begin(ctx, MPI_COMM_WORLD, NULL, &b);
-    if (!st)
-        st = mpi_local_build(&b, vtxdist, limn_mesh_positions(mesh) + 3 * vtxdist[rank],
-                             part + vtxdist[rank], fb, fc, off2, idx + off[fb],
-                             LIMN_SCHEME_CATMARK, 0.0, &ro, NULL, NULL);
+    limn_status st = local_path(ctx, mesh, part, LIMN_SCHEME_CATMARK, 0.0, &ro, &b, NULL, NULL);
     if (rank == 0)
         printf("  repair off: \"%s\"\n", limn_context_message(ctx));
     CHECK(want == LIMN_ERR_TOPOLOGY && st == want && !strcmp(msg, limn_context_message(ctx)),
           "repair off: status %d, message \"%s\"; single process %d, \"%s\"", (int)st,
           limn_context_message(ctx), (int)want, msg);
     mpi_part_end(&b);
-    free(vtxdist);
     free(part);
-    free(off2);
 }
 
 static void shared_meshes(limn_context *ctx)
