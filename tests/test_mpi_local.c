@@ -12,7 +12,8 @@
  * global ids) and its weights bit for bit, and the halo lists. Per-rank
  * memory: on 2 ranks or more no array the build allocates per vertex has the
  * mesh's vertex count (mpi_local_stats, counted where the build allocates).
- * Then a bad partition on one rank reaches every rank with one message.
+ * Then a bad partition on one rank, blocks not starting at 0 and repair off
+ * (the single process's message) reach every rank with one message.
  *
  * Not cmocka: a failed check on one rank must not leave the others waiting.
  */
@@ -415,6 +416,25 @@ static void bad_partition(limn_context *ctx, const limn_mesh *mesh)
     free(part);
 }
 
+/* Vertex blocks that do not start at 0: refused on every rank. */
+static void bad_blocks(limn_context *ctx)
+{
+    size_t *vtxdist = malloc(((size_t)size + 1) * sizeof *vtxdist);
+    for (int r = 0; r <= size; r++)
+        vtxdist[r] = 1 + (size_t)r;
+    static const double pos[3 * 8] = {0};
+    static const uint32_t part[8] = {0}, off[1] = {0};
+    mpi_part b;
+    limn_status st = mpi_part_begin(ctx, MPI_COMM_WORLD, NULL, &b);
+    if (!st)
+        st = mpi_local_build(&b, vtxdist, pos, part, 0, 0, off, NULL, LIMN_SCHEME_AUTO, 0.0,
+                             NULL, NULL, NULL);
+    CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), "must start at 0"),
+          "bad blocks: status %d, message \"%s\"", (int)st, limn_context_message(ctx));
+    mpi_part_end(&b);
+    free(vtxdist);
+}
+
 /* Repair off and a face using a vertex twice: every rank gets the single
    process's message (input face numbering). */
 static void repair_off(limn_context *ctx, const limn_mesh *mesh)
@@ -503,6 +523,7 @@ int main(int argc, char **argv)
     local_case(ctx, "shuffled quad grid (RCM)", shuf_q, LIMN_SCHEME_CATMARK, 0.5);
     bad_partition(ctx, quad);
     repair_off(ctx, nm_q);
+    bad_blocks(ctx);
     shared_meshes(ctx);
     limn_mesh *all[] = {tri, quad, hex, comp_t, comp_q, nm_t, nm_q, fan, pyr, shuf_t, shuf_q};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++)

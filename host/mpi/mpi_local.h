@@ -72,6 +72,10 @@ limn_status mpi_local_fetch(mpi_part *p, struct local_sub *s, const size_t *vtxd
                             const uint32_t *ids, size_t n, const void *mine, size_t elem,
                             void *out);
 
+/* Collective: the bounding box diagonal of every rank's block (pos, nb
+   vertices here), as mesh_bbox_diagonal gives it for the whole mesh. */
+double mpi_local_diagonal(mpi_part *p, const double *pos, size_t nb);
+
 /* Sorts n keys increasing (radix passes; qsort when short or out of memory). */
 void mpi_local_sort(uint64_t *a, size_t n);
 
