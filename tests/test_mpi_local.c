@@ -5,7 +5,8 @@
  * build an mpi_part from the same partition (METIS on the repaired mesh,
  * computed on rank 0 and given to both): the root path from the whole
  * repaired mesh on rank 0, the local path from vertex blocks and uneven face
- * ranges of the unrepaired mesh, no rank holding the whole of it. Asserted
+ * ranges of the unrepaired mesh (in rank order, and reversed), no rank
+ * holding the whole of it. Asserted
  * equal: the global numbers (vertices, repaired faces, entries, edge cut,
  * scheme, alpha, diagonal), each rank's owned and ghost ids in order, the
  * four class bounds, rules and row scales, every row (columns mapped to
@@ -322,11 +323,14 @@ static void solve_case(limn_context *ctx, const char *name, const limn_mesh *rep
 }
 
 /* Rank r's faces: uneven ranges (rank r gets a share growing with r). */
+static int reversed; /* 1: rank r takes the r-th range from the end */
+
 static void face_range(size_t nf, size_t *begin, size_t *count)
 {
-    size_t total = (size_t)size * (size_t)(size + 1) / 2, before = (size_t)rank * (rank + 1) / 2;
+    size_t r = reversed ? (size_t)(size - 1 - rank) : (size_t)rank;
+    size_t total = (size_t)size * (size_t)(size + 1) / 2, before = r * (r + 1) / 2;
     *begin = nf * before / total;
-    *count = nf * (before + (size_t)rank + 1) / total - *begin;
+    *count = nf * (before + r + 1) / total - *begin;
 }
 
 /* The local path from blocks and face ranges of the unrepaired mesh. */
@@ -514,6 +518,10 @@ int main(int argc, char **argv)
     local_case(ctx, "hexagons and quads (n-gons)", hex, LIMN_SCHEME_CATMARK, 0.5);
     local_case(ctx, "two components + isolated vertex", comp_t, LIMN_SCHEME_LOOP, 0.0);
     local_case(ctx, "two components + isolated vertex", comp_q, LIMN_SCHEME_CATMARK, 0.5);
+    reversed = 1; /* face ranges against the rank order: records arrive unsorted */
+    local_case(ctx, "the same, face ranges reversed", comp_q, LIMN_SCHEME_CATMARK, 0.5);
+    local_case(ctx, "fin, pinch, ..., face ranges reversed", nm_q, LIMN_SCHEME_CATMARK, 0.0);
+    reversed = 0;
     local_case(ctx, "fin, pinched fan, duplicate face", nm_t, LIMN_SCHEME_LOOP, 0.0);
     local_case(ctx, "fin, pinch, duplicate, repeated corners", nm_q, LIMN_SCHEME_CATMARK, 0.0);
     local_case(ctx, "fin, pinch, duplicate, repeated corners", nm_q, LIMN_SCHEME_CATMARK, 0.5);
