@@ -118,7 +118,7 @@ LIMN_API limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const li
                                       const limn_mpi_options *mpi, limn_mpi_result *result);
 
 /* limn_sharpen over comm (input and *out on root): the single process's bits. */
-limn_status limn_sharpen_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+LIMN_API limn_status limn_sharpen_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
                              const limn_series_options *options, int from, int to, int steps,
                              limn_mesh **out, limn_series_report *report,
                              const limn_mpi_options *mpi, limn_mpi_result *result);
@@ -128,7 +128,7 @@ limn_status limn_sharpen_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *
    elsewhere). Bands and energies are the single process's bits: each band
    is gathered to the root, which sums its energy as the single process's
    device does. keep_piece is ignored. */
-limn_status limn_bands_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+LIMN_API limn_status limn_bands_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
                            const limn_series_options *options, int count, double *bands,
                            double *energy, limn_series_report *report,
                            const limn_mpi_options *mpi, limn_mpi_result *result);

@@ -37,36 +37,6 @@ static limn_mesh *join(limn_context *ctx, limn_mesh *a, limn_mesh *b, double dx)
     return m;
 }
 
-/* Renumbers the vertices by a fixed pseudo-random permutation. */
-static limn_mesh *shuffle(limn_context *ctx, limn_mesh *a, unsigned seed)
-{
-    size_t n = limn_mesh_vertex_count(a), nf = limn_mesh_face_count(a);
-    const uint32_t *off = limn_mesh_face_offsets(a), *idx = limn_mesh_face_indices(a);
-    uint32_t *perm = malloc(n * sizeof *perm), *idx2 = malloc(off[nf] * sizeof *idx2);
-    double *pos = malloc(3 * n * sizeof *pos);
-    for (size_t i = 0; i < n; i++)
-        perm[i] = (uint32_t)i;
-    unsigned long long s = seed;
-    for (size_t i = n - 1; i > 0; i--) {
-        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-        size_t j = (size_t)((s >> 33) % (i + 1));
-        uint32_t t = perm[i];
-        perm[i] = perm[j];
-        perm[j] = t;
-    }
-    for (size_t i = 0; i < n; i++)
-        memcpy(pos + 3 * perm[i], limn_mesh_positions(a) + 3 * i, 3 * sizeof *pos);
-    for (size_t k = 0; k < off[nf]; k++)
-        idx2[k] = perm[idx[k]];
-    limn_mesh *m = NULL;
-    limn_mesh_create(ctx, n, pos, nf, off, idx2, &m);
-    free(perm);
-    free(idx2);
-    free(pos);
-    limn_mesh_destroy(a);
-    return m;
-}
-
 /* Adds `count` isolated vertices and, with fin, a triangle on the interior
    edge (1, grid_stride + 1) of the first grid: three faces on one edge. */
 static limn_mesh *extras(limn_context *ctx, limn_mesh *a, int count, int fin, uint32_t stride)
@@ -109,7 +79,7 @@ limn_mesh *mpi_test_composite(limn_context *ctx, int triangles)
     m = join(ctx, m, test_mesh_icosahedron(ctx), 40.0);
     if (!triangles)
         m = join(ctx, m, test_mesh_pyramid(ctx), 50.0);
-    limn_mesh *big = shuffle(ctx, test_mesh_grid(ctx, 70, 60, triangles), 7);
+    limn_mesh *big = test_mesh_shuffle(ctx, test_mesh_grid(ctx, 70, 60, triangles), 7);
     test_perturb(big, 0.05, 3);
     return join(ctx, m, big, 60.0);
 }

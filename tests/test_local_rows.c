@@ -168,36 +168,6 @@ static void shared(void **st)
     }
 }
 
-/* A grid renumbered at random (its rows hop around memory: RCM runs). */
-static limn_mesh *shuffled_grid(limn_context *ctx, int nx, int ny, int tri)
-{
-    limn_mesh *g = test_mesh_grid(ctx, nx, ny, tri);
-    size_t n = limn_mesh_vertex_count(g), nf = limn_mesh_face_count(g);
-    const uint32_t *off = limn_mesh_face_offsets(g), *idx = limn_mesh_face_indices(g);
-    uint32_t *perm = malloc(n * sizeof *perm), *idx2 = malloc(off[nf] * sizeof *idx2);
-    double *pos = malloc(3 * n * sizeof *pos);
-    unsigned long long x = 7;
-    for (size_t i = 0; i < n; i++)
-        perm[i] = (uint32_t)i;
-    for (size_t i = n - 1; i > 0; i--) {
-        x = x * 6364136223846793005ULL + 1442695040888963407ULL;
-        size_t j = (size_t)(x >> 33) % (i + 1), t = perm[i];
-        perm[i] = perm[j];
-        perm[j] = (uint32_t)t;
-    }
-    for (size_t i = 0; i < n; i++)
-        memcpy(pos + 3 * perm[i], limn_mesh_positions(g) + 3 * i, 3 * sizeof *pos);
-    for (size_t k = 0; k < off[nf]; k++)
-        idx2[k] = perm[idx[k]];
-    limn_mesh *m = NULL;
-    assert_int_equal(limn_mesh_create(ctx, n, pos, nf, off, idx2, &m), LIMN_OK);
-    limn_mesh_destroy(g);
-    free(perm);
-    free(idx2);
-    free(pos);
-    return m;
-}
-
 /* The RCM permutation keeps each row's entries in their order (columns
    renamed, stencil_permute), so a reordered solve sums every row as the
    input-order one does: the paper and weighted iterations give the same
@@ -206,8 +176,8 @@ static void reordered(void **st)
 {
     limn_context *ctx = *st;
     assert_int_equal(limn_context_set_device(ctx, "reference"), LIMN_OK);
-    limn_mesh *tri = test_keep_mesh(shuffled_grid(ctx, 90, 60, 1));
-    limn_mesh *quad = test_keep_mesh(shuffled_grid(ctx, 90, 60, 0));
+    limn_mesh *tri = test_keep_mesh(test_mesh_shuffle(ctx, test_mesh_grid(ctx, 90, 60, 1), 7));
+    limn_mesh *quad = test_keep_mesh(test_mesh_shuffle(ctx, test_mesh_grid(ctx, 90, 60, 0), 7));
     static const limn_method methods[] = {LIMN_METHOD_PAPER, LIMN_METHOD_WEIGHTED};
     for (int k = 0; k < 4; k++) {
         limn_interpolate_options o;

@@ -5,14 +5,16 @@
  * build an mpi_part from the same partition (METIS on the repaired mesh,
  * computed on rank 0 and given to both): the root path from the whole
  * repaired mesh on rank 0, the local path from vertex blocks and uneven face
- * ranges of the unrepaired mesh, no rank holding the whole of it. Asserted
+ * ranges of the unrepaired mesh (in rank order, and reversed), no rank
+ * holding the whole of it. Asserted
  * equal: the global numbers (vertices, repaired faces, entries, edge cut,
  * scheme, alpha, diagonal), each rank's owned and ghost ids in order, the
  * four class bounds, rules and row scales, every row (columns mapped to
  * global ids) and its weights bit for bit, and the halo lists. Per-rank
  * memory: on 2 ranks or more no array the build allocates per vertex has the
  * mesh's vertex count (mpi_local_stats, counted where the build allocates).
- * Then a bad partition on one rank reaches every rank with one message.
+ * Then a bad partition on one rank, blocks not starting at 0 and repair off
+ * (the single process's message) reach every rank with one message.
  *
  * Not cmocka: a failed check on one rank must not leave the others waiting.
  */
@@ -111,26 +113,7 @@ static limn_mesh *shuffled(limn_context *ctx, int tri)
 {
     builder b = {0};
     add_grid(&b, 90, 60, tri, 0, 0.0);
-    uint32_t *perm = malloc(b.nv * sizeof *perm);
-    double *pos = malloc(3 * b.nv * sizeof *pos);
-    unsigned long long x = 99;
-    for (size_t i = 0; i < b.nv; i++)
-        perm[i] = (uint32_t)i;
-    for (size_t i = b.nv - 1; i > 0; i--) {
-        x = x * 6364136223846793005ULL + 1442695040888963407ULL;
-        size_t j = (size_t)(x >> 33) % (i + 1);
-        uint32_t t = perm[i];
-        perm[i] = perm[j];
-        perm[j] = t;
-    }
-    for (size_t i = 0; i < b.nv; i++)
-        memcpy(pos + 3 * perm[i], b.pos + 3 * i, 3 * sizeof *pos);
-    for (size_t k = 0; k < b.ni; k++)
-        b.idx[k] = perm[b.idx[k]];
-    memcpy(b.pos, pos, 3 * b.nv * sizeof *pos);
-    free(pos);
-    free(perm);
-    return finish(ctx, &b);
+    return test_mesh_shuffle(ctx, finish(ctx, &b), 99);
 }
 
 /* Two components and an isolated vertex. */
@@ -340,16 +323,20 @@ static void solve_case(limn_context *ctx, const char *name, const limn_mesh *rep
 }
 
 /* Rank r's faces: uneven ranges (rank r gets a share growing with r). */
+static int reversed; /* 1: rank r takes the r-th range from the end */
+
 static void face_range(size_t nf, size_t *begin, size_t *count)
 {
-    size_t total = (size_t)size * (size_t)(size + 1) / 2, before = (size_t)rank * (rank + 1) / 2;
+    size_t r = reversed ? (size_t)(size - 1 - rank) : (size_t)rank;
+    size_t total = (size_t)size * (size_t)(size + 1) / 2, before = r * (r + 1) / 2;
     *begin = nf * before / total;
-    *count = nf * (before + (size_t)rank + 1) / total - *begin;
+    *count = nf * (before + r + 1) / total - *begin;
 }
 
 /* The local path from blocks and face ranges of the unrepaired mesh. */
 static limn_status local_path(limn_context *ctx, const limn_mesh *mesh, const uint32_t *part,
-                              limn_scheme scheme, double alpha, mpi_part *b, double **m4,
+                              limn_scheme scheme, double alpha,
+                              const limn_repair_options *repair, mpi_part *b, double **m4,
                               mpi_local_stats *stats)
 {
     size_t n = limn_mesh_vertex_count(mesh), nf = limn_mesh_face_count(mesh), fb, fc;
@@ -365,7 +352,7 @@ static limn_status local_path(limn_context *ctx, const limn_mesh *mesh, const ui
     if (!st)
         st = mpi_local_build(b, vtxdist, limn_mesh_positions(mesh) + 3 * vtxdist[rank],
                              part + vtxdist[rank], fb, fc, off2, idx + off[fb], scheme, alpha,
-                             NULL, m4, stats);
+                             repair, m4, stats);
     free(vtxdist);
     free(off2);
     return st;
@@ -389,7 +376,7 @@ static void local_case(limn_context *ctx, const char *name, const limn_mesh *mes
     CHECK(sa == LIMN_OK, "%s: root path: %s", name, limn_context_message(ctx));
     mpi_local_stats stats;
     double *m4 = NULL;
-    limn_status sb = local_path(ctx, mesh, part, scheme, alpha, &b, &m4, &stats);
+    limn_status sb = local_path(ctx, mesh, part, scheme, alpha, NULL, &b, &m4, &stats);
     CHECK(sb == LIMN_OK, "%s: local path: %s", name, limn_context_message(ctx));
     if (!sa && !sb)
         compare(name, &a, &b);
@@ -424,13 +411,32 @@ static void bad_partition(limn_context *ctx, const limn_mesh *mesh)
     part[n - 1] = (uint32_t)size; /* in the last rank's block */
     mpi_part b;
     mpi_local_stats stats;
-    limn_status st = local_path(ctx, mesh, part, LIMN_SCHEME_CATMARK, 0.0, &b, NULL, &stats);
+    limn_status st = local_path(ctx, mesh, part, LIMN_SCHEME_CATMARK, 0.0, NULL, &b, NULL, &stats);
     char want[128];
     snprintf(want, sizeof want, "vertex %zu is given to part %d", n - 1, size);
     CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), want),
           "bad partition: status %d, message \"%s\"", (int)st, limn_context_message(ctx));
     mpi_part_end(&b);
     free(part);
+}
+
+/* Vertex blocks that do not start at 0: refused on every rank. */
+static void bad_blocks(limn_context *ctx)
+{
+    size_t *vtxdist = malloc(((size_t)size + 1) * sizeof *vtxdist);
+    for (int r = 0; r <= size; r++)
+        vtxdist[r] = 1 + (size_t)r;
+    static const double pos[3 * 8] = {0};
+    static const uint32_t part[8] = {0}, off[1] = {0};
+    mpi_part b;
+    limn_status st = mpi_part_begin(ctx, MPI_COMM_WORLD, NULL, &b);
+    if (!st)
+        st = mpi_local_build(&b, vtxdist, pos, part, 0, 0, off, NULL, LIMN_SCHEME_AUTO, 0.0,
+                             NULL, NULL, NULL);
+    CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), "must start at 0"),
+          "bad blocks: status %d, message \"%s\"", (int)st, limn_context_message(ctx));
+    mpi_part_end(&b);
+    free(vtxdist);
 }
 
 /* Repair off and a face using a vertex twice: every rank gets the single
@@ -446,31 +452,16 @@ static void repair_off(limn_context *ctx, const limn_mesh *mesh)
     char msg[512];
     snprintf(msg, sizeof msg, "%s", limn_context_message(ctx));
     limn_mesh_destroy(copy);
-    size_t n = limn_mesh_vertex_count(mesh), nf = limn_mesh_face_count(mesh), fb, fc;
-    size_t *vtxdist = malloc(((size_t)size + 1) * sizeof *vtxdist);
-    uint32_t *part = calloc(n, sizeof *part);
-    for (int r = 0; r <= size; r++)
-        vtxdist[r] = n * (size_t)r / (size_t)size;
-    face_range(nf, &fb, &fc);
-    const uint32_t *off = limn_mesh_face_offsets(mesh), *idx = limn_mesh_face_indices(mesh);
-    uint32_t *off2 = malloc((fc + 1) * sizeof *off2);
-    for (size_t f = 0; f <= fc; f++)
-        off2[f] = off[fb + f] - off[fb];
+    uint32_t *part = calloc(limn_mesh_vertex_count(mesh), sizeof *part);
     mpi_part b;
-    limn_status st = mpi_part_begin(ctx, MPI_COMM_WORLD, NULL, &b);
-    if (!st)
-        st = mpi_local_build(&b, vtxdist, limn_mesh_positions(mesh) + 3 * vtxdist[rank],
-                             part + vtxdist[rank], fb, fc, off2, idx + off[fb],
-                             LIMN_SCHEME_CATMARK, 0.0, &ro, NULL, NULL);
+    limn_status st = local_path(ctx, mesh, part, LIMN_SCHEME_CATMARK, 0.0, &ro, &b, NULL, NULL);
     if (rank == 0)
         printf("  repair off: \"%s\"\n", limn_context_message(ctx));
     CHECK(want == LIMN_ERR_TOPOLOGY && st == want && !strcmp(msg, limn_context_message(ctx)),
           "repair off: status %d, message \"%s\"; single process %d, \"%s\"", (int)st,
           limn_context_message(ctx), (int)want, msg);
     mpi_part_end(&b);
-    free(vtxdist);
     free(part);
-    free(off2);
 }
 
 static void shared_meshes(limn_context *ctx)
@@ -527,6 +518,10 @@ int main(int argc, char **argv)
     local_case(ctx, "hexagons and quads (n-gons)", hex, LIMN_SCHEME_CATMARK, 0.5);
     local_case(ctx, "two components + isolated vertex", comp_t, LIMN_SCHEME_LOOP, 0.0);
     local_case(ctx, "two components + isolated vertex", comp_q, LIMN_SCHEME_CATMARK, 0.5);
+    reversed = 1; /* face ranges against the rank order: records arrive unsorted */
+    local_case(ctx, "the same, face ranges reversed", comp_q, LIMN_SCHEME_CATMARK, 0.5);
+    local_case(ctx, "fin, pinch, ..., face ranges reversed", nm_q, LIMN_SCHEME_CATMARK, 0.0);
+    reversed = 0;
     local_case(ctx, "fin, pinched fan, duplicate face", nm_t, LIMN_SCHEME_LOOP, 0.0);
     local_case(ctx, "fin, pinch, duplicate, repeated corners", nm_q, LIMN_SCHEME_CATMARK, 0.0);
     local_case(ctx, "fin, pinch, duplicate, repeated corners", nm_q, LIMN_SCHEME_CATMARK, 0.5);
@@ -536,6 +531,7 @@ int main(int argc, char **argv)
     local_case(ctx, "shuffled quad grid (RCM)", shuf_q, LIMN_SCHEME_CATMARK, 0.5);
     bad_partition(ctx, quad);
     repair_off(ctx, nm_q);
+    bad_blocks(ctx);
     shared_meshes(ctx);
     limn_mesh *all[] = {tri, quad, hex, comp_t, comp_q, nm_t, nm_q, fan, pyr, shuf_t, shuf_q};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++)

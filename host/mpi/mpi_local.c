@@ -12,7 +12,6 @@
 #include "topology/face_keys.h"
 
 #include <limits.h>
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -329,33 +328,23 @@ static limn_status sub_mesh(mpi_part *p, local_sub *s, const uint32_t *w, const 
             idx[k++] = r[3 + r[2] + c]; /* sub_vertices left the local index there */
         off[i + 1] = (uint32_t)k;
     }
+    /* the caller's warnings are kept; the sub-mesh's repair warnings are
+       dropped: they number its own faces and see only its part of the mesh */
+    limn_context *ctx = p->ctx;
+    char *warnings = ctx->warnings;
+    size_t warnings_len = ctx->warnings_len;
+    ctx->warnings = NULL;
+    ctx->warnings_len = 0;
     if (!st)
-        st = limn_mesh_create(p->ctx, s->n, pos, nf, off, idx, out);
+        st = limn_mesh_create(ctx, s->n, pos, nf, off, idx, out);
     if (!st)
-        st = limn_mesh_repair(p->ctx, *out, repair, NULL);
+        st = limn_mesh_repair(ctx, *out, repair, NULL);
+    free(ctx->warnings);
+    ctx->warnings = warnings;
+    ctx->warnings_len = warnings_len;
     free(off);
     free(idx);
     return st;
-}
-
-/* The bounding box diagonal of all vertices, as mesh_bbox_diagonal gives it
-   for the whole mesh (min and max are exact in any order). */
-static double global_diagonal(mpi_part *p, const double *pos, size_t nb)
-{
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t i = 0; i < nb; i++)
-        for (int c = 0; c < 3; c++) {
-            double x = pos[3 * i + c];
-            lo[c] = x < lo[c] ? x : lo[c];
-            hi[c] = x > hi[c] ? x : hi[c];
-        }
-    double glo[3], ghi[3];
-    MPI_Allreduce(lo, glo, 3, MPI_DOUBLE, MPI_MIN, p->comm);
-    MPI_Allreduce(hi, ghi, 3, MPI_DOUBLE, MPI_MAX, p->comm);
-    if (!(glo[0] <= ghi[0]))
-        return 0.0; /* no vertices */
-    return sqrt((ghi[0] - glo[0]) * (ghi[0] - glo[0]) + (ghi[1] - glo[1]) * (ghi[1] - glo[1]) +
-                (ghi[2] - glo[2]) * (ghi[2] - glo[2]));
 }
 
 /* Lowest part among face f's vertices (the rank that counts it). */
@@ -524,6 +513,28 @@ static limn_status owned_positions(mpi_part *p, const local_sub *s, const double
     return LIMN_OK;
 }
 
+/* vtxdist: from 0, never decreasing, global ids within 32 bits; the face
+   offsets from 0 (agreed over the ranks). */
+static limn_status check_blocks(mpi_part *p, const size_t *vtxdist, const uint32_t *off)
+{
+    limn_status st = LIMN_OK;
+    for (int r = 0; r < p->size && !st; r++)
+        if (vtxdist[r + 1] < vtxdist[r])
+            st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                          "vtxdist[%d] = %zu is below vtxdist[%d] = %zu: the vertex blocks "
+                          "must follow each other",
+                          r + 1, vtxdist[r + 1], r, vtxdist[r]);
+    if (!st && (vtxdist[0] != 0 || vtxdist[p->size] > (size_t)UINT32_MAX + 1))
+        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                      "vtxdist runs from %zu to %zu: it must start at 0 and hold at most 2^32 "
+                      "vertices",
+                      vtxdist[0], vtxdist[p->size]);
+    if (!st && off[0] != 0)
+        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                      "rank %d: face_offsets[0] is %u, must be 0", p->rank, off[0]);
+    return mpi_agree(p, st);
+}
+
 limn_status mpi_local_build(mpi_part *p, const size_t *vtxdist, const double *positions,
                             const uint32_t *part_of, size_t face_begin, size_t face_count,
                             const uint32_t *face_offsets, const uint32_t *face_indices,
@@ -541,11 +552,14 @@ limn_status mpi_local_build(mpi_part *p, const size_t *vtxdist, const double *po
         *owned_rows4 = NULL;
     s.stats = stats;
     faces_in f = {face_begin, face_count, face_offsets, face_indices};
+    limn_status st = check_blocks(p, vtxdist, face_offsets);
+    if (st)
+        return st;
     size_t nb = vtxdist[p->rank + 1] - vtxdist[p->rank];
     p->n_global = vtxdist[p->size];
-    p->diag = global_diagonal(p, positions, nb);
+    p->diag = mpi_local_diagonal(p, positions, nb);
     p->reordered = 0;
-    limn_status st = build_sub(p, &s, &t, vtxdist, positions, part_of, &f, repair);
+    st = build_sub(p, &s, &t, vtxdist, positions, part_of, &f, repair);
     if (!st)
         st = sub_operator(p, &s, t.mesh, scheme, alpha);
     if (!st)

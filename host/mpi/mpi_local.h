@@ -13,9 +13,9 @@
  * increasing global index, faces in increasing global face index), repairs
  * it as limn_mesh_repair repairs the whole mesh (every decision about a face
  * depends only on faces sharing its vertices: all here), builds its operator
- * without reordering and keeps the owned vertices' rows: the rows of the
- * single process's operator built without RCM, bit for bit
- * (tests/test_local_rows.c). Classes, ghost order and halo are mpi_part.h's,
+ * without reordering and keeps the owned vertices' rows: the single
+ * process's rows bit for bit, entries in the same order (tests/
+ * test_local_rows.c; a row RCM renumbers keeps its entries' order). Classes, ghost order and halo are mpi_part.h's,
  * with ghost rules and the owners' local numbers exchanged between ranks;
  * tests/test_mpi_local.c checks the whole mpi_part against mpi_distribute's.
  */
@@ -30,8 +30,8 @@ typedef struct mpi_local_stats {
     size_t faces_received;          /* input faces incident to an owned vertex */
     size_t largest_vertex_array;    /* entries of the largest per-vertex array this
                                        build allocated itself (sub-mesh, owned, ghost,
-                                       request and answer lists): never vertex_total
-                                       unless the rank's ring is the whole mesh */
+                                       request and answer lists); test_mpi_local
+                                       checks it stays below vertex_total on 2+ ranks */
     double seconds;                 /* the whole build, this rank (wall clock) */
 } mpi_local_stats;
 
@@ -71,6 +71,10 @@ struct local_sub;
 limn_status mpi_local_fetch(mpi_part *p, struct local_sub *s, const size_t *vtxdist,
                             const uint32_t *ids, size_t n, const void *mine, size_t elem,
                             void *out);
+
+/* Collective: the bounding box diagonal of every rank's block (pos, nb
+   vertices here), as mesh_bbox_diagonal gives it for the whole mesh. */
+double mpi_local_diagonal(mpi_part *p, const double *pos, size_t nb);
 
 /* Sorts n keys increasing (radix passes; qsort when short or out of memory). */
 void mpi_local_sort(uint64_t *a, size_t n);

@@ -1,14 +1,16 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * Local rows, the exchanges (mpi_local.h): every rank to every rank in one
- * MPI_Alltoallv with the counts exchanged first, and values of vertices
- * fetched from the ranks whose input blocks hold them.
+ * MPI_Alltoallv with the counts exchanged first, values of vertices fetched
+ * from the ranks whose input blocks hold them, the radix sort of the keys,
+ * and the bounding box over all blocks.
  */
 #include "mpi/mpi_local.h"
 
 #include "base/context.h"
 
 #include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -153,4 +155,24 @@ void mpi_local_sort(uint64_t *a, size_t n)
         memcpy(a, src, n * sizeof *a);
     free(b);
     free(count);
+}
+
+/* The bounding box diagonal of all vertices, as mesh_bbox_diagonal gives it
+   for the whole mesh (min and max are exact in any order). */
+double mpi_local_diagonal(mpi_part *p, const double *pos, size_t nb)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < nb; i++)
+        for (int c = 0; c < 3; c++) {
+            double x = pos[3 * i + c];
+            lo[c] = x < lo[c] ? x : lo[c];
+            hi[c] = x > hi[c] ? x : hi[c];
+        }
+    double glo[3], ghi[3];
+    MPI_Allreduce(lo, glo, 3, MPI_DOUBLE, MPI_MIN, p->comm);
+    MPI_Allreduce(hi, ghi, 3, MPI_DOUBLE, MPI_MAX, p->comm);
+    if (!(glo[0] <= ghi[0]))
+        return 0.0; /* no vertices */
+    return sqrt((ghi[0] - glo[0]) * (ghi[0] - glo[0]) + (ghi[1] - glo[1]) * (ghi[1] - glo[1]) +
+                (ghi[2] - glo[2]) * (ghi[2] - glo[2]));
 }
