@@ -47,13 +47,7 @@ check_run() {
 for kind in shared static; do
     dir=$tmp/cmake-$kind static=OFF
     [[ $kind == static ]] && static=ON
-    if ! { cmake -S "$src/examples/embed_mpi" -B "$dir" -DCMAKE_PREFIX_PATH="$prefix" \
-                 -DCMAKE_C_COMPILER="$cc" -DEMBED_STATIC=$static -DCMAKE_BUILD_TYPE=Release \
-                 -DCMAKE_C_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" &&
-           cmake --build "$dir"; } >"$tmp/log" 2>&1; then
-        cat "$tmp/log"
-        fail "find_package build ($kind) failed"
-    fi
+    cmake_example "$src/examples/embed_mpi" "$dir" "$cc" "$flags" -DEMBED_STATIC=$static
     check_run "find_package, $kind" "$dir/embed_mpi" $kind
 done
 

@@ -278,6 +278,21 @@ static void check_old(const char *path, const char *what)
     CHECK(leftovers() == 0, "%s: a temporary file was left", what);
 }
 
+/* Rank 0's limn_mesh_write of m to path: its status and message on every rank. */
+static limn_status single_write(limn_context *ctx, const limn_mesh *m, const char *path,
+                                char *msg, size_t cap)
+{
+    int one = LIMN_OK;
+    msg[0] = '\0';
+    if (rank == 0) {
+        one = (int)limn_mesh_write(ctx, m, path, LIMN_FORMAT_AUTO);
+        snprintf(msg, cap, "%s", limn_context_message(ctx));
+    }
+    MPI_Bcast(&one, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Bcast(msg, (int)cap, MPI_CHAR, 0, MPI_COMM_WORLD);
+    return (limn_status)one;
+}
+
 /* m with vertex v set to value (every rank the same). */
 static limn_mesh *with_value(limn_context *ctx, const limn_mesh *m, size_t v, double value)
 {
@@ -303,14 +318,8 @@ static void bad_value(limn_context *ctx, const limn_mesh *m, const char *ext, do
     char path[512];
     snprintf(path, sizeof path, "%s/keep.%s", dir, ext);
     old_file(path);
-    char one_msg[1024] = "";
-    limn_status one = LIMN_OK;
-    if (rank == 0) {
-        one = limn_mesh_write(ctx, bad, path, LIMN_FORMAT_AUTO);
-        snprintf(one_msg, sizeof one_msg, "%s", limn_context_message(ctx));
-    }
-    MPI_Bcast(&one, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    MPI_Bcast(one_msg, sizeof one_msg, MPI_CHAR, 0, MPI_COMM_WORLD);
+    char one_msg[1024];
+    limn_status one = single_write(ctx, bad, path, one_msg, sizeof one_msg);
     part_data d;
     make_part(bad, &d, 0);
     limn_status st = mpi_write_mesh(ctx, MPI_COMM_WORLD, path, NULL, d.vtxdist, d.part.n_owned,
@@ -331,14 +340,8 @@ static void parent_is_file(limn_context *ctx, const limn_mesh *m)
     snprintf(parent, sizeof parent, "%s/afile", dir);
     snprintf(path, sizeof path, "%s/out.ply", parent);
     old_file(parent);
-    char one_msg[1024] = "";
-    limn_status one = LIMN_OK;
-    if (rank == 0) {
-        one = limn_mesh_write(ctx, m, path, LIMN_FORMAT_AUTO);
-        snprintf(one_msg, sizeof one_msg, "%s", limn_context_message(ctx));
-    }
-    MPI_Bcast(&one, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    MPI_Bcast(one_msg, sizeof one_msg, MPI_CHAR, 0, MPI_COMM_WORLD);
+    char one_msg[1024];
+    limn_status one = single_write(ctx, m, path, one_msg, sizeof one_msg);
     part_data d;
     make_part(m, &d, 0);
     limn_status st = mpi_write_mesh_part(ctx, MPI_COMM_WORLD, path, LIMN_FORMAT_AUTO, NULL,

@@ -362,7 +362,8 @@ static limn_status run(mpi_writer *w, limn_format format, const limn_write_optio
     limn_status st = !w->path || !*w->path
                          ? ctx_fail(w->ctx, LIMN_ERR_ARGUMENT,
                                     "limn_mesh_write: path is NULL or empty")
-                         : check_local(w);
+                     : !w->in ? bad(w, "part is NULL")
+                              : check_local(w);
     if (!st)
         st = mesh_write_format(w->ctx, w->path, o, &format);
     st = mpi_writer_agree(w, st);

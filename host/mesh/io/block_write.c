@@ -57,9 +57,14 @@ static limn_status memory_put(void *arg, limn_context *ctx, const char *path, co
                : ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing %s", path);
 }
 
-block_sink block_sink_file(FILE *f) { return (block_sink){file_put, f}; }
+static int memory_reserve(void *arg, size_t n) { return growbuf_reserve(arg, n); }
 
-block_sink block_sink_memory(struct growbuf *g) { return (block_sink){memory_put, g}; }
+block_sink block_sink_file(FILE *f) { return (block_sink){file_put, NULL, f}; }
+
+block_sink block_sink_memory(struct growbuf *g)
+{
+    return (block_sink){memory_put, memory_reserve, g};
+}
 
 limn_status block_emit(limn_context *ctx, const char *path, const block_job *job,
                        const block_sink *sink)
@@ -71,6 +76,8 @@ limn_status block_emit(limn_context *ctx, const char *path, const block_job *job
     block_part parts[PARALLEL_MAX] = {{0}};
     block_round r = {job, parts, threads, 0, 0};
     limn_status st = LIMN_OK;
+    if (sink->reserve && job->n && !sink->reserve(sink->arg, job->bound(job->arg, 0, job->n)))
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing %s", path);
     for (size_t at = 0; at < job->n && !st; at += r.items) {
         r.begin = at;
         r.items = job->n - at < per_part * threads ? job->n - at : per_part * threads;

@@ -28,6 +28,9 @@ typedef struct block_sink {
     /* appends n bytes; LIMN_OK or the failure with its message (naming path) */
     limn_status (*put)(void *arg, limn_context *ctx, const char *path, const void *bytes,
                        size_t n);
+    /* NULL, or makes room for n more bytes at once (the job's bound: memory
+       that is never touched costs no pages); 0 when it cannot */
+    int (*reserve)(void *arg, size_t n);
     void *arg;
 } block_sink;
 
