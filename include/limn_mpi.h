@@ -215,10 +215,11 @@ LIMN_API limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh 
    ranks in parallel (PT-Scotch), each rank building its own rows from the
    faces around its vertices; *control gets a distributed mesh with the same
    blocks. The results of limn_interpolate_mpi (the single process's). */
-LIMN_API limn_status limn_interpolate_mpi_mesh(limn_context *ctx, const limn_mpi_mesh *mesh,
-                                      const limn_interpolate_options *options,
-                                      limn_mpi_mesh **control, limn_report *report,
-                                      const limn_mpi_options *mpi, limn_mpi_result *result);
+LIMN_API limn_status limn_mpi_mesh_interpolate(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                               const limn_interpolate_options *options,
+                                               limn_mpi_mesh **control, limn_report *report,
+                                               const limn_mpi_options *mpi,
+                                               limn_mpi_result *result);
 
 #ifdef __cplusplus
 }

@@ -3,7 +3,7 @@
  * The distributed pipeline against the single process, under mpirun with
  * 2, 3 and 5 ranks: every rank reads its slice of a file
  * (limn_mpi_mesh_read), repairs it (limn_mpi_mesh_repair), the operator is
- * built with no rank holding the whole mesh (limn_interpolate_mpi_mesh:
+ * built with no rank holding the whole mesh (limn_mpi_mesh_interpolate:
  * PT-Scotch partition, local rows) and the control mesh is written in
  * parallel (limn_mpi_mesh_write). Rank 0 runs limn_mesh_read, repair,
  * limn_interpolate and limn_mesh_write on the same file: the two outputs
@@ -93,7 +93,7 @@ static limn_status distributed(limn_context *ctx, const char *in,
     if (!st)
         st = limn_mpi_mesh_repair(ctx, m, NULL, NULL);
     if (!st)
-        st = limn_interpolate_mpi_mesh(ctx, m, o, &p, r, NULL, NULL);
+        st = limn_mpi_mesh_interpolate(ctx, m, o, &p, r, NULL, NULL);
     if (!st)
         st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
     limn_mpi_mesh_destroy(m);
@@ -189,7 +189,7 @@ static void repair_case(limn_context *ctx)
           "repair: %s; %zu repeat faces, %zu -> %zu faces", limn_context_message(ctx),
           rr.repeat_faces, rr.faces_before, rr.faces_after);
     if (!st)
-        st = limn_interpolate_mpi_mesh(ctx, m, &o, &p, &r, NULL, NULL);
+        st = limn_mpi_mesh_interpolate(ctx, m, &o, &p, &r, NULL, NULL);
     if (!st)
         st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
     CHECK(st == LIMN_OK, "repair pipeline: %s", limn_context_message(ctx));
@@ -255,7 +255,7 @@ static void split_and_create(limn_context *ctx, const limn_mesh *mesh)
     if (!st)
         st = limn_mpi_mesh_repair(ctx, c, NULL, NULL);
     if (!st)
-        st = limn_interpolate_mpi_mesh(ctx, c, &o, &p, &r, NULL, NULL);
+        st = limn_mpi_mesh_interpolate(ctx, c, &o, &p, &r, NULL, NULL);
     if (!st)
         st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
     CHECK(st == LIMN_OK, "created mesh: %s", limn_context_message(ctx));

@@ -222,7 +222,7 @@ limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *
     mo.keep_piece = 0;
     limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
     if (!st) {
-        st = limn_interpolate_mpi_mesh(ctx, mesh, o, &control, r, &mo, &res);
+        st = limn_mpi_mesh_interpolate(ctx, mesh, o, &control, r, &mo, &res);
         cli_print_warnings(job->cmd, ctx);
         collect(&res);
         limn_mpi_result_free(&res);

@@ -313,7 +313,7 @@ limn_status mpi_mesh_check(mpi_part *p, const char *fn, const limn_mpi_mesh *mes
 limn_status mpi_mesh_scheme(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme want,
                             limn_scheme *out)
 {
-    limn_status st = check_scheme(p->ctx, "limn_interpolate_mpi_mesh", want);
+    limn_status st = check_scheme(p->ctx, "limn_mpi_mesh_interpolate", want);
     st = mpi_agree(p, st);
     if (st)
         return st;

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * limn_interpolate_mpi_mesh: the interpolation with no rank holding the
+ * limn_mpi_mesh_interpolate: the interpolation with no rank holding the
  * whole mesh. The vertex blocks are partitioned over the ranks in parallel
  * (mpi_dgraph.c, PT-Scotch), every rank builds the rows of its vertices
  * from the faces around them (mpi_local.c), the solve is the one of
@@ -92,7 +92,7 @@ static limn_status build_rows(mpi_part *p, const limn_mpi_mesh *mesh, limn_schem
     return st;
 }
 
-/* limn_interpolate_mpi_mesh on structs of this library's layout. */
+/* limn_mpi_mesh_interpolate on structs of this library's layout. */
 static limn_status interpolate_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
                                      const limn_interpolate_options *o,
                                      limn_mpi_mesh **control, limn_report *r,
@@ -106,7 +106,7 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mpi_mesh *mes
     limn_method method;
     limn_scheme scheme = LIMN_SCHEME_AUTO;
     st = mpi_interpolate_method(&p, o, st || control ? st : ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                                "limn_interpolate_mpi_mesh: control is NULL"), &method, r);
+                                "limn_mpi_mesh_interpolate: control is NULL"), &method, r);
     if (!st && method == LIMN_METHOD_SGS) /* its colouring is the root's (mpi_sgs.c) */
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                        "method sgs is not available on a distributed mesh yet (its colouring "
@@ -114,7 +114,7 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mpi_mesh *mes
                        "limn_interpolate_mpi");
     st = mpi_agree(&p, st);
     if (!st)
-        st = mpi_mesh_check(&p, "limn_interpolate_mpi_mesh", mesh);
+        st = mpi_mesh_check(&p, "limn_mpi_mesh_interpolate", mesh);
     if (!st)
         st = mpi_mesh_scheme(&p, mesh, o->scheme, &scheme);
     double *m4 = NULL, *p4 = NULL, *block = NULL;
@@ -152,15 +152,15 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mpi_mesh *mes
     return st;
 }
 
-limn_status limn_interpolate_mpi_mesh(limn_context *ctx, const limn_mpi_mesh *mesh,
+limn_status limn_mpi_mesh_interpolate(limn_context *ctx, const limn_mpi_mesh *mesh,
                                       const limn_interpolate_options *options,
                                       limn_mpi_mesh **control, limn_report *report,
                                       const limn_mpi_options *mpi, limn_mpi_result *result)
 {
     if (!mesh)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_interpolate_mpi_mesh: the mesh is NULL");
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mpi_mesh_interpolate: the mesh is NULL");
     mpi_call c;
-    limn_status st = mpi_enter(&c, ctx, mesh->comm, "limn_interpolate_mpi_mesh",
+    limn_status st = mpi_enter(&c, ctx, mesh->comm, "limn_mpi_mesh_interpolate",
                                &abi_interpolate_options, options, &abi_report, report, mpi,
                                result, NULL);
     return st ? st
