@@ -119,9 +119,9 @@ LIMN_API limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const li
 
 /* limn_sharpen over comm (input and *out on root): the single process's bits. */
 LIMN_API limn_status limn_sharpen_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                             const limn_series_options *options, int from, int to, int steps,
-                             limn_mesh **out, limn_series_report *report,
-                             const limn_mpi_options *mpi, limn_mpi_result *result);
+                                      const limn_series_options *options, int from, int to,
+                                      int steps, limn_mesh **out, limn_series_report *report,
+                                      const limn_mpi_options *mpi, limn_mpi_result *result);
 
 /* limn_bands over comm: mesh, bands ((count + 1) * 3 * vertices doubles) and
    energy (count + 1) on root (bands and energy may be NULL there; ignored
@@ -129,9 +129,9 @@ LIMN_API limn_status limn_sharpen_mpi(limn_context *ctx, MPI_Comm comm, const li
    is gathered to the root, which sums its energy as the single process's
    device does. keep_piece is ignored. */
 LIMN_API limn_status limn_bands_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                           const limn_series_options *options, int count, double *bands,
-                           double *energy, limn_series_report *report,
-                           const limn_mpi_options *mpi, limn_mpi_result *result);
+                                    const limn_series_options *options, int count, double *bands,
+                                    double *energy, limn_series_report *report,
+                                    const limn_mpi_options *mpi, limn_mpi_result *result);
 
 /* limn_morph over comm: FROM and TO on root; fn is called on root only, once
    per frame in order (its failure stops every rank). keep_piece is ignored. */
@@ -166,19 +166,19 @@ LIMN_API limn_status limn_mpi_mesh_read(limn_context *ctx, MPI_Comm comm, const 
    or without ".ply"), made by limn_mpi_mesh_write_split or by the caller in
    the format of docs/mpi.md; the ranks must be as many as the files. */
 LIMN_API limn_status limn_mpi_mesh_read_split(limn_context *ctx, MPI_Comm comm, const char *name,
-                                     limn_mpi_mesh **out);
+                                              limn_mpi_mesh **out);
 /* Writes the split input of mesh: rank p writes NAME.r<p>.ply, its blocks. */
 LIMN_API limn_status limn_mpi_mesh_write_split(limn_context *ctx, const limn_mpi_mesh *mesh,
-                                      const char *name);
+                                               const char *name);
 
 /* A distributed mesh from every rank's own arrays (copied): this rank's
    vertex_count vertices follow the previous ranks' ones, its face_count
    faces (CSR, face_offsets[0] = 0) the previous ranks' faces; face indices
    are global. */
 LIMN_API limn_status limn_mpi_mesh_create(limn_context *ctx, MPI_Comm comm, size_t vertex_count,
-                                 const double *positions, size_t face_count,
-                                 const uint32_t *face_offsets, const uint32_t *face_indices,
-                                 limn_mpi_mesh **out);
+                                          const double *positions, size_t face_count,
+                                          const uint32_t *face_offsets,
+                                          const uint32_t *face_indices, limn_mpi_mesh **out);
 
 LIMN_API void limn_mpi_mesh_destroy(limn_mpi_mesh *mesh);
 
@@ -199,17 +199,18 @@ LIMN_API const uint32_t *limn_mpi_mesh_face_indices(const limn_mpi_mesh *mesh);
    report (may be NULL) and warnings with global numbers. Duplicate faces are
    not looked for yet under MPI (options->duplicate_faces is refused). */
 LIMN_API limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh,
-                                 const limn_repair_options *options,
-                                 limn_repair_report *report);
+                                          const limn_repair_options *options,
+                                          limn_repair_report *report);
 
 /* Writes the whole mesh to path: every rank writes its blocks at their
    offsets (MPI-IO), the same bytes as limn_mesh_write_with of the whole
    mesh, the file whole or not at all. options (NULL: the defaults) and
    report (may be NULL; its mean error is summed over the ranks, so it may
    differ from the single process's in the last bits) as there. */
-LIMN_API limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh *mesh, const char *path,
-                                limn_format format, const limn_write_options *options,
-                                limn_write_report *report);
+LIMN_API limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                         const char *path, limn_format format,
+                                         const limn_write_options *options,
+                                         limn_write_report *report);
 
 /* limn_interpolate on a distributed mesh: the vertices partitioned over the
    ranks in parallel (PT-Scotch), each rank building its own rows from the

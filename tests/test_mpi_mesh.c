@@ -218,7 +218,8 @@ static void split_and_create(limn_context *ctx, const limn_mesh *mesh)
     limn_interpolate_options_default(&o);
     int ok = 1;
     if (rank == 0)
-        ok = limn_mesh_write(ctx, mesh, in, LIMN_FORMAT_AUTO) == LIMN_OK && single(ctx, in, &o, ref);
+        ok = limn_mesh_write(ctx, mesh, in, LIMN_FORMAT_AUTO) == LIMN_OK &&
+             single(ctx, in, &o, ref);
     MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
     limn_mpi_mesh *a = NULL, *b = NULL, *c = NULL, *p = NULL;
     limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &a);

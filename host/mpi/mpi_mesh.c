@@ -120,12 +120,13 @@ limn_status limn_mpi_mesh_read(limn_context *ctx, MPI_Comm comm, const char *pat
     st = p.comm == MPI_COMM_NULL ? st : mpi_agree(&p, st);
     mesh_slice_counts mine = {0}, before, total;
     if (!st)
-        st = mpi_agree(&p, mesh_slice_count(ctx, path, format, (unsigned)p.rank, (unsigned)p.size, &mine));
+        st = mpi_agree(&p, mesh_slice_count(ctx, path, format, (unsigned)p.rank,
+                                            (unsigned)p.size, &mine));
     mesh_slice s = {0};
     if (!st) {
         slice_sums(&p, &mine, &before, &total);
-        st = mpi_agree(&p, mesh_slice_read(ctx, path, format, (unsigned)p.rank, (unsigned)p.size, &before,
-                                           &total, &s));
+        st = mpi_agree(&p, mesh_slice_read(ctx, path, format, (unsigned)p.rank,
+                                           (unsigned)p.size, &before, &total, &s));
     }
     if (!st)
         st = mpi_mesh_adopt(&p, &s, out);
