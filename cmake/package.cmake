@@ -81,3 +81,71 @@ foreach(pc limn limn-static)
   install(FILES ${CMAKE_CURRENT_BINARY_DIR}/${pc}.pc
           DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 endforeach()
+
+# The MPI layer, installable (include/limn_mpi.h): liblimn_mpi.so and
+# liblimn_mpi.a carry the layer and their own copy of limn's internals and
+# export only limn_mpi.h's functions (a version script; objcopy for the
+# archive), so they sit beside liblimn.so / liblimn.a, which the program links
+# for limn.h's functions (limn_context_create, limn_mesh_read, ...): one
+# version of limn for both. find_package(limn COMPONENTS mpi): limn::mpi
+# (and limn::mpi_static); pkg-config: limn-mpi.pc.
+if(LIMN_MPI_ENABLED)
+  set(LIMN_MPI_EXPORTS ${CMAKE_CURRENT_BINARY_DIR}/limn_mpi.map)
+  file(WRITE ${LIMN_MPI_EXPORTS} "{ global: limn_mpi_*; limn_*_mpi; local: *; };\n")
+  add_library(limn_mpi_shared SHARED $<TARGET_OBJECTS:limn_mpi_objects>
+              $<TARGET_OBJECTS:limn_objects>)
+  set_target_properties(limn_mpi_shared PROPERTIES OUTPUT_NAME limn_mpi EXPORT_NAME mpi
+                        VERSION ${PROJECT_VERSION} SOVERSION ${LIMN_SOVERSION}
+                        LIBRARY_OUTPUT_DIRECTORY ${LIMN_DIST_DIR} LINK_DEPENDS ${LIMN_MPI_EXPORTS})
+  target_include_directories(limn_mpi_shared INTERFACE ${LIMN_PUBLIC_INCLUDE})
+  target_link_options(limn_mpi_shared PRIVATE LINKER:--version-script=${LIMN_MPI_EXPORTS})
+  if(NOT LIMN_SANITIZE AND NOT LIMN_FUZZ)
+    target_link_options(limn_mpi_shared PRIVATE LINKER:--no-undefined)
+  endif()
+  target_link_libraries(limn_mpi_shared PUBLIC MPI::MPI_C INTERFACE limn_shared
+                        PRIVATE ${LIMN_MPI_DEPENDENCIES} OpenCL::OpenCL PkgConfig::HWLOC
+                                Threads::Threads m)
+
+  set(LIMN_MPI_STATIC_OBJECT ${CMAKE_CURRENT_BINARY_DIR}/limn_mpi_static.o)
+  add_custom_command(
+    OUTPUT ${LIMN_MPI_STATIC_OBJECT}
+    COMMAND ${CMAKE_LINKER} -r -o ${LIMN_MPI_STATIC_OBJECT} $<TARGET_OBJECTS:limn_mpi_objects>
+            $<TARGET_OBJECTS:limn_objects>
+    COMMAND ${CMAKE_OBJCOPY} --localize-hidden -w --keep-global-symbol=limn_mpi_*
+            --keep-global-symbol=limn_*_mpi ${LIMN_MPI_STATIC_OBJECT}
+    DEPENDS limn_mpi_objects limn_objects $<TARGET_OBJECTS:limn_mpi_objects>
+            $<TARGET_OBJECTS:limn_objects>
+    COMMAND_EXPAND_LISTS
+    COMMENT "Linking liblimn_mpi.a's object, all but limn_mpi.h's symbols made local")
+  set_source_files_properties(${LIMN_MPI_STATIC_OBJECT} PROPERTIES EXTERNAL_OBJECT TRUE
+                              GENERATED TRUE)
+  add_library(limn_mpi_static STATIC ${LIMN_MPI_STATIC_OBJECT})
+  set_target_properties(limn_mpi_static PROPERTIES OUTPUT_NAME limn_mpi EXPORT_NAME mpi_static
+                        LINKER_LANGUAGE C ARCHIVE_OUTPUT_DIRECTORY ${LIMN_DIST_DIR})
+  target_include_directories(limn_mpi_static INTERFACE ${LIMN_PUBLIC_INCLUDE})
+  target_link_libraries(limn_mpi_static INTERFACE limn_static MPI::MPI_C
+                        ${LIMN_MPI_DEPENDENCIES})
+
+  install(TARGETS limn_mpi_shared EXPORT limnMpiTargets LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(TARGETS limn_mpi_static EXPORT limnMpiStaticTargets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(FILES ${PROJECT_SOURCE_DIR}/include/limn_mpi.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  install(EXPORT limnMpiTargets NAMESPACE limn:: DESTINATION ${LIMN_CMAKE_DIR})
+  install(EXPORT limnMpiStaticTargets NAMESPACE limn:: DESTINATION ${LIMN_CMAKE_DIR})
+  install(FILES ${CMAKE_CURRENT_LIST_DIR}/limnMpiDependencies.cmake DESTINATION ${LIMN_CMAKE_DIR})
+
+  # limn-mpi.pc: MPI's own compile and link flags, as CMake found them
+  set(LIMN_PC_MPI_CFLAGS ${MPI_C_COMPILE_OPTIONS})
+  foreach(d ${MPI_C_COMPILE_DEFINITIONS})
+    list(APPEND LIMN_PC_MPI_CFLAGS -D${d})
+  endforeach()
+  foreach(d ${MPI_C_INCLUDE_DIRS})
+    list(APPEND LIMN_PC_MPI_CFLAGS -I${d})
+  endforeach()
+  set(LIMN_PC_MPI_LIBS ${MPI_C_LINK_FLAGS} ${MPI_C_LIBRARIES})
+  list(JOIN LIMN_PC_MPI_CFLAGS " " LIMN_PC_MPI_CFLAGS)
+  list(JOIN LIMN_PC_MPI_LIBS " " LIMN_PC_MPI_LIBS)
+  configure_file(${CMAKE_CURRENT_LIST_DIR}/limn-mpi.pc.in ${CMAKE_CURRENT_BINARY_DIR}/limn-mpi.pc
+                 @ONLY)
+  install(FILES ${CMAKE_CURRENT_BINARY_DIR}/limn-mpi.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+endif()

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * limn over MPI (optional, built with -DLIMN_MPI=ON): the interpolation and
- * the series filters of limn.h with the mesh's vertices split across the
- * ranks of the caller's communicator (README "MPI").
+ * the series filters (bands, smooth, denoise, sharpen, morph) of limn.h with
+ * the mesh's vertices split across the ranks of the caller's communicator
+ * (README "MPI").
  *
  * Every call here is collective over comm: every rank calls it, with the same
  * options; the input mesh is read only on the root rank (others pass NULL)
@@ -26,6 +27,10 @@
  * sizeof r.stats};`). A size refused on one rank is refused on every rank (one
  * Allreduce over comm before any other work). A result too short to hold the
  * piece fields gets no piece.
+ *
+ * Installed (docs/mpi.md "Installing the MPI layer"): liblimn_mpi.so / .a,
+ * linked together with liblimn.so / .a of the same install
+ * (find_package(limn COMPONENTS mpi): limn::mpi; pkg-config limn-mpi).
  */
 #ifndef LIMN_MPI_H
 #define LIMN_MPI_H
@@ -43,7 +48,7 @@ typedef struct limn_mpi_options {
     int keep_piece;           /* 1: return this rank's piece in limn_mpi_result; default 0 */
 } limn_mpi_options;
 
-void limn_mpi_options_default(limn_mpi_options *options);
+LIMN_API void limn_mpi_options_default(limn_mpi_options *options);
 
 /* What one rank did (each rank fills its own). */
 typedef struct limn_mpi_stats {
@@ -80,7 +85,7 @@ typedef struct limn_mpi_result {
     uint32_t *piece_vertices;
 } limn_mpi_result;
 
-void limn_mpi_result_free(limn_mpi_result *result);
+LIMN_API void limn_mpi_result_free(limn_mpi_result *result);
 
 /*
  * limn_interpolate over comm. mesh: the input on root (NULL elsewhere);
@@ -88,33 +93,134 @@ void limn_mpi_result_free(limn_mpi_result *result);
  * is filled on every rank with the global figures. mpi and result may be
  * NULL. Methods as limn_interpolate (auto = chebyshev): paper, chebyshev and
  * weighted take the single process's iteration count (paper and chebyshev
- * its bits); cg reduces its dot products over the ranks in double-double, but
- * each rank first sums its own rows, so it agrees with the single process to
- * rounding (README "MPI" has the measured gap).
+ * its bits), in double and in float (precision chosen as limn_interpolate
+ * does, on the whole mesh's vertex count); cg and sgs reduce their dot
+ * products over the ranks in double-double, but each rank first sums its own
+ * rows, so they agree with the single process to rounding (README "MPI" has
+ * the measured gap); sgs sweeps with the root's colouring.
  */
-limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                                 const limn_interpolate_options *options, limn_mesh **control,
-                                 limn_report *report, const limn_mpi_options *mpi,
-                                 limn_mpi_result *result);
+LIMN_API limn_status limn_interpolate_mpi(limn_context *ctx, MPI_Comm comm,
+                                          const limn_mesh *mesh,
+                                          const limn_interpolate_options *options,
+                                          limn_mesh **control, limn_report *report,
+                                          const limn_mpi_options *mpi, limn_mpi_result *result);
 
 /* limn_smooth over comm (input and *out on root). */
-limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                            const limn_series_options *options, int terms, limn_mesh **out,
-                            limn_series_report *report, const limn_mpi_options *mpi,
-                            limn_mpi_result *result);
+LIMN_API limn_status limn_smooth_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                     const limn_series_options *options, int terms, limn_mesh **out,
+                                     limn_series_report *report, const limn_mpi_options *mpi,
+                                     limn_mpi_result *result);
 
 /* limn_denoise over comm (input and *out on root). */
-limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
-                             const limn_series_options *options, int m, int steps,
-                             int keep_volume, limn_mesh **out, limn_series_report *report,
-                             const limn_mpi_options *mpi, limn_mpi_result *result);
+LIMN_API limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                      const limn_series_options *options, int m, int steps,
+                                      int keep_volume, limn_mesh **out, limn_series_report *report,
+                                      const limn_mpi_options *mpi, limn_mpi_result *result);
+
+/* limn_sharpen over comm (input and *out on root): the single process's bits. */
+LIMN_API limn_status limn_sharpen_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                      const limn_series_options *options, int from, int to,
+                                      int steps, limn_mesh **out, limn_series_report *report,
+                                      const limn_mpi_options *mpi, limn_mpi_result *result);
+
+/* limn_bands over comm: mesh, bands ((count + 1) * 3 * vertices doubles) and
+   energy (count + 1) on root (bands and energy may be NULL there; ignored
+   elsewhere). Bands and energies are the single process's bits: each band
+   is gathered to the root, which sums its energy as the single process's
+   device does. keep_piece is ignored. */
+LIMN_API limn_status limn_bands_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                    const limn_series_options *options, int count, double *bands,
+                                    double *energy, limn_series_report *report,
+                                    const limn_mpi_options *mpi, limn_mpi_result *result);
 
 /* limn_morph over comm: FROM and TO on root; fn is called on root only, once
    per frame in order (its failure stops every rank). keep_piece is ignored. */
-limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
-                           const limn_mesh *to, const limn_morph_options *options,
-                           limn_morph_frame_fn fn, void *user, limn_series_report *report,
-                           const limn_mpi_options *mpi, limn_mpi_result *result);
+LIMN_API limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,
+                                    const limn_mesh *to, const limn_morph_options *options,
+                                    limn_morph_frame_fn fn, void *user, limn_series_report *report,
+                                    const limn_mpi_options *mpi, limn_mpi_result *result);
+
+
+/* ------------------------------------------------------- distributed meshes
+ *
+ * A mesh spread over the ranks of a communicator with no rank holding all of
+ * it (docs/mpi.md "Distributed meshes"). Every rank's handle holds one block
+ * of the vertices, [vertex_begin, vertex_begin + vertex_count) of the whole
+ * mesh's numbering, and one block of its faces, whose indices are global;
+ * the blocks follow the rank order. Each handle keeps its own duplicate of
+ * the communicator. Every call below is collective over it (the same options
+ * on every rank) and returns the same status on every rank, the lowest
+ * failing rank's message in every context.
+ */
+typedef struct limn_mpi_mesh limn_mpi_mesh;
+
+/* Every rank reads its own slice of the file at path: binary PLY by byte
+   offsets, OBJ / OFF / ASCII PLY by byte ranges cut at line ends (the format
+   from the extension); STL is refused (its vertices are welded over the
+   whole file); format LIMN_FORMAT_AUTO from the extension, or one of those.
+   The blocks' concatenation is limn_mesh_read's mesh. */
+LIMN_API limn_status limn_mpi_mesh_read(limn_context *ctx, MPI_Comm comm, const char *path,
+                                        limn_format format, limn_mpi_mesh **out);
+
+/* The same from a split input: rank p reads NAME.r<p>.ply (name given with
+   or without ".ply"), made by limn_mpi_mesh_write_split or by the caller in
+   the format of docs/mpi.md; the ranks must be as many as the files. */
+LIMN_API limn_status limn_mpi_mesh_read_split(limn_context *ctx, MPI_Comm comm, const char *name,
+                                              limn_mpi_mesh **out);
+/* Writes the split input of mesh: rank p writes NAME.r<p>.ply, its blocks. */
+LIMN_API limn_status limn_mpi_mesh_write_split(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                               const char *name);
+
+/* A distributed mesh from every rank's own arrays (copied): this rank's
+   vertex_count vertices follow the previous ranks' ones, its face_count
+   faces (CSR, face_offsets[0] = 0) the previous ranks' faces; face indices
+   are global. */
+LIMN_API limn_status limn_mpi_mesh_create(limn_context *ctx, MPI_Comm comm, size_t vertex_count,
+                                          const double *positions, size_t face_count,
+                                          const uint32_t *face_offsets,
+                                          const uint32_t *face_indices, limn_mpi_mesh **out);
+
+LIMN_API void limn_mpi_mesh_destroy(limn_mpi_mesh *mesh);
+
+/* This rank's blocks (pointers valid until the handle is destroyed) and the
+   whole mesh's counts. */
+LIMN_API size_t limn_mpi_mesh_vertex_begin(const limn_mpi_mesh *mesh);
+LIMN_API size_t limn_mpi_mesh_vertex_count(const limn_mpi_mesh *mesh);
+LIMN_API size_t limn_mpi_mesh_vertex_total(const limn_mpi_mesh *mesh);
+LIMN_API size_t limn_mpi_mesh_face_begin(const limn_mpi_mesh *mesh);
+LIMN_API size_t limn_mpi_mesh_face_count(const limn_mpi_mesh *mesh);
+LIMN_API size_t limn_mpi_mesh_face_total(const limn_mpi_mesh *mesh);
+LIMN_API const double *limn_mpi_mesh_positions(const limn_mpi_mesh *mesh);
+LIMN_API const uint32_t *limn_mpi_mesh_face_offsets(const limn_mpi_mesh *mesh);
+LIMN_API const uint32_t *limn_mpi_mesh_face_indices(const limn_mpi_mesh *mesh);
+
+/* limn_mesh_repair over the ranks: faces that use a vertex twice are
+   repaired as the single process repairs them (the face blocks renumbered),
+   report (may be NULL) and warnings with global numbers. Duplicate faces are
+   not looked for yet under MPI (options->duplicate_faces is refused). */
+LIMN_API limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh,
+                                          const limn_repair_options *options,
+                                          limn_repair_report *report);
+
+/* Writes the whole mesh to path: every rank writes its blocks at their
+   offsets (MPI-IO), the same bytes as limn_mesh_write_with of the whole
+   mesh, the file whole or not at all. options (NULL: the defaults) and
+   report (may be NULL; its mean error is summed over the ranks, so it may
+   differ from the single process's in the last bits) as there. */
+LIMN_API limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                         const char *path, limn_format format,
+                                         const limn_write_options *options,
+                                         limn_write_report *report);
+
+/* limn_interpolate on a distributed mesh: the vertices partitioned over the
+   ranks in parallel (PT-Scotch), each rank building its own rows from the
+   faces around its vertices; *control gets a distributed mesh with the same
+   blocks. The results of limn_interpolate_mpi (the single process's). */
+LIMN_API limn_status limn_mpi_mesh_interpolate(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                               const limn_interpolate_options *options,
+                                               limn_mpi_mesh **control, limn_report *report,
+                                               const limn_mpi_options *mpi,
+                                               limn_mpi_result *result);
 
 #ifdef __cplusplus
 }

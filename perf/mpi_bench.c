@@ -110,6 +110,9 @@ int main(int argc, char **argv)
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     limn_interpolate_options o;
     limn_interpolate_options_default(&o);
+    /* double unless asked: auto picks float from 200,000 vertices, under MPI
+       too, and the figures of docs/mpi.md were measured in double */
+    o.precision = LIMN_PRECISION_DOUBLE;
     const char *path = NULL, *device = NULL;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--tol") == 0 && i + 1 < argc)
@@ -120,6 +123,10 @@ int main(int argc, char **argv)
                        : strcmp(argv[i], "chebyshev") == 0   ? LIMN_METHOD_CHEBYSHEV
                        : strcmp(argv[i], "paper") == 0       ? LIMN_METHOD_PAPER
                                                              : LIMN_METHOD_AUTO;
+        else if (strcmp(argv[i], "--precision") == 0 && i + 1 < argc)
+            o.precision = strcmp(argv[++i], "float") == 0  ? LIMN_PRECISION_FLOAT
+                          : strcmp(argv[i], "auto") == 0   ? LIMN_PRECISION_AUTO
+                                                           : LIMN_PRECISION_DOUBLE;
         else if (strcmp(argv[i], "--repeat") == 0 && i + 1 < argc)
             repeat = atoi(argv[++i]);
         else if (strcmp(argv[i], "--parts") == 0 && i + 1 < argc)

@@ -64,7 +64,8 @@ def main():
     bench = os.path.join(args.build, "perf", "mpi_bench")
     if not os.path.exists(bench):
         sys.exit("perf/mpi_bench is missing: bash scripts/build.sh -DLIMN_BUILD_PERF=ON "
-                 "(needs LIMN_MPI: apt-get install libopenmpi-dev openmpi-bin libmetis-dev)")
+                 "(needs LIMN_MPI: apt-get install libopenmpi-dev openmpi-bin libmetis-dev "
+                 "libptscotch-dev)")
     mesh = args.mesh
     if not mesh:
         os.makedirs(os.path.join(ROOT, "out"), exist_ok=True)

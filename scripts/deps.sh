@@ -5,7 +5,7 @@
 #   scripts/deps.sh --test   also the test-only ones (cmocka, OpenSubdiv, clang
 #                            and its libFuzzer runtime for scripts/fuzz.sh,
 #                            Oclgrind for tests/test_oclgrind.sh), and
-#                            Open MPI + METIS so that the MPI layer is built and
+#                            Open MPI + METIS + PT-Scotch so that the MPI layer is built and
 #                            tested (optional for users: LIMN_MPI, README "MPI"),
 #                            and locales (test_locale generates de_DE.UTF-8),
 #                            and python3-venv + python3-dev for the Python
@@ -16,7 +16,8 @@ packages=(gcc g++ make cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-o
           libhwloc-dev)
 if [[ "${1:-}" == "--test" ]]; then
     packages+=(libcmocka-dev libosd-dev clang-14 libclang-rt-14-dev oclgrind
-               libopenmpi-dev openmpi-bin libmetis-dev locales python3-venv python3-dev)
+               libopenmpi-dev openmpi-bin libmetis-dev libptscotch-dev locales python3-venv
+               python3-dev)
 fi
 
 missing=()

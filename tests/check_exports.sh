@@ -4,11 +4,13 @@
 # header marks LIMN_API is a defined global of liblimn.so (nm -D) and of
 # liblimn.a, and nothing else is (internal functions are hidden in the .so and
 # local in the archive, so they cannot clash with an application's symbols),
-# and no function prototype of the header lacks LIMN_API.
-#   check_exports.sh LIBDIR HEADER
+# and no function prototype of the header lacks LIMN_API. NAME (default
+# limn) picks the library: limn_mpi checks liblimn_mpi.so / .a against
+# limn_mpi.h (limn.h's functions are local there: liblimn.so has them).
+#   check_exports.sh LIBDIR HEADER [NAME]
 set -euo pipefail
-libdir=$1 header=$2
-so=$libdir/liblimn.so a=$libdir/liblimn.a
+libdir=$1 header=$2 name=${3:-limn}
+so=$libdir/lib$name.so a=$libdir/lib$name.a
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -37,5 +39,5 @@ for lib in so a; do
 done
 n=$(wc -l <"$tmp/api")
 [[ $n -gt 0 ]] || { echo "check_exports: no LIMN_API function found in $header" >&2; exit 1; }
-[[ $status -eq 0 ]] && echo "check_exports: liblimn.so and liblimn.a export the $n LIMN_API functions, nothing else"
+[[ $status -eq 0 ]] && echo "check_exports: lib$name.so and lib$name.a export the $n LIMN_API functions, nothing else"
 exit $status

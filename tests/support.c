@@ -265,3 +265,32 @@ void test_assert_same_mesh(const limn_mesh *a, const limn_mesh *b)
     if (limn_mesh_colors(a))
         assert_memory_equal(limn_mesh_colors(a), limn_mesh_colors(b), nv * 3);
 }
+
+limn_mesh *test_mesh_shuffle(limn_context *ctx, limn_mesh *a, unsigned seed)
+{
+    size_t n = limn_mesh_vertex_count(a), nf = limn_mesh_face_count(a);
+    const uint32_t *off = limn_mesh_face_offsets(a), *idx = limn_mesh_face_indices(a);
+    uint32_t *perm = malloc(n * sizeof *perm), *idx2 = malloc(off[nf] * sizeof *idx2);
+    double *pos = malloc(3 * n * sizeof *pos);
+    for (size_t i = 0; i < n; i++)
+        perm[i] = (uint32_t)i;
+    unsigned long long s = seed;
+    for (size_t i = n - 1; i > 0; i--) {
+        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+        size_t j = (size_t)((s >> 33) % (i + 1));
+        uint32_t t = perm[i];
+        perm[i] = perm[j];
+        perm[j] = t;
+    }
+    for (size_t i = 0; i < n; i++)
+        memcpy(pos + 3 * perm[i], limn_mesh_positions(a) + 3 * i, 3 * sizeof *pos);
+    for (size_t k = 0; k < off[nf]; k++)
+        idx2[k] = perm[idx[k]];
+    limn_mesh *m = NULL;
+    limn_mesh_create(ctx, n, pos, nf, off, idx2, &m);
+    free(perm);
+    free(idx2);
+    free(pos);
+    limn_mesh_destroy(a);
+    return m;
+}

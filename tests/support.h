@@ -25,6 +25,9 @@ limn_mesh *test_mesh_icosahedron(limn_context *ctx);
 limn_mesh *test_mesh_pyramid(limn_context *ctx);
 /* n faces around one interior vertex of valence n (triangles or quads). */
 limn_mesh *test_mesh_fan(limn_context *ctx, int n, int triangles);
+/* a with its vertices renumbered by a fixed pseudo-random permutation (rows
+   that hop around memory: RCM runs); frees a. */
+limn_mesh *test_mesh_shuffle(limn_context *ctx, limn_mesh *a, unsigned seed);
 /* Moves every vertex by a deterministic pseudo-random offset in [-amp, amp]^3. */
 void test_perturb(limn_mesh *mesh, double amp, unsigned seed);
 

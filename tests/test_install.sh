@@ -54,13 +54,7 @@ for kind in shared static; do
     dir=$tmp/cmake-$kind
     static=OFF
     [[ $kind == static ]] && static=ON
-    if ! { cmake -S "$src/examples/embed" -B "$dir" -DCMAKE_PREFIX_PATH="$prefix" \
-                 -DCMAKE_C_COMPILER="$cc" -DEMBED_STATIC=$static -DCMAKE_BUILD_TYPE=Release \
-                 -DCMAKE_C_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" &&
-           cmake --build "$dir"; } >"$tmp/log" 2>&1; then
-        cat "$tmp/log"
-        fail "find_package build ($kind) failed"
-    fi
+    cmake_example "$src/examples/embed" "$dir" "$cc" "$flags" -DEMBED_STATIC=$static
     # the shared one finds liblimn.so through the RPATH CMake sets
     check_run "find_package, $kind" "$dir/embed" $kind
 done

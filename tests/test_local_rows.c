@@ -9,8 +9,9 @@
  * the same columns (mapped back) in the same order and the same weights bit
  * for bit, for Loop and Catmull-Clark (alpha 0 and 0.5), on meshes with
  * boundaries, corners, non-manifold edges and vertices, several components
- * and isolated vertices. So ranks could build their own rows from their faces;
- * the MPI layer ships the root's rows instead (mpi_distribute.c says why).
+ * and isolated vertices. So ranks can build their own rows from their faces
+ * (mpi_local.c; test_mpi_local). And the RCM permutation keeps each row's
+ * entries in order, so a reordered solve gives the input order's bits.
  */
 #include "support.h"
 
@@ -167,4 +168,38 @@ static void shared(void **st)
     }
 }
 
-TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated), CONTEXT_TEST(shared))
+/* The RCM permutation keeps each row's entries in their order (columns
+   renamed, stencil_permute), so a reordered solve sums every row as the
+   input-order one does: the paper and weighted iterations give the same
+   bits with and without reordering, and so do rows built per rank. */
+static void reordered(void **st)
+{
+    limn_context *ctx = *st;
+    assert_int_equal(limn_context_set_device(ctx, "reference"), LIMN_OK);
+    limn_mesh *tri = test_keep_mesh(test_mesh_shuffle(ctx, test_mesh_grid(ctx, 90, 60, 1), 7));
+    limn_mesh *quad = test_keep_mesh(test_mesh_shuffle(ctx, test_mesh_grid(ctx, 90, 60, 0), 7));
+    static const limn_method methods[] = {LIMN_METHOD_PAPER, LIMN_METHOD_WEIGHTED};
+    for (int k = 0; k < 4; k++) {
+        limn_interpolate_options o;
+        limn_interpolate_options_default(&o);
+        o.method = methods[k % 2];
+        o.alpha = k < 2 ? 0.0 : 0.5;
+        const limn_mesh *m = k < 2 ? tri : quad;
+        limn_mesh *a = NULL, *b = NULL;
+        limn_report ra = {.size = sizeof ra}, rb = {.size = sizeof rb};
+        assert_int_equal(limn_interpolate(ctx, m, &o, &a, &ra), LIMN_OK);
+        o.reorder = 0;
+        assert_int_equal(limn_interpolate(ctx, m, &o, &b, &rb), LIMN_OK);
+        assert_int_equal(ra.reordered, 1);
+        assert_int_equal(rb.reordered, 0);
+        assert_int_equal(ra.iterations, rb.iterations);
+        size_t n3 = 3 * limn_mesh_vertex_count(m);
+        assert_memory_equal(limn_mesh_positions(a), limn_mesh_positions(b), n3 * sizeof(double));
+        printf("  shuffled %s grid, %-8s: RCM and input order, %d iterations, same bits\n",
+               k < 2 ? "triangle" : "quad", ra.method, ra.iterations);
+        limn_mesh_destroy(a);
+        limn_mesh_destroy(b);
+    }
+}
+
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated), CONTEXT_TEST(shared), CONTEXT_TEST(reordered))

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * `mpirun -np N limn ...` as a user meets it (2 and 3 ranks): interpolate,
- * smooth, denoise and morph write the very bytes of one process (paper
- * iteration and series: every row is summed in the same order), weighted and
- * cg agree to 1e-12 with the same iteration count; --per-rank-output writes
+ * `mpirun -np N limn ...` as a user meets it (2 and 3 ranks; bands and
+ * sharpen also 5): interpolate (--precision float too), bands, smooth,
+ * denoise, sharpen and morph write the very bytes of one process (paper
+ * iteration and series: every row is summed in the same order), weighted,
+ * cg and sgs agree to 1e-12 with the same iteration count; --per-rank-output writes
  * one piece per rank; a bad input gives one message, exit status 1 on every
  * rank, no output and no hang; commands that do not run distributed refuse.
  * Meshes: generated with several components, boundaries and an isolated
@@ -185,6 +186,11 @@ static void interpolate_generated(void **s)
         interpolate_same(at("quad.obj"), "--alpha 0.5", ranks, 1);
         interpolate_same(at("quad.obj"), "--alpha 0.5 --method weighted", ranks, 0);
         interpolate_same(at("quad.obj"), "--alpha 0.5 --method cg", ranks, 0);
+        interpolate_same(at("tri.obj"), "--precision float", ranks, 1);
+        interpolate_same(at("tri.obj"), "--method sgs", ranks, 0);
+        interpolate_same(at("quad.obj"), "--alpha 0.5 --method sgs", ranks, 0);
+        interpolate_same(at("quad.obj"), "--alpha 0.5 --precision float --method paper", ranks,
+                         1);
     }
 }
 
@@ -235,6 +241,46 @@ static void series_same(void **s)
         snprintf(b, sizeof b, "f2/f%d.ply", k);
         assert_true(test_same_bytes(at(a), at(b)));
     }
+}
+
+/* bands (every band, the remainder and the energy file) and sharpen: the
+   single process's bytes on 2, 3 and 5 ranks. */
+static void bands_sharpen_same(void **s)
+{
+    (void)s;
+    write_inputs();
+    static const char *files[] = {"_band0.ply", "_band1.ply", "_remainder.ply", "_energy.json"};
+    for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
+        char args[1024], a[64], b[64];
+        snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2 -q", at("tri.obj"), at("b1"));
+        assert_int_equal(run(0, args), 0);
+        snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2", at("tri.obj"), at("b2"));
+        if (run(ranks, args) != 0)
+            fail_msg("%s", test_text);
+        assert_int_equal(count(test_text, "bands + remainder written"), 1);
+        for (int k = 0; k < 4; k++) {
+            snprintf(a, sizeof a, "b1%s", files[k]);
+            snprintf(b, sizeof b, "b2%s", files[k]);
+            assert_true(test_same_bytes(at(a), at(b)));
+        }
+        snprintf(args, sizeof args, "sharpen '%s' -o '%s' --from 1 --to 2 --steps 2 -q",
+                 at("quad.obj"), at("s1.ply"));
+        assert_int_equal(run(0, args), 0);
+        snprintf(args, sizeof args, "sharpen '%s' -o '%s' --from 1 --to 2 --steps 2 -q",
+                 at("quad.obj"), at("s2.ply"));
+        if (run(ranks, args) != 0)
+            fail_msg("%s", test_text);
+        assert_true(test_same_bytes(at("s1.ply"), at("s2.ply")));
+        printf("  bands --count 2 and sharpen, %d ranks: same bytes\n", ranks);
+    }
+    /* a failure reaches every rank: one message, nothing written */
+    assert_int_equal(test_write_text(at("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n"), 0);
+    char args[1024];
+    snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2", at("broken.obj"), at("bad"));
+    assert_int_equal(run(3, args), 1);
+    assert_int_equal(count(test_text, "limn bands: error:"), 1);
+    assert_false(test_file_exists(at("bad_band0.ply")));
+    assert_false(test_file_exists(at("bad_energy.json")));
 }
 
 static void per_rank(void **s)
@@ -347,12 +393,12 @@ static void errors(void **s)
              at("bad.ply"));
     assert_int_equal(run(3, args), 2);
     assert_int_equal(count(test_text, "--tol -1 must be positive"), 1);
-    /* a method that does not run distributed: an argument error (status 2),
-       one message, nothing written */
-    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --method sgs", at("quad.obj"),
-             at("bad.ply"));
-    assert_int_equal(run(2, args), 2);
-    assert_int_equal(count(test_text, "method sgs is not available under MPI"), 1);
+    /* options the single process refuses: an argument error (status 2), one
+       message, nothing written */
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' --method cg --precision float",
+             at("quad.obj"), at("bad.ply"));
+    assert_int_equal(run(3, args), 2);
+    assert_int_equal(count(test_text, "precision float runs the chebyshev"), 1);
     assert_false(test_file_exists(at("bad.ply")));
     /* a command that does not run distributed */
     snprintf(args, sizeof args, "info '%s'", at("quad.obj"));
@@ -369,7 +415,8 @@ int main(void)
         return 77;
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(interpolate_generated), cmocka_unit_test(interpolate_shared),
-        cmocka_unit_test(series_same),           cmocka_unit_test(per_rank),
+        cmocka_unit_test(series_same),           cmocka_unit_test(bands_sharpen_same),
+        cmocka_unit_test(per_rank),
         cmocka_unit_test(device_per_rank),       cmocka_unit_test(errors),
     };
     return cmocka_run_group_tests(tests, setup, test_scratch_teardown);

@@ -220,9 +220,36 @@ limn_status cli_mpi_smooth(limn_context *ctx, const limn_mesh *mesh,
 limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
                             const limn_series_options *o, int m, int steps, int keep_volume,
                             limn_mesh **out, limn_series_report *r, limn_mesh **piece);
+limn_status cli_mpi_sharpen(limn_context *ctx, const limn_mesh *mesh,
+                            const limn_series_options *o, int from, int to, int steps,
+                            limn_mesh **out, limn_series_report *r, limn_mesh **piece);
+/* bands and energy: the root's (NULL elsewhere). */
+limn_status cli_mpi_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *o,
+                          int count, double *bands, double *energy, limn_series_report *r);
 limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
                           const limn_morph_options *o, limn_morph_frame_fn fn, void *user,
                           limn_series_report *r);
+/* Under several ranks: whether the command can run on slices of its input,
+   no rank holding the whole mesh (a .ply, .obj or .off input file, an output
+   file, no --per-rank-output). */
+int cli_mpi_sliced(const char *input, limn_format in_format, const char *output, int per_rank);
+/* What a sliced run reads and writes. */
+typedef struct cli_sliced_job {
+    const char *cmd, *input, *output;
+    const cli_repair *repair;
+    limn_format in_format, out_format;
+    const limn_write_options *write;
+} cli_sliced_job;
+/* interpolate on slices (limn_mpi.h's distributed meshes): every rank reads
+   its slice, repairs it, builds its rows, solves and writes its share of the
+   output; seconds[0] the load, seconds[1] the write; *written the output's
+   error (float32 positions). */
+limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                       const limn_interpolate_options *o, limn_report *r,
+                                       limn_write_report *written, double seconds[2]);
+/* Collective: every rank's peak resident memory so far, to rank 0, for the
+   report's per_rank entries. */
+void cli_mpi_note_memory(void);
 void cli_mpi_json(json_out *j);
 void cli_mpi_print(void);
 #define CLI_MPI_HELP                                                                           \

@@ -132,9 +132,11 @@ static limn_status compute(series_cli *c, limn_context *ctx, const limn_mesh *in
                            extra *e, limn_series_report *r)
 {
     cli_progress_enable(ctx, c->a.quiet);
-    limn_status st = limn_bands(ctx, in, &c->opt, e->count, bands, e->energy, r);
+    limn_status st = cli_mpi_ranks() > 1
+                         ? cli_mpi_bands(ctx, in, &c->opt, e->count, bands, e->energy, r)
+                         : limn_bands(ctx, in, &c->opt, e->count, bands, e->energy, r);
     cli_progress_done();
-    if (st)
+    if (st || !in) /* under mpirun: the root has the input and the bands */
         return st;
     size_t n3 = 3 * limn_mesh_vertex_count(in);
     const double *m = limn_mesh_positions(in);
@@ -190,20 +192,18 @@ static int run(series_cli *c, extra *e)
     int written = 0;
     limn_status st = series_cli_load(c, &ctx, in);
     s.load = cli_now() - s.t0;
-    size_t n3 = in[0] ? 3 * limn_mesh_vertex_count(in[0]) : 0;
+    size_t n3 = in[0] ? 3 * limn_mesh_vertex_count(in[0]) : 0; /* under mpirun: the root's */
     e->energy = calloc((size_t)e->count + 1, sizeof *e->energy);
-    if (!st && (n3 / 3 > ((size_t)1 << 40) / 24 / ((size_t)e->count + 1) ||
-                !(bands = malloc(((size_t)e->count + 1) * n3 * sizeof *bands)) || !e->energy)) {
-        fprintf(stderr, "limn bands: error: out of memory for %d bands of %zu vertices\n",
-                e->count + 1, n3 / 3);
-        st = LIMN_ERR_MEMORY;
-        limn_context_destroy(ctx);
-        ctx = NULL;
-    }
+    if (!st && (n3 / 3 > ((size_t)1 << 40) / 24 / ((size_t)e->count + 1) || !e->energy ||
+                (in[0] && !(bands = malloc(((size_t)e->count + 1) * n3 * sizeof *bands)))))
+        st = cli_error(LIMN_ERR_MEMORY, "out of memory for %d bands of %zu vertices",
+                       e->count + 1, n3 / 3);
+    if (ctx)
+        st = cli_mpi_agree(ctx, st);
     if (!st)
         st = compute(c, ctx, in[0], bands, e, &r);
     double t = cli_now();
-    if (!st)
+    if (!st && in[0])
         st = write_bands(c, ctx, in[0], bands, e, &r, &written);
     s.write = cli_now() - t;
     series_extra x = {json_extra, print_extra, e};
@@ -229,13 +229,14 @@ int cli_bands(int argc, char **argv)
         return rc < 0 ? 0 : rc;
     if (e.count < 0)
         return cli_usage_error(c.a.cmd, "--count N is required");
-    if ((rc = series_cli_check(&c, 0)))
+    if ((rc = cli_mpi_root_rc(series_cli_check(&c, 0))))
         return rc;
     if (c.a.out_format == LIMN_FORMAT_AUTO)
         c.a.out_format = LIMN_FORMAT_PLY;
     rc = make_names(&c, &e);
     if (!rc)
         rc = check_names(&c, &e);
+    rc = cli_mpi_root_rc(rc); /* under mpirun: the root decides */
     if (!rc)
         rc = run(&c, &e);
     free_names(&e);

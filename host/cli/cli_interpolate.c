@@ -291,6 +291,52 @@ static limn_status solve(args *x, limn_context *ctx, const limn_mesh *mesh, limn
     return st;
 }
 
+/* Under several ranks on a file input (cli_mpi_sliced): every rank reads,
+   repairs, solves and writes its share, none holding the whole mesh; the
+   report after the mesh (rank 0). */
+static int interpolate_sliced(args *x)
+{
+    limn_context *ctx = limn_context_create();
+    if (!ctx) {
+        fprintf(stderr, "limn interpolate: error: out of memory\n");
+        return EXIT_FAILURE_RUN;
+    }
+    int root = cli_mpi_rank() == 0, rc = 0;
+    limn_report r = {.size = sizeof r};
+    limn_write_report wr = {.size = sizeof wr};
+    limn_write_options wo;
+    limn_write_options_default(&wo);
+    wo.precision = x->a.precision;
+    cli_sliced_job job = {"interpolate", x->a.inputs[0], x->a.output, &x->a.repair,
+                          x->a.in_format, x->a.out_format, &wo};
+    double sec[3] = {0, 0, 0}, t0 = cli_now();
+    limn_status st = cli_mpi_agree(ctx, cli_args_open(&x->a, ctx, x->sub.max_memory, 0, NULL));
+    if (!st) {
+        cli_progress_enable(ctx, x->a.quiet);
+        st = cli_mpi_interpolate_sliced(ctx, &job, &x->opt, &r, &wr, sec);
+        cli_progress_done();
+    }
+    sec[2] = cli_now() - t0;
+    cli_mpi_note_memory();
+    x->a.written = wr;
+    x->a.wrote = !st;
+    limn_output_set *set = NULL;
+    if (!st)
+        st = limn_output_set_create(ctx, &set);
+    if (!st && root && x->a.report)
+        st = write_report(ctx, x, &r, NULL, sec, set);
+    st = cli_commit_outputs(ctx, st, set);
+    if (st)
+        rc = cli_fail("interpolate", ctx, st);
+    else if (!x->a.quiet) {
+        print_summary(ctx, x, &r, sec);
+        cli_args_print_written(&x->a);
+        cli_mpi_print();
+    }
+    limn_context_destroy(ctx);
+    return rc;
+}
+
 int cli_interpolate(int argc, char **argv)
 {
     args x = {0};
@@ -300,6 +346,9 @@ int cli_interpolate(int argc, char **argv)
     int root = cli_mpi_rank() == 0;
     x.a.quiet |= !root; /* under mpirun rank 0 prints */
     cli_mpi_set_per_rank(x.a.per_rank);
+    if (cli_mpi_ranks() > 1 && !x.surface && x.opt.method != LIMN_METHOD_SGS &&
+        cli_mpi_sliced(x.a.inputs[0], x.a.in_format, x.a.output, x.a.per_rank))
+        return interpolate_sliced(&x);
     limn_context *ctx = limn_context_create();
     if (!ctx) {
         fprintf(stderr, "limn interpolate: error: out of memory\n");
@@ -335,6 +384,7 @@ int cli_interpolate(int argc, char **argv)
         sec[1] = cli_now() - t1;
         sec[2] = cli_now() - t0;
     }
+    cli_mpi_note_memory();
     if (!st && root && x.a.report)
         st = write_report(ctx, &x, &r, x.surface ? &sr : NULL, sec, set);
     st = cli_commit_outputs(ctx, st, set);

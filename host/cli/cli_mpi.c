@@ -2,8 +2,8 @@
 /*
  * limn under mpirun (built with LIMN_MPI). main() calls cli_mpi_main when an
  * MPI launcher started the process; with one rank everything runs exactly as
- * without MPI. With several, interpolate, smooth, denoise and morph run
- * distributed (include/limn_mpi.h): the root (rank 0) reads, writes and
+ * without MPI. With several, interpolate, bands, smooth, denoise, sharpen and
+ * morph run distributed (include/limn_mpi.h): the root (rank 0) reads, writes and
  * prints, every rank computes its share, and every failure is agreed on so
  * that all ranks exit with the same status and the message is printed once.
  * The other commands refuse to run on several ranks.
@@ -19,7 +19,8 @@ static struct {
     int rank, size;
     int per_rank;               /* --per-rank-output was given */
     limn_mpi_stats *all;        /* root: every rank's figures of the last call */
-} g = {0, 1, 0, NULL};
+    long long *rss;             /* root: every rank's peak resident bytes (cli_mpi_note_memory) */
+} g = {0, 1, 0, NULL, NULL};
 
 int cli_mpi_launched(void)
 {
@@ -131,6 +132,32 @@ limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
     return st;
 }
 
+limn_status cli_mpi_sharpen(limn_context *ctx, const limn_mesh *mesh,
+                            const limn_series_options *o, int from, int to, int steps,
+                            limn_mesh **out, limn_series_report *r, limn_mesh **piece)
+{
+    limn_mpi_options mo = options();
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    limn_status st =
+        limn_sharpen_mpi(ctx, MPI_COMM_WORLD, mesh, o, from, to, steps, out, r, &mo, &res);
+    collect(&res);
+    adopt_piece(&res, piece);
+    return st;
+}
+
+limn_status cli_mpi_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *o,
+                          int count, double *bands, double *energy, limn_series_report *r)
+{
+    limn_mpi_options mo = options();
+    mo.keep_piece = 0;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    limn_status st =
+        limn_bands_mpi(ctx, MPI_COMM_WORLD, mesh, o, count, bands, energy, r, &mo, &res);
+    collect(&res);
+    limn_mpi_result_free(&res);
+    return st;
+}
+
 limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
                           const limn_morph_options *o, limn_morph_frame_fn fn, void *user,
                           limn_series_report *r)
@@ -142,6 +169,82 @@ limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_m
     collect(&res);
     limn_mpi_result_free(&res);
     return st;
+}
+
+int cli_mpi_sliced(const char *input, limn_format in_format, const char *output, int per_rank)
+{
+    if (g.size == 1 || per_rank || strcmp(input, "-") == 0 || strcmp(output, "-") == 0)
+        return 0;
+    limn_format f;
+    if (!limn_format_from_path(input, &f) || (in_format != LIMN_FORMAT_AUTO && in_format != f))
+        return 0;
+    return f == LIMN_FORMAT_PLY || f == LIMN_FORMAT_OBJ || f == LIMN_FORMAT_OFF;
+}
+
+/* Every rank's slice of input, repaired by the command's policy. */
+static limn_status read_sliced(limn_context *ctx, const cli_sliced_job *job,
+                               limn_mpi_mesh **mesh)
+{
+    const char *cmd = job->cmd, *input = job->input;
+    const cli_repair *repair = job->repair;
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, input, job->in_format, mesh);
+    cli_print_warnings(cmd, ctx);
+    if (st)
+        return st;
+    limn_repair_options o;
+    limn_repair_options_default(&o);
+    o.repeated_vertices = !repair->off;
+    o.duplicate_faces = repair->drop_duplicates;
+    limn_repair_report rep = {.size = sizeof rep};
+    st = limn_mpi_mesh_repair(ctx, *mesh, &o, &rep);
+    cli_print_warnings(cmd, ctx);
+    if (!st && limn_mpi_mesh_face_total(*mesh) == 0)
+        st = rep.faces_before
+                 ? cli_error(LIMN_ERR_TOPOLOGY,
+                             "%s: no faces are left after the repair (all %zu were degenerate): "
+                             "nothing to %s",
+                             input, rep.faces_before, cmd)
+                 : cli_error(LIMN_ERR_TOPOLOGY,
+                             "%s: the mesh has no faces (a point cloud?): nothing to %s", input,
+                             cmd);
+    return st;
+}
+
+limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                       const limn_interpolate_options *o, limn_report *r,
+                                       limn_write_report *written, double seconds[2])
+{
+    limn_mpi_mesh *mesh = NULL, *control = NULL;
+    double t0 = MPI_Wtime();
+    limn_status st = read_sliced(ctx, job, &mesh);
+    seconds[0] = MPI_Wtime() - t0;
+    limn_mpi_options mo = options();
+    mo.keep_piece = 0;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    if (!st) {
+        st = limn_mpi_mesh_interpolate(ctx, mesh, o, &control, r, &mo, &res);
+        cli_print_warnings(job->cmd, ctx);
+        collect(&res);
+        limn_mpi_result_free(&res);
+    }
+    double t1 = MPI_Wtime();
+    if (!st)
+        st = limn_mpi_mesh_write(ctx, control, job->output, job->out_format, job->write,
+                                 written);
+    seconds[1] = MPI_Wtime() - t1;
+    limn_mpi_mesh_destroy(mesh);
+    limn_mpi_mesh_destroy(control);
+    return st;
+}
+
+void cli_mpi_note_memory(void)
+{
+    if (g.size == 1)
+        return;
+    free(g.rss);
+    g.rss = g.rank == 0 ? calloc((size_t)g.size, sizeof *g.rss) : NULL;
+    long long mine = (long long)cli_peak_rss();
+    MPI_Gather(&mine, 1, MPI_LONG_LONG, g.rss, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
 }
 
 void cli_mpi_json(json_out *j)
@@ -172,6 +275,8 @@ void cli_mpi_json(json_out *j)
         json_number(j, "seconds_halo", s->seconds_halo);
         json_number(j, "seconds_wait", s->seconds_wait);
         json_number(j, "seconds_reduce", s->seconds_reduce);
+        if (g.rss)
+            json_integer(j, "peak_rss_bytes", g.rss[r]);
         json_object_end(j);
     }
     json_array_end(j);
@@ -182,8 +287,8 @@ void cli_mpi_print(void)
 {
     if (g.size == 1 || !g.all)
         return;
-    fprintf(stderr, "  MPI: %d ranks, METIS edge cut %zu, partition and rows on rank 0 %.3f s\n",
-            g.size, g.all[0].edge_cut, g.all[0].seconds_partition);
+    fprintf(stderr, "  MPI: %d ranks, edge cut %zu, partition %.3f s (rank 0)\n", g.size,
+            g.all[0].edge_cut, g.all[0].seconds_partition);
     for (int r = 0; r < g.size; r++) {
         const limn_mpi_stats *s = &g.all[r];
         double n = s->exchanges > 0 ? (double)s->exchanges : 1.0;
@@ -216,7 +321,7 @@ char *cli_mpi_rank_path(const char *path)
 
 static int distributed(const char *cmd)
 {
-    static const char *names[] = {"interpolate", "smooth", "denoise", "morph"};
+    static const char *names[] = {"interpolate", "bands", "smooth", "denoise", "sharpen", "morph"};
     for (size_t k = 0; k < sizeof names / sizeof *names; k++)
         if (strcmp(cmd, names[k]) == 0)
             return 1;
@@ -239,7 +344,8 @@ int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **))
         if (g.rank == 0)
             fprintf(stderr,
                     "limn %s: does not run on several MPI ranks (%d here): run it without "
-                    "mpirun; interpolate, smooth, denoise and morph run distributed\n",
+                    "mpirun; interpolate, bands, smooth, denoise, sharpen and morph run "
+                    "distributed\n",
                     argv[1], g.size);
         rc = EXIT_USAGE;
     } else {
@@ -251,6 +357,8 @@ int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **))
     }
     free(g.all);
     g.all = NULL;
+    free(g.rss);
+    g.rss = NULL;
     MPI_Finalize();
     return rc;
 }

@@ -17,6 +17,7 @@ limn_status cli_mpi_agree(limn_context *ctx, limn_status st)
 int cli_mpi_root_rc(int rc) { return rc; }
 void cli_mpi_set_per_rank(int on) { (void)on; }
 int cli_mpi_per_rank(void) { return 0; }
+void cli_mpi_note_memory(void) {}
 void cli_mpi_json(json_out *j) { (void)j; }
 void cli_mpi_print(void) {}
 
@@ -44,11 +45,37 @@ limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
         (void)piece;
     return none();
 }
+limn_status cli_mpi_sharpen(limn_context *ctx, const limn_mesh *mesh,
+                            const limn_series_options *o, int from, int to, int steps,
+                            limn_mesh **out, limn_series_report *r, limn_mesh **piece)
+{
+    (void)ctx, (void)mesh, (void)o, (void)from, (void)to, (void)steps, (void)out, (void)r,
+        (void)piece;
+    return none();
+}
+limn_status cli_mpi_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *o,
+                          int count, double *bands, double *energy, limn_series_report *r)
+{
+    (void)ctx, (void)mesh, (void)o, (void)count, (void)bands, (void)energy, (void)r;
+    return none();
+}
 limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
                           const limn_morph_options *o, limn_morph_frame_fn fn, void *user,
                           limn_series_report *r)
 {
     (void)ctx, (void)from, (void)to, (void)o, (void)fn, (void)user, (void)r;
+    return none();
+}
+int cli_mpi_sliced(const char *input, limn_format in_format, const char *output, int per_rank)
+{
+    (void)input, (void)in_format, (void)output, (void)per_rank;
+    return 0;
+}
+limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                       const limn_interpolate_options *o, limn_report *r,
+                                       limn_write_report *written, double seconds[2])
+{
+    (void)ctx, (void)job, (void)o, (void)r, (void)written, (void)seconds;
     return none();
 }
 char *cli_mpi_rank_path(const char *path)

@@ -19,6 +19,7 @@ static const char *const help =
     "  --steps K              iterations, K >= 1                         [1]\n"
     SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
+    CLI_MPI_HELP
     SERIES_HELP_EXIT;
 
 typedef struct extra {
@@ -60,6 +61,8 @@ static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, li
     if (e->from == 0 && !c->a.quiet)
         fprintf(stderr, "limn sharpen: warning: --from 0 adds the mesh itself: it is scaled "
                         "by 2 about the origin\n");
+    if (cli_mpi_ranks() > 1)
+        return cli_mpi_sharpen(ctx, in, &c->opt, e->from, e->to, e->steps, out, r, &c->piece);
     return limn_sharpen(ctx, in, &c->opt, e->from, e->to, e->steps, out, r);
 }
 
@@ -69,7 +72,8 @@ int cli_sharpen(int argc, char **argv)
     series_cli_init(&c, "sharpen", help, 1);
     extra e = {.from = -1, .to = -1, .steps = 1};
     static const struct option longopts[] = {
-        CLI_ARGS_OPTIONS, CLI_VALUE("from"), CLI_VALUE("to"), CLI_VALUE("steps"), CLI_OPTIONS_END};
+        CLI_ARGS_OPTIONS,   CLI_FLAG("per-rank-output"), CLI_VALUE("from"), CLI_VALUE("to"),
+        CLI_VALUE("steps"), CLI_OPTIONS_END};
     int rc = cli_args_parse(&c.a, longopts, argc, argv, own_option, &e);
     if (rc)
         return rc < 0 ? 0 : rc;
@@ -77,7 +81,7 @@ int cli_sharpen(int argc, char **argv)
         return cli_usage_error(c.a.cmd, "--from M and --to N are required");
     if (e.to < e.from)
         return cli_usage_error(c.a.cmd, "--to %d is below --from %d", e.to, e.from);
-    rc = series_cli_check(&c, 1);
+    rc = cli_mpi_root_rc(series_cli_check(&c, 1));
     if (rc)
         return rc;
     series_filter f = {run, NULL, &e.mean_displacement, {json_extra, print_extra, &e}};

@@ -11,28 +11,34 @@
 #include <math.h>
 
 static limn_status finite(limn_context *ctx, const char *fn, const char *name, const double *xyz,
-                          size_t n)
+                          size_t n, size_t first)
 {
     for (size_t i = 0; i < 3 * n; i++)
         if (!isfinite(xyz[i]))
             return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                              "%s: %s%svertex %zu has a non-finite coordinate (%c = %g); nothing "
                              "was computed or written",
-                             fn, name ? name : "", name ? ": " : "", i / 3, "xyz"[i % 3],
-                             xyz[i]);
+                             fn, name ? name : "", name ? ": " : "", first + i / 3,
+                             "xyz"[i % 3], xyz[i]);
     return LIMN_OK;
 }
 
 limn_status check_positions(limn_context *ctx, const char *fn, const double *xyz, size_t n)
 {
-    return finite(ctx, fn, NULL, xyz, n);
+    return finite(ctx, fn, NULL, xyz, n, 0);
+}
+
+limn_status check_positions_from(limn_context *ctx, const char *fn, const double *xyz, size_t n,
+                                 size_t first)
+{
+    return finite(ctx, fn, NULL, xyz, n, first);
 }
 
 limn_status check_mesh(limn_context *ctx, const char *fn, const char *name, const limn_mesh *mesh)
 {
     if (!mesh)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s is NULL", fn, name ? name : "the mesh");
-    return finite(ctx, fn, name, mesh->positions, mesh->vertex_count);
+    return finite(ctx, fn, name, mesh->positions, mesh->vertex_count, 0);
 }
 
 limn_status check_mesh_magnitude(limn_context *ctx, const char *fn, const char *name,
@@ -117,35 +123,49 @@ limn_status check_nonfinite_iteration(limn_context *ctx, const char *what, int k
                               : "; scale the mesh down");
 }
 
-limn_status check_mesh_writable(limn_context *ctx, const limn_mesh *mesh, limn_format format)
+limn_status check_writable_counts(limn_context *ctx, limn_format format, size_t vertices,
+                                  size_t faces, int colors, size_t polygons)
 {
-    limn_status st = check_positions(ctx, "limn_mesh_write", mesh->positions, mesh->vertex_count);
-    if (st)
-        return st;
     /* limn_mesh_read refuses a file without vertices, so none is written */
-    if (mesh->vertex_count == 0)
+    if (vertices == 0)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_write: the mesh has no vertices, and a mesh file without "
                          "vertices is not read back; nothing was written");
     /* what the format drops, said rather than done silently (the file still
        reads back, as a mesh with less in it) */
-    if (mesh->colors && format != LIMN_FORMAT_PLY && format != LIMN_FORMAT_PLY_ASCII &&
+    if (colors && format != LIMN_FORMAT_PLY && format != LIMN_FORMAT_PLY_ASCII &&
         format != LIMN_FORMAT_PLY_BINARY_BE)
         ctx_warn(ctx, "limn_mesh_write: %s holds no vertex colours: the mesh's are not "
                        "written (PLY holds them)",
                   format == LIMN_FORMAT_OBJ ? "OBJ" : format == LIMN_FORMAT_OFF ? "OFF" : "STL");
-    size_t polygons = 0;
-    for (size_t f = 0; format == LIMN_FORMAT_STL && f < mesh->face_count; f++)
-        polygons += mesh->face_offsets[f + 1] - mesh->face_offsets[f] > 3;
-    if (polygons)
+    if (format == LIMN_FORMAT_STL && polygons)
         ctx_warn(ctx, "limn_mesh_write: STL holds triangles only: %zu faces with more than 3 "
                        "vertices are written fan-triangulated",
                   polygons);
-    if (format == LIMN_FORMAT_STL && mesh->face_count == 0)
+    if (format == LIMN_FORMAT_STL && faces == 0)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_mesh_write: STL holds triangles only, and the mesh has %zu "
                          "vertices but no faces: write OBJ, PLY or OFF instead; nothing was "
                          "written",
-                         mesh->vertex_count);
+                         vertices);
     return LIMN_OK;
+}
+
+size_t check_polygons(const uint32_t *face_offsets, size_t face_count)
+{
+    size_t polygons = 0;
+    for (size_t f = 0; f < face_count; f++)
+        polygons += face_offsets[f + 1] - face_offsets[f] > 3;
+    return polygons;
+}
+
+limn_status check_mesh_writable(limn_context *ctx, const limn_mesh *mesh, limn_format format)
+{
+    limn_status st = check_positions(ctx, "limn_mesh_write", mesh->positions, mesh->vertex_count);
+    if (st)
+        return st;
+    size_t polygons =
+        format == LIMN_FORMAT_STL ? check_polygons(mesh->face_offsets, mesh->face_count) : 0;
+    return check_writable_counts(ctx, format, mesh->vertex_count, mesh->face_count,
+                                 mesh->colors != NULL, polygons);
 }

@@ -9,6 +9,10 @@
 
 /* Every coordinate finite; else names the first vertex, its axis and value. */
 limn_status check_positions(limn_context *ctx, const char *fn, const double *xyz, size_t n);
+/* check_positions of vertices first .. first + n - 1 of a larger mesh (the
+   message names the vertex by its index there). */
+limn_status check_positions_from(limn_context *ctx, const char *fn, const double *xyz, size_t n,
+                                 size_t first);
 
 /* mesh non-NULL and check_positions; `name` says which mesh in messages
    ("FROM", "TO"), NULL where the function takes one ("the mesh"). */
@@ -40,6 +44,12 @@ limn_status check_steps(limn_context *ctx, const char *fn, int steps, long long 
    finite coordinates, at least one vertex, and (STL) at least one face;
    warns of what the format drops (colours but in PLY, STL's n-gons). */
 limn_status check_mesh_writable(limn_context *ctx, const limn_mesh *mesh, limn_format format);
+/* check_mesh_writable after its check_positions, from the whole mesh's
+   counts (the MPI writer: each rank checks its own vertices); polygons: the
+   faces of more than 3 corners (check_polygons). */
+limn_status check_writable_counts(limn_context *ctx, limn_format format, size_t vertices,
+                                  size_t faces, int colors, size_t polygons);
+size_t check_polygons(const uint32_t *face_offsets, size_t face_count);
 
 /* The max of a norm reduction, or NaN when its sum shows non-finite values:
    the reductions' max skips NaN (NaN > max is false), their sums keep it, so

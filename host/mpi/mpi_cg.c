@@ -40,7 +40,7 @@ static limn_status rows_dot(void *user, const device_csr *rows, device_norms *no
     return a->dev->ops->cg->spmv_dot(a->dev, rows, a->in, a->out, a->dinv, &norms->sum);
 }
 
-static int tier_of(uint8_t rule)
+int mpi_tier_of(uint8_t rule)
 {
     return rule == RULE_SMOOTH ? 2 : rule == RULE_CREASE ? 1 : 0;
 }
@@ -141,12 +141,7 @@ static limn_status exchange_host(mpi_part *p, double *x4)
     return mpi_agree(p, st);
 }
 
-typedef struct block {
-    stencil_csr s;            /* every owned row; those of other tiers empty */
-    double *b4, *x4, *dinv;
-} block;
-
-static void block_free(block *bl)
+static void block_free(mpi_block *bl)
 {
     stencil_free(&bl->s);
     free(bl->b4);
@@ -158,7 +153,7 @@ static void block_free(block *bl)
    rows' order, as solve_cg.c's make_block). LIMN_ERR_TOPOLOGY, without a
    message, when a row of tier t reads a later tier. */
 static limn_status make_block(mpi_part *p, const int8_t *tier, int t, const double *m4,
-                              const double *p4, block *bl)
+                              const double *p4, mpi_block *bl)
 {
     const stencil_csr *a = &p->host;
     size_t no = p->n_owned, nl = no + p->n_ghost, nnz = 0;
@@ -203,15 +198,30 @@ static limn_status make_block(mpi_part *p, const int8_t *tier, int t, const doub
     return LIMN_OK;
 }
 
-limn_status mpi_solve_cg(mpi_part *p, const double *m4, double tol_abs, int max_iter, double *p4,
-                         solve_stats *stats)
+/* The D-preconditioned block solve (mpi_block_fn): the block's table uploaded. */
+static limn_status block_jacobi(mpi_part *p, void *user, const mpi_block *bl, const int8_t *tier,
+                                int t, double tol_abs, int max_iter, double share,
+                                solve_stats *stats)
+{
+    (void)user, (void)tier, (void)t;
+    device_csr sd;
+    limn_status st = mpi_agree(p, device_csr_upload(p->dev, &bl->s, &sd));
+    if (!st) {
+        st = pcg(p, &sd, bl->b4, bl->x4, bl->dinv, tol_abs, max_iter, share, stats);
+        device_csr_release(p->dev, &sd);
+    }
+    return st;
+}
+
+limn_status mpi_solve_tiers(mpi_part *p, const double *m4, double tol_abs, int max_iter,
+                            double *p4, mpi_block_fn solve_block, void *user, solve_stats *stats)
 {
     size_t no = p->n_owned, nl = no + p->n_ghost;
     int8_t *tier = malloc(nl ? nl : 1);
     limn_status st = tier ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     double count[3] = {0, 0, 0};
     for (size_t i = 0; !st && i < nl; i++) {
-        tier[i] = (int8_t)tier_of(i < no ? p->owned_rule[i] : p->ghost_rule[i - no]);
+        tier[i] = (int8_t)mpi_tier_of(i < no ? p->owned_rule[i] : p->ghost_rule[i - no]);
         count[tier[i]] += i < no;
     }
     st = mpi_agree(p, st);
@@ -222,7 +232,7 @@ limn_status mpi_solve_cg(mpi_part *p, const double *m4, double tol_abs, int max_
     for (int t = 1; !st && t <= 2; t++) {
         if (count[t] == 0)
             continue;
-        block bl;
+        mpi_block bl;
         memset(&bl, 0, sizeof bl);
         st = exchange_host(p, p4); /* the lower tiers' values at ghost columns */
         if (!st) {
@@ -236,12 +246,7 @@ limn_status mpi_solve_cg(mpi_part *p, const double *m4, double tol_abs, int max_
         /* forming b reads the block's rows once (nothing when it is all of A) */
         if (count[t] < n)
             stats->products += count[t] / n;
-        device_csr sd;
-        st = mpi_agree(p, device_csr_upload(p->dev, &bl.s, &sd));
-        if (!st) {
-            st = pcg(p, &sd, bl.b4, bl.x4, bl.dinv, tol_abs, max_iter, count[t] / n, stats);
-            device_csr_release(p->dev, &sd);
-        }
+        st = solve_block(p, user, &bl, tier, t, tol_abs, max_iter, count[t] / n, stats);
         for (size_t i = 0; !st && i < no; i++)
             if (tier[i] == t)
                 memcpy(p4 + 4 * i, bl.x4 + 4 * i, 3 * sizeof(double));
@@ -249,4 +254,10 @@ limn_status mpi_solve_cg(mpi_part *p, const double *m4, double tol_abs, int max_
     }
     free(tier);
     return st;
+}
+
+limn_status mpi_solve_cg(mpi_part *p, const double *m4, double tol_abs, int max_iter, double *p4,
+                         solve_stats *stats)
+{
+    return mpi_solve_tiers(p, m4, tol_abs, max_iter, p4, block_jacobi, NULL, stats);
 }

@@ -179,20 +179,27 @@ void mpi_part_end(mpi_part *p)
     p->comm = MPI_COMM_NULL;
 }
 
-limn_status mpi_agree(mpi_part *p, limn_status st)
+limn_status mpi_agree_comm(limn_context *ctx, MPI_Comm comm, int rank, int size, int echo,
+                           limn_status st)
 {
     /* real failures rank before echoes of another rank's, then by rank */
-    int key = st == LIMN_OK ? 2 * p->size : (p->echo ? p->size + p->rank : p->rank), first;
-    MPI_Allreduce(&key, &first, 1, MPI_INT, MPI_MIN, p->comm);
-    p->echo = 0;
-    if (first == 2 * p->size)
+    int key = st == LIMN_OK ? 2 * size : (echo ? size + rank : rank), first;
+    MPI_Allreduce(&key, &first, 1, MPI_INT, MPI_MIN, comm);
+    if (first == 2 * size)
         return LIMN_OK;
-    int who = first >= p->size ? first - p->size : first;
+    int who = first >= size ? first - size : first;
     int status = (int)st;
-    MPI_Bcast(&status, 1, MPI_INT, who, p->comm);
-    MPI_Bcast(p->ctx->message, (int)sizeof p->ctx->message, MPI_CHAR, who, p->comm);
-    p->ctx->message[sizeof p->ctx->message - 1] = '\0';
+    MPI_Bcast(&status, 1, MPI_INT, who, comm);
+    MPI_Bcast(ctx->message, (int)sizeof ctx->message, MPI_CHAR, who, comm);
+    ctx->message[sizeof ctx->message - 1] = '\0';
     return (limn_status)status;
+}
+
+limn_status mpi_agree(mpi_part *p, limn_status st)
+{
+    int echo = p->echo;
+    p->echo = 0;
+    return mpi_agree_comm(p->ctx, p->comm, p->rank, p->size, echo, st);
 }
 
 /* ------------------------------------------------------------------ norms */

@@ -500,7 +500,7 @@ static limn_status recv_rows(mpi_part *p)
 
 /* Root: the global operator, the partition and every rank's plan. */
 static limn_status root_prepare(mpi_part *p, const limn_mesh *mesh, limn_scheme scheme,
-                                double alpha, int reorder, plan *pl)
+                                double alpha, int reorder, const uint32_t *given, plan *pl)
 {
     double t0 = MPI_Wtime();
     limn_status st = operator_build_ex(p->ctx, mesh, scheme, alpha,
@@ -525,7 +525,12 @@ static limn_status root_prepare(mpi_part *p, const limn_mesh *mesh, limn_scheme 
     p->root_buf = malloc((p->n_global ? 3 * p->n_global : 1) * sizeof *p->root_buf);
     if (!p->part_of || !p->root_buf)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_global);
-    st = mpi_partition(p->ctx, mesh, p->size, p->part_of, &p->edge_cut);
+    if (given) {
+        memcpy(p->part_of, given, p->n_global * sizeof *p->part_of);
+        st = mpi_edge_cut(p->ctx, mesh, p->size, p->part_of, &p->edge_cut);
+    } else {
+        st = mpi_partition(p->ctx, mesh, p->size, p->part_of, &p->edge_cut);
+    }
     pl->g = g;
     pl->part = p->part_of;
     if (!st)
@@ -536,48 +541,20 @@ static limn_status root_prepare(mpi_part *p, const limn_mesh *mesh, limn_scheme 
     return st;
 }
 
-/* Every rank: device views of its rows, halo buffers, statistics. */
-static limn_status open_rows(mpi_part *p)
-{
-    mpi_halo *h = &p->halo;
-    size_t nidx = h->n_send ? h->send_off[h->n_send - 1] + h->send_cnt[h->n_send - 1] : 0;
-    size_t span = p->send_end - p->send_begin;
-    h->stage4 = calloc(span ? 4 * span : 1, sizeof *h->stage4);
-    h->send3 = calloc(nidx ? 3 * nidx : 1, sizeof *h->send3);
-    h->recv3 = calloc(p->n_ghost ? 3 * p->n_ghost : 1, sizeof *h->recv3);
-    h->ghost4 = calloc(p->n_ghost ? 4 * p->n_ghost : 1, sizeof *h->ghost4);
-    h->req = malloc((size_t)(h->n_recv + h->n_send + 1) * sizeof *h->req);
-    if (!h->stage4 || !h->send3 || !h->recv3 || !h->ghost4 || !h->req)
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the halo buffers");
-    p->n_split = p->n_interior / DEVICE_ROWS_PER_ITEM * DEVICE_ROWS_PER_ITEM;
-    p->stats.owned = p->n_owned;
-    p->stats.ghosts = p->n_ghost;
-    p->stats.interior_rows = p->n_interior;
-    p->stats.edge_cut = p->edge_cut;
-    p->stats.halo_bytes_sent = 3 * sizeof(double) * nidx;
-    p->stats.halo_bytes_received = 3 * sizeof(double) * p->n_ghost;
-    int neighbours = h->n_recv;
-    for (int s = 0; s < h->n_send; s++) {
-        int known = 0;
-        for (int q = 0; q < h->n_recv; q++)
-            known |= h->recv_rank[q] == h->send_rank[s];
-        neighbours += !known;
-    }
-    p->stats.neighbours = neighbours;
-    limn_status st = mpi_open_device(p);
-    if (!st)
-        st = device_csr_upload(p->dev, &p->host, &p->all);
-    return st;
-}
-
 limn_status mpi_distribute(mpi_part *p, const limn_mesh *mesh, limn_scheme scheme, double alpha,
                            int reorder)
+{
+    return mpi_distribute_part(p, mesh, scheme, alpha, reorder, NULL);
+}
+
+limn_status mpi_distribute_part(mpi_part *p, const limn_mesh *mesh, limn_scheme scheme,
+                                double alpha, int reorder, const uint32_t *part_of)
 {
     plan pl;
     memset(&pl, 0, sizeof pl);
     limn_status st = LIMN_OK;
     if (p->rank == p->root)
-        st = root_prepare(p, mesh, scheme, alpha, reorder, &pl);
+        st = root_prepare(p, mesh, scheme, alpha, reorder, part_of, &pl);
     st = mpi_agree(p, st);
     if (st) {
         plan_free(&pl);
@@ -603,7 +580,7 @@ limn_status mpi_distribute(mpi_part *p, const limn_mesh *mesh, limn_scheme schem
     }
     plan_free(&pl);
     if (!st)
-        st = open_rows(p);
+        st = mpi_open_rows(p);
     p->stats.seconds_distribute = MPI_Wtime() - t0;
     return mpi_agree(p, st);
 }

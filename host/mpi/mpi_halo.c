@@ -2,7 +2,8 @@
 /*
  * Ghost exchange for one stencil product. The values other ranks need are
  * one contiguous device range (mpi_part.h), read in one transfer, packed
- * per neighbour as 3 doubles a vertex and sent with MPI_Isend; each
+ * per neighbour as 3 doubles (or floats, for the float path) a vertex and
+ * sent with MPI_Isend; each
  * neighbour's values arrive as one block (ghosts are sorted by owner) and
  * go to the device in one write. Rows free of ghost columns run between
  * posting and waiting.
@@ -33,32 +34,43 @@ void mpi_halo_free(mpi_halo *h)
     memset(h, 0, sizeof *h);
 }
 
+/* The values of a vector on the wire: doubles, or floats (the float path's
+   corrections, solve_mixed.c), 4 to a device row, 3 to a vertex sent. */
+typedef struct width {
+    size_t bytes;
+    MPI_Datatype type;
+} width;
+
 /* Posts the receives and the sends of x's values. Every call is made even
    when reading x failed (what is sent is then meaningless, and the failure
    is returned), so that no neighbour waits for a message that never comes. */
-static limn_status post(mpi_part *p, device_buffer *x, limn_status st)
+static limn_status post(mpi_part *p, const mpi_send_view *v, device_buffer *x, width w,
+                        limn_status st)
 {
     mpi_halo *h = &p->halo;
+    char *recv = (char *)h->recv3, *send = (char *)h->send3, *stage = (char *)v->stage;
     for (int q = 0; q < h->n_recv; q++)
-        MPI_Irecv(h->recv3 + 3 * h->recv_off[q], (int)(3 * h->recv_cnt[q]), MPI_DOUBLE,
+        MPI_Irecv(recv + 3 * w.bytes * h->recv_off[q], (int)(3 * h->recv_cnt[q]), w.type,
                   h->recv_rank[q], TAG_HALO, p->comm, &h->req[q]);
-    size_t span = p->send_end - p->send_begin;
+    size_t span = v->end - v->begin;
     if (!st && h->n_send && span)
-        st = p->dev->ops->buffer_read_at(p->dev, x, 4 * sizeof(double) * p->send_begin,
-                                         4 * sizeof(double) * span, h->stage4);
+        st = p->dev->ops->buffer_read_at(p->dev, x, 4 * w.bytes * v->begin, 4 * w.bytes * span,
+                                         stage);
     for (int q = 0; q < h->n_send; q++) {
-        double *out = h->send3 + 3 * h->send_off[q];
-        const uint32_t *idx = h->send_idx + h->send_off[q];
+        char *out = send + 3 * w.bytes * h->send_off[q];
+        const uint32_t *idx = v->idx + h->send_off[q];
         for (size_t k = 0; k < h->send_cnt[q]; k++)
-            memcpy(out + 3 * k, h->stage4 + 4 * (size_t)idx[k], 3 * sizeof(double));
-        MPI_Isend(out, (int)(3 * h->send_cnt[q]), MPI_DOUBLE, h->send_rank[q], TAG_HALO, p->comm,
+            memcpy(out + 3 * w.bytes * k, stage + 4 * w.bytes * idx[k], 3 * w.bytes);
+        MPI_Isend(out, (int)(3 * h->send_cnt[q]), w.type, h->send_rank[q], TAG_HALO, p->comm,
                   &h->req[h->n_recv + q]);
     }
     return st;
 }
 
-/* Waits for every receive and send, then writes the ghosts into x. */
-static limn_status finish(mpi_part *p, device_buffer *x, limn_status st)
+/* Waits for every receive and send, then writes the ghosts into x (the
+   fourth value of a row zero bits: 0.0 in either width). */
+static limn_status finish(mpi_part *p, size_t ghost_at, device_buffer *x, width w,
+                          limn_status st)
 {
     mpi_halo *h = &p->halo;
     double t0 = MPI_Wtime();
@@ -66,12 +78,14 @@ static limn_status finish(mpi_part *p, device_buffer *x, limn_status st)
     p->stats.seconds_wait += MPI_Wtime() - t0;
     if (st || p->n_ghost == 0)
         return st;
+    char *ghost = (char *)h->ghost4;
+    const char *recv = (const char *)h->recv3;
     for (size_t i = 0; i < p->n_ghost; i++) {
-        memcpy(h->ghost4 + 4 * i, h->recv3 + 3 * i, 3 * sizeof(double));
-        h->ghost4[4 * i + 3] = 0.0;
+        memcpy(ghost + 4 * w.bytes * i, recv + 3 * w.bytes * i, 3 * w.bytes);
+        memset(ghost + 4 * w.bytes * i + 3 * w.bytes, 0, w.bytes);
     }
-    return p->dev->ops->buffer_write_at(p->dev, x, 4 * sizeof(double) * p->n_owned,
-                                        4 * sizeof(double) * p->n_ghost, h->ghost4);
+    return p->dev->ops->buffer_write_at(p->dev, x, 4 * w.bytes * ghost_at,
+                                        4 * w.bytes * p->n_ghost, ghost);
 }
 
 static void add_norms(device_norms *acc, const device_norms *n)
@@ -81,8 +95,8 @@ static void add_norms(device_norms *acc, const device_norms *n)
     acc->sum_sq += n->sum_sq;
 }
 
-limn_status mpi_overlapped(mpi_part *p, const device_csr *table, device_buffer *x,
-                           mpi_rows_fn fn, void *user, limn_status prior, device_norms *norms)
+static limn_status overlapped(mpi_part *p, const device_csr *table, device_buffer *x, width w,
+                              mpi_rows_fn fn, void *user, limn_status prior, device_norms *norms)
 {
     memset(norms, 0, sizeof *norms);
     device_csr inner = *table, outer = *table;
@@ -90,7 +104,9 @@ limn_status mpi_overlapped(mpi_part *p, const device_csr *table, device_buffer *
     outer.row_begin = p->n_split;
     outer.rows = p->n_owned - p->n_split;
     double t0 = MPI_Wtime();
-    limn_status st = post(p, x, prior);
+    const mpi_send_view v = {p->send_begin, p->send_end, p->halo.send_idx, p->n_owned,
+                             p->halo.stage4};
+    limn_status st = post(p, &v, x, w, prior);
     double t1 = MPI_Wtime();
     device_norms part;
     if (!st && inner.rows) {
@@ -98,7 +114,7 @@ limn_status mpi_overlapped(mpi_part *p, const device_csr *table, device_buffer *
         add_norms(norms, &part);
     }
     double t2 = MPI_Wtime();
-    st = finish(p, x, st);
+    st = finish(p, p->n_owned, x, w, st);
     double t3 = MPI_Wtime();
     if (!st && outer.rows) {
         st = fn(user, &outer, &part);
@@ -109,6 +125,20 @@ limn_status mpi_overlapped(mpi_part *p, const device_csr *table, device_buffer *
     p->stats.seconds_compute += (t2 - t1) + (t4 - t3);
     p->stats.exchanges++;
     return st;
+}
+
+limn_status mpi_overlapped(mpi_part *p, const device_csr *table, device_buffer *x,
+                           mpi_rows_fn fn, void *user, limn_status prior, device_norms *norms)
+{
+    const width doubles = {sizeof(double), MPI_DOUBLE};
+    return overlapped(p, table, x, doubles, fn, user, prior, norms);
+}
+
+limn_status mpi_overlapped_f(mpi_part *p, const device_csr *table, device_buffer *x_f,
+                             mpi_rows_fn fn, void *user, limn_status prior, device_norms *norms)
+{
+    const width floats = {sizeof(float), MPI_FLOAT};
+    return overlapped(p, table, x_f, floats, fn, user, prior, norms);
 }
 
 static limn_status no_rows(void *user, const device_csr *rows, device_norms *norms)
@@ -123,4 +153,50 @@ limn_status mpi_exchange(mpi_part *p, device_buffer *x, limn_status prior)
 {
     device_norms unused;
     return mpi_overlapped(p, &p->all, x, no_rows, NULL, prior, &unused);
+}
+
+/* Every rank: device views of its rows, halo buffers, statistics. */
+limn_status mpi_open_rows(mpi_part *p)
+{
+    mpi_halo *h = &p->halo;
+    size_t nidx = h->n_send ? h->send_off[h->n_send - 1] + h->send_cnt[h->n_send - 1] : 0;
+    size_t span = p->send_end - p->send_begin;
+    h->stage4 = calloc(span ? 4 * span : 1, sizeof *h->stage4);
+    h->send3 = calloc(nidx ? 3 * nidx : 1, sizeof *h->send3);
+    h->recv3 = calloc(p->n_ghost ? 3 * p->n_ghost : 1, sizeof *h->recv3);
+    h->ghost4 = calloc(p->n_ghost ? 4 * p->n_ghost : 1, sizeof *h->ghost4);
+    h->req = malloc((size_t)(h->n_recv + h->n_send + 1) * sizeof *h->req);
+    if (!h->stage4 || !h->send3 || !h->recv3 || !h->ghost4 || !h->req)
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the halo buffers");
+    p->n_split = p->n_interior / DEVICE_ROWS_PER_ITEM * DEVICE_ROWS_PER_ITEM;
+    p->stats.owned = p->n_owned;
+    p->stats.ghosts = p->n_ghost;
+    p->stats.interior_rows = p->n_interior;
+    p->stats.edge_cut = p->edge_cut;
+    p->stats.halo_bytes_sent = 3 * sizeof(double) * nidx;
+    p->stats.halo_bytes_received = 3 * sizeof(double) * p->n_ghost;
+    int neighbours = h->n_recv;
+    for (int s = 0; s < h->n_send; s++) {
+        int known = 0;
+        for (int q = 0; q < h->n_recv; q++)
+            known |= h->recv_rank[q] == h->send_rank[s];
+        neighbours += !known;
+    }
+    p->stats.neighbours = neighbours;
+    limn_status st = mpi_open_device(p);
+    if (!st)
+        st = device_csr_upload(p->dev, &p->host, &p->all);
+    return st;
+}
+
+limn_status mpi_exchange_view(mpi_part *p, const mpi_send_view *v, device_buffer *x,
+                              limn_status prior)
+{
+    const width doubles = {sizeof(double), MPI_DOUBLE};
+    double t0 = MPI_Wtime();
+    limn_status st = post(p, v, x, doubles, prior);
+    st = finish(p, v->ghost_at, x, doubles, st);
+    p->stats.seconds_halo += MPI_Wtime() - t0;
+    p->stats.exchanges++;
+    return st;
 }

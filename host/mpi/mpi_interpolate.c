@@ -6,6 +6,9 @@
  * over the ranks. The stop test uses the maximum, which is exact under any
  * reduction order, and every row is summed in the single process's order, so
  * the paper iteration gives the single process's bits and iteration count.
+ * Precision float runs solve_mixed.c's refinement on the same rows: the
+ * double residual exchanges P's ghosts in double, the float steps the
+ * correction's ghosts in float, as the single process reads them.
  */
 #include "mpi/mpi_part.h"
 
@@ -13,6 +16,7 @@
 #include "base/context.h"
 #include "mesh/mesh.h"
 #include "solve/solve.h"
+#include "solve/solve_mixed.h"
 #include "solve/iterate.h"
 
 #include <math.h>
@@ -50,6 +54,71 @@ static limn_status step(void *user, int cur, const solve_step *sp, device_norms 
     return mpi_reduce_norms(s->p, st, &local, norms);
 }
 
+/* ------------------------------------------------ the float refinement */
+
+typedef struct mpi_mixed {
+    mpi_part *p;
+    device_buffer *m, *x;                 /* M and P (x[0]) */
+    device_buffer *b, *d, *prev, *next;   /* the step's operands, or r_f in b */
+    float c1, c2;
+} mpi_mixed;
+
+static limn_status rows_residual(void *user, const device_csr *rows, device_norms *norms)
+{
+    mpi_mixed *mm = user;
+    struct device *dev = mm->p->dev;
+    return dev->ops->mixed->residual_f(dev, rows, mm->m, mm->x, mm->b, norms);
+}
+
+static limn_status mixed_residual(void *user, device_buffer *r_f, device_norms *norms)
+{
+    mpi_mixed *mm = user;
+    device_norms local;
+    mm->b = r_f;
+    limn_status st = mpi_overlapped(mm->p, &mm->p->all, mm->x, rows_residual, mm, LIMN_OK, &local);
+    return mpi_reduce_norms(mm->p, st, &local, norms);
+}
+
+static limn_status rows_step_f(void *user, const device_csr *rows, device_norms *norms)
+{
+    mpi_mixed *mm = user;
+    struct device *dev = mm->p->dev;
+    return dev->ops->mixed->step_f(dev, rows, mm->b, mm->d, mm->prev, mm->next, mm->c1, mm->c2,
+                                   norms);
+}
+
+/* Only d's ghosts are read (b and prev row by row): one float exchange. */
+static limn_status mixed_step(void *user, device_buffer *b, device_buffer *d, device_buffer *prev,
+                              device_buffer *next, float c1, float c2, device_norms *norms)
+{
+    mpi_mixed *mm = user;
+    *mm = (mpi_mixed){mm->p, mm->m, mm->x, b, d, prev, next, c1, c2};
+    device_norms local;
+    limn_status st = mpi_overlapped_f(mm->p, &mm->p->all, d, rows_step_f, mm, LIMN_OK, &local);
+    return mpi_reduce_norms(mm->p, st, &local, norms);
+}
+
+static limn_status mixed_add(void *user, device_buffer *d)
+{
+    mpi_mixed *mm = user;
+    struct device *dev = mm->p->dev;
+    return mpi_agree(mm->p, dev->ops->mixed->add_f(dev, mm->p->n_owned, mm->x, d));
+}
+
+/* solve_mixed over the ranks on P in x (M in m); *done as its *converged. */
+static limn_status mixed(mpi_part *p, device_buffer *m, device_buffer *x,
+                         const limn_interpolate_options *o, limn_method method, int *done,
+                         limn_report *r)
+{
+    mpi_mixed mm = {.p = p, .m = m, .x = x};
+    const mixed_ops ops = {&mm, mixed_residual, mixed_step, mixed_add};
+    limn_status st = mpi_agree(p, device_csr_add_float(p->dev, &p->all));
+    if (!st)
+        st = solve_mixed_run(p->ctx, p->dev, &ops, p->n_owned + p->n_ghost, p->n_global,
+                             p->scheme, p->alpha, o, p->diag, method, done, r);
+    return st;
+}
+
 static void release(mpi_solve *s)
 {
     struct device *dev = s->p->dev;
@@ -59,9 +128,11 @@ static void release(mpi_solve *s)
             dev->ops->buffer_release(dev, all[k]);
 }
 
-/* The seeds' iteration (or the weighted one) from the start in x[0]. */
+/* The seeds' iteration (or the weighted one, or Chebyshev) from the start
+   in x[0], after the float refinement when precision is float. */
 static limn_status iterate(mpi_part *p, const limn_interpolate_options *o, limn_method method,
-                           const double *m4, const double *start4, double *out4, limn_report *r)
+                           limn_precision precision, const double *m4, const double *start4,
+                           double *out4, limn_report *r)
 {
     mpi_solve s = {.p = p};
     size_t nl = p->n_owned + p->n_ghost, row = 4 * sizeof(double);
@@ -72,9 +143,11 @@ static limn_status iterate(mpi_part *p, const limn_interpolate_options *o, limn_
     if (!st)
         st = ops->buffer_create(p->dev, nl * row, NULL, &s.x[1]);
     st = mpi_agree(p, st);
-    int which = 0;
+    int which = 0, done = 0;
     double t0 = MPI_Wtime();
-    if (!st)
+    if (!st && precision == LIMN_PRECISION_FLOAT)
+        st = mixed(p, s.m, s.x[0], o, method, &done, r);
+    if (!st && !done)
         st = solve_iterate(p->ctx, step, &s, p->n_global, p->scheme, p->alpha, o, p->diag,
                            solve_kind_of(method), &which, r);
     p->stats.seconds_solve += MPI_Wtime() - t0;
@@ -85,38 +158,38 @@ static limn_status iterate(mpi_part *p, const limn_interpolate_options *o, limn_
     return mpi_agree(p, st);
 }
 
-/* The checks of limn_interpolate_mpi (agreed), then the method: auto as in
-   limn_interpolate, so that both give the same answer. */
-static limn_status check_interpolate(mpi_part *p, const limn_mesh *mesh,
-                                     const limn_interpolate_options *o, limn_mesh **control,
-                                     limn_method *method, limn_report *r)
+limn_status mpi_interpolate_method(mpi_part *p, const limn_interpolate_options *o,
+                                   limn_status st, limn_method *method, limn_report *r)
 {
     limn_context *ctx = p->ctx;
-    limn_status st = solve_check_options(ctx, o);
-    /* the float path (solve_mixed.c) is single-process for now */
-    if (!st && o->precision == LIMN_PRECISION_FLOAT)
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                       "precision float is not available under MPI yet: use --precision double "
-                       "or auto");
-    r->precision = "double";
-    r->precision_reason = "MPI runs in double";
-    if (!st && p->rank == p->root && (!mesh || !control))
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                       "limn_interpolate_mpi: the root rank needs the mesh and control");
-    if (!st && p->rank == p->root)
-        st = check_mesh_magnitude(ctx, "limn_interpolate_mpi", NULL, mesh);
-    if (!st && o->method == LIMN_METHOD_SGS)
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                       "method sgs is not available under MPI yet (its sweeps run colour by "
-                       "colour over the whole mesh): use --method chebyshev, cg or auto");
-    st = mpi_agree(p, st);
+    if (!st)
+        st = solve_check_options(ctx, o);
     *method = o->method == LIMN_METHOD_AUTO ? LIMN_METHOD_CHEBYSHEV : o->method;
+    limn_precision unused; /* refusals only: the choice follows the vertex count */
+    if (!st)
+        st = solve_precision_choose(ctx, o, *method, 0, &unused, r);
+    st = mpi_agree(p, st);
     r->method = limn_method_name(*method);
     r->method_reason = o->method == LIMN_METHOD_AUTO
                            ? "auto: chebyshev, the fastest in measured time on every shared "
                              "mesh (fewest fused steps; cg uses as few products, each costlier)"
                            : "chosen by the caller";
     return st;
+}
+
+/* The root's checks of limn_interpolate_mpi, then the options' (agreed):
+   auto as in limn_interpolate, so that both give the same answer. */
+static limn_status check_interpolate(mpi_part *p, const limn_mesh *mesh,
+                                     const limn_interpolate_options *o, limn_mesh **control,
+                                     limn_method *method, limn_report *r)
+{
+    limn_status st = LIMN_OK;
+    if (p->rank == p->root && (!mesh || !control))
+        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                       "limn_interpolate_mpi: the root rank needs the mesh and control");
+    if (!st && p->rank == p->root)
+        st = check_mesh_magnitude(p->ctx, "limn_interpolate_mpi", NULL, mesh);
+    return mpi_interpolate_method(p, o, st, method, r);
 }
 
 /* The distributed operator's part of the report, and the vectors: m4 and
@@ -138,15 +211,28 @@ static limn_status open_vectors(mpi_part *p, limn_report *r, double **m4, double
     return mpi_agree(p, st);
 }
 
-/* CG gives the start p4; the seeds' step measures its residual on the
-   whole system (and polishes, should rounding leave it short). Where CG
-   cannot run, the seeds' iteration from M (the method changed to it). */
+/* CG (or SGS-preconditioned CG) gives the start p4; the seeds' step
+   measures its residual on the whole system (and polishes, should rounding
+   leave it short). Where it cannot run, the seeds' iteration from M (the
+   method changed to it), with the single process's warning and reason. */
 static limn_status cg_start(mpi_part *p, const limn_interpolate_options *o, const double *m4,
                             double *p4, limn_method *method, limn_report *r)
 {
     solve_stats stats = {.catmark_alpha0 = p->scheme == LIMN_SCHEME_CATMARK && p->alpha == 0.0};
-    limn_status st = mpi_solve_cg(p, m4, o->tolerance * p->diag, o->max_iterations, p4, &stats);
-    if (st == LIMN_ERR_TOPOLOGY) {
+    int sgs = *method == LIMN_METHOD_SGS;
+    double tol_abs = o->tolerance * p->diag;
+    limn_status st = sgs ? mpi_solve_sgs(p, m4, tol_abs, o->max_iterations, p4, &stats)
+                         : mpi_solve_cg(p, m4, tol_abs, o->max_iterations, p4, &stats);
+    if (st == LIMN_ERR_TOPOLOGY && sgs) {
+        ctx_warn(p->ctx, "sgs (Gauss-Seidel-preconditioned CG) needs the limit operator to be "
+                         "block triangular by vertex rule with symmetric, positive blocks, "
+                         "which this mesh's is not: used the seeds' iteration");
+        *method = LIMN_METHOD_PAPER;
+        r->method = limn_method_name(*method);
+        r->method_reason = "sgs cannot run on this operator (see the warning)";
+        memcpy(p4, m4, 4 * p->n_owned * sizeof *p4);
+        st = LIMN_OK;
+    } else if (st == LIMN_ERR_TOPOLOGY) {
         ctx_warn(p->ctx, "conjugate gradients need the limit operator to be block triangular "
                          "by vertex rule, which this mesh's is not: used the seeds' iteration");
         *method = LIMN_METHOD_PAPER;
@@ -179,6 +265,37 @@ static limn_status hand_out(limn_context *ctx, limn_status st, limn_mesh *out,
     return LIMN_OK;
 }
 
+limn_status mpi_interpolate_rows(mpi_part *p, const limn_interpolate_options *o,
+                                 limn_method *method, const double *m4, double *p4,
+                                 limn_report *r)
+{
+    /* as limn_interpolate decides it, on the vertex count */
+    limn_precision precision = LIMN_PRECISION_DOUBLE;
+    limn_status st =
+        mpi_agree(p, solve_precision_choose(p->ctx, o, *method, p->n_global, &precision, r));
+    if (!st)
+        memcpy(p4, m4, 4 * p->n_owned * sizeof *p4);
+    if (!st && (*method == LIMN_METHOD_CG || *method == LIMN_METHOD_SGS))
+        st = cg_start(p, o, m4, p4, method, r);
+    if (!st)
+        st = iterate(p, o, *method, precision, m4, p4, p4, r);
+    return st;
+}
+
+limn_status mpi_interpolate_part(mpi_part *p, const limn_interpolate_options *o,
+                                 const double *m4, double *p4, limn_report *r)
+{
+    memset(r, 0, sizeof *r);
+    limn_method method;
+    limn_status st = mpi_interpolate_method(p, o, LIMN_OK, &method, r);
+    MPI_REPORT_OPERATOR(r, p);
+    r->reordered = p->reordered;
+    r->omega = 1.0;
+    if (!st)
+        st = mpi_interpolate_rows(p, o, &method, m4, p4, r);
+    return mpi_agree(p, st);
+}
+
 /* limn_interpolate_mpi on structs of this library's layout. */
 static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
                                          const limn_interpolate_options *o,
@@ -205,11 +322,7 @@ static limn_status interpolate_mpi_sized(limn_context *ctx, MPI_Comm comm, const
     if (!st)
         st = mpi_scatter_rows(&p, p.rank == p.root ? mesh->positions : NULL, m4);
     if (!st)
-        memcpy(p4, m4, 4 * p.n_owned * sizeof *p4);
-    if (!st && method == LIMN_METHOD_CG)
-        st = cg_start(&p, o, m4, p4, &method, r);
-    if (!st)
-        st = iterate(&p, o, method, m4, p4, p4, r);
+        st = mpi_interpolate_rows(&p, o, &method, m4, p4, r);
     if (!st)
         st = mpi_gather_rows(&p, p4, xyz);
     limn_mesh *out = NULL;

@@ -91,6 +91,10 @@ void mpi_part_end(mpi_part *p);
  * real one). One Allreduce when all is well.
  */
 limn_status mpi_agree(mpi_part *p, limn_status st);
+/* mpi_agree over any communicator (rank and size in it; echo: this rank's
+   failure only repeats another rank's). */
+limn_status mpi_agree_comm(limn_context *ctx, MPI_Comm comm, int rank, int size, int echo,
+                           limn_status st);
 
 /* Local norms -> global ones (max exact, sums in double-double so that the
    result does not depend on how MPI associates them), together with a
@@ -117,6 +121,10 @@ limn_status mpi_open_device(mpi_part *p);
    cut. One rank, or fewer vertices than ranks, needs no METIS. */
 limn_status mpi_partition(limn_context *ctx, const limn_mesh *mesh, int parts,
                           uint32_t *part_of, size_t *edge_cut);
+/* The edge cut of a given partition (part_of[v] < parts, checked), as
+   mpi_partition counts it. */
+limn_status mpi_edge_cut(limn_context *ctx, const limn_mesh *mesh, int parts,
+                         const uint32_t *part_of, size_t *edge_cut);
 
 /* ----------------------------------------------------------- mpi_distribute.c */
 
@@ -127,6 +135,13 @@ limn_status mpi_partition(limn_context *ctx, const limn_mesh *mesh, int parts,
  */
 limn_status mpi_distribute(mpi_part *p, const limn_mesh *mesh, limn_scheme scheme, double alpha,
                            int reorder);
+/* The same with the root's partition given (part_of: a rank per input
+   vertex, on the root; NULL: METIS as mpi_distribute). */
+limn_status mpi_distribute_part(mpi_part *p, const limn_mesh *mesh, limn_scheme scheme,
+                                double alpha, int reorder, const uint32_t *part_of);
+/* Every rank: device views of its rows (p->host), halo buffers, statistics
+   (mpi_halo.c; used by mpi_distribute and mpi_local_build). */
+limn_status mpi_open_rows(mpi_part *p);
 
 /* ----------------------------------------------------------------- mpi_halo.c */
 
@@ -143,11 +158,59 @@ typedef limn_status (*mpi_rows_fn)(void *user, const device_csr *rows, device_no
  */
 limn_status mpi_overlapped(mpi_part *p, const device_csr *table, device_buffer *x,
                            mpi_rows_fn fn, void *user, limn_status prior, device_norms *norms);
+/* The same on a float vector (4 floats a row, 3 sent a vertex): the
+   corrections of the float path (solve_mixed.c). */
+limn_status mpi_overlapped_f(mpi_part *p, const device_csr *table, device_buffer *x_f,
+                             mpi_rows_fn fn, void *user, limn_status prior, device_norms *norms);
+/* Where a vector of another row layout (the Gauss-Seidel tables, mpi_sgs.c)
+   keeps what the halo moves: the send slots of p->halo read rows begin +
+   idx[k] of x (staged in stage, 4 doubles a row of [begin, end)), and the
+   ghosts land at rows ghost_at .. ghost_at + n_ghost - 1. */
+typedef struct mpi_send_view {
+    size_t begin, end;
+    const uint32_t *idx;
+    size_t ghost_at;
+    double *stage;
+} mpi_send_view;
+limn_status mpi_exchange_view(mpi_part *p, const mpi_send_view *v, device_buffer *x,
+                              limn_status prior);
 /* Just the exchange (x's ghosts made current). */
 limn_status mpi_exchange(mpi_part *p, device_buffer *x, limn_status prior);
 void mpi_halo_free(mpi_halo *h);
 
+/* ------------------------------------------------------------ mpi_interpolate.c */
+
+/* limn_interpolate_mpi's solve on a part already built (mpi_local_build),
+   every rank with its rows: m4 the owned rows' positions (4 doubles a row),
+   p4 (owned + ghost rows, 4 doubles) gets the control points of the owned
+   rows. Options as limn_interpolate's (checked; the root needs no mesh). */
+limn_status mpi_interpolate_part(mpi_part *p, const limn_interpolate_options *o,
+                                 const double *m4, double *p4, limn_report *r);
+
 /* ------------------------------------------------------------------- mpi_cg.c */
+
+/* Solver tier of a vertex rule (solve_cg.c's): 0 pinned, 1 crease, 2 smooth. */
+int mpi_tier_of(uint8_t rule);
+
+/* One tier's block on a rank: every owned row (rows of other tiers empty,
+   columns local, ghosts included), b4 (owned rows), x4 (owned and ghost
+   rows: the start, and the answer), dinv (one per owned row). */
+typedef struct mpi_block {
+    stencil_csr s;
+    double *b4, *x4, *dinv;
+} mpi_block;
+
+/* Solves tier t's block (tier: of every local row; share: its rows' part
+   of the mesh, for the product count); collective. */
+typedef limn_status (*mpi_block_fn)(mpi_part *p, void *user, const mpi_block *bl,
+                                    const int8_t *tier, int t, double tol_abs, int max_iter,
+                                    double share, solve_stats *stats);
+
+/* solve_tiers over the ranks: pinned rows P = M, then the crease and the
+   smooth block, each by solve_block. LIMN_ERR_TOPOLOGY (no message) on
+   every rank when A is not block triangular by vertex rule. */
+limn_status mpi_solve_tiers(mpi_part *p, const double *m4, double tol_abs, int max_iter,
+                            double *p4, mpi_block_fn solve_block, void *user, solve_stats *stats);
 
 /*
  * The tiered, D-preconditioned CG of solve_cg.c over the ranks: m4 and p4
@@ -157,6 +220,33 @@ void mpi_halo_free(mpi_halo *h);
  */
 limn_status mpi_solve_cg(mpi_part *p, const double *m4, double tol_abs, int max_iter, double *p4,
                          solve_stats *stats);
+
+/* ----------------------------------------------------------- mpi_interpolate.c */
+
+/* The option checks of an interpolation over the ranks (after st, this
+   rank's own checks so far), agreed, and the method (auto = chebyshev)
+   with its reason in r. */
+limn_status mpi_interpolate_method(mpi_part *p, const limn_interpolate_options *o,
+                                   limn_status st, limn_method *method, limn_report *r);
+
+/* The solve on p's rows after the checks: m4 the owned rows of M (4 doubles
+   a row, w = 0), p4 (owned and ghost rows) gets P's owned rows; *method may
+   change (cg falls back to the seeds' iteration where it cannot run); r gets
+   the iteration's figures. Collective; agreed. */
+limn_status mpi_interpolate_rows(mpi_part *p, const limn_interpolate_options *o,
+                                 limn_method *method, const double *m4, double *p4,
+                                 limn_report *r);
+
+/* ------------------------------------------------------------------ mpi_sgs.c */
+
+/*
+ * The tiered, SGS-preconditioned CG of solve_sgs.c over the ranks, on the
+ * root's colouring (broadcast); m4, p4 as mpi_solve_cg. LIMN_ERR_TOPOLOGY
+ * (no message) on every rank when A is not block triangular or a block does
+ * not suit the sweeps.
+ */
+limn_status mpi_solve_sgs(mpi_part *p, const double *m4, double tol_abs, int max_iter,
+                          double *p4, solve_stats *stats);
 
 /* ---------------------------------------------------------------- mpi_piece.c */
 

@@ -119,3 +119,25 @@ limn_status mpi_partition(limn_context *ctx, const limn_mesh *mesh, int parts,
     free(adj);
     return st;
 }
+
+limn_status mpi_edge_cut(limn_context *ctx, const limn_mesh *mesh, int parts,
+                         const uint32_t *part_of, size_t *edge_cut)
+{
+    size_t n = mesh->vertex_count;
+    *edge_cut = 0;
+    for (size_t v = 0; v < n; v++)
+        if (part_of[v] >= (uint32_t)(parts > 0 ? parts : 1))
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                             "vertex %zu is given to part %u but there are %d parts", v,
+                             part_of[v], parts);
+    if (n == 0)
+        return LIMN_OK;
+    idx_t *xadj = NULL, *adj = NULL;
+    limn_status st = edge_graph(ctx, mesh, &xadj, &adj);
+    for (size_t v = 0; !st && v < n; v++)
+        for (idx_t k = xadj[v]; k < xadj[v + 1]; k++)
+            *edge_cut += (size_t)adj[k] > v && part_of[adj[k]] != part_of[v];
+    free(xadj);
+    free(adj);
+    return st;
+}

@@ -1,16 +1,18 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The series filters over MPI: smooth, denoise and morph (seed 000 §3, §6,
- * §7; series.c is the single process). Each term (E - A)^i x is one
- * overlapped product on every rank's rows with the running sum fused in
- * (series_step on a row range); rows are summed in the single process's
- * order, so the results are the single process's bits. Measures that need
- * the whole mesh (volumes, frames) are taken on the root after a gather.
+ * The series filters over MPI: bands, smooth, denoise, sharpen and morph
+ * (seed 000 §3, §6, §7; series.c is the single process). Each term
+ * (E - A)^i x is one overlapped product on every rank's rows with the
+ * running sum fused in (series_step on a row range); rows are summed in the
+ * single process's order, so the results are the single process's bits.
+ * Measures that need the whole mesh (volumes, frames, band energies) are
+ * taken on the root after a gather, in the single process's arithmetic.
  */
 #include "mpi/mpi_part.h"
 
 #include "mesh/check.h"
 #include "base/context.h"
+#include "device/reference/device_ref.h"
 #include "topology/measure.h"
 #include "mesh/mesh.h"
 #include "series/filter.h"
@@ -251,6 +253,102 @@ static limn_status denoise_mpi_sized(limn_context *ctx, MPI_Comm comm, const lim
     return finish(&s, st, mesh, mpi, result, out, r);
 }
 
+/* limn_sharpen_mpi on structs of this library's layout. */
+static limn_status sharpen_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                     const limn_series_options *o, int from, int to, int steps,
+                                     limn_mesh **out, limn_series_report *r,
+                                     const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    series_mpi s;
+    series_engine e;
+    limn_status st = open_series(ctx, "limn_sharpen_mpi", comm, mesh, o, mpi, result, &s, r);
+    if (!st)
+        st = series_check_sharpen(ctx, "limn_sharpen_mpi", from, to, steps);
+    st = start_engine(&s, root_out(&s, st, "limn_sharpen_mpi", out), &e, &r->products);
+    if (!st)
+        st = series_sharpen_run(&e, mesh, from, to, steps, out);
+    return finish(&s, st, mesh, mpi, result, out, r);
+}
+
+/* The sum of squares of xyz (n vertices) as the single process's device
+   reduces it: chunks of DEVICE_ROWS_PER_ITEM rows in row order (the series
+   run in input order), each summed row by row, the chunks in order. */
+static double chunked_energy(const double *xyz, size_t n)
+{
+    double total = 0.0;
+    for (size_t begin = 0; begin < n; begin += DEVICE_ROWS_PER_ITEM) {
+        size_t end = begin + DEVICE_ROWS_PER_ITEM < n ? begin + DEVICE_ROWS_PER_ITEM : n;
+        double part[3] = {0.0, 0.0, 0.0};
+        for (size_t i = begin; i < end; i++)
+            ref_norms_add(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], part);
+        total += part[2];
+    }
+    return total;
+}
+
+/* b gathered to the root into dst (root: NULL for the scratch) and its energy
+   there (energy may be NULL). */
+static limn_status band_out(const series_engine *e, device_buffer *b, double *dst,
+                            double *energy)
+{
+    series_mpi *s = e->user;
+    double *xyz = dst ? dst : s->xyz;
+    limn_status st = mpi_download(e, b, xyz);
+    if (!st && e->root && energy)
+        *energy = chunked_energy(xyz, s->p.n_global);
+    return st;
+}
+
+/* The bands and remainder of limn_bands (buffers 0: M, then remainders 1, 2
+   in turn; 3: the band); bands and energy: the root's, may be NULL. */
+static limn_status bands_run(const series_engine *e, const limn_mesh *mesh, int count,
+                             double *bands, double *energy)
+{
+    device_buffer **b = e->buf, *cur = b[0];
+    size_t n3 = e->root ? 3 * mesh->vertex_count : 0;
+    limn_status st = e->ops->upload(e, e->root ? mesh->positions : NULL, cur);
+    for (int i = 0; !st && i < count; i++) {
+        device_buffer *next = cur == b[1] ? b[2] : b[1];
+        /* acc = A r_i: the single process's ax, the same values */
+        st = e->ops->term(e, cur, next, b[3], SERIES_STORE_NEXT, SERIES_ACC_SET_AX, LIMN_OK);
+        ++*e->products;
+        st = e->ops->agree(e, st);
+        if (!st)
+            st = band_out(e, b[3], bands ? bands + (size_t)i * n3 : NULL,
+                          energy ? energy + i : NULL);
+        cur = next;
+        if (count > 1)
+            ctx_progress(e->ctx, "bands", (double)(i + 1) / count);
+    }
+    if (!st)
+        st = band_out(e, cur, bands ? bands + (size_t)count * n3 : NULL,
+                      energy ? energy + count : NULL);
+    return st;
+}
+
+/* limn_bands_mpi on structs of this library's layout. */
+static limn_status bands_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                   const limn_series_options *o, int count, double *bands,
+                                   double *energy, limn_series_report *r,
+                                   const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    series_mpi s;
+    series_engine e;
+    limn_status st = open_series(ctx, "limn_bands_mpi", comm, mesh, o, mpi, result, &s, r);
+    if (!st)
+        st = check_count(ctx, "limn_bands_mpi", "count", count, 0, LIMN_MAX_TERMS,
+                         "LIMN_MAX_TERMS");
+    st = start_engine(&s, st, &e, &r->products);
+    if (!st)
+        st = bands_run(&e, mesh, count, s.p.rank == s.p.root ? bands : NULL,
+                       s.p.rank == s.p.root ? energy : NULL);
+    r->seconds_compute = MPI_Wtime() - s.t0;
+    if (result)
+        result->stats = s.p.stats;
+    close_series(&s);
+    return st;
+}
+
 /* The checks of limn_morph's operator path, run on the root. */
 static limn_status check_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
                                const limn_morph_options *o)
@@ -352,4 +450,30 @@ limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *fr
     return st ? st
               : mpi_leave(&c, morph_mpi_sized(ctx, comm, from, to, c.abi.options, fn, user,
                                               c.abi.report, c.mpi, c.result));
+}
+
+limn_status limn_sharpen_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                             const limn_series_options *options, int from, int to, int steps,
+                             limn_mesh **out, limn_series_report *report,
+                             const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    mpi_call c;
+    limn_status st = mpi_enter(&c, ctx, comm, "limn_sharpen_mpi", &abi_series_options, options,
+                               &abi_series_report, report, mpi, result, out);
+    return st ? st
+              : mpi_leave(&c, sharpen_mpi_sized(ctx, comm, mesh, c.abi.options, from, to, steps,
+                                                out, c.abi.report, c.mpi, c.result));
+}
+
+limn_status limn_bands_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                           const limn_series_options *options, int count, double *bands,
+                           double *energy, limn_series_report *report,
+                           const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    mpi_call c;
+    limn_status st = mpi_enter(&c, ctx, comm, "limn_bands_mpi", &abi_series_options, options,
+                               &abi_series_report, report, mpi, result, NULL);
+    return st ? st
+              : mpi_leave(&c, bands_mpi_sized(ctx, comm, mesh, c.abi.options, count, bands,
+                                              energy, c.abi.report, c.mpi, c.result));
 }

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The loops of smooth, denoise and morph (filter.h), the same for one
- * process and for MPI: only the engine's term and transfers differ.
+ * The loops of smooth, denoise, sharpen and morph (filter.h), the same for
+ * one process and for MPI: only the engine's term and transfers differ.
  */
 #include "series/filter.h"
 
@@ -61,6 +61,48 @@ limn_status series_denoise_run(const series_engine *e, const limn_mesh *mesh, in
             *out = NULL;
         }
     }
+    return st;
+}
+
+/* One sharpening step's terms: acc += r_i for from <= i < to, r_0 = t,
+   r_{i+1} = (E - A) r_i (r_1 .. r_to in ra, rb); *last gets r_to. */
+static limn_status sharpen_terms(const series_engine *e, device_buffer *t, device_buffer *acc,
+                                 int from, int to, device_buffer **last)
+{
+    limn_status st = LIMN_OK;
+    device_buffer *cur = t, *ra = e->buf[2], *rb = e->buf[3];
+    for (int i = 0; i < to; i++) {
+        device_buffer *next = cur == ra ? rb : ra;
+        st = e->ops->term(e, cur, next, acc, SERIES_STORE_NEXT,
+                          i >= from ? SERIES_ACC_ADD_X : SERIES_ACC_NONE, st);
+        if (st && !e->carry)
+            return st;
+        ++*e->products;
+        cur = next;
+    }
+    *last = cur;
+    return e->ops->agree(e, st);
+}
+
+limn_status series_sharpen_run(const series_engine *e, const limn_mesh *mesh, int from, int to,
+                               int steps, limn_mesh **out)
+{
+    device_buffer *t = e->buf[0], *acc = e->buf[1], *cur = t;
+    limn_status st = e->ops->upload(e, e->root ? mesh->positions : NULL, t);
+    for (int k = 0; !st && k < steps; k++) {
+        /* acc = T + sum_{i=from..to-1} r_i + r_to */
+        st = e->ops->axpby(e, 1.0, t, 0.0, t, acc);
+        if (!st)
+            st = sharpen_terms(e, t, acc, from, to, &cur);
+        if (!st)
+            st = e->ops->axpby(e, 1.0, acc, 1.0, cur, acc);
+        device_buffer *tmp = t;
+        t = acc;
+        acc = tmp;
+        ctx_progress(e->ctx, "sharpen", (double)(k + 1) / steps);
+    }
+    if (!st)
+        st = e->ops->result(e, t, mesh, "sharpening", out);
     return st;
 }
 

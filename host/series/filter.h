@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The series filters written once (smooth, denoise, morph) over an engine:
+ * The series filters written once (smooth, denoise, sharpen, morph) over an engine:
  * the single process (series.c) and MPI (mpi/mpi_series.c) each supply the
  * term (E - A)^i x and how vectors come in and out; the loops, the order of
  * the terms and the buffers' roles live here only, so both give the same
@@ -51,6 +51,10 @@ limn_status series_smooth_run(const series_engine *e, const limn_mesh *mesh, int
                               limn_mesh **out);
 limn_status series_denoise_run(const series_engine *e, const limn_mesh *mesh, int m, int steps,
                                int keep_volume, limn_mesh **out);
+/* steps sharpening steps T <- T + sum_{i=from..to-1} r_i + r_to (r_0 = T,
+   r_{i+1} = (E - A) r_i), the result on the root. */
+limn_status series_sharpen_run(const series_engine *e, const limn_mesh *mesh, int from, int to,
+                               int steps, limn_mesh **out);
 /* Frames 0 .. frames-1 of the series morph; q (root: 3 per vertex) holds
    FROM - TO on entry and is the frames' scratch. */
 limn_status series_morph_run(const series_engine *e, const limn_mesh *from, const limn_mesh *to,

@@ -337,6 +337,16 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
     return finish(&s, r, series_denoise_run(&e, mesh, m, steps, keep_volume, out));
 }
 
+limn_status series_check_sharpen(limn_context *ctx, const char *fn, int from, int to, int steps)
+{
+    if (from < 0 || to < from)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                         "%s: the terms run from %d to %d; they need 0 <= from <= to", fn, from,
+                         to);
+    limn_status st = check_count(ctx, fn, "to", to, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    return st ? st : check_steps(ctx, fn, steps, to, "to * steps");
+}
+
 /* limn_sharpen on options and report of this library's layout. */
 static limn_status sharpen_sized(limn_context *ctx, const limn_mesh *mesh,
                                  const limn_series_options *o, int from, int to, int steps,
@@ -345,44 +355,13 @@ static limn_status sharpen_sized(limn_context *ctx, const limn_mesh *mesh,
     limn_status st = begin(ctx, "limn_sharpen", mesh, o, r, !out);
     if (st)
         return st;
-    if (from < 0 || to < from)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                         "limn_sharpen: the terms run from %d to %d; they need 0 <= from <= to",
-                         from, to);
-    st = check_count(ctx, "limn_sharpen", "to", to, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
-    if (!st)
-        st = check_steps(ctx, "limn_sharpen", steps, to, "to * steps");
+    st = series_check_sharpen(ctx, "limn_sharpen", from, to, steps);
     if (st)
         return st;
     series_run s;
-    st = series_open(ctx, mesh, o->scheme, o->alpha, 4, &s, r);
-    if (st)
-        return st;
-    device_buffer *t = s.buf[0], *acc = s.buf[1];
-    st = series_upload(&s, t, mesh->positions);
-    for (int k = 0; !st && k < steps; k++) {
-        /* acc = T; r_0 = T, r_{i+1} = (E - A) r_i; acc += r_i for from <= i <= to */
-        st = s.dev->ops->axpby(s.dev, s.n, 1.0, t, 0.0, t, acc);
-        device_buffer *cur = t;
-        for (int i = 0; !st && i < to; i++) {
-            device_buffer *next = cur == s.buf[2] ? s.buf[3] : s.buf[2];
-            device_norms nr;
-            st = s.dev->ops->series->series_step(s.dev, &s.op.device, cur, next, NULL, acc,
-                                         SERIES_STORE_NEXT,
-                                         i >= from ? SERIES_ACC_ADD_X : SERIES_ACC_NONE, &nr);
-            r->products++;
-            cur = next;
-        }
-        if (!st)
-            st = s.dev->ops->axpby(s.dev, s.n, 1.0, acc, 1.0, cur, acc);
-        device_buffer *tmp = t;
-        t = acc;
-        acc = tmp;
-        ctx_progress(ctx, "sharpen", (double)(k + 1) / steps);
-    }
-    if (!st)
-        st = result_mesh(ctx, &s, t, mesh, "sharpening", out);
-    return finish(&s, r, st);
+    series_engine e;
+    st = open_engine(ctx, mesh, o, r, &s, &e);
+    return st ? st : finish(&s, r, series_sharpen_run(&e, mesh, from, to, steps, out));
 }
 
 /* Fills a frame's measures and calls the user's callback. */

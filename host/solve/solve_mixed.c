@@ -89,11 +89,14 @@ limn_status solve_precision_choose(limn_context *ctx, const limn_interpolate_opt
 
 typedef struct mixed_state {
     struct device *dev;
+    const mixed_ops *ops;
     limn_method method;        /* paper, weighted or chebyshev */
     device_buffer *r, *d[2];   /* float4 rows: right-hand side, corrections */
     double omega;              /* weighted: set after the probe of the first solve */
     double probe;              /* |s|_2 at the probe's start */
     double cheb_a;             /* chebyshev: lower bound, kept across float solves */
+    limn_scheme scheme;
+    double alpha;
 } mixed_state;
 
 /*
@@ -104,14 +107,13 @@ typedef struct mixed_state {
  * x_k (k >= 1) in d[(k - 1) & 1]; step j reads x_j and x_{j-1} and writes
  * x_{j+1} over x_{j-1} (each row reads it first).
  */
-static limn_status inner_solve(limn_context *ctx, stencil_operator *op, mixed_state *s,
-                               double target, int probing, int max_iter, device_buffer **out,
-                               limn_report *r)
+static limn_status inner_solve(limn_context *ctx, mixed_state *s, double target, int probing,
+                               int max_iter, device_buffer **out, limn_report *r)
 {
     monitor mon;
     monitor_init(&mon, target, max_iter, INNER_STALL_WINDOW, MONITOR_STALL_RATIO);
-    monitor_words words = {MONITOR_LOOP_MIXED, "the float correction", 0.0, 0.0, op->scheme,
-                           op->alpha, 0, 1, 0};
+    monitor_words words = {MONITOR_LOOP_MIXED, "the float correction", 0.0, 0.0, s->scheme,
+                           s->alpha, 0, 1, 0};
     chebyshev cheb;
     chebyshev_init(&cheb, s->cheb_a, 0);
     device_buffer *cur = s->r;
@@ -123,8 +125,8 @@ static limn_status inner_solve(limn_context *ctx, stencil_operator *op, mixed_st
         /* c1 = 0 reads no previous iterate: pass cur, whose lines are loaded anyway */
         device_buffer *next = s->d[j & 1];
         device_buffer *prev = c1 == 0.0 ? cur : j == 1 ? s->r : next;
-        limn_status st = s->dev->ops->mixed->step_f(s->dev, &op->device, s->r, cur, prev, next,
-                                             (float)c1, (float)c2, &ns);
+        limn_status st =
+            s->ops->step(s->ops->user, s->r, cur, prev, next, (float)c1, (float)c2, &ns);
         if (st)
             return st;
         ns.max = check_norm_max(ns.max, ns.sum);
@@ -155,34 +157,23 @@ static limn_status inner_solve(limn_context *ctx, stencil_operator *op, mixed_st
     return LIMN_OK;
 }
 
-limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *m, device_buffer *p,
-                        const limn_interpolate_options *o, double diag, limn_method method,
-                        int *converged, limn_report *r)
+/* The outer loop on open buffers: the double residual, its stop test, a
+   float solve, P += d; again. */
+static limn_status outer_loop(limn_context *ctx, mixed_state *s, const limn_interpolate_options *o,
+                              double diag, size_t vertices, int *converged, limn_report *r)
 {
-    struct device *dev = op->dev;
-    size_t n = op->vertex_count ? op->vertex_count : 1;
+    size_t n = vertices ? vertices : 1;
     double tol_abs = o->tolerance * diag;
     /* the stall test, window 1 and ratio OUTER_GAIN, is the float corrections'
        gain: a stall finishes in double */
     monitor mon;
     monitor_init(&mon, tol_abs, o->max_iterations, 1, OUTER_GAIN);
-    monitor_words words = {MONITOR_LOOP_MIXED, "the residual", diag, o->tolerance, op->scheme,
-                           op->alpha, 0, 1, 0};
-    mixed_state s = {.dev = dev, .method = method, .omega = 1.0,
-                     .cheb_a = chebyshev_prior(op->scheme)};
-    *converged = 0;
-    r->omega = 1.0;
-    limn_status st = device_csr_add_float(dev, &op->device);
-    /* no zero fill: residual_f writes every row of r (w = 0) before a step
-       reads it, and step j writes d[j & 1] whole before step j + 2 reads it */
-    if (!st)
-        st = dev->ops->buffer_scratch(dev, 4 * n * sizeof(float), &s.r);
-    for (int i = 0; i < 2 && !st; i++)
-        st = dev->ops->buffer_scratch(dev, 4 * n * sizeof(float), &s.d[i]);
-    double t_loop = clock_seconds(), compiles = dev->setup.kernels; /* first launches */
+    monitor_words words = {MONITOR_LOOP_MIXED, "the residual", diag, o->tolerance, s->scheme,
+                           s->alpha, 0, 1, 0};
+    limn_status st = LIMN_OK;
     for (int outer = 0; !st; outer++) {
         device_norms nr;
-        st = dev->ops->mixed->residual_f(dev, &op->device, m, p, s.r, &nr);
+        st = s->ops->residual(s->ops->user, s->r, &nr);
         if (st)
             break;
         nr.max = check_norm_max(nr.max, nr.sum);
@@ -206,10 +197,31 @@ limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *
             ctx_progress(ctx, "solve", log(mon.first / nr.max) / log(mon.first / tol_abs));
         device_buffer *d = NULL;
         double target = fmax(tol_abs, INNER_REDUCTION * nr.max);
-        st = inner_solve(ctx, op, &s, target, outer == 0, o->max_iterations, &d, r);
+        st = inner_solve(ctx, s, target, outer == 0, o->max_iterations, &d, r);
         if (!st)
-            st = dev->ops->mixed->add_f(dev, op->vertex_count, p, d);
+            st = s->ops->add(s->ops->user, d);
     }
+    return st;
+}
+
+limn_status solve_mixed_run(limn_context *ctx, struct device *dev, const mixed_ops *ops,
+                            size_t rows, size_t vertices, limn_scheme scheme, double alpha,
+                            const limn_interpolate_options *o, double diag, limn_method method,
+                            int *converged, limn_report *r)
+{
+    mixed_state s = {.dev = dev, .ops = ops, .method = method, .omega = 1.0,
+                     .cheb_a = chebyshev_prior(scheme), .scheme = scheme, .alpha = alpha};
+    *converged = 0;
+    r->omega = 1.0;
+    size_t nb = rows ? rows : 1;
+    /* no zero fill: residual writes every row of r (w = 0) before a step
+       reads it, and step j writes d[j & 1] whole before step j + 2 reads it */
+    limn_status st = dev->ops->buffer_scratch(dev, 4 * nb * sizeof(float), &s.r);
+    for (int i = 0; i < 2 && !st; i++)
+        st = dev->ops->buffer_scratch(dev, 4 * nb * sizeof(float), &s.d[i]);
+    double t_loop = clock_seconds(), compiles = dev->setup.kernels; /* first launches */
+    if (!st)
+        st = outer_loop(ctx, &s, o, diag, vertices, converged, r);
     r->seconds_iterations += clock_seconds() - t_loop - (dev->setup.kernels - compiles);
     for (int i = 0; i < 2; i++)
         if (s.d[i])
@@ -217,4 +229,47 @@ limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *
     if (s.r)
         dev->ops->buffer_release(dev, s.r);
     return st;
+}
+
+/* ------------------------------------------------ the single process's ops */
+
+typedef struct local_mixed {
+    stencil_operator *op;
+    device_buffer *m, *p;
+} local_mixed;
+
+static limn_status local_residual(void *user, device_buffer *r_f, device_norms *norms)
+{
+    local_mixed *l = user;
+    struct device *dev = l->op->dev;
+    return dev->ops->mixed->residual_f(dev, &l->op->device, l->m, l->p, r_f, norms);
+}
+
+static limn_status local_step(void *user, device_buffer *b, device_buffer *d, device_buffer *prev,
+                              device_buffer *next, float c1, float c2, device_norms *norms)
+{
+    local_mixed *l = user;
+    struct device *dev = l->op->dev;
+    return dev->ops->mixed->step_f(dev, &l->op->device, b, d, prev, next, c1, c2, norms);
+}
+
+static limn_status local_add(void *user, device_buffer *d)
+{
+    local_mixed *l = user;
+    struct device *dev = l->op->dev;
+    return dev->ops->mixed->add_f(dev, l->op->vertex_count, l->p, d);
+}
+
+limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *m, device_buffer *p,
+                        const limn_interpolate_options *o, double diag, limn_method method,
+                        int *converged, limn_report *r)
+{
+    *converged = 0;
+    limn_status st = device_csr_add_float(op->dev, &op->device);
+    if (st)
+        return st;
+    local_mixed l = {op, m, p};
+    const mixed_ops ops = {&l, local_residual, local_step, local_add};
+    return solve_mixed_run(ctx, op->dev, &ops, op->vertex_count, op->vertex_count, op->scheme,
+                           op->alpha, o, diag, method, converged, r);
 }

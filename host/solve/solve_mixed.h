@@ -35,4 +35,29 @@ limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *
                         const limn_interpolate_options *o, double diag, limn_method method,
                         int *converged, limn_report *r);
 
+/*
+ * The refinement over any way of running its products (one device, or MPI
+ * ranks: mpi_interpolate.c). user: the side's state; every norm returned is
+ * over all rows (all ranks), and every decision reads only those norms.
+ */
+typedef struct mixed_ops {
+    void *user;
+    /* r_f = M - A P in double, stored rounded to float (residual_f). */
+    limn_status (*residual)(void *user, device_buffer *r_f, device_norms *norms);
+    /* The float step_f on b, d, prev, next (device_mixed_ops). */
+    limn_status (*step)(void *user, device_buffer *b, device_buffer *d, device_buffer *prev,
+                        device_buffer *next, float c1, float c2, device_norms *norms);
+    /* P += d (add_f). */
+    limn_status (*add)(void *user, device_buffer *d);
+} mixed_ops;
+
+/* solve_mixed's loop on ops: dev holds the float work vectors, `rows` rows
+   each (MPI: owned and ghost rows); vertices: all of them (the mean error);
+   scheme, alpha: for the Chebyshev interval and the messages. The weights'
+   float copy (device_csr_add_float) is the caller's. */
+limn_status solve_mixed_run(limn_context *ctx, struct device *dev, const mixed_ops *ops,
+                            size_t rows, size_t vertices, limn_scheme scheme, double alpha,
+                            const limn_interpolate_options *o, double diag, limn_method method,
+                            int *converged, limn_report *r);
+
 #endif

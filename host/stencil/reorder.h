@@ -16,7 +16,8 @@
 limn_status reorder_rcm(limn_context *ctx, const topology *t, uint32_t **order, uint32_t **rank);
 
 /* out = P A P^T with P given by order/rank (rows and columns renumbered;
-   columns sorted within rows). */
+   each row's entries stay in their input order, so every row sums as the
+   unpermuted row does, bit for bit). */
 limn_status stencil_permute(limn_context *ctx, const stencil_csr *a, const uint32_t *order,
                             const uint32_t *rank, stencil_csr *out);
 

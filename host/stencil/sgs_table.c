@@ -29,8 +29,9 @@ void sgs_table_free(sgs_table *t)
 }
 
 /* Greedy: each row takes the smallest colour none of its earlier
-   neighbours has. Returns the number of colours, or 0 when out of memory. */
-static size_t colour_rows(const stencil_csr *a, uint32_t *colour)
+   neighbours of its group has (group NULL: one group). Returns the number
+   of colours, or 0 when out of memory. */
+size_t sgs_colour_rows(const stencil_csr *a, const int8_t *group, uint32_t *colour)
 {
     size_t longest = 0;
     for (size_t i = 0; i < a->rows; i++) {
@@ -45,7 +46,7 @@ static size_t colour_rows(const stencil_csr *a, uint32_t *colour)
     for (size_t i = 0; i < a->rows; i++) {
         for (uint32_t k = a->row_offsets[i]; k < a->row_offsets[i + 1]; k++) {
             uint32_t j = a->columns[k];
-            if (j < i && colour[j] <= longest)
+            if (j < i && colour[j] <= longest && (!group || group[j] == group[i]))
                 stamp[colour[j]] = i + 1;
         }
         uint32_t c = 0;
@@ -124,9 +125,21 @@ limn_status sgs_table_build(limn_context *ctx, const stencil_csr *a, const doubl
                             sgs_table *out)
 {
     memset(out, 0, sizeof *out);
-    size_t n = a->rows, nnz = a->row_offsets[n];
-    uint32_t *colour = malloc((n ? n : 1) * sizeof *colour);
-    uint32_t *where = malloc((n ? n : 1) * sizeof *where); /* block row -> table row */
+    uint32_t *colour = malloc((a->rows ? a->rows : 1) * sizeof *colour);
+    size_t colours = colour ? sgs_colour_rows(a, NULL, colour) : 0;
+    limn_status st = colours ? sgs_table_build_coloured(ctx, a, dinv, colour, colours, out)
+                             : ctx_fail(ctx, LIMN_ERR_MEMORY,
+                                        "out of memory for the Gauss-Seidel table");
+    free(colour);
+    return st;
+}
+
+limn_status sgs_table_build_coloured(limn_context *ctx, const stencil_csr *a, const double *dinv,
+                                     const uint32_t *colour, size_t colours, sgs_table *out)
+{
+    memset(out, 0, sizeof *out);
+    size_t n = a->rows, nnz = a->row_offsets[n], nc = a->cols > n ? a->cols : n;
+    uint32_t *where = malloc((nc ? nc : 1) * sizeof *where); /* column -> table column */
     out->rows = n;
     out->order = malloc((n ? n : 1) * sizeof *out->order);
     out->row_offsets = malloc((n + 1) * sizeof *out->row_offsets);
@@ -134,13 +147,10 @@ limn_status sgs_table_build(limn_context *ctx, const stencil_csr *a, const doubl
     out->columns = malloc((nnz ? nnz : 1) * sizeof *out->columns);
     out->weights = malloc((nnz ? nnz : 1) * sizeof *out->weights);
     out->info = malloc((n ? n : 1) * 4 * sizeof *out->info);
-    size_t colours = colour && where ? colour_rows(a, colour) : 0;
-    size_t *next = colours ? calloc(colours, sizeof *next) : NULL; /* rows placed a colour */
-    if (colours)
-        out->colour_begin = calloc(colours + 1, sizeof *out->colour_begin);
-    if (!next || !out->colour_begin || !out->order || !out->row_offsets || !out->split ||
-        !out->columns || !out->weights || !out->info) {
-        free(colour);
+    size_t *next = calloc(colours ? colours : 1, sizeof *next); /* rows placed a colour */
+    out->colour_begin = calloc(colours + 1, sizeof *out->colour_begin);
+    if (!where || !next || !out->colour_begin || !out->order || !out->row_offsets ||
+        !out->split || !out->columns || !out->weights || !out->info) {
         free(where);
         free(next);
         sgs_table_free(out);
@@ -148,13 +158,14 @@ limn_status sgs_table_build(limn_context *ctx, const stencil_csr *a, const doubl
     }
     out->colours = colours;
     order_rows(out, colour, next, where);
+    for (size_t j = n; j < nc; j++)
+        where[j] = (uint32_t)j; /* columns past the rows (MPI ghosts) stay */
     free(next);
     limn_status st = LIMN_OK;
     size_t e = 0;
     out->row_offsets[0] = 0;
     for (size_t t = 0; t < n && !st; t++)
         st = table_row(out, a, dinv, colour, where, t, &e);
-    free(colour);
     free(where);
     if (st)
         sgs_table_free(out);

@@ -30,4 +30,19 @@ limn_status sgs_table_build(limn_context *ctx, const stencil_csr *a, const doubl
                             sgs_table *out);
 void sgs_table_free(sgs_table *t);
 
+/* The greedy colouring of sgs_table_build: row i takes the smallest colour
+   that no neighbour j < i of its group (group[j] == group[i]; group NULL:
+   all rows one group) has. Returns the number of colours (0: out of
+   memory). */
+size_t sgs_colour_rows(const stencil_csr *a, const int8_t *group, uint32_t *colour);
+
+/*
+ * sgs_table_build with the colours given (colour: one per column of a,
+ * below `colours`). Columns at or past a->rows (MPI: ghost values, a->cols
+ * of them in all) keep their number in the table, so the vectors hold the
+ * rows in colour order, then those values.
+ */
+limn_status sgs_table_build_coloured(limn_context *ctx, const stencil_csr *a, const double *dinv,
+                                     const uint32_t *colour, size_t colours, sgs_table *out);
+
 #endif

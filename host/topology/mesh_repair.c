@@ -17,6 +17,7 @@
 #include "base/context.h"
 #include "mesh/mesh.h"
 #include "topology/face_keys.h"
+#include "topology/mesh_repair.h"
 #include "topology/topology.h"
 
 #include <stdint.h>
@@ -99,7 +100,7 @@ static void fix_face(face_out *o, const uint32_t *v, size_t d, uint32_t *pos, ui
 }
 
 /* Rebuilds the faces without repeated vertices (see the file comment). */
-static limn_status fix_repeats(limn_context *ctx, limn_mesh *m, limn_repair_report *r)
+limn_status repair_fix_repeats(limn_context *ctx, limn_mesh *m, limn_repair_report *r)
 {
     size_t nf = m->face_count, nc = m->face_offsets[nf], nv = m->vertex_count;
     /* every output face has >= 3 corners taken from the input's corners */
@@ -219,8 +220,8 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
 /* ---------------------------------------------------------------- entry */
 
 
-/* The warning saying what fix_repeats changed. */
-static void warn_repeats(limn_context *ctx, const limn_repair_report *r, size_t faces_left)
+/* The warning saying what repair_fix_repeats changed. */
+void repair_warn_repeats(limn_context *ctx, const limn_repair_report *r, size_t faces_left)
 {
     char parts[3][96];
     size_t np = 0;
@@ -260,10 +261,10 @@ static limn_status repair_repeats(limn_context *ctx, limn_mesh *mesh, const limn
                          first, first_v);
     r->first_repeat_face = first;
     r->first_repeat_vertex = first_v;
-    st = fix_repeats(ctx, mesh, r);
+    st = repair_fix_repeats(ctx, mesh, r);
     if (st)
         return st;
-    warn_repeats(ctx, r, mesh->face_count);
+    repair_warn_repeats(ctx, r, mesh->face_count);
     return LIMN_OK;
 }
 

@@ -6,6 +6,7 @@
 #include "fuzz_common.h"
 #include "limn.h"
 #include "mesh/io/formats.h" /* ply_write into memory, for the round trip */
+#include "mesh/io/mesh_slice.h" /* the slice reader against the whole one */
 
 #include <fcntl.h>
 #include <math.h>
@@ -182,6 +183,63 @@ static void same_as_general(const char *input, limn_format format, limn_status s
     limn_context_destroy(ctx);
 }
 
+/* The slice reader (mesh_slice.h) in 3 parts against limn_mesh_read's
+   status st and mesh m: it may refuse more (with a message naming the file)
+   but never accept a file refused for anything but memory, and what it
+   reads is m bit for bit. */
+static int slices_match(const limn_mesh *m, const mesh_slice *s, unsigned parts)
+{
+    size_t v = 0, f = 0;
+    const uint32_t *off = limn_mesh_face_offsets(m);
+    for (unsigned p = 0; p < parts; p++) {
+        const mesh_slice *q = &s[p];
+        size_t n = q->face_offsets[q->face_count];
+        if (q->vertex_begin != v || q->face_begin != f ||
+            q->vertex_total != limn_mesh_vertex_count(m) ||
+            q->face_total != limn_mesh_face_count(m) || f + q->face_count > q->face_total ||
+            v + q->vertex_count > q->vertex_total ||
+            (q->vertex_count && memcmp(q->positions, limn_mesh_positions(m) + 3 * v,
+                                       q->vertex_count * 24) != 0) ||
+            off[f + q->face_count] - off[f] != n ||
+            (n && memcmp(q->face_indices, limn_mesh_face_indices(m) + off[f], n * 4) != 0))
+            return 0;
+        v += q->vertex_count;
+        f += q->face_count;
+    }
+    return v == limn_mesh_vertex_count(m) && f == limn_mesh_face_count(m);
+}
+
+static void same_as_slices(const char *input, limn_format format, limn_status st,
+                           const limn_mesh *m)
+{
+    enum { P = 3 };
+    mesh_slice s[P];
+    mesh_slice_counts c[P], before, total;
+    limn_context *ctx = limn_context_create();
+    if (!ctx)
+        return;
+    memset(s, 0, sizeof s);
+    memset(&before, 0, sizeof before);
+    memset(&total, 0, sizeof total);
+    limn_status ss = LIMN_OK;
+    for (unsigned p = 0; p < P && !ss; p++)
+        if (!(ss = mesh_slice_count(ctx, input, format, p, P, &c[p])))
+            mesh_slice_counts_add(&total, &c[p]);
+    for (unsigned p = 0; p < P && !ss; p++)
+        if (!(ss = mesh_slice_read(ctx, input, format, p, P, &before, &total, &s[p])))
+            mesh_slice_counts_add(&before, &c[p]);
+    if (ss && !strstr(limn_context_message(ctx), input))
+        broken("a failed slice read without a message naming the file",
+               limn_context_message(ctx));
+    if (!ss && st && st != LIMN_ERR_MEMORY)
+        broken("the slice reader accepted a file limn_mesh_read refuses", NULL);
+    if (!ss && m && !slices_match(m, s, P))
+        broken("the slices differ from limn_mesh_read's mesh", NULL);
+    for (unsigned p = 0; p < P; p++)
+        mesh_slice_free(&s[p]);
+    limn_context_destroy(ctx);
+}
+
 int limn_fuzz_run(const char *name, const uint8_t *data, size_t size)
 {
     static int fd = -1;
@@ -214,6 +272,8 @@ int limn_fuzz_run(const char *name, const uint8_t *data, size_t size)
     else if (t->format == LIMN_FORMAT_OBJ || t->format == LIMN_FORMAT_OFF ||
              (t->format == LIMN_FORMAT_PLY && !t->prefix))
         same_as_general(input, t->format, st, m, ctx);
+    if (pfd < 0)
+        same_as_slices(input, t->format, st, m);
     const char *msg = limn_context_message(ctx);
     if (st != LIMN_OK) {
         if (m)

@@ -13,7 +13,9 @@
  * (index out of range, face of < 3 corners, non-finite coordinate), a
  * failure without a message naming the file, a repair that leaves a face
  * using a vertex twice, a topology that fails on a repaired mesh, or a
- * repaired mesh that does not come back bit for bit from binary PLY.
+ * repaired mesh that does not come back bit for bit from binary PLY, or a
+ * slice reader (mesh_slice.h, 3 parts) that accepts a file limn_mesh_read
+ * refuses or reads another mesh.
  */
 #ifndef LIMN_FUZZ_COMMON_H
 #define LIMN_FUZZ_COMMON_H

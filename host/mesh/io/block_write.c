@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* Items formatted in parallel ranges, written in order (block_write.h). */
+/* Items formatted in parallel ranges, handed to a sink in order (block_write.h). */
 #include "mesh/io/block_write.h"
 #include "base/context.h"
+#include "base/growbuf.h"
 #include "base/parallel.h"
 #include "mesh/io/toolkit.h"
 
@@ -42,7 +43,31 @@ static int format_parts(void *arg, size_t first, size_t last)
     return 0;
 }
 
-limn_status block_write(limn_context *ctx, const char *path, FILE *f, const block_job *job)
+static limn_status file_put(void *arg, limn_context *ctx, const char *path, const void *bytes,
+                            size_t n)
+{
+    return fwrite(bytes, 1, n, arg) == n ? LIMN_OK : mio_write_failed(ctx, path);
+}
+
+static limn_status memory_put(void *arg, limn_context *ctx, const char *path, const void *bytes,
+                              size_t n)
+{
+    return growbuf_append(arg, bytes, n)
+               ? LIMN_OK
+               : ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing %s", path);
+}
+
+static int memory_reserve(void *arg, size_t n) { return growbuf_reserve(arg, n); }
+
+block_sink block_sink_file(FILE *f) { return (block_sink){file_put, NULL, f}; }
+
+block_sink block_sink_memory(struct growbuf *g)
+{
+    return (block_sink){memory_put, memory_reserve, g};
+}
+
+limn_status block_emit(limn_context *ctx, const char *path, const block_job *job,
+                       const block_sink *sink)
 {
     unsigned threads = parallel_threads(ctx, (uint64_t)job->n * job->item_bytes);
     size_t per_part = BLOCK_BYTES / (job->item_bytes ? job->item_bytes : 1);
@@ -51,6 +76,8 @@ limn_status block_write(limn_context *ctx, const char *path, FILE *f, const bloc
     block_part parts[PARALLEL_MAX] = {{0}};
     block_round r = {job, parts, threads, 0, 0};
     limn_status st = LIMN_OK;
+    if (sink->reserve && job->n && !sink->reserve(sink->arg, job->bound(job->arg, 0, job->n)))
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing %s", path);
     for (size_t at = 0; at < job->n && !st; at += r.items) {
         r.begin = at;
         r.items = job->n - at < per_part * threads ? job->n - at : per_part * threads;
@@ -59,8 +86,8 @@ limn_status block_write(limn_context *ctx, const char *path, FILE *f, const bloc
             break;
         }
         for (unsigned i = 0; i < threads && !st; i++)
-            if (parts[i].len && fwrite(parts[i].buf, 1, parts[i].len, f) != parts[i].len)
-                st = mio_write_failed(ctx, path);
+            if (parts[i].len)
+                st = sink->put(sink->arg, ctx, path, parts[i].buf, parts[i].len);
     }
     for (unsigned i = 0; i < threads; i++)
         free(parts[i].buf);

@@ -23,8 +23,25 @@ typedef struct block_job {
     const void *arg;
 } block_job;
 
-/* Writes the job's items to f (path for messages): LIMN_OK or LIMN_ERR_IO /
-   LIMN_ERR_MEMORY with the message. */
-limn_status block_write(limn_context *ctx, const char *path, FILE *f, const block_job *job);
+/* Where the formatted bytes go, in order: a FILE, memory (mpi_write.c). */
+typedef struct block_sink {
+    /* appends n bytes; LIMN_OK or the failure with its message (naming path) */
+    limn_status (*put)(void *arg, limn_context *ctx, const char *path, const void *bytes,
+                       size_t n);
+    /* NULL, or makes room for n more bytes at once (the job's bound: memory
+       that is never touched costs no pages); 0 when it cannot */
+    int (*reserve)(void *arg, size_t n);
+    void *arg;
+} block_sink;
+
+/* The sinks: fwrite to f (LIMN_ERR_IO); appends to g (LIMN_ERR_MEMORY). */
+block_sink block_sink_file(FILE *f);
+struct growbuf;
+block_sink block_sink_memory(struct growbuf *g);
+
+/* Formats the job's items into sink (path for messages): LIMN_OK or the
+   sink's failure / LIMN_ERR_MEMORY with the message. */
+limn_status block_emit(limn_context *ctx, const char *path, const block_job *job,
+                       const block_sink *sink);
 
 #endif

@@ -232,6 +232,18 @@ static limn_status write_format(limn_context *ctx, const limn_mesh *mesh, const 
     return ply_write(ctx, mesh, path, f, format, single);
 }
 
+limn_status mesh_write_format(limn_context *ctx, const char *path,
+                              const limn_write_options *options, limn_format *format)
+{
+    limn_status st;
+    if (*format == LIMN_FORMAT_AUTO && (st = format_from_path(ctx, path, format)))
+        return st;
+    if (*format < LIMN_FORMAT_OBJ || *format > LIMN_FORMAT_STL)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: unknown format %d",
+                         (int)*format);
+    return check_write_options(ctx, options, *format);
+}
+
 limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const char *path,
                               limn_format format, const limn_write_options *options,
                               limn_write_report *report, atomic_file *af)
@@ -240,13 +252,8 @@ limn_status mesh_write_staged(limn_context *ctx, const limn_mesh *mesh, const ch
     if (!mesh || !path || !*path)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: %s is NULL or empty",
                          !mesh ? "mesh" : "path");
-    limn_status st;
-    if (format == LIMN_FORMAT_AUTO && (st = format_from_path(ctx, path, &format)))
-        return st;
-    if (format < LIMN_FORMAT_OBJ || format > LIMN_FORMAT_STL)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_write: unknown format %d",
-                         (int)format);
-    if ((st = check_write_options(ctx, options, format)))
+    limn_status st = mesh_write_format(ctx, path, options, &format);
+    if (st)
         return st;
     st = check_mesh_writable(ctx, mesh, format); /* before any file exists */
     if (st)

@@ -5,6 +5,11 @@
 
 #include "limn.h"
 
+/* limn_mesh_write's checks of its format and options: *format (AUTO: from
+   path's extension) resolved, a float precision refused but for PLY. */
+limn_status mesh_write_format(limn_context *ctx, const char *path,
+                              const limn_write_options *options, limn_format *format);
+
 /* limn_mesh_write without the final rename: the mesh is complete and synced
    in af's temporary file; atomic_file_commit makes it appear, _abort drops
    it. Lets a command finish all its outputs before any of them appears.

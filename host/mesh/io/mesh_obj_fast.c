@@ -35,17 +35,27 @@ static int obj_fast_refs(const char **s, const char *te)
     return *s == te;
 }
 
-static int obj_fast_face(tf_chunk *c, const char *s, const char *e)
+/* A negative (relative) number counts back from the vertices defined before
+   the line: `before` of them before c's range, none known when before < 0. */
+static int obj_fast_face(tf_chunk *c, const char *s, const char *e, long long before)
 {
     size_t n = 0;
+    long long defined = before < 0 ? -1 : before + (long long)(c->pos.len / 24);
     for (;;) {
         s = tf_skip(s, e);
         if (s == e)
             break;
         long long v;
         if (!tf_int(&s, e, &v, '/') ||
-            (s < e && *s == '/' && !obj_fast_refs(&s, tf_token_end(s, e))) || v <= 0 ||
-            v >= (long long)UINT32_MAX || !tf_push_index(c, (uint32_t)(v - 1)))
+            (s < e && *s == '/' && !obj_fast_refs(&s, tf_token_end(s, e))))
+            return 0;
+        if (v < 0 && defined >= 0 && -v <= defined) {
+            if (!tf_push_index(c, (uint32_t)(defined + v)))
+                return 0;
+            n++;
+            continue;
+        }
+        if (v <= 0 || v >= (long long)UINT32_MAX || !tf_push_index(c, (uint32_t)(v - 1)))
             return 0;
         if ((uint64_t)v > c->max_ref)
             c->max_ref = (uint64_t)v;
@@ -59,8 +69,13 @@ static int obj_fast_line(const tf_text *t, tf_chunk *c, const char *s, const cha
 {
     (void)t;
     (void)record;
+    return obj_fast_record(c, s, e, -1);
+}
+
+int obj_fast_record(tf_chunk *c, const char *s, const char *e, long long before)
+{
     if ((s[0] == 'v' || s[0] == 'f') && (s + 1 == e || tf_space(s[1])))
-        return s[0] == 'v' ? obj_fast_vertex(c, s + 1, e) : obj_fast_face(c, s + 1, e);
+        return s[0] == 'v' ? obj_fast_vertex(c, s + 1, e) : obj_fast_face(c, s + 1, e, before);
     return obj_skipped_record(s, (size_t)(tf_token_end(s, e) - s));
 }
 

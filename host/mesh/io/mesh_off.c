@@ -342,6 +342,25 @@ static limn_status off_parse(void *state, int *binary)
     return st ? st : off_body(o);
 }
 
+limn_status off_read_header(limn_context *ctx, const char *path, FILE *f, uint64_t *body,
+                            long long *nv, long long *nf)
+{
+    off_state *o = calloc(1, sizeof *o);
+    if (!o)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
+    limn_status st = LIMN_ERR_MEMORY;
+    if (mio_init(&o->r, ctx, path, f)) {
+        mio_skip_bom(&o->r);
+        st = off_header(o);
+        *body = mio_offset(&o->r);
+        *nv = o->nv;
+        *nf = o->nf;
+    }
+    mio_free(&o->r);
+    free(o);
+    return st;
+}
+
 limn_status off_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)
 {
     off_state *o = calloc(1, sizeof *o);

@@ -33,17 +33,26 @@ static int off_fast_line(const tf_text *t, tf_chunk *c, const char *s, const cha
     return tf_end_face(c);
 }
 
-int off_fast_body(mio_reader *r, mio_arrays *a, long long nv, long long nf)
+int off_fast_setup(tf_text *t, long long nv, long long nf)
 {
     if (nv <= 0 || nf < 0 || nv >= (long long)UINT32_MAX)
-        return 0;
-    tf_text *t = calloc(1, sizeof *t);
-    if (!t)
         return 0;
     t->line = off_fast_line;
     t->hash_comments = 1;
     t->nv = (uint32_t)nv;
     t->records = (uint64_t)nv + (uint64_t)nf;
+    return 1;
+}
+
+int off_fast_body(mio_reader *r, mio_arrays *a, long long nv, long long nf)
+{
+    tf_text *t = calloc(1, sizeof *t);
+    if (!t)
+        return 0;
+    if (!off_fast_setup(t, nv, nf)) {
+        free(t);
+        return 0;
+    }
     int ok = tf_read(t, r, a);
     free(t);
     return ok;

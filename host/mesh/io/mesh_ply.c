@@ -388,6 +388,9 @@ static limn_status ply_header(ply *p)
         if (!(line = mio_line(r, &len)))
             return r->error ? mio_read_failed(r)
                             : ply_err(p, LIMN_ERR_FORMAT, "the header has no end_header line");
+        const char *c = mio_skip_space(line);
+        if (strncmp(c, "comment limn-slice ", 19) == 0)
+            snprintf(p->slice_comment, sizeof p->slice_comment, "%s", c + 19);
         char *w[6];
         int nw = ply_words(line, w);
         limn_status st = ply_header_line(p, w, nw, &end);
@@ -638,6 +641,28 @@ static limn_status ply_run(void *state, int *binary)
     limn_status st = ply_parse(p);
     *binary = p->format != F_ASCII && !p->in_header;
     return st;
+}
+
+limn_status ply_open(ply *p, limn_context *ctx, const char *path, FILE *f)
+{
+    memset(p, 0, sizeof *p);
+    p->ctx = ctx;
+    p->path = path;
+    if (!mio_init(&p->r, ctx, path, f))
+        return LIMN_ERR_MEMORY;
+    mio_skip_bom(&p->r);
+    p->in_header = 1;
+    limn_status st = ply_header(p);
+    p->in_header = 0;
+    return st ? st : ply_check(p);
+}
+
+void ply_close(ply *p)
+{
+    for (size_t i = 0; i < p->nelems; i++)
+        free(p->elems[i].props);
+    p->nelems = 0;
+    mio_free(&p->r);
 }
 
 limn_status ply_read(limn_context *ctx, const char *path, FILE *f, limn_mesh **out)

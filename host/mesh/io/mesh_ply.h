@@ -57,12 +57,37 @@ typedef struct ply {
     mio_arrays a;
     char dropped[256];         /* vertex properties limn does not keep, for one warning */
     size_t ndropped;
+    char slice_comment[256];   /* after "comment limn-slice " (mesh_slice_split.c), or "" */
 } ply;
+
+/* The header of f read and checked as ply_read does (warnings included)
+   into p (zeroed here): for readers of parts of the body (mesh_slice_ply.c).
+   p->r is then at the body's first byte. ply_close frees p's contents, also
+   after a failure. */
+limn_status ply_open(ply *p, limn_context *ctx, const char *path, FILE *f);
+void ply_close(ply *p);
 
 /* A binary scalar of type t at b (big: big endian), as the general reader
    converts it. */
 long long ply_bin_int(const unsigned char *b, int t, int big);
 double ply_bin_double(const unsigned char *b, int t, int big);
+
+/* The binary record layouts the fast path and the slice reader
+   (mesh_slice_ply.c) take (mesh_ply_fast.c). A vertex record: fixed-size
+   scalars, x y z (and red green blue) at off[] within stride bytes; 0 when a
+   property is a list. A face record: scalars and the count (before bytes
+   before it, the indices from lead), the indices, scalars (fixed bytes in all
+   beside the indices); 0 unless its one list is the indices. */
+typedef struct ply_vertex_layout {
+    size_t stride, off[6];
+    unsigned char type[3];
+} ply_vertex_layout;
+typedef struct ply_face_layout {
+    size_t before, lead, fixed, isize;
+    unsigned char ctype, itype;
+} ply_face_layout;
+int ply_vertex_records(const ply_elem *e, ply_vertex_layout *v);
+int ply_face_records(const ply_elem *e, ply_face_layout *f);
 
 /* The fast path for a binary file of the common layout (fixed-size vertex
    records, one face list, no tristrips; mesh_ply_fast.c), run after the
@@ -77,5 +102,19 @@ int ply_fast_body(ply *p);
    and face elements only, one record a line; LIMN_TEST_TEXT_GENERAL=1 makes
    it always 0. */
 int ply_text_fast_body(ply *p);
+
+/* The ascii body's line parser as the fast path sets it up, for a reader of
+   parts of the file (mesh_slice_text.c): the elements with records in file
+   order (order[1] == order[0] when there is one), records of order[0]. */
+struct tf_text;
+typedef struct ply_text {
+    const ply_elem *order[2];
+    uint64_t first;
+} ply_text;
+/* Sets t's line function, format (pt, which must outlive t), nv, colours
+   and record count for p's ascii body; 0 when the layout is one the line
+   parser does not take (other elements with records, tristrips, lists
+   beside the face indices). */
+int ply_text_setup(const ply *p, ply_text *pt, struct tf_text *t);
 
 #endif

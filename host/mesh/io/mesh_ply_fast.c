@@ -96,8 +96,7 @@ static int vertex_range(void *arg, size_t begin, size_t end)
     return bad;
 }
 
-/* The vertex records' layout: 0 when a property is a list. */
-static int vertex_layout(const fast *f, const ply_elem *e, fast_vertices *v)
+int ply_vertex_records(const ply_elem *e, ply_vertex_layout *v)
 {
     size_t at = 0;
     memset(v, 0, sizeof *v);
@@ -112,6 +111,19 @@ static int vertex_layout(const fast *f, const ply_elem *e, fast_vertices *v)
         at += ply_type_size[pr->type];
     }
     v->stride = at;
+    return 1;
+}
+
+/* The vertex records' layout: 0 when a property is a list. */
+static int vertex_layout(const fast *f, const ply_elem *e, fast_vertices *v)
+{
+    ply_vertex_layout l;
+    memset(v, 0, sizeof *v);
+    if (!ply_vertex_records(e, &l))
+        return 0;
+    v->stride = l.stride;
+    memcpy(v->off, l.off, sizeof v->off);
+    memcpy(v->type, l.type, sizeof v->type);
     v->big = f->big;
     v->colors = f->p->colors;
     v->f32le = !f->big && v->type[0] == T_F32 && v->type[1] == T_F32 && v->type[2] == T_F32;
@@ -184,11 +196,10 @@ static int uniform_range(void *arg, size_t begin, size_t end)
     return bad;
 }
 
-/* The face records' layout: 0 unless the one list is the indices. */
-static int face_layout(const fast *f, const ply_elem *e, fast_faces *ff)
+int ply_face_records(const ply_elem *e, ply_face_layout *f)
 {
     size_t at = 0, lists = 0;
-    memset(ff, 0, sizeof *ff);
+    memset(f, 0, sizeof *f);
     for (size_t k = 0; k < e->nprops; k++) {
         const ply_prop *pr = &e->props[k];
         if (!pr->count_type) {
@@ -197,19 +208,35 @@ static int face_layout(const fast *f, const ply_elem *e, fast_faces *ff)
         }
         if (pr->role != R_INDICES || lists++)
             return 0;
-        ff->before = at;
-        ff->ctype = pr->count_type;
-        ff->itype = pr->type;
+        f->before = at;
+        f->ctype = pr->count_type;
+        f->itype = pr->type;
         at += ply_type_size[pr->count_type];
-        ff->lead = at;
+        f->lead = at;
     }
-    ff->fixed = at;
-    ff->isize = ply_type_size[ff->itype];
+    f->fixed = at;
+    f->isize = ply_type_size[f->itype];
+    return lists == 1;
+}
+
+/* The face records' layout: 0 unless the one list is the indices. */
+static int face_layout(const fast *f, const ply_elem *e, fast_faces *ff)
+{
+    ply_face_layout l;
+    memset(ff, 0, sizeof *ff);
+    if (!ply_face_records(e, &l))
+        return 0;
+    ff->before = l.before;
+    ff->lead = l.lead;
+    ff->fixed = l.fixed;
+    ff->ctype = l.ctype;
+    ff->itype = l.itype;
+    ff->isize = l.isize;
     ff->big = f->big;
     ff->le32 = !f->big && ff->isize == 4;
     ff->nv = (uint32_t)f->p->nv;
     ff->base = f->map + f->at;
-    return lists == 1;
+    return 1;
 }
 
 /* One pass over the counts of faces of any size: their offsets, and in

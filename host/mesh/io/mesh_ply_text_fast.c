@@ -14,11 +14,6 @@
 
 #include <stdlib.h>
 
-typedef struct ply_text {
-    const ply_elem *order[2]; /* the elements with records, in file order */
-    uint64_t first;           /* records of order[0] */
-} ply_text;
-
 /* Steps over one token. */
 static int skip_token(const char **s, const char *e)
 {
@@ -109,19 +104,28 @@ static int text_layout(const ply *p, ply_text *pt)
     return 1;
 }
 
+int ply_text_setup(const ply *p, ply_text *pt, tf_text *t)
+{
+    if (p->format != F_ASCII || p->nv == 0 || !text_layout(p, pt))
+        return 0;
+    t->line = text_line;
+    t->format = pt;
+    t->nv = (uint32_t)p->nv;
+    t->colors = p->colors;
+    t->records = pt->first + (pt->order[1] != pt->order[0] ? pt->order[1]->count : 0);
+    return 1;
+}
+
 int ply_text_fast_body(ply *p)
 {
     ply_text pt;
-    if (p->format != F_ASCII || p->nv == 0 || !text_layout(p, &pt))
-        return 0;
     tf_text *t = calloc(1, sizeof *t);
     if (!t)
         return 0;
-    t->line = text_line;
-    t->format = &pt;
-    t->nv = (uint32_t)p->nv;
-    t->colors = p->colors;
-    t->records = pt.first + (pt.order[1] != pt.order[0] ? pt.order[1]->count : 0);
+    if (!ply_text_setup(p, &pt, t)) {
+        free(t);
+        return 0;
+    }
     int ok = tf_read(t, &p->r, &p->a);
     free(t);
     if (ok)

@@ -3,22 +3,22 @@
  * The PLY writer: binary little or big endian or ascii ("%.17g"), positions
  * as doubles (lossless) or, when asked, float32 (ascii: "%.17g" of the
  * float), vertex colours when the mesh has them, the list count type widened
- * to uint only when a face has more than 255 corners. The binary blocks are
- * formatted in parallel (block_write.h). (The reader is mesh_ply.c.)
+ * to uint only when a face has more than 255 corners: its parts
+ * (mesh_parts.h), the binary blocks formatted in parallel (block_write.h).
+ * (The reader is mesh_ply.c.)
  */
 #include "mesh/io/formats.h"
 #include "base/context.h"
-#include "mesh/io/block_write.h"
-#include "mesh/io/text_write.h"
-#include "mesh/io/toolkit.h"
+#include "mesh/io/mesh_parts.h"
 #include "mesh/mesh.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 typedef struct ply_blocks {
-    const limn_mesh *m;
-    int big, single;
+    const mesh_block *m;
+    int big, single, colors;
     unsigned count_size; /* bytes of a face's corner count: 1 or 4 */
 } ply_blocks;
 
@@ -31,7 +31,7 @@ static unsigned char *put(unsigned char *o, uint64_t v, unsigned size, int big)
 
 static size_t vertex_bytes(const ply_blocks *b)
 {
-    return (b->single ? 12 : 24) + (b->m->colors ? 3 : 0);
+    return (b->single ? 12 : 24) + (b->colors ? 3 : 0);
 }
 
 static size_t vertex_bound(const void *arg, size_t begin, size_t end)
@@ -42,7 +42,7 @@ static size_t vertex_bound(const void *arg, size_t begin, size_t end)
 static size_t vertex_put(const void *arg, size_t begin, size_t end, unsigned char *out)
 {
     const ply_blocks *b = arg;
-    const uint8_t *c = b->m->colors;
+    const uint8_t *c = b->colors ? b->m->colors : NULL;
     unsigned char *o = out;
     for (size_t v = begin; v < end; v++) {
         const double *p = b->m->positions + 3 * v;
@@ -84,47 +84,59 @@ static size_t face_put(const void *arg, size_t begin, size_t end, unsigned char 
     return (size_t)(o - out);
 }
 
-static limn_status ply_header(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f,
-                              limn_format format, int single, uint32_t max_face)
+limn_status ply_header(limn_context *ctx, const char *path, const mesh_layout *l,
+                       const block_sink *sink)
 {
-    const char *count_type = max_face > 255 ? "uint" : "uchar";
-    const char *index_type = m->vertex_count > 2147483647u ? "uint" : "int";
-    const char *name = format == LIMN_FORMAT_PLY_ASCII       ? "ascii"
-                       : format == LIMN_FORMAT_PLY_BINARY_BE ? "binary_big_endian"
-                                                             : "binary_little_endian";
-    const char *type = single ? "float" : "double";
-    if (fprintf(f, "ply\nformat %s 1.0\ncomment written by limn\nelement vertex %zu\n"
-                   "property %s x\nproperty %s y\nproperty %s z\n",
-                name, m->vertex_count, type, type, type) < 0 ||
-        (m->colors && fputs("property uchar red\nproperty uchar green\nproperty uchar blue\n",
-                            f) == EOF) ||
-        fprintf(f, "element face %zu\nproperty list %s %s vertex_indices\nend_header\n",
-                m->face_count, count_type, index_type) < 0)
-        return mio_write_failed(ctx, path);
-    return LIMN_OK;
+    const char *count_type = l->max_face > 255 ? "uint" : "uchar";
+    const char *index_type = l->vertex_total > 2147483647u ? "uint" : "int";
+    const char *name = l->format == LIMN_FORMAT_PLY_ASCII       ? "ascii"
+                       : l->format == LIMN_FORMAT_PLY_BINARY_BE ? "binary_big_endian"
+                                                                : "binary_little_endian";
+    const char *type = l->single ? "float" : "double";
+    char head[512];
+    int n = snprintf(head, sizeof head,
+                     "ply\nformat %s 1.0\ncomment written by limn\nelement vertex %zu\n"
+                     "property %s x\nproperty %s y\nproperty %s z\n%s"
+                     "element face %zu\nproperty list %s %s vertex_indices\nend_header\n",
+                     name, l->vertex_total, type, type, type,
+                     l->colors ? "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+                               : "",
+                     l->face_total, count_type, index_type);
+    if (n < 0 || (size_t)n >= sizeof head)
+        return ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s: header too long", path);
+    return sink->put(sink->arg, ctx, path, head, (size_t)n);
+}
+
+static ply_blocks blocks_of(const mesh_layout *l, const mesh_block *b)
+{
+    return (ply_blocks){b, l->format == LIMN_FORMAT_PLY_BINARY_BE, l->single, l->colors,
+                        l->max_face > 255 ? 4 : 1};
+}
+
+limn_status ply_vertices(limn_context *ctx, const char *path, const mesh_layout *l,
+                         const mesh_block *b, const block_sink *sink)
+{
+    if (l->format == LIMN_FORMAT_PLY_ASCII)
+        return text_vertices(ctx, path, l, b, sink);
+    ply_blocks pb = blocks_of(l, b);
+    block_job job = {b->vertex_count, vertex_bytes(&pb), vertex_bound, vertex_put, &pb};
+    return block_emit(ctx, path, &job, sink);
+}
+
+limn_status ply_faces(limn_context *ctx, const char *path, const mesh_layout *l,
+                      const mesh_block *b, const block_sink *sink)
+{
+    if (l->format == LIMN_FORMAT_PLY_ASCII)
+        return text_faces(ctx, path, l, b, sink);
+    ply_blocks pb = blocks_of(l, b);
+    block_job job = {b->face_count, pb.count_size + 12, face_bound, face_put, &pb};
+    return block_emit(ctx, path, &job, sink);
 }
 
 limn_status ply_write(limn_context *ctx, const limn_mesh *m, const char *path, FILE *f,
                       limn_format format, int single)
 {
-    uint32_t max_face = 0;
-    for (size_t fc = 0; fc < m->face_count; fc++) {
-        uint32_t n = m->face_offsets[fc + 1] - m->face_offsets[fc];
-        if (n > max_face)
-            max_face = n;
-    }
-    limn_status st = ply_header(ctx, m, path, f, format, single, max_face);
-    if (st)
-        return st;
-    if (format == LIMN_FORMAT_PLY_ASCII) {
-        st = mio_write_vertices(ctx, m, path, f, "", m->colors, single);
-        return st ? st : mio_write_faces(ctx, m, path, f, NULL, 0);
-    }
-    ply_blocks b = {m, format == LIMN_FORMAT_PLY_BINARY_BE, single, max_face > 255 ? 4 : 1};
-    block_job vertices = {m->vertex_count, vertex_bytes(&b), vertex_bound, vertex_put, &b};
-    block_job faces = {m->face_count, b.count_size + 12, face_bound, face_put, &b};
-    st = block_write(ctx, path, f, &vertices);
-    return st ? st : block_write(ctx, path, f, &faces);
+    return mesh_parts_write(ctx, m, path, f, format, single);
 }
 
 void ply_float_error(const limn_mesh *m, double *max_error, double *mean_error)

@@ -1,0 +1,102 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Local rows (issue 14 item 3, docs/mpi.md "Local rows"): every rank builds
+ * its share of the distributed operator from distributed input, no rank
+ * holding the whole mesh. Internal to the MPI layer.
+ *
+ * The input is a vertex block per rank and any contiguous range of faces per
+ * rank, with a partition of the vertices (part = owning rank). Each rank
+ * learns the parts of the vertices its faces use from their block owners,
+ * sends every face to each distinct part among its vertices, receives its
+ * owned vertices from the block owners, and so holds every face incident to
+ * an owned vertex. It builds the sub-mesh of those faces (vertices in
+ * increasing global index, faces in increasing global face index), repairs
+ * it as limn_mesh_repair repairs the whole mesh (every decision about a face
+ * depends only on faces sharing its vertices: all here), builds its operator
+ * without reordering and keeps the owned vertices' rows: the single
+ * process's rows bit for bit, entries in the same order (tests/
+ * test_local_rows.c; a row RCM renumbers keeps its entries' order). Classes, ghost order and halo are mpi_part.h's,
+ * with ghost rules and the owners' local numbers exchanged between ranks;
+ * tests/test_mpi_local.c checks the whole mpi_part against mpi_distribute's.
+ */
+#ifndef LIMN_MPI_LOCAL_H
+#define LIMN_MPI_LOCAL_H
+
+#include "mpi/mpi_part.h"
+
+/* What one rank held (per-rank memory, checked by test_mpi_local). */
+typedef struct mpi_local_stats {
+    size_t sub_vertices, sub_faces; /* this rank's sub-mesh: owned vertices and their ring */
+    size_t faces_received;          /* input faces incident to an owned vertex */
+    size_t largest_vertex_array;    /* entries of the largest per-vertex array this
+                                       build allocated itself (sub-mesh, owned, ghost,
+                                       request and answer lists); test_mpi_local
+                                       checks it stays below vertex_total on 2+ ranks */
+    double seconds;                 /* the whole build, this rank (wall clock) */
+} mpi_local_stats;
+
+/*
+ * Collective over p->comm (p from mpi_part_begin). vtxdist[size + 1]: rank r
+ * holds input vertices [vtxdist[r], vtxdist[r + 1]); positions (3 per
+ * vertex) and part_of (owning rank of each) are this rank's block. This
+ * rank's faces: face_count faces from global face face_begin (CSR from 0,
+ * global vertex ids). repair: as limn_mesh_repair's options (NULL: the
+ * defaults). Fills *p as mpi_distribute does (same owned-row classes, ghost
+ * order and halo; p->has_global stays 0) and opens the device with the rows;
+ * every rank gets the same status and message. owned_rows4 (may be NULL)
+ * gets the input positions of the owned rows, 4 doubles a row (w = 0), in
+ * local order (caller frees): the right-hand side of a solve. stats may be
+ * NULL.
+ */
+limn_status mpi_local_build(mpi_part *p, const size_t *vtxdist, const double *positions,
+                            const uint32_t *part_of, size_t face_begin, size_t face_count,
+                            const uint32_t *face_offsets, const uint32_t *face_indices,
+                            limn_scheme scheme, double alpha, const limn_repair_options *repair,
+                            double **owned_rows4, mpi_local_stats *stats);
+
+/* ------------------------------------------------------- mpi_local_comm.c */
+
+/* Collective: rank r gets cnt[r] elements of elem bytes from this rank's
+   send (grouped by destination, in rank order); *recv (allocated, caller
+   frees) gets every rank's elements in rank order, rcnt[r] of them (rcnt:
+   size ints, filled). *total: the elements received. Every rank gets the
+   same status. */
+limn_status mpi_local_alltoallv(mpi_part *p, const void *send, const int *cnt, size_t elem,
+                                void **recv, int *rcnt, size_t *total);
+
+/* Collective: for n increasing global ids, the block owners' values (elem
+   bytes each, from `mine`, this rank's block of vtxdist) into out. Each
+   block owner answers in the order asked, so answers land in id order. */
+struct local_sub;
+limn_status mpi_local_fetch(mpi_part *p, struct local_sub *s, const size_t *vtxdist,
+                            const uint32_t *ids, size_t n, const void *mine, size_t elem,
+                            void *out);
+
+/* Collective: the bounding box diagonal of every rank's block (pos, nb
+   vertices here), as mesh_bbox_diagonal gives it for the whole mesh. */
+double mpi_local_diagonal(mpi_part *p, const double *pos, size_t nb);
+
+/* Sorts n keys increasing (radix passes; qsort when short or out of memory). */
+void mpi_local_sort(uint64_t *a, size_t n);
+
+/* Notes a per-vertex array of `entries` in s->stats. */
+void mpi_local_note(struct local_sub *s, size_t entries);
+
+/* --------------------------------------------------------- mpi_local_rows.c */
+
+/* This rank's sub-mesh and its operator, as mpi_local.c leaves them. */
+typedef struct local_sub {
+    size_t n;               /* sub-mesh vertices */
+    uint32_t *ids;          /* global id of each, increasing */
+    uint32_t *part;         /* owning rank of each */
+    size_t n_owned;
+    uint32_t *owned;        /* sub-mesh index of each owned vertex, increasing */
+    stencil_operator op;    /* the sub-mesh's operator (host only, input order) */
+    mpi_local_stats *stats;
+} local_sub;
+
+/* Collective: p's owned rows (classes), ghosts (by owner, then the owner's
+   local number, their rules from the owners) and halo from s. */
+limn_status mpi_local_rows(mpi_part *p, local_sub *s);
+
+#endif

@@ -1,0 +1,178 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Local rows, the exchanges (mpi_local.h): every rank to every rank in one
+ * MPI_Alltoallv with the counts exchanged first, values of vertices fetched
+ * from the ranks whose input blocks hold them, the radix sort of the keys,
+ * and the bounding box over all blocks.
+ */
+#include "mpi/mpi_local.h"
+
+#include "base/context.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void mpi_local_note(local_sub *s, size_t entries)
+{
+    if (s->stats && entries > s->stats->largest_vertex_array)
+        s->stats->largest_vertex_array = entries;
+}
+
+limn_status mpi_local_alltoallv(mpi_part *p, const void *send, const int *cnt, size_t elem,
+                                void **recv, int *rcnt, size_t *total)
+{
+    size_t R = (size_t)p->size;
+    int *sb = malloc(4 * R * sizeof *sb), *sd = sb + R, *rb = sb + 2 * R, *rd = sb + 3 * R;
+    *recv = NULL;
+    *total = 0;
+    limn_status st = sb ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    st = mpi_agree(p, st);
+    if (st) {
+        free(sb);
+        return st;
+    }
+    MPI_Alltoall(cnt, 1, MPI_INT, rcnt, 1, MPI_INT, p->comm);
+    size_t so = 0, ro = 0;
+    for (size_t r = 0; !st && r < R; r++) {
+        if ((so + (size_t)cnt[r]) * elem > INT_MAX || (ro + (size_t)rcnt[r]) * elem > INT_MAX)
+            st = ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                          "a rank would exchange more than %d bytes in one MPI call: use more "
+                          "ranks",
+                          INT_MAX);
+        if (st)
+            break;
+        sb[r] = (int)((size_t)cnt[r] * elem);
+        sd[r] = (int)(so * elem);
+        rb[r] = (int)((size_t)rcnt[r] * elem);
+        rd[r] = (int)(ro * elem);
+        so += (size_t)cnt[r];
+        ro += (size_t)rcnt[r];
+    }
+    if (!st && !(*recv = malloc(ro ? ro * elem : 1)))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu received entries", ro);
+    st = mpi_agree(p, st);
+    if (!st)
+        MPI_Alltoallv(send, sb, sd, MPI_BYTE, *recv, rb, rd, MPI_BYTE, p->comm);
+    if (st) {
+        free(*recv);
+        *recv = NULL;
+    }
+    *total = ro;
+    free(sb);
+    return st;
+}
+
+/* The rank whose block holds vertex v. */
+static int block_of(const mpi_part *p, const size_t *vtxdist, uint32_t v)
+{
+    int lo = 0, hi = p->size - 1;
+    while (lo < hi) {
+        int mid = (lo + hi + 1) / 2;
+        if (vtxdist[mid] <= v)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return lo;
+}
+
+limn_status mpi_local_fetch(mpi_part *p, local_sub *s, const size_t *vtxdist,
+                               const uint32_t *ids, size_t n, const void *mine, size_t elem,
+                               void *out)
+{
+    size_t R = (size_t)p->size;
+    int *cnt = calloc(2 * R, sizeof *cnt), *rcnt = cnt + R;
+    limn_status st = cnt ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    for (size_t i = 0; cnt && i < n; i++)
+        cnt[block_of(p, vtxdist, ids[i])]++;
+    st = mpi_agree(p, st);
+    if (st) {
+        free(cnt);
+        return st;
+    }
+    void *req = NULL, *ans = NULL, *got = NULL;
+    size_t nreq = 0, nans = 0;
+    st = mpi_local_alltoallv(p, ids, cnt, sizeof(uint32_t), &req, rcnt, &nreq);
+    mpi_local_note(s, nreq);
+    if (!st && !(ans = malloc(nreq ? nreq * elem : 1)))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory answering %zu requests", nreq);
+    for (size_t i = 0; !st && i < nreq; i++) {
+        size_t at = ((const uint32_t *)req)[i] - vtxdist[p->rank];
+        memcpy((char *)ans + i * elem, (const char *)mine + at * elem, elem);
+    }
+    st = mpi_agree(p, st);
+    int *back = malloc(R * sizeof *back);
+    if (!st && !back)
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_local_alltoallv(p, ans, rcnt, elem, &got, back, &nans);
+    if (!st)
+        memcpy(out, got, n * elem);
+    free(back);
+    free(req);
+    free(ans);
+    free(got);
+    free(cnt);
+    return st;
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+void mpi_local_sort(uint64_t *a, size_t n)
+{
+    uint64_t diff = 0;
+    for (size_t i = 1; i < n; i++)
+        diff |= a[i] ^ a[0];
+    uint64_t *b = n > 256 ? malloc(n * sizeof *b) : NULL, *src = a, *dst = b;
+    size_t *count = b ? malloc(65537 * sizeof *count) : NULL;
+    if (!count) { /* short lists, or no room for the radix passes */
+        free(b);
+        qsort(a, n, sizeof *a, cmp_u64);
+        return;
+    }
+    for (int shift = 0; shift < 64; shift += 16) { /* stable LSD passes, 16 bits each */
+        if (!((diff >> shift) & 0xffff))
+            continue; /* every key has the same digit here */
+        memset(count, 0, 65537 * sizeof *count);
+        for (size_t i = 0; i < n; i++)
+            count[((src[i] >> shift) & 0xffff) + 1]++;
+        for (size_t d = 0; d < 65536; d++)
+            count[d + 1] += count[d];
+        for (size_t i = 0; i < n; i++)
+            dst[count[(src[i] >> shift) & 0xffff]++] = src[i];
+        uint64_t *t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != a)
+        memcpy(a, src, n * sizeof *a);
+    free(b);
+    free(count);
+}
+
+/* The bounding box diagonal of all vertices, as mesh_bbox_diagonal gives it
+   for the whole mesh (min and max are exact in any order). */
+double mpi_local_diagonal(mpi_part *p, const double *pos, size_t nb)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < nb; i++)
+        for (int c = 0; c < 3; c++) {
+            double x = pos[3 * i + c];
+            lo[c] = x < lo[c] ? x : lo[c];
+            hi[c] = x > hi[c] ? x : hi[c];
+        }
+    double glo[3], ghi[3];
+    MPI_Allreduce(lo, glo, 3, MPI_DOUBLE, MPI_MIN, p->comm);
+    MPI_Allreduce(hi, ghi, 3, MPI_DOUBLE, MPI_MAX, p->comm);
+    if (!(glo[0] <= ghi[0]))
+        return 0.0; /* no vertices */
+    return sqrt((ghi[0] - glo[0]) * (ghi[0] - glo[0]) + (ghi[1] - glo[1]) * (ghi[1] - glo[1]) +
+                (ghi[2] - glo[2]) * (ghi[2] - glo[2]));
+}

@@ -1,0 +1,44 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The distributed mesh of limn_mpi.h (limn_mpi_mesh): this rank's vertex
+ * and face blocks (a mesh_slice, global numbering) and where every rank's
+ * blocks begin. Internal to the MPI layer.
+ */
+#ifndef LIMN_MPI_MESH_H
+#define LIMN_MPI_MESH_H
+
+#include "limn_mpi.h"
+
+#include "mesh/io/mesh_slice.h"
+#include "mpi/mpi_part.h"
+
+struct limn_mpi_mesh {
+    MPI_Comm comm;        /* the caller's, duplicated */
+    int rank, size;
+    size_t *vertex_dist;  /* size + 1: rank r holds vertices [dist[r], dist[r+1]) */
+    size_t *face_dist;    /* size + 1: the same for faces */
+    mesh_slice slice;
+};
+
+/* A handle over comm taking the slice (zeroed in *slice on success);
+   collective (the blocks' beginnings are gathered and checked). */
+limn_status mpi_mesh_adopt(mpi_part *p, mesh_slice *slice, limn_mpi_mesh **out);
+
+/* An mpi_part over the mesh's communicator (mpi_part_begin). */
+limn_status mpi_mesh_part(limn_context *ctx, const limn_mpi_mesh *mesh,
+                          const limn_mpi_options *mpi, mpi_part *p);
+
+/* The bounding box diagonal of the whole mesh, as mesh_bbox_diagonal
+   computes it (min and max are exact under any reduction order). */
+double mpi_mesh_bbox_diagonal(mpi_part *p, const limn_mpi_mesh *mesh);
+
+/* The checks of check_mesh_magnitude over the ranks (non-finite or too large
+   coordinates, named by global vertex); agreed. */
+limn_status mpi_mesh_check(mpi_part *p, const char *fn, const limn_mpi_mesh *mesh);
+
+/* operator_resolve_scheme over the ranks: auto is Loop when every face of
+   every rank is a triangle (and there are faces); agreed. */
+limn_status mpi_mesh_scheme(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme want,
+                            limn_scheme *out);
+
+#endif

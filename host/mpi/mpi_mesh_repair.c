@@ -1,0 +1,180 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * limn_mpi_mesh_repair: the repair of limn_mesh_repair on every rank's face
+ * block. A face that uses a vertex twice is repaired from its own corners
+ * alone (mesh_repair.c), so each rank repairs its block as the single
+ * process repairs those faces, in the same order; the blocks are then
+ * renumbered and the counts reduced. Duplicate faces need faces of other
+ * ranks and are not looked for here yet.
+ */
+#include "mpi/mpi_mesh.h"
+
+#include "base/abi.h"
+#include "base/context.h"
+#include "mesh/mesh.h"
+#include "mpi/mpi_blocks.h"
+#include "topology/face_keys.h"
+#include "topology/mesh_repair.h"
+
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The block's faces as a mesh of its own vertices (ids[k]: global id of
+   local vertex k, sorted), positions left unset: the repair reads faces only. */
+static limn_status local_mesh(limn_context *ctx, const mesh_slice *s, uint32_t **ids_out,
+                              limn_mesh **out)
+{
+    size_t nc = s->face_offsets[s->face_count], nu = 0;
+    uint32_t *ids = malloc((nc ? nc : 1) * sizeof *ids);
+    if (!ids)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory repairing %zu faces", s->face_count);
+    memcpy(ids, s->face_indices, nc * sizeof *ids);
+    qsort(ids, nc, sizeof *ids, cmp_u32);
+    for (size_t c = 0; c < nc; c++)
+        if (nu == 0 || ids[nu - 1] != ids[c])
+            ids[nu++] = ids[c];
+    limn_mesh *m = NULL;
+    limn_status st = mesh_alloc(ctx, nu, s->face_count, nc, &m);
+    if (st) {
+        free(ids);
+        return st;
+    }
+    memcpy(m->face_offsets, s->face_offsets, (s->face_count + 1) * sizeof *m->face_offsets);
+    for (size_t c = 0; c < nc; c++) {
+        const uint32_t *at = bsearch(&s->face_indices[c], ids, nu, sizeof *ids, cmp_u32);
+        m->face_indices[c] = (uint32_t)(at - ids);
+    }
+    *ids_out = ids;
+    *out = m;
+    return LIMN_OK;
+}
+
+/* Moves m's repaired faces into the slice, vertices renamed back to global ids. */
+static void take_faces(mesh_slice *s, limn_mesh *m, const uint32_t *ids)
+{
+    size_t nf = m->face_count, nc = m->face_offsets[nf];
+    free(s->face_offsets);
+    free(s->face_indices);
+    s->face_offsets = m->face_offsets;
+    s->face_indices = m->face_indices;
+    s->face_count = nf;
+    for (size_t c = 0; c < nc; c++)
+        s->face_indices[c] = ids[s->face_indices[c]];
+    m->face_offsets = NULL;
+    m->face_indices = NULL;
+    m->face_count = 0;
+}
+
+/* Repairs this rank's block in place (when allowed): r gets its counts and
+   the block's first repeat (global face and vertex; SIZE_MAX when none). */
+static limn_status repair_block(limn_context *ctx, mesh_slice *s, int allowed,
+                                limn_repair_report *r)
+{
+    uint32_t *ids = NULL;
+    limn_mesh *m = NULL;
+    limn_status st = local_mesh(ctx, s, &ids, &m);
+    size_t first = SIZE_MAX;
+    uint32_t first_v = 0;
+    if (!st)
+        st = face_first_repeat(ctx, m, &first, &first_v);
+    r->first_repeat_face = SIZE_MAX;
+    if (!st && first != SIZE_MAX) {
+        r->first_repeat_face = s->face_begin + first;
+        r->first_repeat_vertex = ids[first_v];
+        if (allowed)
+            st = repair_fix_repeats(ctx, m, r);
+        if (!st && allowed)
+            take_faces(s, m, ids);
+    }
+    limn_mesh_destroy(m);
+    free(ids);
+    return st;
+}
+
+/* The counts of every rank summed, the first repeat the lowest face's;
+   returns whether any rank found one. */
+static int reduce_report(mpi_part *p, limn_repair_report *r)
+{
+    unsigned long long c[4] = {r->repeat_faces, r->repeats_removed, r->faces_split,
+                               r->degenerate_removed},
+                       g[4];
+    MPI_Allreduce(c, g, 4, MPI_UNSIGNED_LONG_LONG, MPI_SUM, p->comm);
+    r->repeat_faces = g[0];
+    r->repeats_removed = g[1];
+    r->faces_split = g[2];
+    r->degenerate_removed = g[3];
+    unsigned long long f = r->first_repeat_face == SIZE_MAX ? ULLONG_MAX : r->first_repeat_face,
+                       gf;
+    MPI_Allreduce(&f, &gf, 1, MPI_UNSIGNED_LONG_LONG, MPI_MIN, p->comm);
+    int who = p->size, me = gf != ULLONG_MAX && f == gf ? p->rank : p->size;
+    MPI_Allreduce(&me, &who, 1, MPI_INT, MPI_MIN, p->comm);
+    unsigned v = r->first_repeat_vertex;
+    if (who < p->size)
+        MPI_Bcast(&v, 1, MPI_UNSIGNED, who, p->comm);
+    r->first_repeat_face = gf == ULLONG_MAX ? 0 : (size_t)gf;
+    r->first_repeat_vertex = v;
+    return gf != ULLONG_MAX;
+}
+
+/* The whole repair on structs of this library's layout (c from abi_enter). */
+static limn_status repair_sized(mpi_part *p, limn_mpi_mesh *mesh, const limn_repair_options *o,
+                                limn_repair_report *r)
+{
+    memset(r, 0, sizeof *r);
+    r->faces_before = mesh->slice.face_total;
+    limn_status st = LIMN_OK;
+    if (o->duplicate_faces)
+        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                       "removing duplicate faces is not available on several MPI ranks yet: run "
+                       "without --drop-duplicate-faces, or on one rank");
+    if (!st)
+        st = repair_block(p->ctx, &mesh->slice, o->repeated_vertices, r);
+    st = mpi_agree(p, st);
+    if (st)
+        return st;
+    int found = reduce_report(p, r);
+    if (found && !o->repeated_vertices)
+        return ctx_fail(p->ctx, LIMN_ERR_TOPOLOGY,
+                         "face %zu uses vertex %u twice (a degenerate face) and repair is off: "
+                         "remove the face, or allow the repair (drop --no-repair)",
+                         r->first_repeat_face, r->first_repeat_vertex);
+    if (r->repeat_faces) {
+        /* new face blocks: the counts changed, the order did not */
+        unsigned long long c = mesh->slice.face_count, b = 0;
+        MPI_Exscan(&c, &b, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, p->comm);
+        mesh->slice.face_begin = p->rank ? (size_t)b : 0;
+        mpi_blocks_dist(p, mesh->slice.face_count, mesh->face_dist);
+        mesh->slice.face_total = mesh->face_dist[p->size];
+        repair_warn_repeats(p->ctx, r, mesh->slice.face_total);
+    }
+    r->faces_after = mesh->slice.face_total;
+    return LIMN_OK;
+}
+
+limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh,
+                                 const limn_repair_options *options, limn_repair_report *report)
+{
+    mpi_part p;
+    limn_status st = mpi_mesh_part(ctx, mesh, NULL, &p);
+    if (p.comm == MPI_COMM_NULL)
+        return st;
+    abi_call c;
+    if (!st)
+        st = abi_enter(&c, ctx, "limn_mpi_mesh_repair", &abi_repair_options, options,
+                       &abi_repair_report, report, NULL);
+    int entered = !st;
+    st = mpi_agree(&p, st);
+    if (!st)
+        st = repair_sized(&p, mesh, c.options, c.report);
+    if (entered)
+        st = abi_leave(&c, st);
+    mpi_part_end(&p);
+    return st;
+}

@@ -1,0 +1,145 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Partition quality and time: serial METIS (mpi_partition.c, today's root
+ * path) against the distributed PT-Scotch partition (mpi_dgraph.c), both
+ * into as many parts as ranks (driven by perf/partition_compare.py).
+ *
+ *   mpirun -np R partition_compare [--strategy quality|default|speed] MESH [MESH ...]
+ *
+ * Every rank reads the mesh (a benchmark shortcut: the pipeline gives each
+ * rank only its slice), keeps an even block of the vertices and of the
+ * faces; METIS runs on rank 0 alone on the whole mesh. Rank 0 prints one
+ * JSON line per mesh: vertices, edges, and per partitioner the edge cut, the
+ * imbalance (largest part / mean), the wall seconds (METIS: the graph and
+ * METIS on rank 0; PT-Scotch: the whole collective call, slowest rank) and
+ * the CPU seconds of the process (PT-Scotch: the busiest rank's), which a
+ * shared machine inflates less than the wall time.
+ */
+#include "limn.h"
+
+#include "mpi/mpi_dgraph.h"
+#include "mpi/mpi_part.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double cpu_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static double imbalance_of(const uint32_t *part, size_t n, int parts)
+{
+    size_t *count = calloc((size_t)parts, sizeof *count), mx = 0;
+    for (size_t v = 0; v < n; v++)
+        count[part[v]]++;
+    for (int p = 0; p < parts; p++)
+        mx = count[p] > mx ? count[p] : mx;
+    free(count);
+    return n ? (double)mx * parts / (double)n : 1.0;
+}
+
+/* METIS on rank 0: cut, imbalance, seconds. */
+static int metis_run(limn_context *ctx, const limn_mesh *m, int parts, size_t *cut, double *imb,
+                     double sec[2])
+{
+    size_t n = limn_mesh_vertex_count(m);
+    uint32_t *part = malloc((n + 1) * sizeof *part);
+    double t0 = MPI_Wtime(), c0 = cpu_seconds();
+    int ok = mpi_partition(ctx, m, parts, part, cut) == LIMN_OK;
+    sec[0] = MPI_Wtime() - t0;
+    sec[1] = cpu_seconds() - c0;
+    if (ok)
+        *imb = imbalance_of(part, n, parts);
+    else
+        fprintf(stderr, "partition_compare: METIS: %s\n", limn_context_message(ctx));
+    free(part);
+    return ok;
+}
+
+/* PT-Scotch over all ranks, faces in even contiguous blocks. */
+static int scotch_run(limn_context *ctx, const limn_mesh *m, int rank, int size,
+                      mpi_dgraph_strategy strategy, mpi_dgraph_stats *st, double *cpu)
+{
+    size_t n = limn_mesh_vertex_count(m), nf = limn_mesh_face_count(m);
+    const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
+    size_t *vtxdist = malloc(((size_t)size + 1) * sizeof *vtxdist);
+    for (int r = 0; r <= size; r++)
+        vtxdist[r] = n * (size_t)r / (size_t)size;
+    size_t f0 = nf * (size_t)rank / (size_t)size, f1 = nf * (size_t)(rank + 1) / (size_t)size;
+    uint32_t *loff = malloc((f1 - f0 + 1) * sizeof *loff), *part = NULL;
+    for (size_t f = f0; f <= f1; f++)
+        loff[f - f0] = off[f] - off[f0];
+    double c0 = cpu_seconds();
+    limn_status s = mpi_dgraph_partition_with(ctx, MPI_COMM_WORLD, vtxdist, f1 - f0, loff,
+                                              idx + off[f0], size, strategy, &part, st);
+    double c = cpu_seconds() - c0;
+    MPI_Allreduce(&c, cpu, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    if (s != LIMN_OK && rank == 0)
+        fprintf(stderr, "partition_compare: PT-Scotch: %s\n", limn_context_message(ctx));
+    free(part);
+    free(loff);
+    free(vtxdist);
+    return s == LIMN_OK;
+}
+
+static int one_mesh(limn_context *ctx, const char *path, int rank, int size,
+                    mpi_dgraph_strategy strategy)
+{
+    limn_mesh *m = NULL;
+    int ok = limn_mesh_read(ctx, path, LIMN_FORMAT_AUTO, &m) == LIMN_OK;
+    if (!ok)
+        fprintf(stderr, "partition_compare: %s: %s\n", path, limn_context_message(ctx));
+    MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (!ok) {
+        limn_mesh_destroy(m);
+        return 0;
+    }
+    size_t mcut = 0;
+    double mimb = 0, msec[2] = {0, 0}, scpu = 0;
+    if (rank == 0)
+        ok = metis_run(ctx, m, size, &mcut, &mimb, msec);
+    mpi_dgraph_stats st;
+    MPI_Barrier(MPI_COMM_WORLD);
+    ok = scotch_run(ctx, m, rank, size, strategy, &st, &scpu) && ok;
+    if (ok && rank == 0)
+        printf("{\"mesh\": \"%s\", \"parts\": %d, \"strategy\": %d, \"vertices\": %zu, "
+               "\"edges\": %zu, \"metis_cut\": %zu, \"metis_imbalance\": %.4f, "
+               "\"metis_seconds\": %.4f, \"metis_cpu\": %.4f, \"scotch_cut\": %zu, "
+               "\"scotch_imbalance\": %.4f, \"scotch_seconds\": %.4f, \"scotch_cpu\": %.4f, "
+               "\"graph_seconds\": %.4f}\n",
+               path, size, (int)strategy, st.vertices, st.edges, mcut, mimb, msec[0], msec[1],
+               st.edge_cut, st.imbalance, st.seconds, scpu, st.seconds_graph);
+    fflush(stdout);
+    limn_mesh_destroy(m);
+    return ok;
+}
+
+int main(int argc, char **argv)
+{
+    MPI_Init(&argc, &argv);
+    int rank, size, ok = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    int first = 1;
+    mpi_dgraph_strategy strategy = MPI_DGRAPH_QUALITY;
+    if (argc > 2 && !strcmp(argv[1], "--strategy")) {
+        strategy = !strcmp(argv[2], "speed")     ? MPI_DGRAPH_SPEED
+                   : !strcmp(argv[2], "default") ? MPI_DGRAPH_DEFAULT
+                                                 : MPI_DGRAPH_QUALITY;
+        first = 3;
+    }
+    if (argc <= first && rank == 0)
+        fprintf(stderr, "usage: mpirun -np R partition_compare [--strategy quality|default|speed] "
+                        "MESH [MESH ...]\n");
+    limn_context *ctx = limn_context_create();
+    for (int k = first; k < argc; k++)
+        ok = one_mesh(ctx, argv[k], rank, size, strategy) && ok;
+    limn_context_destroy(ctx);
+    MPI_Finalize();
+    return argc <= first || !ok;
+}

@@ -1,0 +1,85 @@
+/* SPDX-License-Identifier: MIT */
+/* Meshes of the MPI tests (mpi_meshes.h). */
+#include "mpi_meshes.h"
+
+#include "support.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Appends b to a (indices shifted), with an offset in space; frees both. */
+static limn_mesh *join(limn_context *ctx, limn_mesh *a, limn_mesh *b, double dx)
+{
+    size_t na = limn_mesh_vertex_count(a), nb = limn_mesh_vertex_count(b);
+    size_t fa = limn_mesh_face_count(a), fb = limn_mesh_face_count(b);
+    const uint32_t *oa = limn_mesh_face_offsets(a), *ob = limn_mesh_face_offsets(b);
+    size_t ia = oa[fa], ib = ob[fb];
+    double *pos = malloc(3 * (na + nb) * sizeof *pos);
+    uint32_t *off = malloc((fa + fb + 1) * sizeof *off), *idx = malloc((ia + ib) * sizeof *idx);
+    memcpy(pos, limn_mesh_positions(a), 3 * na * sizeof *pos);
+    for (size_t i = 0; i < nb; i++)
+        for (int c = 0; c < 3; c++)
+            pos[3 * (na + i) + c] = limn_mesh_positions(b)[3 * i + c] + (c == 0 ? dx : 0.0);
+    memcpy(off, oa, (fa + 1) * sizeof *off);
+    for (size_t f = 1; f <= fb; f++)
+        off[fa + f] = (uint32_t)ia + ob[f];
+    memcpy(idx, limn_mesh_face_indices(a), ia * sizeof *idx);
+    for (size_t k = 0; k < ib; k++)
+        idx[ia + k] = (uint32_t)na + limn_mesh_face_indices(b)[k];
+    limn_mesh *m = NULL;
+    limn_mesh_create(ctx, na + nb, pos, fa + fb, off, idx, &m);
+    free(pos);
+    free(off);
+    free(idx);
+    limn_mesh_destroy(a);
+    limn_mesh_destroy(b);
+    return m;
+}
+
+/* Adds `count` isolated vertices and, with fin, a triangle on the interior
+   edge (1, grid_stride + 1) of the first grid: three faces on one edge. */
+static limn_mesh *extras(limn_context *ctx, limn_mesh *a, int count, int fin, uint32_t stride)
+{
+    size_t n = limn_mesh_vertex_count(a), nf = limn_mesh_face_count(a);
+    const uint32_t *off = limn_mesh_face_offsets(a);
+    size_t ni = off[nf];
+    double *pos = malloc(3 * (n + (size_t)count + 1) * sizeof *pos);
+    uint32_t *off2 = malloc((nf + 2) * sizeof *off2), *idx = malloc((ni + 3) * sizeof *idx);
+    memcpy(pos, limn_mesh_positions(a), 3 * n * sizeof *pos);
+    for (int i = 0; i <= count; i++) {
+        pos[3 * (n + (size_t)i)] = -3.0 - i;
+        pos[3 * (n + (size_t)i) + 1] = 0.5 * i;
+        pos[3 * (n + (size_t)i) + 2] = 1.0;
+    }
+    memcpy(off2, off, (nf + 1) * sizeof *off2);
+    memcpy(idx, limn_mesh_face_indices(a), ni * sizeof *idx);
+    size_t nf2 = nf;
+    if (fin) { /* the fin's apex is the last new vertex */
+        idx[ni] = 1 + stride + 1;
+        idx[ni + 1] = 1 + 1;
+        idx[ni + 2] = (uint32_t)(n + (size_t)count);
+        off2[++nf2] = (uint32_t)ni + 3;
+    }
+    limn_mesh *m = NULL;
+    limn_mesh_create(ctx, n + (size_t)count + (fin ? 1 : 0), pos, nf2, off2, idx, &m);
+    free(pos);
+    free(off2);
+    free(idx);
+    limn_mesh_destroy(a);
+    return m;
+}
+
+/* Several components, boundaries, corners, a non-manifold fin, isolated
+   vertices; the last component shuffled (RCM runs on it). */
+limn_mesh *mpi_test_composite(limn_context *ctx, int triangles)
+{
+    limn_mesh *m = test_mesh_grid(ctx, 30, 20, triangles);
+    m = extras(ctx, m, 2, 1, 31);
+    m = join(ctx, m, test_mesh_icosahedron(ctx), 40.0);
+    if (!triangles)
+        m = join(ctx, m, test_mesh_pyramid(ctx), 50.0);
+    limn_mesh *big = test_mesh_shuffle(ctx, test_mesh_grid(ctx, 70, 60, triangles), 7);
+    test_perturb(big, 0.05, 3);
+    return join(ctx, m, big, 60.0);
+}

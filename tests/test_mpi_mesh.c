@@ -1,0 +1,376 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The distributed pipeline against the single process, under mpirun with
+ * 2, 3 and 5 ranks: every rank reads its slice of a file
+ * (limn_mpi_mesh_read), repairs it (limn_mpi_mesh_repair), the operator is
+ * built with no rank holding the whole mesh (limn_mpi_mesh_interpolate:
+ * PT-Scotch partition, local rows) and the control mesh is written in
+ * parallel (limn_mpi_mesh_write). Rank 0 runs limn_mesh_read, repair,
+ * limn_interpolate and limn_mesh_write on the same file: the two outputs
+ * must be the same bytes (paper and Chebyshev: the single process's bits),
+ * for every input format, on generated meshes with several components,
+ * boundaries, a non-manifold fin, isolated vertices, n-gons and faces that
+ * need the repair, and on shared real meshes when present. Also: the split
+ * input round trip, limn_mpi_mesh_create with uneven blocks, and errors
+ * (a bad face on one rank's slice, a missing file) that reach every rank
+ * with one message and write nothing.
+ *
+ * Not cmocka: a failed assertion on one rank would leave the others in a
+ * collective; checks count failures and the ranks agree at the end.
+ */
+#include "mpi_meshes.h"
+#include "support.h"
+
+#include "limn_mpi.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static int rank, size, failures, checks;
+static char dir[256];
+
+#define CHECK(cond, ...)                                                                       \
+    do {                                                                                       \
+        checks++;                                                                              \
+        if (!(cond)) {                                                                         \
+            failures++;                                                                        \
+            fprintf(stderr, "FAIL (rank %d, %s:%d): ", rank, __FILE__, __LINE__);              \
+            fprintf(stderr, __VA_ARGS__);                                                      \
+            fprintf(stderr, "\n");                                                             \
+        }                                                                                      \
+    } while (0)
+
+/* The bytes of a file (NULL when it cannot be read); *n its size. */
+static char *slurp(const char *path, size_t *n)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long len = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *b = malloc(len > 0 ? (size_t)len : 1);
+    *n = b && len >= 0 ? fread(b, 1, (size_t)len, f) : 0;
+    fclose(f);
+    return b;
+}
+
+static int same_files(const char *a, const char *b)
+{
+    size_t na = 0, nb = 0;
+    char *x = slurp(a, &na), *y = slurp(b, &nb);
+    int same = x && y && na == nb && memcmp(x, y, na) == 0;
+    free(x);
+    free(y);
+    return same;
+}
+
+/* The single process on rank 0: read, repair, interpolate, write. */
+static int single(limn_context *ctx, const char *in, const limn_interpolate_options *o,
+                  const char *out)
+{
+    limn_mesh *m = NULL, *p = NULL;
+    limn_report r = {.size = sizeof r};
+    int ok = limn_mesh_read(ctx, in, LIMN_FORMAT_AUTO, &m) == LIMN_OK &&
+             limn_mesh_repair(ctx, m, NULL, NULL) == LIMN_OK &&
+             limn_interpolate(ctx, m, o, &p, &r) == LIMN_OK &&
+             limn_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO) == LIMN_OK;
+    CHECK(ok, "single process on %s: %s", in, limn_context_message(ctx));
+    limn_mesh_destroy(m);
+    limn_mesh_destroy(p);
+    return ok;
+}
+
+/* Every rank: the distributed pipeline on in, writing out. */
+static limn_status distributed(limn_context *ctx, const char *in,
+                               const limn_interpolate_options *o, const char *out,
+                               limn_report *r)
+{
+    limn_mpi_mesh *m = NULL, *p = NULL;
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &m);
+    if (!st)
+        st = limn_mpi_mesh_repair(ctx, m, NULL, NULL);
+    if (!st)
+        st = limn_mpi_mesh_interpolate(ctx, m, o, &p, r, NULL, NULL);
+    if (!st)
+        st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
+    limn_mpi_mesh_destroy(m);
+    limn_mpi_mesh_destroy(p);
+    return st;
+}
+
+/* One mesh in one input format and method: both routes, the same bytes. */
+static void pipeline_case(limn_context *ctx, const char *name, const limn_mesh *mesh,
+                          const char *ext, limn_scheme scheme, double alpha, limn_method method)
+{
+    char in[320], ref[320], out[320];
+    snprintf(in, sizeof in, "%s/in.%s", dir, ext);
+    snprintf(ref, sizeof ref, "%s/ref.ply", dir);
+    snprintf(out, sizeof out, "%s/out.ply", dir);
+    limn_interpolate_options o;
+    limn_interpolate_options_default(&o);
+    o.scheme = scheme;
+    o.alpha = alpha;
+    o.method = method;
+    o.tolerance = 1e-9;
+    int ok = 1;
+    if (rank == 0) {
+        ok = limn_mesh_write(ctx, mesh, in, LIMN_FORMAT_AUTO) == LIMN_OK;
+        CHECK(ok, "%s: writing %s: %s", name, in, limn_context_message(ctx));
+        ok = ok && single(ctx, in, &o, ref);
+    }
+    MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!ok)
+        return;
+    limn_report r = {.size = sizeof r};
+    limn_status st = distributed(ctx, in, &o, out, &r);
+    CHECK(st == LIMN_OK, "%s (%s, %s): %s", name, ext, limn_method_name(method),
+          limn_context_message(ctx));
+    if (rank == 0 && st == LIMN_OK)
+        CHECK(same_files(ref, out), "%s (%s, %s, %d ranks): output differs from one process's",
+              name, ext, limn_method_name(method), size);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) {
+        unlink(in);
+        unlink(ref);
+        unlink(out);
+    }
+}
+
+/* An OBJ that needs the repair: a quad grid (n-gons: a pentagon replaces two
+   quads' corner) plus a face with a repeated corner and one that visits a
+   vertex twice, spread through the file so they land on different ranks. */
+static void write_repair_obj(const char *path)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return;
+    const int nx = 24, ny = 18;
+    for (int j = 0; j <= ny; j++)
+        for (int i = 0; i <= nx; i++)
+            fprintf(f, "v %d %d %.17g\n", i, j, 0.05 * ((i * 7 + j * 3) % 5));
+    for (int j = 0; j < ny; j++)
+        for (int i = 0; i < nx; i++) {
+            int a = j * (nx + 1) + i + 1;
+            if (i == 3 && j == 2)
+                fprintf(f, "f %d %d %d %d %d\n", a, a + 1, a + 1, a + nx + 2, a + nx + 1);
+            else if (i == 10 && j == 9) /* a b c a d: split into (a b c) and a degenerate */
+                fprintf(f, "f %d %d %d %d %d %d\n", a, a + 1, a + nx + 2, a, a + nx + 2,
+                        a + nx + 1);
+            else
+                fprintf(f, "f %d %d %d %d\n", a, a + 1, a + nx + 2, a + nx + 1);
+        }
+    fclose(f);
+}
+
+static void repair_case(limn_context *ctx)
+{
+    char in[320], ref[320], out[320];
+    snprintf(in, sizeof in, "%s/repair.obj", dir);
+    snprintf(ref, sizeof ref, "%s/repair_ref.ply", dir);
+    snprintf(out, sizeof out, "%s/repair_out.ply", dir);
+    limn_interpolate_options o;
+    limn_interpolate_options_default(&o);
+    int ok = 1;
+    if (rank == 0) {
+        write_repair_obj(in);
+        ok = single(ctx, in, &o, ref);
+    }
+    MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    limn_mpi_mesh *m = NULL, *p = NULL;
+    limn_repair_report rr = {.size = sizeof rr};
+    limn_report r = {.size = sizeof r};
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &m);
+    if (!st)
+        st = limn_mpi_mesh_repair(ctx, m, NULL, &rr);
+    CHECK(st == LIMN_OK && rr.repeat_faces == 2 && rr.faces_after == rr.faces_before + 1,
+          "repair: %s; %zu repeat faces, %zu -> %zu faces", limn_context_message(ctx),
+          rr.repeat_faces, rr.faces_before, rr.faces_after);
+    if (!st)
+        st = limn_mpi_mesh_interpolate(ctx, m, &o, &p, &r, NULL, NULL);
+    if (!st)
+        st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
+    CHECK(st == LIMN_OK, "repair pipeline: %s", limn_context_message(ctx));
+    if (rank == 0 && ok && !st)
+        CHECK(same_files(ref, out), "repaired mesh: output differs from one process's");
+    limn_mpi_mesh_destroy(m);
+    limn_mpi_mesh_destroy(p);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) {
+        unlink(in);
+        unlink(ref);
+        unlink(out);
+    }
+}
+
+/* The split input: written by every rank, read back, the same blocks; and a
+   mesh made from the ranks' own uneven arrays gives the single process's bytes. */
+static void split_and_create(limn_context *ctx, const limn_mesh *mesh)
+{
+    char in[320], name[320], ref[320], out[320];
+    snprintf(in, sizeof in, "%s/split_in.ply", dir);
+    snprintf(name, sizeof name, "%s/parts", dir);
+    snprintf(ref, sizeof ref, "%s/split_ref.ply", dir);
+    snprintf(out, sizeof out, "%s/split_out.ply", dir);
+    limn_interpolate_options o;
+    limn_interpolate_options_default(&o);
+    int ok = 1;
+    if (rank == 0)
+        ok = limn_mesh_write(ctx, mesh, in, LIMN_FORMAT_AUTO) == LIMN_OK &&
+             single(ctx, in, &o, ref);
+    MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    limn_mpi_mesh *a = NULL, *b = NULL, *c = NULL, *p = NULL;
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &a);
+    if (!st)
+        st = limn_mpi_mesh_write_split(ctx, a, name);
+    if (!st)
+        st = limn_mpi_mesh_read_split(ctx, MPI_COMM_WORLD, name, &b);
+    CHECK(st == LIMN_OK, "split round trip: %s", limn_context_message(ctx));
+    if (!st) {
+        size_t nv = limn_mpi_mesh_vertex_count(a), nf = limn_mpi_mesh_face_count(a);
+        const uint32_t *oa = limn_mpi_mesh_face_offsets(a), *ob = limn_mpi_mesh_face_offsets(b);
+        CHECK(nv == limn_mpi_mesh_vertex_count(b) && nf == limn_mpi_mesh_face_count(b) &&
+                  limn_mpi_mesh_vertex_begin(a) == limn_mpi_mesh_vertex_begin(b) &&
+                  memcmp(limn_mpi_mesh_positions(a), limn_mpi_mesh_positions(b),
+                         3 * nv * sizeof(double)) == 0 &&
+                  memcmp(oa, ob, (nf + 1) * sizeof *oa) == 0 &&
+                  memcmp(limn_mpi_mesh_face_indices(a), limn_mpi_mesh_face_indices(b),
+                         oa[nf] * sizeof(uint32_t)) == 0,
+              "split round trip: rank %d's blocks differ", rank);
+    }
+    /* uneven blocks of the caller's own: rank r takes a share growing with r */
+    size_t n = limn_mesh_vertex_count(mesh), nf = limn_mesh_face_count(mesh);
+    size_t weight = (size_t)size * ((size_t)size + 1) / 2, sum = (size_t)rank * (rank + 1) / 2;
+    size_t v0 = n * sum / weight, v1 = n * (sum + (size_t)rank + 1) / weight;
+    size_t f0 = nf * (size_t)rank / (size_t)size, f1 = nf * ((size_t)rank + 1) / (size_t)size;
+    const uint32_t *off = limn_mesh_face_offsets(mesh);
+    uint32_t *loff = malloc((f1 - f0 + 1) * sizeof *loff);
+    for (size_t f = f0; f <= f1; f++)
+        loff[f - f0] = off[f] - off[f0];
+    st = limn_mpi_mesh_create(ctx, MPI_COMM_WORLD, v1 - v0, limn_mesh_positions(mesh) + 3 * v0,
+                              f1 - f0, loff, limn_mesh_face_indices(mesh) + off[f0], &c);
+    free(loff);
+    limn_report r = {.size = sizeof r};
+    if (!st)
+        st = limn_mpi_mesh_repair(ctx, c, NULL, NULL);
+    if (!st)
+        st = limn_mpi_mesh_interpolate(ctx, c, &o, &p, &r, NULL, NULL);
+    if (!st)
+        st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
+    CHECK(st == LIMN_OK, "created mesh: %s", limn_context_message(ctx));
+    if (rank == 0 && ok && !st)
+        CHECK(same_files(ref, out), "uneven blocks: output differs from one process's");
+    limn_mpi_mesh_destroy(a);
+    limn_mpi_mesh_destroy(b);
+    limn_mpi_mesh_destroy(c);
+    limn_mpi_mesh_destroy(p);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) {
+        unlink(in);
+        unlink(ref);
+        unlink(out);
+        for (int k = 0; k < size; k++) {
+            char part[340];
+            snprintf(part, sizeof part, "%s.r%d.ply", name, k);
+            unlink(part);
+        }
+    }
+}
+
+/* A face index past the vertices in the last rank's slice, and a missing
+   file: every rank fails with the same message, and nothing is written. */
+static void errors(limn_context *ctx)
+{
+    char in[320], out[320];
+    snprintf(in, sizeof in, "%s/bad.obj", dir);
+    snprintf(out, sizeof out, "%s/bad_out.ply", dir);
+    if (rank == 0) {
+        FILE *f = fopen(in, "w");
+        for (int i = 0; i < 40; i++)
+            fprintf(f, "v %d 0 %d\n", i % 7, i / 7);
+        for (int i = 0; i < 30; i++)
+            fprintf(f, "f %d %d %d\n", i + 1, i + 2, i == 29 ? 99 : i + 8);
+        fclose(f);
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+    limn_interpolate_options o;
+    limn_interpolate_options_default(&o);
+    limn_report r = {.size = sizeof r};
+    limn_status st = distributed(ctx, in, &o, out, &r);
+    char msg[512];
+    snprintf(msg, sizeof msg, "%s", limn_context_message(ctx));
+    char root_msg[512];
+    memcpy(root_msg, msg, sizeof msg);
+    MPI_Bcast(root_msg, sizeof root_msg, MPI_CHAR, 0, MPI_COMM_WORLD);
+    CHECK(st != LIMN_OK && strstr(msg, "99") && strcmp(msg, root_msg) == 0,
+          "bad index: status %d, message '%s' (rank 0: '%s')", (int)st, msg, root_msg);
+    CHECK(!test_file_exists(out), "bad index: %s was written", out);
+    char missing[320];
+    snprintf(missing, sizeof missing, "%s/missing.ply", dir);
+    st = distributed(ctx, missing, &o, out, &r);
+    CHECK(st != LIMN_OK && strstr(limn_context_message(ctx), "missing.ply"),
+          "missing file: status %d, '%s'", (int)st, limn_context_message(ctx));
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0)
+        unlink(in);
+}
+
+int main(int argc, char **argv)
+{
+    MPI_Init(&argc, &argv);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    if (rank == 0) {
+        snprintf(dir, sizeof dir, "%s/limn_test_mpi_mesh_XXXXXX",
+                 getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+        if (!mkdtemp(dir))
+            dir[0] = '\0';
+        printf("test_mpi_mesh: %d ranks\n", size);
+    }
+    MPI_Bcast(dir, sizeof dir, MPI_CHAR, 0, MPI_COMM_WORLD);
+    limn_context *ctx = limn_context_create();
+    limn_mesh *tri = mpi_test_composite(ctx, 1), *quad = mpi_test_composite(ctx, 0);
+    static const char *const exts[] = {"ply", "obj", "off"};
+    for (size_t e = 0; e < 3; e++) {
+        pipeline_case(ctx, "composite tri", tri, exts[e], LIMN_SCHEME_LOOP, 0.0,
+                      LIMN_METHOD_AUTO);
+        pipeline_case(ctx, "composite quad", quad, exts[e], LIMN_SCHEME_CATMARK, 0.5,
+                      LIMN_METHOD_AUTO);
+    }
+    pipeline_case(ctx, "composite tri", tri, "ply", LIMN_SCHEME_LOOP, 0.0, LIMN_METHOD_PAPER);
+    pipeline_case(ctx, "composite quad", quad, "ply", LIMN_SCHEME_CATMARK, 0.0,
+                  LIMN_METHOD_PAPER);
+    repair_case(ctx);
+    split_and_create(ctx, quad);
+    errors(ctx);
+
+    int shared = rank == 0 ? test_shared_meshes() != NULL : 0;
+    MPI_Bcast(&shared, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    static const char *const real[] = {"small/suzanne.obj", "small/bun_zipper_res4.ply",
+                                       "small/cow.obj", "opensubdiv/catmark_nonman_edges.obj",
+                                       "medium/bob_quad.obj"};
+    for (size_t k = 0; shared && k < sizeof real / sizeof *real; k++) {
+        limn_mesh *m = NULL;
+        int ok = 1;
+        if (rank == 0)
+            ok = limn_mesh_read(ctx, test_shared_path(real[k]), LIMN_FORMAT_AUTO, &m) == LIMN_OK;
+        MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+        if (ok)
+            pipeline_case(ctx, real[k], m, "ply", LIMN_SCHEME_AUTO, 0.0, LIMN_METHOD_AUTO);
+        limn_mesh_destroy(m);
+    }
+    limn_mesh_destroy(tri);
+    limn_mesh_destroy(quad);
+    limn_context_destroy(ctx);
+    if (rank == 0)
+        rmdir(dir);
+    int all = 0;
+    MPI_Allreduce(&failures, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+    if (rank == 0)
+        printf("test_mpi_mesh: %d ranks, %d checks on rank 0, %d failures on all ranks\n", size,
+               checks, all);
+    MPI_Finalize();
+    return all ? 1 : 0;
+}
