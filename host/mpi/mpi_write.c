@@ -13,6 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* vtxdist and the counts travel as MPI_UINT64_T */
+_Static_assert(sizeof(size_t) == sizeof(uint64_t), "size_t is not 64 bits");
+
 limn_status mpi_writer_agree(mpi_writer *w, limn_status st)
 {
     return mpi_agree_comm(w->ctx, w->comm, w->rank, w->size, 0, st);
@@ -204,7 +207,8 @@ static limn_status move_to_blocks(mpi_writer *w)
     uint8_t *rrgb = w->layout.colors ? malloc(3 * x.received + 1) : NULL;
     w->pos = malloc((3 * w->vcount + 1) * sizeof *w->pos);
     w->colors = w->layout.colors ? malloc(3 * w->vcount + 1) : NULL;
-    int oom = !fill || !send || !recv || !w->pos || (w->layout.colors && (!srgb || !rrgb || !w->colors));
+    int oom = !fill || !send || !recv || !w->pos ||
+              (w->layout.colors && (!srgb || !rrgb || !w->colors));
     st = mpi_writer_agree(w, oom ? ctx_fail(w->ctx, LIMN_ERR_MEMORY, "out of memory") : LIMN_OK);
     if (!st) {
         memcpy(fill, x.sdisp, (size_t)w->size * sizeof *fill);
