@@ -14,17 +14,20 @@
  * vertex owned twice, a file-size limit (RLIMIT_FSIZE) on one rank's
  * process: every rank returns the same status and message (the single
  * process's message where it has one), the target is untouched and no
- * temporary file is left. Straight-through targets (/dev/null) and symlinks.
+ * temporary file is left. Straight-through targets (/dev/null, a FIFO read
+ * by a thread of rank 0) and symlinks.
  *
  * Not cmocka (an assertion jumping out on one rank would leave the others
  * in a collective): failures are counted and agreed at the end.
  */
+#include "slurp.h"
 #include "support.h"
 
 #include "mpi/mpi_write.h"
 
 #include <dirent.h>
 #include <math.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -462,6 +465,67 @@ static void special_targets(limn_context *ctx, const limn_mesh *m)
     free_part(&d);
 }
 
+/* A FIFO: its reader (a thread of rank 0) gets the single process's bytes,
+   the FIFO stays a FIFO. */
+typedef struct fifo_reader {
+    const char *path;
+    char *bytes;
+    size_t n;
+} fifo_reader;
+
+static void *read_fifo(void *arg)
+{
+    fifo_reader *r = arg;
+    FILE *f = fopen(r->path, "rb"); /* waits for the writer */
+    r->bytes = f ? test_read_stream(f, &r->n) : NULL;
+    if (f)
+        fclose(f);
+    return NULL;
+}
+
+static void fifo_target(limn_context *ctx, const limn_mesh *m)
+{
+    char fifo[512], ref[512];
+    snprintf(fifo, sizeof fifo, "%s/pipe.ply", dir);
+    snprintf(ref, sizeof ref, "%s/ref_pipe.ply", dir);
+    fifo_reader r = {fifo, NULL, 0};
+    pthread_t reader;
+    int ok = 1;
+    if (rank == 0) {
+        ok = mkfifo(fifo, 0600) == 0 &&
+             limn_mesh_write(ctx, m, ref, LIMN_FORMAT_AUTO) == LIMN_OK &&
+             pthread_create(&reader, NULL, read_fifo, &r) == 0;
+        CHECK(ok, "FIFO set-up");
+    }
+    MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!ok)
+        return;
+    part_data d;
+    make_part(m, &d, 0);
+    limn_status st = mpi_write_mesh_part(ctx, MPI_COMM_WORLD, fifo, LIMN_FORMAT_AUTO, NULL,
+                                         &d.part);
+    CHECK(st == LIMN_OK, "FIFO: status %d '%s'", (int)st, limn_context_message(ctx));
+    if (rank == 0) {
+        if (st) { /* nothing was written: let the reader go */
+            FILE *unblock = fopen(fifo, "wb");
+            if (unblock)
+                fclose(unblock);
+        }
+        pthread_join(reader, NULL);
+        size_t n = 0;
+        char *a = slurp_file(ref, &n);
+        struct stat sb;
+        CHECK(a && r.bytes && r.n == n && memcmp(a, r.bytes, n) == 0,
+              "FIFO: the reader got %zu bytes, the single process wrote %zu", r.n, n);
+        CHECK(stat(fifo, &sb) == 0 && S_ISFIFO(sb.st_mode), "the FIFO is no longer a FIFO");
+        free(a);
+        free(r.bytes);
+        unlink(fifo);
+        unlink(ref);
+    }
+    free_part(&d);
+}
+
 /* ------------------------------------------------------------------- main */
 
 static limn_mesh *triangle(limn_context *ctx)
@@ -530,6 +594,7 @@ int main(int argc, char **argv)
     owned_twice(ctx, grid);
     file_size_limit(ctx, grid);
     special_targets(ctx, grid);
+    fifo_target(ctx, grid);
     limn_mesh_destroy(grid);
 
     int total = 0;

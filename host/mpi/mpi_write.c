@@ -13,6 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* vtxdist and the counts travel as MPI_UINT64_T */
+_Static_assert(sizeof(size_t) == sizeof(uint64_t), "size_t is not 64 bits");
+
 limn_status mpi_writer_agree(mpi_writer *w, limn_status st)
 {
     return mpi_agree_comm(w->ctx, w->comm, w->rank, w->size, 0, st);
@@ -107,28 +110,31 @@ static limn_status check_shared(mpi_writer *w)
     return st;
 }
 
-/* Places the received records (id, x, y, z) and colours in the block. */
-static limn_status place(mpi_writer *w, const double *rec, const uint8_t *rgb, size_t n)
+/* Puts vertex id's position (and colours) in the block; refuses a second one. */
+static limn_status put_vertex(mpi_writer *w, unsigned char *seen, size_t id, const double *xyz,
+                              const uint8_t *rgb)
 {
-    unsigned char *seen = calloc(w->vcount ? w->vcount : 1, 1);
-    if (!seen)
-        return ctx_fail(w->ctx, LIMN_ERR_MEMORY, "out of memory");
-    limn_status st = LIMN_OK;
-    for (size_t k = 0; k < n && !st; k++) {
-        size_t v = (size_t)rec[4 * k] - w->vbegin;
-        if (seen[v]++)
-            st = ctx_fail(w->ctx, LIMN_ERR_ARGUMENT,
-                          "mpi_write_mesh: vertex %zu is owned by more than one rank",
-                          w->vbegin + v);
-        memcpy(w->pos + 3 * v, rec + 4 * k + 1, 3 * sizeof *w->pos);
-        if (rgb)
-            memcpy(w->colors + 3 * v, rgb + 3 * k, 3);
-    }
+    size_t v = id - w->vbegin;
+    if (seen[v]++)
+        return ctx_fail(w->ctx, LIMN_ERR_ARGUMENT,
+                        "mpi_write_mesh: vertex %zu is owned by more than one rank", id);
+    memcpy(w->pos + 3 * v, xyz, 3 * sizeof *w->pos);
+    if (rgb)
+        memcpy(w->colors + 3 * v, rgb, 3);
+    return LIMN_OK;
+}
+
+/* Places the received records (id, x, y, z) and colours; then every vertex
+   of the block must have come (from this rank or another). */
+static limn_status place(mpi_writer *w, unsigned char *seen, const double *rec,
+                         const uint8_t *rgb, size_t n, limn_status st)
+{
+    for (size_t k = 0; k < n && !st; k++)
+        st = put_vertex(w, seen, (size_t)rec[4 * k], rec + 4 * k + 1, rgb ? rgb + 3 * k : NULL);
     for (size_t v = 0; v < w->vcount && !st; v++)
         if (!seen[v])
             st = ctx_fail(w->ctx, LIMN_ERR_ARGUMENT,
                           "mpi_write_mesh: vertex %zu is owned by no rank", w->vbegin + v);
-    free(seen);
     return st;
 }
 
@@ -186,8 +192,10 @@ static limn_status move_to_blocks(mpi_writer *w)
     const mpi_write_part *in = w->in;
     exchange x;
     limn_status st = exchange_begin(w, &x);
-    for (size_t i = 0; !st && i < in->n_owned; i++)
-        x.scount[block_of(in->vtxdist, w->size, in->owned_ids[i])]++;
+    for (size_t i = 0; !st && i < in->n_owned; i++) { /* this rank's own block: no message */
+        int r = block_of(in->vtxdist, w->size, in->owned_ids[i]);
+        x.scount[r] += r != w->rank;
+    }
     if (!st && in->n_owned > INT_MAX / 4)
         st = bad(w, "too many owned vertices for one exchange");
     st = mpi_writer_agree(w, st);
@@ -204,12 +212,22 @@ static limn_status move_to_blocks(mpi_writer *w)
     uint8_t *rrgb = w->layout.colors ? malloc(3 * x.received + 1) : NULL;
     w->pos = malloc((3 * w->vcount + 1) * sizeof *w->pos);
     w->colors = w->layout.colors ? malloc(3 * w->vcount + 1) : NULL;
-    int oom = !fill || !send || !recv || !w->pos || (w->layout.colors && (!srgb || !rrgb || !w->colors));
+    unsigned char *seen = calloc(w->vcount + 1, 1);
+    int oom = !fill || !send || !recv || !w->pos || !seen ||
+              (w->layout.colors && (!srgb || !rrgb || !w->colors));
     st = mpi_writer_agree(w, oom ? ctx_fail(w->ctx, LIMN_ERR_MEMORY, "out of memory") : LIMN_OK);
     if (!st) {
         memcpy(fill, x.sdisp, (size_t)w->size * sizeof *fill);
+        limn_status own = LIMN_OK;
         for (size_t i = 0; i < in->n_owned; i++) {
-            int k = fill[block_of(in->vtxdist, w->size, in->owned_ids[i])]++;
+            int r = block_of(in->vtxdist, w->size, in->owned_ids[i]);
+            if (r == w->rank) {
+                if (!own)
+                    own = put_vertex(w, seen, in->owned_ids[i], in->pos + 3 * i,
+                                     in->colors ? in->colors + 3 * i : NULL);
+                continue;
+            }
+            int k = fill[r]++;
             send[4 * (size_t)k] = (double)in->owned_ids[i];
             memcpy(send + 4 * (size_t)k + 1, in->pos + 3 * i, 3 * sizeof *send);
             if (srgb)
@@ -224,8 +242,9 @@ static limn_status move_to_blocks(mpi_writer *w)
             MPI_Alltoallv(srgb, x.scount, x.sdisp, MPI_BYTE, rrgb, x.rcount, x.rdisp, MPI_BYTE,
                           w->comm);
         }
-        st = mpi_writer_agree(w, place(w, recv, rrgb, x.received));
+        st = mpi_writer_agree(w, place(w, seen, recv, rrgb, x.received, own));
     }
+    free(seen);
     free(fill);
     free(send);
     free(recv);
