@@ -309,11 +309,23 @@ static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, 
     return LIMN_OK;
 }
 
-/* The sub-mesh (faces by increasing id, local vertex numbers), repaired. */
-static limn_status sub_mesh(mpi_part *p, local_sub *s, const uint32_t *w, const face_rec *recs,
+/* The received records' last reader is done: freed (per-rank peak). */
+static void free_records(uint32_t **words, face_rec **recs)
+{
+    free(*words);
+    free(*recs);
+    *words = NULL;
+    *recs = NULL;
+}
+
+/* The sub-mesh (faces by increasing id, local vertex numbers), repaired; the
+   records (*words, *recs) are freed once the faces are out of them. */
+static limn_status sub_mesh(mpi_part *p, local_sub *s, uint32_t **words, face_rec **recs_in,
                             size_t nf, const double *pos, const limn_repair_options *repair,
                             limn_mesh **out)
 {
+    const uint32_t *w = *words;
+    const face_rec *recs = *recs_in;
     size_t nc = 0;
     for (size_t i = 0; i < nf; i++)
         nc += w[recs[i].at + 2];
@@ -328,6 +340,7 @@ static limn_status sub_mesh(mpi_part *p, local_sub *s, const uint32_t *w, const 
             idx[k++] = r[3 + r[2] + c]; /* sub_vertices left the local index there */
         off[i + 1] = (uint32_t)k;
     }
+    free_records(words, recs_in);
     /* the caller's warnings are kept; the sub-mesh's repair warnings are
        dropped: they number its own faces and see only its part of the mesh */
     limn_context *ctx = p->ctx;
@@ -337,13 +350,13 @@ static limn_status sub_mesh(mpi_part *p, local_sub *s, const uint32_t *w, const 
     ctx->warnings_len = 0;
     if (!st)
         st = limn_mesh_create(ctx, s->n, pos, nf, off, idx, out);
+    free(off); /* the mesh holds its own copies */
+    free(idx);
     if (!st)
         st = limn_mesh_repair(ctx, *out, repair, NULL);
     free(ctx->warnings);
     ctx->warnings = warnings;
     ctx->warnings_len = warnings_len;
-    free(off);
-    free(idx);
     return st;
 }
 
@@ -466,6 +479,15 @@ static void tmp_free(local_tmp *t)
     limn_mesh_destroy(t->mesh);
 }
 
+/* The referenced vertices' lists, done with once the faces are sent. */
+static void free_lists(uint32_t **ref, uint32_t **ref_part, uint32_t **corner_part)
+{
+    free(*ref);
+    free(*ref_part);
+    free(*corner_part);
+    *ref = *ref_part = *corner_part = NULL;
+}
+
 /* Everything up to the sub-mesh's operator (s filled). */
 static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size_t *vtxdist,
                              const double *positions, const uint32_t *part_of, const faces_in *f,
@@ -477,19 +499,22 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
                   &t->corner_part);
     if (!st)
         st = send_faces(p, f, t->corner_part, &t->words, &nw);
+    free_lists(&t->ref, &t->ref_part, &t->corner_part); /* their last reader */
     if (!st)
         st = owned_ids(p, s, vtxdist, part_of, &t->own, &n_own);
     if (!st)
         st = sort_records(p, t->words, nw, &t->recs, &nf);
     if (!st)
         st = sub_vertices(p, s, t->own, n_own, t->words, nw);
+    free(t->own);
+    t->own = NULL;
     if (!st && !(t->pos = malloc((s->n ? 3 * s->n : 1) * sizeof *t->pos)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu positions", s->n);
     st = mpi_agree(p, st);
     if (!st)
         st = mpi_local_fetch(p, s, vtxdist, s->ids, s->n, positions, 3 * sizeof(double), t->pos);
     if (!st)
-        st = sub_mesh(p, s, t->words, t->recs, nf, t->pos, repair, &t->mesh);
+        st = sub_mesh(p, s, &t->words, &t->recs, nf, t->pos, repair, &t->mesh);
     st = mpi_agree(p, st);
     if (s->stats) {
         s->stats->faces_received = nf;
@@ -504,9 +529,11 @@ static limn_status owned_positions(mpi_part *p, const local_sub *s, const double
                                    double **rows4)
 {
     size_t no = p->n_owned;
-    double *r = calloc(no ? 4 * no : 4, sizeof *r);
+    /* page aligned: the solve's device buffer of M uses it in place */
+    double *r = device_host_alloc((no ? 4 * no : 4) * sizeof *r);
     if (!r)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu rows", no);
+    memset(r, 0, (no ? 4 * no : 4) * sizeof *r);
     for (size_t l = 0; l < no; l++)
         memcpy(r + 4 * l, pos + 3 * find_u32(s->ids, s->n, p->owned_ids[l]), 3 * sizeof *r);
     *rows4 = r;
@@ -562,6 +589,8 @@ limn_status mpi_local_build(mpi_part *p, const size_t *vtxdist, const double *po
     st = build_sub(p, &s, &t, vtxdist, positions, part_of, &f, repair);
     if (!st)
         st = sub_operator(p, &s, t.mesh, scheme, alpha);
+    limn_mesh_destroy(t.mesh); /* the rows are built: its last reader is done */
+    t.mesh = NULL;
     if (!st)
         st = mpi_local_rows(p, &s);
     if (!st && owned_rows4)
