@@ -208,7 +208,9 @@ static limn_status open_vectors(mpi_part *p, limn_report *r, double **m4, double
     r->reordered = p->reordered;
     r->omega = 1.0;
     size_t nl = p->n_owned + p->n_ghost;
-    *m4 = calloc(nl ? 4 * nl : 4, sizeof **m4);
+    *m4 = device_host_alloc((nl ? 4 * nl : 4) * sizeof **m4); /* page aligned: iterate */
+    if (*m4)
+        memset(*m4, 0, (nl ? 4 * nl : 4) * sizeof **m4);
     *p4 = calloc(nl ? 4 * nl : 4, sizeof **p4);
     if (p->rank == p->root)
         *xyz = malloc((p->n_global ? 3 * p->n_global : 1) * sizeof **xyz);
