@@ -385,6 +385,17 @@ static void local_case(limn_context *ctx, const char *name, const limn_mesh *mes
         CHECK(stats.largest_vertex_array < n && stats.sub_vertices < n,
               "%s: a per-vertex array of %zu entries (sub-mesh %zu) on %zu vertices", name,
               stats.largest_vertex_array, stats.sub_vertices, n);
+    /* what the build holds while the sub-mesh's operator is built (its
+       peak), counted from its live arrays: the sub-mesh's ids, parts (4 B
+       each), positions (24 B) and owned list (4 B each) only; the received
+       face records, the referenced lists and the CSR are freed by then */
+    if (!sb) {
+        size_t want = 32 * stats.sub_vertices + 4 * b.n_owned;
+        CHECK(stats.bytes_held_at_operator == want,
+              "%s: %zu bytes held at the operator build, want %zu (%zu sub-mesh vertices, "
+              "%zu owned): an array outlives its last reader",
+              name, stats.bytes_held_at_operator, want, stats.sub_vertices, b.n_owned);
+    }
     unsigned long long big = stats.largest_vertex_array, worst = 0;
     MPI_Reduce(&big, &worst, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, 0, MPI_COMM_WORLD);
     if (rank == 0)

@@ -14,6 +14,9 @@
 
 #include <stdlib.h>
 #include <string.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 static struct {
     int rank, size;
@@ -328,8 +331,23 @@ static int distributed(const char *cmd)
     return 0;
 }
 
+/* Each rank's peak memory (docs/mpi.md "Memory per rank"): glibc's mmap
+   threshold grows to the largest block freed (up to 32 MiB), after which a
+   rank's big arrays come from the heap and stay resident when freed in the
+   middle of it; every phase then stacks on the last one's holes. A fixed
+   threshold gives every big array back at its free. The single process's
+   peak does not change with it (measured: 696 MB either way at 2.1M). */
+static void fixed_mmap_threshold(void)
+{
+#ifdef __GLIBC__
+    mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+    mallopt(M_TRIM_THRESHOLD, 128 * 1024);
+#endif
+}
+
 int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **))
 {
+    fixed_mmap_threshold();
     MPI_Init(&argc, &argv);
     MPI_Comm_rank(MPI_COMM_WORLD, &g.rank);
     MPI_Comm_size(MPI_COMM_WORLD, &g.size);

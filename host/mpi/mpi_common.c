@@ -156,11 +156,16 @@ limn_status mpi_part_begin(limn_context *ctx, MPI_Comm comm, const limn_mpi_opti
     return mpi_agree(p, st);
 }
 
-void mpi_part_end(mpi_part *p)
+void mpi_part_drop_rows(mpi_part *p)
 {
     if (p->dev)
         device_csr_release(p->dev, &p->all);
     stencil_free(&p->host);
+}
+
+void mpi_part_end(mpi_part *p)
+{
+    mpi_part_drop_rows(p);
     mpi_halo_free(&p->halo);
     free(p->owned_ids);
     free(p->ghost_ids);

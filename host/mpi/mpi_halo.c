@@ -184,8 +184,11 @@ limn_status mpi_open_rows(mpi_part *p)
     }
     p->stats.neighbours = neighbours;
     limn_status st = mpi_open_device(p);
+    /* in place where the device shares host memory (PoCL's CPU device), as
+       the single process's operator: p->host outlives p->all (mpi_part_end
+       releases it first) and nothing writes it while the rows are open */
     if (!st)
-        st = device_csr_upload(p->dev, &p->host, &p->all);
+        st = device_csr_share(p->dev, &p->host, &p->all);
     return st;
 }
 

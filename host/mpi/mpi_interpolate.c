@@ -21,6 +21,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -137,7 +138,13 @@ static limn_status iterate(mpi_part *p, const limn_interpolate_options *o, limn_
     mpi_solve s = {.p = p};
     size_t nl = p->n_owned + p->n_ghost, row = 4 * sizeof(double);
     const device_ops *ops = p->dev->ops;
-    limn_status st = ops->buffer_create(p->dev, p->n_owned * row, m4, &s.m);
+    /* M in place where the device shares host memory, when m4 has the page
+       alignment of device_host_alloc (the kernels' vector loads need more
+       than malloc's; mpi_local_build's rows have it): m4 outlives s.m and
+       the solve only reads it (the single process's zero-copy vectors) */
+    limn_status st = (uintptr_t)m4 % 4096 == 0
+                         ? ops->buffer_share(p->dev, p->n_owned * row, m4, &s.m)
+                         : ops->buffer_create(p->dev, p->n_owned * row, m4, &s.m);
     if (!st)
         st = ops->buffer_create(p->dev, nl * row, start4, &s.x[0]);
     if (!st)
@@ -201,7 +208,9 @@ static limn_status open_vectors(mpi_part *p, limn_report *r, double **m4, double
     r->reordered = p->reordered;
     r->omega = 1.0;
     size_t nl = p->n_owned + p->n_ghost;
-    *m4 = calloc(nl ? 4 * nl : 4, sizeof **m4);
+    *m4 = device_host_alloc((nl ? 4 * nl : 4) * sizeof **m4); /* page aligned: iterate */
+    if (*m4)
+        memset(*m4, 0, (nl ? 4 * nl : 4) * sizeof **m4);
     *p4 = calloc(nl ? 4 * nl : 4, sizeof **p4);
     if (p->rank == p->root)
         *xyz = malloc((p->n_global ? 3 * p->n_global : 1) * sizeof **xyz);

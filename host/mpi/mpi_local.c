@@ -309,11 +309,23 @@ static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, 
     return LIMN_OK;
 }
 
-/* The sub-mesh (faces by increasing id, local vertex numbers), repaired. */
-static limn_status sub_mesh(mpi_part *p, local_sub *s, const uint32_t *w, const face_rec *recs,
+/* The received records' last reader is done: freed (per-rank peak). */
+static void free_records(uint32_t **words, face_rec **recs)
+{
+    free(*words);
+    free(*recs);
+    *words = NULL;
+    *recs = NULL;
+}
+
+/* The sub-mesh (faces by increasing id, local vertex numbers), repaired; the
+   records (*words, *recs) are freed once the faces are out of them. */
+static limn_status sub_mesh(mpi_part *p, local_sub *s, uint32_t **words, face_rec **recs_in,
                             size_t nf, const double *pos, const limn_repair_options *repair,
                             limn_mesh **out)
 {
+    const uint32_t *w = *words;
+    const face_rec *recs = *recs_in;
     size_t nc = 0;
     for (size_t i = 0; i < nf; i++)
         nc += w[recs[i].at + 2];
@@ -328,6 +340,7 @@ static limn_status sub_mesh(mpi_part *p, local_sub *s, const uint32_t *w, const 
             idx[k++] = r[3 + r[2] + c]; /* sub_vertices left the local index there */
         off[i + 1] = (uint32_t)k;
     }
+    free_records(words, recs_in);
     /* the caller's warnings are kept; the sub-mesh's repair warnings are
        dropped: they number its own faces and see only its part of the mesh */
     limn_context *ctx = p->ctx;
@@ -337,56 +350,14 @@ static limn_status sub_mesh(mpi_part *p, local_sub *s, const uint32_t *w, const 
     ctx->warnings_len = 0;
     if (!st)
         st = limn_mesh_create(ctx, s->n, pos, nf, off, idx, out);
+    free(off); /* the mesh holds its own copies */
+    free(idx);
     if (!st)
         st = limn_mesh_repair(ctx, *out, repair, NULL);
     free(ctx->warnings);
     ctx->warnings = warnings;
     ctx->warnings_len = warnings_len;
-    free(off);
-    free(idx);
     return st;
-}
-
-/* Lowest part among face f's vertices (the rank that counts it). */
-static uint32_t face_counter(const local_sub *s, const limn_mesh *m, size_t f)
-{
-    uint32_t low = UINT32_MAX;
-    for (uint32_t c = m->face_offsets[f]; c < m->face_offsets[f + 1]; c++)
-        low = s->part[m->face_indices[c]] < low ? s->part[m->face_indices[c]] : low;
-    return low;
-}
-
-/* This rank's share of the edge cut: distinct edges between parts whose
-   lower part is this rank (each counted on one rank). */
-static limn_status local_cut(mpi_part *p, const local_sub *s, const limn_mesh *m, size_t *cut)
-{
-    size_t nc = m->face_offsets[m->face_count], n = 0;
-    uint64_t *e = malloc((nc ? nc : 1) * sizeof *e);
-    *cut = 0;
-    if (!e)
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the edge cut");
-    for (size_t f = 0; f < m->face_count; f++) {
-        uint32_t b = m->face_offsets[f], end = m->face_offsets[f + 1];
-        for (uint32_t c = b; c < end; c++) {
-            uint32_t u = m->face_indices[c], v = m->face_indices[c + 1 < end ? c + 1 : b];
-            uint32_t pu = s->part[u], pv = s->part[v];
-            if (pu == pv || (pu < pv ? pu : pv) != (uint32_t)p->rank)
-                continue;
-            uint32_t a = s->ids[u] < s->ids[v] ? s->ids[u] : s->ids[v];
-            e[n++] = (uint64_t)a << 32 | (s->ids[u] ^ s->ids[v] ^ a);
-        }
-    }
-    mpi_local_sort(e, n);
-    for (size_t i = 0; i < n; i++)
-        *cut += i == 0 || e[i] != e[i - 1];
-    free(e);
-    return LIMN_OK;
-}
-
-/* Sums over ranks of 64-bit counts (in place). */
-static void sum_counts(mpi_part *p, uint64_t *v, int n)
-{
-    MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_UINT64_T, MPI_SUM, p->comm);
 }
 
 /* The scheme over all ranks (AUTO: Loop when every face is a triangle), and
@@ -420,18 +391,9 @@ static limn_status resolve_scheme(mpi_part *p, const local_sub *s, const limn_me
 static limn_status sub_operator(mpi_part *p, local_sub *s, const limn_mesh *m, limn_scheme want,
                                 double alpha)
 {
-    size_t cut = 0;
-    uint64_t counts[2] = {0, 0};
-    limn_status st = local_cut(p, s, m, &cut);
-    for (size_t f = 0; f < m->face_count; f++)
-        counts[0] += face_counter(s, m, f) == (uint32_t)p->rank;
-    counts[1] = cut;
-    st = mpi_agree(p, st);
+    limn_status st = mpi_local_counts(p, s, m);
     if (st)
         return st;
-    sum_counts(p, counts, 2);
-    p->faces_global = counts[0];
-    p->edge_cut = counts[1];
     st = resolve_scheme(p, s, m, want, &p->scheme);
     if (!st && s->n) /* a rank without vertices has no rows */
         st = operator_build_ex(p->ctx, m, p->scheme, alpha, OPERATOR_HOST_ONLY, &s->op);
@@ -442,7 +404,7 @@ static limn_status sub_operator(mpi_part *p, local_sub *s, const limn_mesh *m, l
     uint64_t nnz = 0;
     for (size_t i = 0; i < s->n_owned; i++)
         nnz += s->op.host.row_offsets[s->owned[i] + 1] - s->op.host.row_offsets[s->owned[i]];
-    sum_counts(p, &nnz, 1);
+    MPI_Allreduce(MPI_IN_PLACE, &nnz, 1, MPI_UINT64_T, MPI_SUM, p->comm);
     p->nnz_global = nnz;
     return LIMN_OK;
 }
@@ -452,7 +414,20 @@ typedef struct local_tmp {
     face_rec *recs;
     double *pos;
     limn_mesh *mesh;
+    size_t nref, ncorner, nown, nw, nf; /* entries of the arrays above (held_bytes) */
 } local_tmp;
+
+/* Bytes of the build's own arrays alive now (mpi_local_stats), counted
+   from the live pointers; the sub-mesh, the operator's input, aside. */
+static size_t held_bytes(const local_tmp *t, const local_sub *s)
+{
+    size_t w = sizeof(uint32_t);
+    return (t->ref ? t->nref * w : 0) + (t->ref_part ? t->nref * w : 0) +
+           (t->corner_part ? t->ncorner * w : 0) + (t->own ? t->nown * w : 0) +
+           (t->words ? t->nw * w : 0) + (t->recs ? t->nf * sizeof *t->recs : 0) +
+           (t->pos ? 3 * s->n * sizeof *t->pos : 0) + (s->ids ? s->n * w : 0) +
+           (s->part ? s->n * w : 0) + (s->owned ? s->n_owned * w : 0);
+}
 
 static void tmp_free(local_tmp *t)
 {
@@ -466,33 +441,45 @@ static void tmp_free(local_tmp *t)
     limn_mesh_destroy(t->mesh);
 }
 
+/* The referenced vertices' lists, done with once the faces are sent. */
+static void free_lists(uint32_t **ref, uint32_t **ref_part, uint32_t **corner_part)
+{
+    free(*ref);
+    free(*ref_part);
+    free(*corner_part);
+    *ref = *ref_part = *corner_part = NULL;
+}
+
 /* Everything up to the sub-mesh's operator (s filled). */
 static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size_t *vtxdist,
                              const double *positions, const uint32_t *part_of, const faces_in *f,
                              const limn_repair_options *repair)
 {
-    size_t nref = 0, nw = 0, n_own = 0, nf = 0;
+    t->ncorner = f->off[f->count];
     limn_status st =
-        ref_parts(p, s, vtxdist, part_of, f, &t->ref, repair, &nref, &t->ref_part,
+        ref_parts(p, s, vtxdist, part_of, f, &t->ref, repair, &t->nref, &t->ref_part,
                   &t->corner_part);
     if (!st)
-        st = send_faces(p, f, t->corner_part, &t->words, &nw);
+        st = send_faces(p, f, t->corner_part, &t->words, &t->nw);
+    free_lists(&t->ref, &t->ref_part, &t->corner_part); /* their last reader */
     if (!st)
-        st = owned_ids(p, s, vtxdist, part_of, &t->own, &n_own);
+        st = owned_ids(p, s, vtxdist, part_of, &t->own, &t->nown);
     if (!st)
-        st = sort_records(p, t->words, nw, &t->recs, &nf);
+        st = sort_records(p, t->words, t->nw, &t->recs, &t->nf);
     if (!st)
-        st = sub_vertices(p, s, t->own, n_own, t->words, nw);
+        st = sub_vertices(p, s, t->own, t->nown, t->words, t->nw);
+    free(t->own);
+    t->own = NULL;
     if (!st && !(t->pos = malloc((s->n ? 3 * s->n : 1) * sizeof *t->pos)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu positions", s->n);
     st = mpi_agree(p, st);
     if (!st)
         st = mpi_local_fetch(p, s, vtxdist, s->ids, s->n, positions, 3 * sizeof(double), t->pos);
     if (!st)
-        st = sub_mesh(p, s, t->words, t->recs, nf, t->pos, repair, &t->mesh);
+        st = sub_mesh(p, s, &t->words, &t->recs, t->nf, t->pos, repair, &t->mesh);
     st = mpi_agree(p, st);
     if (s->stats) {
-        s->stats->faces_received = nf;
+        s->stats->faces_received = t->nf;
         s->stats->sub_vertices = s->n;
         s->stats->sub_faces = t->mesh ? t->mesh->face_count : 0;
     }
@@ -504,9 +491,11 @@ static limn_status owned_positions(mpi_part *p, const local_sub *s, const double
                                    double **rows4)
 {
     size_t no = p->n_owned;
-    double *r = calloc(no ? 4 * no : 4, sizeof *r);
+    /* page aligned: the solve's device buffer of M uses it in place */
+    double *r = device_host_alloc((no ? 4 * no : 4) * sizeof *r);
     if (!r)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu rows", no);
+    memset(r, 0, (no ? 4 * no : 4) * sizeof *r);
     for (size_t l = 0; l < no; l++)
         memcpy(r + 4 * l, pos + 3 * find_u32(s->ids, s->n, p->owned_ids[l]), 3 * sizeof *r);
     *rows4 = r;
@@ -560,8 +549,12 @@ limn_status mpi_local_build(mpi_part *p, const size_t *vtxdist, const double *po
     p->diag = mpi_local_diagonal(p, positions, nb);
     p->reordered = 0;
     st = build_sub(p, &s, &t, vtxdist, positions, part_of, &f, repair);
+    if (stats)
+        stats->bytes_held_at_operator = held_bytes(&t, &s);
     if (!st)
         st = sub_operator(p, &s, t.mesh, scheme, alpha);
+    limn_mesh_destroy(t.mesh); /* the rows are built: its last reader is done */
+    t.mesh = NULL;
     if (!st)
         st = mpi_local_rows(p, &s);
     if (!st && owned_rows4)

@@ -32,6 +32,11 @@ typedef struct mpi_local_stats {
                                        build allocated itself (sub-mesh, owned, ghost,
                                        request and answer lists); test_mpi_local
                                        checks it stays below vertex_total on 2+ ranks */
+    size_t bytes_held_at_operator;  /* bytes of the build's own arrays alive while the
+                                       sub-mesh's operator is built (its peak): sub-mesh
+                                       ids, parts, positions and owned list only, the
+                                       received face records, the referenced lists and
+                                       the sub-mesh's CSR freed by then (test_mpi_local) */
     double seconds;                 /* the whole build, this rank (wall clock) */
 } mpi_local_stats;
 
@@ -98,5 +103,10 @@ typedef struct local_sub {
 /* Collective: p's owned rows (classes), ghosts (by owner, then the owner's
    local number, their rules from the owners) and halo from s. */
 limn_status mpi_local_rows(mpi_part *p, local_sub *s);
+
+/* Collective (mpi_local_comm.c): p->faces_global (each face counted by the
+   lowest part among its vertices) and p->edge_cut (distinct edges between
+   parts, counted by the lower one) from the repaired sub-mesh m of s. */
+limn_status mpi_local_counts(mpi_part *p, const local_sub *s, const limn_mesh *m);
 
 #endif

@@ -3,11 +3,12 @@
  * Local rows, the exchanges (mpi_local.h): every rank to every rank in one
  * MPI_Alltoallv with the counts exchanged first, values of vertices fetched
  * from the ranks whose input blocks hold them, the radix sort of the keys,
- * and the bounding box over all blocks.
+ * the bounding box over all blocks, and the global face and edge-cut counts.
  */
 #include "mpi/mpi_local.h"
 
 #include "base/context.h"
+#include "mesh/mesh.h"
 
 #include <limits.h>
 #include <math.h>
@@ -175,4 +176,65 @@ double mpi_local_diagonal(mpi_part *p, const double *pos, size_t nb)
         return 0.0; /* no vertices */
     return sqrt((ghi[0] - glo[0]) * (ghi[0] - glo[0]) + (ghi[1] - glo[1]) * (ghi[1] - glo[1]) +
                 (ghi[2] - glo[2]) * (ghi[2] - glo[2]));
+}
+
+/* ------------------------------------------------------ the global counts */
+
+/* Lowest part among face f's vertices (the rank that counts it). */
+static uint32_t face_counter(const local_sub *s, const limn_mesh *m, size_t f)
+{
+    uint32_t low = UINT32_MAX;
+    for (uint32_t c = m->face_offsets[f]; c < m->face_offsets[f + 1]; c++)
+        low = s->part[m->face_indices[c]] < low ? s->part[m->face_indices[c]] : low;
+    return low;
+}
+
+/* This rank's share of the edge cut: distinct edges between parts whose
+   lower part is this rank (each counted on one rank). */
+static limn_status local_cut(mpi_part *p, const local_sub *s, const limn_mesh *m, size_t *cut)
+{
+    size_t nc = m->face_offsets[m->face_count], n = 0;
+    uint64_t *e = malloc((nc ? nc : 1) * sizeof *e);
+    *cut = 0;
+    if (!e)
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the edge cut");
+    for (size_t f = 0; f < m->face_count; f++) {
+        uint32_t b = m->face_offsets[f], end = m->face_offsets[f + 1];
+        for (uint32_t c = b; c < end; c++) {
+            uint32_t u = m->face_indices[c], v = m->face_indices[c + 1 < end ? c + 1 : b];
+            uint32_t pu = s->part[u], pv = s->part[v];
+            if (pu == pv || (pu < pv ? pu : pv) != (uint32_t)p->rank)
+                continue;
+            uint32_t a = s->ids[u] < s->ids[v] ? s->ids[u] : s->ids[v];
+            e[n++] = (uint64_t)a << 32 | (s->ids[u] ^ s->ids[v] ^ a);
+        }
+    }
+    mpi_local_sort(e, n);
+    for (size_t i = 0; i < n; i++)
+        *cut += i == 0 || e[i] != e[i - 1];
+    free(e);
+    return LIMN_OK;
+}
+
+/* Sums over ranks of 64-bit counts (in place). */
+static void sum_counts(mpi_part *p, uint64_t *v, int n)
+{
+    MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_UINT64_T, MPI_SUM, p->comm);
+}
+
+limn_status mpi_local_counts(mpi_part *p, const local_sub *s, const limn_mesh *m)
+{
+    size_t cut = 0;
+    uint64_t counts[2] = {0, 0};
+    limn_status st = local_cut(p, s, m, &cut);
+    for (size_t f = 0; f < m->face_count; f++)
+        counts[0] += face_counter(s, m, f) == (uint32_t)p->rank;
+    counts[1] = cut;
+    st = mpi_agree(p, st);
+    if (st)
+        return st;
+    sum_counts(p, counts, 2);
+    p->faces_global = counts[0];
+    p->edge_cut = counts[1];
+    return LIMN_OK;
 }

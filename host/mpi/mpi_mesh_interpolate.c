@@ -133,6 +133,9 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mpi_mesh *mes
     }
     if (!st)
         st = mpi_interpolate_rows(&p, o, &method, m4, p4, r);
+    free(m4); /* the last product is done: the right-hand side and the rows go */
+    m4 = NULL;
+    mpi_part_drop_rows(&p);
     if (!st)
         st = results_to_blocks(&p, mesh, p4, &block);
     if (!st)

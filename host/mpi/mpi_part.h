@@ -83,6 +83,10 @@ typedef struct mpi_part {
 limn_status mpi_part_begin(limn_context *ctx, MPI_Comm comm, const limn_mpi_options *mpi,
                            mpi_part *p);
 void mpi_part_end(mpi_part *p);
+/* The owned rows' tables (p->all on the device, then p->host) released once
+   the last product is done, before the results move (per-rank peak); the
+   rest of p stays. mpi_part_end after it is fine. */
+void mpi_part_drop_rows(mpi_part *p);
 
 /*
  * Agreement before a collective phase: every rank passes its own status;
