@@ -203,28 +203,14 @@ def main():
 
 # ---- the distributed pipeline (--pipeline): no rank holds the whole mesh ----
 
-PLY_2M = "/tmp/limn_read_bench/scanner_l2_f32.ply"
-PLY_8M = "/tmp/limn_e2e/scanner_l3_f32.ply"
-
-
-def pipeline_inputs(args, limn):
-    """The scanner-layout float32 PLYs, made as perf/end_to_end.py makes them."""
-    conv = os.path.join(args.build, "perf", "read_bench")
-    todo = [("2.1M", 2, PLY_2M)] + ([] if args.skip_8m else [("8.6M", 3, PLY_8M)])
-    files = {}
-    for name, levels, path in todo:
-        if not os.path.exists(path):
-            if not os.path.exists(conv):
-                sys.exit(f"{path} is missing and so is {conv} (-DLIMN_BUILD_PERF=ON)")
-            os.makedirs(os.path.dirname(path), exist_ok=True)
-            refined = os.path.join(os.path.dirname(path), "igea_l%d.ply" % levels)
-            if not os.path.exists(refined):
-                src = os.path.join(ROOT, "..", "shared", "meshes", "large", "igea.ply")
-                subprocess.run([limn, "subdivide", "--levels", str(levels), src, "-o",
-                                refined, "-q"], check=True)
-            subprocess.run([conv, "--scanner", refined, path], check=True)
-        files[name] = path
-    return files
+def pipeline_inputs(args):
+    """The scanner-layout float32 PLYs (2.1M at /tmp/limn_read_bench, 8.6M at
+    /tmp/limn_e2e), made by perf/end_to_end.py's make_inputs when missing."""
+    sys.path.insert(0, os.path.join(ROOT, "perf"))
+    from end_to_end import make_inputs
+    igea = os.path.join(ROOT, "..", "shared", "meshes", "large", "igea.ply")
+    return make_inputs(argparse.Namespace(build=args.build, mesh=igea,
+                                          only=["2.1M"] if args.skip_8m else None))
 
 
 def interpolate(limn, ranks, path, tmp, env, tol, root=False):
@@ -264,6 +250,8 @@ def single_row(rep, wall):
 
 
 def ranks_row(rep, wall, root=False):
+    if "mpi" not in rep:
+        sys.exit("the report has no mpi object: is limn built with LIMN_MPI?")
     per = rep["mpi"]["per_rank"]
     if root:  # rank 0 read and repaired the whole mesh
         for r in per:
@@ -290,7 +278,7 @@ def run_pipeline(args, limn, env):
     rows = []
     # (ranks, root path): the root path at 2 ranks is the set-up issue 14 replaces
     plan = [("2.1M", [(1, 0), (2, 0), (4, 0), (2, 1)]), ("8.6M", [(1, 0), (8, 0)])]
-    files = pipeline_inputs(args, limn)
+    files = pipeline_inputs(args)
     for name, counts in plan:
         if name not in files:
             continue
