@@ -306,7 +306,8 @@ def run_pipeline(args, limn, env):
 
 def print_measured(rows):
     print()
-    print("| mesh | ranks | path | same bytes | peak MiB per rank | worst / 1 process | set-up s per "
+    print("| mesh | ranks | path | same bytes | peak MiB per rank | worst / 1 process | "
+          "set-up s per "
           "rank (load + partition + local rows) | owned per rank | ghosts per rank | halo B "
           "sent per exchange | solve s | iterations |")
     print("|---|---:|---|---|---|---:|---|---|---|---|---:|---:|")
@@ -321,7 +322,8 @@ def print_measured(rows):
                                f"{p['local_rows']:.2f})"
                                for s, p in zip(r["setup"], r["setup_parts"]))
         j = lambda k: " / ".join(f"{v:,}" for v in r[k])
-        print(f"| {r['mesh']} | {r['ranks']} | {r['path']} | {'yes' if r['same_bytes'] else 'NO'} | {mib} | "
+        same = "yes" if r["same_bytes"] else "NO"
+        print(f"| {r['mesh']} | {r['ranks']} | {r['path']} | {same} | {mib} | "
               f"{r['peak_ratio']:.2f} | {setup} | {j('owned')} | {j('ghosts')} | "
               f"{j('halo_bytes_sent')} | {max(r['solve']):.2f} | {r['iterations']} |")
 
