@@ -14,6 +14,21 @@ iteration; then METIS partitions of the same mesh into 2..64 parts and the
 projected time per iteration at 64 ranks (model below). Also measures how many
 cores the machine really gives (two busy processes against one): on a shared
 machine the second core may be taken.
+
+    python3 perf/mpi_scaling.py --pipeline [--skip-8m] [--json out.json]
+
+The distributed pipeline instead (docs/mpi.md, "Distributed meshes"), side by
+side in one run: `limn interpolate --precision double --report` on the 2.1M
+float32 PLY (/tmp/limn_read_bench/scanner_l2_f32.ply) as one process and on
+2 and 4 ranks, and on the 8.6M one (/tmp/limn_e2e/scanner_l3_f32.ply) as one
+process and on 8 ranks (made as perf/end_to_end.py makes them when missing);
+checks every output is the single process's bytes (cmp) and prints per rank:
+peak resident bytes and the worst rank's ratio to the single process's,
+set-up seconds (load + partition + local rows), owned, ghosts, halo bytes and
+solve seconds; then the unit costs and the model for 16..1024 ranks at
+--model-vertices (docs/mpi.md, "Model: 1,024 ranks and a billion vertices").
+Ranks beyond the cores are oversubscribed: the memory figures are exact, the
+times are those of shared cores.
 """
 import argparse
 import json
@@ -21,6 +36,7 @@ import math
 import os
 import subprocess
 import sys
+import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -58,9 +74,30 @@ def main():
                     help="projection: network latency per message, microseconds")
     ap.add_argument("--bandwidth-gbs", type=float, default=10.0,
                     help="projection: network bandwidth per rank, GB/s")
+    ap.add_argument("--pipeline", action="store_true",
+                    help="the distributed pipeline and the model instead (see above)")
+    ap.add_argument("--skip-8m", action="store_true", help="pipeline: leave out the 8.6M mesh")
+    ap.add_argument("--json", help="pipeline: also write every figure here")
+    ap.add_argument("--tmp", help="pipeline: folder for the outputs (default: the system's)")
+    ap.add_argument("--tol-pipe", help="pipeline: --tol for limn interpolate (default: its own)")
+    ap.add_argument("--model-vertices", type=float, default=1e9)
+    ap.add_argument("--fs-aggregate-gbs", type=float, default=10.0,
+                    help="model: parallel file system bandwidth, all nodes, GB/s")
+    ap.add_argument("--fs-node-gbs", type=float, default=1.0,
+                    help="model: file system bandwidth one node gets, GB/s")
+    ap.add_argument("--ranks-per-node", type=int, default=8)
+    ap.add_argument("--neighbours", type=int, default=8,
+                    help="model: neighbour ranks at least (2D partitions: about 6)")
     args = ap.parse_args()
 
     limn = os.path.join(args.build, "limn")
+    if args.pipeline:
+        env = dict(os.environ)
+        env.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        env.setdefault("POCL_CACHE_DIR", os.path.join(args.build, "pocl-cache"))
+        pipeline(args, limn, env)
+        return
     bench = os.path.join(args.build, "perf", "mpi_bench")
     if not os.path.exists(bench):
         sys.exit("perf/mpi_bench is missing: bash scripts/build.sh -DLIMN_BUILD_PERF=ON "
@@ -162,6 +199,237 @@ def main():
           f"{summary['1 rank, 1 core']['iterations']} iterations x the projected time per "
           f"iteration at 64 ranks: build once, solve many times (series, morph frames, "
           f"texture levels), or build the rows on each rank (test_local_rows).")
+
+
+# ---- the distributed pipeline (--pipeline): no rank holds the whole mesh ----
+
+def pipeline_inputs(args):
+    """The scanner-layout float32 PLYs (2.1M at /tmp/limn_read_bench, 8.6M at
+    /tmp/limn_e2e), made by perf/end_to_end.py's make_inputs when missing."""
+    sys.path.insert(0, os.path.join(ROOT, "perf"))
+    from end_to_end import make_inputs
+    igea = os.path.join(ROOT, "..", "shared", "meshes", "large", "igea.ply")
+    return make_inputs(argparse.Namespace(build=args.build, mesh=igea,
+                                          only=["2.1M"] if args.skip_8m else None))
+
+
+def interpolate(limn, ranks, path, tmp, env, tol, root=False):
+    """One `limn interpolate --precision double` (plain for 1 rank, else under
+    mpirun, oversubscribed; root: the input on standard input, which takes the
+    root path, rank 0 reading and building everything); returns (report,
+    output path, wall seconds)."""
+    out = os.path.join(tmp, f"out_{ranks}{'_root' if root else ''}.ply")
+    rep = os.path.join(tmp, f"report_{ranks}.json")
+    src = ["-", "--input-format", "ply"] if root else [path]
+    cmd = [limn, "interpolate"] + src + ["-o", out, "--report", rep, "--precision", "double",
+                                          "-q"]
+    if tol:
+        cmd += ["--tol", tol]
+    if ranks > 1:
+        cmd = ["mpirun", "-np", str(ranks), "--oversubscribe", "--bind-to", "none"] + cmd
+    t0 = time.time()
+    with open(path, "rb") as stdin:
+        r = subprocess.run(cmd, env=env, stdin=stdin if root else subprocess.DEVNULL,
+                           capture_output=True)
+    if r.returncode:
+        sys.exit(f"{' '.join(cmd)} failed ({r.returncode}): {r.stderr[-2000:].decode()}")
+    return json.load(open(rep)), out, time.time() - t0
+
+
+def single_row(rep, wall):
+    s = rep["seconds"]
+    setup = s["load"] + s.get("topology", 0) + s.get("stencil", 0)
+    return {"ranks": 1, "path": "single", "vertices": rep["vertices"],
+            "iterations": rep["iterations"],
+            "method": rep["method"], "wall": wall, "seconds": s,
+            "peak_bytes": [rep["peak_rss_bytes"]], "setup": [setup],
+            "setup_parts": [{"load": s["load"], "topology": s.get("topology", 0),
+                             "stencil": s.get("stencil", 0)}],
+            "solve": [s["solve"]], "owned": [rep["vertices"]], "ghosts": [0],
+            "halo_bytes_sent": [0], "halo_bytes_received": [0], "neighbours": [0]}
+
+
+def ranks_row(rep, wall, root=False):
+    if "mpi" not in rep:
+        sys.exit("the report has no mpi object: is limn built with LIMN_MPI?")
+    per = rep["mpi"]["per_rank"]
+    if root:  # rank 0 read and repaired the whole mesh
+        for r in per:
+            r["seconds_load"] = rep["seconds"]["load"] if r["rank"] == 0 else 0.0
+    row = {"ranks": len(per), "vertices": rep["vertices"], "iterations": rep["iterations"],
+           "path": "root" if root else "distributed",
+           "method": rep["method"], "wall": wall, "seconds": rep["seconds"],
+           "edge_cut": rep["mpi"]["edge_cut"], "per_rank": per}
+    for key in ("owned", "ghosts", "halo_bytes_sent", "halo_bytes_received", "neighbours"):
+        row[key] = [r[key] for r in per]
+    row["peak_bytes"] = [r["peak_rss_bytes"] for r in per]
+    row["setup_parts"] = [{"load": r["seconds_load"], "partition": r["seconds_partition"],
+                           "local_rows": r["seconds_distribute"]} for r in per]
+    row["setup"] = [sum(p.values()) for p in row["setup_parts"]]
+    row["solve"] = [r["seconds_solve"] for r in per]
+    return row
+
+
+def same_bytes(a, b):
+    return subprocess.run(["cmp", "-s", a, b]).returncode == 0
+
+
+def run_pipeline(args, limn, env):
+    rows = []
+    # (ranks, root path): the root path at 2 ranks is the set-up issue 14 replaces
+    plan = [("2.1M", [(1, 0), (2, 0), (4, 0), (2, 1)]), ("8.6M", [(1, 0), (8, 0)])]
+    files = pipeline_inputs(args)
+    for name, counts in plan:
+        if name not in files:
+            continue
+        with tempfile.TemporaryDirectory(prefix="limn_scaling_", dir=args.tmp) as tmp:
+            ref = None
+            for ranks, root in counts:
+                rep, out, wall = interpolate(limn, ranks, files[name], tmp, env, args.tol_pipe,
+                                             root)
+                row = single_row(rep, wall) if ranks == 1 else ranks_row(rep, wall, root)
+                row["mesh"], row["file"] = name, files[name]
+                row["load_average"] = os.getloadavg()[0]
+                row["output_bytes"] = os.path.getsize(out)
+                row["input_bytes"] = os.path.getsize(files[name])
+                if ref is None:
+                    ref, base = out, row
+                row["same_bytes"] = same_bytes(ref, out)
+                row["peak_ratio"] = max(row["peak_bytes"]) / base["peak_bytes"][0]
+                rows.append(row)
+                print(f"{name}, {ranks} rank(s) ({row['path']}): {wall:.1f} s wall, "
+                      f"load average {row['load_average']:.1f}, worst peak "
+                      f"{max(row['peak_bytes']) / 2**20:,.0f} MiB ({row['peak_ratio']:.2f}x), "
+                      f"same bytes: {row['same_bytes']}", flush=True)
+    return rows
+
+
+def print_measured(rows):
+    print()
+    print("| mesh | ranks | path | same bytes | peak MiB per rank | worst / 1 process | "
+          "set-up s per "
+          "rank (load + partition + local rows) | owned per rank | ghosts per rank | halo B "
+          "sent per exchange | solve s | iterations |")
+    print("|---|---:|---|---|---|---:|---|---|---|---|---:|---:|")
+    for r in rows:
+        mib = " / ".join(f"{b / 2**20:,.0f}" for b in r["peak_bytes"])
+        if r["ranks"] == 1:
+            p = r["setup_parts"][0]
+            setup = f"{r['setup'][0]:.2f} ({p['load']:.2f} + {p['topology']:.2f} topology + " \
+                    f"{p['stencil']:.2f} stencil)"
+        else:
+            setup = " / ".join(f"{s:.2f} ({p['load']:.2f} + {p['partition']:.2f} + "
+                               f"{p['local_rows']:.2f})"
+                               for s, p in zip(r["setup"], r["setup_parts"]))
+        j = lambda k: " / ".join(f"{v:,}" for v in r[k])
+        same = "yes" if r["same_bytes"] else "NO"
+        print(f"| {r['mesh']} | {r['ranks']} | {r['path']} | {same} | {mib} | "
+              f"{r['peak_ratio']:.2f} | {setup} | {j('owned')} | {j('ghosts')} | "
+              f"{j('halo_bytes_sent')} | {max(r['solve']):.2f} | {r['iterations']} |")
+
+
+def fitted_costs(rows, args):
+    """Per-rank unit costs from the measured runs (docs/mpi.md, "Model")."""
+    two = [r for r in rows if r["ranks"] == 2 and r["path"] == "distributed"][0]
+    single = [r for r in rows if r["ranks"] == 1][0]
+    n = two["vertices"]
+    c = {"iterations": single["iterations"], "vertices_measured": n}
+    block = n / 2
+    parts = two["setup_parts"]
+    c["load_per_vertex"] = max(p["load"] for p in parts) / block
+    c["partition_per_vertex"] = max(p["partition"] for p in parts) / block
+    c["rows_per_vertex"] = max(p["local_rows"] / o for p, o in zip(parts, two["owned"]))
+    per = two["per_rank"]
+    c["exchanges_per_iteration"] = per[0]["exchanges"] / max(1, two["iterations"])
+    c["product_per_row"] = max(r["seconds_compute"] / r["exchanges"] / r["owned"] for r in per)
+    vb = per[0]["halo_bytes_received"] / max(1, per[0]["ghosts"])
+    c["bytes_per_value"] = vb
+    c["halo_per_value"] = max((r["seconds_halo"] - r["seconds_wait"]) / r["exchanges"] /
+                              (r["ghosts"] + r["halo_bytes_sent"] / vb) for r in per)
+    mpi = [r for r in rows if r["path"] == "distributed"]
+    c["ghost_coefficient"] = max(g / math.sqrt(o) for r in mpi for g, o in
+                                 zip(r["ghosts"], r["owned"]))
+    c["neighbours"] = max(args.neighbours, max(max(r["neighbours"]) for r in mpi))
+    # peak bytes = base + slope x block vertices, least squares over every rank measured
+    xs = [r["vertices"] / r["ranks"] for r in mpi for _ in r["peak_bytes"]]
+    ys = [b for r in mpi for b in r["peak_bytes"]]
+    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+    sxx = sum((x - mx) ** 2 for x in xs)
+    slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx if sxx > 0 else my / mx
+    c["memory_per_vertex"], c["memory_base"] = slope, my - slope * mx
+    c["input_bytes_per_vertex"] = single["input_bytes"] / n
+    c["output_bytes_per_vertex"] = single["output_bytes"] / n
+    return c
+
+
+def model_row(c, p, n, args):
+    lat, bw = args.latency_us * 1e-6, args.bandwidth_gbs * 1e9
+    v = n / p
+    ghosts = c["ghost_coefficient"] * math.sqrt(v)
+    setup = v * (c["load_per_vertex"] + c["rows_per_vertex"] +
+                 c["partition_per_vertex"] * math.log2(p))
+    values = 2 * ghosts
+    halo = (c["halo_per_value"] * values + c["neighbours"] * 2 * lat +
+            values * c["bytes_per_value"] / bw)
+    reduce = math.log2(p) * lat
+    exchange = c["product_per_row"] * v + halo + reduce
+    nodes = max(1, p // args.ranks_per_node)
+    io_bw = min(args.fs_aggregate_gbs, nodes * args.fs_node_gbs) * 1e9
+    io = n * (c["input_bytes_per_vertex"] + c["output_bytes_per_vertex"]) / io_bw
+    k = c["exchanges_per_iteration"]  # products (halo exchanges) an iteration
+    solve = exchange * k * c["iterations"]
+    return {"ranks": p, "nodes": nodes, "vertices_per_rank": v, "ghosts_per_rank": ghosts,
+            "memory_per_rank": c["memory_base"] + c["memory_per_vertex"] * v,
+            "setup": setup, "seconds_per_iteration": exchange * k,
+            "compute": c["product_per_row"] * v * k, "halo": halo * k, "reduce": reduce * k,
+            "io": io, "solve": solve, "total": setup + solve + io}
+
+
+def print_model(c, args):
+    n = args.model_vertices
+    print()
+    print(f"model at {n:.3g} vertices (unit costs from the 2-rank run; {args.latency_us:g} us "
+          f"a message, {args.bandwidth_gbs:g} GB/s network per rank; file system "
+          f"{args.fs_aggregate_gbs:g} GB/s aggregate, {args.fs_node_gbs:g} GB/s per node, "
+          f"{args.ranks_per_node} ranks a node; {c['iterations']} iterations):")
+    print("| ranks | nodes | vertices / rank | ghosts / rank | memory / rank | set-up s | "
+          "s / iteration (compute + halo + reduce) | solve s | I/O s | total s |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    out = []
+    for p in (16, 32, 64, 128, 256, 512, 1024):
+        m = model_row(c, p, n, args)
+        out.append(m)
+        print(f"| {p} | {m['nodes']} | {m['vertices_per_rank']:,.0f} | "
+              f"{m['ghosts_per_rank']:,.0f} | {m['memory_per_rank'] / 2**30:.1f} GiB | "
+              f"{m['setup']:.1f} | {m['seconds_per_iteration']:.4f} ({m['compute']:.4f} + "
+              f"{m['halo']:.4f} + {m['reduce']:.6f}) | {m['solve']:.2f} | {m['io']:.1f} | "
+              f"{m['total']:.1f} |")
+    return out
+
+
+def pipeline(args, limn, env):
+    print(f"distributed pipeline, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
+          f"{os.cpu_count()} cores (ranks beyond them oversubscribed: memory is exact, times "
+          f"are shared cores')", flush=True)
+    rows = run_pipeline(args, limn, env)
+    print_measured(rows)
+    two = [r for r in rows if r["ranks"] == 2 and r["path"] == "distributed"][0]
+    one = [r for r in rows if r["ranks"] == 1][0]
+    root = [r for r in rows if r["path"] == "root"]
+    print(f"set-up, 1 -> 2 ranks: {one['setup'][0]:.2f} s -> {max(two['setup']):.2f} s "
+          f"(worst rank)" + (f"; the root path at 2 ranks: {max(root[0]['setup']):.2f} s"
+                             if root else ""))
+    costs = fitted_costs(rows, args)
+    print("unit costs: " + ", ".join(f"{k} {v:.4g}" for k, v in costs.items()))
+    model = print_model(costs, args)
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"measured": rows, "unit_costs": costs, "model": model,
+                       "assumptions": {k: getattr(args, k) for k in
+                                       ("latency_us", "bandwidth_gbs", "fs_aggregate_gbs",
+                                        "fs_node_gbs", "ranks_per_node", "neighbours",
+                                        "model_vertices")}}, f, indent=1)
+    return rows
 
 
 if __name__ == "__main__":

@@ -23,7 +23,9 @@ static struct {
     int per_rank;               /* --per-rank-output was given */
     limn_mpi_stats *all;        /* root: every rank's figures of the last call */
     long long *rss;             /* root: every rank's peak resident bytes (cli_mpi_note_memory) */
-} g = {0, 1, 0, NULL, NULL};
+    double *load;               /* root: every rank's seconds reading and repairing its slice
+                                   (distributed meshes only) */
+} g = {0, 1, 0, NULL, NULL, NULL};
 
 int cli_mpi_launched(void)
 {
@@ -221,6 +223,9 @@ limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *
     double t0 = MPI_Wtime();
     limn_status st = read_sliced(ctx, job, &mesh);
     seconds[0] = MPI_Wtime() - t0;
+    free(g.load);
+    g.load = g.rank == 0 ? calloc((size_t)g.size, sizeof *g.load) : NULL;
+    MPI_Gather(&seconds[0], 1, MPI_DOUBLE, g.load, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
     limn_mpi_options mo = options();
     mo.keep_piece = 0;
     limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
@@ -272,6 +277,9 @@ void cli_mpi_json(json_out *j)
         json_integer(j, "halo_bytes_sent", (long long)s->halo_bytes_sent);
         json_integer(j, "halo_bytes_received", (long long)s->halo_bytes_received);
         json_integer(j, "exchanges", s->exchanges);
+        if (g.load)
+            json_number(j, "seconds_load", g.load[r]);
+        json_number(j, "seconds_partition", s->seconds_partition);
         json_number(j, "seconds_distribute", s->seconds_distribute);
         json_number(j, "seconds_solve", s->seconds_solve);
         json_number(j, "seconds_compute", s->seconds_compute);
