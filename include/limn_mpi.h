@@ -243,6 +243,19 @@ LIMN_API limn_status limn_mpi_mesh_sharpen(limn_context *ctx, const limn_mpi_mes
                                            limn_series_report *report,
                                            const limn_mpi_options *mpi, limn_mpi_result *result);
 
+/* limn_bands on a distributed mesh: bands[i] (count + 1 entries, the
+   caller's array; the caller destroys each) gets band i as a distributed
+   mesh with the input's blocks and faces and the band's vectors as its
+   positions, bands[count] the remainder; energy (count + 1 doubles, may be
+   NULL) the same on every rank. Bands and energies are the single
+   process's bits (the energies summed in its device's order, the running
+   sums passed from rank to rank). On failure every bands[i] is NULL. */
+LIMN_API limn_status limn_mpi_mesh_bands(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                         const limn_series_options *options, int count,
+                                         limn_mpi_mesh **bands, double *energy,
+                                         limn_series_report *report,
+                                         const limn_mpi_options *mpi, limn_mpi_result *result);
+
 #ifdef __cplusplus
 }
 #endif

@@ -263,8 +263,8 @@ static void series_same(void **s)
     }
 }
 
-/* bands (every band, the remainder and the energy file) and sharpen: the
-   single process's bytes on 2, 3 and 5 ranks. */
+/* bands (every band, the remainder and the energy file; on slices) and
+   sharpen: the single process's bytes on 2, 3 and 5 ranks. */
 static void bands_sharpen_same(void **s)
 {
     (void)s;
@@ -274,10 +274,12 @@ static void bands_sharpen_same(void **s)
         char args[1024], a[64], b[64];
         snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2 -q", at("tri.obj"), at("b1"));
         assert_int_equal(run(0, args), 0);
-        snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2", at("tri.obj"), at("b2"));
+        snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2 --report '%s'", at("tri.obj"),
+                 at("b2"), at("b2.json"));
         if (run(ranks, args) != 0)
             fail_msg("%s", test_text);
         assert_int_equal(count(test_text, "bands + remainder written"), 1);
+        assert_true(report_sliced(at("b2.json"))); /* limn_mpi_mesh_bands */
         for (int k = 0; k < 4; k++) {
             snprintf(a, sizeof a, "b1%s", files[k]);
             snprintf(b, sizeof b, "b2%s", files[k]);

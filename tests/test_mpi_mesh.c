@@ -398,6 +398,74 @@ static void series_case(limn_context *ctx, const char *name, const limn_mesh *me
     }
 }
 
+/* limn_mpi_mesh_bands: every band and the remainder, written in parallel,
+   are the bytes of rank 0's limn_bands written whole; the energies its bits. */
+static void bands_case(limn_context *ctx, const char *name, const limn_mesh *mesh, int count)
+{
+    char in[320], a[320], b[320];
+    snprintf(in, sizeof in, "%s/bands_in.ply", dir);
+    limn_series_options o;
+    limn_series_options_default(&o);
+    double energy_ref[4] = {0}, energy[4] = {-1, -1, -1, -1};
+    int ok = 1;
+    limn_mesh *m = NULL, *band = NULL;
+    double *ref = NULL;
+    if (rank == 0) {
+        limn_series_report r = {.size = sizeof r};
+        ok = limn_mesh_write(ctx, mesh, in, LIMN_FORMAT_AUTO) == LIMN_OK &&
+             limn_mesh_read(ctx, in, LIMN_FORMAT_AUTO, &m) == LIMN_OK &&
+             limn_mesh_repair(ctx, m, NULL, NULL) == LIMN_OK &&
+             limn_mesh_copy(ctx, m, &band) == LIMN_OK;
+        size_t n3 = ok ? 3 * limn_mesh_vertex_count(m) : 0;
+        ref = malloc(((size_t)count + 1) * (n3 ? n3 : 1) * sizeof *ref);
+        ok = ok && ref && limn_bands(ctx, m, &o, count, ref, energy_ref, &r) == LIMN_OK;
+        for (int i = 0; ok && i <= count; i++) {
+            snprintf(a, sizeof a, "%s/band_ref%d.ply", dir, i);
+            memcpy(limn_mesh_positions_mutable(band), ref + (size_t)i * n3, n3 * sizeof *ref);
+            ok = limn_mesh_write(ctx, band, a, LIMN_FORMAT_AUTO) == LIMN_OK;
+        }
+        CHECK(ok, "%s: single process bands: %s", name, limn_context_message(ctx));
+    }
+    MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Bcast(energy_ref, 4, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    limn_mpi_mesh *dm = NULL, *bands[4] = {NULL, NULL, NULL, NULL};
+    limn_status st = ok ? limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &dm)
+                        : LIMN_ERR_ARGUMENT;
+    if (!st)
+        st = limn_mpi_mesh_repair(ctx, dm, NULL, NULL);
+    if (!st)
+        st = limn_mpi_mesh_bands(ctx, dm, &o, count, bands, energy, NULL, NULL, NULL);
+    CHECK(!ok || st == LIMN_OK, "%s: limn_mpi_mesh_bands: %s", name, limn_context_message(ctx));
+    for (int i = 0; ok && !st && i <= count; i++) {
+        snprintf(b, sizeof b, "%s/band%d.ply", dir, i);
+        st = limn_mpi_mesh_write(ctx, bands[i], b, LIMN_FORMAT_AUTO, NULL, NULL);
+        CHECK(st == LIMN_OK, "%s: writing band %d: %s", name, i, limn_context_message(ctx));
+        CHECK(memcmp(&energy[i], &energy_ref[i], sizeof energy[i]) == 0,
+              "%s (%d ranks): band %d's energy %.17g, one process %.17g", name, size, i,
+              energy[i], energy_ref[i]);
+        snprintf(a, sizeof a, "%s/band_ref%d.ply", dir, i);
+        if (rank == 0 && !st)
+            CHECK(same_files(a, b), "%s (%d ranks): band %d differs from one process's", name,
+                  size, i);
+    }
+    for (int i = 0; i <= count; i++)
+        limn_mpi_mesh_destroy(bands[i]);
+    limn_mpi_mesh_destroy(dm);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) {
+        for (int i = 0; i <= count; i++) {
+            snprintf(a, sizeof a, "%s/band_ref%d.ply", dir, i);
+            snprintf(b, sizeof b, "%s/band%d.ply", dir, i);
+            unlink(a);
+            unlink(b);
+        }
+        unlink(in);
+    }
+    limn_mesh_destroy(m);
+    limn_mesh_destroy(band);
+    free(ref);
+}
+
 /* keep_volume is refused on every rank with one message, nothing made. */
 static void series_errors(limn_context *ctx, const limn_mesh *mesh)
 {
@@ -451,6 +519,8 @@ int main(int argc, char **argv)
         series_case(ctx, "composite quad", quad, (enum series_kind)k, LIMN_SCHEME_CATMARK, 0.5);
     }
     series_errors(ctx, quad);
+    bands_case(ctx, "composite tri", tri, 3);
+    bands_case(ctx, "composite quad", quad, 2);
     split_and_create(ctx, quad);
     errors(ctx);
 
@@ -469,6 +539,8 @@ int main(int argc, char **argv)
             pipeline_case(ctx, real[k], m, "ply", LIMN_SCHEME_AUTO, 0.0, LIMN_METHOD_AUTO);
         if (ok)
             series_case(ctx, real[k], m, (enum series_kind)(k % 3), LIMN_SCHEME_AUTO, 0.0);
+        if (ok && k == 4) /* bob_quad: several chunks of rows, blocks not on their edges */
+            bands_case(ctx, real[k], m, 2);
         limn_mesh_destroy(m);
     }
     limn_mesh_destroy(tri);

@@ -305,6 +305,68 @@ limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
     return st;
 }
 
+/* The input's energy (sum of its squared coordinates in input order) and
+   the largest |sum of the bands - input| over the blocks, as cli_bands.c's
+   compute gives them: the sum passed from rank to rank, the maximum exact. */
+static void bands_check(const limn_mpi_mesh *mesh, limn_mpi_mesh *const *bands, int count,
+                        cli_bands_out *out)
+{
+    double sum = 0.0, worst = 0.0;
+    if (g.rank > 0)
+        MPI_Recv(&sum, 1, MPI_DOUBLE, g.rank - 1, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    const double *m = limn_mpi_mesh_positions(mesh);
+    for (size_t k = 0; k < 3 * limn_mpi_mesh_vertex_count(mesh); k++) {
+        double s = 0.0;
+        for (int i = 0; i <= count; i++)
+            s += limn_mpi_mesh_positions(bands[i])[k];
+        worst = fmax(worst, fabs(s - m[k]));
+        sum += m[k] * m[k];
+    }
+    if (g.rank + 1 < g.size)
+        MPI_Send(&sum, 1, MPI_DOUBLE, g.rank + 1, 0, MPI_COMM_WORLD);
+    MPI_Bcast(&sum, 1, MPI_DOUBLE, g.size - 1, MPI_COMM_WORLD);
+    MPI_Allreduce(&worst, &out->max_sum_error, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    out->input_energy = sum;
+}
+
+limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                 const limn_series_options *o, int count, cli_bands_out *out,
+                                 limn_series_report *r, double seconds[2])
+{
+    limn_mpi_mesh *mesh = NULL, **bands = calloc((size_t)count + 1, sizeof *bands);
+    double t0 = MPI_Wtime();
+    limn_status st = cli_mpi_agree(ctx, bands ? LIMN_OK
+                                              : cli_error(LIMN_ERR_MEMORY, "out of memory"));
+    if (!st)
+        st = read_sliced(ctx, job, &mesh);
+    seconds[0] = MPI_Wtime() - t0;
+    limn_mpi_options mo = options();
+    mo.keep_piece = 0;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    g.sliced = 1;
+    if (!st) {
+        st = limn_mpi_mesh_bands(ctx, mesh, o, count, bands, out->energy, r, &mo, &res);
+        cli_print_warnings(job->cmd, ctx);
+        collect(&res);
+        limn_mpi_result_free(&res);
+    }
+    if (!st)
+        bands_check(mesh, bands, count, out);
+    double t1 = MPI_Wtime();
+    int written = 0;
+    for (; !st && written <= count; written++)
+        st = limn_mpi_mesh_write(ctx, bands[written], out->paths[written], job->out_format,
+                                 job->write, NULL);
+    for (int i = 0; st && g.rank == 0 && i < written - 1; i++)
+        remove(out->paths[i]); /* the bands before the failed one */
+    seconds[1] = MPI_Wtime() - t1;
+    for (int i = 0; bands && i <= count; i++)
+        limn_mpi_mesh_destroy(bands[i]);
+    free(bands);
+    limn_mpi_mesh_destroy(mesh);
+    return st;
+}
+
 void cli_mpi_note_memory(void)
 {
     if (g.size == 1)

@@ -87,6 +87,13 @@ limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
         (void)seconds;
     return none();
 }
+limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                 const limn_series_options *o, int count, cli_bands_out *out,
+                                 limn_series_report *r, double seconds[2])
+{
+    (void)ctx, (void)job, (void)o, (void)count, (void)out, (void)r, (void)seconds;
+    return none();
+}
 char *cli_mpi_rank_path(const char *path)
 {
     (void)path;

@@ -10,11 +10,15 @@
  * row is summed in the single process's order, so the results are the
  * single process's bits. Denoising with keep_volume is refused: the volume
  * needs the whole mesh (the root path, limn_denoise_mpi, measures it).
+ * limn_mpi_mesh_bands gives each band as a distributed mesh, its energy
+ * summed in the single process's order by passing the running sums from
+ * rank to rank.
  */
 #include "mpi/mpi_mesh.h"
 #include "mpi/mpi_series.h"
 
 #include "base/context.h"
+#include "device/reference/device_ref.h"
 #include "mesh/check.h"
 #include "series/series.h"
 
@@ -188,6 +192,88 @@ static limn_status sharpen_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     return close_mesh_series(&s, st, result, r);
 }
 
+/* The energy of a vector in the vertex blocks (3 per block vertex) as the
+   single process's device sums the whole (mpi_series.c's chunked_energy:
+   chunks of DEVICE_ROWS_PER_ITEM rows in input order, each row by row, the
+   chunks in order): the ranks in turn carry the running sums along, so the
+   arithmetic is the same; every rank gets the total. */
+static double chained_energy(mpi_part *p, const limn_mpi_mesh *mesh, const double *xyz)
+{
+    double carry[2] = {0.0, 0.0}; /* the total of the closed chunks, the open chunk's sum */
+    if (p->rank > 0)
+        MPI_Recv(carry, 2, MPI_DOUBLE, p->rank - 1, 0, p->comm, MPI_STATUS_IGNORE);
+    size_t begin = mesh->vertex_dist[p->rank];
+    double part[3] = {0.0, 0.0, carry[1]};
+    for (size_t i = 0; i < mesh->slice.vertex_count; i++) {
+        size_t g = begin + i;
+        if (g > 0 && g % DEVICE_ROWS_PER_ITEM == 0) {
+            carry[0] += part[2];
+            part[0] = part[1] = part[2] = 0.0;
+        }
+        ref_norms_add(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], part);
+    }
+    carry[1] = part[2];
+    if (p->rank + 1 < p->size)
+        MPI_Send(carry, 2, MPI_DOUBLE, p->rank + 1, 0, p->comm);
+    else
+        carry[0] += carry[1];
+    MPI_Bcast(carry, 1, MPI_DOUBLE, p->size - 1, p->comm);
+    return carry[0];
+}
+
+/* Where band i goes: bands[i], its energy energy[i] (may be NULL). */
+typedef struct mesh_bands {
+    limn_mpi_mesh **bands;
+    double *energy;
+} mesh_bands;
+
+static limn_status mesh_band_out(const series_engine *e, device_buffer *b, int i, void *user)
+{
+    series_mpi *s = e->user;
+    mpi_part *p = &s->p;
+    mesh_bands *mb = user;
+    limn_status st = mpi_agree(p, p->dev->ops->buffer_read_at(
+                                      p->dev, b, 0, 4 * p->n_owned * sizeof(double), s->rows4));
+    double *block = NULL;
+    if (!st)
+        st = mpi_mesh_results_to_blocks(p, s->mesh, s->rows4, &block);
+    if (!st) { /* collective: every rank sums, whether it keeps the energy or not */
+        double en = chained_energy(p, s->mesh, block);
+        if (mb->energy)
+            mb->energy[i] = en;
+    }
+    return st ? st : mpi_mesh_control_of(p, s->mesh, block, &mb->bands[i]);
+}
+
+/* limn_mpi_mesh_bands on structs of this library's layout. */
+static limn_status bands_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
+                               const limn_series_options *o, int count, limn_mpi_mesh **bands,
+                               double *energy, limn_series_report *r,
+                               const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    const char *fn = "limn_mpi_mesh_bands";
+    series_mpi s;
+    series_engine e;
+    limn_status st = check_count(ctx, fn, "count", count, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st && !bands)
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: bands is NULL", fn);
+    for (int i = 0; !st && i <= count; i++)
+        bands[i] = NULL;
+    limn_mpi_mesh *unused = NULL;
+    st = open_mesh_series(ctx, fn, mesh, o, mpi, st, &unused, &s, &e, r);
+    if (s.p.comm == MPI_COMM_NULL)
+        return st;
+    mesh_bands mb = {bands, energy};
+    if (!st)
+        st = mpi_series_bands(&e, NULL, count, mesh_band_out, &mb);
+    for (int i = 0; st && bands && i <= count; i++) {
+        limn_mpi_mesh_destroy(bands[i]);
+        bands[i] = NULL;
+    }
+    s.out = NULL;
+    return close_mesh_series(&s, st, result, r);
+}
+
 /* mpi_enter on the mesh's communicator (*out cleared first). */
 static limn_status enter(mpi_call *c, limn_context *ctx, const limn_mpi_mesh *mesh,
                          const char *fn, const limn_series_options *options,
@@ -240,4 +326,18 @@ limn_status limn_mpi_mesh_sharpen(limn_context *ctx, const limn_mpi_mesh *mesh,
     return st ? st
               : mpi_leave(&c, sharpen_sized(ctx, mesh, c.abi.options, from, to, steps, out,
                                             c.abi.report, c.mpi, c.result));
+}
+
+limn_status limn_mpi_mesh_bands(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                const limn_series_options *options, int count,
+                                limn_mpi_mesh **bands, double *energy,
+                                limn_series_report *report, const limn_mpi_options *mpi,
+                                limn_mpi_result *result)
+{
+    mpi_call c;
+    limn_status st =
+        enter(&c, ctx, mesh, "limn_mpi_mesh_bands", options, report, mpi, result, NULL);
+    return st ? st
+              : mpi_leave(&c, bands_sized(ctx, mesh, c.abi.options, count, bands, energy,
+                                          c.abi.report, c.mpi, c.result));
 }

@@ -285,27 +285,30 @@ static double chunked_energy(const double *xyz, size_t n)
     return total;
 }
 
-/* b gathered to the root into dst (root: NULL for the scratch) and its energy
-   there (energy may be NULL). */
-static limn_status band_out(const series_engine *e, device_buffer *b, double *dst,
-                            double *energy)
+/* What bands_root hands band_out: the root's bands and energies (may be NULL). */
+typedef struct root_bands {
+    double *bands, *energy;
+    size_t n3;
+} root_bands;
+
+/* Band i (count: the remainder) in b gathered to the root, into its slot of
+   the root's bands (or the scratch) and its energy there. */
+static limn_status band_out(const series_engine *e, device_buffer *b, int i, void *user)
 {
     series_mpi *s = e->user;
-    double *xyz = dst ? dst : s->xyz;
+    root_bands *rb = user;
+    double *xyz = rb->bands ? rb->bands + (size_t)i * rb->n3 : s->xyz;
     limn_status st = mpi_download(e, b, xyz);
-    if (!st && e->root && energy)
-        *energy = chunked_energy(xyz, s->p.n_global);
+    if (!st && e->root && rb->energy)
+        rb->energy[i] = chunked_energy(xyz, s->p.n_global);
     return st;
 }
 
-/* The bands and remainder of limn_bands (buffers 0: M, then remainders 1, 2
-   in turn; 3: the band); bands and energy: the root's, may be NULL. */
-static limn_status bands_run(const series_engine *e, const limn_mesh *mesh, int count,
-                             double *bands, double *energy)
+limn_status mpi_series_bands(const series_engine *e, const double *xyz_root, int count,
+                             mpi_band_fn out, void *user)
 {
     device_buffer **b = e->buf, *cur = b[0];
-    size_t n3 = e->root ? 3 * mesh->vertex_count : 0;
-    limn_status st = e->ops->upload(e, e->root ? mesh->positions : NULL, cur);
+    limn_status st = e->ops->upload(e, xyz_root, cur);
     for (int i = 0; !st && i < count; i++) {
         device_buffer *next = cur == b[1] ? b[2] : b[1];
         /* acc = A r_i: the single process's ax, the same values */
@@ -313,16 +316,12 @@ static limn_status bands_run(const series_engine *e, const limn_mesh *mesh, int 
         ++*e->products;
         st = e->ops->agree(e, st);
         if (!st)
-            st = band_out(e, b[3], bands ? bands + (size_t)i * n3 : NULL,
-                          energy ? energy + i : NULL);
+            st = out(e, b[3], i, user);
         cur = next;
         if (count > 1)
             ctx_progress(e->ctx, "bands", (double)(i + 1) / count);
     }
-    if (!st)
-        st = band_out(e, cur, bands ? bands + (size_t)count * n3 : NULL,
-                      energy ? energy + count : NULL);
-    return st;
+    return st ? st : out(e, cur, count, user);
 }
 
 /* limn_bands_mpi on structs of this library's layout. */
@@ -338,9 +337,10 @@ static limn_status bands_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_
         st = check_count(ctx, "limn_bands_mpi", "count", count, 0, LIMN_MAX_TERMS,
                          "LIMN_MAX_TERMS");
     st = start_engine(&s, st, &e, &r->products);
+    int root = s.p.rank == s.p.root && mesh; /* a NULL mesh on the root: refused above */
+    root_bands rb = {root ? bands : NULL, root ? energy : NULL, root ? 3 * mesh->vertex_count : 0};
     if (!st)
-        st = bands_run(&e, mesh, count, s.p.rank == s.p.root ? bands : NULL,
-                       s.p.rank == s.p.root ? energy : NULL);
+        st = mpi_series_bands(&e, root ? mesh->positions : NULL, count, band_out, &rb);
     r->seconds_compute = MPI_Wtime() - s.t0;
     if (result)
         result->stats = s.p.stats;

@@ -39,4 +39,11 @@ limn_status mpi_series_axpby(const series_engine *e, double a, device_buffer *x,
                              device_buffer *y, device_buffer *out);
 limn_status mpi_series_agree(const series_engine *e, limn_status st);
 
+/* The bands of limn_bands on an open engine (buffers 0: M, uploaded from
+   xyz_root; then remainders 1, 2 in turn; 3: the band): out gets band i in
+   b for i = 0 .. count - 1, then the remainder (i = count). */
+typedef limn_status (*mpi_band_fn)(const series_engine *e, device_buffer *b, int i, void *user);
+limn_status mpi_series_bands(const series_engine *e, const double *xyz_root, int count,
+                             mpi_band_fn out, void *user);
+
 #endif
