@@ -6,8 +6,8 @@
  * morph run distributed (include/limn_mpi.h): the root (rank 0) reads, writes and
  * prints, every rank computes its share, and every failure is agreed on so
  * that all ranks exit with the same status and the message is printed once.
- * On a file input, interpolate, smooth, denoise (without --keep-volume) and
- * sharpen run on slices instead (cli_mpi_sliced): every rank reads, computes
+ * On a file input, interpolate, smooth, denoise (without --keep-volume),
+ * sharpen and bands run on slices instead (cli_mpi_sliced): every rank reads, computes
  * and writes its share of a distributed mesh, none holding it whole.
  * The other commands refuse to run on several ranks.
  */
