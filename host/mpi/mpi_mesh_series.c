@@ -26,14 +26,19 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The input's owned rows (mpi_local_build's) -> b. */
+/* The input's owned rows (mpi_local_build's) -> b; every filter uploads
+   once, so they go then (the per-rank peak). */
 static limn_status mesh_upload(const series_engine *e, const double *xyz_root, device_buffer *b)
 {
     (void)xyz_root; /* no rank holds the mesh: e->root is 0 everywhere */
     series_mpi *s = e->user;
     mpi_part *p = &s->p;
-    return mpi_agree(p, p->dev->ops->buffer_write(p->dev, b, 4 * p->n_owned * sizeof(double),
-                                                  s->m4));
+    limn_status st = s->m4 ? p->dev->ops->buffer_write(p->dev, b, 4 * p->n_owned * sizeof(double),
+                                                       s->m4)
+                           : ctx_fail(p->ctx, LIMN_ERR_ARGUMENT, "the input was uploaded already");
+    free(s->m4);
+    s->m4 = NULL;
+    return mpi_agree(p, st);
 }
 
 /* Whole vectors are never gathered here (morph and bands take the root path). */
