@@ -222,6 +222,40 @@ LIMN_API limn_status limn_mpi_mesh_interpolate(limn_context *ctx, const limn_mpi
                                                const limn_mpi_options *mpi,
                                                limn_mpi_result *result);
 
+/* limn_smooth, limn_denoise and limn_sharpen on a distributed mesh: rows
+   built as limn_mpi_mesh_interpolate builds them (no rank holding the
+   mesh), *out a distributed mesh with the same blocks and faces; the
+   single process's bits. Options, checks and report as limn_smooth_mpi
+   etc.; keep_piece is ignored. limn_mpi_mesh_denoise refuses keep_volume
+   (the volume needs the whole mesh: use limn_denoise_mpi). */
+LIMN_API limn_status limn_mpi_mesh_smooth(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                          const limn_series_options *options, int terms,
+                                          limn_mpi_mesh **out, limn_series_report *report,
+                                          const limn_mpi_options *mpi, limn_mpi_result *result);
+LIMN_API limn_status limn_mpi_mesh_denoise(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                           const limn_series_options *options, int m, int steps,
+                                           int keep_volume, limn_mpi_mesh **out,
+                                           limn_series_report *report,
+                                           const limn_mpi_options *mpi, limn_mpi_result *result);
+LIMN_API limn_status limn_mpi_mesh_sharpen(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                           const limn_series_options *options, int from, int to,
+                                           int steps, limn_mpi_mesh **out,
+                                           limn_series_report *report,
+                                           const limn_mpi_options *mpi, limn_mpi_result *result);
+
+/* limn_bands on a distributed mesh: bands[i] (count + 1 entries, the
+   caller's array; the caller destroys each) gets band i as a distributed
+   mesh with the input's blocks and faces and the band's vectors as its
+   positions, bands[count] the remainder; energy (count + 1 doubles, may be
+   NULL) the same on every rank. Bands and energies are the single
+   process's bits (the energies summed in its device's order, the running
+   sums passed from rank to rank). On failure every bands[i] is NULL. */
+LIMN_API limn_status limn_mpi_mesh_bands(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                         const limn_series_options *options, int count,
+                                         limn_mpi_mesh **bands, double *energy,
+                                         limn_series_report *report,
+                                         const limn_mpi_options *mpi, limn_mpi_result *result);
+
 #ifdef __cplusplus
 }
 #endif

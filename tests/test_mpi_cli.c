@@ -207,20 +207,40 @@ static void interpolate_shared(void **s)
     interpolate_same(path, "", 3, 1);
 }
 
+/* The report at path says the run was on slices (no rank held the mesh). */
+static int report_sliced(const char *path)
+{
+    size_t n = 0;
+    char *text = test_slurp(path, &n);
+    int yes = text && strstr(text, "\"distributed_mesh\": true") != NULL;
+    free(text);
+    return yes;
+}
+
 static void series_same(void **s)
 {
     (void)s;
     write_inputs();
-    static const char *cmds[] = {"smooth '%s' -o '%s' --terms 4 -q", "denoise '%s' -o '%s' -q"};
-    for (int k = 0; k < 2; k++)
+    /* smooth, denoise and sharpen on a file input: slices (limn_mpi_mesh_smooth
+       etc.), the single process's bytes; denoise --keep-volume: the root path */
+    static const char *cmds[] = {"smooth '%s' -o '%s' --terms 4 -q", "denoise '%s' -o '%s' -q",
+                                 "sharpen '%s' -o '%s' --from 1 --to 3 --steps 2 -q"};
+    static const char *inputs[] = {"quad.obj", "tri.obj"};
+    for (int k = 0; k < 3; k++)
         for (int ranks = 2; ranks <= 3; ranks++) {
             char args[1024];
-            snprintf(args, sizeof args, cmds[k], at("quad.obj"), at("s1.ply"));
+            char in[4200];
+            snprintf(in, sizeof in, "%s", at(inputs[(k + ranks) % 2]));
+            snprintf(args, sizeof args, cmds[k], in, at("s1.ply"));
             assert_int_equal(run(0, args), 0);
-            snprintf(args, sizeof args, cmds[k], at("quad.obj"), at("s2.ply"));
+            snprintf(args, sizeof args, cmds[k], in, at("s2.ply"));
+            strcat(args, " --report '");
+            strcat(args, at("s2.json"));
+            strcat(args, "'");
             if (run(ranks, args) != 0)
                 fail_msg("%s", test_text);
             assert_true(test_same_bytes(at("s1.ply"), at("s2.ply")));
+            assert_true(report_sliced(at("s2.json")));
         }
     /* morph: every frame the same bytes */
     char args[1024];
@@ -243,8 +263,8 @@ static void series_same(void **s)
     }
 }
 
-/* bands (every band, the remainder and the energy file) and sharpen: the
-   single process's bytes on 2, 3 and 5 ranks. */
+/* bands (every band, the remainder and the energy file; on slices) and
+   sharpen: the single process's bytes on 2, 3 and 5 ranks. */
 static void bands_sharpen_same(void **s)
 {
     (void)s;
@@ -254,10 +274,12 @@ static void bands_sharpen_same(void **s)
         char args[1024], a[64], b[64];
         snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2 -q", at("tri.obj"), at("b1"));
         assert_int_equal(run(0, args), 0);
-        snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2", at("tri.obj"), at("b2"));
+        snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2 --report '%s'", at("tri.obj"),
+                 at("b2"), at("b2.json"));
         if (run(ranks, args) != 0)
             fail_msg("%s", test_text);
         assert_int_equal(count(test_text, "bands + remainder written"), 1);
+        assert_true(report_sliced(at("b2.json"))); /* limn_mpi_mesh_bands */
         for (int k = 0; k < 4; k++) {
             snprintf(a, sizeof a, "b1%s", files[k]);
             snprintf(b, sizeof b, "b2%s", files[k]);

@@ -317,6 +317,177 @@ static void errors(limn_context *ctx)
         unlink(in);
 }
 
+/* The series filters of the distributed path (limn_mpi_mesh_smooth etc.). */
+enum series_kind { SMOOTH, DENOISE, SHARPEN };
+static const char *const series_names[] = {"smooth", "denoise", "sharpen"};
+
+/* The single process's filter on rank 0 (read, repair, filter, write). */
+static int series_single(limn_context *ctx, enum series_kind k, const char *in,
+                         const limn_series_options *o, const char *out)
+{
+    limn_mesh *m = NULL, *f = NULL;
+    limn_series_report r = {.size = sizeof r};
+    int ok = limn_mesh_read(ctx, in, LIMN_FORMAT_AUTO, &m) == LIMN_OK &&
+             limn_mesh_repair(ctx, m, NULL, NULL) == LIMN_OK;
+    if (ok && k == SMOOTH)
+        ok = limn_smooth(ctx, m, o, 3, &f, &r) == LIMN_OK;
+    else if (ok && k == DENOISE)
+        ok = limn_denoise(ctx, m, o, 2, 3, 0, &f, &r) == LIMN_OK;
+    else if (ok)
+        ok = limn_sharpen(ctx, m, o, 1, 3, 2, &f, &r) == LIMN_OK;
+    ok = ok && limn_mesh_write(ctx, f, out, LIMN_FORMAT_AUTO) == LIMN_OK;
+    CHECK(ok, "single process %s on %s: %s", series_names[k], in, limn_context_message(ctx));
+    limn_mesh_destroy(m);
+    limn_mesh_destroy(f);
+    return ok;
+}
+
+/* Every rank: read, repair, the distributed filter, the parallel write. */
+static limn_status series_distributed(limn_context *ctx, enum series_kind k, const char *in,
+                                      const limn_series_options *o, const char *out)
+{
+    limn_mpi_mesh *m = NULL, *f = NULL;
+    limn_series_report r = {.size = sizeof r};
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &m);
+    if (!st)
+        st = limn_mpi_mesh_repair(ctx, m, NULL, NULL);
+    if (!st && k == SMOOTH)
+        st = limn_mpi_mesh_smooth(ctx, m, o, 3, &f, &r, NULL, NULL);
+    else if (!st && k == DENOISE)
+        st = limn_mpi_mesh_denoise(ctx, m, o, 2, 3, 0, &f, &r, NULL, NULL);
+    else if (!st)
+        st = limn_mpi_mesh_sharpen(ctx, m, o, 1, 3, 2, &f, &r, NULL, NULL);
+    if (!st)
+        st = limn_mpi_mesh_write(ctx, f, out, LIMN_FORMAT_AUTO, NULL, NULL);
+    limn_mpi_mesh_destroy(m);
+    limn_mpi_mesh_destroy(f);
+    return st;
+}
+
+/* One mesh and filter: both routes, the same bytes. */
+static void series_case(limn_context *ctx, const char *name, const limn_mesh *mesh,
+                        enum series_kind k, limn_scheme scheme, double alpha)
+{
+    char in[320], ref[320], out[320];
+    snprintf(in, sizeof in, "%s/series_in.ply", dir);
+    snprintf(ref, sizeof ref, "%s/series_ref.ply", dir);
+    snprintf(out, sizeof out, "%s/series_out.ply", dir);
+    limn_series_options o;
+    limn_series_options_default(&o);
+    o.scheme = scheme;
+    o.alpha = alpha;
+    int ok = 1;
+    if (rank == 0) {
+        ok = limn_mesh_write(ctx, mesh, in, LIMN_FORMAT_AUTO) == LIMN_OK;
+        CHECK(ok, "%s: writing %s: %s", name, in, limn_context_message(ctx));
+        ok = ok && series_single(ctx, k, in, &o, ref);
+    }
+    MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!ok)
+        return;
+    limn_status st = series_distributed(ctx, k, in, &o, out);
+    CHECK(st == LIMN_OK, "%s (%s): %s", name, series_names[k], limn_context_message(ctx));
+    if (rank == 0 && st == LIMN_OK)
+        CHECK(same_files(ref, out), "%s (%s, %d ranks): output differs from one process's", name,
+              series_names[k], size);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) {
+        unlink(in);
+        unlink(ref);
+        unlink(out);
+    }
+}
+
+/* limn_mpi_mesh_bands: every band and the remainder, written in parallel,
+   are the bytes of rank 0's limn_bands written whole; the energies its bits. */
+static void bands_case(limn_context *ctx, const char *name, const limn_mesh *mesh, int count)
+{
+    char in[320], a[320], b[320];
+    snprintf(in, sizeof in, "%s/bands_in.ply", dir);
+    limn_series_options o;
+    limn_series_options_default(&o);
+    double energy_ref[4] = {0}, energy[4] = {-1, -1, -1, -1};
+    int ok = 1;
+    limn_mesh *m = NULL, *band = NULL;
+    double *ref = NULL;
+    if (rank == 0) {
+        limn_series_report r = {.size = sizeof r};
+        ok = limn_mesh_write(ctx, mesh, in, LIMN_FORMAT_AUTO) == LIMN_OK &&
+             limn_mesh_read(ctx, in, LIMN_FORMAT_AUTO, &m) == LIMN_OK &&
+             limn_mesh_repair(ctx, m, NULL, NULL) == LIMN_OK &&
+             limn_mesh_copy(ctx, m, &band) == LIMN_OK;
+        size_t n3 = ok ? 3 * limn_mesh_vertex_count(m) : 0;
+        ref = malloc(((size_t)count + 1) * (n3 ? n3 : 1) * sizeof *ref);
+        ok = ok && ref && limn_bands(ctx, m, &o, count, ref, energy_ref, &r) == LIMN_OK;
+        for (int i = 0; ok && i <= count; i++) {
+            snprintf(a, sizeof a, "%s/band_ref%d.ply", dir, i);
+            memcpy(limn_mesh_positions_mutable(band), ref + (size_t)i * n3, n3 * sizeof *ref);
+            ok = limn_mesh_write(ctx, band, a, LIMN_FORMAT_AUTO) == LIMN_OK;
+        }
+        CHECK(ok, "%s: single process bands: %s", name, limn_context_message(ctx));
+    }
+    MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Bcast(energy_ref, 4, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    limn_mpi_mesh *dm = NULL, *bands[4] = {NULL, NULL, NULL, NULL};
+    limn_status st = ok ? limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &dm)
+                        : LIMN_ERR_ARGUMENT;
+    if (!st)
+        st = limn_mpi_mesh_repair(ctx, dm, NULL, NULL);
+    if (!st)
+        st = limn_mpi_mesh_bands(ctx, dm, &o, count, bands, energy, NULL, NULL, NULL);
+    CHECK(!ok || st == LIMN_OK, "%s: limn_mpi_mesh_bands: %s", name, limn_context_message(ctx));
+    for (int i = 0; ok && !st && i <= count; i++) {
+        snprintf(b, sizeof b, "%s/band%d.ply", dir, i);
+        st = limn_mpi_mesh_write(ctx, bands[i], b, LIMN_FORMAT_AUTO, NULL, NULL);
+        CHECK(st == LIMN_OK, "%s: writing band %d: %s", name, i, limn_context_message(ctx));
+        CHECK(memcmp(&energy[i], &energy_ref[i], sizeof energy[i]) == 0,
+              "%s (%d ranks): band %d's energy %.17g, one process %.17g", name, size, i,
+              energy[i], energy_ref[i]);
+        snprintf(a, sizeof a, "%s/band_ref%d.ply", dir, i);
+        if (rank == 0 && !st)
+            CHECK(same_files(a, b), "%s (%d ranks): band %d differs from one process's", name,
+                  size, i);
+    }
+    for (int i = 0; i <= count; i++)
+        limn_mpi_mesh_destroy(bands[i]);
+    limn_mpi_mesh_destroy(dm);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) {
+        for (int i = 0; i <= count; i++) {
+            snprintf(a, sizeof a, "%s/band_ref%d.ply", dir, i);
+            snprintf(b, sizeof b, "%s/band%d.ply", dir, i);
+            unlink(a);
+            unlink(b);
+        }
+        unlink(in);
+    }
+    limn_mesh_destroy(m);
+    limn_mesh_destroy(band);
+    free(ref);
+}
+
+/* keep_volume is refused on every rank with one message, nothing made. */
+static void series_errors(limn_context *ctx, const limn_mesh *mesh)
+{
+    char in[320];
+    snprintf(in, sizeof in, "%s/series_err.ply", dir);
+    if (rank == 0)
+        limn_mesh_write(ctx, mesh, in, LIMN_FORMAT_AUTO);
+    MPI_Barrier(MPI_COMM_WORLD);
+    limn_mpi_mesh *m = NULL, *f = NULL;
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &m);
+    CHECK(st == LIMN_OK, "series_errors: reading %s: %s", in, limn_context_message(ctx));
+    if (!st) {
+        st = limn_mpi_mesh_denoise(ctx, m, NULL, 2, 3, 1, &f, NULL, NULL, NULL);
+        CHECK(st != LIMN_OK && f == NULL && strstr(limn_context_message(ctx), "keep_volume"),
+              "keep_volume: status %d, '%s'", (int)st, limn_context_message(ctx));
+    }
+    limn_mpi_mesh_destroy(m);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0)
+        unlink(in);
+}
+
 int main(int argc, char **argv)
 {
     MPI_Init(&argc, &argv);
@@ -343,6 +514,13 @@ int main(int argc, char **argv)
     pipeline_case(ctx, "composite quad", quad, "ply", LIMN_SCHEME_CATMARK, 0.0,
                   LIMN_METHOD_PAPER);
     repair_case(ctx);
+    for (int k = SMOOTH; k <= SHARPEN; k++) {
+        series_case(ctx, "composite tri", tri, (enum series_kind)k, LIMN_SCHEME_LOOP, 0.0);
+        series_case(ctx, "composite quad", quad, (enum series_kind)k, LIMN_SCHEME_CATMARK, 0.5);
+    }
+    series_errors(ctx, quad);
+    bands_case(ctx, "composite tri", tri, 3);
+    bands_case(ctx, "composite quad", quad, 2);
     split_and_create(ctx, quad);
     errors(ctx);
 
@@ -359,6 +537,10 @@ int main(int argc, char **argv)
         MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
         if (ok)
             pipeline_case(ctx, real[k], m, "ply", LIMN_SCHEME_AUTO, 0.0, LIMN_METHOD_AUTO);
+        if (ok)
+            series_case(ctx, real[k], m, (enum series_kind)(k % 3), LIMN_SCHEME_AUTO, 0.0);
+        if (ok && k == 4) /* bob_quad: several chunks of rows, blocks not on their edges */
+            bands_case(ctx, real[k], m, 2);
         limn_mesh_destroy(m);
     }
     limn_mesh_destroy(tri);

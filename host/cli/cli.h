@@ -247,6 +247,36 @@ typedef struct cli_sliced_job {
 limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *job,
                                        const limn_interpolate_options *o, limn_report *r,
                                        limn_write_report *written, double seconds[2]);
+/* The series filters that run on slices, and their arguments. */
+typedef enum cli_series_kind {
+    CLI_SERIES_SMOOTH,
+    CLI_SERIES_DENOISE, /* without --keep-volume (the volume needs the whole mesh) */
+    CLI_SERIES_SHARPEN
+} cli_series_kind;
+typedef struct cli_series_call {
+    cli_series_kind kind;
+    int terms, m, steps, from, to;
+} cli_series_call;
+/* smooth, denoise or sharpen on slices (limn_mpi_mesh_smooth etc.), as
+   cli_mpi_interpolate_sliced; *displacement the mean distance from the
+   input to the result over the bbox diagonal, summed over the ranks (it may
+   differ from one process's figure in the last bits; the mesh does not). */
+limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                  const limn_series_options *o, const cli_series_call *call,
+                                  limn_series_report *r, limn_write_report *written,
+                                  double *displacement, double seconds[2]);
+/* bands on slices (limn_mpi_mesh_bands): band i written in parallel to
+   paths[i] (count + 1 of them, the remainder last; what was written is
+   removed again on failure), energy (count + 1), the input's energy and
+   the largest |sum of the bands - input| (absolute) as the single process
+   computes them (the sums passed from rank to rank, the maximum exact). */
+typedef struct cli_bands_out {
+    char *const *paths;
+    double *energy, input_energy, max_sum_error;
+} cli_bands_out;
+limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                 const limn_series_options *o, int count, cli_bands_out *out,
+                                 limn_series_report *r, double seconds[2]);
 /* Collective: every rank's peak resident memory so far, to rank 0, for the
    report's per_rank entries. */
 void cli_mpi_note_memory(void);

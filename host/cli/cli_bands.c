@@ -153,6 +153,9 @@ static limn_status compute(series_cli *c, limn_context *ctx, const limn_mesh *in
 
 /* Each band as in's faces with the band's vectors as positions, then the
    energy file; *written counts the files that appeared. */
+static limn_status write_energy(series_cli *c, limn_context *ctx, const extra *e,
+                                const limn_series_report *r, int *written);
+
 static limn_status write_bands(series_cli *c, limn_context *ctx, const limn_mesh *in,
                                const double *bands, const extra *e, const limn_series_report *r,
                                int *written)
@@ -166,8 +169,14 @@ static limn_status write_bands(series_cli *c, limn_context *ctx, const limn_mesh
         *written += !st;
     }
     limn_mesh_destroy(band);
-    if (st)
-        return st;
+    return st ? st : write_energy(c, ctx, e, r, written);
+}
+
+/* The energy file (*written counts it when it appeared). */
+static limn_status write_energy(series_cli *c, limn_context *ctx, const extra *e,
+                                const limn_series_report *r, int *written)
+{
+    limn_status st;
     json_out *j = json_begin();
     if (!j)
         return LIMN_ERR_MEMORY;
@@ -180,10 +189,63 @@ static limn_status write_bands(series_cli *c, limn_context *ctx, const limn_mesh
     return st;
 }
 
+/* Under several ranks on a file input (cli_mpi_sliced): every rank reads its
+   slice, computes and writes its share of every band (no rank holding the
+   mesh); rank 0 writes the energy file and the report. */
+static int run_sliced(series_cli *c, extra *e)
+{
+    series_seconds s = {.t0 = cli_now()};
+    limn_context *ctx = limn_context_create();
+    e->energy = calloc((size_t)e->count + 1, sizeof *e->energy);
+    if (!ctx || !e->energy) {
+        fprintf(stderr, "limn bands: error: out of memory\n");
+        limn_context_destroy(ctx);
+        free(e->energy);
+        return EXIT_FAILURE_RUN;
+    }
+    limn_status st = cli_set_host_threads(ctx, c->a.host_threads);
+    if (!st)
+        st = limn_context_set_device(ctx, c->a.device);
+    c->a.quiet |= cli_mpi_rank() != 0; /* under mpirun rank 0 prints */
+    st = cli_mpi_agree(ctx, st);
+    limn_write_options wo;
+    limn_write_options_default(&wo);
+    wo.precision = c->a.precision;
+    cli_sliced_job job = {c->a.cmd,      c->a.inputs[0],  NULL, &c->a.repair,
+                          c->a.in_format, c->a.out_format, &wo};
+    limn_series_report r = {.size = sizeof r};
+    cli_bands_out out = {e->names, e->energy, 0.0, 0.0};
+    double sec[2] = {0, 0};
+    if (!st) {
+        cli_progress_enable(ctx, c->a.quiet);
+        st = cli_mpi_bands_sliced(ctx, &job, &c->opt, e->count, &out, &r, sec);
+        cli_progress_done();
+    }
+    e->input_energy = out.input_energy;
+    e->max_sum_error = out.max_sum_error / (r.bbox_diagonal > 0 ? r.bbox_diagonal : 1.0);
+    int written = st ? 0 : e->count + 1;
+    if (!st && cli_mpi_rank() == 0)
+        st = write_energy(c, ctx, e, &r, &written);
+    st = cli_mpi_agree(ctx, st);
+    s.load = sec[0];
+    s.write = sec[1];
+    c->sliced = 1;
+    series_extra x = {json_extra, print_extra, e};
+    int rc = series_cli_finish(c, ctx, st, NULL, &r, &s, &x);
+    if (rc && cli_mpi_rank() == 0) /* nothing written: take back what this run wrote */
+        for (int i = 0; i < written; i++)
+            remove(e->names[i]);
+    free(e->energy);
+    limn_context_destroy(ctx);
+    return rc;
+}
+
 /* Loads, computes and writes; the exit status (what was written is taken
    back on failure). */
 static int run(series_cli *c, extra *e)
 {
+    if (cli_mpi_ranks() > 1 && cli_mpi_sliced(c->a.inputs[0], c->a.in_format, c->a.output, 0))
+        return run_sliced(c, e);
     series_seconds s = {.t0 = cli_now()};
     limn_context *ctx = NULL;
     limn_mesh *in[2] = {NULL, NULL};

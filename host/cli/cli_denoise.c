@@ -28,6 +28,7 @@ static const char *const help =
 
 typedef struct extra {
     int m, steps, keep_volume, closed;
+    int measured;             /* volumes and areas taken (not on slices: no whole mesh) */
     double volume_in, volume_out, area_in, area_out, mean_displacement;
 } extra;
 
@@ -37,14 +38,20 @@ static void json_extra(json_out *j, void *user)
     json_integer(j, "m", e->m);
     json_integer(j, "steps", e->steps);
     json_bool(j, "keep_volume", e->keep_volume);
-    json_bool(j, "closed", e->closed);
-    json_number(j, "volume_input", e->closed ? e->volume_in : NAN);
-    json_number(j, "volume_output", e->closed ? e->volume_out : NAN);
-    json_number(j, "volume_change", e->closed ? (e->volume_out - e->volume_in) / e->volume_in : NAN);
-    if (!e->closed)
-        json_string(j, "volume_note", "not defined: the mesh is not closed");
-    json_number(j, "area_input", e->area_in);
-    json_number(j, "area_output", e->area_out);
+    if (e->measured) {
+        json_bool(j, "closed", e->closed);
+        json_number(j, "volume_input", e->closed ? e->volume_in : NAN);
+        json_number(j, "volume_output", e->closed ? e->volume_out : NAN);
+        json_number(j, "volume_change",
+                    e->closed ? (e->volume_out - e->volume_in) / e->volume_in : NAN);
+        if (!e->closed)
+            json_string(j, "volume_note", "not defined: the mesh is not closed");
+        json_number(j, "area_input", e->area_in);
+        json_number(j, "area_output", e->area_out);
+    } else {
+        json_string(j, "volume_note", "not measured: the mesh was distributed over the ranks "
+                                      "(mpirun on a file), no rank held it whole");
+    }
     json_number(j, "mean_rel_displacement", e->mean_displacement);
 }
 
@@ -53,7 +60,9 @@ static void print_extra(void *user)
     extra *e = user;
     fprintf(stderr, "  m %d, %d steps%s, mean displacement %.3g of the bbox diagonal\n", e->m,
             e->steps, e->keep_volume ? ", volume kept" : "", e->mean_displacement);
-    if (e->closed)
+    if (!e->measured)
+        fprintf(stderr, "  volume and area not measured (a distributed mesh: no rank held it)\n");
+    else if (e->closed)
         fprintf(stderr, "  volume %.6g -> %.6g (%+.3f%%), area %.6g -> %.6g\n", e->volume_in,
                 e->volume_out, 100.0 * (e->volume_out - e->volume_in) / e->volume_in, e->area_in,
                 e->area_out);
@@ -92,11 +101,13 @@ static limn_status measure(limn_context *ctx, const limn_mesh *in, const limn_me
     limn_status st = limn_mesh_measure(ctx, in, &a);
     if (st)
         return st;
+    e->measured = 1;
     e->closed = a.closed;
     e->volume_in = a.volume;
     e->area_in = a.area;
     limn_mesh_volume_area(out, &e->volume_out, &e->area_out); /* same topology as the input */
-    return series_mean_displacement(ctx, in, out, r, &e->mean_displacement);
+    (void)r; /* the displacement: series_cli_filter's (f.displacement) */
+    return LIMN_OK;
 }
 
 int cli_denoise(int argc, char **argv)
@@ -113,6 +124,9 @@ int cli_denoise(int argc, char **argv)
     rc = cli_mpi_root_rc(series_cli_check(&c, 1));
     if (rc)
         return rc;
-    series_filter f = {run, measure, NULL, {json_extra, print_extra, &e}};
+    /* --keep-volume needs the whole mesh: the root path */
+    cli_series_call call = {.kind = CLI_SERIES_DENOISE, .m = e.m, .steps = e.steps};
+    series_filter f = {run,  measure, &e.mean_displacement, {json_extra, print_extra, &e},
+                       e.keep_volume ? NULL : &call};
     return series_cli_filter(&c, &f);
 }

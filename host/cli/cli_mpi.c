@@ -6,12 +6,16 @@
  * morph run distributed (include/limn_mpi.h): the root (rank 0) reads, writes and
  * prints, every rank computes its share, and every failure is agreed on so
  * that all ranks exit with the same status and the message is printed once.
+ * On a file input, interpolate, smooth, denoise (without --keep-volume),
+ * sharpen and bands run on slices instead (cli_mpi_sliced): every rank reads, computes
+ * and writes its share of a distributed mesh, none holding it whole.
  * The other commands refuse to run on several ranks.
  */
 #include "cli.h"
 
 #include <limn_mpi.h>
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #ifdef __GLIBC__
@@ -23,9 +27,10 @@ static struct {
     int per_rank;               /* --per-rank-output was given */
     limn_mpi_stats *all;        /* root: every rank's figures of the last call */
     long long *rss;             /* root: every rank's peak resident bytes (cli_mpi_note_memory) */
+    int sliced;                 /* the last call ran on slices: no rank held the whole mesh */
     double *load;               /* root: every rank's seconds reading and repairing its slice
                                    (distributed meshes only) */
-} g = {0, 1, 0, NULL, NULL, NULL};
+} g = {0, 1, 0, NULL, NULL, 0, NULL};
 
 int cli_mpi_launched(void)
 {
@@ -229,6 +234,7 @@ limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *
     limn_mpi_options mo = options();
     mo.keep_piece = 0;
     limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    g.sliced = 1;
     if (!st) {
         st = limn_mpi_mesh_interpolate(ctx, mesh, o, &control, r, &mo, &res);
         cli_print_warnings(job->cmd, ctx);
@@ -242,6 +248,130 @@ limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *
     seconds[1] = MPI_Wtime() - t1;
     limn_mpi_mesh_destroy(mesh);
     limn_mpi_mesh_destroy(control);
+    return st;
+}
+
+/* The filter of call on a distributed mesh. */
+static limn_status series_call(limn_context *ctx, const limn_mpi_mesh *mesh,
+                               const limn_series_options *o, const cli_series_call *c,
+                               limn_mpi_mesh **out, limn_series_report *r,
+                               const limn_mpi_options *mo, limn_mpi_result *res)
+{
+    switch (c->kind) {
+    case CLI_SERIES_SMOOTH:
+        return limn_mpi_mesh_smooth(ctx, mesh, o, c->terms, out, r, mo, res);
+    case CLI_SERIES_DENOISE:
+        return limn_mpi_mesh_denoise(ctx, mesh, o, c->m, c->steps, 0, out, r, mo, res);
+    default:
+        return limn_mpi_mesh_sharpen(ctx, mesh, o, c->from, c->to, c->steps, out, r, mo, res);
+    }
+}
+
+/* The mean distance between the vertex blocks of a and b (the same blocks)
+   over diag, as series_mean_displacement gives it, the sum over the ranks. */
+static double block_displacement(const limn_mpi_mesh *a, const limn_mpi_mesh *b, double diag)
+{
+    const double *p = limn_mpi_mesh_positions(a), *q = limn_mpi_mesh_positions(b);
+    double sum = 0.0, all = 0.0;
+    for (size_t i = 0; i < limn_mpi_mesh_vertex_count(a); i++) {
+        double d[3] = {p[3 * i] - q[3 * i], p[3 * i + 1] - q[3 * i + 1],
+                       p[3 * i + 2] - q[3 * i + 2]};
+        sum += sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    MPI_Allreduce(&sum, &all, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    size_t n = limn_mpi_mesh_vertex_total(a);
+    return n ? all / (double)n / (diag > 0 ? diag : 1.0) : 0.0;
+}
+
+limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                  const limn_series_options *o, const cli_series_call *call,
+                                  limn_series_report *r, limn_write_report *written,
+                                  double *displacement, double seconds[2])
+{
+    limn_mpi_mesh *mesh = NULL, *out = NULL;
+    double t0 = MPI_Wtime();
+    limn_status st = read_sliced(ctx, job, &mesh);
+    seconds[0] = MPI_Wtime() - t0;
+    limn_mpi_options mo = options();
+    mo.keep_piece = 0;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    g.sliced = 1;
+    if (!st) {
+        st = series_call(ctx, mesh, o, call, &out, r, &mo, &res);
+        cli_print_warnings(job->cmd, ctx);
+        collect(&res);
+        limn_mpi_result_free(&res);
+    }
+    if (!st)
+        *displacement = block_displacement(mesh, out, r->bbox_diagonal);
+    double t1 = MPI_Wtime();
+    if (!st)
+        st = limn_mpi_mesh_write(ctx, out, job->output, job->out_format, job->write, written);
+    seconds[1] = MPI_Wtime() - t1;
+    limn_mpi_mesh_destroy(mesh);
+    limn_mpi_mesh_destroy(out);
+    return st;
+}
+
+/* The input's energy (sum of its squared coordinates in input order) and
+   the largest |sum of the bands - input| over the blocks, as cli_bands.c's
+   compute gives them: the sum passed from rank to rank, the maximum exact. */
+static void bands_check(const limn_mpi_mesh *mesh, limn_mpi_mesh *const *bands, int count,
+                        cli_bands_out *out)
+{
+    double sum = 0.0, worst = 0.0;
+    if (g.rank > 0)
+        MPI_Recv(&sum, 1, MPI_DOUBLE, g.rank - 1, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    const double *m = limn_mpi_mesh_positions(mesh);
+    for (size_t k = 0; k < 3 * limn_mpi_mesh_vertex_count(mesh); k++) {
+        double s = 0.0;
+        for (int i = 0; i <= count; i++)
+            s += limn_mpi_mesh_positions(bands[i])[k];
+        worst = fmax(worst, fabs(s - m[k]));
+        sum += m[k] * m[k];
+    }
+    if (g.rank + 1 < g.size)
+        MPI_Send(&sum, 1, MPI_DOUBLE, g.rank + 1, 0, MPI_COMM_WORLD);
+    MPI_Bcast(&sum, 1, MPI_DOUBLE, g.size - 1, MPI_COMM_WORLD);
+    MPI_Allreduce(&worst, &out->max_sum_error, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    out->input_energy = sum;
+}
+
+limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                 const limn_series_options *o, int count, cli_bands_out *out,
+                                 limn_series_report *r, double seconds[2])
+{
+    limn_mpi_mesh *mesh = NULL, **bands = calloc((size_t)count + 1, sizeof *bands);
+    double t0 = MPI_Wtime();
+    limn_status st = cli_mpi_agree(ctx, bands ? LIMN_OK
+                                              : cli_error(LIMN_ERR_MEMORY, "out of memory"));
+    if (!st)
+        st = read_sliced(ctx, job, &mesh);
+    seconds[0] = MPI_Wtime() - t0;
+    limn_mpi_options mo = options();
+    mo.keep_piece = 0;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    g.sliced = 1;
+    if (!st) {
+        st = limn_mpi_mesh_bands(ctx, mesh, o, count, bands, out->energy, r, &mo, &res);
+        cli_print_warnings(job->cmd, ctx);
+        collect(&res);
+        limn_mpi_result_free(&res);
+    }
+    if (!st)
+        bands_check(mesh, bands, count, out);
+    double t1 = MPI_Wtime();
+    int written = 0;
+    for (; !st && written <= count; written++)
+        st = limn_mpi_mesh_write(ctx, bands[written], out->paths[written], job->out_format,
+                                 job->write, NULL);
+    for (int i = 0; st && g.rank == 0 && i < written - 1; i++)
+        remove(out->paths[i]); /* the bands before the failed one */
+    seconds[1] = MPI_Wtime() - t1;
+    for (int i = 0; bands && i <= count; i++)
+        limn_mpi_mesh_destroy(bands[i]);
+    free(bands);
+    limn_mpi_mesh_destroy(mesh);
     return st;
 }
 
@@ -261,6 +391,7 @@ void cli_mpi_json(json_out *j)
         return;
     json_object_begin(j, "mpi");
     json_integer(j, "ranks", g.size);
+    json_bool(j, "distributed_mesh", g.sliced);
     json_integer(j, "edge_cut", (long long)g.all[0].edge_cut);
     json_number(j, "seconds_partition", g.all[0].seconds_partition);
     json_array_begin(j, "per_rank");

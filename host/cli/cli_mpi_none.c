@@ -78,6 +78,22 @@ limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *
     (void)ctx, (void)job, (void)o, (void)r, (void)written, (void)seconds;
     return none();
 }
+limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                  const limn_series_options *o, const cli_series_call *call,
+                                  limn_series_report *r, limn_write_report *written,
+                                  double *displacement, double seconds[2])
+{
+    (void)ctx, (void)job, (void)o, (void)call, (void)r, (void)written, (void)displacement,
+        (void)seconds;
+    return none();
+}
+limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                 const limn_series_options *o, int count, cli_bands_out *out,
+                                 limn_series_report *r, double seconds[2])
+{
+    (void)ctx, (void)job, (void)o, (void)count, (void)out, (void)r, (void)seconds;
+    return none();
+}
 char *cli_mpi_rank_path(const char *path)
 {
     (void)path;

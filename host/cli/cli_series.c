@@ -121,9 +121,10 @@ int series_cli_finish(series_cli *c, limn_context *ctx, limn_status st, const li
     if (!st)
         st = limn_output_set_create(ctx, &set);
     double t = cli_now();
-    if (!st) /* with --per-rank-output every rank: its piece */
+    if (!st && !c->sliced) /* with --per-rank-output every rank: its piece */
         st = cli_args_stage_mesh(&c->a, ctx, set, result, c->piece);
-    s->write = cli_now() - t;
+    if (!c->sliced) /* on slices: the parallel write's time */
+        s->write = cli_now() - t;
     limn_mesh_destroy(c->piece);
     c->piece = NULL;
     s->total = cli_now() - s->t0;
@@ -160,8 +161,50 @@ limn_status series_mean_displacement(limn_context *ctx, const limn_mesh *in, con
     return st;
 }
 
+/* series_cli_filter on slices (f->sliced, several ranks, a file input). */
+static int filter_sliced(series_cli *c, const series_filter *f)
+{
+    series_seconds s = {.t0 = cli_now()};
+    limn_context *ctx = limn_context_create();
+    if (!ctx) {
+        fprintf(stderr, "limn %s: error: out of memory\n", c->a.cmd);
+        return EXIT_FAILURE_RUN;
+    }
+    limn_status st = cli_set_host_threads(ctx, c->a.host_threads);
+    if (!st)
+        st = limn_context_set_device(ctx, c->a.device);
+    c->a.quiet |= cli_mpi_rank() != 0; /* under mpirun rank 0 prints */
+    st = cli_mpi_agree(ctx, st);
+    limn_write_options wo;
+    limn_write_options_default(&wo);
+    wo.precision = c->a.precision;
+    cli_sliced_job job = {c->a.cmd,      c->a.inputs[0],  c->a.output, &c->a.repair,
+                          c->a.in_format, c->a.out_format, &wo};
+    limn_series_report r = {.size = sizeof r};
+    limn_write_report wr = {.size = sizeof wr};
+    double sec[2] = {0, 0}, unused = 0.0;
+    if (!st) {
+        cli_progress_enable(ctx, c->a.quiet);
+        st = cli_mpi_series_sliced(ctx, &job, &c->opt, f->sliced, &r, &wr,
+                                   f->displacement ? f->displacement : &unused, sec);
+        cli_progress_done();
+    }
+    s.load = sec[0];
+    s.write = sec[1];
+    c->a.written = wr;
+    c->a.wrote = !st;
+    c->sliced = 1;
+    int rc = series_cli_finish(c, ctx, st, NULL, &r, &s, &f->x);
+    limn_context_destroy(ctx);
+    return rc;
+}
+
 int series_cli_filter(series_cli *c, const series_filter *f)
 {
+    cli_mpi_set_per_rank(c->a.per_rank);
+    if (f->sliced && cli_mpi_ranks() > 1 &&
+        cli_mpi_sliced(c->a.inputs[0], c->a.in_format, c->a.output, c->a.per_rank))
+        return filter_sliced(c, f);
     series_seconds s = {.t0 = cli_now()};
     limn_context *ctx = NULL;
     limn_mesh *in[2] = {NULL, NULL}, *out = NULL;

@@ -19,6 +19,7 @@ typedef struct series_cli {
     cli_args a;               /* the shared options (cli_args.h) */
     limn_series_options opt;  /* --scheme, --alpha */
     limn_mesh *piece;         /* --per-rank-output: this rank's piece; series_cli_finish frees */
+    int sliced;               /* the run was on slices: the mesh is written already */
 } series_cli;
 
 /* The defaults, with --scheme and --alpha going to c->opt. */
@@ -63,9 +64,15 @@ typedef struct series_filter {
                            const limn_series_report *r, void *user);
     double *displacement;
     series_extra x;
+    /* may be NULL: the filter as a distributed-mesh call; under several
+       ranks on a file input (cli_mpi_sliced) it runs on slices, no rank
+       holding the whole mesh, and measure is not called */
+    const cli_series_call *sliced;
 } series_filter;
 /* Loads the input, runs the filter, writes the result and the report, prints
-   the summary (series_cli_finish); returns the exit status. */
+   the summary (series_cli_finish); returns the exit status. With f->sliced
+   under several ranks on a file: every rank reads its slice, filters and
+   writes its share (cli_mpi_series_sliced), then the report (rank 0). */
 int series_cli_filter(series_cli *c, const series_filter *f);
 /* The mean distance from in to out relative to the bbox diagonal. */
 limn_status series_mean_displacement(limn_context *ctx, const limn_mesh *in, const limn_mesh *out,

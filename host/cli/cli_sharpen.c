@@ -84,6 +84,8 @@ int cli_sharpen(int argc, char **argv)
     rc = cli_mpi_root_rc(series_cli_check(&c, 1));
     if (rc)
         return rc;
-    series_filter f = {run, NULL, &e.mean_displacement, {json_extra, print_extra, &e}};
+    cli_series_call call = {
+        .kind = CLI_SERIES_SHARPEN, .from = e.from, .to = e.to, .steps = e.steps};
+    series_filter f = {run, NULL, &e.mean_displacement, {json_extra, print_extra, &e}, &call};
     return series_cli_filter(&c, &f);
 }

@@ -69,6 +69,7 @@ int cli_smooth(int argc, char **argv)
     rc = cli_mpi_root_rc(series_cli_check(&c, 1));
     if (rc)
         return rc;
-    series_filter f = {run, NULL, &e.mean_displacement, {json_extra, print_extra, &e}};
+    cli_series_call call = {.kind = CLI_SERIES_SMOOTH, .terms = e.terms};
+    series_filter f = {run, NULL, &e.mean_displacement, {json_extra, print_extra, &e}, &call};
     return series_cli_filter(&c, &f);
 }

@@ -203,6 +203,6 @@ int cli_texture(int argc, char **argv)
         return rc < 0 ? 0 : rc;
     if ((rc = check(&c, &e)))
         return rc;
-    series_filter f = {run, measure, NULL, {json_extra, print_extra, &e}};
+    series_filter f = {run, measure, NULL, {json_extra, print_extra, &e}, NULL};
     return series_cli_filter(&c, &f);
 }

@@ -41,4 +41,20 @@ limn_status mpi_mesh_check(mpi_part *p, const char *fn, const limn_mpi_mesh *mes
 limn_status mpi_mesh_scheme(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme want,
                             limn_scheme *out);
 
+/* The rows of a distributed mesh (mpi_mesh_interpolate.c; shared with the
+   series, mpi_mesh_series.c): the PT-Scotch partition, then p filled by
+   mpi_local_build; *m4 the owned rows of M (4 doubles a row, caller frees). */
+limn_status mpi_mesh_build_rows(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
+                                double alpha, double **m4);
+
+/* The owned rows of p4 (4 doubles a row, p's local order) into the vertex
+   blocks of a new positions array *block (3 per block vertex, caller's). */
+limn_status mpi_mesh_results_to_blocks(mpi_part *p, const limn_mpi_mesh *mesh, const double *p4,
+                                       double **block);
+
+/* A copy of mesh's blocks (faces copied) with new positions (3 per block
+   vertex, taken even on failure) as a new distributed mesh *out. */
+limn_status mpi_mesh_control_of(mpi_part *p, const limn_mpi_mesh *mesh, double *positions,
+                                limn_mpi_mesh **out);
+
 #endif

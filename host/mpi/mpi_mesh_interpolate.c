@@ -19,9 +19,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* A copy of mesh's blocks with new positions (3 per block vertex, taken). */
-static limn_status control_of(mpi_part *p, const limn_mpi_mesh *mesh, double *positions,
-                              limn_mpi_mesh **out)
+limn_status mpi_mesh_control_of(mpi_part *p, const limn_mpi_mesh *mesh, double *positions,
+                                limn_mpi_mesh **out)
 {
     const mesh_slice *in = &mesh->slice;
     mesh_slice s = *in;
@@ -43,10 +42,8 @@ static limn_status control_of(mpi_part *p, const limn_mpi_mesh *mesh, double *po
     return st;
 }
 
-/* The owned rows of p4 (4 doubles a row) into the vertex blocks of a new
-   positions array (3 per block vertex) the control mesh takes. */
-static limn_status results_to_blocks(mpi_part *p, const limn_mpi_mesh *mesh, const double *p4,
-                                     double **block)
+limn_status mpi_mesh_results_to_blocks(mpi_part *p, const limn_mpi_mesh *mesh, const double *p4,
+                                       double **block)
 {
     size_t no = p->n_owned, nb = mesh->slice.vertex_count;
     double *xyz = malloc((no ? 3 * no : 1) * sizeof *xyz);
@@ -69,9 +66,8 @@ static limn_status results_to_blocks(mpi_part *p, const limn_mpi_mesh *mesh, con
     return st;
 }
 
-/* Partition and rows: p filled by mpi_local_build, *m4 the owned rows of M. */
-static limn_status build_rows(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
-                              double alpha, double **m4)
+limn_status mpi_mesh_build_rows(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
+                                double alpha, double **m4)
 {
     const mesh_slice *s = &mesh->slice;
     uint32_t *part_of = NULL;
@@ -119,7 +115,7 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mpi_mesh *mes
         st = mpi_mesh_scheme(&p, mesh, o->scheme, &scheme);
     double *m4 = NULL, *p4 = NULL, *block = NULL;
     if (!st)
-        st = build_rows(&p, mesh, scheme, o->alpha, &m4);
+        st = mpi_mesh_build_rows(&p, mesh, scheme, o->alpha, &m4);
     double t0 = MPI_Wtime();
     if (!st) {
         p.diag = mpi_mesh_bbox_diagonal(&p, mesh);
@@ -137,9 +133,9 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mpi_mesh *mes
     m4 = NULL;
     mpi_part_drop_rows(&p);
     if (!st)
-        st = results_to_blocks(&p, mesh, p4, &block);
+        st = mpi_mesh_results_to_blocks(&p, mesh, p4, &block);
     if (!st)
-        st = control_of(&p, mesh, block, control);
+        st = mpi_mesh_control_of(&p, mesh, block, control);
     else
         free(block);
     r->seconds_solve = MPI_Wtime() - t0;

@@ -8,7 +8,7 @@
  * Measures that need the whole mesh (volumes, frames, band energies) are
  * taken on the root after a gather, in the single process's arithmetic.
  */
-#include "mpi/mpi_part.h"
+#include "mpi/mpi_series.h"
 
 #include "mesh/check.h"
 #include "base/context.h"
@@ -23,22 +23,33 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct series_mpi {
-    mpi_part p;
-    device_buffer *buf[4];
-    double *rows4;            /* owned and ghost rows, 4 doubles */
-    double *xyz;              /* root: 3 per input vertex */
-    double t0;
-} series_mpi;
-
-static void close_series(series_mpi *s)
+void mpi_series_close(series_mpi *s)
 {
     for (int b = 0; b < 4; b++)
         if (s->buf[b])
             s->p.dev->ops->buffer_release(s->p.dev, s->buf[b]);
     free(s->rows4);
     free(s->xyz);
+    free(s->m4);
     mpi_part_end(&s->p);
+}
+
+limn_status mpi_series_buffers(series_mpi *s, int root_xyz, limn_series_report *r)
+{
+    mpi_part *p = &s->p;
+    limn_status st = LIMN_OK;
+    size_t nl = p->n_owned + p->n_ghost;
+    int want_xyz = root_xyz && p->rank == p->root;
+    s->rows4 = calloc(nl ? 4 * nl : 4, sizeof *s->rows4);
+    if (want_xyz)
+        s->xyz = malloc(3 * p->n_global * sizeof *s->xyz);
+    if (!s->rows4 || (want_xyz && !s->xyz))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
+    for (int b = 0; !st && b < 4; b++)
+        st = p->dev->ops->buffer_create(p->dev, 4 * nl * sizeof(double), NULL, &s->buf[b]);
+    MPI_REPORT_OPERATOR(r, p);
+    s->t0 = MPI_Wtime();
+    return mpi_agree(p, st);
 }
 
 /* Common start after mpi_enter: checks, the distributed operator, four work
@@ -69,19 +80,7 @@ static limn_status open_series(limn_context *ctx, const char *fn, MPI_Comm comm,
     st = mpi_agree(p, st);
     if (!st)
         st = mpi_distribute(p, mesh, o->scheme, o->alpha, 0); /* series.c: input order */
-    if (st)
-        return st;
-    size_t nl = p->n_owned + p->n_ghost;
-    s->rows4 = calloc(nl ? 4 * nl : 4, sizeof *s->rows4);
-    if (p->rank == p->root)
-        s->xyz = malloc(3 * p->n_global * sizeof *s->xyz);
-    if (!s->rows4 || (p->rank == p->root && !s->xyz))
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
-    for (int b = 0; !st && b < 4; b++)
-        st = p->dev->ops->buffer_create(p->dev, 4 * nl * sizeof(double), NULL, &s->buf[b]);
-    MPI_REPORT_OPERATOR(r, p);
-    s->t0 = MPI_Wtime();
-    return mpi_agree(p, st);
+    return st ? st : mpi_series_buffers(s, 1, r);
 }
 
 /* ----------------------------------------------- the engine of filter.c */
@@ -123,7 +122,7 @@ static limn_status rows_term(void *user, const device_csr *rows, device_norms *n
 
 /* One term as an overlapped product on every rank's rows; a failure is
    carried through the exchanges (series_terms agrees after the last). */
-static limn_status mpi_term(const series_engine *e, device_buffer *x, device_buffer *next,
+limn_status mpi_series_term(const series_engine *e, device_buffer *x, device_buffer *next,
                             device_buffer *acc, int flags, int mode, limn_status prior)
 {
     series_mpi *s = e->user;
@@ -135,7 +134,7 @@ static limn_status mpi_term(const series_engine *e, device_buffer *x, device_buf
     return st;
 }
 
-static limn_status mpi_axpby(const series_engine *e, double a, device_buffer *x, double b,
+limn_status mpi_series_axpby(const series_engine *e, double a, device_buffer *x, double b,
                              device_buffer *y, device_buffer *out)
 {
     mpi_part *p = &((series_mpi *)e->user)->p;
@@ -161,13 +160,13 @@ static limn_status mpi_result(const series_engine *e, device_buffer *b, const li
     return mpi_agree(p, st);
 }
 
-static limn_status mpi_engine_agree(const series_engine *e, limn_status st)
+limn_status mpi_series_agree(const series_engine *e, limn_status st)
 {
     return mpi_agree(&((series_mpi *)e->user)->p, st);
 }
 
-static const series_engine_ops mpi_ops = {mpi_term,     mpi_axpby,  mpi_upload,
-                                          mpi_download, mpi_result, mpi_engine_agree};
+static const series_engine_ops mpi_ops = {mpi_series_term, mpi_series_axpby, mpi_upload,
+                                          mpi_download,    mpi_result,       mpi_series_agree};
 
 /* After the checks: their status agreed (where the communicator is up) and
    the engine of filter.c on the open distributed run (products: the
@@ -204,7 +203,7 @@ static limn_status finish(series_mpi *s, limn_status st, const limn_mesh *mesh,
         *out = NULL;
         limn_mpi_result_free(result);
     }
-    close_series(s);
+    mpi_series_close(s);
     return st;
 }
 
@@ -286,27 +285,30 @@ static double chunked_energy(const double *xyz, size_t n)
     return total;
 }
 
-/* b gathered to the root into dst (root: NULL for the scratch) and its energy
-   there (energy may be NULL). */
-static limn_status band_out(const series_engine *e, device_buffer *b, double *dst,
-                            double *energy)
+/* What bands_root hands band_out: the root's bands and energies (may be NULL). */
+typedef struct root_bands {
+    double *bands, *energy;
+    size_t n3;
+} root_bands;
+
+/* Band i (count: the remainder) in b gathered to the root, into its slot of
+   the root's bands (or the scratch) and its energy there. */
+static limn_status band_out(const series_engine *e, device_buffer *b, int i, void *user)
 {
     series_mpi *s = e->user;
-    double *xyz = dst ? dst : s->xyz;
+    root_bands *rb = user;
+    double *xyz = rb->bands ? rb->bands + (size_t)i * rb->n3 : s->xyz;
     limn_status st = mpi_download(e, b, xyz);
-    if (!st && e->root && energy)
-        *energy = chunked_energy(xyz, s->p.n_global);
+    if (!st && e->root && rb->energy)
+        rb->energy[i] = chunked_energy(xyz, s->p.n_global);
     return st;
 }
 
-/* The bands and remainder of limn_bands (buffers 0: M, then remainders 1, 2
-   in turn; 3: the band); bands and energy: the root's, may be NULL. */
-static limn_status bands_run(const series_engine *e, const limn_mesh *mesh, int count,
-                             double *bands, double *energy)
+limn_status mpi_series_bands(const series_engine *e, const double *xyz_root, int count,
+                             mpi_band_fn out, void *user)
 {
     device_buffer **b = e->buf, *cur = b[0];
-    size_t n3 = e->root ? 3 * mesh->vertex_count : 0;
-    limn_status st = e->ops->upload(e, e->root ? mesh->positions : NULL, cur);
+    limn_status st = e->ops->upload(e, xyz_root, cur);
     for (int i = 0; !st && i < count; i++) {
         device_buffer *next = cur == b[1] ? b[2] : b[1];
         /* acc = A r_i: the single process's ax, the same values */
@@ -314,16 +316,12 @@ static limn_status bands_run(const series_engine *e, const limn_mesh *mesh, int 
         ++*e->products;
         st = e->ops->agree(e, st);
         if (!st)
-            st = band_out(e, b[3], bands ? bands + (size_t)i * n3 : NULL,
-                          energy ? energy + i : NULL);
+            st = out(e, b[3], i, user);
         cur = next;
         if (count > 1)
             ctx_progress(e->ctx, "bands", (double)(i + 1) / count);
     }
-    if (!st)
-        st = band_out(e, cur, bands ? bands + (size_t)count * n3 : NULL,
-                      energy ? energy + count : NULL);
-    return st;
+    return st ? st : out(e, cur, count, user);
 }
 
 /* limn_bands_mpi on structs of this library's layout. */
@@ -339,13 +337,14 @@ static limn_status bands_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_
         st = check_count(ctx, "limn_bands_mpi", "count", count, 0, LIMN_MAX_TERMS,
                          "LIMN_MAX_TERMS");
     st = start_engine(&s, st, &e, &r->products);
+    int root = s.p.rank == s.p.root && mesh; /* a NULL mesh on the root: refused above */
+    root_bands rb = {root ? bands : NULL, root ? energy : NULL, root ? 3 * mesh->vertex_count : 0};
     if (!st)
-        st = bands_run(&e, mesh, count, s.p.rank == s.p.root ? bands : NULL,
-                       s.p.rank == s.p.root ? energy : NULL);
+        st = mpi_series_bands(&e, root ? mesh->positions : NULL, count, band_out, &rb);
     r->seconds_compute = MPI_Wtime() - s.t0;
     if (result)
         result->stats = s.p.stats;
-    close_series(&s);
+    mpi_series_close(&s);
     return st;
 }
 
@@ -409,7 +408,7 @@ static limn_status morph_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_
     if (result)
         result->stats = s.p.stats;
     free(q);
-    close_series(&s);
+    mpi_series_close(&s);
     return st;
 }
 

@@ -1,0 +1,348 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * limn_mpi_mesh_smooth, _denoise and _sharpen: the series filters with no
+ * rank holding the whole mesh. The rows are built as
+ * limn_mpi_mesh_interpolate builds them (mpi_mesh_build_rows: PT-Scotch,
+ * then mpi_local_build), the terms are the distributed series core of
+ * mpi_series.c (filter.c's loops over mpi_series_term and _axpby), and the
+ * owned results go back to the vertex blocks of a new distributed mesh with
+ * the input's faces (mpi_mesh_results_to_blocks, mpi_mesh_control_of). Each
+ * row is summed in the single process's order, so the results are the
+ * single process's bits. Denoising with keep_volume is refused: the volume
+ * needs the whole mesh (the root path, limn_denoise_mpi, measures it).
+ * limn_mpi_mesh_bands gives each band as a distributed mesh, its energy
+ * summed in the single process's order by passing the running sums from
+ * rank to rank.
+ */
+#include "mpi/mpi_mesh.h"
+#include "mpi/mpi_series.h"
+
+#include "base/context.h"
+#include "device/reference/device_ref.h"
+#include "mesh/check.h"
+#include "series/series.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The input's owned rows (mpi_local_build's) -> b; every filter uploads
+   once, so they go then (the per-rank peak). */
+static limn_status mesh_upload(const series_engine *e, const double *xyz_root, device_buffer *b)
+{
+    (void)xyz_root; /* no rank holds the mesh: e->root is 0 everywhere */
+    series_mpi *s = e->user;
+    mpi_part *p = &s->p;
+    limn_status st = s->m4 ? p->dev->ops->buffer_write(p->dev, b, 4 * p->n_owned * sizeof(double),
+                                                       s->m4)
+                           : ctx_fail(p->ctx, LIMN_ERR_ARGUMENT, "the input was uploaded already");
+    free(s->m4);
+    s->m4 = NULL;
+    return mpi_agree(p, st);
+}
+
+/* Whole vectors are never gathered here (morph and bands take the root path). */
+static limn_status mesh_download(const series_engine *e, device_buffer *b, double *xyz_root)
+{
+    (void)b;
+    (void)xyz_root;
+    series_mpi *s = e->user;
+    return mpi_agree(&s->p, ctx_fail(s->p.ctx, LIMN_ERR_ARGUMENT,
+                                     "a distributed mesh's series has no whole vector to gather"));
+}
+
+/* b's owned rows, refused when not finite (the lowest such vertex of the
+   lowest failing rank named), into the blocks of *s->out. */
+static limn_status mesh_result(const series_engine *e, device_buffer *b, const limn_mesh *mesh,
+                               const char *what, limn_mesh **out)
+{
+    (void)mesh;
+    (void)out;
+    series_mpi *s = e->user;
+    mpi_part *p = &s->p;
+    limn_status st =
+        p->dev->ops->buffer_read_at(p->dev, b, 0, 4 * p->n_owned * sizeof(double), s->rows4);
+    size_t bad = (size_t)-1;
+    for (size_t i = 0; !st && i < p->n_owned; i++)
+        for (int c = 0; c < 3; c++)
+            if (!isfinite(s->rows4[4 * i + c]) && p->owned_ids[i] < bad)
+                bad = p->owned_ids[i];
+    if (!st && bad != (size_t)-1)
+        st = ctx_fail(p->ctx, LIMN_ERR_NO_CONVERGENCE,
+                       "%s produced a non-finite coordinate at vertex %zu; nothing was "
+                       "written (use fewer steps or terms)",
+                       what, bad);
+    st = mpi_agree(p, st);
+    double *block = NULL;
+    if (!st)
+        st = mpi_mesh_results_to_blocks(p, s->mesh, s->rows4, &block);
+    return st ? st : mpi_mesh_control_of(p, s->mesh, block, s->out);
+}
+
+static const series_engine_ops mesh_ops = {mpi_series_term, mpi_series_axpby, mesh_upload,
+                                           mesh_download,   mesh_result,      mpi_series_agree};
+
+/* Common start after mpi_enter: checks (this call's own, st, included), the
+   rows, four work vectors, the engine. Returns with s->p.comm NULL only when
+   nothing could be agreed. */
+static limn_status open_mesh_series(limn_context *ctx, const char *fn, const limn_mpi_mesh *mesh,
+                                    const limn_series_options *o, const limn_mpi_options *mpi,
+                                    limn_status st, limn_mpi_mesh **out, series_mpi *s,
+                                    series_engine *e, limn_series_report *r)
+{
+    memset(s, 0, sizeof *s);
+    memset(r, 0, sizeof *r);
+    limn_status begun = mpi_mesh_part(ctx, mesh, mpi, &s->p);
+    if (s->p.comm == MPI_COMM_NULL)
+        return begun;
+    st = begun ? begun : st;
+    if (!st)
+        st = series_check_options(ctx, o);
+    if (!st && !out)
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: out is NULL", fn);
+    st = mpi_agree(&s->p, st);
+    if (!st && (mesh->vertex_dist[mesh->size] == 0 || mesh->face_dist[mesh->size] == 0))
+        st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
+                       mesh->vertex_dist[mesh->size] ? "faces" : "vertices");
+    if (!st)
+        st = mpi_mesh_check(&s->p, fn, mesh);
+    limn_scheme scheme = LIMN_SCHEME_AUTO;
+    if (!st)
+        st = mpi_mesh_scheme(&s->p, mesh, o->scheme, &scheme);
+    if (!st)
+        st = mpi_mesh_build_rows(&s->p, mesh, scheme, o->alpha, &s->m4);
+    if (!st) {
+        s->p.diag = mpi_mesh_bbox_diagonal(&s->p, mesh);
+        st = mpi_series_buffers(s, 0, r);
+    }
+    s->mesh = mesh;
+    s->out = out;
+    *e = (series_engine){ctx, s, s->buf, &r->products, 0, 1, &mesh_ops};
+    return st;
+}
+
+/* The end of every filter: timing, statistics, *out dropped on failure. */
+static limn_status close_mesh_series(series_mpi *s, limn_status st, limn_mpi_result *result,
+                                     limn_series_report *r)
+{
+    r->seconds_compute = MPI_Wtime() - s->t0;
+    if (result)
+        result->stats = s->p.stats;
+    if (st && s->out) {
+        limn_mpi_mesh_destroy(*s->out);
+        *s->out = NULL;
+    }
+    mpi_series_close(s);
+    return st;
+}
+
+/* limn_mpi_mesh_smooth on structs of this library's layout. */
+static limn_status smooth_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                const limn_series_options *o, int terms, limn_mpi_mesh **out,
+                                limn_series_report *r, const limn_mpi_options *mpi,
+                                limn_mpi_result *result)
+{
+    const char *fn = "limn_mpi_mesh_smooth";
+    series_mpi s;
+    series_engine e;
+    limn_status st = check_count(ctx, fn, "terms", terms, 1, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    st = open_mesh_series(ctx, fn, mesh, o, mpi, st, out, &s, &e, r);
+    if (s.p.comm == MPI_COMM_NULL)
+        return st;
+    if (!st)
+        st = series_smooth_run(&e, NULL, terms, NULL);
+    return close_mesh_series(&s, st, result, r);
+}
+
+/* limn_mpi_mesh_denoise on structs of this library's layout. */
+static limn_status denoise_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                 const limn_series_options *o, int m, int steps, int keep_volume,
+                                 limn_mpi_mesh **out, limn_series_report *r,
+                                 const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    const char *fn = "limn_mpi_mesh_denoise";
+    series_mpi s;
+    series_engine e;
+    limn_status st = check_count(ctx, fn, "m", m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st)
+        st = check_steps(ctx, fn, steps, m + 1LL, "(m + 1) * steps");
+    if (!st && keep_volume)
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                       "%s: keep_volume is not available on a distributed mesh yet (the volume "
+                       "is measured on the whole mesh): use limn_denoise_mpi",
+                       fn);
+    st = open_mesh_series(ctx, fn, mesh, o, mpi, st, out, &s, &e, r);
+    if (s.p.comm == MPI_COMM_NULL)
+        return st;
+    if (!st)
+        st = series_denoise_run(&e, NULL, m, steps, 0, NULL);
+    return close_mesh_series(&s, st, result, r);
+}
+
+/* limn_mpi_mesh_sharpen on structs of this library's layout. */
+static limn_status sharpen_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                 const limn_series_options *o, int from, int to, int steps,
+                                 limn_mpi_mesh **out, limn_series_report *r,
+                                 const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    const char *fn = "limn_mpi_mesh_sharpen";
+    series_mpi s;
+    series_engine e;
+    limn_status st = series_check_sharpen(ctx, fn, from, to, steps);
+    st = open_mesh_series(ctx, fn, mesh, o, mpi, st, out, &s, &e, r);
+    if (s.p.comm == MPI_COMM_NULL)
+        return st;
+    if (!st)
+        st = series_sharpen_run(&e, NULL, from, to, steps, NULL);
+    return close_mesh_series(&s, st, result, r);
+}
+
+/* The energy of a vector in the vertex blocks (3 per block vertex) as the
+   single process's device sums the whole (mpi_series.c's chunked_energy:
+   chunks of DEVICE_ROWS_PER_ITEM rows in input order, each row by row, the
+   chunks in order): the ranks in turn carry the running sums along, so the
+   arithmetic is the same; every rank gets the total. */
+static double chained_energy(mpi_part *p, const limn_mpi_mesh *mesh, const double *xyz)
+{
+    double carry[2] = {0.0, 0.0}; /* the total of the closed chunks, the open chunk's sum */
+    if (p->rank > 0)
+        MPI_Recv(carry, 2, MPI_DOUBLE, p->rank - 1, 0, p->comm, MPI_STATUS_IGNORE);
+    size_t begin = mesh->vertex_dist[p->rank];
+    double part[3] = {0.0, 0.0, carry[1]};
+    for (size_t i = 0; i < mesh->slice.vertex_count; i++) {
+        size_t g = begin + i;
+        if (g > 0 && g % DEVICE_ROWS_PER_ITEM == 0) {
+            carry[0] += part[2];
+            part[0] = part[1] = part[2] = 0.0;
+        }
+        ref_norms_add(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], part);
+    }
+    carry[1] = part[2];
+    if (p->rank + 1 < p->size)
+        MPI_Send(carry, 2, MPI_DOUBLE, p->rank + 1, 0, p->comm);
+    else
+        carry[0] += carry[1];
+    MPI_Bcast(carry, 1, MPI_DOUBLE, p->size - 1, p->comm);
+    return carry[0];
+}
+
+/* Where band i goes: bands[i], its energy energy[i] (may be NULL). */
+typedef struct mesh_bands {
+    limn_mpi_mesh **bands;
+    double *energy;
+} mesh_bands;
+
+static limn_status mesh_band_out(const series_engine *e, device_buffer *b, int i, void *user)
+{
+    series_mpi *s = e->user;
+    mpi_part *p = &s->p;
+    mesh_bands *mb = user;
+    limn_status st = mpi_agree(p, p->dev->ops->buffer_read_at(
+                                      p->dev, b, 0, 4 * p->n_owned * sizeof(double), s->rows4));
+    double *block = NULL;
+    if (!st)
+        st = mpi_mesh_results_to_blocks(p, s->mesh, s->rows4, &block);
+    if (!st) { /* collective: every rank sums, whether it keeps the energy or not */
+        double en = chained_energy(p, s->mesh, block);
+        if (mb->energy)
+            mb->energy[i] = en;
+    }
+    return st ? st : mpi_mesh_control_of(p, s->mesh, block, &mb->bands[i]);
+}
+
+/* limn_mpi_mesh_bands on structs of this library's layout. */
+static limn_status bands_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
+                               const limn_series_options *o, int count, limn_mpi_mesh **bands,
+                               double *energy, limn_series_report *r,
+                               const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    const char *fn = "limn_mpi_mesh_bands";
+    series_mpi s;
+    series_engine e;
+    limn_status st = check_count(ctx, fn, "count", count, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
+    if (!st && !bands)
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: bands is NULL", fn);
+    for (int i = 0; !st && i <= count; i++)
+        bands[i] = NULL;
+    limn_mpi_mesh *unused = NULL;
+    st = open_mesh_series(ctx, fn, mesh, o, mpi, st, &unused, &s, &e, r);
+    if (s.p.comm == MPI_COMM_NULL)
+        return st;
+    mesh_bands mb = {bands, energy};
+    if (!st)
+        st = mpi_series_bands(&e, NULL, count, mesh_band_out, &mb);
+    for (int i = 0; st && bands && i <= count; i++) {
+        limn_mpi_mesh_destroy(bands[i]);
+        bands[i] = NULL;
+    }
+    s.out = NULL;
+    return close_mesh_series(&s, st, result, r);
+}
+
+/* mpi_enter on the mesh's communicator (*out cleared first). */
+static limn_status enter(mpi_call *c, limn_context *ctx, const limn_mpi_mesh *mesh,
+                         const char *fn, const limn_series_options *options,
+                         limn_series_report *report, const limn_mpi_options *mpi,
+                         limn_mpi_result *result, limn_mpi_mesh **out)
+{
+    if (out)
+        *out = NULL;
+    if (!mesh)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: the mesh is NULL", fn);
+    return mpi_enter(c, ctx, mesh->comm, fn, &abi_series_options, options, &abi_series_report,
+                     report, mpi, result, NULL);
+}
+
+limn_status limn_mpi_mesh_smooth(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                 const limn_series_options *options, int terms,
+                                 limn_mpi_mesh **out, limn_series_report *report,
+                                 const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    mpi_call c;
+    limn_status st =
+        enter(&c, ctx, mesh, "limn_mpi_mesh_smooth", options, report, mpi, result, out);
+    return st ? st
+              : mpi_leave(&c, smooth_sized(ctx, mesh, c.abi.options, terms, out, c.abi.report,
+                                           c.mpi, c.result));
+}
+
+limn_status limn_mpi_mesh_denoise(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                  const limn_series_options *options, int m, int steps,
+                                  int keep_volume, limn_mpi_mesh **out,
+                                  limn_series_report *report, const limn_mpi_options *mpi,
+                                  limn_mpi_result *result)
+{
+    mpi_call c;
+    limn_status st =
+        enter(&c, ctx, mesh, "limn_mpi_mesh_denoise", options, report, mpi, result, out);
+    return st ? st
+              : mpi_leave(&c, denoise_sized(ctx, mesh, c.abi.options, m, steps, keep_volume,
+                                            out, c.abi.report, c.mpi, c.result));
+}
+
+limn_status limn_mpi_mesh_sharpen(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                  const limn_series_options *options, int from, int to,
+                                  int steps, limn_mpi_mesh **out, limn_series_report *report,
+                                  const limn_mpi_options *mpi, limn_mpi_result *result)
+{
+    mpi_call c;
+    limn_status st =
+        enter(&c, ctx, mesh, "limn_mpi_mesh_sharpen", options, report, mpi, result, out);
+    return st ? st
+              : mpi_leave(&c, sharpen_sized(ctx, mesh, c.abi.options, from, to, steps, out,
+                                            c.abi.report, c.mpi, c.result));
+}
+
+limn_status limn_mpi_mesh_bands(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                const limn_series_options *options, int count,
+                                limn_mpi_mesh **bands, double *energy,
+                                limn_series_report *report, const limn_mpi_options *mpi,
+                                limn_mpi_result *result)
+{
+    mpi_call c;
+    limn_status st =
+        enter(&c, ctx, mesh, "limn_mpi_mesh_bands", options, report, mpi, result, NULL);
+    return st ? st
+              : mpi_leave(&c, bands_sized(ctx, mesh, c.abi.options, count, bands, energy,
+                                          c.abi.report, c.mpi, c.result));
+}
