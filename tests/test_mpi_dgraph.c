@@ -25,6 +25,7 @@
  * others in a collective; checks are counted and the ranks agree on the
  * outcome.
  */
+#include "mpi_check.h"
 #include "support.h"
 
 #include "mpi/mpi_dgraph.h"
@@ -41,18 +42,7 @@
 #define CUT_SLACK 10
 #define IMBALANCE_MAX 1.06
 
-static int rank, size, failures, checks;
-
-#define CHECK(cond, ...)                                                                       \
-    do {                                                                                       \
-        checks++;                                                                              \
-        if (!(cond)) {                                                                         \
-            failures++;                                                                        \
-            fprintf(stderr, "FAIL (rank %d, %s:%d): ", rank, __FILE__, __LINE__);              \
-            fprintf(stderr, __VA_ARGS__);                                                      \
-            fprintf(stderr, "\n");                                                             \
-        }                                                                                      \
-    } while (0)
+MPI_CHECK_STATE;
 
 /* A mesh as plain arrays (every rank holds the same). */
 typedef struct graph_mesh {

@@ -18,6 +18,7 @@
  *
  * Not cmocka: a failed check on one rank must not leave the others waiting.
  */
+#include "mpi_check.h"
 #include "support.h"
 
 #include "mpi/mpi_local.h"
@@ -27,18 +28,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int rank, size, failures, checks;
-
-#define CHECK(cond, ...)                                                                       \
-    do {                                                                                       \
-        checks++;                                                                              \
-        if (!(cond)) {                                                                         \
-            failures++;                                                                        \
-            fprintf(stderr, "FAIL (rank %d, %s:%d): ", rank, __FILE__, __LINE__);              \
-            fprintf(stderr, __VA_ARGS__);                                                      \
-            fprintf(stderr, "\n");                                                             \
-        }                                                                                      \
-    } while (0)
+MPI_CHECK_STATE;
 
 /* ------------------------------------------------------------------ meshes */
 

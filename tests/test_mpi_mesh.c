@@ -19,6 +19,7 @@
  * collective; checks count failures and the ranks agree at the end.
  */
 #include "mpi_meshes.h"
+#include "mpi_check.h"
 #include "support.h"
 
 #include "limn_mpi.h"
@@ -28,19 +29,8 @@
 #include <string.h>
 #include <unistd.h>
 
-static int rank, size, failures, checks;
+MPI_CHECK_STATE;
 static char dir[256];
-
-#define CHECK(cond, ...)                                                                       \
-    do {                                                                                       \
-        checks++;                                                                              \
-        if (!(cond)) {                                                                         \
-            failures++;                                                                        \
-            fprintf(stderr, "FAIL (rank %d, %s:%d): ", rank, __FILE__, __LINE__);              \
-            fprintf(stderr, __VA_ARGS__);                                                      \
-            fprintf(stderr, "\n");                                                             \
-        }                                                                                      \
-    } while (0)
 
 /* The bytes of a file (NULL when it cannot be read); *n its size. */
 static char *slurp(const char *path, size_t *n)

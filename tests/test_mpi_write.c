@@ -21,6 +21,7 @@
  * in a collective): failures are counted and agreed at the end.
  */
 #include "slurp.h"
+#include "mpi_check.h"
 #include "support.h"
 
 #include "mpi/mpi_write.h"
@@ -36,19 +37,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static int rank, size, failures, checks;
+MPI_CHECK_STATE;
 static char dir[256];
-
-#define CHECK(cond, ...)                                                                       \
-    do {                                                                                       \
-        checks++;                                                                              \
-        if (!(cond)) {                                                                         \
-            failures++;                                                                        \
-            fprintf(stderr, "FAIL (rank %d of %d, %s:%d): ", rank, size, __FILE__, __LINE__);  \
-            fprintf(stderr, __VA_ARGS__);                                                      \
-            fprintf(stderr, "\n");                                                             \
-        }                                                                                      \
-    } while (0)
 
 /* ------------------------------------------------------------------ meshes */
 
