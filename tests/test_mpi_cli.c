@@ -305,6 +305,30 @@ static void bands_sharpen_same(void **s)
     assert_false(test_file_exists(at("bad_energy.json")));
 }
 
+/* Every rank reads its slice of the file and each phase of the slice reader
+   parses the header: a header warning is still printed once, by rank 0. */
+static void warnings_once(void **s)
+{
+    (void)s;
+    const char *in = at("extra_property.ply");
+    assert_int_equal(test_write_text(in, "ply\nformat ascii 1.0\nelement vertex 4\n"
+                                         "property float x\nproperty float y\n"
+                                         "property float z\nproperty float confidence\n"
+                                         "element face 2\n"
+                                         "property list uchar int vertex_indices\n"
+                                         "end_header\n0 0 0 1\n1 0 0 1\n1 1 0 1\n"
+                                         "0 1 0.2 1\n3 0 1 2\n3 0 2 3\n"),
+                     0);
+    char args[2048];
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s'", in, at("extra_many.ply"));
+    if (run(2, args) != 0)
+        fail_msg("2 ranks: %s", test_text);
+    assert_int_equal(count(test_text, "vertex property dropped"), 1);
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s' -q", in, at("extra_one.ply"));
+    assert_int_equal(run(0, args), 0);
+    assert_true(test_same_bytes(at("extra_one.ply"), at("extra_many.ply")));
+}
+
 static void per_rank(void **s)
 {
     (void)s;
@@ -438,7 +462,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(interpolate_generated), cmocka_unit_test(interpolate_shared),
         cmocka_unit_test(series_same),           cmocka_unit_test(bands_sharpen_same),
-        cmocka_unit_test(per_rank),
+        cmocka_unit_test(per_rank),              cmocka_unit_test(warnings_once),
         cmocka_unit_test(device_per_rank),       cmocka_unit_test(errors),
     };
     return cmocka_run_group_tests(tests, setup, test_scratch_teardown);

@@ -124,6 +124,7 @@ limn_status limn_mpi_mesh_read(limn_context *ctx, MPI_Comm comm, const char *pat
                                             (unsigned)p.size, &mine));
     mesh_slice s = {0};
     if (!st) {
+        ctx_clear(ctx); /* the read phase says the header's warnings again: once is enough */
         slice_sums(&p, &mine, &before, &total);
         st = mpi_agree(&p, mesh_slice_read(ctx, path, format, (unsigned)p.rank,
                                            (unsigned)p.size, &before, &total, &s));
