@@ -9,6 +9,7 @@
 #include "base/context.h"
 #include "mesh/check.h"
 #include "mpi/mpi_blocks.h"
+#include "mpi/mpi_local.h"
 
 #include <limits.h>
 #include <math.h>
@@ -258,31 +259,9 @@ const uint32_t *limn_mpi_mesh_face_indices(const limn_mpi_mesh *m)
 
 /* ----------------------------------------------------------------- checks */
 
-/* This rank's bbox; an empty block gives +inf / -inf, neutral for min / max. */
-static void block_bbox(const mesh_slice *s, double lo[3], double hi[3])
-{
-    for (int c = 0; c < 3; c++) {
-        lo[c] = INFINITY;
-        hi[c] = -INFINITY;
-    }
-    for (size_t i = 0; i < s->vertex_count; i++)
-        for (int c = 0; c < 3; c++) {
-            double x = s->positions[3 * i + c];
-            lo[c] = x < lo[c] ? x : lo[c];
-            hi[c] = x > hi[c] ? x : hi[c];
-        }
-}
-
 double mpi_mesh_bbox_diagonal(mpi_part *p, const limn_mpi_mesh *mesh)
 {
-    double lo[3], hi[3], glo[3], ghi[3];
-    block_bbox(&mesh->slice, lo, hi);
-    MPI_Allreduce(lo, glo, 3, MPI_DOUBLE, MPI_MIN, p->comm);
-    MPI_Allreduce(hi, ghi, 3, MPI_DOUBLE, MPI_MAX, p->comm);
-    if (mesh->slice.vertex_total == 0)
-        return 0.0;
-    return sqrt((ghi[0] - glo[0]) * (ghi[0] - glo[0]) + (ghi[1] - glo[1]) * (ghi[1] - glo[1]) +
-                (ghi[2] - glo[2]) * (ghi[2] - glo[2]));
+    return mpi_local_diagonal(p, mesh->slice.positions, mesh->slice.vertex_count);
 }
 
 limn_status mpi_mesh_check(mpi_part *p, const char *fn, const limn_mpi_mesh *mesh)

@@ -118,7 +118,6 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mpi_mesh *mes
         st = mpi_mesh_build_rows(&p, mesh, scheme, o->alpha, &m4);
     double t0 = MPI_Wtime();
     if (!st) {
-        p.diag = mpi_mesh_bbox_diagonal(&p, mesh);
         MPI_REPORT_OPERATOR(r, &p);
         r->reordered = 0;
         r->omega = 1.0;

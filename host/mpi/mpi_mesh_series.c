@@ -111,10 +111,8 @@ static limn_status open_mesh_series(limn_context *ctx, const char *fn, const lim
         st = mpi_mesh_scheme(&s->p, mesh, o->scheme, &scheme);
     if (!st)
         st = mpi_mesh_build_rows(&s->p, mesh, scheme, o->alpha, &s->m4);
-    if (!st) {
-        s->p.diag = mpi_mesh_bbox_diagonal(&s->p, mesh);
+    if (!st) /* p.diag: the local build's */
         st = mpi_series_buffers(s, 0, r);
-    }
     s->mesh = mesh;
     s->out = out;
     *e = (series_engine){ctx, s, s->buf, &r->products, 0, 1, &mesh_ops};
