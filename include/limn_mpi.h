@@ -202,6 +202,16 @@ LIMN_API limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh
                                           const limn_repair_options *options,
                                           limn_repair_report *report);
 
+/* limn_mesh_measure of the whole distributed mesh (closed, volume, area,
+   centroid): the same bits as one process, the sums added in its order
+   (each rank's terms, then the running sums passed from rank to rank). */
+LIMN_API limn_status limn_mpi_mesh_measure(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                           limn_mesh_measures *out);
+/* limn_mesh_volume_area of the whole distributed mesh, the same bits; volume
+   and area (may be NULL) are NaN on failure. */
+LIMN_API limn_status limn_mpi_mesh_volume_area(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                               double *volume, double *area);
+
 /* Writes the whole mesh to path: every rank writes its blocks at their
    offsets (MPI-IO), the same bytes as limn_mesh_write_with of the whole
    mesh, the file whole or not at all. options (NULL: the defaults) and
@@ -226,8 +236,9 @@ LIMN_API limn_status limn_mpi_mesh_interpolate(limn_context *ctx, const limn_mpi
    built as limn_mpi_mesh_interpolate builds them (no rank holding the
    mesh), *out a distributed mesh with the same blocks and faces; the
    single process's bits. Options, checks and report as limn_smooth_mpi
-   etc.; keep_piece is ignored. limn_mpi_mesh_denoise refuses keep_volume
-   (the volume needs the whole mesh: use limn_denoise_mpi). */
+   etc.; keep_piece is ignored. limn_mpi_mesh_denoise's keep_volume
+   needs a closed mesh and scales as limn_denoise does (the same bits:
+   limn_mpi_mesh_measure's sums). */
 LIMN_API limn_status limn_mpi_mesh_smooth(limn_context *ctx, const limn_mpi_mesh *mesh,
                                           const limn_series_options *options, int terms,
                                           limn_mpi_mesh **out, limn_series_report *report,

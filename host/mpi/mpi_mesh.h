@@ -57,4 +57,31 @@ limn_status mpi_mesh_results_to_blocks(mpi_part *p, const limn_mpi_mesh *mesh, c
 limn_status mpi_mesh_control_of(mpi_part *p, const limn_mpi_mesh *mesh, double *positions,
                                 limn_mpi_mesh **out);
 
+/* ------------------------------------------------------ mpi_mesh_measure.c */
+
+/* The edges of the whole mesh's topology as topology.h counts them. */
+typedef struct mpi_edge_counts {
+    size_t boundary;     /* one face */
+    size_t nonmanifold;  /* more than two, or two in the same direction */
+    size_t inconsistent; /* two in the same direction */
+} mpi_edge_counts;
+/* Collective, agreed: each edge classified on the block owner of its lower
+   vertex, the counts summed. */
+limn_status mpi_mesh_edge_counts(mpi_part *p, const limn_mpi_mesh *mesh, mpi_edge_counts *out);
+
+/* measure_volume_area of the whole mesh with the vertex blocks' positions
+   `block` (3 per block vertex): the same bits (terms on every rank, added
+   in face order from rank to rank). Collective, agreed. */
+limn_status mpi_mesh_volume_area(mpi_part *p, const limn_mpi_mesh *mesh, const double *block,
+                                 double *volume, double *area);
+
+/* The mean of the vertices of block, summed in input order as
+   limn_mesh_measure sums them (from rank to rank). Collective. */
+void mpi_mesh_centroid(mpi_part *p, const limn_mpi_mesh *mesh, const double *block, double c[3]);
+
+/* series_keep_volume on distributed meshes: out (same blocks as in) scaled
+   about the mean of its vertices back to in's volume; the same bits, the
+   same refusal. Collective; every rank gets the same status. */
+limn_status mpi_mesh_keep_volume(mpi_part *p, const limn_mpi_mesh *in, limn_mpi_mesh *out);
+
 #endif

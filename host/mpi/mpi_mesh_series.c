@@ -8,8 +8,10 @@
  * owned results go back to the vertex blocks of a new distributed mesh with
  * the input's faces (mpi_mesh_results_to_blocks, mpi_mesh_control_of). Each
  * row is summed in the single process's order, so the results are the
- * single process's bits. Denoising with keep_volume is refused: the volume
- * needs the whole mesh (the root path, limn_denoise_mpi, measures it).
+ * single process's bits. Denoising with keep_volume checks the mesh is
+ * closed (mpi_mesh_edge_counts) and scales the result as limn_denoise does
+ * (mpi_mesh_keep_volume: the volumes and the centroid summed in the single
+ * process's order), so those bits are the single process's too.
  * limn_mpi_mesh_bands gives each band as a distributed mesh, its energy
  * summed in the single process's order by passing the running sums from
  * rank to rank.
@@ -152,6 +154,20 @@ static limn_status smooth_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     return close_mesh_series(&s, st, result, r);
 }
 
+/* limn_denoise's refusal of a mesh whose volume is not defined. */
+static limn_status check_closed(mpi_part *p, const limn_mpi_mesh *mesh)
+{
+    mpi_edge_counts k;
+    limn_status st = mpi_mesh_edge_counts(p, mesh, &k);
+    if (!st && (k.boundary || k.nonmanifold || k.inconsistent))
+        st = ctx_fail(p->ctx, LIMN_ERR_TOPOLOGY,
+                      "keeping the volume needs a closed mesh, and this one has %zu boundary, "
+                      "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
+                      "not defined",
+                      k.boundary, k.nonmanifold, k.inconsistent);
+    return st;
+}
+
 /* limn_mpi_mesh_denoise on structs of this library's layout. */
 static limn_status denoise_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
                                  const limn_series_options *o, int m, int steps, int keep_volume,
@@ -164,16 +180,16 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     limn_status st = check_count(ctx, fn, "m", m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
     if (!st)
         st = check_steps(ctx, fn, steps, m + 1LL, "(m + 1) * steps");
-    if (!st && keep_volume)
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                       "%s: keep_volume is not available on a distributed mesh yet (the volume "
-                       "is measured on the whole mesh): use limn_denoise_mpi",
-                       fn);
     st = open_mesh_series(ctx, fn, mesh, o, mpi, st, out, &s, &e, r);
     if (s.p.comm == MPI_COMM_NULL)
         return st;
+    if (!st && keep_volume)
+        st = check_closed(&s.p, mesh);
+    /* keep_volume after the run: filter.c's step needs the whole mesh on the root */
     if (!st)
         st = series_denoise_run(&e, NULL, m, steps, 0, NULL);
+    if (!st && keep_volume)
+        st = mpi_agree(&s.p, mpi_mesh_keep_volume(&s.p, mesh, *out));
     return close_mesh_series(&s, st, result, r);
 }
 
