@@ -222,7 +222,7 @@ static void series_same(void **s)
     (void)s;
     write_inputs();
     /* smooth, denoise and sharpen on a file input: slices (limn_mpi_mesh_smooth
-       etc.), the single process's bytes; denoise --keep-volume: the root path */
+       etc.), the single process's bytes (--keep-volume: denoise_volume_same) */
     static const char *cmds[] = {"smooth '%s' -o '%s' --terms 4 -q", "denoise '%s' -o '%s' -q",
                                  "sharpen '%s' -o '%s' --from 1 --to 3 --steps 2 -q"};
     static const char *inputs[] = {"quad.obj", "tri.obj"};
@@ -261,6 +261,91 @@ static void series_same(void **s)
         snprintf(b, sizeof b, "f2/f%d.ply", k);
         assert_true(test_same_bytes(at(a), at(b)));
     }
+}
+
+/* A closed input of two components: the cube (quads) and the icosahedron. */
+static void write_closed(const char *path)
+{
+    limn_context *ctx = limn_context_create();
+    limn_mesh *parts[2] = {test_mesh_cube(ctx), test_mesh_icosahedron(ctx)};
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    size_t base = 0;
+    for (int k = 0; k < 2; k++) {
+        const double *p = limn_mesh_positions(parts[k]);
+        for (size_t i = 0; i < limn_mesh_vertex_count(parts[k]); i++)
+            fprintf(f, "v %.17g %.17g %.17g\n", p[3 * i] + 5.0 * k, p[3 * i + 1], p[3 * i + 2]);
+        const uint32_t *off = limn_mesh_face_offsets(parts[k]);
+        const uint32_t *idx = limn_mesh_face_indices(parts[k]);
+        for (size_t fc = 0; fc < limn_mesh_face_count(parts[k]); fc++) {
+            fprintf(f, "f");
+            for (uint32_t c = off[fc]; c < off[fc + 1]; c++)
+                fprintf(f, " %zu", (size_t)idx[c] + 1 + base);
+            fprintf(f, "\n");
+        }
+        base += limn_mesh_vertex_count(parts[k]);
+        limn_mesh_destroy(parts[k]);
+    }
+    assert_int_equal(fclose(f), 0);
+    limn_context_destroy(ctx);
+}
+
+/* The text of key's value in the report at path ("" when absent). */
+static void report_value(const char *path, const char *key, char *out, size_t cap)
+{
+    size_t n = 0;
+    char *text = test_slurp(path, &n), *k = text ? strstr(text, key) : NULL;
+    size_t len = k ? strcspn(k, ",\n}") : 0;
+    snprintf(out, cap, "%.*s", (int)len, k ? k : "");
+    free(text);
+}
+
+/* denoise on slices, --keep-volume too: the single process's bytes and the
+   same volumes and areas in the report (to the last digit); --keep-volume
+   on an open mesh: its message once, status 1, nothing written. */
+static void denoise_volume_same(void **s)
+{
+    (void)s;
+    write_inputs();
+    write_closed(at("closed.obj"));
+    static const char *keys[] = {"\"closed\"", "\"volume_input\"", "\"volume_output\"",
+                                 "\"area_input\"", "\"area_output\""};
+    static const char *cases[][2] = {{"closed.obj", "--keep-volume"}, {"closed.obj", ""},
+                                     {"quad.obj", ""}};
+    for (int c = 0; c < 3; c++)
+        for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
+            char args[2048];
+            snprintf(args, sizeof args, "denoise '%s' -o '%s' %s --report '%s' -q",
+                     at(cases[c][0]), at("v1.ply"), cases[c][1], at("v1.json"));
+            assert_int_equal(run(0, args), 0);
+            snprintf(args, sizeof args, "denoise '%s' -o '%s' %s --report '%s' -q",
+                     at(cases[c][0]), at("v2.ply"), cases[c][1], at("v2.json"));
+            if (run(ranks, args) != 0)
+                fail_msg("%s", test_text);
+            assert_true(test_same_bytes(at("v1.ply"), at("v2.ply")));
+            assert_true(report_sliced(at("v2.json")));
+            for (size_t k = 0; k < sizeof keys / sizeof *keys; k++) {
+                char a[128], b[128];
+                report_value(at("v1.json"), keys[k], a, sizeof a);
+                report_value(at("v2.json"), keys[k], b, sizeof b);
+                assert_true(a[0] != '\0');
+                assert_string_equal(a, b);
+            }
+        }
+    char args[2048];
+    snprintf(args, sizeof args, "denoise '%s' -o '%s' --keep-volume", at("quad.obj"),
+             at("open1.ply"));
+    assert_int_equal(run(0, args), 1);
+    const char *why = strstr(test_text, "keeping the volume needs a closed mesh");
+    assert_non_null(why);
+    char one[512];
+    snprintf(one, sizeof one, "%.*s", (int)strcspn(why, "\n"), why);
+    snprintf(args, sizeof args, "denoise '%s' -o '%s' --keep-volume", at("quad.obj"),
+             at("open2.ply"));
+    assert_int_equal(run(3, args), 1);
+    assert_int_equal(count(test_text, "limn denoise: error:"), 1);
+    assert_int_equal(count(test_text, one), 1); /* the same edge counts */
+    assert_false(test_file_exists(at("open2.ply")));
 }
 
 /* bands (every band, the remainder and the energy file; on slices) and
@@ -464,6 +549,7 @@ int main(void)
         cmocka_unit_test(series_same),           cmocka_unit_test(bands_sharpen_same),
         cmocka_unit_test(per_rank),              cmocka_unit_test(warnings_once),
         cmocka_unit_test(device_per_rank),       cmocka_unit_test(errors),
+        cmocka_unit_test(denoise_volume_same),
     };
     return cmocka_run_group_tests(tests, setup, test_scratch_teardown);
 }

@@ -250,12 +250,19 @@ limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *
 /* The series filters that run on slices, and their arguments. */
 typedef enum cli_series_kind {
     CLI_SERIES_SMOOTH,
-    CLI_SERIES_DENOISE, /* without --keep-volume (the volume needs the whole mesh) */
+    CLI_SERIES_DENOISE,
     CLI_SERIES_SHARPEN
 } cli_series_kind;
+/* The volumes and areas of denoise's report: the input's (closed from its
+   edges) and the result's, measured on slices as one process measures them. */
+typedef struct cli_series_measures {
+    int measured, closed;
+    double volume_in, volume_out, area_in, area_out;
+} cli_series_measures;
 typedef struct cli_series_call {
     cli_series_kind kind;
-    int terms, m, steps, from, to;
+    int terms, m, steps, from, to, keep_volume;
+    cli_series_measures *measures; /* may be NULL; else filled after the filter */
 } cli_series_call;
 /* smooth, denoise or sharpen on slices (limn_mpi_mesh_smooth etc.), as
    cli_mpi_interpolate_sliced; *displacement the mean distance from the
