@@ -267,6 +267,23 @@ LIMN_API limn_status limn_mpi_mesh_bands(limn_context *ctx, const limn_mpi_mesh 
                                          limn_series_report *report,
                                          const limn_mpi_options *mpi, limn_mpi_result *result);
 
+/* limn_morph on distributed meshes (FROM's operator rows built as
+   limn_mpi_mesh_smooth builds them; TO may have other blocks): fn is called
+   on every rank, once per frame in order, with the frame as a distributed
+   mesh of FROM's blocks and faces (valid during the call; write it with
+   limn_mpi_mesh_write, collective) and limn_morph's measures, the same on
+   every rank (measures->positions: this rank's block). The frames and the
+   measures are the single process's bits. A failure of fn on any rank
+   stops every rank. options->linear blends the blocks. */
+typedef limn_status (*limn_mpi_morph_frame_fn)(void *user, const limn_mpi_mesh *frame,
+                                               const limn_morph_frame *measures);
+LIMN_API limn_status limn_mpi_mesh_morph(limn_context *ctx, const limn_mpi_mesh *from,
+                                         const limn_mpi_mesh *to,
+                                         const limn_morph_options *options,
+                                         limn_mpi_morph_frame_fn fn, void *user,
+                                         limn_series_report *report,
+                                         const limn_mpi_options *mpi, limn_mpi_result *result);
+
 #ifdef __cplusplus
 }
 #endif

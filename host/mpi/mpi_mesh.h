@@ -69,6 +69,12 @@ typedef struct mpi_edge_counts {
    vertex, the counts summed. */
 limn_status mpi_mesh_edge_counts(mpi_part *p, const limn_mpi_mesh *mesh, mpi_edge_counts *out);
 
+/* n running sums carried from rank to rank in rank order: this rank adds
+   its terms (count of them, n each, in order) to what the previous rank
+   passed on, so the additions are one process's in its order; every rank
+   gets the totals in sum. Collective. */
+void mpi_mesh_chained_sums(mpi_part *p, const double *terms, size_t count, int n, double *sum);
+
 /* measure_volume_area of the whole mesh with the vertex blocks' positions
    `block` (3 per block vertex): the same bits (terms on every rank, added
    in face order from rank to rank). Collective, agreed. */

@@ -126,10 +126,7 @@ limn_status mpi_mesh_edge_counts(mpi_part *p, const limn_mpi_mesh *mesh, mpi_edg
     return LIMN_OK;
 }
 
-/* n running sums carried from rank to rank: this rank adds terms (count of
-   them, n each, in order) to what the previous rank passed on; every rank
-   gets the totals in sum. */
-static void chained_sums(mpi_part *p, const double *terms, size_t count, int n, double *sum)
+void mpi_mesh_chained_sums(mpi_part *p, const double *terms, size_t count, int n, double *sum)
 {
     for (int j = 0; j < n; j++)
         sum[j] = 0.0;
@@ -205,7 +202,7 @@ limn_status mpi_mesh_volume_area(mpi_part *p, const limn_mpi_mesh *mesh, const d
         double c[3], sum[2];
         first_position(p, mesh, block, c);
         face_terms(s, pos, c, t);
-        chained_sums(p, t, nt, 2, sum);
+        mpi_mesh_chained_sums(p, t, nt, 2, sum);
         *volume = sum[0];
         *area = sum[1];
     }
@@ -216,7 +213,7 @@ limn_status mpi_mesh_volume_area(mpi_part *p, const limn_mpi_mesh *mesh, const d
 
 void mpi_mesh_centroid(mpi_part *p, const limn_mpi_mesh *mesh, const double *block, double c[3])
 {
-    chained_sums(p, block, mesh->slice.vertex_count, 3, c);
+    mpi_mesh_chained_sums(p, block, mesh->slice.vertex_count, 3, c);
     size_t n = mesh->vertex_dist[p->size];
     for (int j = 0; j < 3; j++)
         c[j] /= n ? (double)n : 1.0;
