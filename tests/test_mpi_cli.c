@@ -242,25 +242,45 @@ static void series_same(void **s)
             assert_true(test_same_bytes(at("s1.ply"), at("s2.ply")));
             assert_true(report_sliced(at("s2.json")));
         }
-    /* morph: every frame the same bytes */
+    /* morph on slices (both inputs files): every frame the same bytes, the
+       same per-frame measures in the report; the series and the blend */
     char args[1024];
     snprintf(args, sizeof args, "denoise '%s' -o '%s' --steps 6 -q", at("quad.obj"), at("to.ply"));
     assert_int_equal(run(0, args), 0);
     snprintf(args, sizeof args, "mkdir -p '%s' '%s'", at("f1"), at("f2"));
     assert_int_equal(system(args), 0);
-    snprintf(args, sizeof args, "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 -q", at("quad.obj"),
-             at("to.ply"), at("f1"));
-    assert_int_equal(run(0, args), 0);
-    snprintf(args, sizeof args, "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 -q", at("quad.obj"),
-             at("to.ply"), at("f2"));
-    if (run(3, args) != 0)
-        fail_msg("%s", test_text);
-    for (int k = 0; k < 3; k++) {
-        char a[64], b[64];
-        snprintf(a, sizeof a, "f1/f%d.ply", k);
-        snprintf(b, sizeof b, "f2/f%d.ply", k);
-        assert_true(test_same_bytes(at(a), at(b)));
-    }
+    for (int linear = 0; linear <= 1; linear++)
+        for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
+            const char *how = linear ? "--linear" : "";
+            snprintf(args, sizeof args,
+                     "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 %s --report '%s' -q",
+                     at("quad.obj"), at("to.ply"), at("f1"), how, at("m1.json"));
+            assert_int_equal(run(0, args), 0);
+            snprintf(args, sizeof args,
+                     "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 %s --report '%s' -q",
+                     at("quad.obj"), at("to.ply"), at("f2"), how, at("m2.json"));
+            if (run(ranks, args) != 0)
+                fail_msg("%s", test_text);
+            for (int k = 0; k < 3; k++) {
+                char a[64], b[64];
+                snprintf(a, sizeof a, "f1/f%d.ply", k);
+                snprintf(b, sizeof b, "f2/f%d.ply", k);
+                assert_true(test_same_bytes(at(a), at(b)));
+            }
+            assert_true(report_sliced(at("m2.json")));
+            size_t n1 = 0, n2 = 0;
+            char *r1 = test_slurp(at("m1.json"), &n1), *r2 = test_slurp(at("m2.json"), &n2);
+            assert_non_null(r1);
+            assert_non_null(r2);
+            char *p1 = strstr(r1, "\"per_frame\""), *p2 = strstr(r2, "\"per_frame\"");
+            assert_non_null(p1);
+            assert_non_null(p2);
+            size_t l1 = strcspn(p1, "]"), l2 = strcspn(p2, "]");
+            assert_int_equal(l1, l2);
+            assert_memory_equal(p1, p2, l1);
+            free(r1);
+            free(r2);
+        }
 }
 
 /* A closed input of two components: the cube (quads) and the icosahedron. */

@@ -284,6 +284,21 @@ typedef struct cli_bands_out {
 limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
                                  const limn_series_options *o, int count, cli_bands_out *out,
                                  limn_series_report *r, double seconds[2]);
+/* morph on slices (limn_mpi_mesh_morph): FROM is job->input, TO to_path,
+   both read and repaired as job says; every frame written in parallel to
+   sink->name(user, k) (job->write: NULL, the single process's defaults),
+   then sink->record(user, measures) on every rank; sink->written and
+   write_seconds counted. seconds[0]: the load. */
+typedef struct cli_morph_sink {
+    const char *(*name)(void *user, int index);
+    void (*record)(void *user, const limn_morph_frame *f);
+    void *user;
+    int written;
+    double write_seconds;
+} cli_morph_sink;
+limn_status cli_mpi_morph_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                 const char *to_path, const limn_morph_options *o,
+                                 cli_morph_sink *sink, limn_series_report *r, double seconds[2]);
 /* Collective: every rank's peak resident memory so far, to rank 0, for the
    report's per_rank entries. */
 void cli_mpi_note_memory(void);

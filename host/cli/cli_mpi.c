@@ -6,8 +6,8 @@
  * morph run distributed (include/limn_mpi.h): the root (rank 0) reads, writes and
  * prints, every rank computes its share, and every failure is agreed on so
  * that all ranks exit with the same status and the message is printed once.
- * On a file input, interpolate, smooth, denoise, sharpen and bands run on
- * slices instead (cli_mpi_sliced): every rank reads, computes
+ * On file inputs, interpolate, smooth, denoise, sharpen, bands and morph
+ * run on slices instead (cli_mpi_sliced): every rank reads, computes
  * and writes its share of a distributed mesh, none holding it whole.
  * The other commands refuse to run on several ranks.
  */
@@ -393,6 +393,55 @@ limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
         limn_mpi_mesh_destroy(bands[i]);
     free(bands);
     limn_mpi_mesh_destroy(mesh);
+    return st;
+}
+
+/* limn_mpi_mesh_morph's frames to the CLI's sink (every rank). */
+typedef struct morph_frames {
+    limn_context *ctx;
+    const cli_sliced_job *job;
+    cli_morph_sink *sink;
+} morph_frames;
+
+static limn_status sliced_frame(void *user, const limn_mpi_mesh *frame, const limn_morph_frame *f)
+{
+    morph_frames *m = user;
+    double t = MPI_Wtime();
+    const char *name = m->sink->name(m->sink->user, f->index);
+    limn_status st = limn_mpi_mesh_write(m->ctx, frame, name, m->job->out_format, m->job->write,
+                                         NULL);
+    m->sink->written += !st;
+    m->sink->record(m->sink->user, f);
+    m->sink->write_seconds += MPI_Wtime() - t;
+    return st;
+}
+
+limn_status cli_mpi_morph_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                 const char *to_path, const limn_morph_options *o,
+                                 cli_morph_sink *sink, limn_series_report *r, double seconds[2])
+{
+    limn_mpi_mesh *from = NULL, *to = NULL;
+    cli_sliced_job tj = *job;
+    tj.input = to_path;
+    double t0 = MPI_Wtime();
+    limn_status st = read_sliced(ctx, job, &from);
+    if (!st)
+        st = read_sliced(ctx, &tj, &to);
+    seconds[0] = MPI_Wtime() - t0;
+    limn_mpi_options mo = options();
+    mo.keep_piece = 0;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    g.sliced = 1;
+    morph_frames mf = {ctx, job, sink};
+    if (!st) {
+        st = limn_mpi_mesh_morph(ctx, from, to, o, sliced_frame, &mf, r, &mo, &res);
+        cli_print_warnings(job->cmd, ctx);
+        collect(&res);
+        limn_mpi_result_free(&res);
+    }
+    seconds[1] = sink->write_seconds;
+    limn_mpi_mesh_destroy(from);
+    limn_mpi_mesh_destroy(to);
     return st;
 }
 
