@@ -57,17 +57,26 @@ limn_status mpi_mesh_results_to_blocks(mpi_part *p, const limn_mpi_mesh *mesh, c
 limn_status mpi_mesh_control_of(mpi_part *p, const limn_mpi_mesh *mesh, double *positions,
                                 limn_mpi_mesh **out);
 
-/* ------------------------------------------------------ mpi_mesh_measure.c */
+/* mesh_repair.c's duplicate faces over the ranks (mpi_mesh_duplicates.c):
+   r->duplicate_faces, first_duplicate_face (SIZE_MAX when none) and _of in
+   global face numbers, the duplicates dropped when remove (face blocks
+   renumbered, duplicates_removed). Collective, agreed. */
+limn_status mpi_mesh_duplicates(mpi_part *p, limn_mpi_mesh *mesh, int remove,
+                                limn_repair_report *r);
 
-/* The edges of the whole mesh's topology as topology.h counts them. */
-typedef struct mpi_edge_counts {
-    size_t boundary;     /* one face */
-    size_t nonmanifold;  /* more than two, or two in the same direction */
-    size_t inconsistent; /* two in the same direction */
-} mpi_edge_counts;
-/* Collective, agreed: each edge classified on the block owner of its lower
-   vertex, the counts summed. */
-limn_status mpi_mesh_edge_counts(mpi_part *p, const limn_mpi_mesh *mesh, mpi_edge_counts *out);
+/* The whole mesh's topology counts as topology.h has them
+   (mpi_mesh_census.c: each vertex's ring on its block owner). */
+typedef struct mpi_mesh_counts {
+    size_t boundary_edges;       /* one face */
+    size_t nonmanifold_edges;    /* more than two, or two in the same direction */
+    size_t inconsistent_edges;   /* two in the same direction */
+    size_t nonmanifold_vertices; /* on such an edge, or faces in several fans */
+    size_t referenced_vertices;  /* used by a face */
+} mpi_mesh_counts;
+/* Collective, agreed. */
+limn_status mpi_mesh_census(mpi_part *p, const limn_mpi_mesh *mesh, mpi_mesh_counts *out);
+
+/* ------------------------------------------------------ mpi_mesh_measure.c */
 
 /* n running sums carried from rank to rank in rank order: this rank adds
    its terms (count of them, n each, in order) to what the previous rank

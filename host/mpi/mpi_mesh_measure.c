@@ -1,8 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * Measures of a distributed mesh (mpi_mesh.h), the single process's bits
- * with no rank holding the mesh: the edge classes of the topology (an edge
- * counted on the block owner of its lower vertex), and the signed volume,
+ * with no rank holding the mesh: closedness (mpi_mesh_census), the signed volume,
  * area and centroid of measure.c. Those are sums in face (or vertex) order;
  * the blocks follow that order, so each rank computes its terms on its own
  * (the costly part: corners fetched from their owners, cross products,
@@ -15,116 +14,10 @@
 #include "base/abi.h"
 #include "base/context.h"
 #include "mpi/mpi_blocks.h"
-#include "mpi/mpi_local.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* This rank's directed edges (u << 32 | v), grouped by the block owner of
-   min(u, v); cnt[r] of them go to rank r. */
-static limn_status edges_out(mpi_part *p, const limn_mpi_mesh *mesh, uint64_t **out, int *cnt)
-{
-    const mesh_slice *s = &mesh->slice;
-    size_t nc = s->face_offsets[s->face_count];
-    uint64_t *e = malloc((nc ? nc : 1) * sizeof *e);
-    size_t *at = calloc((size_t)p->size + 1, sizeof *at);
-    int *dest = malloc((nc ? nc : 1) * sizeof *dest);
-    limn_status st = e && at && dest ? LIMN_OK
-                                     : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
-                                                "out of memory for the edges of %zu faces",
-                                                s->face_count);
-    for (size_t f = 0; !st && f < s->face_count; f++)
-        for (uint32_t c = s->face_offsets[f], b = c, end = s->face_offsets[f + 1]; c < end; c++) {
-            uint32_t u = s->face_indices[c], v = s->face_indices[c + 1 < end ? c + 1 : b];
-            dest[c] = mpi_blocks_owner(mesh->vertex_dist, p->size, u < v ? u : v);
-            at[dest[c] + 1]++;
-        }
-    for (int r = 0; !st && r < p->size; r++) {
-        cnt[r] = (int)at[r + 1];
-        at[r + 1] += at[r];
-    }
-    for (size_t f = 0; !st && f < s->face_count; f++)
-        for (uint32_t c = s->face_offsets[f], b = c, end = s->face_offsets[f + 1]; c < end; c++) {
-            uint32_t u = s->face_indices[c], v = s->face_indices[c + 1 < end ? c + 1 : b];
-            e[at[dest[c]]++] = (uint64_t)u << 32 | v;
-        }
-    free(at);
-    free(dest);
-    if (st) {
-        free(e);
-        e = NULL;
-    }
-    *out = e;
-    return st;
-}
-
-/* The classes of the edges in got (directed, every use of the edges this
-   rank counts), as topology_rings.c's ring_edges gives them: one use is a
-   boundary, more than two non-manifold, two in the same direction
-   non-manifold and inconsistent. */
-static limn_status classify_edges(mpi_part *p, const uint64_t *got, size_t n, uint64_t k[3])
-{
-    uint64_t *key = malloc((n ? n : 1) * sizeof *key), *fwd = malloc((n ? n : 1) * sizeof *fwd);
-    if (!key || !fwd) {
-        free(key);
-        free(fwd);
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory classifying %zu edge uses", n);
-    }
-    size_t nf = 0;
-    for (size_t i = 0; i < n; i++) {
-        uint32_t u = (uint32_t)(got[i] >> 32), v = (uint32_t)got[i];
-        key[i] = u < v ? got[i] : (uint64_t)v << 32 | u;
-        if (u < v) /* from the lower vertex: the corners ring_edges counts as at_v */
-            fwd[nf++] = got[i];
-    }
-    mpi_local_sort(key, n);
-    mpi_local_sort(fwd, nf);
-    for (size_t i = 0, j = 0, at = 0; i < n; i = j) {
-        for (j = i; j < n && key[j] == key[i]; j++)
-            ;
-        while (at < nf && fwd[at] < key[i])
-            at++;
-        size_t from = 0;
-        for (; at < nf && fwd[at] == key[i]; at++)
-            from++;
-        size_t total = j - i;
-        k[0] += total == 1;
-        k[1] += total > 2 || (total == 2 && from != 1);
-        k[2] += total == 2 && from != 1;
-    }
-    free(key);
-    free(fwd);
-    return LIMN_OK;
-}
-
-limn_status mpi_mesh_edge_counts(mpi_part *p, const limn_mpi_mesh *mesh, mpi_edge_counts *out)
-{
-    memset(out, 0, sizeof *out);
-    int *cnt = calloc(2 * (size_t)p->size, sizeof *cnt);
-    uint64_t *e = NULL, k[3] = {0, 0, 0};
-    void *got = NULL;
-    size_t n = 0;
-    limn_status st = cnt ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
-    if (!st)
-        st = edges_out(p, mesh, &e, cnt);
-    st = mpi_agree(p, st);
-    if (!st)
-        st = mpi_local_alltoallv(p, e, cnt, sizeof *e, &got, cnt + p->size, &n);
-    free(e);
-    if (!st)
-        st = classify_edges(p, got, n, k);
-    free(got);
-    free(cnt);
-    st = mpi_agree(p, st);
-    if (st)
-        return st;
-    MPI_Allreduce(MPI_IN_PLACE, k, 3, MPI_UINT64_T, MPI_SUM, p->comm);
-    out->boundary = (size_t)k[0];
-    out->nonmanifold = (size_t)k[1];
-    out->inconsistent = (size_t)k[2];
-    return LIMN_OK;
-}
 
 void mpi_mesh_chained_sums(mpi_part *p, const double *terms, size_t count, int n, double *sum)
 {
@@ -243,15 +136,15 @@ limn_status mpi_mesh_keep_volume(mpi_part *p, const limn_mpi_mesh *in, limn_mpi_
 /* limn_mpi_mesh_measure into a result of this library's layout. */
 static limn_status measure_sized(mpi_part *p, const limn_mpi_mesh *mesh, limn_mesh_measures *out)
 {
-    mpi_edge_counts k;
-    limn_status st = mpi_mesh_edge_counts(p, mesh, &k);
+    mpi_mesh_counts k;
+    limn_status st = mpi_mesh_census(p, mesh, &k);
     double vol = 0.0;
     if (!st)
         st = mpi_mesh_volume_area(p, mesh, mesh->slice.positions, &vol, &out->area);
     if (st)
         return st;
-    out->closed = mesh->face_dist[p->size] > 0 && k.boundary == 0 && k.nonmanifold == 0 &&
-                  k.inconsistent == 0;
+    out->closed = mesh->face_dist[p->size] > 0 && k.boundary_edges == 0 &&
+                  k.nonmanifold_edges == 0 && k.inconsistent_edges == 0;
     out->volume = out->closed ? vol : NAN;
     mpi_mesh_centroid(p, mesh, mesh->slice.positions, out->centroid);
     return LIMN_OK;

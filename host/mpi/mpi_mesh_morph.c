@@ -232,11 +232,12 @@ static limn_status morph_prepare(morph_run *m)
         copy = NULL;
     }
     free(copy);
-    mpi_edge_counts k;
+    mpi_mesh_counts k;
     if (!st)
-        st = mpi_mesh_edge_counts(p, m->from, &k);
+        st = mpi_mesh_census(p, m->from, &k);
     if (!st) {
-        m->closed = k.boundary == 0 && k.nonmanifold == 0 && k.inconsistent == 0;
+        m->closed = k.boundary_edges == 0 && k.nonmanifold_edges == 0 &&
+                    k.inconsistent_edges == 0;
         m->diag = mpi_mesh_bbox_diagonal(p, m->to);
     }
     return st;

@@ -9,7 +9,7 @@
  * the input's faces (mpi_mesh_results_to_blocks, mpi_mesh_control_of). Each
  * row is summed in the single process's order, so the results are the
  * single process's bits. Denoising with keep_volume checks the mesh is
- * closed (mpi_mesh_edge_counts) and scales the result as limn_denoise does
+ * closed (mpi_mesh_census) and scales the result as limn_denoise does
  * (mpi_mesh_keep_volume: the volumes and the centroid summed in the single
  * process's order), so those bits are the single process's too.
  * limn_mpi_mesh_bands gives each band as a distributed mesh, its energy
@@ -157,14 +157,14 @@ static limn_status smooth_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
 /* limn_denoise's refusal of a mesh whose volume is not defined. */
 static limn_status check_closed(mpi_part *p, const limn_mpi_mesh *mesh)
 {
-    mpi_edge_counts k;
-    limn_status st = mpi_mesh_edge_counts(p, mesh, &k);
-    if (!st && (k.boundary || k.nonmanifold || k.inconsistent))
+    mpi_mesh_counts k;
+    limn_status st = mpi_mesh_census(p, mesh, &k);
+    if (!st && (k.boundary_edges || k.nonmanifold_edges || k.inconsistent_edges))
         st = ctx_fail(p->ctx, LIMN_ERR_TOPOLOGY,
                       "keeping the volume needs a closed mesh, and this one has %zu boundary, "
                       "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
                       "not defined",
-                      k.boundary, k.nonmanifold, k.inconsistent);
+                      k.boundary_edges, k.nonmanifold_edges, k.inconsistent_edges);
     return st;
 }
 
