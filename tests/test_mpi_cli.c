@@ -411,7 +411,8 @@ static void bands_sharpen_same(void **s)
 }
 
 /* Every rank reads its slice of the file and each phase of the slice reader
-   parses the header: a header warning is still printed once, by rank 0. */
+   parses the header: a header warning is still printed once, by rank 0;
+   so are the repair's (counted over the ranks). */
 static void warnings_once(void **s)
 {
     (void)s;
@@ -432,6 +433,31 @@ static void warnings_once(void **s)
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' -q", in, at("extra_one.ply"));
     assert_int_equal(run(0, args), 0);
     assert_true(test_same_bytes(at("extra_one.ply"), at("extra_many.ply")));
+    /* the repair's warnings on slices (a duplicate face at the other end of
+       the file, a fin, an unused vertex): one process's words, said once */
+    const char *bad = at("kept.obj");
+    assert_int_equal(test_write_text(bad, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n"
+                                          "v 5 5 5\nf 1 2 3\nf 1 3 4\nf 1 3 5\nf 2 3 4\n"
+                                          "f 1 2 5\nf 3 2 1\n"),
+                     0);
+    static const char *said[] = {"duplicate face", "non-manifold edge", "non-manifold vert",
+                                 "used by no face"};
+    char one[4][512];
+    snprintf(args, sizeof args, "smooth '%s' -o '%s' --terms 2", bad, at("kept1.ply"));
+    assert_int_equal(run(0, args), 0);
+    for (int k = 0; k < 4; k++) {
+        const char *w = strstr(test_text, said[k]);
+        assert_non_null(w);
+        while (w > test_text && w[-1] != '\n')
+            w--;
+        snprintf(one[k], sizeof one[k], "%.*s", (int)strcspn(w, "\n"), w);
+    }
+    snprintf(args, sizeof args, "smooth '%s' -o '%s' --terms 2", bad, at("kept3.ply"));
+    if (run(3, args) != 0)
+        fail_msg("%s", test_text);
+    for (int k = 0; k < 4; k++)
+        assert_int_equal(count(test_text, one[k]), 1);
+    assert_true(test_same_bytes(at("kept1.ply"), at("kept3.ply")));
 }
 
 static void per_rank(void **s)
