@@ -202,6 +202,16 @@ LIMN_API limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh
                                           const limn_repair_options *options,
                                           limn_repair_report *report);
 
+/* limn_mesh_measure of the whole distributed mesh (closed, volume, area,
+   centroid): the same bits as one process, the sums added in its order
+   (each rank's terms, then the running sums passed from rank to rank). */
+LIMN_API limn_status limn_mpi_mesh_measure(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                           limn_mesh_measures *out);
+/* limn_mesh_volume_area of the whole distributed mesh, the same bits; volume
+   and area (may be NULL) are NaN on failure. */
+LIMN_API limn_status limn_mpi_mesh_volume_area(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                               double *volume, double *area);
+
 /* Writes the whole mesh to path: every rank writes its blocks at their
    offsets (MPI-IO), the same bytes as limn_mesh_write_with of the whole
    mesh, the file whole or not at all. options (NULL: the defaults) and
@@ -226,8 +236,9 @@ LIMN_API limn_status limn_mpi_mesh_interpolate(limn_context *ctx, const limn_mpi
    built as limn_mpi_mesh_interpolate builds them (no rank holding the
    mesh), *out a distributed mesh with the same blocks and faces; the
    single process's bits. Options, checks and report as limn_smooth_mpi
-   etc.; keep_piece is ignored. limn_mpi_mesh_denoise refuses keep_volume
-   (the volume needs the whole mesh: use limn_denoise_mpi). */
+   etc.; keep_piece is ignored. limn_mpi_mesh_denoise's keep_volume
+   needs a closed mesh and scales as limn_denoise does (the same bits:
+   limn_mpi_mesh_measure's sums). */
 LIMN_API limn_status limn_mpi_mesh_smooth(limn_context *ctx, const limn_mpi_mesh *mesh,
                                           const limn_series_options *options, int terms,
                                           limn_mpi_mesh **out, limn_series_report *report,
@@ -253,6 +264,23 @@ LIMN_API limn_status limn_mpi_mesh_sharpen(limn_context *ctx, const limn_mpi_mes
 LIMN_API limn_status limn_mpi_mesh_bands(limn_context *ctx, const limn_mpi_mesh *mesh,
                                          const limn_series_options *options, int count,
                                          limn_mpi_mesh **bands, double *energy,
+                                         limn_series_report *report,
+                                         const limn_mpi_options *mpi, limn_mpi_result *result);
+
+/* limn_morph on distributed meshes (FROM's operator rows built as
+   limn_mpi_mesh_smooth builds them; TO may have other blocks): fn is called
+   on every rank, once per frame in order, with the frame as a distributed
+   mesh of FROM's blocks and faces (valid during the call; write it with
+   limn_mpi_mesh_write, collective) and limn_morph's measures, the same on
+   every rank (measures->positions: this rank's block). The frames and the
+   measures are the single process's bits. A failure of fn on any rank
+   stops every rank. options->linear blends the blocks. */
+typedef limn_status (*limn_mpi_morph_frame_fn)(void *user, const limn_mpi_mesh *frame,
+                                               const limn_morph_frame *measures);
+LIMN_API limn_status limn_mpi_mesh_morph(limn_context *ctx, const limn_mpi_mesh *from,
+                                         const limn_mpi_mesh *to,
+                                         const limn_morph_options *options,
+                                         limn_mpi_morph_frame_fn fn, void *user,
                                          limn_series_report *report,
                                          const limn_mpi_options *mpi, limn_mpi_result *result);
 

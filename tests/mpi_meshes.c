@@ -4,6 +4,7 @@
 
 #include "support.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -82,4 +83,73 @@ limn_mesh *mpi_test_composite(limn_context *ctx, int triangles)
     limn_mesh *big = test_mesh_shuffle(ctx, test_mesh_grid(ctx, 70, 60, triangles), 7);
     test_perturb(big, 0.05, 3);
     return join(ctx, m, big, 60.0);
+}
+
+/* A torus of nx x ny quads (or triangles), radii 3 and 1, at x = dx. */
+static limn_mesh *torus(limn_context *ctx, int nx, int ny, int triangles, double dx)
+{
+    size_t n = (size_t)nx * (size_t)ny, nf = triangles ? 2 * n : n, per = triangles ? 3 : 4;
+    double *pos = malloc(3 * n * sizeof *pos);
+    uint32_t *off = malloc((nf + 1) * sizeof *off), *idx = malloc(nf * per * sizeof *idx);
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++) {
+            double u = 6.283185307179586 * i / nx, v = 6.283185307179586 * j / ny;
+            double *p = pos + 3 * ((size_t)i * (size_t)ny + (size_t)j);
+            p[0] = dx + (3.0 + cos(v)) * cos(u);
+            p[1] = (3.0 + cos(v)) * sin(u);
+            p[2] = sin(v);
+        }
+    size_t f = 0, k = 0;
+    off[0] = 0;
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++) {
+            uint32_t a = (uint32_t)(i * ny + j), b = (uint32_t)(((i + 1) % nx) * ny + j);
+            uint32_t c = (uint32_t)(((i + 1) % nx) * ny + (j + 1) % ny);
+            uint32_t d = (uint32_t)(i * ny + (j + 1) % ny);
+            uint32_t q[6] = {a, b, c, a, c, d}, quad[4] = {a, b, c, d};
+            for (size_t t = 0; t < (triangles ? 2u : 1u); t++) {
+                for (size_t e = 0; e < per; e++)
+                    idx[k++] = triangles ? q[3 * t + e] : quad[e];
+                off[++f] = (uint32_t)k;
+            }
+        }
+    limn_mesh *m = NULL;
+    limn_mesh_create(ctx, n, pos, nf, off, idx, &m);
+    free(pos);
+    free(off);
+    free(idx);
+    return m;
+}
+
+/* A hexagonal prism: two hexagons (n-gons) and six quads, closed. */
+static limn_mesh *prism(limn_context *ctx)
+{
+    double pos[36];
+    for (int i = 0; i < 12; i++) {
+        double a = 1.0471975511965976 * (i % 6);
+        pos[3 * i] = cos(a);
+        pos[3 * i + 1] = sin(a);
+        pos[3 * i + 2] = i < 6 ? 0.0 : 1.5;
+    }
+    uint32_t idx[36] = {5, 4, 3, 2, 1, 0, 6, 7, 8, 9, 10, 11}, off[9] = {0, 6, 12};
+    for (uint32_t i = 0; i < 6; i++) {
+        uint32_t *q = idx + 12 + 4 * i;
+        q[0] = i;
+        q[1] = (i + 1) % 6;
+        q[2] = 6 + (i + 1) % 6;
+        q[3] = 6 + i;
+        off[3 + i] = 12 + 4 * (i + 1);
+    }
+    limn_mesh *m = NULL;
+    limn_mesh_create(ctx, 12, pos, 8, off, idx, &m);
+    return m;
+}
+
+limn_mesh *mpi_test_closed(limn_context *ctx, int triangles)
+{
+    limn_mesh *m = torus(ctx, 24, 12, triangles, 0.0);
+    m = join(ctx, m, triangles ? test_mesh_icosahedron(ctx) : prism(ctx), 10.0);
+    limn_mesh *big = test_mesh_shuffle(ctx, torus(ctx, 60, 30, triangles, 0.0), 5);
+    test_perturb(big, 0.02, 9);
+    return join(ctx, m, big, 20.0);
 }

@@ -12,4 +12,9 @@
  */
 limn_mesh *mpi_test_composite(limn_context *ctx, int triangles);
 
+/* Closed components (a volume is defined): tori (quads or triangles), an
+   icosahedron (triangles) or a hexagonal prism (hexagons and quads), the
+   last torus shuffled and perturbed. */
+limn_mesh *mpi_test_closed(limn_context *ctx, int triangles);
+
 #endif

@@ -222,7 +222,7 @@ static void series_same(void **s)
     (void)s;
     write_inputs();
     /* smooth, denoise and sharpen on a file input: slices (limn_mpi_mesh_smooth
-       etc.), the single process's bytes; denoise --keep-volume: the root path */
+       etc.), the single process's bytes (--keep-volume: denoise_volume_same) */
     static const char *cmds[] = {"smooth '%s' -o '%s' --terms 4 -q", "denoise '%s' -o '%s' -q",
                                  "sharpen '%s' -o '%s' --from 1 --to 3 --steps 2 -q"};
     static const char *inputs[] = {"quad.obj", "tri.obj"};
@@ -242,25 +242,130 @@ static void series_same(void **s)
             assert_true(test_same_bytes(at("s1.ply"), at("s2.ply")));
             assert_true(report_sliced(at("s2.json")));
         }
-    /* morph: every frame the same bytes */
+    /* morph on slices (both inputs files): every frame the same bytes, the
+       same per-frame measures in the report; the series and the blend */
     char args[1024];
     snprintf(args, sizeof args, "denoise '%s' -o '%s' --steps 6 -q", at("quad.obj"), at("to.ply"));
     assert_int_equal(run(0, args), 0);
     snprintf(args, sizeof args, "mkdir -p '%s' '%s'", at("f1"), at("f2"));
     assert_int_equal(system(args), 0);
-    snprintf(args, sizeof args, "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 -q", at("quad.obj"),
-             at("to.ply"), at("f1"));
-    assert_int_equal(run(0, args), 0);
-    snprintf(args, sizeof args, "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 -q", at("quad.obj"),
-             at("to.ply"), at("f2"));
-    if (run(3, args) != 0)
-        fail_msg("%s", test_text);
-    for (int k = 0; k < 3; k++) {
-        char a[64], b[64];
-        snprintf(a, sizeof a, "f1/f%d.ply", k);
-        snprintf(b, sizeof b, "f2/f%d.ply", k);
-        assert_true(test_same_bytes(at(a), at(b)));
+    for (int linear = 0; linear <= 1; linear++)
+        for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
+            const char *how = linear ? "--linear" : "";
+            snprintf(args, sizeof args,
+                     "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 %s --report '%s' -q",
+                     at("quad.obj"), at("to.ply"), at("f1"), how, at("m1.json"));
+            assert_int_equal(run(0, args), 0);
+            snprintf(args, sizeof args,
+                     "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 %s --report '%s' -q",
+                     at("quad.obj"), at("to.ply"), at("f2"), how, at("m2.json"));
+            if (run(ranks, args) != 0)
+                fail_msg("%s", test_text);
+            for (int k = 0; k < 3; k++) {
+                char a[64], b[64];
+                snprintf(a, sizeof a, "f1/f%d.ply", k);
+                snprintf(b, sizeof b, "f2/f%d.ply", k);
+                assert_true(test_same_bytes(at(a), at(b)));
+            }
+            assert_true(report_sliced(at("m2.json")));
+            size_t n1 = 0, n2 = 0;
+            char *r1 = test_slurp(at("m1.json"), &n1), *r2 = test_slurp(at("m2.json"), &n2);
+            assert_non_null(r1);
+            assert_non_null(r2);
+            char *p1 = strstr(r1, "\"per_frame\""), *p2 = strstr(r2, "\"per_frame\"");
+            assert_non_null(p1);
+            assert_non_null(p2);
+            size_t l1 = strcspn(p1, "]"), l2 = strcspn(p2, "]");
+            assert_int_equal(l1, l2);
+            assert_memory_equal(p1, p2, l1);
+            free(r1);
+            free(r2);
+        }
+}
+
+/* A closed input of two components: the cube (quads) and the icosahedron. */
+static void write_closed(const char *path)
+{
+    limn_context *ctx = limn_context_create();
+    limn_mesh *parts[2] = {test_mesh_cube(ctx), test_mesh_icosahedron(ctx)};
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    size_t base = 0;
+    for (int k = 0; k < 2; k++) {
+        const double *p = limn_mesh_positions(parts[k]);
+        for (size_t i = 0; i < limn_mesh_vertex_count(parts[k]); i++)
+            fprintf(f, "v %.17g %.17g %.17g\n", p[3 * i] + 5.0 * k, p[3 * i + 1], p[3 * i + 2]);
+        const uint32_t *off = limn_mesh_face_offsets(parts[k]);
+        const uint32_t *idx = limn_mesh_face_indices(parts[k]);
+        for (size_t fc = 0; fc < limn_mesh_face_count(parts[k]); fc++) {
+            fprintf(f, "f");
+            for (uint32_t c = off[fc]; c < off[fc + 1]; c++)
+                fprintf(f, " %zu", (size_t)idx[c] + 1 + base);
+            fprintf(f, "\n");
+        }
+        base += limn_mesh_vertex_count(parts[k]);
+        limn_mesh_destroy(parts[k]);
     }
+    assert_int_equal(fclose(f), 0);
+    limn_context_destroy(ctx);
+}
+
+/* The text of key's value in the report at path ("" when absent). */
+static void report_value(const char *path, const char *key, char *out, size_t cap)
+{
+    size_t n = 0;
+    char *text = test_slurp(path, &n), *k = text ? strstr(text, key) : NULL;
+    size_t len = k ? strcspn(k, ",\n}") : 0;
+    snprintf(out, cap, "%.*s", (int)len, k ? k : "");
+    free(text);
+}
+
+/* denoise on slices, --keep-volume too: the single process's bytes and the
+   same volumes and areas in the report (to the last digit); --keep-volume
+   on an open mesh: its message once, status 1, nothing written. */
+static void denoise_volume_same(void **s)
+{
+    (void)s;
+    write_inputs();
+    write_closed(at("closed.obj"));
+    static const char *keys[] = {"\"closed\"", "\"volume_input\"", "\"volume_output\"",
+                                 "\"area_input\"", "\"area_output\""};
+    static const char *cases[][2] = {{"closed.obj", "--keep-volume"}, {"closed.obj", ""},
+                                     {"quad.obj", ""}};
+    for (int c = 0; c < 3; c++)
+        for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
+            char args[2048];
+            snprintf(args, sizeof args, "denoise '%s' -o '%s' %s --report '%s' -q",
+                     at(cases[c][0]), at("v1.ply"), cases[c][1], at("v1.json"));
+            assert_int_equal(run(0, args), 0);
+            snprintf(args, sizeof args, "denoise '%s' -o '%s' %s --report '%s' -q",
+                     at(cases[c][0]), at("v2.ply"), cases[c][1], at("v2.json"));
+            if (run(ranks, args) != 0)
+                fail_msg("%s", test_text);
+            assert_true(test_same_bytes(at("v1.ply"), at("v2.ply")));
+            assert_true(report_sliced(at("v2.json")));
+            for (size_t k = 0; k < sizeof keys / sizeof *keys; k++) {
+                char a[128], b[128];
+                report_value(at("v1.json"), keys[k], a, sizeof a);
+                report_value(at("v2.json"), keys[k], b, sizeof b);
+                assert_true(a[0] != '\0');
+                assert_string_equal(a, b);
+            }
+        }
+    char args[2048];
+    snprintf(args, sizeof args, "denoise '%s' -o '%s' --keep-volume", at("quad.obj"),
+             at("open1.ply"));
+    assert_int_equal(run(0, args), 1);
+    const char *why = strstr(test_text, "keeping the volume needs a closed mesh");
+    assert_non_null(why);
+    char one[512];
+    snprintf(one, sizeof one, "%.*s", (int)strcspn(why, "\n"), why);
+    snprintf(args, sizeof args, "denoise '%s' -o '%s' --keep-volume", at("quad.obj"),
+             at("open2.ply"));
+    assert_int_equal(run(3, args), 1);
+    assert_int_equal(count(test_text, "limn denoise: error:"), 1);
+    assert_int_equal(count(test_text, one), 1); /* the same edge counts */
+    assert_false(test_file_exists(at("open2.ply")));
 }
 
 /* bands (every band, the remainder and the energy file; on slices) and
@@ -306,7 +411,8 @@ static void bands_sharpen_same(void **s)
 }
 
 /* Every rank reads its slice of the file and each phase of the slice reader
-   parses the header: a header warning is still printed once, by rank 0. */
+   parses the header: a header warning is still printed once, by rank 0;
+   so are the repair's (counted over the ranks). */
 static void warnings_once(void **s)
 {
     (void)s;
@@ -327,6 +433,31 @@ static void warnings_once(void **s)
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' -q", in, at("extra_one.ply"));
     assert_int_equal(run(0, args), 0);
     assert_true(test_same_bytes(at("extra_one.ply"), at("extra_many.ply")));
+    /* the repair's warnings on slices (a duplicate face at the other end of
+       the file, a fin, an unused vertex): one process's words, said once */
+    const char *bad = at("kept.obj");
+    assert_int_equal(test_write_text(bad, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n"
+                                          "v 5 5 5\nf 1 2 3\nf 1 3 4\nf 1 3 5\nf 2 3 4\n"
+                                          "f 1 2 5\nf 3 2 1\n"),
+                     0);
+    static const char *said[] = {"duplicate face", "non-manifold edge", "non-manifold vert",
+                                 "used by no face"};
+    char one[4][512];
+    snprintf(args, sizeof args, "smooth '%s' -o '%s' --terms 2", bad, at("kept1.ply"));
+    assert_int_equal(run(0, args), 0);
+    for (int k = 0; k < 4; k++) {
+        const char *w = strstr(test_text, said[k]);
+        assert_non_null(w);
+        while (w > test_text && w[-1] != '\n')
+            w--;
+        snprintf(one[k], sizeof one[k], "%.*s", (int)strcspn(w, "\n"), w);
+    }
+    snprintf(args, sizeof args, "smooth '%s' -o '%s' --terms 2", bad, at("kept3.ply"));
+    if (run(3, args) != 0)
+        fail_msg("%s", test_text);
+    for (int k = 0; k < 4; k++)
+        assert_int_equal(count(test_text, one[k]), 1);
+    assert_true(test_same_bytes(at("kept1.ply"), at("kept3.ply")));
 }
 
 static void per_rank(void **s)
@@ -464,6 +595,7 @@ int main(void)
         cmocka_unit_test(series_same),           cmocka_unit_test(bands_sharpen_same),
         cmocka_unit_test(per_rank),              cmocka_unit_test(warnings_once),
         cmocka_unit_test(device_per_rank),       cmocka_unit_test(errors),
+        cmocka_unit_test(denoise_volume_same),
     };
     return cmocka_run_group_tests(tests, setup, test_scratch_teardown);
 }

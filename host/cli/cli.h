@@ -250,12 +250,19 @@ limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *
 /* The series filters that run on slices, and their arguments. */
 typedef enum cli_series_kind {
     CLI_SERIES_SMOOTH,
-    CLI_SERIES_DENOISE, /* without --keep-volume (the volume needs the whole mesh) */
+    CLI_SERIES_DENOISE,
     CLI_SERIES_SHARPEN
 } cli_series_kind;
+/* The volumes and areas of denoise's report: the input's (closed from its
+   edges) and the result's, measured on slices as one process measures them. */
+typedef struct cli_series_measures {
+    int measured, closed;
+    double volume_in, volume_out, area_in, area_out;
+} cli_series_measures;
 typedef struct cli_series_call {
     cli_series_kind kind;
-    int terms, m, steps, from, to;
+    int terms, m, steps, from, to, keep_volume;
+    cli_series_measures *measures; /* may be NULL; else filled after the filter */
 } cli_series_call;
 /* smooth, denoise or sharpen on slices (limn_mpi_mesh_smooth etc.), as
    cli_mpi_interpolate_sliced; *displacement the mean distance from the
@@ -277,6 +284,21 @@ typedef struct cli_bands_out {
 limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
                                  const limn_series_options *o, int count, cli_bands_out *out,
                                  limn_series_report *r, double seconds[2]);
+/* morph on slices (limn_mpi_mesh_morph): FROM is job->input, TO to_path,
+   both read and repaired as job says; every frame written in parallel to
+   sink->name(user, k) (job->write: NULL, the single process's defaults),
+   then sink->record(user, measures) on every rank; sink->written and
+   write_seconds counted. seconds[0]: the load. */
+typedef struct cli_morph_sink {
+    const char *(*name)(void *user, int index);
+    void (*record)(void *user, const limn_morph_frame *f);
+    void *user;
+    int written;
+    double write_seconds;
+} cli_morph_sink;
+limn_status cli_mpi_morph_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                 const char *to_path, const limn_morph_options *o,
+                                 cli_morph_sink *sink, limn_series_report *r, double seconds[2]);
 /* Collective: every rank's peak resident memory so far, to rank 0, for the
    report's per_rank entries. */
 void cli_mpi_note_memory(void);

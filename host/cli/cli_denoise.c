@@ -27,9 +27,9 @@ static const char *const help =
     SERIES_HELP_EXIT;
 
 typedef struct extra {
-    int m, steps, keep_volume, closed;
-    int measured;             /* volumes and areas taken (not on slices: no whole mesh) */
-    double volume_in, volume_out, area_in, area_out, mean_displacement;
+    int m, steps, keep_volume;
+    cli_series_measures v;    /* volumes and areas (on slices: cli_mpi_series_sliced's) */
+    double mean_displacement;
 } extra;
 
 static void json_extra(json_out *j, void *user)
@@ -38,19 +38,17 @@ static void json_extra(json_out *j, void *user)
     json_integer(j, "m", e->m);
     json_integer(j, "steps", e->steps);
     json_bool(j, "keep_volume", e->keep_volume);
-    if (e->measured) {
-        json_bool(j, "closed", e->closed);
-        json_number(j, "volume_input", e->closed ? e->volume_in : NAN);
-        json_number(j, "volume_output", e->closed ? e->volume_out : NAN);
+    const cli_series_measures *v = &e->v;
+    if (v->measured) { /* on success always: on slices too */
+        json_bool(j, "closed", v->closed);
+        json_number(j, "volume_input", v->closed ? v->volume_in : NAN);
+        json_number(j, "volume_output", v->closed ? v->volume_out : NAN);
         json_number(j, "volume_change",
-                    e->closed ? (e->volume_out - e->volume_in) / e->volume_in : NAN);
-        if (!e->closed)
+                    v->closed ? (v->volume_out - v->volume_in) / v->volume_in : NAN);
+        if (!v->closed)
             json_string(j, "volume_note", "not defined: the mesh is not closed");
-        json_number(j, "area_input", e->area_in);
-        json_number(j, "area_output", e->area_out);
-    } else {
-        json_string(j, "volume_note", "not measured: the mesh was distributed over the ranks "
-                                      "(mpirun on a file), no rank held it whole");
+        json_number(j, "area_input", v->area_in);
+        json_number(j, "area_output", v->area_out);
     }
     json_number(j, "mean_rel_displacement", e->mean_displacement);
 }
@@ -58,17 +56,16 @@ static void json_extra(json_out *j, void *user)
 static void print_extra(void *user)
 {
     extra *e = user;
+    const cli_series_measures *v = &e->v;
     fprintf(stderr, "  m %d, %d steps%s, mean displacement %.3g of the bbox diagonal\n", e->m,
             e->steps, e->keep_volume ? ", volume kept" : "", e->mean_displacement);
-    if (!e->measured)
-        fprintf(stderr, "  volume and area not measured (a distributed mesh: no rank held it)\n");
-    else if (e->closed)
-        fprintf(stderr, "  volume %.6g -> %.6g (%+.3f%%), area %.6g -> %.6g\n", e->volume_in,
-                e->volume_out, 100.0 * (e->volume_out - e->volume_in) / e->volume_in, e->area_in,
-                e->area_out);
+    if (v->closed)
+        fprintf(stderr, "  volume %.6g -> %.6g (%+.3f%%), area %.6g -> %.6g\n", v->volume_in,
+                v->volume_out, 100.0 * (v->volume_out - v->volume_in) / v->volume_in, v->area_in,
+                v->area_out);
     else
         fprintf(stderr, "  volume not defined (the mesh is not closed); area %.6g -> %.6g\n",
-                e->area_in, e->area_out);
+                v->area_in, v->area_out);
 }
 
 static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
@@ -101,11 +98,11 @@ static limn_status measure(limn_context *ctx, const limn_mesh *in, const limn_me
     limn_status st = limn_mesh_measure(ctx, in, &a);
     if (st)
         return st;
-    e->measured = 1;
-    e->closed = a.closed;
-    e->volume_in = a.volume;
-    e->area_in = a.area;
-    limn_mesh_volume_area(out, &e->volume_out, &e->area_out); /* same topology as the input */
+    e->v.measured = 1;
+    e->v.closed = a.closed;
+    e->v.volume_in = a.volume;
+    e->v.area_in = a.area;
+    limn_mesh_volume_area(out, &e->v.volume_out, &e->v.area_out); /* same topology as the input */
     (void)r; /* the displacement: series_cli_filter's (f.displacement) */
     return LIMN_OK;
 }
@@ -124,9 +121,10 @@ int cli_denoise(int argc, char **argv)
     rc = cli_mpi_root_rc(series_cli_check(&c, 1));
     if (rc)
         return rc;
-    /* --keep-volume needs the whole mesh: the root path */
-    cli_series_call call = {.kind = CLI_SERIES_DENOISE, .m = e.m, .steps = e.steps};
+    /* on slices the volumes are limn_mpi_mesh_measure's (cli_mpi_series_sliced) */
+    cli_series_call call = {.kind = CLI_SERIES_DENOISE, .m = e.m, .steps = e.steps,
+                            .keep_volume = e.keep_volume, .measures = &e.v};
     series_filter f = {run,  measure, &e.mean_displacement, {json_extra, print_extra, &e},
-                       e.keep_volume ? NULL : &call};
+                       &call};
     return series_cli_filter(&c, &f);
 }

@@ -346,7 +346,7 @@ int cli_interpolate(int argc, char **argv)
     int root = cli_mpi_rank() == 0;
     x.a.quiet |= !root; /* under mpirun rank 0 prints */
     cli_mpi_set_per_rank(x.a.per_rank);
-    if (cli_mpi_ranks() > 1 && !x.surface && x.opt.method != LIMN_METHOD_SGS &&
+    if (cli_mpi_ranks() > 1 && !x.surface &&
         cli_mpi_sliced(x.a.inputs[0], x.a.in_format, x.a.output, x.a.per_rank))
         return interpolate_sliced(&x);
     limn_context *ctx = limn_context_create();

@@ -33,8 +33,10 @@ static const char *const help =
     "  --format F / --input-format F / --overwrite-input / -q\n"
     "\n"
     "Every frame is written whole or not at all; on failure the frames written\n"
-    "are removed. Under 'mpirun -np N' the products are distributed and rank 0\n"
-    "writes the frames. Exit status: 0 success, 1 failure, 2 bad usage.\n";
+    "are removed. Under 'mpirun -np N' on two files every rank reads its slices\n"
+    "of FROM and TO and writes its share of every frame (no rank holds a mesh);\n"
+    "else the products are distributed and rank 0 writes the frames.\n"
+    "Exit status: 0 success, 1 failure, 2 bad usage.\n";
 
 typedef struct pattern {
     char *prefix, *suffix;
@@ -118,6 +120,16 @@ typedef struct morph_state {
     size_t *flipped;
 } morph_state;
 
+/* A frame's measures for the report. */
+static void record(void *user, const limn_morph_frame *f)
+{
+    morph_state *s = user;
+    s->volume[f->index] = f->volume;
+    s->area[f->index] = f->area;
+    s->flipped[f->index] = f->flipped_faces;
+    s->distance[f->index] = f->mean_distance_to_target;
+}
+
 static limn_status write_frame(void *user, const limn_morph_frame *f)
 {
     morph_state *s = user;
@@ -127,12 +139,17 @@ static limn_status write_frame(void *user, const limn_morph_frame *f)
     frame_name(&s->pat, f->index, s->name, s->name_size);
     limn_status st = limn_mesh_write(s->ctx, s->frame, s->name, s->c->a.out_format);
     s->written += !st;
-    s->volume[f->index] = f->volume;
-    s->area[f->index] = f->area;
-    s->flipped[f->index] = f->flipped_faces;
-    s->distance[f->index] = f->mean_distance_to_target;
+    record(s, f);
     s->write_seconds += cli_now() - t;
     return st;
+}
+
+/* Frame k's file name (on slices every rank writes its share of it). */
+static const char *name_of(void *user, int k)
+{
+    morph_state *s = user;
+    frame_name(&s->pat, k, s->name, s->name_size);
+    return s->name;
 }
 
 static void json_extra(json_out *j, void *user)
@@ -283,10 +300,67 @@ static int check(series_cli *c, morph_state *ms)
     return rc;
 }
 
+/* The end of both paths: the report and summary, the frames taken back
+   on failure (by rank 0: one file system); the exit status. */
+static int finish(series_cli *c, limn_status st, limn_series_report *r, series_seconds *s,
+                  morph_state *ms)
+{
+    r->seconds_compute -= ms->write_seconds;
+    s->write = ms->write_seconds;
+    series_extra x = {json_extra, print_extra, ms};
+    int rc = series_cli_finish(c, ms->ctx, st, NULL, r, s, &x);
+    if (rc && cli_mpi_rank() == 0) /* nothing written: take back the frames this run wrote */
+        for (int k = 0; k < ms->written; k++) {
+            frame_name(&ms->pat, k, ms->name, ms->name_size);
+            remove(ms->name);
+        }
+    return rc;
+}
+
+/* Under mpirun on two input files: every rank reads its slices of FROM and
+   TO and writes its share of every frame (cli_mpi_morph_sliced). */
+static int run_sliced(series_cli *c, limn_morph_options *mo, morph_state *ms)
+{
+    series_seconds s = {.t0 = cli_now()};
+    limn_series_report r = {.size = sizeof r};
+    ms->ctx = limn_context_create();
+    if (!ms->ctx) {
+        fprintf(stderr, "limn morph: error: out of memory\n");
+        return EXIT_FAILURE_RUN;
+    }
+    limn_status st = cli_set_host_threads(ms->ctx, c->a.host_threads);
+    if (!st)
+        st = limn_context_set_device(ms->ctx, c->a.device);
+    c->a.quiet |= cli_mpi_rank() != 0; /* under mpirun rank 0 prints */
+    st = cli_mpi_agree(ms->ctx, st);
+    mo->series = c->opt;
+    /* frames written with the defaults, as limn_mesh_write writes them */
+    cli_sliced_job job = {c->a.cmd,       c->a.inputs[0],   c->a.output, &c->a.repair,
+                          c->a.in_format, c->a.out_format, NULL};
+    cli_morph_sink sink = {name_of, record, ms, 0, 0.0};
+    double sec[2] = {0, 0};
+    if (!st) {
+        cli_progress_enable(ms->ctx, c->a.quiet);
+        st = cli_mpi_morph_sliced(ms->ctx, &job, c->a.inputs[1], mo, &sink, &r, sec);
+        cli_progress_done();
+    }
+    ms->written = sink.written;
+    ms->write_seconds = sink.write_seconds;
+    s.load = sec[0];
+    c->sliced = 1;
+    int rc = finish(c, st, &r, &s, ms);
+    limn_context_destroy(ms->ctx);
+    return rc;
+}
+
 /* Loads FROM and TO, writes the frames as they come, the report and the
    summary; the exit status (the frames written are taken back on failure). */
 static int run(series_cli *c, limn_morph_options *mo, morph_state *ms)
 {
+    if (cli_mpi_ranks() > 1 &&
+        cli_mpi_sliced(c->a.inputs[0], c->a.in_format, c->a.output, c->a.per_rank) &&
+        cli_mpi_sliced(c->a.inputs[1], c->a.in_format, c->a.output, c->a.per_rank))
+        return run_sliced(c, mo, ms);
     series_seconds s = {.t0 = cli_now()};
     limn_mesh *in[2] = {NULL, NULL};
     limn_series_report r = {.size = sizeof r};
@@ -302,15 +376,7 @@ static int run(series_cli *c, limn_morph_options *mo, morph_state *ms)
                  : limn_morph(ms->ctx, in[0], in[1], mo, write_frame, ms, &r);
         cli_progress_done();
     }
-    r.seconds_compute -= ms->write_seconds;
-    s.write = ms->write_seconds;
-    series_extra x = {json_extra, print_extra, ms};
-    int rc = series_cli_finish(c, ms->ctx, st, NULL, &r, &s, &x);
-    if (rc) /* nothing written: take back the frames this run wrote */
-        for (int k = 0; k < ms->written; k++) {
-            frame_name(&ms->pat, k, ms->name, ms->name_size);
-            remove(ms->name);
-        }
+    int rc = finish(c, st, &r, &s, ms);
     limn_mesh_destroy(ms->frame);
     series_cli_unload(ms->ctx, in);
     return rc;

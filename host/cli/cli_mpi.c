@@ -6,8 +6,8 @@
  * morph run distributed (include/limn_mpi.h): the root (rank 0) reads, writes and
  * prints, every rank computes its share, and every failure is agreed on so
  * that all ranks exit with the same status and the message is printed once.
- * On a file input, interpolate, smooth, denoise (without --keep-volume),
- * sharpen and bands run on slices instead (cli_mpi_sliced): every rank reads, computes
+ * On file inputs, interpolate, smooth, denoise, sharpen, bands and morph
+ * run on slices instead (cli_mpi_sliced): every rank reads, computes
  * and writes its share of a distributed mesh, none holding it whole.
  * The other commands refuse to run on several ranks.
  */
@@ -261,7 +261,8 @@ static limn_status series_call(limn_context *ctx, const limn_mpi_mesh *mesh,
     case CLI_SERIES_SMOOTH:
         return limn_mpi_mesh_smooth(ctx, mesh, o, c->terms, out, r, mo, res);
     case CLI_SERIES_DENOISE:
-        return limn_mpi_mesh_denoise(ctx, mesh, o, c->m, c->steps, 0, out, r, mo, res);
+        return limn_mpi_mesh_denoise(ctx, mesh, o, c->m, c->steps, c->keep_volume, out, r, mo,
+                                     res);
     default:
         return limn_mpi_mesh_sharpen(ctx, mesh, o, c->from, c->to, c->steps, out, r, mo, res);
     }
@@ -281,6 +282,24 @@ static double block_displacement(const limn_mpi_mesh *a, const limn_mpi_mesh *b,
     MPI_Allreduce(&sum, &all, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
     size_t n = limn_mpi_mesh_vertex_total(a);
     return n ? all / (double)n / (diag > 0 ? diag : 1.0) : 0.0;
+}
+
+/* The input's measures and the result's volume and area, as cli_denoise.c's
+   measure takes them from the whole meshes (the same bits). */
+static limn_status measure_sliced(limn_context *ctx, const limn_mpi_mesh *in,
+                                  const limn_mpi_mesh *out, cli_series_measures *m)
+{
+    limn_mesh_measures a = {.size = sizeof a};
+    limn_status st = limn_mpi_mesh_measure(ctx, in, &a);
+    if (!st)
+        st = limn_mpi_mesh_volume_area(ctx, out, &m->volume_out, &m->area_out);
+    if (st)
+        return st;
+    m->measured = 1;
+    m->closed = a.closed;
+    m->volume_in = a.volume;
+    m->area_in = a.area;
+    return LIMN_OK;
 }
 
 limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
@@ -304,6 +323,8 @@ limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
     }
     if (!st)
         *displacement = block_displacement(mesh, out, r->bbox_diagonal);
+    if (!st && call->measures)
+        st = measure_sliced(ctx, mesh, out, call->measures);
     double t1 = MPI_Wtime();
     if (!st)
         st = limn_mpi_mesh_write(ctx, out, job->output, job->out_format, job->write, written);
@@ -372,6 +393,55 @@ limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
         limn_mpi_mesh_destroy(bands[i]);
     free(bands);
     limn_mpi_mesh_destroy(mesh);
+    return st;
+}
+
+/* limn_mpi_mesh_morph's frames to the CLI's sink (every rank). */
+typedef struct morph_frames {
+    limn_context *ctx;
+    const cli_sliced_job *job;
+    cli_morph_sink *sink;
+} morph_frames;
+
+static limn_status sliced_frame(void *user, const limn_mpi_mesh *frame, const limn_morph_frame *f)
+{
+    morph_frames *m = user;
+    double t = MPI_Wtime();
+    const char *name = m->sink->name(m->sink->user, f->index);
+    limn_status st = limn_mpi_mesh_write(m->ctx, frame, name, m->job->out_format, m->job->write,
+                                         NULL);
+    m->sink->written += !st;
+    m->sink->record(m->sink->user, f);
+    m->sink->write_seconds += MPI_Wtime() - t;
+    return st;
+}
+
+limn_status cli_mpi_morph_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                 const char *to_path, const limn_morph_options *o,
+                                 cli_morph_sink *sink, limn_series_report *r, double seconds[2])
+{
+    limn_mpi_mesh *from = NULL, *to = NULL;
+    cli_sliced_job tj = *job;
+    tj.input = to_path;
+    double t0 = MPI_Wtime();
+    limn_status st = read_sliced(ctx, job, &from);
+    if (!st)
+        st = read_sliced(ctx, &tj, &to);
+    seconds[0] = MPI_Wtime() - t0;
+    limn_mpi_options mo = options();
+    mo.keep_piece = 0;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    g.sliced = 1;
+    morph_frames mf = {ctx, job, sink};
+    if (!st) {
+        st = limn_mpi_mesh_morph(ctx, from, to, o, sliced_frame, &mf, r, &mo, &res);
+        cli_print_warnings(job->cmd, ctx);
+        collect(&res);
+        limn_mpi_result_free(&res);
+    }
+    seconds[1] = sink->write_seconds;
+    limn_mpi_mesh_destroy(from);
+    limn_mpi_mesh_destroy(to);
     return st;
 }
 

@@ -94,6 +94,13 @@ limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
     (void)ctx, (void)job, (void)o, (void)count, (void)out, (void)r, (void)seconds;
     return none();
 }
+limn_status cli_mpi_morph_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                 const char *to_path, const limn_morph_options *o,
+                                 cli_morph_sink *sink, limn_series_report *r, double seconds[2])
+{
+    (void)ctx, (void)job, (void)to_path, (void)o, (void)sink, (void)r, (void)seconds;
+    return none();
+}
 char *cli_mpi_rank_path(const char *path)
 {
     (void)path;

@@ -57,4 +57,46 @@ limn_status mpi_mesh_results_to_blocks(mpi_part *p, const limn_mpi_mesh *mesh, c
 limn_status mpi_mesh_control_of(mpi_part *p, const limn_mpi_mesh *mesh, double *positions,
                                 limn_mpi_mesh **out);
 
+/* mesh_repair.c's duplicate faces over the ranks (mpi_mesh_duplicates.c):
+   r->duplicate_faces, first_duplicate_face (SIZE_MAX when none) and _of in
+   global face numbers, the duplicates dropped when remove (face blocks
+   renumbered, duplicates_removed). Collective, agreed. */
+limn_status mpi_mesh_duplicates(mpi_part *p, limn_mpi_mesh *mesh, int remove,
+                                limn_repair_report *r);
+
+/* The whole mesh's topology counts as topology.h has them
+   (mpi_mesh_census.c: each vertex's ring on its block owner). */
+typedef struct mpi_mesh_counts {
+    size_t boundary_edges;       /* one face */
+    size_t nonmanifold_edges;    /* more than two, or two in the same direction */
+    size_t inconsistent_edges;   /* two in the same direction */
+    size_t nonmanifold_vertices; /* on such an edge, or faces in several fans */
+    size_t referenced_vertices;  /* used by a face */
+} mpi_mesh_counts;
+/* Collective, agreed. */
+limn_status mpi_mesh_census(mpi_part *p, const limn_mpi_mesh *mesh, mpi_mesh_counts *out);
+
+/* ------------------------------------------------------ mpi_mesh_measure.c */
+
+/* n running sums carried from rank to rank in rank order: this rank adds
+   its terms (count of them, n each, in order) to what the previous rank
+   passed on, so the additions are one process's in its order; every rank
+   gets the totals in sum. Collective. */
+void mpi_mesh_chained_sums(mpi_part *p, const double *terms, size_t count, int n, double *sum);
+
+/* measure_volume_area of the whole mesh with the vertex blocks' positions
+   `block` (3 per block vertex): the same bits (terms on every rank, added
+   in face order from rank to rank). Collective, agreed. */
+limn_status mpi_mesh_volume_area(mpi_part *p, const limn_mpi_mesh *mesh, const double *block,
+                                 double *volume, double *area);
+
+/* The mean of the vertices of block, summed in input order as
+   limn_mesh_measure sums them (from rank to rank). Collective. */
+void mpi_mesh_centroid(mpi_part *p, const limn_mpi_mesh *mesh, const double *block, double c[3]);
+
+/* series_keep_volume on distributed meshes: out (same blocks as in) scaled
+   about the mean of its vertices back to in's volume; the same bits, the
+   same refusal. Collective; every rank gets the same status. */
+limn_status mpi_mesh_keep_volume(mpi_part *p, const limn_mpi_mesh *in, limn_mpi_mesh *out);
+
 #endif

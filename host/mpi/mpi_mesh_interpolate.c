@@ -103,11 +103,6 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mpi_mesh *mes
     limn_scheme scheme = LIMN_SCHEME_AUTO;
     st = mpi_interpolate_method(&p, o, st || control ? st : ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                                 "limn_mpi_mesh_interpolate: control is NULL"), &method, r);
-    if (!st && method == LIMN_METHOD_SGS) /* its colouring is the root's (mpi_sgs.c) */
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                       "method sgs is not available on a distributed mesh yet (its colouring "
-                       "is computed on the root): use chebyshev, cg or paper, or "
-                       "limn_interpolate_mpi");
     st = mpi_agree(&p, st);
     if (!st)
         st = mpi_mesh_check(&p, "limn_mpi_mesh_interpolate", mesh);

@@ -4,8 +4,9 @@
  * block. A face that uses a vertex twice is repaired from its own corners
  * alone (mesh_repair.c), so each rank repairs its block as the single
  * process repairs those faces, in the same order; the blocks are then
- * renumbered and the counts reduced. Duplicate faces need faces of other
- * ranks and are not looked for here yet.
+ * renumbered and the counts reduced. Duplicate faces are found across the
+ * ranks as the single process finds them (mpi_mesh_duplicates.c), and
+ * what stays as it is counted and said as it says it (mpi_mesh_census.c).
  */
 #include "mpi/mpi_mesh.h"
 
@@ -123,19 +124,70 @@ static int reduce_report(mpi_part *p, limn_repair_report *r)
     return gf != ULLONG_MAX;
 }
 
+/* mesh_repair.c's warning on the duplicates found (the same words). */
+static void warn_duplicates(limn_context *ctx, const limn_repair_report *r)
+{
+    if (!r->duplicate_faces)
+        return;
+    if (r->duplicates_removed)
+        ctx_warn(ctx,
+                 "removed %zu duplicate face%s (faces with the vertices of an earlier face; "
+                 "first: face %zu, a copy of face %zu)",
+                 r->duplicates_removed, r->duplicates_removed == 1 ? "" : "s",
+                 r->first_duplicate_face, r->first_duplicate_of);
+    else
+        ctx_warn(ctx,
+                 "%zu duplicate face%s (the vertices of an earlier face; first: face %zu, a "
+                 "copy of face %zu) kept: their edges are non-manifold, hence sharp, as in "
+                 "OpenSubdiv (--drop-duplicate-faces removes them)",
+                 r->duplicate_faces, r->duplicate_faces == 1 ? "" : "s",
+                 r->first_duplicate_face, r->first_duplicate_of);
+}
+
+/* mesh_repair.c's report_kept: what stays as it is, counted over the ranks
+   (mpi_mesh_census) and said in the same words. components and
+   boundary_loops stay 0: they need a walk over the whole mesh. */
+static limn_status report_kept(mpi_part *p, const limn_mpi_mesh *mesh, limn_repair_report *r)
+{
+    mpi_mesh_counts k;
+    limn_status st = mpi_mesh_census(p, mesh, &k);
+    if (st)
+        return st;
+    size_t nm_edges = k.nonmanifold_edges - k.inconsistent_edges;
+    r->nonmanifold_edges = nm_edges;
+    r->nonmanifold_vertices = k.nonmanifold_vertices;
+    r->inconsistent_edges = k.inconsistent_edges;
+    r->unreferenced_vertices = mesh->vertex_dist[p->size] - k.referenced_vertices;
+    limn_context *ctx = p->ctx;
+    if (nm_edges)
+        ctx_warn(ctx,
+                 "%zu non-manifold edge%s (more than two faces) kept: sharp, as in OpenSubdiv",
+                 nm_edges, nm_edges == 1 ? "" : "s");
+    if (r->nonmanifold_vertices)
+        ctx_warn(ctx,
+                 "%zu non-manifold vert%s (on such edges, or where faces meet in several fans) "
+                 "kept: pinned (or a crease along a fin), as in OpenSubdiv",
+                 r->nonmanifold_vertices, r->nonmanifold_vertices == 1 ? "ex" : "ices");
+    if (r->inconsistent_edges)
+        ctx_warn(ctx,
+                 "%zu edge%s where two faces disagree on orientation kept (faces are not "
+                 "re-oriented): %s sharp, as in OpenSubdiv",
+                 r->inconsistent_edges, r->inconsistent_edges == 1 ? "" : "s",
+                 r->inconsistent_edges == 1 ? "it is" : "they are");
+    if (r->unreferenced_vertices)
+        ctx_warn(ctx, "%zu vert%s used by no face kept: %s unchanged in the output",
+                 r->unreferenced_vertices, r->unreferenced_vertices == 1 ? "ex" : "ices",
+                 r->unreferenced_vertices == 1 ? "it stays" : "they stay");
+    return LIMN_OK;
+}
+
 /* The whole repair on structs of this library's layout (c from abi_enter). */
 static limn_status repair_sized(mpi_part *p, limn_mpi_mesh *mesh, const limn_repair_options *o,
                                 limn_repair_report *r)
 {
     memset(r, 0, sizeof *r);
     r->faces_before = mesh->slice.face_total;
-    limn_status st = LIMN_OK;
-    if (o->duplicate_faces)
-        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
-                       "removing duplicate faces is not available on several MPI ranks yet: run "
-                       "without --drop-duplicate-faces, or on one rank");
-    if (!st)
-        st = repair_block(p->ctx, &mesh->slice, o->repeated_vertices, r);
+    limn_status st = repair_block(p->ctx, &mesh->slice, o->repeated_vertices, r);
     st = mpi_agree(p, st);
     if (st)
         return st;
@@ -154,8 +206,14 @@ static limn_status repair_sized(mpi_part *p, limn_mpi_mesh *mesh, const limn_rep
         mesh->slice.face_total = mesh->face_dist[p->size];
         repair_warn_repeats(p->ctx, r, mesh->slice.face_total);
     }
+    st = mpi_mesh_duplicates(p, mesh, o->duplicate_faces, r);
+    if (st)
+        return st;
+    warn_duplicates(p->ctx, r);
     r->faces_after = mesh->slice.face_total;
-    return LIMN_OK;
+    if (r->first_duplicate_face == SIZE_MAX)
+        r->first_duplicate_face = 0;
+    return report_kept(p, mesh, r);
 }
 
 limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh,

@@ -8,8 +8,10 @@
  * owned results go back to the vertex blocks of a new distributed mesh with
  * the input's faces (mpi_mesh_results_to_blocks, mpi_mesh_control_of). Each
  * row is summed in the single process's order, so the results are the
- * single process's bits. Denoising with keep_volume is refused: the volume
- * needs the whole mesh (the root path, limn_denoise_mpi, measures it).
+ * single process's bits. Denoising with keep_volume checks the mesh is
+ * closed (mpi_mesh_census) and scales the result as limn_denoise does
+ * (mpi_mesh_keep_volume: the volumes and the centroid summed in the single
+ * process's order), so those bits are the single process's too.
  * limn_mpi_mesh_bands gives each band as a distributed mesh, its energy
  * summed in the single process's order by passing the running sums from
  * rank to rank.
@@ -85,7 +87,7 @@ static const series_engine_ops mesh_ops = {mpi_series_term, mpi_series_axpby, me
 /* Common start after mpi_enter: checks (this call's own, st, included), the
    rows, four work vectors, the engine. Returns with s->p.comm NULL only when
    nothing could be agreed. */
-static limn_status open_mesh_series(limn_context *ctx, const char *fn, const limn_mpi_mesh *mesh,
+limn_status mpi_mesh_series_open(limn_context *ctx, const char *fn, const limn_mpi_mesh *mesh,
                                     const limn_series_options *o, const limn_mpi_options *mpi,
                                     limn_status st, limn_mpi_mesh **out, series_mpi *s,
                                     series_engine *e, limn_series_report *r)
@@ -120,7 +122,7 @@ static limn_status open_mesh_series(limn_context *ctx, const char *fn, const lim
 }
 
 /* The end of every filter: timing, statistics, *out dropped on failure. */
-static limn_status close_mesh_series(series_mpi *s, limn_status st, limn_mpi_result *result,
+limn_status mpi_mesh_series_close(series_mpi *s, limn_status st, limn_mpi_result *result,
                                      limn_series_report *r)
 {
     r->seconds_compute = MPI_Wtime() - s->t0;
@@ -144,12 +146,26 @@ static limn_status smooth_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     series_mpi s;
     series_engine e;
     limn_status st = check_count(ctx, fn, "terms", terms, 1, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
-    st = open_mesh_series(ctx, fn, mesh, o, mpi, st, out, &s, &e, r);
+    st = mpi_mesh_series_open(ctx, fn, mesh, o, mpi, st, out, &s, &e, r);
     if (s.p.comm == MPI_COMM_NULL)
         return st;
     if (!st)
         st = series_smooth_run(&e, NULL, terms, NULL);
-    return close_mesh_series(&s, st, result, r);
+    return mpi_mesh_series_close(&s, st, result, r);
+}
+
+/* limn_denoise's refusal of a mesh whose volume is not defined. */
+static limn_status check_closed(mpi_part *p, const limn_mpi_mesh *mesh)
+{
+    mpi_mesh_counts k;
+    limn_status st = mpi_mesh_census(p, mesh, &k);
+    if (!st && (k.boundary_edges || k.nonmanifold_edges || k.inconsistent_edges))
+        st = ctx_fail(p->ctx, LIMN_ERR_TOPOLOGY,
+                      "keeping the volume needs a closed mesh, and this one has %zu boundary, "
+                      "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
+                      "not defined",
+                      k.boundary_edges, k.nonmanifold_edges, k.inconsistent_edges);
+    return st;
 }
 
 /* limn_mpi_mesh_denoise on structs of this library's layout. */
@@ -164,17 +180,17 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     limn_status st = check_count(ctx, fn, "m", m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
     if (!st)
         st = check_steps(ctx, fn, steps, m + 1LL, "(m + 1) * steps");
-    if (!st && keep_volume)
-        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                       "%s: keep_volume is not available on a distributed mesh yet (the volume "
-                       "is measured on the whole mesh): use limn_denoise_mpi",
-                       fn);
-    st = open_mesh_series(ctx, fn, mesh, o, mpi, st, out, &s, &e, r);
+    st = mpi_mesh_series_open(ctx, fn, mesh, o, mpi, st, out, &s, &e, r);
     if (s.p.comm == MPI_COMM_NULL)
         return st;
+    if (!st && keep_volume)
+        st = check_closed(&s.p, mesh);
+    /* keep_volume after the run: filter.c's step needs the whole mesh on the root */
     if (!st)
         st = series_denoise_run(&e, NULL, m, steps, 0, NULL);
-    return close_mesh_series(&s, st, result, r);
+    if (!st && keep_volume)
+        st = mpi_agree(&s.p, mpi_mesh_keep_volume(&s.p, mesh, *out));
+    return mpi_mesh_series_close(&s, st, result, r);
 }
 
 /* limn_mpi_mesh_sharpen on structs of this library's layout. */
@@ -187,12 +203,12 @@ static limn_status sharpen_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     series_mpi s;
     series_engine e;
     limn_status st = series_check_sharpen(ctx, fn, from, to, steps);
-    st = open_mesh_series(ctx, fn, mesh, o, mpi, st, out, &s, &e, r);
+    st = mpi_mesh_series_open(ctx, fn, mesh, o, mpi, st, out, &s, &e, r);
     if (s.p.comm == MPI_COMM_NULL)
         return st;
     if (!st)
         st = series_sharpen_run(&e, NULL, from, to, steps, NULL);
-    return close_mesh_series(&s, st, result, r);
+    return mpi_mesh_series_close(&s, st, result, r);
 }
 
 /* The energy of a vector in the vertex blocks (3 per block vertex) as the
@@ -263,7 +279,7 @@ static limn_status bands_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     for (int i = 0; !st && i <= count; i++)
         bands[i] = NULL;
     limn_mpi_mesh *unused = NULL;
-    st = open_mesh_series(ctx, fn, mesh, o, mpi, st, &unused, &s, &e, r);
+    st = mpi_mesh_series_open(ctx, fn, mesh, o, mpi, st, &unused, &s, &e, r);
     if (s.p.comm == MPI_COMM_NULL)
         return st;
     mesh_bands mb = {bands, energy};
@@ -274,7 +290,7 @@ static limn_status bands_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
         bands[i] = NULL;
     }
     s.out = NULL;
-    return close_mesh_series(&s, st, result, r);
+    return mpi_mesh_series_close(&s, st, result, r);
 }
 
 /* mpi_enter on the mesh's communicator (*out cleared first). */

@@ -196,6 +196,14 @@ limn_status mpi_interpolate_part(mpi_part *p, const limn_interpolate_options *o,
 /* Solver tier of a vertex rule (solve_cg.c's): 0 pinned, 1 crease, 2 smooth. */
 int mpi_tier_of(uint8_t rule);
 
+/* ------------------------------------------------------- mpi_sgs_colour.c */
+
+/* Collective, agreed: sgs_colour_rows's colouring (greedy in input order
+   within each tier) of the rows of a distributed mesh (p from
+   mpi_local_build, p->host alive), computed rank by rank: colour (owned
+   then ghost rows, p->n_owned + p->n_ghost) and each tier's count. */
+limn_status mpi_sgs_colour_local(mpi_part *p, uint32_t *colour, size_t colours[3]);
+
 /* One tier's block on a rank: every owned row (rows of other tiers empty,
    columns local, ghosts included), b4 (owned rows), x4 (owned and ghost
    rows: the start, and the answer), dinv (one per owned row). */

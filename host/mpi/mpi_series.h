@@ -46,4 +46,20 @@ typedef limn_status (*mpi_band_fn)(const series_engine *e, device_buffer *b, int
 limn_status mpi_series_bands(const series_engine *e, const double *xyz_root, int count,
                              mpi_band_fn out, void *user);
 
+/* ------------------------------------------------------ mpi_mesh_series.c */
+
+/* The start of a filter on a distributed mesh (limn_mpi_mesh_smooth etc.,
+   after mpi_enter; st: the call's own checks): the checks, the rows
+   (s->m4: the input's owned rows, uploaded by the engine's upload), four
+   work vectors and the engine e (results into *out). Returns with
+   s->p.comm MPI_COMM_NULL only when nothing could be agreed. */
+limn_status mpi_mesh_series_open(limn_context *ctx, const char *fn,
+                                 const struct limn_mpi_mesh *mesh, const limn_series_options *o,
+                                 const limn_mpi_options *mpi, limn_status st,
+                                 struct limn_mpi_mesh **out, series_mpi *s, series_engine *e,
+                                 limn_series_report *r);
+/* Its end: timing, statistics, *out dropped on failure, s released. */
+limn_status mpi_mesh_series_close(series_mpi *s, limn_status st, limn_mpi_result *result,
+                                  limn_series_report *r);
+
 #endif

@@ -8,10 +8,9 @@
  * and broadcast, one colour per vertex, with each tier's colour count; so
  * every rank sweeps the same colours, and every row's entries (lower
  * colours, then higher, each in the global row's order) are summed as the
- * single process sums them. (The root holds the whole operator today; once
- * ranks build their own rows, the same greedy order over global ids can be
- * run rank by rank in id order, each rank colouring its owned rows once the
- * ghosts before them are coloured.)
+ * single process sums them. On a distributed mesh (no root operator) the
+ * same greedy runs rank by rank in input order (mpi_sgs_colour.c): the
+ * single process's colouring whenever it keeps the input order.
  *
  * Sweeps: colour by colour, with one halo exchange after each colour of the
  * values the next colours read at ghost columns: t after every colour of the
@@ -67,10 +66,21 @@ static limn_status colour_on_root(mpi_part *p, uint32_t *by_input, unsigned long
     return st;
 }
 
-/* Collective: the root's colouring, each rank's share of it in c. */
+/* Collective: the root's colouring, each rank's share of it in c (on a
+   distributed mesh, no root holding the operator: mpi_sgs_colour_local). */
 static limn_status colour_all(mpi_part *p, mpi_colouring *c)
 {
     memset(c, 0, sizeof *c);
+    int root_path = p->has_global;
+    MPI_Bcast(&root_path, 1, MPI_INT, p->root, p->comm);
+    if (!root_path) {
+        size_t nl = p->n_owned + p->n_ghost;
+        c->colour = malloc((nl ? nl : 1) * sizeof *c->colour);
+        limn_status st = mpi_agree(p, c->colour ? LIMN_OK
+                                                : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                                                           "out of memory for the colouring"));
+        return st ? st : mpi_sgs_colour_local(p, c->colour, c->colours);
+    }
     size_t n = p->n_global, no = p->n_owned, nl = no + p->n_ghost;
     uint32_t *by_input = malloc((n ? n : 1) * sizeof *by_input);
     unsigned long long count[3] = {0, 0, 0};

@@ -389,6 +389,13 @@ limn_status series_emit_frame(const limn_mesh *from, const limn_mesh *to, int cl
 limn_status series_check_morph(limn_context *ctx, const char *fn, const limn_mesh *from,
                                const limn_mesh *to, const limn_morph_options *o)
 {
+    limn_status st = series_check_morph_counts(ctx, fn, o);
+    return st ? st : measure_same_topology(ctx, from, to, "FROM", "TO");
+}
+
+limn_status series_check_morph_counts(limn_context *ctx, const char *fn,
+                                      const limn_morph_options *o)
+{
     limn_status st =
         check_count(ctx, fn, "frames", o->frames, 2, LIMN_MAX_FRAMES, "LIMN_MAX_FRAMES");
     if (!st && !o->linear)
@@ -399,7 +406,7 @@ limn_status series_check_morph(limn_context *ctx, const char *fn, const limn_mes
     if (!st && !o->linear && !(o->p > 0.0 && o->p < 1.0))
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "p is %g; it must lie strictly between 0 and 1",
                        o->p);
-    return st ? st : measure_same_topology(ctx, from, to, "FROM", "TO");
+    return st;
 }
 
 /* The checks of limn_morph, in its order; r initialised on the way. */

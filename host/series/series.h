@@ -24,6 +24,10 @@ limn_status series_check_options(limn_context *ctx, const limn_series_options *o
    and FROM, TO of one topology (fn names the call in messages). */
 limn_status series_check_morph(limn_context *ctx, const char *fn, const limn_mesh *from,
                                const limn_mesh *to, const limn_morph_options *o);
+/* The first part of it: frames, m, p (distributed meshes check the topology
+   their own way). */
+limn_status series_check_morph_counts(limn_context *ctx, const char *fn,
+                                      const limn_morph_options *o);
 /* limn_sharpen's checks of from, to and steps (fn names the call). */
 limn_status series_check_sharpen(limn_context *ctx, const char *fn, int from, int to, int steps);
 void series_report_init(limn_series_report *r, const limn_mesh *mesh);

@@ -1,0 +1,195 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * limn_mpi_mesh_repair against limn_mesh_repair, under mpirun with 2, 3 and
+ * 5 ranks, on a file every rank reads its slice of: duplicate faces whose
+ * copies lie far apart in the file (so on other ranks; turned, rotated,
+ * copied twice), faces that use a vertex twice, a non-manifold fin, two
+ * fans meeting at a vertex, a face turned over (inconsistent edges),
+ * isolated vertices, several components, n-gons. With and without
+ * duplicate_faces: the repaired mesh written in parallel is the single
+ * process's bytes, the report's counts and first faces are its numbers,
+ * and the warnings are its words, said alike on every rank.
+ */
+#include "mpi_check.h"
+#include "mpi_meshes.h"
+#include "shell.h"
+#include "support.h"
+
+#include "limn_mpi.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+MPI_CHECK_STATE;
+static char dir[256];
+
+/* mesh with extra faces: copies of faces 3 (rotated), 40 (turned) and 7
+   (twice), a face repeating a vertex, a second fan at vertex 0 and face 11
+   turned over; 2 vertices more. */
+static limn_mesh *troubled(limn_context *ctx, const limn_mesh *m)
+{
+    size_t nv = limn_mesh_vertex_count(m), nf = limn_mesh_face_count(m);
+    const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
+    size_t ni = off[nf];
+    double *pos = malloc(3 * (nv + 2) * sizeof *pos);
+    uint32_t *o = malloc((nf + 8) * sizeof *o), *x = malloc((ni + 40) * sizeof *x);
+    memcpy(pos, limn_mesh_positions(m), 3 * nv * sizeof *pos);
+    for (int k = 0; k < 6; k++)
+        pos[3 * nv + (size_t)k] = k < 3 ? -7.0 - k : -9.0 + k;
+    memcpy(o, off, (nf + 1) * sizeof *o);
+    memcpy(x, idx, ni * sizeof *x);
+    for (uint32_t i = off[11], j = off[12] - 1; i < j; i++, j--) { /* turned over */
+        uint32_t t = x[i];
+        x[i] = x[j];
+        x[j] = t;
+    }
+    size_t at = ni, f = nf;
+    const size_t copies[4] = {3, 40, 7, 7};
+    for (int c = 0; c < 4; c++) {
+        uint32_t b = off[copies[c]], d = off[copies[c] + 1] - b;
+        for (uint32_t k = 0; k < d; k++)
+            x[at + k] = c == 0   ? idx[b + (k + 1) % d]
+                        : c == 1 ? idx[b + d - 1 - k]
+                                 : idx[b + k];
+        at += d;
+        o[++f] = (uint32_t)at;
+    }
+    const uint32_t rep[4] = {20, 20, 21, 52}; /* a vertex twice */
+    memcpy(x + at, rep, sizeof rep);
+    at += 4;
+    o[++f] = (uint32_t)at;
+    const uint32_t fan[3] = {0, (uint32_t)nv, (uint32_t)nv + 1}; /* a second fan at 0 */
+    memcpy(x + at, fan, sizeof fan);
+    at += 3;
+    o[++f] = (uint32_t)at;
+    limn_mesh *t = NULL;
+    limn_mesh_create(ctx, nv + 2, pos, f, o, x, &t);
+    free(pos);
+    free(o);
+    free(x);
+    return t;
+}
+
+/* The counts and numbers both routes report (components and boundary loops
+   are not counted over the ranks). */
+static int same_report(const limn_repair_report *a, const limn_repair_report *b)
+{
+    return a->faces_before == b->faces_before && a->faces_after == b->faces_after &&
+           a->repeat_faces == b->repeat_faces && a->repeats_removed == b->repeats_removed &&
+           a->faces_split == b->faces_split && a->degenerate_removed == b->degenerate_removed &&
+           a->first_repeat_face == b->first_repeat_face &&
+           a->first_repeat_vertex == b->first_repeat_vertex &&
+           a->duplicate_faces == b->duplicate_faces &&
+           a->duplicates_removed == b->duplicates_removed &&
+           a->first_duplicate_face == b->first_duplicate_face &&
+           a->first_duplicate_of == b->first_duplicate_of &&
+           a->nonmanifold_edges == b->nonmanifold_edges &&
+           a->nonmanifold_vertices == b->nonmanifold_vertices &&
+           a->inconsistent_edges == b->inconsistent_edges &&
+           a->unreferenced_vertices == b->unreferenced_vertices;
+}
+
+static void repair_case(limn_context *ctx, const char *name, const limn_mesh *mesh, int drop)
+{
+    char in[320], ref[320], out[320];
+    snprintf(in, sizeof in, "%s/in.obj", dir);
+    snprintf(ref, sizeof ref, "%s/ref.ply", dir);
+    snprintf(out, sizeof out, "%s/out.ply", dir);
+    limn_repair_options o;
+    limn_repair_options_default(&o);
+    o.duplicate_faces = drop;
+    limn_repair_report rs = {.size = sizeof rs}, rd = {.size = sizeof rd};
+    char warned[4096] = "";
+    int ok = 1;
+    if (rank == 0) {
+        limn_mesh *m = NULL;
+        ok = limn_mesh_write(ctx, mesh, in, LIMN_FORMAT_AUTO) == LIMN_OK &&
+             limn_mesh_read(ctx, in, LIMN_FORMAT_AUTO, &m) == LIMN_OK &&
+             limn_mesh_repair(ctx, m, &o, &rs) == LIMN_OK;
+        snprintf(warned, sizeof warned, "%s", limn_context_warnings(ctx));
+        ok = ok && limn_mesh_write(ctx, m, ref, LIMN_FORMAT_AUTO) == LIMN_OK;
+        CHECK(ok, "%s: single process: %s", name, limn_context_message(ctx));
+        limn_mesh_destroy(m);
+    }
+    MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Bcast(&rs, (int)sizeof rs, MPI_BYTE, 0, MPI_COMM_WORLD);
+    MPI_Bcast(warned, sizeof warned, MPI_CHAR, 0, MPI_COMM_WORLD);
+    limn_mpi_mesh *m = NULL;
+    limn_status st =
+        ok ? limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &m) : LIMN_ERR_IO;
+    if (!st)
+        st = limn_mpi_mesh_repair(ctx, m, &o, &rd);
+    CHECK(!ok || st == LIMN_OK, "%s: limn_mpi_mesh_repair: %s", name, limn_context_message(ctx));
+    if (ok && !st) {
+        CHECK(same_report(&rs, &rd),
+              "%s (drop %d, %d ranks): %zu duplicates (first %zu of %zu), %zu/%zu/%zu/%zu kept; "
+              "one process %zu (first %zu of %zu), %zu/%zu/%zu/%zu",
+              name, drop, size, rd.duplicate_faces, rd.first_duplicate_face,
+              rd.first_duplicate_of, rd.nonmanifold_edges, rd.nonmanifold_vertices,
+              rd.inconsistent_edges, rd.unreferenced_vertices, rs.duplicate_faces,
+              rs.first_duplicate_face, rs.first_duplicate_of, rs.nonmanifold_edges,
+              rs.nonmanifold_vertices, rs.inconsistent_edges, rs.unreferenced_vertices);
+        CHECK(strcmp(limn_context_warnings(ctx), warned) == 0,
+              "%s (drop %d, %d ranks): warnings\n'%s'\none process\n'%s'", name, drop, size,
+              limn_context_warnings(ctx), warned);
+        if (rank == 0)
+            printf("  %-22s drop %d: %zu repeats, %zu duplicates (first %zu of %zu), "
+                   "%zu/%zu/%zu/%zu non-manifold edges/vertices, inconsistent, unused\n",
+                   name, drop, rd.repeat_faces, rd.duplicate_faces, rd.first_duplicate_face,
+                   rd.first_duplicate_of, rd.nonmanifold_edges, rd.nonmanifold_vertices,
+                   rd.inconsistent_edges, rd.unreferenced_vertices);
+        st = limn_mpi_mesh_write(ctx, m, out, LIMN_FORMAT_AUTO, NULL, NULL);
+        CHECK(st == LIMN_OK, "%s: writing: %s", name, limn_context_message(ctx));
+        if (rank == 0 && !st)
+            CHECK(test_same_bytes(ref, out), "%s (drop %d, %d ranks): repaired mesh differs", name,
+                  drop, size);
+    }
+    limn_mpi_mesh_destroy(m);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) {
+        unlink(in);
+        unlink(ref);
+        unlink(out);
+    }
+}
+
+int main(int argc, char **argv)
+{
+    MPI_Init(&argc, &argv);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    if (rank == 0) {
+        snprintf(dir, sizeof dir, "%s/limn_test_mpi_repair_XXXXXX",
+                 getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+        if (!mkdtemp(dir))
+            dir[0] = '\0';
+    }
+    MPI_Bcast(dir, sizeof dir, MPI_CHAR, 0, MPI_COMM_WORLD);
+    limn_context *ctx = limn_context_create();
+    limn_mesh *tri = mpi_test_composite(ctx, 1), *quad = mpi_test_composite(ctx, 0);
+    limn_mesh *closed = mpi_test_closed(ctx, 0);
+    limn_mesh *bad_tri = troubled(ctx, tri), *bad_quad = troubled(ctx, quad);
+    for (int drop = 0; drop <= 1; drop++) {
+        repair_case(ctx, "composite tri", bad_tri, drop);
+        repair_case(ctx, "composite quad", bad_quad, drop);
+    }
+    repair_case(ctx, "closed", closed, 0);
+    repair_case(ctx, "composite tri, clean", tri, 1);
+    limn_mesh_destroy(tri);
+    limn_mesh_destroy(quad);
+    limn_mesh_destroy(closed);
+    limn_mesh_destroy(bad_tri);
+    limn_mesh_destroy(bad_quad);
+    limn_context_destroy(ctx);
+    if (rank == 0)
+        rmdir(dir);
+    int all = 0;
+    MPI_Allreduce(&failures, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+    if (rank == 0)
+        printf("test_mpi_repair: %d ranks, %d checks on rank 0, %d failures on all ranks\n",
+               size, checks, all);
+    MPI_Finalize();
+    return all ? 1 : 0;
+}
