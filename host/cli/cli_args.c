@@ -249,7 +249,8 @@ limn_status cli_args_open(cli_args *a, limn_context *ctx, size_t max_memory, int
     if (!st && a->fallback)
         st = limn_context_set_fallback(ctx, a->fallback);
     if (!st && load)
-        st = cli_load_mesh(a->cmd, ctx, a->inputs[0], a->in_format, &a->repair, 1, mesh);
+        st = cli_load_mesh(a->cmd, ctx, a->inputs[0], a->in_format, &a->repair, 1, a->quiet,
+                           mesh);
     return st;
 }
 

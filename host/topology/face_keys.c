@@ -247,9 +247,12 @@ limn_status face_keys_sorted(limn_context *ctx, const limn_mesh *m, uint32_t max
         if (parallel_run(nf, j->parts, hash_range, j)) {
             st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
         } else {
+            ctx_progress(ctx, "repair", 0.4);
             bucket_offsets(j);
             parallel_run(nf, j->parts, scatter_range, j);
+            ctx_progress(ctx, "repair", 0.55);
             parallel_run(BUCKETS, j->parts, bucket_range, j);
+            ctx_progress(ctx, "repair", 0.8);
         }
     }
     free(j);

@@ -351,10 +351,12 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
                              "limn_mesh_repair: face index %zu is %u but there are %zu vertices",
                              i, mesh->face_indices[i], nv);
     limn_status st = repair_repeats(ctx, mesh, o, r);
+    ctx_progress(ctx, "repair", 0.2);
     if (!st)
         st = repair_duplicates(ctx, mesh, o->duplicate_faces, r);
     if (st)
         return st;
+    ctx_progress(ctx, "repair", 1.0);
     r->faces_after = mesh->face_count;
     if (r->first_duplicate_face == SIZE_MAX)
         r->first_duplicate_face = 0;
