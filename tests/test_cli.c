@@ -304,8 +304,8 @@ static void good_run_and_report(void **s)
     assert_non_null(strstr(test_text, "reference"));
 }
 
-/* Issue 13.6: reading, the repair and its topology show progress on a
-   terminal (script(1) gives the run one), never on a pipe or with -q. */
+/* Issue 13.6: reading, the repair and its topology, and writing show
+   progress on a terminal (script(1) gives the run one), never on a pipe or with -q. */
 static void progress_on_a_terminal(void **s)
 {
     (void)s;
@@ -325,6 +325,12 @@ static void progress_on_a_terminal(void **s)
             fail_msg("no '%s' progress on a terminal:\n%s", stages[i], test_text);
     }
     assert_non_null(strstr(test_text, "vertices   188"));
+    assert_int_equal(test_runf(test_text, sizeof test_text,
+                               "script -qec \"'%s' interpolate '%s' -o '%s'\" /dev/null",
+                               getenv("LIMN_BIN"), spot, out_path),
+                     0);
+    if (!strstr(test_text, "\r  write      100%"))
+        fail_msg("no write progress on a terminal:\n%s", test_text);
     assert_int_equal(test_runf(test_text, sizeof test_text,
                                "script -qec \"'%s' interpolate -q '%s' -o '%s'\" /dev/null",
                                getenv("LIMN_BIN"), spot, out_path),

@@ -261,7 +261,10 @@ limn_status cli_args_stage_output(cli_args *a, limn_context *ctx, limn_output_se
     limn_write_options_default(&o);
     o.precision = a->precision;
     limn_write_report r = {.size = sizeof r};
+    cli_progress_enable(ctx, a->quiet);
     limn_status st = limn_output_set_add_mesh_with(ctx, set, mesh, path, a->out_format, &o, &r);
+    cli_progress_done();
+    limn_context_set_progress(ctx, NULL, NULL);
     if (!st && path == a->output) {
         a->written = r;
         a->wrote = 1;
