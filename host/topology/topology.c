@@ -231,6 +231,7 @@ static limn_status place(limn_context *ctx, topo_build *b)
     limn_status st = gather(ctx, b);
     if (st)
         return st;
+    topo_corner_counts(b);
     ctx_progress(ctx, "topology", 0.15);
     t->vertex_corner_offsets[0] = 0;
     for (size_t v = 0; v < nv; v++) {
