@@ -304,6 +304,43 @@ static void good_run_and_report(void **s)
     assert_non_null(strstr(test_text, "reference"));
 }
 
+/* Issue 13.6: reading, the repair and its topology, and writing show
+   progress on a terminal (script(1) gives the run one), never on a pipe or with -q. */
+static void progress_on_a_terminal(void **s)
+{
+    (void)s;
+    if (system("command -v script >/dev/null 2>&1") != 0)
+        skip(); /* util-linux's script: the pty */
+    char spot[512];
+    snprintf(spot, sizeof spot, "%s/spot_control_mesh.obj", getenv("LIMN_TEST_DATA"));
+    static const char *stages[] = {"read", "repair", "topology"};
+    assert_int_equal(test_runf(test_text, sizeof test_text,
+                               "script -qec \"'%s' info '%s'\" /dev/null", getenv("LIMN_BIN"),
+                               spot),
+                     0);
+    for (size_t i = 0; i < sizeof stages / sizeof *stages; i++) {
+        char line[64];
+        snprintf(line, sizeof line, "\r  %-10s 100%%", stages[i]);
+        if (!strstr(test_text, line))
+            fail_msg("no '%s' progress on a terminal:\n%s", stages[i], test_text);
+    }
+    assert_non_null(strstr(test_text, "vertices   188"));
+    assert_int_equal(test_runf(test_text, sizeof test_text,
+                               "script -qec \"'%s' interpolate '%s' -o '%s'\" /dev/null",
+                               getenv("LIMN_BIN"), spot, out_path),
+                     0);
+    if (!strstr(test_text, "\r  write      100%"))
+        fail_msg("no write progress on a terminal:\n%s", test_text);
+    assert_int_equal(test_runf(test_text, sizeof test_text,
+                               "script -qec \"'%s' interpolate -q '%s' -o '%s'\" /dev/null",
+                               getenv("LIMN_BIN"), spot, out_path),
+                     0);
+    assert_null(strstr(test_text, "100%")); /* -q: none */
+    unlink(out_path);
+    expect_run(0, "vertices", "info '%s'", spot); /* a pipe: no progress */
+    assert_null(strchr(test_text, '\r'));
+}
+
 /* Issue 11.4: subdivide drops vertex colours, and says so. */
 static void subdivide_warns_of_dropped_colours(void **s)
 {
@@ -457,4 +494,4 @@ TEST_MAIN(setup, test_scratch_teardown, cmocka_unit_test(version_and_help),
           cmocka_unit_test(option_spellings), cmocka_unit_test(singular_keeps_existing_output),
           cmocka_unit_test(good_run_and_report), cmocka_unit_test(subdivide_and_surface),
           cmocka_unit_test(subdivide_warns_of_dropped_colours),
-          cmocka_unit_test(output_precision_float))
+          cmocka_unit_test(output_precision_float), cmocka_unit_test(progress_on_a_terminal))

@@ -72,10 +72,11 @@ limn_status cli_set_host_threads(limn_context *ctx, int n);
 int cli_repair_arg(const char *arg, cli_repair *r);
 /* Reads path, prints its warnings, repairs the mesh by the policy (printing
    what was changed as "limn CMD: warning: ..."), and with need_faces refuses a
-   mesh that has (or is left with) no faces. On failure *out is NULL and the
-   context holds the message. */
+   mesh that has (or is left with) no faces. Unless quiet, the read and the
+   repair (with its topology) show progress on a terminal. On failure *out is
+   NULL and the context holds the message. */
 limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
-                          limn_format format, const cli_repair *r, int need_faces,
+                          limn_format format, const cli_repair *r, int need_faces, int quiet,
                           limn_mesh **out);
 /* After a failed operation: when the failure came from the OpenCL device and
    the fallback is allowed (--fallback reference, LIMN_FALLBACK), switches to

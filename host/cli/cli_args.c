@@ -249,7 +249,8 @@ limn_status cli_args_open(cli_args *a, limn_context *ctx, size_t max_memory, int
     if (!st && a->fallback)
         st = limn_context_set_fallback(ctx, a->fallback);
     if (!st && load)
-        st = cli_load_mesh(a->cmd, ctx, a->inputs[0], a->in_format, &a->repair, 1, mesh);
+        st = cli_load_mesh(a->cmd, ctx, a->inputs[0], a->in_format, &a->repair, 1, a->quiet,
+                           mesh);
     return st;
 }
 
@@ -260,7 +261,10 @@ limn_status cli_args_stage_output(cli_args *a, limn_context *ctx, limn_output_se
     limn_write_options_default(&o);
     o.precision = a->precision;
     limn_write_report r = {.size = sizeof r};
+    cli_progress_enable(ctx, a->quiet);
     limn_status st = limn_output_set_add_mesh_with(ctx, set, mesh, path, a->out_format, &o, &r);
+    cli_progress_done();
+    limn_context_set_progress(ctx, NULL, NULL);
     if (!st && path == a->output) {
         a->written = r;
         a->wrote = 1;

@@ -314,10 +314,11 @@ int cli_repair_arg(const char *arg, cli_repair *r)
 }
 
 limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
-                          limn_format format, const cli_repair *r, int need_faces,
+                          limn_format format, const cli_repair *r, int need_faces, int quiet,
                           limn_mesh **out)
 {
     limn_status st;
+    cli_progress_enable(ctx, quiet);
     if (strcmp(path, "-") != 0)
         st = limn_mesh_read(ctx, path, format, out);
     else if (format == LIMN_FORMAT_AUTO)
@@ -327,9 +328,12 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
                        "'-' is ./-)");
     else
         st = limn_mesh_read_stream(ctx, stdin, "standard input", format, out);
+    cli_progress_done();
     cli_print_warnings(cmd, ctx);
-    if (st)
+    if (st) {
+        limn_context_set_progress(ctx, NULL, NULL);
         return st;
+    }
     limn_repair_options o;
     limn_repair_options_default(&o);
     if (r) {
@@ -338,6 +342,8 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
     }
     limn_repair_report rep = {.size = sizeof rep};
     st = limn_mesh_repair(ctx, *out, &o, &rep);
+    cli_progress_done();
+    limn_context_set_progress(ctx, NULL, NULL); /* the caller's stages enable their own */
     cli_print_warnings(cmd, ctx);
     if (!st && need_faces && limn_mesh_face_count(*out) == 0)
         st = rep.faces_before

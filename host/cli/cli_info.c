@@ -132,7 +132,7 @@ int cli_info(int argc, char **argv)
     limn_mesh *mesh = NULL;
     limn_mesh_info in = {.size = sizeof in};
     limn_context_set_host_threads(ctx, host_threads); /* 1..64 (parsed) or 0: the default */
-    limn_status st = cli_load_mesh("info", ctx, input, fmt, &repair, 0, &mesh);
+    limn_status st = cli_load_mesh("info", ctx, input, fmt, &repair, 0, 0, &mesh);
     if (!st)
         st = limn_mesh_info_compute(ctx, mesh, &in);
     if (st) {

@@ -51,7 +51,7 @@ limn_status series_cli_load(series_cli *c, limn_context **ctx, limn_mesh **meshe
     c->a.quiet |= cli_mpi_rank() != 0; /* under mpirun rank 0 prints */
     cli_mpi_set_per_rank(c->a.per_rank);
     for (int k = 0; !st && cli_mpi_rank() == 0 && k < c->a.input_count; k++) {
-        st = cli_load_mesh(c->a.cmd, *ctx, c->a.inputs[k], c->a.in_format, &c->a.repair, 1,
+        st = cli_load_mesh(c->a.cmd, *ctx, c->a.inputs[k], c->a.in_format, &c->a.repair, 1, c->a.quiet,
                            &meshes[k]);
     }
     return cli_mpi_agree(*ctx, st);

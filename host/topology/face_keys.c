@@ -141,38 +141,43 @@ static uint64_t mix(uint64_t h)
     return h;
 }
 
-/* One sort: keys hashed and counted by their top byte per range of faces,
-   scattered stably into the 256 buckets of that byte, then each bucket
-   sorted (LSD, stable) on bits 32..55 while it is cache-sized. */
-typedef struct key_job {
+/* The duplicate search: every face's vertex-set hash, counted by its top
+   byte per range of faces; (hash bits 24..55, face) scattered stably into
+   the 256 buckets of that byte, so each bucket holds its faces in increasing
+   order; then each bucket, cache-sized, through an open-addressing table of
+   the faces kept so far. */
+typedef struct dup_job {
     const limn_mesh *m;
     uint32_t maxd;
     unsigned parts;
-    face_key *k, *tmp;
+    uint64_t *hash;  /* per face */
+    uint64_t *entry; /* per face, bucket order: key << 32 | face */
+    uint8_t *dup;
     size_t count[PARALLEL_MAX][BUCKETS]; /* then each range's first slot per bucket */
-    size_t bucket_start[BUCKETS + 1];
-} key_job;
+    size_t bucket_start[BUCKETS + 1], largest_bucket;
+    face_duplicates found[PARALLEL_MAX];
+    int no_memory[PARALLEL_MAX];
+} dup_job;
 
-static unsigned part_of(const key_job *j, size_t begin)
+static unsigned part_of(const dup_job *j, size_t n, size_t begin)
 {
-    return parallel_part(j->m->face_count, j->parts, begin);
+    return parallel_part(n, j->parts, begin);
 }
 
 static int hash_range(void *arg, size_t begin, size_t end)
 {
-    key_job *j = arg;
+    dup_job *j = arg;
     uint32_t *buf = malloc((j->maxd ? j->maxd : 1) * sizeof *buf);
     if (!buf)
         return 1;
-    size_t *count = j->count[part_of(j, begin)];
+    size_t *count = j->count[part_of(j, j->m->face_count, begin)];
     for (size_t f = begin; f < end; f++) {
         uint32_t d;
         const uint32_t *v = face_sorted_vertices(j->m, (uint32_t)f, buf, &d);
         uint64_t h = mix(d);
         for (uint32_t i = 0; i < d; i++)
             h = mix(h ^ (v[i] + 0x9e3779b97f4a7c15ULL));
-        j->k[f].hash = h;
-        j->k[f].face = (uint32_t)f;
+        j->hash[f] = h;
         count[h >> 56]++;
     }
     free(buf);
@@ -181,39 +186,80 @@ static int hash_range(void *arg, size_t begin, size_t end)
 
 static int scatter_range(void *arg, size_t begin, size_t end)
 {
-    key_job *j = arg;
-    size_t *next = j->count[part_of(j, begin)];
-    for (size_t f = begin; f < end; f++)
-        j->tmp[next[j->k[f].hash >> 56]++] = j->k[f];
-    return 0;
-}
-
-/* Buckets [begin, end): from tmp back into k, sorted on bits 32..55. */
-static int bucket_range(void *arg, size_t begin, size_t end)
-{
-    key_job *j = arg;
-    for (size_t b = begin; b < end; b++) {
-        size_t lo = j->bucket_start[b], n = j->bucket_start[b + 1] - lo;
-        face_key *from = j->tmp + lo, *to = j->k + lo;
-        for (int shift = 32; shift < 56; shift += 8) {
-            size_t count[BUCKETS + 1] = {0};
-            for (size_t i = 0; i < n; i++)
-                count[((from[i].hash >> shift) & 255) + 1]++;
-            for (int c = 0; c < BUCKETS; c++)
-                count[c + 1] += count[c];
-            for (size_t i = 0; i < n; i++)
-                to[count[(from[i].hash >> shift) & 255]++] = from[i];
-            face_key *t = from;
-            from = to;
-            to = t;
-        }
-        /* three passes from tmp: the sorted keys end in k */
+    dup_job *j = arg;
+    size_t *next = j->count[part_of(j, j->m->face_count, begin)];
+    for (size_t f = begin; f < end; f++) {
+        uint64_t h = j->hash[f];
+        j->entry[next[h >> 56]++] = (h >> 24 & 0xffffffffu) << 32 | f;
     }
     return 0;
 }
 
+/* Faces a and b have the same vertex set (buf: room for 2 maxd). */
+static int same_set(const dup_job *j, uint32_t a, uint32_t b, uint32_t *buf)
+{
+    uint32_t da, db;
+    const uint32_t *va = face_sorted_vertices(j->m, a, buf, &da);
+    const uint32_t *vb = face_sorted_vertices(j->m, b, buf + j->maxd, &db);
+    return da == db && memcmp(va, vb, da * sizeof *va) == 0;
+}
+
+/* One bucket's faces, in increasing order, against the table of those kept
+   (slot: key << 32 | face + 1, 0 empty; cap a power of two > 2 n): a face
+   whose set is there is a duplicate of the one found (the earliest with that
+   set: only the first of each set is kept), else it is kept. */
+static void bucket_duplicates(dup_job *j, size_t b, uint64_t *table, size_t cap, uint32_t *buf,
+                              face_duplicates *found)
+{
+    size_t lo = j->bucket_start[b], n = j->bucket_start[b + 1] - lo, mask = cap - 1;
+    memset(table, 0, cap * sizeof *table);
+    for (size_t i = 0; i < n; i++) {
+        uint64_t e = j->entry[lo + i];
+        uint32_t key = (uint32_t)(e >> 32), f = (uint32_t)e;
+        for (size_t at = key & mask;; at = (at + 1) & mask) {
+            uint64_t s = table[at];
+            if (!s) {
+                table[at] = (uint64_t)key << 32 | ((uint64_t)f + 1);
+                break;
+            }
+            uint32_t g = (uint32_t)s - 1;
+            if ((uint32_t)(s >> 32) == key && same_set(j, g, f, buf)) {
+                j->dup[f] = 1;
+                found->count++;
+                if (f < found->first) {
+                    found->first = f;
+                    found->first_of = g;
+                }
+                break;
+            }
+        }
+    }
+}
+
+static int table_range(void *arg, size_t begin, size_t end)
+{
+    dup_job *j = arg;
+    unsigned part = part_of(j, BUCKETS, begin);
+    size_t cap = 16;
+    while (cap < 2 * j->largest_bucket + 1)
+        cap *= 2;
+    uint64_t *table = malloc(cap * sizeof *table);
+    uint32_t *buf = malloc(2 * (size_t)(j->maxd ? j->maxd : 1) * sizeof *buf);
+    if (!table || !buf) {
+        free(table);
+        free(buf);
+        j->no_memory[part] = 1;
+        return 1;
+    }
+    for (size_t b = begin; b < end; b++)
+        bucket_duplicates(j, b, table, cap, buf, &j->found[part]);
+    free(table);
+    free(buf);
+    return 0;
+}
+
 /* Each range's first slot in every bucket (stable: ranges in face order). */
-static void bucket_offsets(key_job *j)
+static void bucket_offsets(dup_job *j)
 {
     size_t at = 0;
     for (int b = 0; b < BUCKETS; b++) {
@@ -223,41 +269,60 @@ static void bucket_offsets(key_job *j)
             j->count[p][b] = at;
             at += c;
         }
+        if (at - j->bucket_start[b] > j->largest_bucket)
+            j->largest_bucket = at - j->bucket_start[b];
     }
     j->bucket_start[BUCKETS] = at;
 }
 
-limn_status face_keys_sorted(limn_context *ctx, const limn_mesh *m, uint32_t maxd,
-                             face_key **out)
+/* The three passes; nonzero when out of memory. */
+static int dup_passes(limn_context *ctx, dup_job *j)
+{
+    size_t nf = j->m->face_count;
+    if (parallel_run(nf, j->parts, hash_range, j))
+        return 1;
+    ctx_progress(ctx, "repair", 0.5);
+    bucket_offsets(j);
+    parallel_run(nf, j->parts, scatter_range, j);
+    ctx_progress(ctx, "repair", 0.65);
+    return parallel_run(BUCKETS, j->parts, table_range, j);
+}
+
+limn_status face_find_duplicates(limn_context *ctx, const limn_mesh *m, uint32_t maxd,
+                                 uint8_t *dup, face_duplicates *out)
 {
     size_t nf = m->face_count;
-    key_job *j = calloc(1, sizeof *j);
-    face_key *k = malloc((nf ? nf : 1) * sizeof *k), *tmp = malloc((nf ? nf : 1) * sizeof *tmp);
-    limn_status st = LIMN_OK;
-    if (!j || !k || !tmp) {
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
-    } else {
+    out->count = 0;
+    out->first = SIZE_MAX;
+    out->first_of = 0;
+    dup_job *j = calloc(1, sizeof *j);
+    uint64_t *hash = malloc((nf ? nf : 1) * sizeof *hash);
+    uint64_t *entry = malloc((nf ? nf : 1) * sizeof *entry);
+    int failed = !j || !hash || !entry;
+    if (!failed) {
         j->m = m;
         j->maxd = maxd;
-        j->k = k;
-        j->tmp = tmp;
+        j->hash = hash;
+        j->entry = entry;
+        j->dup = dup;
         j->parts = parallel_threads(ctx, (uint64_t)nf * 64);
         if ((size_t)j->parts > nf)
             j->parts = nf ? (unsigned)nf : 1;
-        if (parallel_run(nf, j->parts, hash_range, j)) {
-            st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
-        } else {
-            bucket_offsets(j);
-            parallel_run(nf, j->parts, scatter_range, j);
-            parallel_run(BUCKETS, j->parts, bucket_range, j);
+        for (unsigned p = 0; p < PARALLEL_MAX; p++)
+            j->found[p].first = SIZE_MAX;
+        failed = dup_passes(ctx, j);
+    }
+    for (unsigned p = 0; !failed && p < PARALLEL_MAX; p++) {
+        const face_duplicates *k = &j->found[p];
+        out->count += k->count;
+        if (k->first < out->first) {
+            out->first = k->first;
+            out->first_of = k->first_of;
         }
     }
     free(j);
-    free(tmp);
-    if (st) {
-        free(k);
-        return st;
-    }
-    *out = k;
-    return LIMN_OK;
+    free(hash);
+    free(entry);
+    return failed ? ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces")
+                  : LIMN_OK;
 }

@@ -156,10 +156,8 @@ static void remove_marked(limn_mesh *m, const uint8_t *dup)
     m->face_count = out;
 }
 
-/* Faces with the vertex set of an earlier face: every face's sorted vertex
-   list is hashed, the hashes are radix-sorted (stable, so faces stay in order
-   among equal hashes and "earlier" is the first copy), and equal hashes are
-   compared list by list. Removes the later copies when asked. */
+/* Faces with the vertex set of an earlier face (face_keys.h), removed when
+   asked. */
 static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
                                    limn_repair_report *r)
 {
@@ -170,51 +168,22 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
     for (size_t f = 0; f < nf; f++)
         if (m->face_offsets[f + 1] - m->face_offsets[f] > maxd)
             maxd = m->face_offsets[f + 1] - m->face_offsets[f];
-    face_key *k = NULL;
-    limn_status st = face_keys_sorted(ctx, m, maxd, &k);
-    if (st)
-        return st;
-    uint32_t *buf = malloc(2 * (size_t)maxd * sizeof *buf);
     uint8_t *dup = calloc(nf, 1);
-    if (!buf || !dup) {
-        free(k);
-        free(buf);
-        free(dup);
+    if (!dup)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
-    }
-    for (size_t i = 0; i < nf;) {
-        size_t j = i + 1;
-        while (j < nf && (k[j].hash >> 32) == (k[i].hash >> 32))
-            j++;
-        /* a run of equal high bits: usually one face; faces in increasing order */
-        for (size_t x = i + 1; x < j; x++)
-            for (size_t y = i; y < x; y++) {
-                if (k[y].hash != k[x].hash || dup[k[y].face])
-                    continue;
-                uint32_t dx, dy;
-                const uint32_t *vx = face_sorted_vertices(m, k[x].face, buf, &dx);
-                const uint32_t *vy = face_sorted_vertices(m, k[y].face, buf + maxd, &dy);
-                if (dx != dy || memcmp(vx, vy, dx * sizeof *vx) != 0)
-                    continue;
-                uint32_t f = k[x].face;
-                dup[f] = 1;
-                r->duplicate_faces++;
-                if (r->first_duplicate_face == SIZE_MAX || f < r->first_duplicate_face) {
-                    r->first_duplicate_face = f;
-                    r->first_duplicate_of = k[y].face;
-                }
-                break;
-            }
-        i = j;
-    }
-    free(k);
-    free(buf);
-    if (remove && r->duplicate_faces) {
-        remove_marked(m, dup);
-        r->duplicates_removed = r->duplicate_faces;
+    face_duplicates found;
+    limn_status st = face_find_duplicates(ctx, m, maxd, dup, &found);
+    if (!st && found.count) {
+        r->duplicate_faces = found.count;
+        r->first_duplicate_face = found.first;
+        r->first_duplicate_of = found.first_of;
+        if (remove) {
+            remove_marked(m, dup);
+            r->duplicates_removed = r->duplicate_faces;
+        }
     }
     free(dup);
-    return LIMN_OK;
+    return st;
 }
 
 /* ---------------------------------------------------------------- entry */
@@ -351,10 +320,12 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
                              "limn_mesh_repair: face index %zu is %u but there are %zu vertices",
                              i, mesh->face_indices[i], nv);
     limn_status st = repair_repeats(ctx, mesh, o, r);
+    ctx_progress(ctx, "repair", 0.2);
     if (!st)
         st = repair_duplicates(ctx, mesh, o->duplicate_faces, r);
     if (st)
         return st;
+    ctx_progress(ctx, "repair", 1.0);
     r->faces_after = mesh->face_count;
     if (r->first_duplicate_face == SIZE_MAX)
         r->first_duplicate_face = 0;

@@ -231,6 +231,7 @@ static limn_status place(limn_context *ctx, topo_build *b)
     limn_status st = gather(ctx, b);
     if (st)
         return st;
+    topo_corner_counts(b);
     ctx_progress(ctx, "topology", 0.15);
     t->vertex_corner_offsets[0] = 0;
     for (size_t v = 0; v < nv; v++) {
@@ -250,6 +251,27 @@ static limn_status place(limn_context *ctx, topo_build *b)
     prefix(b->entry_base, nv);
     ctx_progress(ctx, "topology", 0.5);
     return LIMN_OK;
+}
+
+/* The buckets' vertices are done with: their pages, already faulted in,
+   become corner_face (the same size) and vertex_edges where 2 edges a
+   corner fit (any closed triangle mesh), instead of fresh ones; both are
+   written whole. */
+static void reuse_buckets(topo_build *b)
+{
+    topology *t = b->t;
+    size_t ve = t->edge_count ? 2 * t->edge_count : 1, nc = t->corner_count ? t->corner_count : 1;
+    free(b->wrap);
+    t->corner_face = b->prev;
+    if (ve <= nc) {
+        uint32_t *shrunk = realloc(b->next, ve * sizeof *shrunk);
+        t->vertex_edges = shrunk ? shrunk : b->next;
+    } else {
+        free(b->next);
+        t->vertex_edges = malloc(ve * sizeof *t->vertex_edges);
+    }
+    b->next = b->prev = NULL;
+    b->wrap = NULL;
 }
 
 /* Passes 4-5 and the components, once the edges are counted. */
@@ -272,14 +294,7 @@ static limn_status connect(limn_context *ctx, topo_build *b)
         return st;
     t->edge_corner_offsets[ne] = (uint32_t)nc;
     ctx_progress(ctx, "topology", 0.8);
-    /* the buckets' vertices are done with: give their room to vertex_edges */
-    free(b->next);
-    free(b->prev);
-    free(b->wrap);
-    b->next = b->prev = NULL;
-    b->wrap = NULL;
-    t->vertex_edges = malloc((ne ? 2 * ne : 1) * sizeof *t->vertex_edges);
-    t->corner_face = malloc((nc ? nc : 1) * sizeof *t->corner_face);
+    reuse_buckets(b);
     if (!t->vertex_edges || !t->corner_face)
         return no_memory(ctx, t);
     topo_vertex_edges(b);

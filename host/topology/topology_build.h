@@ -1,20 +1,22 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The passes of topology_build (topology.c runs them in order):
- *  1. faces (parallel over faces): face kinds, faces that use a vertex twice,
- *     and the corner count of every vertex;
- *  2. scatter (parallel over faces): every corner with its next and previous
- *     vertex into its vertex's bucket (vertex_corners order);
- *  3. count (parallel over vertices): each bucket sorted by corner, then the
- *     vertex's valence, its owned edges (the lower end owns an edge) and
- *     their corners;
+ *  1. faces (parallel over faces): face kinds and faces that use a vertex
+ *     twice; then (parallel over vertex ranges, each reading every corner)
+ *     the corner count of every vertex;
+ *  2. scatter (parallel over vertex ranges, each reading every face): every
+ *     corner with its next and previous vertex into its vertex's bucket, in
+ *     increasing corner order (vertex_corners order);
+ *  3. count (parallel over vertices): the vertex's valence, its owned edges
+ *     (the lower end owns an edge) and their corners;
  *  4. edges (parallel over vertices): everything about edge {v, w} is in v's
  *     bucket, so each vertex writes its owned edges, classifies itself and
  *     orders its fan without looking at another vertex;
  *  5. vertex edges: owned edges in place, the others through fill cursors,
  *     then each vertex's list sorted; corner_face (parallel over faces), last
  *     so that it is not held beside the buckets.
- * Buckets are sorted and lists ordered by value, so every array is the same
+ * A vertex is only ever written by the thread of its range, buckets fill in
+ * corner order and lists are ordered by value, so every array is the same
  * for any thread count (and equal to the sequential build's: tests/oracle).
  */
 #ifndef LIMN_TOPOLOGY_BUILD_H
@@ -66,6 +68,7 @@ void topo_sort_u32(uint32_t *a, size_t n);
    (topology_vertex_edges.c); each returns nonzero on a range's failure
    (recorded in its counts). */
 int topo_faces(topo_build *b);
+int topo_corner_counts(topo_build *b);
 int topo_scatter(topo_build *b);
 int topo_corner_faces(topo_build *b);
 int topo_count(topo_build *b);

@@ -4,17 +4,6 @@
 
 #include <stdlib.h>
 
-/* A counter bump: atomic only when ranges run at once (a plain one is about
-   as fast as the cache miss it sits behind, an atomic one several times more). */
-static inline uint32_t bump(_Atomic uint32_t *x, int shared)
-{
-    if (shared)
-        return atomic_fetch_add_explicit(x, 1, memory_order_relaxed);
-    uint32_t v = atomic_load_explicit(x, memory_order_relaxed);
-    atomic_store_explicit(x, v + 1, memory_order_relaxed);
-    return v;
-}
-
 /* The first corner (offset in the face) whose vertex came earlier in the
    face, or d: what a mark per vertex finds, without one per thread. */
 static size_t first_repeat(const uint32_t *v, size_t d, topo_scratch *s, int *no_memory)
@@ -48,7 +37,6 @@ static int faces_range(void *arg, size_t begin, size_t end)
     topology *t = b->t;
     topo_counts *k = &b->counts[topo_range(b, t->face_count, begin)];
     topo_scratch s = {0};
-    int shared = b->parts > 1;
     for (size_t f = begin; f < end; f++) {
         uint32_t fb = t->face_offsets[f], fe = t->face_offsets[f + 1], d = fe - fb;
         const uint32_t *v = t->face_indices + fb;
@@ -60,8 +48,6 @@ static int faces_range(void *arg, size_t begin, size_t end)
             k->bad_vertex = v[r];
             break;
         }
-        for (uint32_t c = fb; c < fe; c++)
-            bump(&b->cursor[t->face_indices[c]], shared);
         if (d > k->max_face_size)
             k->max_face_size = d;
         if (d == 3)
@@ -80,16 +66,47 @@ int topo_faces(topo_build *b)
     return parallel_run(b->t->face_count, b->parts, faces_range, b);
 }
 
-static int scatter_range(void *arg, size_t begin, size_t end)
+/* Each range of vertices [lo, hi) reads every corner and takes its own:
+   no two threads write one counter (no atomics, a plain bump behind each
+   cache miss), and each bucket fills in increasing corner order, so it
+   comes out sorted for any thread count. */
+static inline uint32_t bump(_Atomic uint32_t *x)
+{
+    uint32_t v = atomic_load_explicit(x, memory_order_relaxed);
+    atomic_store_explicit(x, v + 1, memory_order_relaxed);
+    return v;
+}
+
+static int count_range(void *arg, size_t lo, size_t hi)
+{
+    topo_build *b = arg;
+    const topology *t = b->t;
+    uint32_t first = (uint32_t)lo, span = (uint32_t)(hi - lo);
+    for (size_t c = 0; c < t->corner_count; c++) {
+        uint32_t v = t->face_indices[c];
+        if (v - first < span)
+            bump(&b->cursor[v]);
+    }
+    return 0;
+}
+
+int topo_corner_counts(topo_build *b)
+{
+    return parallel_run(b->t->vertex_count, b->parts, count_range, b);
+}
+
+static int scatter_range(void *arg, size_t lo, size_t hi)
 {
     topo_build *b = arg;
     topology *t = b->t;
-    int shared = b->parts > 1;
-    for (size_t f = begin; f < end; f++) {
+    uint32_t first = (uint32_t)lo, span = (uint32_t)(hi - lo);
+    for (size_t f = 0; f < t->face_count; f++) {
         uint32_t fb = t->face_offsets[f], fe = t->face_offsets[f + 1];
         for (uint32_t c = fb; c < fe; c++) {
             uint32_t v = t->face_indices[c];
-            uint32_t slot = bump(&b->cursor[v], shared);
+            if (v - first >= span)
+                continue;
+            uint32_t slot = bump(&b->cursor[v]);
             t->vertex_corners[slot] = c;
             b->next[slot] = t->face_indices[c + 1 < fe ? c + 1 : fb];
             b->prev[slot] = t->face_indices[c > fb ? c - 1 : fe - 1];
@@ -115,5 +132,5 @@ int topo_corner_faces(topo_build *b)
 
 int topo_scatter(topo_build *b)
 {
-    return parallel_run(b->t->face_count, b->parts, scatter_range, b);
+    return parallel_run(b->t->vertex_count, b->parts, scatter_range, b);
 }

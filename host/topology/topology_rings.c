@@ -8,39 +8,6 @@
 
 #include <string.h>
 
-/* Sorts bucket [s, s + k) by corner, moving next, prev and wrap along. */
-static int sort_bucket(topo_build *b, uint32_t s, uint32_t k, topo_scratch *sc)
-{
-    uint32_t *c = b->t->vertex_corners + s, *n = b->next + s, *p = b->prev + s;
-    uint8_t *r = b->wrap + s;
-    if (k <= 16) {
-        for (uint32_t i = 1; i < k; i++)
-            for (uint32_t j = i; j > 0 && c[j - 1] > c[j]; j--) {
-                uint32_t x = c[j], y = n[j], z = p[j];
-                uint8_t q = r[j];
-                c[j] = c[j - 1], n[j] = n[j - 1], p[j] = p[j - 1], r[j] = r[j - 1];
-                c[j - 1] = x, n[j - 1] = y, p[j - 1] = z, r[j - 1] = q;
-            }
-        return 1;
-    }
-    if (!topo_scratch_reserve(sc, k, 4 * (size_t)k))
-        return 0;
-    for (uint32_t i = 0; i < k; i++)
-        sc->keys[i] = (uint64_t)c[i] << 32 | i;
-    topo_sort_u64(sc->keys, k);
-    uint32_t *w = sc->words;
-    for (uint32_t i = 0; i < k; i++) {
-        uint32_t from = (uint32_t)sc->keys[i];
-        w[i] = c[from], w[k + i] = n[from], w[2 * k + i] = p[from], w[3 * k + i] = r[from];
-    }
-    memcpy(c, w, k * sizeof *c);
-    memcpy(n, w + k, k * sizeof *n);
-    memcpy(p, w + 2 * (size_t)k, k * sizeof *p);
-    for (uint32_t i = 0; i < k; i++)
-        r[i] = (uint8_t)w[3 * k + i];
-    return 1;
-}
-
 static int count_range(void *arg, size_t begin, size_t end)
 {
     topo_build *b = arg;
@@ -49,7 +16,7 @@ static int count_range(void *arg, size_t begin, size_t end)
     topo_scratch sc = {0};
     for (size_t v = begin; v < end && !k->no_memory; v++) {
         uint32_t s = t->vertex_corner_offsets[v], n = t->vertex_corner_offsets[v + 1] - s;
-        if (!sort_bucket(b, s, n, &sc) || !topo_scratch_reserve(&sc, 0, 2 * (size_t)n)) {
+        if (!topo_scratch_reserve(&sc, 0, 2 * (size_t)n)) {
             k->no_memory = 1;
             break;
         }

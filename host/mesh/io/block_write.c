@@ -88,6 +88,7 @@ limn_status block_emit(limn_context *ctx, const char *path, const block_job *job
         for (unsigned i = 0; i < threads && !st; i++)
             if (parts[i].len)
                 st = sink->put(sink->arg, ctx, path, parts[i].buf, parts[i].len);
+        ctx_progress(ctx, "write", (double)(at + r.items) / (double)job->n);
     }
     for (unsigned i = 0; i < threads; i++)
         free(parts[i].buf);
