@@ -158,26 +158,7 @@ static limn_status report_kept(mpi_part *p, const limn_mpi_mesh *mesh, limn_repa
     r->nonmanifold_vertices = k.nonmanifold_vertices;
     r->inconsistent_edges = k.inconsistent_edges;
     r->unreferenced_vertices = mesh->vertex_dist[p->size] - k.referenced_vertices;
-    limn_context *ctx = p->ctx;
-    if (nm_edges)
-        ctx_warn(ctx,
-                 "%zu non-manifold edge%s (more than two faces) kept: sharp, as in OpenSubdiv",
-                 nm_edges, nm_edges == 1 ? "" : "s");
-    if (r->nonmanifold_vertices)
-        ctx_warn(ctx,
-                 "%zu non-manifold vert%s (on such edges, or where faces meet in several fans) "
-                 "kept: pinned (or a crease along a fin), as in OpenSubdiv",
-                 r->nonmanifold_vertices, r->nonmanifold_vertices == 1 ? "ex" : "ices");
-    if (r->inconsistent_edges)
-        ctx_warn(ctx,
-                 "%zu edge%s where two faces disagree on orientation kept (faces are not "
-                 "re-oriented): %s sharp, as in OpenSubdiv",
-                 r->inconsistent_edges, r->inconsistent_edges == 1 ? "" : "s",
-                 r->inconsistent_edges == 1 ? "it is" : "they are");
-    if (r->unreferenced_vertices)
-        ctx_warn(ctx, "%zu vert%s used by no face kept: %s unchanged in the output",
-                 r->unreferenced_vertices, r->unreferenced_vertices == 1 ? "ex" : "ices",
-                 r->unreferenced_vertices == 1 ? "it stays" : "they stay");
+    repair_warn_kept(p->ctx, r);
     return LIMN_OK;
 }
 

@@ -189,6 +189,30 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
 /* ---------------------------------------------------------------- entry */
 
 
+/* The warnings saying which topology faults the repair kept (r->nonmanifold_edges etc.). */
+void repair_warn_kept(limn_context *ctx, const limn_repair_report *r)
+{
+    if (r->nonmanifold_edges)
+        ctx_warn(ctx,
+                 "%zu non-manifold edge%s (more than two faces) kept: sharp, as in OpenSubdiv",
+                 r->nonmanifold_edges, r->nonmanifold_edges == 1 ? "" : "s");
+    if (r->nonmanifold_vertices)
+        ctx_warn(ctx,
+                 "%zu non-manifold vert%s (on such edges, or where faces meet in several fans) "
+                 "kept: pinned (or a crease along a fin), as in OpenSubdiv",
+                 r->nonmanifold_vertices, r->nonmanifold_vertices == 1 ? "ex" : "ices");
+    if (r->inconsistent_edges)
+        ctx_warn(ctx,
+                 "%zu edge%s where two faces disagree on orientation kept (faces are not "
+                 "re-oriented): %s sharp, as in OpenSubdiv",
+                 r->inconsistent_edges, r->inconsistent_edges == 1 ? "" : "s",
+                 r->inconsistent_edges == 1 ? "it is" : "they are");
+    if (r->unreferenced_vertices)
+        ctx_warn(ctx, "%zu vert%s used by no face kept: %s unchanged in the output",
+                 r->unreferenced_vertices, r->unreferenced_vertices == 1 ? "ex" : "ices",
+                 r->unreferenced_vertices == 1 ? "it stays" : "they stay");
+}
+
 /* The warning saying what repair_fix_repeats changed. */
 void repair_warn_repeats(limn_context *ctx, const limn_repair_report *r, size_t faces_left)
 {
@@ -279,25 +303,7 @@ static limn_status report_kept(limn_context *ctx, limn_mesh *mesh, limn_repair_r
     r->components = t.components;
     r->boundary_loops = t.boundary_loops;
     topology_free(&t);
-    if (nm_edges)
-        ctx_warn(ctx,
-                  "%zu non-manifold edge%s (more than two faces) kept: sharp, as in OpenSubdiv",
-                  nm_edges, nm_edges == 1 ? "" : "s");
-    if (r->nonmanifold_vertices)
-        ctx_warn(ctx,
-                  "%zu non-manifold vert%s (on such edges, or where faces meet in several fans) "
-                  "kept: pinned (or a crease along a fin), as in OpenSubdiv",
-                  r->nonmanifold_vertices, r->nonmanifold_vertices == 1 ? "ex" : "ices");
-    if (r->inconsistent_edges)
-        ctx_warn(ctx,
-                  "%zu edge%s where two faces disagree on orientation kept (faces are not "
-                  "re-oriented): %s sharp, as in OpenSubdiv",
-                  r->inconsistent_edges, r->inconsistent_edges == 1 ? "" : "s",
-                  r->inconsistent_edges == 1 ? "it is" : "they are");
-    if (r->unreferenced_vertices)
-        ctx_warn(ctx, "%zu vert%s used by no face kept: %s unchanged in the output",
-                  r->unreferenced_vertices, r->unreferenced_vertices == 1 ? "ex" : "ices",
-                  r->unreferenced_vertices == 1 ? "it stays" : "they stay");
+    repair_warn_kept(ctx, r);
     return LIMN_OK;
 }
 
