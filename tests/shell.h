@@ -35,7 +35,7 @@ const char *test_write_bytes(const char *path, const void *data, size_t n);
 /* The whole file, NUL-terminated, its length in *n (caller frees); NULL
    when it cannot be opened. */
 char *test_slurp(const char *path, size_t *n);
-/* cmp -s A B succeeds. */
+/* Both files readable, with the same bytes (what `cmp -s A B` says). */
 int test_same_bytes(const char *a, const char *b);
 
 /* Runs a shell command, its output (what the command sends to the pipe) in

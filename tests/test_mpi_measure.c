@@ -13,6 +13,7 @@
  */
 #include "mpi_check.h"
 #include "mpi_meshes.h"
+#include "shell.h"
 #include "support.h"
 
 #include "limn_mpi.h"
@@ -24,23 +25,6 @@
 
 MPI_CHECK_STATE;
 static char dir[256];
-
-static int same_files(const char *a, const char *b)
-{
-    FILE *x = fopen(a, "rb"), *y = fopen(b, "rb");
-    int same = x && y;
-    while (same) {
-        int c = fgetc(x), d = fgetc(y);
-        same = c == d;
-        if (c == EOF || d == EOF)
-            break;
-    }
-    if (x)
-        fclose(x);
-    if (y)
-        fclose(y);
-    return same;
-}
 
 /* What the single process gives on rank 0 (broadcast to all). */
 typedef struct single_out {
@@ -145,7 +129,7 @@ static void measure_case(limn_context *ctx, const char *name, const limn_mesh *m
     if (s.ok)
         distributed(ctx, name, in, &o, out, &s);
     if (rank == 0 && s.ok && !s.status)
-        CHECK(same_files(ref, out), "%s (%d ranks): denoise keep_volume differs from one "
+        CHECK(test_same_bytes(ref, out), "%s (%d ranks): denoise keep_volume differs from one "
                                     "process's",
               name, size);
     MPI_Barrier(MPI_COMM_WORLD);

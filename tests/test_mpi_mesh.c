@@ -19,6 +19,7 @@
  * collective; checks count failures and the ranks agree at the end.
  */
 #include "mpi_meshes.h"
+#include "shell.h"
 #include "mpi_check.h"
 #include "support.h"
 
@@ -31,31 +32,6 @@
 
 MPI_CHECK_STATE;
 static char dir[256];
-
-/* The bytes of a file (NULL when it cannot be read); *n its size. */
-static char *slurp(const char *path, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long len = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc(len > 0 ? (size_t)len : 1);
-    *n = b && len >= 0 ? fread(b, 1, (size_t)len, f) : 0;
-    fclose(f);
-    return b;
-}
-
-static int same_files(const char *a, const char *b)
-{
-    size_t na = 0, nb = 0;
-    char *x = slurp(a, &na), *y = slurp(b, &nb);
-    int same = x && y && na == nb && memcmp(x, y, na) == 0;
-    free(x);
-    free(y);
-    return same;
-}
 
 /* The single process on rank 0: read, repair, interpolate, write. */
 static int single(limn_context *ctx, const char *in, const limn_interpolate_options *o,
@@ -119,7 +95,7 @@ static void pipeline_case(limn_context *ctx, const char *name, const limn_mesh *
     CHECK(st == LIMN_OK, "%s (%s, %s): %s", name, ext, limn_method_name(method),
           limn_context_message(ctx));
     if (rank == 0 && st == LIMN_OK)
-        CHECK(same_files(ref, out), "%s (%s, %s, %d ranks): output differs from one process's",
+        CHECK(test_same_bytes(ref, out), "%s (%s, %s, %d ranks): output differs from one process's",
               name, ext, limn_method_name(method), size);
     MPI_Barrier(MPI_COMM_WORLD);
     if (rank == 0) {
@@ -184,7 +160,7 @@ static void repair_case(limn_context *ctx)
         st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
     CHECK(st == LIMN_OK, "repair pipeline: %s", limn_context_message(ctx));
     if (rank == 0 && ok && !st)
-        CHECK(same_files(ref, out), "repaired mesh: output differs from one process's");
+        CHECK(test_same_bytes(ref, out), "repaired mesh: output differs from one process's");
     limn_mpi_mesh_destroy(m);
     limn_mpi_mesh_destroy(p);
     MPI_Barrier(MPI_COMM_WORLD);
@@ -251,7 +227,7 @@ static void split_and_create(limn_context *ctx, const limn_mesh *mesh)
         st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
     CHECK(st == LIMN_OK, "created mesh: %s", limn_context_message(ctx));
     if (rank == 0 && ok && !st)
-        CHECK(same_files(ref, out), "uneven blocks: output differs from one process's");
+        CHECK(test_same_bytes(ref, out), "uneven blocks: output differs from one process's");
     limn_mpi_mesh_destroy(a);
     limn_mpi_mesh_destroy(b);
     limn_mpi_mesh_destroy(c);
@@ -378,8 +354,8 @@ static void series_case(limn_context *ctx, const char *name, const limn_mesh *me
     limn_status st = series_distributed(ctx, k, in, &o, out);
     CHECK(st == LIMN_OK, "%s (%s): %s", name, series_names[k], limn_context_message(ctx));
     if (rank == 0 && st == LIMN_OK)
-        CHECK(same_files(ref, out), "%s (%s, %d ranks): output differs from one process's", name,
-              series_names[k], size);
+        CHECK(test_same_bytes(ref, out), "%s (%s, %d ranks): output differs from one process's",
+              name, series_names[k], size);
     MPI_Barrier(MPI_COMM_WORLD);
     if (rank == 0) {
         unlink(in);
@@ -435,7 +411,7 @@ static void bands_case(limn_context *ctx, const char *name, const limn_mesh *mes
               energy[i], energy_ref[i]);
         snprintf(a, sizeof a, "%s/band_ref%d.ply", dir, i);
         if (rank == 0 && !st)
-            CHECK(same_files(a, b), "%s (%d ranks): band %d differs from one process's", name,
+            CHECK(test_same_bytes(a, b), "%s (%d ranks): band %d differs from one process's", name,
                   size, i);
     }
     for (int i = 0; i <= count; i++)

@@ -64,16 +64,6 @@ static limn_status many_frame(void *user, const limn_mpi_mesh *frame, const limn
     return !st && fr->index == f->fail_at && rank == f->fail_rank ? LIMN_ERR_IO : st;
 }
 
-static int same_files(const char *a, const char *b)
-{
-    size_t na = 0, nb = 0;
-    char *x = test_slurp(a, &na), *y = test_slurp(b, &nb);
-    int same = x && y && na == nb && memcmp(x, y, na) == 0;
-    free(x);
-    free(y);
-    return same;
-}
-
 /* The frames of both routes on FROM (ply) and TO (obj). */
 static void morph_case(limn_context *ctx, const char *name, const limn_mesh *from,
                        const limn_mesh *to, limn_scheme scheme, double alpha, int linear)
@@ -126,7 +116,7 @@ static void morph_case(limn_context *ctx, const char *name, const limn_mesh *fro
         frame_path(&one, k, x, sizeof x);
         frame_path(&many, k, y, sizeof y);
         if (rank == 0)
-            CHECK(same_files(x, y), "%s (%d ranks): frame %d differs from one process's", name,
+            CHECK(test_same_bytes(x, y), "%s (%d ranks): frame %d differs from one process's", name,
                   size, k);
         const limn_morph_frame *u = &one.seen[k], *v = &many.seen[k];
         CHECK(u->index == v->index && memcmp(&u->volume, &v->volume, sizeof u->volume) == 0 &&
