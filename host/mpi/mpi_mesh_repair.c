@@ -124,26 +124,6 @@ static int reduce_report(mpi_part *p, limn_repair_report *r)
     return gf != ULLONG_MAX;
 }
 
-/* mesh_repair.c's warning on the duplicates found (the same words). */
-static void warn_duplicates(limn_context *ctx, const limn_repair_report *r)
-{
-    if (!r->duplicate_faces)
-        return;
-    if (r->duplicates_removed)
-        ctx_warn(ctx,
-                 "removed %zu duplicate face%s (faces with the vertices of an earlier face; "
-                 "first: face %zu, a copy of face %zu)",
-                 r->duplicates_removed, r->duplicates_removed == 1 ? "" : "s",
-                 r->first_duplicate_face, r->first_duplicate_of);
-    else
-        ctx_warn(ctx,
-                 "%zu duplicate face%s (the vertices of an earlier face; first: face %zu, a "
-                 "copy of face %zu) kept: their edges are non-manifold, hence sharp, as in "
-                 "OpenSubdiv (--drop-duplicate-faces removes them)",
-                 r->duplicate_faces, r->duplicate_faces == 1 ? "" : "s",
-                 r->first_duplicate_face, r->first_duplicate_of);
-}
-
 /* mesh_repair.c's report_kept: what stays as it is, counted over the ranks
    (mpi_mesh_census) and said in the same words. components and
    boundary_loops stay 0: they need a walk over the whole mesh. */
@@ -190,7 +170,7 @@ static limn_status repair_sized(mpi_part *p, limn_mpi_mesh *mesh, const limn_rep
     st = mpi_mesh_duplicates(p, mesh, o->duplicate_faces, r);
     if (st)
         return st;
-    warn_duplicates(p->ctx, r);
+    repair_warn_duplicates(p->ctx, r);
     r->faces_after = mesh->slice.face_total;
     if (r->first_duplicate_face == SIZE_MAX)
         r->first_duplicate_face = 0;

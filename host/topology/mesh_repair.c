@@ -188,6 +188,25 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
 
 /* ---------------------------------------------------------------- entry */
 
+/* The warning on the duplicate faces in r (found, and removed or kept). */
+void repair_warn_duplicates(limn_context *ctx, const limn_repair_report *r)
+{
+    if (!r->duplicate_faces)
+        return;
+    if (r->duplicates_removed)
+        ctx_warn(ctx,
+                 "removed %zu duplicate face%s (faces with the vertices of an earlier face; "
+                 "first: face %zu, a copy of face %zu)",
+                 r->duplicates_removed, r->duplicates_removed == 1 ? "" : "s",
+                 r->first_duplicate_face, r->first_duplicate_of);
+    else
+        ctx_warn(ctx,
+                 "%zu duplicate face%s (the vertices of an earlier face; first: face %zu, a "
+                 "copy of face %zu) kept: their edges are non-manifold, hence sharp, as in "
+                 "OpenSubdiv (--drop-duplicate-faces removes them)",
+                 r->duplicate_faces, r->duplicate_faces == 1 ? "" : "s",
+                 r->first_duplicate_face, r->first_duplicate_of);
+}
 
 /* The warnings saying which topology faults the repair kept (r->nonmanifold_edges etc.). */
 void repair_warn_kept(limn_context *ctx, const limn_repair_report *r)
@@ -268,21 +287,7 @@ static limn_status repair_duplicates(limn_context *ctx, limn_mesh *mesh, int rem
     limn_status st = find_duplicates(ctx, mesh, remove, r);
     if (st)
         return st;
-    if (r->duplicate_faces) {
-        if (r->duplicates_removed)
-            ctx_warn(ctx,
-                      "removed %zu duplicate face%s (faces with the vertices of an earlier face; "
-                      "first: face %zu, a copy of face %zu)",
-                      r->duplicates_removed, r->duplicates_removed == 1 ? "" : "s",
-                      r->first_duplicate_face, r->first_duplicate_of);
-        else
-            ctx_warn(ctx,
-                      "%zu duplicate face%s (the vertices of an earlier face; first: face %zu, a "
-                      "copy of face %zu) kept: their edges are non-manifold, hence sharp, as in "
-                      "OpenSubdiv (--drop-duplicate-faces removes them)",
-                      r->duplicate_faces, r->duplicate_faces == 1 ? "" : "s",
-                      r->first_duplicate_face, r->first_duplicate_of);
-    }
+    repair_warn_duplicates(ctx, r);
     return LIMN_OK;
 }
 

@@ -15,6 +15,8 @@ limn_status repair_fix_repeats(limn_context *ctx, limn_mesh *m, limn_repair_repo
 /* The warning saying what repair_fix_repeats changed (r's repeat fields and
    first_repeat_face / _vertex; faces_left: the faces after the repair). */
 void repair_warn_repeats(limn_context *ctx, const limn_repair_report *r, size_t faces_left);
+/* Warns of the duplicate faces in r (none: says nothing). */
+void repair_warn_duplicates(limn_context *ctx, const limn_repair_report *r);
 /* Warns of the non-manifold edges/vertices, inconsistent edges and unused vertices in r. */
 void repair_warn_kept(limn_context *ctx, const limn_repair_report *r);
 
