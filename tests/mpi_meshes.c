@@ -1,13 +1,17 @@
 /* SPDX-License-Identifier: MIT */
-/* Meshes of the MPI tests (mpi_meshes.h). */
+/* Meshes and scratch of the MPI tests (mpi_meshes.h). */
 #include "mpi_meshes.h"
 
 #include "support.h"
 
+#include <mpi.h>
+
 #include <math.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* Appends b to a (indices shifted), with an offset in space; frees both. */
 static limn_mesh *join(limn_context *ctx, limn_mesh *a, limn_mesh *b, double dx)
@@ -152,4 +156,36 @@ limn_mesh *mpi_test_closed(limn_context *ctx, int triangles)
     limn_mesh *big = test_mesh_shuffle(ctx, torus(ctx, 60, 30, triangles, 0.0), 5);
     test_perturb(big, 0.02, 9);
     return join(ctx, m, big, 20.0);
+}
+
+limn_mesh *mpi_test_turned(limn_context *ctx, const limn_mesh *m, size_t f)
+{
+    size_t nf = limn_mesh_face_count(m);
+    const uint32_t *off = limn_mesh_face_offsets(m);
+    uint32_t *idx = malloc(off[nf] * sizeof *idx);
+    if (!idx)
+        return NULL;
+    memcpy(idx, limn_mesh_face_indices(m), off[nf] * sizeof *idx);
+    for (uint32_t i = off[f], j = off[f + 1] - 1; i < j; i++, j--) {
+        uint32_t x = idx[i];
+        idx[i] = idx[j];
+        idx[j] = x;
+    }
+    limn_mesh *t = NULL;
+    limn_mesh_create(ctx, limn_mesh_vertex_count(m), limn_mesh_positions(m), nf, off, idx, &t);
+    free(idx);
+    return t;
+}
+
+void mpi_test_scratch_dir(char *dir, size_t cap, const char *name)
+{
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    if (rank == 0) {
+        snprintf(dir, cap, "%s/limn_%s_XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp",
+                 name);
+        if (!mkdtemp(dir))
+            dir[0] = '\0';
+    }
+    MPI_Bcast(dir, (int)cap, MPI_CHAR, 0, MPI_COMM_WORLD);
 }

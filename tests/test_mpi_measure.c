@@ -140,41 +140,17 @@ static void measure_case(limn_context *ctx, const char *name, const limn_mesh *m
     }
 }
 
-/* The closed mesh with its first face turned over: two inconsistent edges
-   and more, so not closed. */
-static limn_mesh *turned(limn_context *ctx, const limn_mesh *m)
-{
-    size_t nf = limn_mesh_face_count(m);
-    const uint32_t *off = limn_mesh_face_offsets(m);
-    uint32_t *idx = malloc(off[nf] * sizeof *idx);
-    memcpy(idx, limn_mesh_face_indices(m), off[nf] * sizeof *idx);
-    for (uint32_t i = off[0], j = off[1] - 1; i < j; i++, j--) {
-        uint32_t x = idx[i];
-        idx[i] = idx[j];
-        idx[j] = x;
-    }
-    limn_mesh *t = NULL;
-    limn_mesh_create(ctx, limn_mesh_vertex_count(m), limn_mesh_positions(m), nf, off, idx, &t);
-    free(idx);
-    return t;
-}
-
 int main(int argc, char **argv)
 {
     MPI_Init(&argc, &argv);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
-    if (rank == 0) {
-        snprintf(dir, sizeof dir, "%s/limn_test_mpi_measure_XXXXXX",
-                 getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
-        if (!mkdtemp(dir))
-            dir[0] = '\0';
-    }
-    MPI_Bcast(dir, sizeof dir, MPI_CHAR, 0, MPI_COMM_WORLD);
+    mpi_test_scratch_dir(dir, sizeof dir, "test_mpi_measure");
     limn_context *ctx = limn_context_create();
     limn_mesh *ctri = mpi_test_closed(ctx, 1), *cquad = mpi_test_closed(ctx, 0);
     limn_mesh *otri = mpi_test_composite(ctx, 1), *oquad = mpi_test_composite(ctx, 0);
-    limn_mesh *flip = turned(ctx, cquad);
+    /* its first face turned over: two inconsistent edges and more, so not closed */
+    limn_mesh *flip = mpi_test_turned(ctx, cquad, 0);
     measure_case(ctx, "closed tri", ctri, LIMN_SCHEME_LOOP, 0.0, 1);
     measure_case(ctx, "closed quad", cquad, LIMN_SCHEME_CATMARK, 0.5, 1);
     measure_case(ctx, "closed quad a0", cquad, LIMN_SCHEME_AUTO, 0.0, 1);

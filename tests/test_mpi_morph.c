@@ -207,36 +207,12 @@ static limn_mesh *moved(limn_context *ctx, const limn_mesh *m, unsigned seed)
     return t;
 }
 
-/* m with face f's corners in reverse order. */
-static limn_mesh *turned(limn_context *ctx, const limn_mesh *m, size_t f)
-{
-    size_t nf = limn_mesh_face_count(m);
-    const uint32_t *off = limn_mesh_face_offsets(m);
-    uint32_t *idx = malloc(off[nf] * sizeof *idx);
-    memcpy(idx, limn_mesh_face_indices(m), off[nf] * sizeof *idx);
-    for (uint32_t i = off[f], j = off[f + 1] - 1; i < j; i++, j--) {
-        uint32_t x = idx[i];
-        idx[i] = idx[j];
-        idx[j] = x;
-    }
-    limn_mesh *t = NULL;
-    limn_mesh_create(ctx, limn_mesh_vertex_count(m), limn_mesh_positions(m), nf, off, idx, &t);
-    free(idx);
-    return t;
-}
-
 int main(int argc, char **argv)
 {
     MPI_Init(&argc, &argv);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
-    if (rank == 0) {
-        snprintf(dir, sizeof dir, "%s/limn_test_mpi_morph_XXXXXX",
-                 getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
-        if (!mkdtemp(dir))
-            dir[0] = '\0';
-    }
-    MPI_Bcast(dir, sizeof dir, MPI_CHAR, 0, MPI_COMM_WORLD);
+    mpi_test_scratch_dir(dir, sizeof dir, "test_mpi_morph");
     limn_context *ctx = limn_context_create();
     limn_mesh *tri = mpi_test_composite(ctx, 1), *quad = mpi_test_composite(ctx, 0);
     limn_mesh *closed = mpi_test_closed(ctx, 0);
@@ -247,7 +223,7 @@ int main(int argc, char **argv)
     morph_case(ctx, "closed quad", closed, closed2, LIMN_SCHEME_AUTO, 0.0, 0);
     morph_case(ctx, "closed quad linear", closed, closed2, LIMN_SCHEME_AUTO, 0.0, 1);
     morph_case(ctx, "composite tri linear", tri, tri2, LIMN_SCHEME_AUTO, 0.0, 1);
-    limn_mesh *bad = turned(ctx, quad2, limn_mesh_face_count(quad2) / 2);
+    limn_mesh *bad = mpi_test_turned(ctx, quad2, limn_mesh_face_count(quad2) / 2);
     morph_errors(ctx, quad, bad);
     limn_mesh_destroy(bad);
     limn_mesh_destroy(tri);

@@ -160,13 +160,7 @@ int main(int argc, char **argv)
     MPI_Init(&argc, &argv);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
-    if (rank == 0) {
-        snprintf(dir, sizeof dir, "%s/limn_test_mpi_repair_XXXXXX",
-                 getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
-        if (!mkdtemp(dir))
-            dir[0] = '\0';
-    }
-    MPI_Bcast(dir, sizeof dir, MPI_CHAR, 0, MPI_COMM_WORLD);
+    mpi_test_scratch_dir(dir, sizeof dir, "test_mpi_repair");
     limn_context *ctx = limn_context_create();
     limn_mesh *tri = mpi_test_composite(ctx, 1), *quad = mpi_test_composite(ctx, 0);
     limn_mesh *closed = mpi_test_closed(ctx, 0);
