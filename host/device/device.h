@@ -14,6 +14,7 @@
 #include "limn.h"
 #include "stencil/sgs_table.h"
 #include "stencil/stencil.h"
+#include "stencil/stencil_sell.h"
 
 #define DEVICE_ROWS_PER_ITEM 256
 #define DEVICE_WORKGROUP 8
@@ -31,8 +32,8 @@ typedef struct device_csr {
     size_t rows;
     size_t nonzeros;
     size_t row_begin;
-    device_buffer *row_offsets;  /* uint32, rows + 1 */
-    device_buffer *columns;      /* uint32, nonzeros */
+    device_buffer *row_offsets;  /* uint32, rows + 1; SELL (device.sell_slice): slices + 1 */
+    device_buffer *columns;      /* uint32, nonzeros (SELL: entries with padding) */
     device_buffer *weights;      /* double, nonzeros */
     device_buffer *weights_f;    /* float copy for the float path (device_csr_add_float);
                                     NULL until then */
@@ -221,6 +222,8 @@ struct device {
     char name[256];
     void *impl;
     device_setup_times setup; /* accumulated over the device's life */
+    size_t sell_slice;        /* 0: tables upload as CSR; C: in SELL-C slices (the OpenCL
+                                 gpu kernel shape, opencl_shape.h, stencil/stencil_sell.h) */
 };
 
 /*
