@@ -4,9 +4,10 @@
  * Two implementations: OpenCL (device_opencl.c) and plain C (device_ref.c).
  * Vectors are stored as 4 doubles per vertex (x, y, z, unused) because a
  * 32-byte record per row streams faster than three separate arrays.
- * Reductions are split into fixed chunks of rows (DEVICE_ROWS_PER_ITEM);
- * each chunk's partial result is finished on the host in chunk order, so the
- * result does not depend on the number of threads.
+ * Reductions are split into fixed chunks of rows (DEVICE_ROWS_PER_ITEM; on
+ * OpenCL in the gpu kernel shape, a work-group's rows, device/opencl/
+ * opencl_shape.h); each chunk's partial result is finished on the host in
+ * chunk order, so the result does not depend on the number of threads.
  */
 #ifndef LIMN_DEVICE_H
 #define LIMN_DEVICE_H
