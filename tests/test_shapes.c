@@ -11,6 +11,7 @@
  *    zeros), the norms' max the same (order-free) and their sums within
  *    2 (n - 1) eps sum|terms| (each order's sum is within (n - 1) eps of the
  *    exact one; here n = rows).
+ *  - limn bench's triad (the axpby kernel) on both shapes: no mismatch.
  *  - Every method and precision and every series command, through the API:
  *    the same iteration counts; bit-identical positions where no scalar of
  *    the iteration comes from a reduction (paper, chebyshev, the series,
@@ -438,6 +439,23 @@ static void series(void **state)
     free(x[1]);
 }
 
+/* limn bench's yardstick (limn_device_triad, the axpby kernel) in each
+   shape: every element as the host computes it. */
+static void triad(void **state)
+{
+    (void)state;
+    for (int s = 0; s < 2; s++) {
+        limn_context *ctx = shaped(shapes[s]);
+        limn_triad_report r = {.size = sizeof r};
+        /* 3 arrays of 1 MiB: 131072 doubles, 32768 rows of 4 */
+        assert_int_equal(limn_device_triad(ctx, 1 << 20, 2, &r), LIMN_OK);
+        assert_int_equal(r.mismatches, 0);
+        assert_int_equal(r.elements, 131072);
+        limn_context_destroy(ctx);
+        unsetenv("LIMN_KERNEL_SHAPE");
+    }
+}
+
 /* A value other than cpu or gpu is refused, naming it. */
 static void bad_shape(void **state)
 {
@@ -454,4 +472,4 @@ static void bad_shape(void **state)
 }
 
 TEST_MAIN(NULL, NULL, CONTEXT_TEST(sell_layout), CONTEXT_TEST(operations), CONTEXT_TEST(methods),
-          CONTEXT_TEST(series), cmocka_unit_test(bad_shape))
+          CONTEXT_TEST(series), cmocka_unit_test(triad), cmocka_unit_test(bad_shape))
