@@ -202,24 +202,27 @@ inline void store_partials(global double *partials, uint slot, item_rows span, d
 inline void group_partials(global double *partials, uint slot, item_rows span, double mx,
                            double sum, double sq, local double *red)
 {
+    /* three arrays of GROUP_SIZE (max, sum, sum of squares): neighbouring
+       items use neighbouring words, free of bank conflicts */
+    local double *rmax = red, *rsum = red + GROUP_SIZE, *rsq = red + 2 * GROUP_SIZE;
     uint l = (uint)get_local_id(0);
-    red[3 * l] = mx;
-    red[3 * l + 1] = sum;
-    red[3 * l + 2] = sq;
+    rmax[l] = mx;
+    rsum[l] = sum;
+    rsq[l] = sq;
     for (uint stride = GROUP_SIZE / 2; stride > 0; stride /= 2) {
         barrier(CLK_LOCAL_MEM_FENCE);
         if (l < stride) {
-            double other = red[3 * (l + stride)];
-            red[3 * l] = other > red[3 * l] ? other : red[3 * l];
-            red[3 * l + 1] += red[3 * (l + stride) + 1];
-            red[3 * l + 2] += red[3 * (l + stride) + 2];
+            double other = rmax[l + stride];
+            rmax[l] = other > rmax[l] ? other : rmax[l];
+            rsum[l] += rsum[l + stride];
+            rsq[l] += rsq[l + stride];
         }
     }
     /* item 0's own span starts at the group's first row */
     if (l == 0 && span.begin < span.end) {
-        partials[3 * slot] = red[0];
-        partials[3 * slot + 1] = red[1];
-        partials[3 * slot + 2] = red[2];
+        partials[3 * slot] = rmax[0];
+        partials[3 * slot + 1] = rsum[0];
+        partials[3 * slot + 2] = rsq[0];
     }
 }
 #else

@@ -86,7 +86,8 @@ int opencl_shape_fit(opencl_shape *s, size_t min_kernel_group)
 void opencl_shape_options(const opencl_shape *s, char *buf, size_t size)
 {
     if (s->gpu)
-        snprintf(buf, size, "-D ROWS_PER_ITEM=1 -D KERNEL_SHAPE_GPU=1 -D GROUP_SIZE=%zu -D SELL_C=%zu",
+        snprintf(buf, size,
+                 "-D ROWS_PER_ITEM=1 -D KERNEL_SHAPE_GPU=1 -D GROUP_SIZE=%zu -D SELL_C=%zu",
                  s->group, s->sell_slice);
     else
         snprintf(buf, size, "-D ROWS_PER_ITEM=%zu", s->rows_per_item);
