@@ -12,6 +12,8 @@
  *    2 (n - 1) eps sum|terms| (each order's sum is within (n - 1) eps of the
  *    exact one; here n = rows).
  *  - limn bench's triad (the axpby kernel) on both shapes: no mismatch.
+ *  - The launch arithmetic of each shape, and the group narrowed to what
+ *    every kernel allows.
  *  - Every method and precision and every series command, through the API:
  *    the same iteration counts; bit-identical positions where no scalar of
  *    the iteration comes from a reduction (paper, chebyshev, the series,
@@ -23,6 +25,7 @@
 #include "support.h"
 
 #include "device/device.h"
+#include "device/opencl/opencl_shape.h"
 #include "solve/operator.h"
 #include "stencil/stencil_sell.h"
 
@@ -456,6 +459,39 @@ static void triad(void **state)
     }
 }
 
+/* The shapes' launch arithmetic, and the group narrowed to what every kernel
+   allows (a power of two in the gpu shape, whose GROUP_SIZE is a -D: then
+   a rebuild). */
+static void shape_rules(void **state)
+{
+    (void)state;
+    opencl_shape gpu = {1, 1, 256, 256, 32}, cpu = {0, DEVICE_ROWS_PER_ITEM, 8,
+                                                    DEVICE_ROWS_PER_ITEM, 0};
+    assert_int_equal(opencl_shape_fit(&gpu, 0), 0);   /* none reported */
+    assert_int_equal(opencl_shape_fit(&gpu, 1024), 0);
+    assert_int_equal(gpu.group, 256);
+    assert_int_equal(opencl_shape_fit(&gpu, 100), 1); /* 64: rebuild */
+    assert_int_equal(gpu.group, 64);
+    assert_int_equal(gpu.rows_per_slot, 64);
+    assert_int_equal(opencl_shape_items(&gpu, 1000), 1024);
+    assert_int_equal(opencl_shape_slots(&gpu, 1000), 16);
+    assert_int_equal(opencl_shape_chunks(&gpu, 1000), 16);
+    assert_int_equal(opencl_shape_items(&gpu, 0), 0);
+    assert_int_equal(opencl_shape_fit(&cpu, 4), 0);   /* no rebuild */
+    assert_int_equal(cpu.group, 4);
+    assert_int_equal(cpu.rows_per_slot, DEVICE_ROWS_PER_ITEM);
+    assert_int_equal(opencl_shape_items(&cpu, 1000), 4);  /* 4 items of 256 rows */
+    assert_int_equal(opencl_shape_slots(&cpu, 1000), 4);
+    assert_int_equal(opencl_shape_items(&cpu, 1100), 8);  /* 5, rounded to groups of 4 */
+    assert_int_equal(opencl_shape_chunks(&cpu, 1100), 5);
+    char opts[160];
+    opencl_shape_options(&gpu, opts, sizeof opts);
+    assert_string_equal(opts,
+                        "-D ROWS_PER_ITEM=1 -D KERNEL_SHAPE_GPU=1 -D GROUP_SIZE=64 -D SELL_C=32");
+    opencl_shape_options(&cpu, opts, sizeof opts);
+    assert_string_equal(opts, "-D ROWS_PER_ITEM=256");
+}
+
 /* A value other than cpu or gpu is refused, naming it. */
 static void bad_shape(void **state)
 {
@@ -472,4 +508,5 @@ static void bad_shape(void **state)
 }
 
 TEST_MAIN(NULL, NULL, CONTEXT_TEST(sell_layout), CONTEXT_TEST(operations), CONTEXT_TEST(methods),
-          CONTEXT_TEST(series), cmocka_unit_test(triad), cmocka_unit_test(bad_shape))
+          CONTEXT_TEST(series), cmocka_unit_test(triad), cmocka_unit_test(shape_rules),
+          cmocka_unit_test(bad_shape))
