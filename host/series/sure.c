@@ -98,6 +98,17 @@ static double dot(const double *x, const double *y, size_t n)
     return s;
 }
 
+double sure_sigma_cap(const double *r, size_t n3, int degree, const double *t, double sigma)
+{
+    double s2 = sigma * sigma;
+    for (int i = 0; i < degree; i++) {
+        const double *ri = r + (size_t)i * n3;
+        double bound = t[2 * i + 1] > 0.0 ? dot(ri, ri, n3) / (3.0 * t[2 * i + 1]) : s2;
+        s2 = fmin(s2, bound);
+    }
+    return sqrt(s2);
+}
+
 /* Modified Gram-Schmidt, twice, of the columns r_i into q: u (degree^2,
    upper triangular) with r = q u; keep[i] = 0 where r_i lies (to 1e-10 of its
    length) in the span of the earlier ones. */
@@ -188,7 +199,7 @@ limn_status sure_denoise_run(limn_context *ctx, series_run *s, const limn_mesh *
 {
     size_t n3 = 3 * s->n;
     double *r = malloc((size_t)degree * n3 * sizeof *r);
-    double *t = malloc((size_t)degree * 2 * sizeof *t), *d = t + degree;
+    double *t = malloc((size_t)degree * 3 * sizeof *t), *d = t + 2 * degree;
     if (!r || !t) {
         free(r), free(t);
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu vertices",
@@ -199,7 +210,8 @@ limn_status sure_denoise_run(limn_context *ctx, series_run *s, const limn_mesh *
     if (!st && isnan(sg))
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", s->n);
     if (!st) {
-        sure_traces(&s->op.host, s->op.scheme, degree, t);
+        sure_traces(&s->op.host, s->op.scheme, 2 * degree, t);
+        sg = sure_sigma_cap(r, n3, degree, t, sg);
         st = sure_coefficients(ctx, r, n3, degree, sg, t, d);
     }
     limn_mesh *m = NULL;

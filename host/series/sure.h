@@ -15,6 +15,13 @@
    absolute value); r1 = (E - A) y, 3 doubles per vertex. */
 double sure_sigma(const stencil_csr *a, const double *r1, size_t n);
 
+/* sigma, lowered where the vectors r_i = B^{i+1} y (r + i*n3) hold less
+   energy than noise of that deviation would put there alone:
+   |B^k n|^2 ~ 3 sigma^2 tr(B^{2k}) (t[2k-1], from sure_traces up to 2N), so
+   sigma^2 <= |r_{k}|^2 / (3 t[2k-1]) for every k. A clean mesh's curvature
+   raises the median estimate; its smooth bands expose it. */
+double sure_sigma_cap(const double *r, size_t n3, int degree, const double *t, double sigma);
+
 /* Estimates of tr((E - A)^i), i = 1..N, into t[0..N-1]: n times the i-th
    moment of the regular lattice's symbol of the scheme, scaled so that the
    first is the exact trace. */
