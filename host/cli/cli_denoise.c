@@ -54,7 +54,7 @@ static void json_extra(json_out *j, void *user)
     extra *e = user;
     json_string(j, "form", e->products ? "sure" : "paper");
     if (e->products) {
-        json_integer(j, "products", e->products);
+        json_integer(j, "degree", e->products);
         json_number(j, "sigma_estimate", e->sigma);
     } else {
         json_integer(j, "m", e->m);
