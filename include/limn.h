@@ -688,8 +688,9 @@ LIMN_API limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
  * polynomial of degree `products` in A (that many stencil products), whose
  * coefficients minimise Stein's unbiased estimate of the squared distance to
  * the unknown clean mesh for Gaussian noise of deviation sigma on every
- * coordinate; sigma is estimated from the mesh (the median of |(E - A) M|
- * per row norm) and returned in *sigma (may be NULL). F keeps constants
+ * coordinate; sigma is estimated from the mesh (the smallest over k of
+ * |(E - A)^k M|^2 / (3 tr (E - A)^{2k}), the energy noise alone would leave)
+ * and returned in *sigma (may be NULL). F keeps constants
  * (p(1) = 1). keep_volume as for limn_denoise. Holds `products` copies of the
  * positions on the host.
  */

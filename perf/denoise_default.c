@@ -6,7 +6,8 @@
  * form (m = 2, K = 3 and m = 1, K = 6), Taubin with 10 pairs, and the oracle
  * bound (denoise_bound.h: the best degree-N polynomial in A knowing the clean
  * mesh), on Loop and Catmull-Clark meshes at sigma = 0.2, 0.3, 0.5 x the mean
- * edge length (seeded Gaussian noise on every coordinate).
+ * edge length (seeded Gaussian noise on every coordinate), and at 0.3, 0.5
+ * along the vertex normals (a range scanner's noise).
  *
  *   denoise_default [--meshes DIR] [--device SPEC] [--out DIR] [--products N]
  *
@@ -41,6 +42,44 @@ static void die(limn_context *ctx, const char *what)
     exit(1);
 }
 
+/* Seeded Gaussian noise of deviation sigma along each vertex's normal (the
+   sum of its faces' Newell normals, normalised): a range scanner's noise. */
+static void normal_noise(limn_mesh *m, double sigma, uint64_t seed)
+{
+    size_t n = limn_mesh_vertex_count(m), nf = limn_mesh_face_count(m);
+    const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
+    double *p = limn_mesh_positions_mutable(m), *nrm = calloc(3 * n, sizeof *nrm);
+    double *g = calloc(3 * n, sizeof *g);
+    for (size_t f = 0; f < nf; f++) {
+        double fn[3] = {0, 0, 0};
+        for (uint32_t k = off[f]; k < off[f + 1]; k++) {
+            const double *a = p + 3 * idx[k], *b = p + 3 * idx[k + 1 < off[f + 1] ? k + 1 : off[f]];
+            fn[0] += (a[1] - b[1]) * (a[2] + b[2]);
+            fn[1] += (a[2] - b[2]) * (a[0] + b[0]);
+            fn[2] += (a[0] - b[0]) * (a[1] + b[1]);
+        }
+        for (uint32_t k = off[f]; k < off[f + 1]; k++)
+            for (int c = 0; c < 3; c++)
+                nrm[3 * idx[k] + c] += fn[c];
+    }
+    /* one Gaussian per vertex: the x channel of test_gaussian_noise on a zero mesh */
+    limn_mesh *z = NULL;
+    limn_context *ctx = limn_context_create();
+    if (!ctx || limn_mesh_copy(ctx, m, &z))
+        die(ctx, "copy");
+    memset(limn_mesh_positions_mutable(z), 0, 3 * n * sizeof(double));
+    test_gaussian_noise(z, 1.0, seed);
+    memcpy(g, limn_mesh_positions(z), 3 * n * sizeof *g);
+    for (size_t v = 0; v < n; v++) {
+        double *q = nrm + 3 * v, len = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+        for (int c = 0; len > 0 && c < 3; c++)
+            p[3 * v + c] += sigma * g[3 * v] * q[c] / len;
+    }
+    limn_mesh_destroy(z);
+    limn_context_destroy(ctx);
+    free(nrm), free(g);
+}
+
 typedef struct result {
     double distance, normal, volume_change, seconds;
 } result;
@@ -48,7 +87,7 @@ typedef struct result {
 typedef struct bench {
     limn_context *ctx;
     FILE *csv;
-    const char *mesh;
+    const char *mesh, *noise; /* noise: "iso" or "normal" */
     double sigma, diag;
     const limn_mesh *clean, *noisy;
 } bench;
@@ -75,10 +114,11 @@ static result row(const bench *b, const char *method, int products, limn_mesh *o
         die(b->ctx, "measuring");
     result r = {c.mean_distance / b->diag, c.mean_normal_angle,
                 m0.closed ? (m1.volume - m0.volume) / m0.volume : NAN, seconds};
-    printf("| %-22s | %3.1f | %-24s | %3d | %9.3e | %6.2f | %+7.3f%% | %7.4f |\n", b->mesh,
-           b->sigma, method, products, r.distance, r.normal, 100.0 * r.volume_change, seconds);
-    fprintf(b->csv, "%s,%.2f,%s,%d,%.6e,%.4f,%.6e,%.6f\n", b->mesh, b->sigma, method, products,
-            r.distance, r.normal, r.volume_change, seconds);
+    printf("| %-22s | %-6s | %3.1f | %-24s | %3d | %9.3e | %6.2f | %+7.3f%% | %7.4f |\n",
+           b->mesh, b->noise, b->sigma, method, products, r.distance, r.normal,
+           100.0 * r.volume_change, seconds);
+    fprintf(b->csv, "%s,%s,%.2f,%s,%d,%.6e,%.4f,%.6e,%.6f\n", b->mesh, b->noise, b->sigma, method,
+            products, r.distance, r.normal, r.volume_change, seconds);
     limn_mesh_destroy(out);
     return r;
 }
@@ -123,6 +163,7 @@ static result run_default(const bench *b, int products, int keep, double *sigma)
 
 typedef struct summary {
     char mesh[64];
+    const char *noise;
     double sigma, sigma_est, dist_ratio, normal_ratio, bound_dist_ratio, bound_l2_normal_ratio,
         volume_change;
 } summary;
@@ -130,7 +171,7 @@ typedef struct summary {
 /* All methods on one noisy mesh; the summary's line. */
 static summary run_case(const bench *b, const adjacency *adj, int products, double edge)
 {
-    summary s = {.sigma = b->sigma};
+    summary s = {.sigma = b->sigma, .noise = b->noise};
     snprintf(s.mesh, sizeof s.mesh, "%s", b->mesh);
     limn_mesh *copy = NULL;
     if (limn_mesh_copy(b->ctx, b->noisy, &copy))
@@ -164,12 +205,12 @@ static void print_summary(const summary *s, int count, int products)
            " Taubin: the best any degree-%d polynomial in A reaches (mean distance), and the"
            " better normal error of the two oracle fits\n\n",
            products, products);
-    printf("| mesh | sigma | sigma estimated | distance ratio | normal ratio | bound distance "
-           "ratio | bound normal ratio | volume change | both met |\n");
-    printf("|---|---:|---:|---:|---:|---:|---:|---:|:---:|\n");
+    printf("| mesh | noise | sigma | sigma estimated | distance ratio | normal ratio | bound "
+           "distance ratio | bound normal ratio | volume change | both met |\n");
+    printf("|---|---|---:|---:|---:|---:|---:|---:|---:|:---:|\n");
     for (int i = 0; i < count; i++)
-        printf("| %s | %.1f | %.3f | %.3f | %.3f | %.3f | %.3f | %+.3f%% | %s |\n", s[i].mesh,
-               s[i].sigma, s[i].sigma_est, s[i].dist_ratio, s[i].normal_ratio,
+        printf("| %s | %s | %.1f | %.3f | %.3f | %.3f | %.3f | %.3f | %+.3f%% | %s |\n",
+               s[i].mesh, s[i].noise, s[i].sigma, s[i].sigma_est, s[i].dist_ratio, s[i].normal_ratio,
                s[i].bound_dist_ratio, s[i].bound_l2_normal_ratio, 100.0 * s[i].volume_change,
                s[i].dist_ratio < 0.9 && s[i].normal_ratio < 0.9 ? "yes" : "no");
 }
@@ -201,10 +242,10 @@ int main(int argc, char **argv)
         die(ctx, "device");
     char path[4096], csv_path[4096];
     snprintf(csv_path, sizeof csv_path, "%s/denoise_default.csv", outdir);
-    bench b = {ctx, fopen(csv_path, "w"), NULL, 0, 0, NULL, NULL};
+    bench b = {ctx, fopen(csv_path, "w"), NULL, "iso", 0, 0, NULL, NULL};
     if (!b.csv)
         die(NULL, csv_path);
-    fputs("mesh,sigma_edges,method,products,mean_rel_distance,mean_normal_deg,volume_change,"
+    fputs("mesh,noise,sigma_edges,method,products,mean_rel_distance,mean_normal_deg,volume_change,"
           "seconds\n",
           b.csv);
     static const char *files[] = {"medium/bunny_closed.off",    "medium/horse.ply",
@@ -213,11 +254,11 @@ int main(int argc, char **argv)
                                   "small/spot_quadrangulated.obj", "small/fandisk_quads.off"};
     static const double sigmas[] = {0.2, 0.3, 0.5};
     enum { FILES = sizeof files / sizeof *files, SIGMAS = sizeof sigmas / sizeof *sigmas };
-    summary sum[FILES * SIGMAS];
+    summary sum[FILES * SIGMAS * 2];
     int count = 0;
-    printf("| %-22s | %5s | %-24s | %3s | %9s | %6s | %8s | %7s |\n", "mesh", "sigma", "method",
-           "ops", "mean dist", "normal", "volume", "seconds");
-    printf("|---|---:|---|---:|---:|---:|---:|---:|\n");
+    printf("| %-22s | %-6s | %5s | %-24s | %3s | %9s | %6s | %8s | %7s |\n", "mesh", "noise",
+           "sigma", "method", "ops", "mean dist", "normal", "volume", "seconds");
+    printf("|---|---|---:|---|---:|---:|---:|---:|---:|\n");
     for (size_t fi = 0; fi < FILES; fi++) {
         snprintf(path, sizeof path, "%s/%s", meshes, files[fi]);
         limn_mesh *clean = NULL;
@@ -228,13 +269,22 @@ int main(int argc, char **argv)
         b.mesh = strrchr(files[fi], '/') + 1;
         b.clean = clean;
         b.diag = bbox_diagonal(clean);
-        for (size_t si = 0; si < SIGMAS; si++) {
+        /* isotropic noise at every sigma; along the normals at 0.3 and 0.5 */
+        for (size_t k = 0; k < 2 * SIGMAS; k++) {
+            size_t si = k % SIGMAS;
+            int along = k >= SIGMAS;
+            if (along && sigmas[si] < 0.25)
+                continue;
             limn_mesh *noisy = NULL;
             if (limn_mesh_copy(ctx, clean, &noisy))
                 die(ctx, "copy");
-            test_gaussian_noise(noisy, sigmas[si] * edge, 1600 + 17 * fi + si);
+            if (along)
+                normal_noise(noisy, sigmas[si] * edge, 2600 + 17 * fi + si);
+            else
+                test_gaussian_noise(noisy, sigmas[si] * edge, 1600 + 17 * fi + si);
             b.noisy = noisy;
             b.sigma = sigmas[si];
+            b.noise = along ? "normal" : "iso";
             sum[count++] = run_case(&b, &adj, products, edge);
             limn_mesh_destroy(noisy);
         }

@@ -236,7 +236,7 @@ static void beats_taubin_at_equal_products(void **s)
     limn_context_destroy(ctx);
 }
 
-/* The noise estimate's cap (sure_sigma_cap) finds a clean mesh nearly clean. */
+/* The noise estimate (sure_sigma) finds a clean mesh nearly clean. */
 static void clean_mesh_nearly_unchanged(void **s)
 {
     (void)s;
@@ -252,7 +252,8 @@ static void clean_mesh_nearly_unchanged(void **s)
         CHECK_OK(ctx, limn_mesh_compare(ctx, clean, out, &c));
         double edge = test_mean_edge(clean);
         printf("  %-30s clean: moved %.3g edge on average\n", files[i], c.mean_distance / edge);
-        assert_true(c.mean_distance <= 0.05 * edge);
+        /* bunny_closed is a range scan: its own noise (~0.07 edge) is found and removed */
+        assert_true(c.mean_distance <= 0.1 * edge);
         limn_mesh_destroy(clean), limn_mesh_destroy(out);
     }
     limn_context_destroy(ctx);

@@ -19,41 +19,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-double sure_sigma(const stencil_csr *a, const double *r1, size_t n)
-{
-    double *z = malloc(3 * n * sizeof *z);
-    if (!z)
-        return NAN;
-    size_t k = 0;
-    for (size_t v = 0; v < n; v++) {
-        double sq = 0.0, diag = 1.0;
-        for (uint32_t j = a->row_offsets[v]; j < a->row_offsets[v + 1]; j++) {
-            if (a->columns[j] == v)
-                diag -= a->weights[j];
-            else
-                sq += a->weights[j] * a->weights[j];
-        }
-        double norm = sqrt(sq + diag * diag);
-        if (!(norm > 0.0))
-            continue; /* an isolated or pinned vertex says nothing of the noise */
-        for (int c = 0; c < 3; c++)
-            z[k++] = fabs(r1[3 * v + c]) / norm;
-    }
-    double sigma = 0.0;
-    if (k) {
-        qsort(z, k, sizeof *z, cmp_double);
-        sigma = (k % 2 ? z[k / 2] : 0.5 * (z[k / 2 - 1] + z[k / 2])) / 0.6744897501960817;
-    }
-    free(z);
-    return sigma;
-}
-
 /* The symbol of B on the regular lattice at frequency (u, w): Loop's
    triangular lattice (valence 6) or Catmull-Clark's quad lattice (valence 4),
    up to the scale sure_traces fits. */
@@ -98,15 +63,15 @@ static double dot(const double *x, const double *y, size_t n)
     return s;
 }
 
-double sure_sigma_cap(const double *r, size_t n3, int degree, const double *t, double sigma)
+double sure_sigma(const double *r, size_t n3, int degree, const double *t)
 {
-    double s2 = sigma * sigma;
+    double s2 = INFINITY;
     for (int i = 0; i < degree; i++) {
         const double *ri = r + (size_t)i * n3;
-        double bound = t[2 * i + 1] > 0.0 ? dot(ri, ri, n3) / (3.0 * t[2 * i + 1]) : s2;
-        s2 = fmin(s2, bound);
+        if (t[2 * i + 1] > 0.0)
+            s2 = fmin(s2, dot(ri, ri, n3) / (3.0 * t[2 * i + 1]));
     }
-    return sqrt(s2);
+    return isinf(s2) ? 0.0 : sqrt(s2);
 }
 
 /* Modified Gram-Schmidt, twice, of the columns r_i into q: u (degree^2,
@@ -206,12 +171,10 @@ limn_status sure_denoise_run(limn_context *ctx, series_run *s, const limn_mesh *
                         degree, s->n);
     }
     limn_status st = sure_vectors(s, mesh, degree, r, products);
-    double sg = st ? 0.0 : sure_sigma(&s->op.host, r, s->n);
-    if (!st && isnan(sg))
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", s->n);
+    double sg = 0.0;
     if (!st) {
         sure_traces(&s->op.host, s->op.scheme, 2 * degree, t);
-        sg = sure_sigma_cap(r, n3, degree, t, sg);
+        sg = sure_sigma(r, n3, degree, t);
         st = sure_coefficients(ctx, r, n3, degree, sg, t, d);
     }
     limn_mesh *m = NULL;

@@ -10,19 +10,16 @@
 
 #include "series/series.h"
 
-/* The noise deviation: the median over vertices and coordinates of
-   |((E - A) y)_v| / |row v of E - A|_2, over 0.6745 (a Gaussian's median
-   absolute value); r1 = (E - A) y, 3 doubles per vertex. */
-double sure_sigma(const stencil_csr *a, const double *r1, size_t n);
+/* The noise deviation per coordinate: the smallest over k = 1..N of
+   sqrt(|B^k y|^2 / (3 tr B^{2k})) (r + (k-1)*n3 = B^k y; t from sure_traces
+   up to 2N, t[2k-1] = tr B^{2k}): noise alone puts |B^k n|^2 ~ 3 sigma^2
+   tr B^{2k} there, the signal only adds, and at high k little of a smooth
+   surface is left, so a clean mesh finds a small sigma. Energies, not
+   medians: right for noise along the normals too (a median of coordinates
+   is not). 0 when no trace is positive. */
+double sure_sigma(const double *r, size_t n3, int degree, const double *t);
 
-/* sigma, lowered where the vectors r_i = B^{i+1} y (r + i*n3) hold less
-   energy than noise of that deviation would put there alone:
-   |B^k n|^2 ~ 3 sigma^2 tr(B^{2k}) (t[2k-1], from sure_traces up to 2N), so
-   sigma^2 <= |r_{k}|^2 / (3 t[2k-1]) for every k. A clean mesh's curvature
-   raises the median estimate; its smooth bands expose it. */
-double sure_sigma_cap(const double *r, size_t n3, int degree, const double *t, double sigma);
-
-/* Estimates of tr((E - A)^i), i = 1..N, into t[0..N-1]: n times the i-th
+/* Estimates of tr((E - A)^i), i = 1..degree, into t[0..degree-1]: n times the i-th
    moment of the regular lattice's symbol of the scheme, scaled so that the
    first is the exact trace. */
 void sure_traces(const stencil_csr *a, limn_scheme scheme, int degree, double *t);
