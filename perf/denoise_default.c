@@ -42,44 +42,6 @@ static void die(limn_context *ctx, const char *what)
     exit(1);
 }
 
-/* Seeded Gaussian noise of deviation sigma along each vertex's normal (the
-   sum of its faces' Newell normals, normalised): a range scanner's noise. */
-static void normal_noise(limn_mesh *m, double sigma, uint64_t seed)
-{
-    size_t n = limn_mesh_vertex_count(m), nf = limn_mesh_face_count(m);
-    const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
-    double *p = limn_mesh_positions_mutable(m), *nrm = calloc(3 * n, sizeof *nrm);
-    double *g = calloc(3 * n, sizeof *g);
-    for (size_t f = 0; f < nf; f++) {
-        double fn[3] = {0, 0, 0};
-        for (uint32_t k = off[f]; k < off[f + 1]; k++) {
-            const double *a = p + 3 * idx[k], *b = p + 3 * idx[k + 1 < off[f + 1] ? k + 1 : off[f]];
-            fn[0] += (a[1] - b[1]) * (a[2] + b[2]);
-            fn[1] += (a[2] - b[2]) * (a[0] + b[0]);
-            fn[2] += (a[0] - b[0]) * (a[1] + b[1]);
-        }
-        for (uint32_t k = off[f]; k < off[f + 1]; k++)
-            for (int c = 0; c < 3; c++)
-                nrm[3 * idx[k] + c] += fn[c];
-    }
-    /* one Gaussian per vertex: the x channel of test_gaussian_noise on a zero mesh */
-    limn_mesh *z = NULL;
-    limn_context *ctx = limn_context_create();
-    if (!ctx || limn_mesh_copy(ctx, m, &z))
-        die(ctx, "copy");
-    memset(limn_mesh_positions_mutable(z), 0, 3 * n * sizeof(double));
-    test_gaussian_noise(z, 1.0, seed);
-    memcpy(g, limn_mesh_positions(z), 3 * n * sizeof *g);
-    for (size_t v = 0; v < n; v++) {
-        double *q = nrm + 3 * v, len = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-        for (int c = 0; len > 0 && c < 3; c++)
-            p[3 * v + c] += sigma * g[3 * v] * q[c] / len;
-    }
-    limn_mesh_destroy(z);
-    limn_context_destroy(ctx);
-    free(nrm), free(g);
-}
-
 typedef struct result {
     double distance, normal, volume_change, seconds;
 } result;
@@ -279,7 +241,7 @@ int main(int argc, char **argv)
             if (limn_mesh_copy(ctx, clean, &noisy))
                 die(ctx, "copy");
             if (along)
-                normal_noise(noisy, sigmas[si] * edge, 2600 + 17 * fi + si);
+                test_normal_noise(noisy, sigmas[si] * edge, 2600 + 17 * fi + si);
             else
                 test_gaussian_noise(noisy, sigmas[si] * edge, 1600 + 17 * fi + si);
             b.noisy = noisy;
