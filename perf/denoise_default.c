@@ -172,7 +172,8 @@ static void print_summary(const summary *s, int count, int products)
     printf("|---|---|---:|---:|---:|---:|---:|---:|---:|:---:|\n");
     for (int i = 0; i < count; i++)
         printf("| %s | %s | %.1f | %.3f | %.3f | %.3f | %.3f | %.3f | %+.3f%% | %s |\n",
-               s[i].mesh, s[i].noise, s[i].sigma, s[i].sigma_est, s[i].dist_ratio, s[i].normal_ratio,
+               s[i].mesh, s[i].noise, s[i].sigma, s[i].sigma_est, s[i].dist_ratio,
+               s[i].normal_ratio,
                s[i].bound_dist_ratio, s[i].bound_l2_normal_ratio, 100.0 * s[i].volume_change,
                s[i].dist_ratio < 0.9 && s[i].normal_ratio < 0.9 ? "yes" : "no");
 }

@@ -230,7 +230,8 @@ static void beats_taubin_at_equal_products(void **s)
         measured a = measure(ctx, clean, noisy, ours), b = measure(ctx, clean, noisy, taubin);
         printf("  %-30s sigma %.1f%s: distance %.3g vs Taubin %.3g, normal %.2f vs %.2f deg, "
                "volume %+.4f%%\n",
-               cases[i].file, cases[i].sigma, cases[i].along_normals ? " (normals)" : "", a.distance, b.distance, a.normal, b.normal,
+               cases[i].file, cases[i].sigma, cases[i].along_normals ? " (normals)" : "",
+               a.distance, b.distance, a.normal, b.normal,
                100 * a.volume_change);
         if (!(a.distance <= 0.9 * b.distance && a.normal <= 0.9 * b.normal))
             fail_msg("%s: not 10%% better than Taubin at 12 products", cases[i].file);

@@ -82,8 +82,8 @@ static void print_extra(void *user)
     extra *e = user;
     const cli_series_measures *v = &e->v;
     if (e->products)
-        fprintf(stderr, "  SURE-fitted polynomial of degree %d, noise sigma estimated %.3g", e->products,
-                e->sigma);
+        fprintf(stderr, "  SURE-fitted polynomial of degree %d, noise sigma estimated %.3g",
+                e->products, e->sigma);
     else
         fprintf(stderr, "  m %d, %d steps", e->m, e->steps);
     fprintf(stderr, "%s, mean displacement %.3g of the bbox diagonal\n",
