@@ -634,9 +634,12 @@ LIMN_API void limn_series_options_default(limn_series_options *options);
  * LIMN_MAX_TERMS for bands' count, smooth's terms, denoise's and morph's m
  * and sharpen's `to`; LIMN_MAX_STEPS for denoise's and sharpen's steps;
  * LIMN_MAX_PRODUCTS for a call's stencil products ((m + 1) * steps, to *
- * steps, (m + 1) * (frames - 1)); LIMN_MAX_FRAMES for morph's frames.
+ * steps, (m + 1) * (frames - 1)); LIMN_MAX_FRAMES for morph's frames;
+ * LIMN_MAX_SURE_PRODUCTS for limn_denoise_sure's products (each a copy of
+ * the positions held; past ~30 the Krylov vectors are parallel to rounding).
  */
 #define LIMN_MAX_TERMS 10000
+#define LIMN_MAX_SURE_PRODUCTS 64
 #define LIMN_MAX_STEPS 10000
 #define LIMN_MAX_PRODUCTS 10000000
 #define LIMN_MAX_FRAMES 100000
@@ -679,6 +682,22 @@ LIMN_API limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
                                   const limn_series_options *options, int m, int steps,
                                   int keep_volume, limn_mesh **out,
                                   limn_series_report *report);
+
+/*
+ * limn denoise's default: F = E + sum_{i=1..products} d_i (E - A)^i, a
+ * polynomial of degree `products` in A (that many stencil products), whose
+ * coefficients minimise Stein's unbiased estimate of the squared distance to
+ * the unknown clean mesh for Gaussian noise of deviation sigma on every
+ * coordinate; sigma is estimated from the mesh (the smallest over k of
+ * |(E - A)^k M|^2 / (3 tr (E - A)^{2k}), the energy noise alone would leave)
+ * and returned in *sigma (may be NULL). F keeps constants
+ * (p(1) = 1). keep_volume as for limn_denoise. Holds `products` copies of the
+ * positions on the host.
+ */
+LIMN_API limn_status limn_denoise_sure(limn_context *ctx, const limn_mesh *mesh,
+                                       const limn_series_options *options, int products,
+                                       int keep_volume, limn_mesh **out, double *sigma,
+                                       limn_series_report *report);
 
 /* Seed 000: T_{k+1} = T_k + sum_{i=from..to} (E - A)^i T_k, `steps` times
    (to * steps products); 0 <= from <= to. */

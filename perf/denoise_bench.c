@@ -29,6 +29,7 @@
  */
 #include "limn.h"
 #include "noise.h"
+#include "taubin.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -60,83 +61,6 @@ static FILE *open_csv(const char *outdir, const char *name, const char *header)
         die(NULL, path);
     fputs(header, csv);
     return csv;
-}
-
-/* ------------------------------------------------------------- Taubin */
-
-typedef struct adjacency {
-    size_t n;
-    uint32_t *off, *nbr;
-} adjacency;
-
-static int cmp_u32(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* Vertex neighbours over face edges, without repeats. */
-static adjacency build_adjacency(const limn_mesh *m)
-{
-    adjacency a = {limn_mesh_vertex_count(m), NULL, NULL};
-    const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
-    size_t nf = limn_mesh_face_count(m), corners = off[nf];
-    uint32_t *count = calloc(a.n + 1, sizeof *count);
-    for (size_t f = 0; f < nf; f++)
-        for (uint32_t k = off[f]; k < off[f + 1]; k++)
-            count[idx[k]] += 2;
-    a.off = calloc(a.n + 1, sizeof *a.off);
-    for (size_t i = 0; i < a.n; i++)
-        a.off[i + 1] = a.off[i] + count[i];
-    uint32_t *fill = calloc(a.n, sizeof *fill), *tmp = malloc((2 * corners + 1) * sizeof *tmp);
-    for (size_t f = 0; f < nf; f++)
-        for (uint32_t k = off[f]; k < off[f + 1]; k++) {
-            uint32_t v = idx[k], nx = idx[k + 1 < off[f + 1] ? k + 1 : off[f]],
-                     pv = idx[k > off[f] ? k - 1 : off[f + 1] - 1];
-            tmp[a.off[v] + fill[v]++] = nx;
-            tmp[a.off[v] + fill[v]++] = pv;
-        }
-    a.nbr = malloc((2 * corners + 1) * sizeof *a.nbr);
-    uint32_t w = 0;
-    uint32_t *newoff = calloc(a.n + 1, sizeof *newoff);
-    for (size_t i = 0; i < a.n; i++) {
-        uint32_t *s = tmp + a.off[i];
-        qsort(s, fill[i], sizeof *s, cmp_u32);
-        for (uint32_t k = 0; k < fill[i]; k++)
-            if (k == 0 || s[k] != s[k - 1])
-                a.nbr[w++] = s[k];
-        newoff[i + 1] = w;
-    }
-    free(a.off);
-    a.off = newoff;
-    free(count);
-    free(fill);
-    free(tmp);
-    return a;
-}
-
-/* pairs x (lambda then mu) steps of x += f (mean(neighbours) - x). */
-static void taubin(const adjacency *a, double *p, int pairs, double lambda, double mu)
-{
-    double *q = malloc(3 * a->n * sizeof *q);
-    for (int s = 0; s < 2 * pairs; s++) {
-        double f = s % 2 == 0 ? lambda : mu;
-        for (size_t i = 0; i < a->n; i++) {
-            uint32_t b = a->off[i], e = a->off[i + 1];
-            for (int c = 0; c < 3; c++) {
-                if (b == e) {
-                    q[3 * i + c] = p[3 * i + c];
-                    continue;
-                }
-                double sum = 0;
-                for (uint32_t k = b; k < e; k++)
-                    sum += p[3 * (size_t)a->nbr[k] + c];
-                q[3 * i + c] = p[3 * i + c] + f * (sum / (double)(e - b) - p[3 * i + c]);
-            }
-        }
-        memcpy(p, q, 3 * a->n * sizeof *p);
-    }
-    free(q);
 }
 
 /* ------------------------------------------------------------- tables */
@@ -307,7 +231,7 @@ int main(int argc, char **argv)
                 if (limn_mesh_copy(ctx, noisy, &out))
                     die(ctx, "copy");
                 double t0 = now();
-                taubin(&adj, limn_mesh_positions_mutable(out), counts[k], 0.5, -0.53);
+                taubin_steps(&adj, limn_mesh_positions_mutable(out), 2 * counts[k], 0.5, -0.53);
                 double t = now() - t0;
                 char method[64];
                 snprintf(method, sizeof method, "Taubin %d pairs", counts[k]);
@@ -318,8 +242,7 @@ int main(int argc, char **argv)
             }
             limn_mesh_destroy(noisy);
         }
-        free(adj.off);
-        free(adj.nbr);
+        adjacency_free(&adj);
         limn_mesh_destroy(clean);
     }
     fclose(csv);

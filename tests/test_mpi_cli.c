@@ -223,7 +223,8 @@ static void series_same(void **s)
     write_inputs();
     /* smooth, denoise and sharpen on a file input: slices (limn_mpi_mesh_smooth
        etc.), the single process's bytes (--keep-volume: denoise_volume_same) */
-    static const char *cmds[] = {"smooth '%s' -o '%s' --terms 4 -q", "denoise '%s' -o '%s' -q",
+    static const char *cmds[] = {"smooth '%s' -o '%s' --terms 4 -q",
+                                 "denoise '%s' -o '%s' --m 2 --steps 3 -q",
                                  "sharpen '%s' -o '%s' --from 1 --to 3 --steps 2 -q"};
     static const char *inputs[] = {"quad.obj", "tri.obj"};
     for (int k = 0; k < 3; k++)
@@ -335,10 +336,12 @@ static void denoise_volume_same(void **s)
     for (int c = 0; c < 3; c++)
         for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
             char args[2048];
-            snprintf(args, sizeof args, "denoise '%s' -o '%s' %s --report '%s' -q",
+            snprintf(args, sizeof args,
+                     "denoise '%s' -o '%s' --m 2 --steps 3 %s --report '%s' -q",
                      at(cases[c][0]), at("v1.ply"), cases[c][1], at("v1.json"));
             assert_int_equal(run(0, args), 0);
-            snprintf(args, sizeof args, "denoise '%s' -o '%s' %s --report '%s' -q",
+            snprintf(args, sizeof args,
+                     "denoise '%s' -o '%s' --m 2 --steps 3 %s --report '%s' -q",
                      at(cases[c][0]), at("v2.ply"), cases[c][1], at("v2.json"));
             if (run(ranks, args) != 0)
                 fail_msg("%s", test_text);
@@ -353,19 +356,24 @@ static void denoise_volume_same(void **s)
             }
         }
     char args[2048];
-    snprintf(args, sizeof args, "denoise '%s' -o '%s' --keep-volume", at("quad.obj"),
-             at("open1.ply"));
+    snprintf(args, sizeof args, "denoise '%s' -o '%s' --m 2 --steps 3 --keep-volume",
+             at("quad.obj"), at("open1.ply"));
     assert_int_equal(run(0, args), 1);
     const char *why = strstr(test_text, "keeping the volume needs a closed mesh");
     assert_non_null(why);
     char one[512];
     snprintf(one, sizeof one, "%.*s", (int)strcspn(why, "\n"), why);
-    snprintf(args, sizeof args, "denoise '%s' -o '%s' --keep-volume", at("quad.obj"),
-             at("open2.ply"));
+    snprintf(args, sizeof args, "denoise '%s' -o '%s' --m 2 --steps 3 --keep-volume",
+             at("quad.obj"), at("open2.ply"));
     assert_int_equal(run(3, args), 1);
     assert_int_equal(count(test_text, "limn denoise: error:"), 1);
     assert_int_equal(count(test_text, one), 1); /* the same edge counts */
     assert_false(test_file_exists(at("open2.ply")));
+    /* the default form (limn_denoise_sure) has no MPI path: refused, nothing written */
+    snprintf(args, sizeof args, "denoise '%s' -o '%s'", at("tri.obj"), at("sure.ply"));
+    assert_int_equal(run(3, args), 2);
+    assert_non_null(strstr(test_text, "no MPI path yet"));
+    assert_false(test_file_exists(at("sure.ply")));
 }
 
 /* bands (every band, the remainder and the energy file; on slices) and

@@ -84,6 +84,9 @@ static void bad_usage(void **s)
         {"denoise '%s' -o out.ply --m -1", "--m -1 must be at least 0", 2},
         {"denoise '%s' -o out.ply --steps 0", "--steps 0 must be at least 1", 2},
         {"denoise '%s' -o out.ply --m two", "--m expects an integer", 2},
+        {"denoise '%s' -o out.ply --products 0", "--products 0 must be at least 1", 2},
+        {"denoise '%s' -o out.ply --products 65", "--products 65: at most 64", 2},
+        {"denoise '%s' -o out.ply --products 4 --m 1", "give one or the other", 2},
         {"denoise '%s' -o out.ply --alpha 3", "--alpha 3 is outside [0, 1]", 2},
         {"denoise '%s' -o out.ply --scheme butterfly", "is not one of auto, loop, catmark", 2},
         {"denoise '%s' -o out.ply --device cuda", "unknown device 'cuda'", 2},
@@ -233,6 +236,16 @@ static void good_runs(void **s)
     assert_string_equal(test_text, "");
     double change = strtod(strstr(slurp("dk.json"), "\"volume_change\": ") + 17, NULL);
     assert_true(change > -1e-9 && change < 1e-9);
+    /* the default form: SURE, 12 products, the volume of a closed mesh kept */
+    assert_int_equal(limn("denoise '%s' -o ds.ply -q --report ds.json", spot), 0);
+    rep = slurp("ds.json");
+    static const char *const skeys[] = {"\"form\": \"sure\"", "\"degree\": 12",
+                                        "\"products\": 12", "\"sigma_estimate\": ",
+                                        "\"keep_volume\": true"};
+    has_keys(rep, skeys, sizeof skeys / sizeof *skeys);
+    change = strtod(strstr(rep, "\"volume_change\": ") + 17, NULL);
+    assert_true(change > -1e-9 && change < 1e-9);
+    assert_non_null(strstr(slurp("dn.json"), "\"form\": \"paper\""));
 
     /* smooth and sharpen */
     assert_int_equal(limn("smooth '%s' -o sm.obj --terms 2 -q", spot), 0);

@@ -16,6 +16,7 @@
 #include "solve/operator.h"
 #include "series/filter.h"
 #include "series/series.h"
+#include "series/sure.h"
 #include "base/clock.h"
 
 #include <math.h>
@@ -308,6 +309,21 @@ limn_status series_keep_volume(limn_context *ctx, const limn_mesh *mesh, limn_me
     return LIMN_OK;
 }
 
+/* keep_volume needs a closed mesh (the run is closed on refusal). */
+static limn_status check_keep_volume(limn_context *ctx, series_run *s, int keep_volume)
+{
+    if (!keep_volume || measure_topology_closed(&s->op.topo))
+        return LIMN_OK;
+    limn_status st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
+                   "keeping the volume needs a closed mesh, and this one has %zu boundary, "
+                   "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
+                   "not defined",
+                   s->op.topo.boundary_edges, s->op.topo.nonmanifold_edges,
+                   s->op.topo.inconsistent_edges);
+    series_close(s);
+    return st;
+}
+
 /* limn_denoise on options and report of this library's layout. */
 static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
                                  const limn_series_options *o, int m, int steps, int keep_volume,
@@ -322,19 +338,38 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mesh *mesh,
     series_engine e;
     if (!st)
         st = open_engine(ctx, mesh, o, r, &s, &e);
+    if (!st)
+        st = check_keep_volume(ctx, &s, keep_volume);
     if (st)
         return st;
-    if (keep_volume && !measure_topology_closed(&s.op.topo)) {
-        st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
-                       "keeping the volume needs a closed mesh, and this one has %zu boundary, "
-                       "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
-                       "not defined",
-                       s.op.topo.boundary_edges, s.op.topo.nonmanifold_edges,
-                       s.op.topo.inconsistent_edges);
-        series_close(&s);
-        return st;
-    }
     return finish(&s, r, series_denoise_run(&e, mesh, m, steps, keep_volume, out));
+}
+
+/* limn_denoise_sure on options and report of this library's layout. */
+static limn_status denoise_sure_sized(limn_context *ctx, const limn_mesh *mesh,
+                                      const limn_series_options *o, int products,
+                                      int keep_volume, limn_mesh **out, double *sigma,
+                                      limn_series_report *r)
+{
+    limn_status st = begin(ctx, "limn_denoise_sure", mesh, o, r, !out);
+    if (!st)
+        st = check_count(ctx, "limn_denoise_sure", "products", products, 1,
+                         LIMN_MAX_SURE_PRODUCTS, "LIMN_MAX_SURE_PRODUCTS");
+    series_run s;
+    if (!st)
+        st = series_open(ctx, mesh, o->scheme, o->alpha, 4, &s, r);
+    if (!st)
+        st = check_keep_volume(ctx, &s, keep_volume);
+    if (st)
+        return st;
+    st = sure_denoise_run(ctx, &s, mesh, products, out, sigma, &r->products);
+    if (!st && keep_volume)
+        st = series_keep_volume(ctx, mesh, *out);
+    if (st && *out) {
+        limn_mesh_destroy(*out);
+        *out = NULL;
+    }
+    return finish(&s, r, st);
 }
 
 limn_status series_check_sharpen(limn_context *ctx, const char *fn, int from, int to, int steps)
@@ -528,6 +563,18 @@ limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
     return st ? st
               : abi_leave(
                     &c, denoise_sized(ctx, mesh, c.options, m, steps, keep_volume, out, c.report));
+}
+
+limn_status limn_denoise_sure(limn_context *ctx, const limn_mesh *mesh,
+                              const limn_series_options *options, int products, int keep_volume,
+                              limn_mesh **out, double *sigma, limn_series_report *report)
+{
+    abi_call c;
+    limn_status st = abi_enter(&c, ctx, "limn_denoise_sure", &abi_series_options, options,
+                               &abi_series_report, report, out);
+    return st ? st
+              : abi_leave(&c, denoise_sure_sized(ctx, mesh, c.options, products, keep_volume,
+                                                 out, sigma, c.report));
 }
 
 limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,

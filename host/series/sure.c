@@ -1,0 +1,195 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The SURE-fitted polynomial filter (sure.h). For y = x + noise of deviation
+ * sigma on every coordinate and a linear filter F, Stein's lemma gives
+ * E|F y - x|^2 = |F y - y|^2 + 2 sigma^2 tr(F) - 3 n sigma^2 (the trace per
+ * coordinate, three coordinates). With F = E + sum_i d_i B^i, B = E - A, that
+ * is a quadratic in d: |sum_i d_i r_i|^2 + 6 sigma^2 sum_i d_i tr(B^i) + const,
+ * r_i = B^i y. Its minimiser is the best polynomial of degree N in A for this
+ * mesh, found without the clean mesh: the vectors r_i cost the N products the
+ * filter needs anyway, the result is their combination. p(1) = 1 (d_0 = 1), so
+ * a translation moves the result by the same translation.
+ */
+#include "series/sure.h"
+
+#include "base/context.h"
+#include "mesh/mesh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The symbol of B on the regular lattice at frequency (u, w): Loop's
+   triangular lattice (valence 6) or Catmull-Clark's quad lattice (valence 4),
+   up to the scale sure_traces fits. */
+static double lattice_symbol(limn_scheme scheme, double u, double w)
+{
+    if (scheme == LIMN_SCHEME_LOOP)
+        return 1.0 - (cos(u) + cos(w) + cos(u + w)) / 3.0;
+    return 1.0 - (2.0 + cos(u)) * (2.0 + cos(w)) / 9.0;
+}
+
+void sure_traces(const stencil_csr *a, limn_scheme scheme, int degree, double *t)
+{
+    enum { GRID = 64 }; /* exact for trigonometric polynomials of degree < 64 */
+    size_t n = a->rows;
+    double tr1 = 0.0;
+    for (size_t v = 0; v < n; v++) {
+        double diag = 1.0;
+        for (uint32_t j = a->row_offsets[v]; j < a->row_offsets[v + 1]; j++)
+            if (a->columns[j] == v)
+                diag -= a->weights[j];
+        tr1 += diag;
+    }
+    for (int i = 0; i < degree; i++)
+        t[i] = 0.0;
+    const double h = 2.0 * 3.14159265358979323846 / GRID;
+    for (int p = 0; p < GRID; p++)
+        for (int q = 0; q < GRID; q++) {
+            double s = lattice_symbol(scheme, (p + 0.5) * h, (q + 0.5) * h), pw = 1.0;
+            for (int i = 0; i < degree; i++)
+                t[i] += (pw *= s) / (GRID * GRID);
+        }
+    double scale = t[0] > 0.0 ? tr1 / (double)n / t[0] : 0.0, sc = 1.0;
+    for (int i = 0; i < degree; i++)
+        t[i] *= (double)n * (sc *= scale);
+}
+
+static double dot(const double *x, const double *y, size_t n)
+{
+    double s = 0.0;
+    for (size_t i = 0; i < n; i++)
+        s += x[i] * y[i];
+    return s;
+}
+
+double sure_sigma(const double *r, size_t n3, int degree, const double *t)
+{
+    double s2 = INFINITY;
+    for (int i = 0; i < degree; i++) {
+        const double *ri = r + (size_t)i * n3;
+        if (t[2 * i + 1] > 0.0)
+            s2 = fmin(s2, dot(ri, ri, n3) / (3.0 * t[2 * i + 1]));
+    }
+    return isinf(s2) ? 0.0 : sqrt(s2);
+}
+
+/* Modified Gram-Schmidt, twice, of the columns r_i into q: u (degree^2,
+   upper triangular) with r = q u; keep[i] = 0 where r_i lies (to 1e-10 of its
+   length) in the span of the earlier ones. */
+static void orthogonalise(const double *r, size_t n3, int degree, double *q, double *u, int *keep)
+{
+    memset(u, 0, (size_t)degree * degree * sizeof *u);
+    for (int i = 0; i < degree; i++) {
+        double *qi = q + (size_t)i * n3;
+        memcpy(qi, r + (size_t)i * n3, n3 * sizeof *qi);
+        double len = sqrt(dot(qi, qi, n3));
+        for (int pass = 0; pass < 2; pass++)
+            for (int j = 0; j < i; j++) {
+                if (!keep[j])
+                    continue;
+                double *qj = q + (size_t)j * n3, c = dot(qj, qi, n3);
+                u[j * degree + i] += c;
+                for (size_t k = 0; k < n3; k++)
+                    qi[k] -= c * qj[k];
+            }
+        double rest = sqrt(dot(qi, qi, n3));
+        keep[i] = rest > 1e-10 * len && rest > 0.0;
+        u[i * degree + i] = keep[i] ? rest : 1.0;
+        for (size_t k = 0; keep[i] && k < n3; k++)
+            qi[k] /= rest;
+    }
+}
+
+limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
+                               const double *rhs, double *d)
+{
+    double *q = malloc((size_t)degree * n3 * sizeof *q);
+    double *u = malloc((size_t)degree * degree * sizeof *u);
+    int *keep = calloc((size_t)degree, sizeof *keep);
+    if (!q || !u || !keep) {
+        free(q), free(u), free(keep);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu doubles",
+                        degree, n3);
+    }
+    orthogonalise(r, n3, degree, q, u, keep);
+    /* u^T u d = rhs on the kept columns: forward, then back */
+    double *w = d;
+    for (int i = 0; i < degree; i++) {
+        double s = keep[i] ? rhs[i] : 0.0;
+        for (int j = 0; j < i && keep[i]; j++)
+            s -= keep[j] ? u[j * degree + i] * w[j] : 0.0;
+        w[i] = keep[i] ? s / u[i * degree + i] : 0.0;
+    }
+    for (int i = degree - 1; i >= 0; i--) {
+        double s = w[i];
+        for (int j = i + 1; j < degree && keep[i]; j++)
+            s -= keep[j] ? u[i * degree + j] * d[j] : 0.0;
+        d[i] = keep[i] ? s / u[i * degree + i] : 0.0;
+    }
+    free(q), free(u), free(keep);
+    return LIMN_OK;
+}
+
+limn_status sure_coefficients(limn_context *ctx, const double *r, size_t n3, int degree,
+                              double sigma, const double *t, double *d)
+{
+    double rhs[LIMN_MAX_SURE_PRODUCTS];
+    for (int i = 0; i < degree; i++)
+        rhs[i] = -3.0 * sigma * sigma * t[i];
+    return sure_least_squares(ctx, r, n3, degree, rhs, d);
+}
+
+/* r + i*3n = B^{i+1} y, i < degree, on the host (degree products). */
+static limn_status sure_vectors(series_run *s, const limn_mesh *mesh, int degree, double *r,
+                                long long *products)
+{
+    limn_status st = series_upload(s, s->buf[0], mesh->positions);
+    device_buffer *cur = s->buf[0];
+    for (int i = 0; !st && i < degree; i++) {
+        device_buffer *next = cur == s->buf[1] ? s->buf[2] : s->buf[1];
+        device_norms nr;
+        st = s->dev->ops->series->series_step(s->dev, &s->op.device, cur, next, NULL, s->buf[3],
+                                              SERIES_STORE_NEXT, SERIES_ACC_NONE, &nr);
+        ++*products;
+        if (!st)
+            st = series_download(s, next, r + (size_t)i * 3 * s->n);
+        cur = next;
+    }
+    return st;
+}
+
+limn_status sure_denoise_run(limn_context *ctx, series_run *s, const limn_mesh *mesh,
+                             int degree, limn_mesh **out, double *sigma, long long *products)
+{
+    size_t n3 = 3 * s->n;
+    double *r = malloc((size_t)degree * n3 * sizeof *r);
+    double *t = malloc((size_t)degree * 3 * sizeof *t), *d = t + 2 * degree;
+    if (!r || !t) {
+        free(r), free(t);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu vertices",
+                        degree, s->n);
+    }
+    limn_status st = sure_vectors(s, mesh, degree, r, products);
+    double sg = 0.0;
+    if (!st) {
+        sure_traces(&s->op.host, s->op.scheme, 2 * degree, t);
+        sg = sure_sigma(r, n3, degree, t);
+        st = sure_coefficients(ctx, r, n3, degree, sg, t, d);
+    }
+    limn_mesh *m = NULL;
+    if (!st)
+        st = limn_mesh_copy(ctx, mesh, &m);
+    for (size_t k = 0; !st && k < n3; k++) {
+        double v = m->positions[k];
+        for (int i = 0; i < degree; i++)
+            v += d[i] * r[(size_t)i * n3 + k];
+        m->positions[k] = v;
+    }
+    if (!st)
+        st = series_check_finite(ctx, m->positions, s->n, "denoising");
+    if (sigma)
+        *sigma = sg;
+    free(r), free(t);
+    return mesh_hand_over(st, m, out);
+}

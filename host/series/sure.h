@@ -1,0 +1,45 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * limn denoise's default: the polynomial p(A) = E + sum_{i=1..N} d_i (E - A)^i
+ * of degree N (N stencil products) whose coefficients minimise Stein's
+ * unbiased estimate of the squared error to the unknown clean mesh (SURE,
+ * Stein 1981), with the noise's deviation estimated from the mesh itself.
+ */
+#ifndef LIMN_SERIES_SURE_H
+#define LIMN_SERIES_SURE_H
+
+#include "series/series.h"
+
+/* The noise deviation per coordinate: the smallest over k = 1..N of
+   sqrt(|B^k y|^2 / (3 tr B^{2k})) (r + (k-1)*n3 = B^k y; t from sure_traces
+   up to 2N, t[2k-1] = tr B^{2k}): noise alone puts |B^k n|^2 ~ 3 sigma^2
+   tr B^{2k} there, the signal only adds, and at high k little of a smooth
+   surface is left, so a clean mesh finds a small sigma. Energies, not
+   medians: right for noise along the normals too (a median of coordinates
+   is not). 0 when no trace is positive. */
+double sure_sigma(const double *r, size_t n3, int degree, const double *t);
+
+/* Estimates of tr((E - A)^i), i = 1..degree, into t[0..degree-1]: n times the i-th
+   moment of the regular lattice's symbol of the scheme, scaled so that the
+   first is the exact trace. */
+void sure_traces(const stencil_csr *a, limn_scheme scheme, int degree, double *t);
+
+/* d solving (R^T R) d = rhs for the columns r_i = r + i*n3, i < degree (QR
+   by modified Gram-Schmidt, twice; d_i = 0 where r_i lies in the span of the
+   earlier ones). LIMN_ERR_MEMORY on allocation failure. */
+limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
+                               const double *rhs, double *d);
+
+/* d[0..N-1] minimising |sum_i d_i r_i|^2 + 6 sigma^2 sum_i d_i t_i (SURE up to
+   a constant) for r_i = r + i*3n, i = 0..N-1 (the vectors (E - A)^{i+1} y);
+   0 where a vector adds nothing new. LIMN_ERR_MEMORY on allocation failure. */
+limn_status sure_coefficients(limn_context *ctx, const double *r, size_t n3, int degree,
+                              double sigma, const double *t, double *d);
+
+/* The filter on an open run (4 work vectors): N products, the vectors read
+   back, the coefficients fitted, the result on the host; *sigma (may be NULL)
+   gets the estimate, *products counts the products. */
+limn_status sure_denoise_run(limn_context *ctx, series_run *s, const limn_mesh *mesh,
+                             int degree, limn_mesh **out, double *sigma, long long *products);
+
+#endif

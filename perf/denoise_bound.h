@@ -1,0 +1,19 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The oracle bound of issue 16: the best polynomial p of degree N in A with
+ * p(1) = 1 for one noisy mesh, fitted *knowing the clean mesh* — what no
+ * degree-N polynomial filter in A (limn's or any other) can beat.
+ */
+#ifndef LIMN_PERF_DENOISE_BOUND_H
+#define LIMN_PERF_DENOISE_BOUND_H
+
+#include "limn.h"
+
+/* *l2 gets p(A) y for the p minimising sum_v |p(A) y - x|^2 (least squares),
+   *dist the p minimising the mean distance sum_v |p(A) y - x|_v / n (convex in
+   the coefficients; iteratively reweighted least squares, 40 rounds). y =
+   noisy, x = clean, same topology. Exits on failure (a benchmark). */
+void denoise_bound(limn_context *ctx, const limn_mesh *noisy, const limn_mesh *clean,
+                   const limn_series_options *o, int degree, limn_mesh **l2, limn_mesh **dist);
+
+#endif
