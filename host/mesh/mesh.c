@@ -113,6 +113,15 @@ limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh *
     return copy_faces_colors(ctx, mesh, out);
 }
 
+double *mesh_rows4_to_xyz(double *rows4, size_t vertices)
+{
+    /* row k's source 4k.. lies at or past everything rows before it wrote */
+    for (size_t k = 0; k < vertices; k++)
+        memmove(rows4 + 3 * k, rows4 + 4 * k, 3 * sizeof *rows4);
+    double *shrunk = realloc(rows4, (vertices ? 3 * vertices : 1) * sizeof *rows4);
+    return shrunk ? shrunk : rows4;
+}
+
 limn_status mesh_copy_with_positions(limn_context *ctx, const limn_mesh *mesh, double *positions,
                                      limn_mesh **out)
 {

@@ -44,7 +44,6 @@ static void report_operator(const stencil_operator *op, limn_report *r)
 static limn_status control_mesh(limn_context *ctx, const stencil_operator *op,
                                 const limn_mesh *mesh, double *p, limn_mesh **out)
 {
-    size_t n = op->vertex_count;
     if (op->order) {
         limn_status st = limn_mesh_copy(ctx, mesh, out);
         if (!st)
@@ -52,11 +51,7 @@ static limn_status control_mesh(limn_context *ctx, const stencil_operator *op,
         free(p);
         return st;
     }
-    /* row k's source 4k.. lies at or past everything rows before it wrote */
-    for (size_t k = 0; k < n; k++)
-        memmove(p + 3 * k, p + 4 * k, 3 * sizeof *p);
-    double *shrunk = realloc(p, (n ? 3 * n : 1) * sizeof *p);
-    return mesh_copy_with_positions(ctx, mesh, shrunk ? shrunk : p, out);
+    return mesh_copy_with_positions(ctx, mesh, mesh_rows4_to_xyz(p, op->vertex_count), out);
 }
 
 /* limn_interpolate on options and report of this library's layout, both never NULL. */
