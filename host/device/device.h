@@ -167,11 +167,12 @@ typedef struct device_ops {
     limn_status (*buffer_read)(struct device *dev, device_buffer *buf, size_t bytes,
                                void *dst);
     void (*buffer_release)(struct device *dev, device_buffer *buf);
-    /* A buffer of host memory that outlives it and that nothing writes while
-       it lives: used in place where the device shares host memory (the
-       reference backend, OpenCL CPU devices), else a copy as buffer_create.
-       Vectors the kernels read whole (double4 rows) must come from
-       device_host_alloc: aligned loads. */
+    /* A buffer of host memory that outlives it and that the host does not
+       write while it lives: used in place where the device shares host memory
+       (the reference backend, OpenCL CPU devices), else a copy as
+       buffer_create. Kernels may write it; buffer_read into that same memory
+       then makes it current (in place: no copy). Vectors the kernels read
+       whole (double4 rows) must come from device_host_alloc: aligned loads. */
     limn_status (*buffer_share)(struct device *dev, size_t bytes, const void *host,
                                 device_buffer **out);
     /* A buffer whose contents are undefined until written: for one that a

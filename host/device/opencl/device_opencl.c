@@ -83,9 +83,28 @@ static limn_status cl_buffer_share(struct device *dev, size_t bytes, const void 
         return cl_buffer_create(dev, bytes, host, out);
     limn_status st =
         make_buffer(dev, bytes, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, host, 0, out);
-    if (!st)
+    if (!st) {
         (*out)->shared = 1;
+        (*out)->host = (void *)host;
+    }
     return st;
+}
+
+/* A read of a shared buffer into its own host memory: a map, which waits for
+   the kernels and makes that memory current (PoCL's CPU device: no copy). */
+static limn_status read_in_place(struct device *dev, device_buffer *buf, size_t offset,
+                                 size_t bytes, void *dst)
+{
+    cl_int err;
+    cl_command_queue q = impl_of(dev)->queue;
+    void *mapped = clEnqueueMapBuffer(q, buf->mem, CL_TRUE, CL_MAP_READ, offset, bytes, 0, NULL,
+                                      NULL, &err);
+    CHECK(err, "clEnqueueMapBuffer");
+    if (mapped != dst)
+        memcpy(dst, mapped, bytes); /* a runtime that mapped a copy */
+    CHECK(clEnqueueUnmapMemObject(q, buf->mem, mapped, 0, NULL, NULL), "clEnqueueUnmapMemObject");
+    CHECK(clFinish(q), "clFinish");
+    return LIMN_OK;
 }
 
 /* One blocking transfer between buf's bytes [offset, offset + bytes) and the
@@ -99,6 +118,8 @@ static limn_status transfer(struct device *dev, device_buffer *buf, size_t offse
                          src ? "write" : "read");
     if (!bytes && skip_empty)
         return LIMN_OK;
+    if (!src && buf->shared && bytes && dst == (char *)buf->host + offset)
+        return read_in_place(dev, buf, offset, bytes, dst);
     cl_command_queue q = impl_of(dev)->queue;
     if (src)
         CHECK(clEnqueueWriteBuffer(q, buf->mem, CL_TRUE, offset, bytes, src, 0, NULL, NULL),

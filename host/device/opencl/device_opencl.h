@@ -36,6 +36,7 @@ struct device_buffer {
     cl_mem mem;
     size_t bytes;
     int shared;   /* CL_MEM_USE_HOST_PTR: the queue finishes before it is released */
+    void *host;   /* that host memory, when shared */
 };
 
 typedef struct opencl_impl {
