@@ -703,6 +703,9 @@ typedef struct limn_feature_options {
     double sigma_s;           /* spatial kernel width; 0 (default): the mean distance
                                  between the centroids of neighbouring faces */
     double tangential;        /* the tangential pull, in [0, 1]; default 0.25 */
+    int keep_volume;          /* 1: the result scaled about the mean of its vertices back to
+                                 the input's volume, as limn_denoise's (closed meshes only:
+                                 LIMN_ERR_TOPOLOGY otherwise); default 0 */
 } limn_feature_options;
 
 LIMN_API void limn_feature_options_default(limn_feature_options *options);

@@ -203,6 +203,8 @@ static int parse(int argc, char **argv, const char **meshes, const char **device
             fo->vertex_steps = atoi(v);
         else if (!strcmp(a, "--sigma-r"))
             fo->sigma_r = atof(v);
+        else if (!strcmp(a, "--keep-volume"))
+            fo->keep_volume = atoi(v);
         else if (!strcmp(a, "--tangential"))
             fo->tangential = atof(v);
         else

@@ -230,7 +230,7 @@ OPTIONS_TEST(series, limn_series_options, "limn_bands", alpha)
 OPTIONS_TEST(morph, limn_morph_options, "limn_morph", linear)
 OPTIONS_TEST(texture, limn_texture_options, "limn_texture", max_memory)
 OPTIONS_TEST(render, limn_render_options, "limn_render", color)
-OPTIONS_TEST(feature, limn_feature_options, "limn_denoise_features", tangential)
+OPTIONS_TEST(feature, limn_feature_options, "limn_denoise_features", keep_volume)
 
 /* Every defaults function sets size to the struct as compiled (also the
    embedded series of morph and texture). */

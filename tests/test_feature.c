@@ -9,6 +9,7 @@
  *  - a noisy cube's dihedral angles at its 12 edges stay near 90 degrees,
  *    where limn denoise's default (a linear low-pass) rounds them;
  *  - the OpenCL and reference backends give the same bytes;
+ *  - keep_volume gives the input's volume back, refused on an open mesh;
  *  - bad options and meshes are refused with messages naming them.
  */
 #include "bilateral_normal.h"
@@ -274,6 +275,9 @@ static void test_bad_options(void **state)
         expect_refused(ctx, cube, &o, bad[k].word);
     }
     limn_feature_options_default(&o);
+    o.keep_volume = 2;
+    expect_refused(ctx, cube, &o, "keep_volume");
+    limn_feature_options_default(&o);
     o.size = 4;
     expect_refused(ctx, cube, &o, "size");
     assert_int_equal(limn_denoise_features(ctx, cube, NULL, NULL, NULL), LIMN_ERR_ARGUMENT);
@@ -287,6 +291,33 @@ static void test_bad_options(void **state)
     limn_context_destroy(ctx);
 }
 
+/* keep_volume: the input's volume back (closed forms: the divergence
+   theorem's sums, to 1e-12 relative); an open mesh refused. */
+static void test_keep_volume(void **state)
+{
+    (void)state;
+    limn_context *ctx = ctx_for("reference");
+    limn_mesh *clean, *noisy = noisy_cube(ctx, 6, 0.3, 9, &clean), *out = NULL;
+    limn_feature_options o;
+    limn_feature_options_default(&o);
+    o.keep_volume = 1;
+    CHECK_OK(ctx, limn_denoise_features(ctx, noisy, &o, &out, NULL));
+    limn_mesh_measures a = {.size = sizeof a}, b = {.size = sizeof b};
+    CHECK_OK(ctx, limn_mesh_measure(ctx, noisy, &a));
+    CHECK_OK(ctx, limn_mesh_measure(ctx, out, &b));
+    assert_true(fabs(b.volume - a.volume) <= 1e-12 * fabs(a.volume));
+    limn_mesh_destroy(out);
+    out = NULL;
+    limn_mesh *open = test_mesh_grid(ctx, 4, 4, 1);
+    assert_int_equal(limn_denoise_features(ctx, open, &o, &out, NULL), LIMN_ERR_TOPOLOGY);
+    assert_non_null(strstr(limn_context_message(ctx), "needs a closed mesh"));
+    assert_null(out);
+    limn_mesh_destroy(open);
+    limn_mesh_destroy(clean);
+    limn_mesh_destroy(noisy);
+    limn_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -295,6 +326,7 @@ int main(void)
         cmocka_unit_test(test_matches_independent_bnf),
         cmocka_unit_test(test_backends_same_bytes),
         cmocka_unit_test(test_bad_options),
+        cmocka_unit_test(test_keep_volume),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -88,8 +88,8 @@ static void bad_usage(void **s)
         {"denoise '%s' -o out.ply --scheme butterfly", "is not one of auto, loop, catmark", 2},
         {"denoise '%s' -o out.ply --device cuda", "unknown device 'cuda'", 2},
         {"denoise '%s' -o out.ply --scheme loop", "Loop subdivision needs triangles", 1},
-        {"denoise '%s' -o out.ply --preserve-features --m 2", "takes none of --m", 2},
-        {"denoise '%s' -o out.ply --preserve-features --keep-volume", "takes none of --m", 2},
+        {"denoise '%s' -o out.ply --preserve-features --m 2", "takes neither --m nor --steps", 2},
+        {"denoise '%s' -o out.ply --preserve-features --steps 2", "takes neither --m", 2},
         {"denoise '%s' -o out.ply --sigma-r 0.3", "need --preserve-features", 2},
         {"denoise '%s' -o out.ply --preserve-features --sigma-r 0", "must be positive", 2},
         {"denoise '%s' -o out.ply --preserve-features --normal-steps 0", "must be at least 1", 2},
@@ -241,7 +241,7 @@ static void good_runs(void **s)
     assert_true(change > -1e-9 && change < 1e-9);
     /* denoise --preserve-features: its options in the report, W's products counted */
     assert_int_equal(limn("denoise '%s' -o df.ply --preserve-features --normal-steps 4 "
-                          "--outer-steps 2 -q --report df.json",
+                          "--outer-steps 2 --keep-volume -q --report df.json",
                           spot),
                      0);
     rep = slurp("df.json");
@@ -249,6 +249,8 @@ static void good_runs(void **s)
                                         "\"outer_steps\": 2", "\"products\": 8",
                                         "\"volume_change\": "};
     has_keys(rep, fkeys, sizeof fkeys / sizeof *fkeys);
+    change = strtod(strstr(rep, "\"volume_change\": ") + 17, NULL);
+    assert_true(change > -1e-9 && change < 1e-9);
 
     /* smooth and sharpen */
     assert_int_equal(limn("smooth '%s' -o sm.obj --terms 2 -q", spot), 0);

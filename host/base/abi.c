@@ -38,7 +38,8 @@ static const limn_feature_options feature_defaults = {.size = sizeof(limn_featur
                                                     .vertex_steps = 10,
                                                     .sigma_r = 0.35,
                                                     .sigma_s = 0.0,
-                                                    .tangential = 0.25};
+                                                    .tangential = 0.25,
+                                                    .keep_volume = 0};
 static const limn_texture_options texture_defaults = {.size = sizeof(limn_texture_options),
                                                       .series = SERIES_DEFAULTS,
                                                       .levels = 3,
@@ -86,7 +87,7 @@ ABI_FLAT(abi_subdivide_report, limn_subdivide_report, "sizeof(limn_subdivide_rep
 ABI_FLAT(abi_series_options, limn_series_options, "limn_series_options_default()", alpha,
          &series_defaults);
 ABI_FLAT(abi_feature_options, limn_feature_options, "limn_feature_options_default()",
-         tangential, &feature_defaults);
+         keep_volume, &feature_defaults);
 ABI_FLAT(abi_series_report, limn_series_report, "sizeof(limn_series_report)", seconds_compute,
          NULL);
 ABI_FLAT(abi_triad_report, limn_triad_report, "sizeof(limn_triad_report)", device, NULL);

@@ -32,7 +32,7 @@ static const char *const help =
     "    --outer-steps K      rounds of filter-then-fit, K >= 1            [1]\n"
     "    --sigma-r R          normal range kernel width, R > 0          [0.35]\n"
     "    --tangential U       tangential pull in [0, 1]                 [0.25]\n"
-    "                         (not with --m, --steps or --keep-volume)\n"
+    "                         (not with --m or --steps; --keep-volume works too)\n"
     SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
     CLI_MPI_HELP
@@ -114,9 +114,10 @@ static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
         {"--sigma-r", CLI_OWN_POSITIVE, &e->fo.sigma_r, 0, 0},
         {"--tangential", CLI_OWN_NUMBER, &e->fo.tangential, 0, 0},
     };
+    int volume = strcmp(argv[*i], "--keep-volume") == 0;
     int rc = cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
     if (rc != CLI_OWN_UNKNOWN) {
-        e->series_given = 1;
+        e->series_given |= !volume;
         return rc;
     }
     int flag = strcmp(argv[*i], "--preserve-features") == 0;
@@ -130,8 +131,7 @@ static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
 static int check_mode(const extra *e)
 {
     if (e->preserve && e->series_given)
-        return cli_usage_error("denoise", "--preserve-features takes none of --m, --steps, "
-                                          "--keep-volume");
+        return cli_usage_error("denoise", "--preserve-features takes neither --m nor --steps");
     if (!e->preserve && e->feature_given)
         return cli_usage_error("denoise", "--normal-steps, --vertex-steps, --outer-steps, "
                                           "--sigma-r and --tangential need --preserve-features");
@@ -147,8 +147,10 @@ static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, li
                        limn_series_report *r, void *user)
 {
     extra *e = user;
-    if (e->preserve)
+    if (e->preserve) {
+        e->fo.keep_volume = e->keep_volume;
         return limn_denoise_features(ctx, in, &e->fo, out, r);
+    }
     if (cli_mpi_ranks() > 1)
         return cli_mpi_denoise(ctx, in, &c->opt, e->m, e->steps, e->keep_volume, out, r,
                                &c->piece);

@@ -13,6 +13,8 @@
 #include "mesh/mesh.h"
 #include "series/features.h"
 #include "series/series.h"
+#include "topology/measure.h"
+#include "topology/topology.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -42,6 +44,9 @@ static limn_status check_feature_options(limn_context *ctx, const limn_feature_o
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                       "%s: sigma_s is %g; it must be finite and >= 0 (0: the mean spacing)", fn,
                       o->sigma_s);
+    if (!st && o->keep_volume != 0 && o->keep_volume != 1)
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: keep_volume is %d; it must be 0 or 1", fn,
+                      o->keep_volume);
     if (!st && !(o->tangential >= 0.0 && o->tangential <= 1.0))
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: tangential is %g; it must lie in [0, 1]", fn,
                       o->tangential);
@@ -169,11 +174,30 @@ static limn_status features_compute(limn_context *ctx, const limn_mesh *mesh,
     }
     if (!st)
         st = series_check_finite(ctx, m->positions, m->vertex_count, "feature denoising");
+    if (!st && o->keep_volume)
+        st = series_keep_volume(ctx, mesh, m);
     free(n);
     if (run.dev)
         run_close(&run);
     feature_mesh_free(&fm);
     return mesh_hand_over(st, m, out);
+}
+
+/* keep_volume needs a volume: a closed mesh. */
+static limn_status check_closed(limn_context *ctx, const limn_mesh *mesh)
+{
+    topology t;
+    limn_status st = topology_get(ctx, mesh, &t);
+    if (st)
+        return st;
+    if (!measure_topology_closed(&t))
+        st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
+                      "keeping the volume needs a closed mesh, and this one has %zu boundary, "
+                      "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
+                      "not defined",
+                      t.boundary_edges, t.nonmanifold_edges, t.inconsistent_edges);
+    topology_free(&t);
+    return st;
 }
 
 static limn_status features_sized(limn_context *ctx, const limn_mesh *mesh,
@@ -191,6 +215,8 @@ static limn_status features_sized(limn_context *ctx, const limn_mesh *mesh,
     if (!st && (mesh->vertex_count == 0 || mesh->face_count == 0))
         st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
                       mesh->vertex_count ? "faces" : "vertices");
+    if (!st && o->keep_volume)
+        st = check_closed(ctx, mesh);
     if (st)
         return st;
     double lo[3], hi[3];
