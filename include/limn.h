@@ -696,8 +696,8 @@ LIMN_API limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
  */
 typedef struct limn_feature_options {
     size_t size;              /* sizeof, set by limn_feature_options_default() */
-    int outer_steps;          /* filter-then-fit rounds, 1..LIMN_MAX_STEPS; default 1 */
-    int normal_steps;         /* products of W a round, 1..LIMN_MAX_STEPS; default 20 */
+    int outer_steps;          /* filter-then-fit rounds, 1..LIMN_MAX_STEPS; default 2 */
+    int normal_steps;         /* products of W a round, 1..LIMN_MAX_STEPS; default 10 */
     int vertex_steps;         /* vertex-fit sweeps a round, 1..LIMN_MAX_STEPS; default 10 */
     double sigma_r;           /* range kernel width on |n_f - n_j|, > 0; default 0.35 */
     double sigma_s;           /* spatial kernel width; 0 (default): the mean distance

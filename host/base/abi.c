@@ -33,8 +33,8 @@ static const limn_series_options series_defaults = SERIES_DEFAULTS;
 static const limn_morph_options morph_defaults = {
     .size = sizeof(limn_morph_options), .series = SERIES_DEFAULTS, .frames = 30, .m = 2, .p = 0.8};
 static const limn_feature_options feature_defaults = {.size = sizeof(limn_feature_options),
-                                                    .outer_steps = 1,
-                                                    .normal_steps = 20,
+                                                    .outer_steps = 2,
+                                                    .normal_steps = 10,
                                                     .vertex_steps = 10,
                                                     .sigma_r = 0.35,
                                                     .sigma_s = 0.0,
