@@ -93,6 +93,7 @@ static void bad_usage(void **s)
         {"denoise '%s' -o out.ply --scheme loop", "Loop subdivision needs triangles", 1},
         {"denoise '%s' -o out.ply --preserve-features --m 2", "takes neither --m nor --steps", 2},
         {"denoise '%s' -o out.ply --preserve-features --steps 2", "takes neither --m", 2},
+        {"denoise '%s' -o out.ply --preserve-features --products 4", "nor --products", 2},
         {"denoise '%s' -o out.ply --sigma-r 0.3", "need --preserve-features", 2},
         {"denoise '%s' -o out.ply --preserve-features --sigma-r 0", "must be positive", 2},
         {"denoise '%s' -o out.ply --preserve-features --normal-steps 0", "must be at least 1", 2},

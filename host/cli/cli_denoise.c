@@ -48,7 +48,7 @@ static const char *const help =
     "    --outer-steps K      rounds of filter-then-fit, K >= 1            [2]\n"
     "    --sigma-r R          normal range kernel width, R > 0          [0.35]\n"
     "    --tangential U       tangential pull in [0, 1]                 [0.25]\n"
-    "                         (not with --products, --m or --steps;\n"
+    "                         (not with --m, --steps or --products;\n"
     "                         --keep-volume works too)\n"
     SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
@@ -158,7 +158,7 @@ static int check_mode(const extra *e)
 {
     if (e->preserve && e->series_given)
         return cli_usage_error("denoise",
-                               "--preserve-features takes neither --products nor --m nor --steps");
+                               "--preserve-features takes neither --m nor --steps nor --products");
     if (!e->preserve && e->feature_given)
         return cli_usage_error("denoise", "--normal-steps, --vertex-steps, --outer-steps, "
                                           "--sigma-r and --tangential need --preserve-features");
