@@ -2,7 +2,7 @@
 /*
  * Space-filling-curve partition (mpi_sfc.h): Hilbert keys of the block's
  * positions, a stable radix sort of them on each rank, the cut points found
- * bit by bit over all ranks, each vertex's part from where its key falls.
+ * digit by digit over all ranks, each vertex's part from where its key falls.
  */
 #include "mpi/mpi_sfc.h"
 
@@ -14,7 +14,6 @@
 
 #define SFC_BITS 21                       /* per axis: 3 x 21 = 63-bit keys */
 #define SFC_CELLS ((1u << SFC_BITS) - 1u) /* the largest coordinate */
-#define SFC_ID_BITS 32                    /* the tie-break: the global id */
 
 uint64_t mpi_sfc_hilbert(uint32_t x, uint32_t y, uint32_t z)
 {
@@ -128,9 +127,19 @@ static uint64_t sfc_count_below(const sfc_rec *r, size_t n, size_t begin, const 
     return lo;
 }
 
+/* The digits the cut search settles, one Allreduce each, from the top:
+   the key's 63 bits in 7-bit digits, then the id's 32 in 8-bit ones. */
+static const struct sfc_digit {
+    int word, shift, width;
+} sfc_digits[] = {{0, 56, 7}, {0, 49, 7}, {0, 42, 7}, {0, 35, 7}, {0, 28, 7}, {0, 21, 7},
+                  {0, 14, 7}, {0, 7, 7},  {0, 0, 7},  {1, 24, 8}, {1, 16, 8}, {1, 8, 8},
+                  {1, 0, 8}};
+#define SFC_CANDIDATES 255 /* nonzero values of the widest digit */
+
 /* cut[2q], cut[2q+1]: the largest (key, id) with exactly total * (q + 1) /
-   parts vertices of the whole mesh below it, q < parts - 1; built from the
-   top bit down, one Allreduce of the counts a bit. */
+   parts vertices of the whole mesh below it, q < parts - 1; settled digit
+   by digit from the top: for each candidate value of the digit, the count
+   below it over all ranks (count: (parts - 1) * SFC_CANDIDATES). */
 static void sfc_cuts(mpi_part *p, const sfc_rec *r, size_t n, size_t begin, size_t total,
                      int parts, uint64_t *cut, uint64_t *count)
 {
@@ -138,17 +147,24 @@ static void sfc_cuts(mpi_part *p, const sfc_rec *r, size_t n, size_t begin, size
     if (m == 0)
         return;
     memset(cut, 0, 2 * m * sizeof *cut);
-    for (int b = 63 + SFC_ID_BITS - 1; b >= 0; b--) {
-        int word = b >= SFC_ID_BITS ? 0 : 1, bit = b >= SFC_ID_BITS ? b - SFC_ID_BITS : b;
-        for (size_t q = 0; q < m; q++) {
-            uint64_t c[2] = {cut[2 * q], cut[2 * q + 1]};
-            c[word] |= (uint64_t)1 << bit;
-            count[q] = sfc_count_below(r, n, begin, c);
-        }
-        MPI_Allreduce(MPI_IN_PLACE, count, (int)m, MPI_UINT64_T, MPI_SUM, p->comm);
+    for (size_t k = 0; k < sizeof sfc_digits / sizeof *sfc_digits; k++) {
+        const struct sfc_digit *g = sfc_digits + k;
+        uint64_t values = ((uint64_t)1 << g->width) - 1;
         for (size_t q = 0; q < m; q++)
-            if (count[q] <= (uint64_t)total * (q + 1) / (uint64_t)parts)
-                cut[2 * q + word] |= (uint64_t)1 << bit;
+            for (uint64_t d = 1; d <= values; d++) {
+                uint64_t c[2] = {cut[2 * q], cut[2 * q + 1]};
+                c[g->word] |= d << g->shift;
+                count[q * SFC_CANDIDATES + d - 1] = sfc_count_below(r, n, begin, c);
+            }
+        MPI_Allreduce(MPI_IN_PLACE, count, (int)(m * SFC_CANDIDATES), MPI_UINT64_T, MPI_SUM,
+                      p->comm);
+        for (size_t q = 0; q < m; q++) {
+            uint64_t target = (uint64_t)total * (q + 1) / (uint64_t)parts, best = 0;
+            for (uint64_t d = 1; d <= values; d++) /* the counts grow with d */
+                if (count[q * SFC_CANDIDATES + d - 1] <= target)
+                    best = d;
+            cut[2 * q + g->word] |= best << g->shift;
+        }
     }
 }
 
@@ -193,7 +209,7 @@ static limn_status sfc_alloc(mpi_part *p, size_t n, int parts, sfc_work *w)
     w->tmp = malloc((n ? n : 1) * sizeof *w->tmp);
     w->radix = malloc(65537 * sizeof *w->radix);
     w->cut = malloc(2 * (size_t)parts * sizeof *w->cut);
-    w->count = malloc((size_t)parts * sizeof *w->count);
+    w->count = malloc((size_t)parts * SFC_CANDIDATES * sizeof *w->count);
     if (w->rec && w->tmp && w->radix && w->cut && w->count)
         return LIMN_OK;
     return ctx_fail(p->ctx, LIMN_ERR_MEMORY,

@@ -7,12 +7,12 @@
  * the bounding cube of the whole mesh, 63 bits), ties broken by its global
  * id; the vertices are cut along that order into parts of exactly
  * n * (q + 1) / parts - n * q / parts vertices. The cut points are found
- * by a bitwise search over the 95-bit (key, id) values, one Allreduce of
- * parts - 1 counts a bit, each count a binary search in this rank's sorted
- * keys: O(n / P) work per rank (one radix sort), no edge exchange, no rank
- * holding more than its block. The parts depend on the positions, the ids
- * and the part count only: not on how the vertices are split into blocks,
- * nor on the faces.
+ * digit by digit over the 95-bit (key, id) values (13 digits of 7 or 8
+ * bits), one Allreduce of (parts - 1) x 255 counts a digit, each count a
+ * binary search in this rank's sorted keys: O(n / P) work per rank (one
+ * radix sort), no edge exchange, no rank holding more than its block. The
+ * parts depend on the positions, the ids and the part count only: not on
+ * how the vertices are split into blocks, nor on the faces.
  */
 #ifndef LIMN_MPI_SFC_H
 #define LIMN_MPI_SFC_H
