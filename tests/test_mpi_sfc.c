@@ -4,7 +4,8 @@
  * 1, 2, 3 and 5 ranks (tests/CMakeLists.txt). Asserted:
  *   - the Hilbert key: on the 2^k-cube (k = 1..4) the keys are 0 .. 8^k - 1,
  *     each once, and cells of consecutive keys are face neighbours (the
- *     curve's defining property, checked by brute force);
+ *     curve's defining property, checked by brute force); so on aligned
+ *     16-cubes far from the origin (the high bits) and the largest cell;
  *   - the parts, for 1, 4, 7 parts and as many as ranks, on two vertex
  *     distributions (even blocks; uneven ones with empty blocks): every
  *     vertex gets exactly one part, and it is the one a serial route gives
@@ -41,37 +42,65 @@
 
 MPI_CHECK_STATE;
 
+/* The cube of side 2^k at corner o (a multiple of 2^k on each axis): its
+   keys are 8^k consecutive values, each once, consecutive ones at
+   neighbouring cells, as an aligned sub-cube of a Hilbert curve is. */
+static void hilbert_cube(int k, const uint32_t o[3])
+{
+    uint32_t side = 1u << k;
+    size_t cells = (size_t)side * side * side, bad = 0;
+    uint64_t low = UINT64_MAX;
+    for (uint32_t x = 0; x < side; x++)
+        for (uint32_t y = 0; y < side; y++)
+            for (uint32_t z = 0; z < side; z++) {
+                uint64_t key = mpi_sfc_hilbert(o[0] + x, o[1] + y, o[2] + z);
+                low = key < low ? key : low;
+            }
+    uint32_t(*at)[3] = malloc(cells * sizeof *at);
+    unsigned char *seen = calloc(cells, 1);
+    for (uint32_t x = 0; x < side; x++)
+        for (uint32_t y = 0; y < side; y++)
+            for (uint32_t z = 0; z < side; z++) {
+                uint64_t key = mpi_sfc_hilbert(o[0] + x, o[1] + y, o[2] + z) - low;
+                if (key >= cells || seen[key]++) {
+                    bad++;
+                    continue;
+                }
+                at[key][0] = x;
+                at[key][1] = y;
+                at[key][2] = z;
+            }
+    CHECK(!bad, "Hilbert, side %u at %u %u %u: %zu keys out of range or repeated", side, o[0],
+          o[1], o[2], bad);
+    for (size_t i = 1; !bad && i < cells; i++) {
+        long d = 0;
+        for (int a = 0; a < 3; a++)
+            d += labs((long)at[i][a] - (long)at[i - 1][a]);
+        bad += d != 1;
+    }
+    CHECK(!bad, "Hilbert, side %u at %u %u %u: %zu steps between cells that are not neighbours",
+          side, o[0], o[1], o[2], bad);
+    CHECK(o[0] || o[1] || o[2] || low == 0, "Hilbert: the origin's cube starts at %llu",
+          (unsigned long long)low);
+    free(at);
+    free(seen);
+}
+
 static void hilbert_curve(void)
 {
-    for (int k = 1; k <= 4; k++) {
-        uint32_t side = 1u << k;
-        size_t cells = (size_t)side * side * side, bad = 0;
-        uint32_t(*at)[3] = malloc(cells * sizeof *at);
-        unsigned char *seen = calloc(cells, 1);
-        for (uint32_t x = 0; x < side; x++)
-            for (uint32_t y = 0; y < side; y++)
-                for (uint32_t z = 0; z < side; z++) {
-                    uint64_t key = mpi_sfc_hilbert(x, y, z);
-                    if (key >= cells || seen[key]++) {
-                        bad++;
-                        continue;
-                    }
-                    at[key][0] = x;
-                    at[key][1] = y;
-                    at[key][2] = z;
-                }
-        CHECK(!bad, "Hilbert, side %u: %zu keys out of range or repeated", side, bad);
-        for (size_t i = 1; !bad && i < cells; i++) {
-            long d = 0;
-            for (int a = 0; a < 3; a++)
-                d += labs((long)at[i][a] - (long)at[i - 1][a]);
-            bad += d != 1;
-        }
-        CHECK(!bad, "Hilbert, side %u: %zu steps between cells that are not neighbours", side,
-              bad);
-        free(at);
-        free(seen);
-    }
+    const uint32_t origin[3] = {0, 0, 0};
+    for (int k = 1; k <= 4; k++)
+        hilbert_cube(k, origin);
+    /* high bits: cubes far from the origin, up to the largest cell */
+    const uint32_t far[3][3] = {{0x155550, 0x0aaaa0, 0x1ffff0},
+                                {0x100000, 0x000000, 0x0fff00},
+                                {0x1ffff0, 0x1ffff0, 0x1ffff0}};
+    for (int c = 0; c < 3; c++)
+        hilbert_cube(4, far[c]);
+    const uint32_t big[3] = {0x0c0000, 0x1c0000, 0x040000}; /* side 2^18: the top 3 bits */
+    uint64_t a = mpi_sfc_hilbert(big[0], big[1], big[2]);
+    uint64_t b = mpi_sfc_hilbert(big[0] + 0x3ffff, big[1] + 0x3ffff, big[2] + 0x3ffff);
+    CHECK(a >> 54 == b >> 54, "Hilbert: one top-level octant spans two key ranges");
     uint32_t top = (1u << 21) - 1;
     CHECK(mpi_sfc_hilbert(top, top, top) < (uint64_t)1 << 63, "Hilbert: more than 63 bits");
 }

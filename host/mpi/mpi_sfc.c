@@ -15,6 +15,18 @@
 #define SFC_BITS 21                       /* per axis: 3 x 21 = 63-bit keys */
 #define SFC_CELLS ((1u << SFC_BITS) - 1u) /* the largest coordinate */
 
+/* The 21 low bits of x at every third bit (bit b to bit 3 b). */
+static uint64_t spread3(uint32_t x)
+{
+    uint64_t v = x & SFC_CELLS;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+}
+
 uint64_t mpi_sfc_hilbert(uint32_t x, uint32_t y, uint32_t z)
 {
     /* Skilling's transform ("Programming the Hilbert curve", 2004): axes to
@@ -39,11 +51,8 @@ uint64_t mpi_sfc_hilbert(uint32_t x, uint32_t y, uint32_t z)
     for (uint32_t q = top; q > 1; q >>= 1)
         if (X[2] & q)
             t ^= q - 1;
-    uint64_t key = 0;
-    for (int b = SFC_BITS - 1; b >= 0; b--)
-        for (int i = 0; i < 3; i++)
-            key = key << 1 | (((X[i] ^ t) >> b) & 1u);
-    return key;
+    /* bit b of axis i goes to bit 3 b + 2 - i */
+    return spread3(X[0] ^ t) << 2 | spread3(X[1] ^ t) << 1 | spread3(X[2] ^ t);
 }
 
 typedef struct sfc_rec {
