@@ -42,10 +42,19 @@
 extern "C" {
 #endif
 
+/* How a distributed mesh's vertices are split over the ranks (limn_mpi_mesh_*). */
+typedef enum limn_mpi_partition {
+    LIMN_MPI_PARTITION_AUTO = 0,   /* the environment's LIMN_MPI_PARTITION (sfc | scotch), else sfc */
+    LIMN_MPI_PARTITION_SFC = 1,    /* a Hilbert curve through the positions: fast, even parts */
+    LIMN_MPI_PARTITION_SCOTCH = 2  /* PT-Scotch on the edge graph: a smaller cut, slower */
+} limn_mpi_partition;
+
 typedef struct limn_mpi_options {
     size_t size;              /* sizeof, set by limn_mpi_options_default() */
     int root;                 /* rank holding the input and receiving the result; default 0 */
     int keep_piece;           /* 1: return this rank's piece in limn_mpi_result; default 0 */
+    int partition;            /* limn_mpi_partition; default AUTO (added after keep_piece:
+                                 callers built before it get AUTO) */
 } limn_mpi_options;
 
 LIMN_API void limn_mpi_options_default(limn_mpi_options *options);

@@ -6,7 +6,8 @@
  * iteration and series: every row is summed in the same order), weighted,
  * cg and sgs agree to 1e-12 with the same iteration count; --per-rank-output writes
  * one piece per rank; a bad input gives one message, exit status 1 on every
- * rank, no output and no hang; commands that do not run distributed refuse.
+ * rank, no output and no hang; commands that do not run distributed refuse;
+ * the same bytes with either partition (LIMN_MPI_PARTITION=sfc | scotch).
  * Meshes: generated with several components, boundaries and an isolated
  * vertex, and shared real meshes when ../shared/meshes is there.
  */
@@ -549,6 +550,35 @@ static void device_per_rank(void **s)
     }
 }
 
+/* The default partition (the Hilbert curve) and PT-Scotch's give the single
+   process's bytes on 2, 3 and 5 ranks (the rows do not depend on the parts);
+   an unknown LIMN_MPI_PARTITION is one error, status 2, nothing written. */
+static void partitions_same(void **s)
+{
+    (void)s;
+    write_inputs();
+    static const char *kinds[] = {"sfc", "scotch"};
+    static const int ranks[] = {2, 3, 5};
+    for (int k = 0; k < 2; k++) {
+        setenv("LIMN_MPI_PARTITION", kinds[k], 1);
+        for (int r = 0; r < 3; r++) {
+            printf("  LIMN_MPI_PARTITION=%s\n", kinds[k]);
+            interpolate_same(at("tri.obj"), "--method paper", ranks[r], 1);
+            assert_true(report_sliced(at("many.json")));
+            interpolate_same(at("quad.obj"), "--alpha 0.5", ranks[r], 1);
+            assert_true(report_sliced(at("many.json")));
+        }
+    }
+    setenv("LIMN_MPI_PARTITION", "metis", 1);
+    char args[1024];
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s'", at("tri.obj"), at("bad.ply"));
+    assert_int_equal(run(3, args), 2); /* an argument error, as a bad option */
+    unsetenv("LIMN_MPI_PARTITION");
+    assert_int_equal(count(test_text, "error:"), 1);
+    assert_non_null(strstr(test_text, "LIMN_MPI_PARTITION is 'metis'"));
+    assert_false(test_file_exists(at("bad.ply")));
+}
+
 static void errors(void **s)
 {
     (void)s;
@@ -603,7 +633,7 @@ int main(void)
         cmocka_unit_test(series_same),           cmocka_unit_test(bands_sharpen_same),
         cmocka_unit_test(per_rank),              cmocka_unit_test(warnings_once),
         cmocka_unit_test(device_per_rank),       cmocka_unit_test(errors),
-        cmocka_unit_test(denoise_volume_same),
+        cmocka_unit_test(denoise_volume_same),   cmocka_unit_test(partitions_same),
     };
     return cmocka_run_group_tests(tests, setup, test_scratch_teardown);
 }
