@@ -1,0 +1,395 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * One refinement step over ranks (mpi_refine.h): each rank refines its star
+ * with refine/'s plan (the single process's step rows, here for the patch),
+ * keeps the vertex points of its vertex block, the face points of its face
+ * block and the edge points of the edges whose lower vertex is in its block,
+ * and numbers them as one process does: old vertices keep their ids, the
+ * face point of face f is nv + f (Catmull-Clark), the edge points follow in
+ * edge order. topology.c numbers the edges by (lower vertex, upper vertex),
+ * a function of the vertex ids alone, so a rank's edges are one run of that
+ * order: their first id is a prefix sum (MPI_Exscan) of the ranks' counts.
+ * The child faces of the face block take the ids of their edges' points from
+ * the ranks that own them (one request and one answer exchange), and the new
+ * vertices move to even blocks (one store exchange).
+ */
+#include "mpi/mpi_refine.h"
+
+#include "base/context.h"
+#include "mesh/mesh.h"
+#include "mpi/mpi_blocks.h"
+#include "mpi/mpi_local.h"
+#include "refine/refine.h"
+#include "topology/topology.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* A level's work on this rank. */
+typedef struct level {
+    mpi_part *p;
+    const limn_mpi_mesh *in;
+    limn_scheme scheme;
+    mpi_star star;
+    refine_plan plan;
+    topology topo;
+    int have_plan, have_topo;
+    uint32_t *edge_id;     /* global id of each patch edge's point (UINT32_MAX: unknown) */
+    size_t nv, nf;         /* the whole level's vertices and faces */
+    size_t n_new, new_total;
+    uint32_t *new_ids;     /* this rank's new vertices: global ids and positions */
+    double *new_xyz;
+} level;
+
+static int in_block(const limn_mpi_mesh *m, uint32_t v)
+{
+    return v >= m->slice.vertex_begin && v - m->slice.vertex_begin < m->slice.vertex_count;
+}
+
+static size_t edge_point_base(const level *l)
+{
+    return l->nv + (l->scheme == LIMN_SCHEME_CATMARK ? l->nf : 0);
+}
+
+/* The patch's points: rows of plan step 0 (vertex, face, then edge points). */
+static size_t patch_face_row(const level *l, size_t pf)
+{
+    return l->star.mesh->vertex_count + pf;
+}
+static size_t patch_edge_row(const level *l, size_t e)
+{
+    return l->star.mesh->vertex_count +
+           (l->scheme == LIMN_SCHEME_CATMARK ? l->star.mesh->face_count : 0) + e;
+}
+
+/* The ids of the owned edges' points; *owned their count. */
+static limn_status number_edges(level *l, size_t *owned)
+{
+    mpi_part *p = l->p;
+    size_t ne = l->topo.edge_count;
+    l->edge_id = malloc((ne ? ne : 1) * sizeof *l->edge_id);
+    limn_status st = l->edge_id ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    uint64_t mine = 0, before = 0, total = 0;
+    for (size_t e = 0; !st && e < ne; e++)
+        mine += in_block(l->in, l->star.ids[l->topo.edge_vertices[2 * e]]);
+    st = mpi_agree(p, st);
+    if (st)
+        return st;
+    MPI_Exscan(&mine, &before, 1, MPI_UINT64_T, MPI_SUM, p->comm);
+    if (p->rank == 0)
+        before = 0;
+    MPI_Allreduce(&mine, &total, 1, MPI_UINT64_T, MPI_SUM, p->comm);
+    l->new_total = edge_point_base(l) + total;
+    if (l->new_total > UINT32_MAX)
+        return mpi_agree(p, ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                                     "the next level would have %zu vertices (over 2^32)",
+                                     l->new_total));
+    size_t next = edge_point_base(l) + before;
+    for (size_t e = 0; e < ne; e++)
+        l->edge_id[e] = in_block(l->in, l->star.ids[l->topo.edge_vertices[2 * e]])
+                            ? (uint32_t)next++
+                            : UINT32_MAX;
+    *owned = (size_t)mine;
+    return LIMN_OK;
+}
+
+/* This rank's new vertices: vertex points of its block, face points of its
+   face block, points of its edges. */
+static limn_status gather_points(level *l, size_t owned_edges, mpi_refine_stats *stats)
+{
+    const mesh_slice *s = &l->in->slice;
+    int cc = l->scheme == LIMN_SCHEME_CATMARK;
+    size_t n = s->vertex_count + (cc ? s->face_count : 0) + owned_edges;
+    l->new_ids = malloc((n ? n : 1) * sizeof *l->new_ids);
+    l->new_xyz = malloc((n ? 3 * n : 1) * sizeof *l->new_xyz);
+    if (!l->new_ids || !l->new_xyz)
+        return ctx_fail(l->p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu new vertices", n);
+    const double *fine = l->plan.meshes[1]->positions;
+    const uint32_t *ro = l->plan.steps[0].row_offsets;
+    size_t k = 0;
+    for (size_t i = 0; i < s->vertex_count; i++, k++) {
+        size_t v = mpi_star_local(&l->star, (uint32_t)(s->vertex_begin + i));
+        l->new_ids[k] = (uint32_t)(s->vertex_begin + i);
+        memcpy(l->new_xyz + 3 * k, fine + 3 * v, 3 * sizeof(double));
+        stats->stencil_nonzeros += ro[v + 1] - ro[v];
+    }
+    for (size_t i = 0; cc && i < s->face_count; i++, k++) {
+        size_t row = patch_face_row(l, l->star.block_face[i]);
+        l->new_ids[k] = (uint32_t)(l->nv + s->face_begin + i);
+        memcpy(l->new_xyz + 3 * k, fine + 3 * row, 3 * sizeof(double));
+        stats->stencil_nonzeros += ro[row + 1] - ro[row];
+    }
+    for (size_t e = 0; e < l->topo.edge_count; e++) {
+        if (l->edge_id[e] == UINT32_MAX)
+            continue;
+        size_t row = patch_edge_row(l, e);
+        l->new_ids[k] = l->edge_id[e];
+        memcpy(l->new_xyz + 3 * k, fine + 3 * row, 3 * sizeof(double));
+        stats->stencil_nonzeros += ro[row + 1] - ro[row];
+        k++;
+    }
+    l->n_new = k;
+    return LIMN_OK;
+}
+
+/* The point of the edge (lo, hi) of this rank's star, asked by another rank. */
+static uint32_t answer_edge(const level *l, uint32_t lo, uint32_t hi)
+{
+    size_t a = mpi_star_local(&l->star, lo), b = mpi_star_local(&l->star, hi);
+    if (a == SIZE_MAX || b == SIZE_MAX)
+        return UINT32_MAX;
+    const topology *t = &l->topo;
+    for (uint32_t k = t->vertex_edge_offsets[a]; k < t->vertex_edge_offsets[a + 1]; k++)
+        if (topology_edge_other(t, t->vertex_edges[k], (uint32_t)a) == b)
+            return l->edge_id[t->vertex_edges[k]];
+    return UINT32_MAX;
+}
+
+/* The block faces' edges this rank does not own, grouped by the rank that
+   owns their lower vertex: (lo, hi) pairs in req, their patch edges in which. */
+static limn_status pack_requests(level *l, int *cnt, uint32_t **req, uint32_t **which)
+{
+    mpi_part *p = l->p;
+    const limn_mesh *pm = l->star.mesh;
+    size_t ne = l->topo.edge_count, n = 0;
+    uint8_t *asked = calloc(ne ? ne : 1, 1);
+    size_t *at = calloc((size_t)p->size + 1, sizeof *at);
+    if (!asked || !at) {
+        free(asked);
+        free(at);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the edge requests");
+    }
+    for (size_t i = 0; i < l->in->slice.face_count; i++) {
+        size_t pf = l->star.block_face[i];
+        for (uint32_t c = pm->face_offsets[pf]; c < pm->face_offsets[pf + 1]; c++) {
+            uint32_t e = l->topo.corner_edge[c];
+            if (l->edge_id[e] != UINT32_MAX || asked[e])
+                continue;
+            asked[e] = 1;
+            uint32_t lo = l->star.ids[l->topo.edge_vertices[2 * e]];
+            at[mpi_blocks_owner(l->in->vertex_dist, p->size, lo) + 1]++;
+            n++;
+        }
+    }
+    *req = malloc((n ? 2 * n : 1) * sizeof **req);
+    *which = malloc((n ? n : 1) * sizeof **which);
+    limn_status st = *req && *which && n <= INT32_MAX / 2
+                         ? LIMN_OK
+                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu requests", n);
+    for (int r = 0; r < p->size; r++) {
+        cnt[r] = (int)(2 * at[r + 1]);
+        at[r + 1] += at[r];
+    }
+    for (size_t e = 0; !st && e < ne; e++) {
+        if (!asked[e])
+            continue;
+        uint32_t lo = l->star.ids[l->topo.edge_vertices[2 * e]];
+        size_t k = at[mpi_blocks_owner(l->in->vertex_dist, p->size, lo)]++;
+        (*req)[2 * k] = lo;
+        (*req)[2 * k + 1] = l->star.ids[l->topo.edge_vertices[2 * e + 1]];
+        (*which)[k] = (uint32_t)e;
+    }
+    free(asked);
+    free(at);
+    return st;
+}
+
+/* The ids of the points of the block faces' edges owned elsewhere. */
+static limn_status fetch_edges(level *l)
+{
+    mpi_part *p = l->p;
+    int *cnt = malloc(4 * (size_t)p->size * sizeof *cnt);
+    uint32_t *req = NULL, *which = NULL, *got = NULL, *ans = NULL, *back = NULL;
+    size_t words = 0, n_back = 0;
+    limn_status st = cnt ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    if (!st)
+        st = pack_requests(l, cnt, &req, &which);
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_local_alltoallv(p, req, cnt, sizeof *req, (void **)&got, cnt + p->size, &words);
+    if (!st && !(ans = malloc((words ? words / 2 : 1) * sizeof *ans)))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu answers", words / 2);
+    for (size_t k = 0; !st && k < words / 2; k++)
+        if ((ans[k] = answer_edge(l, got[2 * k], got[2 * k + 1])) == UINT32_MAX)
+            st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                          "rank %d: edge (%u, %u) asked of it is not in its star", p->rank,
+                          got[2 * k], got[2 * k + 1]);
+    for (int r = 0; !st && r < p->size; r++)
+        cnt[2 * p->size + r] = cnt[p->size + r] / 2;
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_local_alltoallv(p, ans, cnt + 2 * p->size, sizeof *ans, (void **)&back,
+                                 cnt + 3 * p->size, &n_back);
+    for (size_t k = 0; !st && k < n_back; k++)
+        l->edge_id[which[k]] = back[k];
+    free(cnt);
+    free(req);
+    free(which);
+    free(got);
+    free(ans);
+    free(back);
+    return st;
+}
+
+/* The children of the block's faces, in the single process's order and ids. */
+static limn_status child_faces(level *l, mesh_slice *out)
+{
+    const limn_mesh *pm = l->star.mesh;
+    const mesh_slice *s = &l->in->slice;
+    int loop = l->scheme == LIMN_SCHEME_LOOP;
+    size_t nc = s->face_offsets[s->face_count];
+    out->face_count = loop ? 4 * s->face_count : nc;
+    out->face_offsets = malloc((out->face_count + 1) * sizeof *out->face_offsets);
+    out->face_indices = malloc((4 * out->face_count + 1) * sizeof *out->face_indices);
+    if (!out->face_offsets || !out->face_indices || 4 * out->face_count > UINT32_MAX)
+        return ctx_fail(l->p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu child faces",
+                        out->face_count);
+    size_t k = 0, f_out = 0;
+    out->face_offsets[0] = 0;
+    for (size_t i = 0; i < s->face_count; i++) {
+        size_t pf = l->star.block_face[i];
+        uint32_t b = pm->face_offsets[pf], e = pm->face_offsets[pf + 1];
+        if (loop) {
+            uint32_t v[3], ep[3];
+            for (uint32_t j = 0; j < 3; j++) {
+                v[j] = l->star.ids[pm->face_indices[b + j]];
+                ep[j] = l->edge_id[l->topo.corner_edge[b + j]];
+            }
+            uint32_t tris[4][3] = {{v[0], ep[0], ep[2]}, {v[1], ep[1], ep[0]},
+                                   {v[2], ep[2], ep[1]}, {ep[0], ep[1], ep[2]}};
+            for (int q = 0; q < 4; q++) {
+                memcpy(out->face_indices + k, tris[q], sizeof tris[q]);
+                k += 3;
+                out->face_offsets[++f_out] = (uint32_t)k;
+            }
+            continue;
+        }
+        uint32_t fp = (uint32_t)(l->nv + s->face_begin + i);
+        for (uint32_t c = b; c < e; c++) {
+            uint32_t pc = c == b ? e - 1 : c - 1;
+            uint32_t q[4] = {l->star.ids[pm->face_indices[c]], l->edge_id[l->topo.corner_edge[c]],
+                             fp, l->edge_id[l->topo.corner_edge[pc]]};
+            memcpy(out->face_indices + k, q, sizeof q);
+            k += 4;
+            out->face_offsets[++f_out] = (uint32_t)k;
+        }
+    }
+    return LIMN_OK;
+}
+
+/* The new vertices into even blocks and the children into a new mesh. */
+static limn_status hand_over(level *l, limn_mpi_mesh **out)
+{
+    mpi_part *p = l->p;
+    mesh_slice s = {0};
+    size_t *dist = malloc(((size_t)p->size + 1) * sizeof *dist);
+    limn_status st = dist ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    if (!st)
+        st = child_faces(l, &s);
+    for (int r = 0; !st && r <= p->size; r++)
+        dist[r] = mesh_slice_cut(l->new_total, (unsigned)p->size, (unsigned)r);
+    if (!st) {
+        s.vertex_begin = dist[p->rank];
+        s.vertex_count = dist[p->rank + 1] - dist[p->rank];
+        s.positions = malloc((s.vertex_count ? 3 * s.vertex_count : 1) * sizeof *s.positions);
+        if (!s.positions)
+            st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices",
+                          s.vertex_count);
+    }
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_blocks_store(p, dist, l->n_new, l->new_ids, l->new_xyz, 3 * sizeof(double),
+                              s.positions);
+    if (!st) {
+        uint64_t mine = s.face_count, before = 0;
+        MPI_Exscan(&mine, &before, 1, MPI_UINT64_T, MPI_SUM, p->comm);
+        s.face_begin = p->rank == 0 ? 0 : (size_t)before;
+        st = mpi_mesh_adopt(p, &s, out);
+    }
+    mesh_slice_free(&s);
+    free(dist);
+    return st;
+}
+
+static void level_free(level *l)
+{
+    mpi_star_free(&l->star);
+    if (l->have_plan)
+        refine_plan_free(&l->plan);
+    if (l->have_topo)
+        topology_free(&l->topo);
+    free(l->edge_id);
+    free(l->new_ids);
+    free(l->new_xyz);
+}
+
+limn_status mpi_refine_level(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
+                             double alpha, limn_mpi_mesh **out, mpi_refine_stats *stats)
+{
+    level l = {.p = p, .in = mesh, .scheme = scheme};
+    l.nv = mesh->vertex_dist[p->size];
+    l.nf = mesh->face_dist[p->size];
+    double t0 = MPI_Wtime();
+    limn_status st = mpi_star_build(p, mesh, &l.star);
+    if (!st) {
+        st = refine_plan_build(p->ctx, l.star.mesh, scheme, alpha, 1, &l.plan);
+        l.have_plan = !st;
+    }
+    if (!st) {
+        st = topology_build(p->ctx, l.star.mesh, &l.topo);
+        l.have_topo = !st;
+    }
+    double t1 = MPI_Wtime();
+    stats->seconds_plan += t1 - t0;
+    if (!st)
+        st = refine_plan_apply(p->ctx, &l.plan, 0, 3, l.star.mesh->positions,
+                               l.plan.meshes[1]->positions);
+    stats->seconds_apply += MPI_Wtime() - t1;
+    st = mpi_agree(p, st);
+    size_t owned_edges = 0;
+    if (!st)
+        st = number_edges(&l, &owned_edges);
+    if (!st)
+        st = mpi_agree(p, gather_points(&l, owned_edges, stats));
+    if (!st)
+        st = fetch_edges(&l);
+    if (l.have_plan) {
+        size_t fine = l.plan.meshes[1]->vertex_count;
+        if (fine > stats->largest_vertex_array)
+            stats->largest_vertex_array = fine;
+        refine_plan_free(&l.plan); /* the kept points are copied out */
+        l.have_plan = 0;
+    }
+    if (l.star.largest_vertex_array > stats->largest_vertex_array)
+        stats->largest_vertex_array = l.star.largest_vertex_array;
+    if (!st)
+        st = hand_over(&l, out);
+    level_free(&l);
+    return st;
+}
+
+limn_status mpi_refine_limit(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
+                             double alpha, limn_mpi_mesh **out, size_t *largest)
+{
+    mpi_star s;
+    limn_status st = mpi_star_build(p, mesh, &s);
+    size_t nb = mesh->slice.vertex_count, n = st ? 0 : s.mesh->vertex_count;
+    double *lim = NULL, *block = malloc((nb ? 3 * nb : 1) * sizeof *block);
+    if (!st && (!block || !(lim = malloc((n ? 3 * n : 1) * sizeof *lim))))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu limit positions", n);
+    if (!st)
+        st = limn_limit_positions(p->ctx, s.mesh, scheme, alpha, lim);
+    for (size_t i = 0; !st && i < nb; i++) {
+        size_t v = mpi_star_local(&s, (uint32_t)(mesh->slice.vertex_begin + i));
+        memcpy(block + 3 * i, lim + 3 * v, 3 * sizeof *block);
+    }
+    if (!st && s.largest_vertex_array > *largest)
+        *largest = s.largest_vertex_array;
+    free(lim);
+    mpi_star_free(&s);
+    st = mpi_agree(p, st);
+    if (!st)
+        return mpi_mesh_control_of(p, mesh, block, out);
+    free(block);
+    return st;
+}

@@ -1,0 +1,62 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Refinement over ranks (docs/mpi.md "Refinement over ranks"), no rank
+ * holding the whole mesh. A rank's star is the patch of faces around its
+ * block's vertices (every face incident to one of them) plus its own face
+ * block: enough to compute, with the single process's refine/ code, the
+ * vertex points of its block vertices (their whole ring is there), the edge
+ * points of the edges whose lower vertex it holds (every face of such an
+ * edge has that vertex) and the face points and child faces of its face
+ * block. Patch vertices are in increasing global id and patch faces in
+ * increasing global face id, so every row's entries come in the single
+ * process's order and sum to its bits. Internal to the MPI layer.
+ */
+#ifndef LIMN_MPI_REFINE_H
+#define LIMN_MPI_REFINE_H
+
+#include "mpi/mpi_mesh.h"
+
+/* This rank's star. */
+typedef struct mpi_star {
+    limn_mesh *mesh;      /* the patch (positions fetched from the block owners) */
+    uint32_t *ids;        /* global id of each patch vertex, increasing */
+    size_t *face_ids;     /* global id of each patch face, increasing */
+    size_t *block_face;   /* patch face of each face of this rank's block */
+    size_t largest_vertex_array; /* entries of the largest per-vertex array built */
+} mpi_star;
+
+/* Collective, agreed: the star of this rank over mesh (mpi_star.c). */
+limn_status mpi_star_build(mpi_part *p, const limn_mpi_mesh *mesh, mpi_star *out);
+void mpi_star_free(mpi_star *s);
+
+/* The patch vertex of global id v (SIZE_MAX when not in the patch). */
+size_t mpi_star_local(const mpi_star *s, uint32_t v);
+
+/* What one level cost this rank (mpi_refine.c). */
+typedef struct mpi_refine_stats {
+    size_t stencil_nonzeros;     /* entries of the step rows this rank keeps */
+    size_t largest_vertex_array; /* entries of the largest per-vertex array */
+    double seconds_plan, seconds_apply;
+} mpi_refine_stats;
+
+/* Collective, agreed: one uniform refinement step of mesh (scheme resolved,
+   LOOP or CATMARK; alpha the first step's) as a new distributed mesh *out
+   whose vertices and faces are numbered as refine_plan_build numbers level 1
+   of the whole mesh: old vertices, face points (Catmull-Clark) in face
+   order, edge points in edge order; vertex blocks even. */
+limn_status mpi_refine_level(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
+                             double alpha, limn_mpi_mesh **out, mpi_refine_stats *stats);
+
+/* Collective, agreed: limn_limit_positions of the whole mesh, each rank's
+   block vertices from its star, into a new mesh with the same blocks. */
+limn_status mpi_refine_limit(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
+                             double alpha, limn_mpi_mesh **out, size_t *largest);
+
+/* limn_mpi_mesh_subdivide with the largest per-vertex array any step built
+   on this rank (*largest, may be NULL): the per-rank memory test's probe. */
+limn_status mpi_mesh_subdivide(limn_context *ctx, const limn_mpi_mesh *mesh,
+                               const limn_subdivide_options *options, limn_mpi_mesh **surface,
+                               limn_subdivide_report *report, const limn_mpi_options *mpi,
+                               limn_mpi_result *result, size_t *largest);
+
+#endif
