@@ -38,7 +38,7 @@ static limn_status check_options(limn_context *ctx, const limn_subdivide_options
 /* The levels and the limit from mesh; *out the finest (a copy at 0 levels). */
 static limn_status refine_levels(mpi_part *p, const limn_mpi_mesh *mesh,
                                  const limn_subdivide_options *o, limn_subdivide_report *r,
-                                 limn_mpi_mesh **out, size_t *largest)
+                                 limn_mpi_mesh **out, mpi_refine_stats *stats)
 {
     mpi_refine_stats rs = {0};
     const limn_mpi_mesh *cur = mesh;
@@ -54,7 +54,7 @@ static limn_status refine_levels(mpi_part *p, const limn_mpi_mesh *mesh,
     double t0 = MPI_Wtime();
     if (!st && o->limit) {
         /* alpha acts on the first step only: past level 0 the limit is standard */
-        st = mpi_refine_limit(p, cur, r->scheme, o->levels == 0 ? r->alpha : 0.0, &next, &rs.largest_vertex_array);
+        st = mpi_refine_limit(p, cur, r->scheme, o->levels == 0 ? r->alpha : 0.0, &next, &rs);
         if (cur != mesh)
             limn_mpi_mesh_destroy((limn_mpi_mesh *)cur);
         cur = st ? NULL : next;
@@ -73,8 +73,8 @@ static limn_status refine_levels(mpi_part *p, const limn_mpi_mesh *mesh,
     unsigned long long nnz = rs.stencil_nonzeros, all = 0;
     MPI_Allreduce(&nnz, &all, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, p->comm);
     r->stencil_nonzeros = (size_t)all;
-    if (largest)
-        *largest = rs.largest_vertex_array;
+    if (stats)
+        *stats = rs;
     *out = st ? NULL : (limn_mpi_mesh *)cur;
     return st;
 }
@@ -83,7 +83,7 @@ static limn_status refine_levels(mpi_part *p, const limn_mpi_mesh *mesh,
 static limn_status subdivide_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
                                    const limn_subdivide_options *o, limn_mpi_mesh **surface,
                                    limn_subdivide_report *r, const limn_mpi_options *mpi,
-                                   limn_mpi_result *result, size_t *largest)
+                                   limn_mpi_result *result, mpi_refine_stats *stats)
 {
     memset(r, 0, sizeof *r);
     mpi_part p;
@@ -111,7 +111,7 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
         snprintf(r->device, sizeof r->device, "%s", dev->name);
     limn_mpi_mesh *out = NULL;
     if (!st)
-        st = refine_levels(&p, mesh, o, r, &out, largest);
+        st = refine_levels(&p, mesh, o, r, &out, stats);
     if (!st) {
         r->vertices = out->vertex_dist[p.size];
         r->faces = out->face_dist[p.size];
@@ -129,7 +129,7 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
 limn_status mpi_mesh_subdivide(limn_context *ctx, const limn_mpi_mesh *mesh,
                                const limn_subdivide_options *options, limn_mpi_mesh **surface,
                                limn_subdivide_report *report, const limn_mpi_options *mpi,
-                               limn_mpi_result *result, size_t *largest)
+                               limn_mpi_result *result, mpi_refine_stats *stats)
 {
     if (!mesh)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mpi_mesh_subdivide: the mesh is NULL");
@@ -139,7 +139,7 @@ limn_status mpi_mesh_subdivide(limn_context *ctx, const limn_mpi_mesh *mesh,
                                mpi, result, NULL);
     return st ? st
               : mpi_leave(&c, subdivide_sized(ctx, mesh, c.abi.options, surface, c.abi.report,
-                                              c.mpi, c.result, largest));
+                                              c.mpi, c.result, stats));
 }
 
 limn_status limn_mpi_mesh_subdivide(limn_context *ctx, const limn_mpi_mesh *mesh,

@@ -311,6 +311,16 @@ static limn_status hand_over(level *l, limn_mpi_mesh **out)
     return st;
 }
 
+/* Notes an array of n entries of a level of total vertices. */
+static void note(mpi_refine_stats *stats, size_t n, size_t total)
+{
+    if (n > stats->largest_vertex_array)
+        stats->largest_vertex_array = n;
+    double share = total ? (double)n / (double)total : 0.0;
+    if (share > stats->share)
+        stats->share = share;
+}
+
 static void level_free(level *l)
 {
     mpi_star_free(&l->star);
@@ -353,15 +363,16 @@ limn_status mpi_refine_level(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme
         st = mpi_agree(p, gather_points(&l, owned_edges, stats));
     if (!st)
         st = fetch_edges(&l);
+    if (!st) {
+        note(stats, l.star.largest_vertex_array, l.nv);
+        note(stats, l.plan.meshes[1]->vertex_count, l.new_total);
+        note(stats, l.n_new, l.new_total);
+        note(stats, l.new_total / (size_t)p->size + 1, l.new_total); /* the new block */
+    }
     if (l.have_plan) {
-        size_t fine = l.plan.meshes[1]->vertex_count;
-        if (fine > stats->largest_vertex_array)
-            stats->largest_vertex_array = fine;
         refine_plan_free(&l.plan); /* the kept points are copied out */
         l.have_plan = 0;
     }
-    if (l.star.largest_vertex_array > stats->largest_vertex_array)
-        stats->largest_vertex_array = l.star.largest_vertex_array;
     if (!st)
         st = hand_over(&l, out);
     level_free(&l);
@@ -369,7 +380,7 @@ limn_status mpi_refine_level(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme
 }
 
 limn_status mpi_refine_limit(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
-                             double alpha, limn_mpi_mesh **out, size_t *largest)
+                             double alpha, limn_mpi_mesh **out, mpi_refine_stats *stats)
 {
     mpi_star s;
     limn_status st = mpi_star_build(p, mesh, &s);
@@ -383,8 +394,8 @@ limn_status mpi_refine_limit(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme
         size_t v = mpi_star_local(&s, (uint32_t)(mesh->slice.vertex_begin + i));
         memcpy(block + 3 * i, lim + 3 * v, 3 * sizeof *block);
     }
-    if (!st && s.largest_vertex_array > *largest)
-        *largest = s.largest_vertex_array;
+    if (!st)
+        note(stats, s.largest_vertex_array, mesh->vertex_dist[p->size]);
     free(lim);
     mpi_star_free(&s);
     st = mpi_agree(p, st);

@@ -22,7 +22,7 @@ typedef struct mpi_star {
     uint32_t *ids;        /* global id of each patch vertex, increasing */
     size_t *face_ids;     /* global id of each patch face, increasing */
     size_t *block_face;   /* patch face of each face of this rank's block */
-    size_t largest_vertex_array; /* entries of the largest per-vertex array built */
+    size_t largest_vertex_array; /* vertices of the patch (its largest per-vertex array) */
 } mpi_star;
 
 /* Collective, agreed: the star of this rank over mesh (mpi_star.c). */
@@ -35,7 +35,10 @@ size_t mpi_star_local(const mpi_star *s, uint32_t v);
 /* What one level cost this rank (mpi_refine.c). */
 typedef struct mpi_refine_stats {
     size_t stencil_nonzeros;     /* entries of the step rows this rank keeps */
-    size_t largest_vertex_array; /* entries of the largest per-vertex array */
+    size_t largest_vertex_array; /* entries of the largest per-vertex array: the patch,
+                                    the refined patch, the kept points, the new block */
+    double share;                /* the largest such array over its level's global vertex
+                                    count (the finer level's for a step), any level */
     double seconds_plan, seconds_apply;
 } mpi_refine_stats;
 
@@ -50,13 +53,14 @@ limn_status mpi_refine_level(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme
 /* Collective, agreed: limn_limit_positions of the whole mesh, each rank's
    block vertices from its star, into a new mesh with the same blocks. */
 limn_status mpi_refine_limit(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
-                             double alpha, limn_mpi_mesh **out, size_t *largest);
+                             double alpha, limn_mpi_mesh **out, mpi_refine_stats *stats);
 
-/* limn_mpi_mesh_subdivide with the largest per-vertex array any step built
-   on this rank (*largest, may be NULL): the per-rank memory test's probe. */
+/* limn_mpi_mesh_subdivide with this rank's figures (*stats, may be NULL):
+   the per-rank memory test's probe (stats->share < 1: no rank allocated an
+   array of a level's global vertex count). */
 limn_status mpi_mesh_subdivide(limn_context *ctx, const limn_mpi_mesh *mesh,
                                const limn_subdivide_options *options, limn_mpi_mesh **surface,
                                limn_subdivide_report *report, const limn_mpi_options *mpi,
-                               limn_mpi_result *result, size_t *largest);
+                               limn_mpi_result *result, mpi_refine_stats *stats);
 
 #endif

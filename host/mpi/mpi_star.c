@@ -166,7 +166,7 @@ static limn_status collect_vertices(mpi_part *p, const limn_mpi_mesh *m, const s
     free(keys);
     if (!s->ids)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu star vertices", u);
-    s->largest_vertex_array = n;
+    s->largest_vertex_array = u;
     return mesh_alloc(p->ctx, u, nf, n - nb, &s->mesh);
 }
 
