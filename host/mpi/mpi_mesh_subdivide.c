@@ -35,39 +35,29 @@ static limn_status check_options(limn_context *ctx, const limn_subdivide_options
     return st;
 }
 
-/* The levels and the limit from mesh; *out the finest (a copy at 0 levels). */
+/* The levels and the limit from mesh; *out the finest, in even blocks. */
 static limn_status refine_levels(mpi_part *p, const limn_mpi_mesh *mesh,
                                  const limn_subdivide_options *o, limn_subdivide_report *r,
                                  limn_mpi_mesh **out, mpi_refine_stats *stats)
 {
     mpi_refine_stats rs = {0};
-    const limn_mpi_mesh *cur = mesh;
-    limn_mpi_mesh *next = NULL;
-    limn_status st = LIMN_OK;
+    mpi_rmesh cur, next;
+    limn_status st = mpi_rmesh_of(p, mesh, &cur);
     for (int k = 0; !st && k < o->levels; k++) {
-        st = mpi_refine_level(p, cur, r->scheme, k == 0 ? r->alpha : 0.0, &next, &rs);
-        if (cur != mesh)
-            limn_mpi_mesh_destroy((limn_mpi_mesh *)cur);
-        cur = st ? NULL : next;
+        st = mpi_refine_level(p, &cur, r->scheme, k == 0 ? r->alpha : 0.0, &next, &rs);
+        mpi_rmesh_free(&cur);
+        if (!st)
+            cur = next;
         ctx_progress(p->ctx, "refine", (double)(k + 1) / (double)o->levels);
     }
     double t0 = MPI_Wtime();
-    if (!st && o->limit) {
-        /* alpha acts on the first step only: past level 0 the limit is standard */
-        st = mpi_refine_limit(p, cur, r->scheme, o->levels == 0 ? r->alpha : 0.0, &next, &rs);
-        if (cur != mesh)
-            limn_mpi_mesh_destroy((limn_mpi_mesh *)cur);
-        cur = st ? NULL : next;
-    } else if (!st && cur == mesh) {
-        size_t nb = mesh->slice.vertex_count;
-        double *copy = malloc((nb ? 3 * nb : 1) * sizeof *copy);
-        st = mpi_agree(p, copy ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory"));
-        if (!st)
-            memcpy(copy, mesh->slice.positions, 3 * nb * sizeof *copy);
-        st = st ? (free(copy), st) : mpi_mesh_control_of(p, mesh, copy, &next);
-        cur = st ? NULL : next;
-    }
+    /* alpha acts on the first step only: past level 0 the limit is standard */
+    if (!st && o->limit)
+        st = mpi_refine_limit(p, &cur, r->scheme, o->levels == 0 ? r->alpha : 0.0, &rs);
     r->seconds_limit = o->limit ? MPI_Wtime() - t0 : 0.0;
+    if (!st)
+        st = mpi_rmesh_to_mesh(p, &cur, out);
+    mpi_rmesh_free(&cur);
     r->seconds_plan = rs.seconds_plan;
     r->seconds_apply = rs.seconds_apply;
     unsigned long long nnz = rs.stencil_nonzeros, all = 0;
@@ -75,7 +65,6 @@ static limn_status refine_levels(mpi_part *p, const limn_mpi_mesh *mesh,
     r->stencil_nonzeros = (size_t)all;
     if (stats)
         *stats = rs;
-    *out = st ? NULL : (limn_mpi_mesh *)cur;
     return st;
 }
 

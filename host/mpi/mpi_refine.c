@@ -28,7 +28,7 @@
 /* A level's work on this rank. */
 typedef struct level {
     mpi_part *p;
-    const limn_mpi_mesh *in;
+    const mpi_rmesh *in;
     limn_scheme scheme;
     mpi_star star;
     refine_plan plan;
@@ -36,14 +36,14 @@ typedef struct level {
     int have_plan, have_topo;
     uint32_t *edge_id;     /* global id of each patch edge's point (UINT32_MAX: unknown) */
     size_t nv, nf;         /* the whole level's vertices and faces */
-    size_t n_new, new_total;
-    uint32_t *new_ids;     /* this rank's new vertices: global ids and positions */
-    double *new_xyz;
+    size_t n_new, new_total, owned_edges;
+    size_t *edge_dist;     /* in->segments * (size + 1): the edge points' segments */
+    double *new_xyz;       /* this rank's new vertices: its old ones, face points, edge points */
 } level;
 
-static int in_block(const limn_mpi_mesh *m, uint32_t v)
+static int is_mine(const level *l, uint32_t v)
 {
-    return v >= m->slice.vertex_begin && v - m->slice.vertex_begin < m->slice.vertex_count;
+    return mpi_rmesh_owner(l->in, l->p->size, v) == l->p->rank;
 }
 
 static size_t edge_point_base(const level *l)
@@ -62,60 +62,83 @@ static size_t patch_edge_row(const level *l, size_t e)
            (l->scheme == LIMN_SCHEME_CATMARK ? l->star.mesh->face_count : 0) + e;
 }
 
-/* The ids of the owned edges' points; *owned their count. */
-static limn_status number_edges(level *l, size_t *owned)
+/* The edge points' segments from every rank's count per old segment (one
+   Allgather): segment s holds the edges whose lower vertex is in old
+   segment s, rank by rank, after all edges of the segments before it. */
+static void edge_segments(level *l, const uint64_t *all)
 {
-    mpi_part *p = l->p;
-    size_t ne = l->topo.edge_count;
-    l->edge_id = malloc((ne ? ne : 1) * sizeof *l->edge_id);
-    limn_status st = l->edge_id ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
-    uint64_t mine = 0, before = 0, total = 0;
-    for (size_t e = 0; !st && e < ne; e++)
-        mine += in_block(l->in, l->star.ids[l->topo.edge_vertices[2 * e]]);
-    st = mpi_agree(p, st);
-    if (st)
-        return st;
-    MPI_Exscan(&mine, &before, 1, MPI_UINT64_T, MPI_SUM, p->comm);
-    if (p->rank == 0)
-        before = 0;
-    MPI_Allreduce(&mine, &total, 1, MPI_UINT64_T, MPI_SUM, p->comm);
-    l->new_total = edge_point_base(l) + total;
-    if (l->new_total > UINT32_MAX)
-        return mpi_agree(p, ctx_fail(p->ctx, LIMN_ERR_MEMORY,
-                                     "the next level would have %zu vertices (over 2^32)",
-                                     l->new_total));
-    size_t next = edge_point_base(l) + before;
-    for (size_t e = 0; e < ne; e++)
-        l->edge_id[e] = in_block(l->in, l->star.ids[l->topo.edge_vertices[2 * e]])
-                            ? (uint32_t)next++
-                            : UINT32_MAX;
-    *owned = (size_t)mine;
-    return LIMN_OK;
+    size_t S = (size_t)l->in->segments, R = (size_t)l->p->size;
+    size_t at = edge_point_base(l);
+    for (size_t s = 0; s < S; s++) {
+        size_t *d = l->edge_dist + s * (R + 1);
+        d[0] = at;
+        for (size_t r = 0; r < R; r++)
+            d[r + 1] = d[r] + (size_t)all[r * S + s];
+        at = d[R];
+    }
+    l->new_total = at;
 }
 
-/* This rank's new vertices: vertex points of its block, face points of its
-   face block, points of its edges. */
-static limn_status gather_points(level *l, size_t owned_edges, mpi_refine_stats *stats)
+/* The ids of the owned edges' points (each after its segment's earlier
+   ranks' and, in the segment, in edge order); l->owned_edges their count. */
+static limn_status number_edges(level *l)
 {
-    const mesh_slice *s = &l->in->slice;
+    mpi_part *p = l->p;
+    size_t ne = l->topo.edge_count, S = (size_t)l->in->segments, R = (size_t)p->size;
+    l->edge_id = malloc((ne ? ne : 1) * sizeof *l->edge_id);
+    l->edge_dist = malloc(S * (R + 1) * sizeof *l->edge_dist);
+    uint64_t *mine = calloc(S, sizeof *mine), *all = malloc(S * R * sizeof *all);
+    limn_status st = l->edge_id && l->edge_dist && mine && all
+                         ? LIMN_OK
+                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    for (size_t e = 0; !st && e < ne; e++) {
+        uint32_t lo = l->star.ids[l->topo.edge_vertices[2 * e]];
+        l->edge_id[e] = UINT32_MAX;
+        if (is_mine(l, lo)) {
+            mine[mpi_rmesh_segment(l->in, p->size, lo)]++;
+            l->owned_edges++;
+        }
+    }
+    st = mpi_agree(p, st);
+    if (!st) {
+        MPI_Allgather(mine, (int)S, MPI_UINT64_T, all, (int)S, MPI_UINT64_T, p->comm);
+        edge_segments(l, all);
+        if (l->new_total > UINT32_MAX)
+            st = ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                          "the next level would have %zu vertices (over 2^32)", l->new_total);
+    }
+    for (size_t s = 0; !st && s < S; s++)
+        mine[s] = l->edge_dist[s * (R + 1) + (size_t)p->rank]; /* the next id of each */
+    for (size_t e = 0; !st && e < ne; e++) {
+        uint32_t lo = l->star.ids[l->topo.edge_vertices[2 * e]];
+        if (is_mine(l, lo))
+            l->edge_id[e] = (uint32_t)mine[mpi_rmesh_segment(l->in, p->size, lo)]++;
+    }
+    free(mine);
+    free(all);
+    return mpi_agree(p, st);
+}
+
+/* This rank's new vertices: vertex points of its vertices, face points of
+   its face block, points of its edges (the new level's segments' order). */
+static limn_status gather_points(level *l, mpi_refine_stats *stats)
+{
+    const mpi_rmesh *s = l->in;
     int cc = l->scheme == LIMN_SCHEME_CATMARK;
-    size_t n = s->vertex_count + (cc ? s->face_count : 0) + owned_edges;
-    l->new_ids = malloc((n ? n : 1) * sizeof *l->new_ids);
+    size_t n = s->n_owned + (cc ? s->face_count : 0) + l->owned_edges;
     l->new_xyz = malloc((n ? 3 * n : 1) * sizeof *l->new_xyz);
-    if (!l->new_ids || !l->new_xyz)
+    if (!l->new_xyz)
         return ctx_fail(l->p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu new vertices", n);
     const double *fine = l->plan.meshes[1]->positions;
     const uint32_t *ro = l->plan.steps[0].row_offsets;
     size_t k = 0;
-    for (size_t i = 0; i < s->vertex_count; i++, k++) {
-        size_t v = mpi_star_local(&l->star, (uint32_t)(s->vertex_begin + i));
-        l->new_ids[k] = (uint32_t)(s->vertex_begin + i);
+    for (size_t i = 0; i < s->n_owned; i++, k++) {
+        size_t v = mpi_star_local(&l->star, (uint32_t)mpi_rmesh_id(s, l->p->rank, l->p->size, i));
         memcpy(l->new_xyz + 3 * k, fine + 3 * v, 3 * sizeof(double));
         stats->stencil_nonzeros += ro[v + 1] - ro[v];
     }
     for (size_t i = 0; cc && i < s->face_count; i++, k++) {
         size_t row = patch_face_row(l, l->star.block_face[i]);
-        l->new_ids[k] = (uint32_t)(l->nv + s->face_begin + i);
         memcpy(l->new_xyz + 3 * k, fine + 3 * row, 3 * sizeof(double));
         stats->stencil_nonzeros += ro[row + 1] - ro[row];
     }
@@ -123,7 +146,6 @@ static limn_status gather_points(level *l, size_t owned_edges, mpi_refine_stats 
         if (l->edge_id[e] == UINT32_MAX)
             continue;
         size_t row = patch_edge_row(l, e);
-        l->new_ids[k] = l->edge_id[e];
         memcpy(l->new_xyz + 3 * k, fine + 3 * row, 3 * sizeof(double));
         stats->stencil_nonzeros += ro[row + 1] - ro[row];
         k++;
@@ -159,7 +181,7 @@ static limn_status pack_requests(level *l, int *cnt, uint32_t **req, uint32_t **
         free(at);
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the edge requests");
     }
-    for (size_t i = 0; i < l->in->slice.face_count; i++) {
+    for (size_t i = 0; i < l->in->face_count; i++) {
         size_t pf = l->star.block_face[i];
         for (uint32_t c = pm->face_offsets[pf]; c < pm->face_offsets[pf + 1]; c++) {
             uint32_t e = l->topo.corner_edge[c];
@@ -167,7 +189,7 @@ static limn_status pack_requests(level *l, int *cnt, uint32_t **req, uint32_t **
                 continue;
             asked[e] = 1;
             uint32_t lo = l->star.ids[l->topo.edge_vertices[2 * e]];
-            at[mpi_blocks_owner(l->in->vertex_dist, p->size, lo) + 1]++;
+            at[mpi_rmesh_owner(l->in, p->size, lo) + 1]++;
             n++;
         }
     }
@@ -184,7 +206,7 @@ static limn_status pack_requests(level *l, int *cnt, uint32_t **req, uint32_t **
         if (!asked[e])
             continue;
         uint32_t lo = l->star.ids[l->topo.edge_vertices[2 * e]];
-        size_t k = at[mpi_blocks_owner(l->in->vertex_dist, p->size, lo)]++;
+        size_t k = at[mpi_rmesh_owner(l->in, p->size, lo)]++;
         (*req)[2 * k] = lo;
         (*req)[2 * k + 1] = l->star.ids[l->topo.edge_vertices[2 * e + 1]];
         (*which)[k] = (uint32_t)e;
@@ -232,10 +254,10 @@ static limn_status fetch_edges(level *l)
 }
 
 /* The children of the block's faces, in the single process's order and ids. */
-static limn_status child_faces(level *l, mesh_slice *out)
+static limn_status child_faces(level *l, mpi_rmesh *out)
 {
     const limn_mesh *pm = l->star.mesh;
-    const mesh_slice *s = &l->in->slice;
+    const mpi_rmesh *s = l->in;
     int loop = l->scheme == LIMN_SCHEME_LOOP;
     size_t nc = s->face_offsets[s->face_count];
     out->face_count = loop ? 4 * s->face_count : nc;
@@ -277,37 +299,47 @@ static limn_status child_faces(level *l, mesh_slice *out)
     return LIMN_OK;
 }
 
-/* The new vertices into even blocks and the children into a new mesh. */
-static limn_status hand_over(level *l, limn_mpi_mesh **out)
+/* The new level: the old segments, the face points' (Catmull-Clark: nv +
+   the face blocks), the edge points' (one per old segment), the children. */
+static limn_status hand_over(level *l, mpi_rmesh *out)
 {
     mpi_part *p = l->p;
-    mesh_slice s = {0};
-    size_t *dist = malloc(((size_t)p->size + 1) * sizeof *dist);
-    limn_status st = dist ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
-    if (!st)
-        st = child_faces(l, &s);
-    for (int r = 0; !st && r <= p->size; r++)
-        dist[r] = mesh_slice_cut(l->new_total, (unsigned)p->size, (unsigned)r);
-    if (!st) {
-        s.vertex_begin = dist[p->rank];
-        s.vertex_count = dist[p->rank + 1] - dist[p->rank];
-        s.positions = malloc((s.vertex_count ? 3 * s.vertex_count : 1) * sizeof *s.positions);
-        if (!s.positions)
-            st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices",
-                          s.vertex_count);
-    }
+    size_t w = (size_t)p->size + 1;
+    int cc = l->scheme == LIMN_SCHEME_CATMARK;
+    memset(out, 0, sizeof *out);
+    out->owns_pos = out->owns_faces = 1;
+    out->segments = 2 * l->in->segments + cc;
+    out->dist = malloc((size_t)out->segments * w * sizeof *out->dist);
+    limn_status st = out->dist ? child_faces(l, out)
+                               : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     st = mpi_agree(p, st);
-    if (!st)
-        st = mpi_blocks_store(p, dist, l->n_new, l->new_ids, l->new_xyz, 3 * sizeof(double),
-                              s.positions);
-    if (!st) {
-        uint64_t mine = s.face_count, before = 0;
-        MPI_Exscan(&mine, &before, 1, MPI_UINT64_T, MPI_SUM, p->comm);
-        s.face_begin = p->rank == 0 ? 0 : (size_t)before;
-        st = mpi_mesh_adopt(p, &s, out);
+    if (st) {
+        mpi_rmesh_free(out);
+        return st;
     }
-    mesh_slice_free(&s);
-    free(dist);
+    size_t *d = out->dist + (size_t)l->in->segments * w;
+    memcpy(out->dist, l->in->dist, (size_t)l->in->segments * w * sizeof *d);
+    if (cc) {
+        mpi_blocks_dist(p, l->in->face_count, d);
+        for (size_t r = 0; r < w; r++)
+            d[r] += l->nv;
+        d += w;
+    }
+    memcpy(d, l->edge_dist, (size_t)l->in->segments * w * sizeof *d);
+    size_t *fd = malloc(w * sizeof *fd);
+    st = mpi_agree(p, fd ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory"));
+    if (!st) {
+        mpi_blocks_dist(p, out->face_count, fd);
+        out->face_begin = fd[p->rank];
+        out->face_total = fd[p->size];
+    }
+    free(fd);
+    out->vertex_total = l->new_total;
+    out->n_owned = l->n_new;
+    out->pos = l->new_xyz;
+    l->new_xyz = NULL;
+    if (st)
+        mpi_rmesh_free(out);
     return st;
 }
 
@@ -329,16 +361,16 @@ static void level_free(level *l)
     if (l->have_topo)
         topology_free(&l->topo);
     free(l->edge_id);
-    free(l->new_ids);
+    free(l->edge_dist);
     free(l->new_xyz);
 }
 
-limn_status mpi_refine_level(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
-                             double alpha, limn_mpi_mesh **out, mpi_refine_stats *stats)
+limn_status mpi_refine_level(mpi_part *p, const mpi_rmesh *mesh, limn_scheme scheme,
+                             double alpha, mpi_rmesh *out, mpi_refine_stats *stats)
 {
     level l = {.p = p, .in = mesh, .scheme = scheme};
-    l.nv = mesh->vertex_dist[p->size];
-    l.nf = mesh->face_dist[p->size];
+    l.nv = mesh->vertex_total;
+    l.nf = mesh->face_total;
     double t0 = MPI_Wtime();
     limn_status st = mpi_star_build(p, mesh, &l.star);
     if (!st) {
@@ -356,18 +388,16 @@ limn_status mpi_refine_level(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme
                                l.plan.meshes[1]->positions);
     stats->seconds_apply += MPI_Wtime() - t1;
     st = mpi_agree(p, st);
-    size_t owned_edges = 0;
     if (!st)
-        st = number_edges(&l, &owned_edges);
+        st = number_edges(&l);
     if (!st)
-        st = mpi_agree(p, gather_points(&l, owned_edges, stats));
+        st = mpi_agree(p, gather_points(&l, stats));
     if (!st)
         st = fetch_edges(&l);
     if (!st) {
         note(stats, l.star.largest_vertex_array, l.nv);
         note(stats, l.plan.meshes[1]->vertex_count, l.new_total);
         note(stats, l.n_new, l.new_total);
-        note(stats, l.new_total / (size_t)p->size + 1, l.new_total); /* the new block */
     }
     if (l.have_plan) {
         refine_plan_free(&l.plan); /* the kept points are copied out */
@@ -379,28 +409,33 @@ limn_status mpi_refine_level(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme
     return st;
 }
 
-limn_status mpi_refine_limit(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
-                             double alpha, limn_mpi_mesh **out, mpi_refine_stats *stats)
+limn_status mpi_refine_limit(mpi_part *p, mpi_rmesh *m, limn_scheme scheme, double alpha,
+                             mpi_refine_stats *stats)
 {
     mpi_star s;
-    limn_status st = mpi_star_build(p, mesh, &s);
-    size_t nb = mesh->slice.vertex_count, n = st ? 0 : s.mesh->vertex_count;
+    limn_status st = mpi_star_build(p, m, &s);
+    size_t nb = m->n_owned, n = st ? 0 : s.mesh->vertex_count;
     double *lim = NULL, *block = malloc((nb ? 3 * nb : 1) * sizeof *block);
     if (!st && (!block || !(lim = malloc((n ? 3 * n : 1) * sizeof *lim))))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu limit positions", n);
     if (!st)
         st = limn_limit_positions(p->ctx, s.mesh, scheme, alpha, lim);
     for (size_t i = 0; !st && i < nb; i++) {
-        size_t v = mpi_star_local(&s, (uint32_t)(mesh->slice.vertex_begin + i));
+        size_t v = mpi_star_local(&s, (uint32_t)mpi_rmesh_id(m, p->rank, p->size, i));
         memcpy(block + 3 * i, lim + 3 * v, 3 * sizeof *block);
     }
     if (!st)
-        note(stats, s.largest_vertex_array, mesh->vertex_dist[p->size]);
+        note(stats, s.largest_vertex_array, m->vertex_total);
     free(lim);
     mpi_star_free(&s);
     st = mpi_agree(p, st);
-    if (!st)
-        return mpi_mesh_control_of(p, mesh, block, out);
-    free(block);
-    return st;
+    if (st) {
+        free(block);
+        return st;
+    }
+    if (m->owns_pos)
+        free(m->pos);
+    m->pos = block;
+    m->owns_pos = 1;
+    return LIMN_OK;
 }

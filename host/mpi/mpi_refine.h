@@ -16,17 +16,50 @@
 
 #include "mpi/mpi_mesh.h"
 
+/* A level of the refinement spread over the ranks. A rank keeps the points it
+   computed, so its vertices stay where its faces are: the vertex ids are
+   segments of the level's numbering, each split over the ranks in rank
+   order: the input's vertices, then for each step its face points and, for
+   each segment of the level before, the points of the edges whose lower
+   vertex lies in it (edges are numbered by their lower vertex, so those of
+   one segment are one range). Segments: 2^L for L Loop steps, 2^(L+1) - 1
+   for Catmull-Clark (63 at 5 levels).
+   The faces are blocks in rank order as in limn_mpi_mesh. */
+typedef struct mpi_rmesh {
+    int segments;
+    size_t *dist;          /* segments * (size + 1): rank r owns ids
+                              [dist[s (size+1) + r], dist[s (size+1) + r + 1]) of segment s */
+    size_t vertex_total, face_total;
+    size_t n_owned;        /* this rank's vertices, by segment then id */
+    double *pos;           /* 3 per owned vertex */
+    size_t face_begin, face_count;
+    uint32_t *face_offsets, *face_indices; /* CSR from 0, global vertex ids */
+    int owns_pos, owns_faces; /* else a limn_mpi_mesh's (not freed here) */
+} mpi_rmesh;
+
+/* The level of a distributed mesh (its blocks, borrowed). */
+limn_status mpi_rmesh_of(mpi_part *p, const limn_mpi_mesh *mesh, mpi_rmesh *out);
+/* The level moved to even vertex blocks as a new distributed mesh; collective. */
+limn_status mpi_rmesh_to_mesh(mpi_part *p, const mpi_rmesh *m, limn_mpi_mesh **out);
+void mpi_rmesh_free(mpi_rmesh *m);
+/* The segment of vertex id, the rank owning it, and the index of id among this rank's (SIZE_MAX: not its). */
+int mpi_rmesh_segment(const mpi_rmesh *m, int size, size_t id);
+int mpi_rmesh_owner(const mpi_rmesh *m, int size, size_t id);
+size_t mpi_rmesh_local(const mpi_rmesh *m, int rank, int size, size_t id);
+/* The global id of this rank's owned vertex i. */
+size_t mpi_rmesh_id(const mpi_rmesh *m, int rank, int size, size_t i);
+
 /* This rank's star. */
 typedef struct mpi_star {
-    limn_mesh *mesh;      /* the patch (positions fetched from the block owners) */
+    limn_mesh *mesh;      /* the patch (positions fetched from the owners) */
     uint32_t *ids;        /* global id of each patch vertex, increasing */
     size_t *face_ids;     /* global id of each patch face, increasing */
     size_t *block_face;   /* patch face of each face of this rank's block */
     size_t largest_vertex_array; /* vertices of the patch (its largest per-vertex array) */
 } mpi_star;
 
-/* Collective, agreed: the star of this rank over mesh (mpi_star.c). */
-limn_status mpi_star_build(mpi_part *p, const limn_mpi_mesh *mesh, mpi_star *out);
+/* Collective, agreed: the star of this rank over m (mpi_star.c). */
+limn_status mpi_star_build(mpi_part *p, const mpi_rmesh *m, mpi_star *out);
 void mpi_star_free(mpi_star *s);
 
 /* The patch vertex of global id v (SIZE_MAX when not in the patch). */
@@ -46,14 +79,14 @@ typedef struct mpi_refine_stats {
    LOOP or CATMARK; alpha the first step's) as a new distributed mesh *out
    whose vertices and faces are numbered as refine_plan_build numbers level 1
    of the whole mesh: old vertices, face points (Catmull-Clark) in face
-   order, edge points in edge order; vertex blocks even. */
-limn_status mpi_refine_level(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
-                             double alpha, limn_mpi_mesh **out, mpi_refine_stats *stats);
+   order, edge points in edge order; each rank owning what it computed. */
+limn_status mpi_refine_level(mpi_part *p, const mpi_rmesh *mesh, limn_scheme scheme,
+                             double alpha, mpi_rmesh *out, mpi_refine_stats *stats);
 
 /* Collective, agreed: limn_limit_positions of the whole mesh, each rank's
-   block vertices from its star, into a new mesh with the same blocks. */
-limn_status mpi_refine_limit(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
-                             double alpha, limn_mpi_mesh **out, mpi_refine_stats *stats);
+   vertices from its star, in place of m's positions. */
+limn_status mpi_refine_limit(mpi_part *p, mpi_rmesh *m, limn_scheme scheme, double alpha,
+                             mpi_refine_stats *stats);
 
 /* limn_mpi_mesh_subdivide with this rank's figures (*stats, may be NULL):
    the per-rank memory test's probe (stats->share < 1: no rank allocated an

@@ -1,17 +1,16 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The star of a rank (mpi_refine.h): every face of the face blocks goes to
- * each other rank whose vertex block holds one of its corners (one
- * Alltoallv of face records), the faces received and this rank's own block
- * make the patch, in increasing global face id; its vertices (the corners
- * and this rank's whole vertex block, isolated vertices included) in
- * increasing global id, their positions fetched from the block owners.
+ * each other rank owning one of its corners (one Alltoallv of face
+ * records), the faces received and this rank's own block make the patch, in
+ * increasing global face id; its vertices (the corners and every vertex this
+ * rank owns, isolated ones included) in increasing global id, their
+ * positions fetched from their owners.
  */
 #include "mpi/mpi_refine.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
-#include "mpi/mpi_blocks.h"
 #include "mpi/mpi_local.h"
 
 #include <stdlib.h>
@@ -54,14 +53,13 @@ size_t mpi_star_local(const mpi_star *s, uint32_t v)
     return lo < (s->mesh ? s->mesh->vertex_count : 0) && s->ids[lo] == v ? lo : SIZE_MAX;
 }
 
-/* The distinct other ranks whose vertex blocks hold a corner of face f, into
-   to (at most d); returns how many. */
-static int face_targets(const mpi_part *p, const limn_mpi_mesh *m, size_t f, int *to)
+/* The distinct other ranks owning a corner of face f, into to (at most d);
+   returns how many. */
+static int face_targets(const mpi_part *p, const mpi_rmesh *s, size_t f, int *to)
 {
-    const mesh_slice *s = &m->slice;
     int n = 0;
     for (uint32_t c = s->face_offsets[f]; c < s->face_offsets[f + 1]; c++) {
-        int r = mpi_blocks_owner(m->vertex_dist, m->size, s->face_indices[c]);
+        int r = mpi_rmesh_owner(s, p->size, s->face_indices[c]);
         int seen = r == p->rank;
         for (int k = 0; k < n && !seen; k++)
             seen = to[k] == r;
@@ -73,9 +71,8 @@ static int face_targets(const mpi_part *p, const limn_mpi_mesh *m, size_t f, int
 
 /* Face records (id low, id high, size, corners) for the ranks that need
    them, grouped by rank; *words their total. */
-static limn_status pack_faces(mpi_part *p, const limn_mpi_mesh *m, int *cnt, uint32_t **send)
+static limn_status pack_faces(mpi_part *p, const mpi_rmesh *s, int *cnt, uint32_t **send)
 {
-    const mesh_slice *s = &m->slice;
     int *to = malloc(((size_t)p->size + 1) * sizeof *to);
     size_t *at = calloc((size_t)p->size + 1, sizeof *at);
     limn_status st = to && at ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
@@ -83,7 +80,7 @@ static limn_status pack_faces(mpi_part *p, const limn_mpi_mesh *m, int *cnt, uin
     size_t total = 0;
     for (size_t f = 0; !st && f < s->face_count; f++) {
         uint32_t d = s->face_offsets[f + 1] - s->face_offsets[f];
-        int n = face_targets(p, m, f, to);
+        int n = face_targets(p, s, f, to);
         for (int k = 0; k < n; k++) {
             at[to[k] + 1] += 3 + (size_t)d;
             total += 3 + (size_t)d;
@@ -100,7 +97,7 @@ static limn_status pack_faces(mpi_part *p, const limn_mpi_mesh *m, int *cnt, uin
     for (size_t f = 0; !st && f < s->face_count; f++) {
         uint32_t b = s->face_offsets[f], d = s->face_offsets[f + 1] - b;
         size_t id = s->face_begin + f;
-        int n = face_targets(p, m, f, to);
+        int n = face_targets(p, s, f, to);
         for (int k = 0; k < n; k++) {
             uint32_t *w = *send + at[to[k]];
             w[0] = (uint32_t)id;
@@ -116,10 +113,9 @@ static limn_status pack_faces(mpi_part *p, const limn_mpi_mesh *m, int *cnt, uin
 }
 
 /* The patch's faces: the records received and this rank's block, sorted. */
-static limn_status collect_faces(mpi_part *p, const limn_mpi_mesh *m, const uint32_t *recv,
+static limn_status collect_faces(mpi_part *p, const mpi_rmesh *s, const uint32_t *recv,
                                  size_t words, star_face **out, size_t *n)
 {
-    const mesh_slice *s = &m->slice;
     size_t count = s->face_count;
     for (size_t w = 0; w < words; w += 3 + (size_t)recv[w + 2])
         count++;
@@ -139,11 +135,11 @@ static limn_status collect_faces(mpi_part *p, const limn_mpi_mesh *m, const uint
     return LIMN_OK;
 }
 
-/* The patch's vertex ids: every corner and the block, increasing, once. */
-static limn_status collect_vertices(mpi_part *p, const limn_mpi_mesh *m, const star_face *f,
+/* The patch's vertex ids: every corner and the owned vertices, increasing, once. */
+static limn_status collect_vertices(mpi_part *p, const mpi_rmesh *m, const star_face *f,
                                     size_t nf, mpi_star *s)
 {
-    size_t nb = m->slice.vertex_count, n = nb;
+    size_t nb = m->n_owned, n = nb;
     for (size_t i = 0; i < nf; i++)
         n += f[i].size;
     uint64_t *keys = malloc((n ? n : 1) * sizeof *keys);
@@ -151,7 +147,7 @@ static limn_status collect_vertices(mpi_part *p, const limn_mpi_mesh *m, const s
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu star corners", n);
     size_t k = 0;
     for (size_t v = 0; v < nb; v++)
-        keys[k++] = m->slice.vertex_begin + v;
+        keys[k++] = mpi_rmesh_id(m, p->rank, p->size, v);
     for (size_t i = 0; i < nf; i++)
         for (uint32_t c = 0; c < f[i].size; c++)
             keys[k++] = f[i].corners[c];
@@ -171,20 +167,20 @@ static limn_status collect_vertices(mpi_part *p, const limn_mpi_mesh *m, const s
 }
 
 /* The patch's faces in local numbers, and where the block's faces are. */
-static limn_status fill_faces(mpi_part *p, const limn_mpi_mesh *m, const star_face *f, size_t nf,
+static limn_status fill_faces(mpi_part *p, const mpi_rmesh *m, const star_face *f, size_t nf,
                               mpi_star *s)
 {
     limn_mesh *pm = s->mesh;
     s->face_ids = malloc((nf ? nf : 1) * sizeof *s->face_ids);
-    s->block_face = malloc((m->slice.face_count ? m->slice.face_count : 1) * sizeof *s->block_face);
+    s->block_face = malloc((m->face_count ? m->face_count : 1) * sizeof *s->block_face);
     if (!s->face_ids || !s->block_face)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu star faces", nf);
     size_t k = 0;
     pm->face_offsets[0] = 0;
     for (size_t i = 0; i < nf; i++) {
         s->face_ids[i] = f[i].id;
-        if (f[i].id >= m->slice.face_begin && f[i].id - m->slice.face_begin < m->slice.face_count)
-            s->block_face[f[i].id - m->slice.face_begin] = i;
+        if (f[i].id >= m->face_begin && f[i].id - m->face_begin < m->face_count)
+            s->block_face[f[i].id - m->face_begin] = i;
         for (uint32_t c = 0; c < f[i].size; c++)
             pm->face_indices[k++] = (uint32_t)mpi_star_local(s, f[i].corners[c]);
         pm->face_offsets[i + 1] = (uint32_t)k;
@@ -192,7 +188,60 @@ static limn_status fill_faces(mpi_part *p, const limn_mpi_mesh *m, const star_fa
     return LIMN_OK;
 }
 
-limn_status mpi_star_build(mpi_part *p, const limn_mpi_mesh *mesh, mpi_star *out)
+/* The patch's positions from the vertices' owners: the ids grouped by owner
+   (one exchange), each owner answering in the order asked (another). */
+static limn_status fetch_positions(mpi_part *p, const mpi_rmesh *m, mpi_star *s)
+{
+    size_t n = s->mesh->vertex_count, R = (size_t)p->size;
+    int *cnt = calloc(4 * R, sizeof *cnt);
+    size_t *at = calloc(R + 1, sizeof *at);
+    uint32_t *ask = malloc((n ? n : 1) * sizeof *ask), *got = NULL;
+    size_t *where = malloc((n ? n : 1) * sizeof *where), asked = 0, answered = 0;
+    double *ans = NULL, *back = NULL;
+    limn_status st = cnt && at && ask && where
+                         ? LIMN_OK
+                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu requests", n);
+    for (size_t i = 0; !st && i < n; i++)
+        at[mpi_rmesh_owner(m, p->size, s->ids[i]) + 1]++;
+    for (size_t r = 0; !st && r < R; r++) {
+        cnt[r] = (int)at[r + 1];
+        at[r + 1] += at[r];
+    }
+    for (size_t i = 0; !st && i < n; i++) {
+        size_t k = at[mpi_rmesh_owner(m, p->size, s->ids[i])]++;
+        ask[k] = s->ids[i];
+        where[k] = i;
+    }
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_local_alltoallv(p, ask, cnt, sizeof *ask, (void **)&got, cnt + R, &asked);
+    if (!st && !(ans = malloc((asked ? 3 * asked : 1) * sizeof *ans)))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu answers", asked);
+    for (size_t k = 0; !st && k < asked; k++) {
+        size_t v = mpi_rmesh_local(m, p->rank, p->size, got[k]);
+        if (v == SIZE_MAX)
+            st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT, "rank %d was asked for vertex %u, not its",
+                          p->rank, got[k]);
+        else
+            memcpy(ans + 3 * k, m->pos + 3 * v, 3 * sizeof *ans);
+    }
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_local_alltoallv(p, ans, cnt + R, 3 * sizeof *ans, (void **)&back, cnt + 2 * R,
+                                 &answered);
+    for (size_t k = 0; !st && k < answered; k++)
+        memcpy(s->mesh->positions + 3 * where[k], back + 3 * k, 3 * sizeof *back);
+    free(cnt);
+    free(at);
+    free(ask);
+    free(where);
+    free(got);
+    free(ans);
+    free(back);
+    return st;
+}
+
+limn_status mpi_star_build(mpi_part *p, const mpi_rmesh *mesh, mpi_star *out)
 {
     memset(out, 0, sizeof *out);
     int *cnt = malloc(2 * (size_t)p->size * sizeof *cnt);
@@ -218,8 +267,7 @@ limn_status mpi_star_build(mpi_part *p, const limn_mpi_mesh *mesh, mpi_star *out
     free(cnt);
     st = mpi_agree(p, st);
     if (!st)
-        st = mpi_blocks_fetch(p, mesh->vertex_dist, mesh->slice.positions, 3 * sizeof(double),
-                              out->mesh->vertex_count, out->ids, out->mesh->positions);
+        st = fetch_positions(p, mesh, out);
     if (st)
         mpi_star_free(out);
     return st;
