@@ -55,6 +55,7 @@ static limn_status refine_levels(mpi_part *p, const limn_mpi_mesh *mesh,
     if (!st && o->limit)
         st = mpi_refine_limit(p, &cur, r->scheme, o->levels == 0 ? r->alpha : 0.0, &rs);
     r->seconds_limit = o->limit ? MPI_Wtime() - t0 : 0.0;
+    rs.owned = cur.n_owned;
     if (!st)
         st = mpi_rmesh_to_mesh(p, &cur, out);
     mpi_rmesh_free(&cur);
@@ -99,15 +100,20 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     if (dev)
         snprintf(r->device, sizeof r->device, "%s", dev->name);
     limn_mpi_mesh *out = NULL;
+    mpi_refine_stats rs = {0};
+    double t0 = MPI_Wtime();
     if (!st)
-        st = refine_levels(&p, mesh, o, r, &out, stats);
+        st = refine_levels(&p, mesh, o, r, &out, &rs);
     if (!st) {
         r->vertices = out->vertex_dist[p.size];
         r->faces = out->face_dist[p.size];
         *surface = out;
     }
+    if (stats)
+        *stats = rs;
     if (result) {
-        result->stats.owned = mesh->slice.vertex_count;
+        result->stats.owned = rs.owned;
+        result->stats.seconds_solve = MPI_Wtime() - t0;
         if (dev)
             snprintf(result->stats.device, sizeof result->stats.device, "%s", dev->name);
     }

@@ -72,6 +72,7 @@ typedef struct mpi_refine_stats {
                                     the refined patch, the kept points, the new block */
     double share;                /* the largest such array over its level's global vertex
                                     count (the finer level's for a step), any level */
+    size_t owned;                /* the finest level's vertices this rank computed */
     double seconds_plan, seconds_apply;
 } mpi_refine_stats;
 
