@@ -28,7 +28,7 @@
 /* A level's work on this rank. */
 typedef struct level {
     mpi_part *p;
-    const mpi_rmesh *in;
+    mpi_rmesh *in;
     limn_scheme scheme;
     mpi_star star;
     refine_plan plan;
@@ -37,14 +37,10 @@ typedef struct level {
     uint32_t *edge_id;     /* global id of each patch edge's point (UINT32_MAX: unknown) */
     size_t nv, nf;         /* the whole level's vertices and faces */
     size_t n_new, new_total, owned_edges;
-    size_t *edge_dist;     /* in->segments * (size + 1): the edge points' segments */
+    mpi_rseg *edge_seg;    /* in->segments: the edge points' segments */
+    uint32_t *next_id;     /* per owned vertex: the id of its next edge's point */
     double *new_xyz;       /* this rank's new vertices: its old ones, face points, edge points */
 } level;
-
-static int is_mine(const level *l, uint32_t v)
-{
-    return mpi_rmesh_owner(l->in, l->p->size, v) == l->p->rank;
-}
 
 static size_t edge_point_base(const level *l)
 {
@@ -62,61 +58,135 @@ static size_t patch_edge_row(const level *l, size_t e)
            (l->scheme == LIMN_SCHEME_CATMARK ? l->star.mesh->face_count : 0) + e;
 }
 
-/* The edge points' segments from every rank's count per old segment (one
-   Allgather): segment s holds the edges whose lower vertex is in old
-   segment s, rank by rank, after all edges of the segments before it. */
-static void edge_segments(level *l, const uint64_t *all)
+/* The first edge ids of split segment s's owned vertices: the rank's run
+   starts after the earlier ranks' edges of the segment (counts of all). */
+static limn_status split_ids(level *l, int s, size_t start, const uint64_t *all, size_t at,
+                             const uint32_t *count)
 {
     size_t S = (size_t)l->in->segments, R = (size_t)l->p->size;
-    size_t at = edge_point_base(l);
-    for (size_t s = 0; s < S; s++) {
-        size_t *d = l->edge_dist + s * (R + 1);
-        d[0] = at;
-        for (size_t r = 0; r < R; r++)
-            d[r + 1] = d[r] + (size_t)all[r * S + s];
-        at = d[R];
+    mpi_rseg *g = &l->edge_seg[s];
+    g->dist = malloc((R + 1) * sizeof *g->dist);
+    if (!g->dist)
+        return ctx_fail(l->p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    g->dist[0] = start;
+    for (size_t r = 0; r < R; r++)
+        g->dist[r + 1] = g->dist[r] + (size_t)all[r * S + (size_t)s];
+    g->start = start;
+    g->end = g->dist[R];
+    size_t next = g->dist[l->p->rank], n = mpi_rseg_count(&l->in->seg[s], l->p->rank);
+    for (size_t i = 0; i < n; i++) {
+        l->next_id[at + i] = (uint32_t)next;
+        next += count[at + i];
     }
-    l->new_total = at;
+    return LIMN_OK;
 }
 
-/* The ids of the owned edges' points (each after its segment's earlier
-   ranks' and, in the segment, in edge order); l->owned_edges their count. */
+/* The first edge ids of directory segment s's owned vertices: each
+   vertex's count to the directory's blocks, summed there in id order (after
+   the earlier blocks', an Exscan), the first ids fetched back. Collective. */
+static limn_status directory_ids(level *l, int s, size_t start, size_t at, const uint32_t *count)
+{
+    mpi_part *p = l->p;
+    const mpi_rseg *g = &l->in->seg[s];
+    size_t nb = g->dist[p->rank + 1] - g->dist[p->rank];
+    uint32_t *block = calloc(nb ? nb : 1, sizeof *block);
+    limn_status st = mpi_agree(p, block ? LIMN_OK
+                                        : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory"));
+    if (!st)
+        st = mpi_blocks_store(p, g->dist, g->n_own, g->own, count + at, sizeof *block, block);
+    if (!st) {
+        uint64_t mine = 0, before = 0;
+        for (size_t i = 0; i < nb; i++)
+            mine += block[i];
+        MPI_Exscan(&mine, &before, 1, MPI_UINT64_T, MPI_SUM, p->comm);
+        size_t next = start + (p->rank ? (size_t)before : 0);
+        for (size_t i = 0; i < nb; i++) {
+            uint32_t c = block[i];
+            block[i] = (uint32_t)next;
+            next += c;
+        }
+        st = mpi_blocks_fetch(p, g->dist, block, sizeof *block, g->n_own, g->own,
+                              l->next_id + at);
+    }
+    free(block);
+    return st;
+}
+
+/* The new directory segment of the points of the edges this rank owns in
+   directory segment s (their ids increasing in edge order). Collective. */
+static limn_status directory_segment(level *l, int s, size_t start, size_t end)
+{
+    size_t ne = l->topo.edge_count, n = 0;
+    uint32_t *own = malloc((l->owned_edges ? l->owned_edges : 1) * sizeof *own);
+    limn_status st = mpi_agree(l->p, own ? LIMN_OK
+                                         : ctx_fail(l->p->ctx, LIMN_ERR_MEMORY, "out of memory"));
+    for (size_t e = 0; !st && e < ne; e++)
+        if (l->edge_id[e] != UINT32_MAX && l->edge_id[e] >= start && l->edge_id[e] < end)
+            own[n++] = l->edge_id[e];
+    if (st) {
+        free(own);
+        return st;
+    }
+    return mpi_rseg_directory(l->p, start, end, own, n, &l->edge_seg[s]);
+}
+
+/* The ids of the owned edges' points (edge order: by lower vertex, then
+   upper), and the new level's edge segments; l->owned_edges their count. */
 static limn_status number_edges(level *l)
 {
     mpi_part *p = l->p;
     size_t ne = l->topo.edge_count, S = (size_t)l->in->segments, R = (size_t)p->size;
+    size_t no = l->in->n_owned;
     l->edge_id = malloc((ne ? ne : 1) * sizeof *l->edge_id);
-    l->edge_dist = malloc(S * (R + 1) * sizeof *l->edge_dist);
+    l->edge_seg = calloc(S, sizeof *l->edge_seg);
+    l->next_id = malloc((no ? no : 1) * sizeof *l->next_id);
+    uint32_t *count = calloc(no ? no : 1, sizeof *count);
     uint64_t *mine = calloc(S, sizeof *mine), *all = malloc(S * R * sizeof *all);
-    limn_status st = l->edge_id && l->edge_dist && mine && all
+    limn_status st = l->edge_id && l->edge_seg && l->next_id && count && mine && all
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     for (size_t e = 0; !st && e < ne; e++) {
         uint32_t lo = l->star.ids[l->topo.edge_vertices[2 * e]];
+        size_t i = mpi_rmesh_local(l->in, p->rank, lo);
         l->edge_id[e] = UINT32_MAX;
-        if (is_mine(l, lo)) {
-            mine[mpi_rmesh_segment(l->in, p->size, lo)]++;
+        if (i != SIZE_MAX) {
+            mine[mpi_rmesh_segment(l->in, lo)]++;
+            count[i]++;
             l->owned_edges++;
         }
     }
     st = mpi_agree(p, st);
-    if (!st) {
+    if (!st)
         MPI_Allgather(mine, (int)S, MPI_UINT64_T, all, (int)S, MPI_UINT64_T, p->comm);
-        edge_segments(l, all);
-        if (l->new_total > UINT32_MAX)
-            st = ctx_fail(p->ctx, LIMN_ERR_MEMORY,
-                          "the next level would have %zu vertices (over 2^32)", l->new_total);
+    size_t start = edge_point_base(l), at = 0;
+    for (size_t s = 0; !st && s < S; s++) {
+        size_t total = 0;
+        for (size_t r = 0; r < R; r++)
+            total += (size_t)all[r * S + s];
+        mine[s] = start; /* now each segment's first id */
+        st = l->in->seg[s].directory ? directory_ids(l, (int)s, start, at, count)
+                                     : mpi_agree(p, split_ids(l, (int)s, start, all, at, count));
+        at += mpi_rseg_count(&l->in->seg[s], p->rank);
+        start += total;
     }
-    for (size_t s = 0; !st && s < S; s++)
-        mine[s] = l->edge_dist[s * (R + 1) + (size_t)p->rank]; /* the next id of each */
+    l->new_total = start;
+    if (!st && l->new_total > UINT32_MAX)
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "the next level would have %zu vertices (over 2^32)",
+                      l->new_total);
     for (size_t e = 0; !st && e < ne; e++) {
         uint32_t lo = l->star.ids[l->topo.edge_vertices[2 * e]];
-        if (is_mine(l, lo))
-            l->edge_id[e] = (uint32_t)mine[mpi_rmesh_segment(l->in, p->size, lo)]++;
+        size_t i = mpi_rmesh_local(l->in, p->rank, lo);
+        if (i != SIZE_MAX)
+            l->edge_id[e] = l->next_id[i]++;
     }
+    st = mpi_agree(p, st);
+    for (size_t s = 0; !st && s < S; s++)
+        if (l->in->seg[s].directory)
+            st = directory_segment(l, (int)s, mine[s], s + 1 < S ? mine[s + 1] : l->new_total);
+    free(count);
     free(mine);
     free(all);
-    return mpi_agree(p, st);
+    return st;
 }
 
 /* This rank's new vertices: vertex points of its vertices, face points of
@@ -133,7 +203,7 @@ static limn_status gather_points(level *l, mpi_refine_stats *stats)
     const uint32_t *ro = l->plan.steps[0].row_offsets;
     size_t k = 0;
     for (size_t i = 0; i < s->n_owned; i++, k++) {
-        size_t v = mpi_star_local(&l->star, (uint32_t)mpi_rmesh_id(s, l->p->rank, l->p->size, i));
+        size_t v = mpi_star_local(&l->star, (uint32_t)mpi_rmesh_id(s, l->p->rank, i));
         memcpy(l->new_xyz + 3 * k, fine + 3 * v, 3 * sizeof(double));
         stats->stencil_nonzeros += ro[v + 1] - ro[v];
     }
@@ -167,51 +237,67 @@ static uint32_t answer_edge(const level *l, uint32_t lo, uint32_t hi)
     return UINT32_MAX;
 }
 
-/* The block faces' edges this rank does not own, grouped by the rank that
-   owns their lower vertex: (lo, hi) pairs in req, their patch edges in which. */
-static limn_status pack_requests(level *l, int *cnt, uint32_t **req, uint32_t **which)
+/* The patch edges of the block faces this rank does not own (each once),
+   their lower vertices in lo. */
+static limn_status asked_edges(level *l, uint32_t **edges, uint32_t **lo, size_t *n)
 {
-    mpi_part *p = l->p;
     const limn_mesh *pm = l->star.mesh;
-    size_t ne = l->topo.edge_count, n = 0;
+    size_t ne = l->topo.edge_count, k = 0;
     uint8_t *asked = calloc(ne ? ne : 1, 1);
-    size_t *at = calloc((size_t)p->size + 1, sizeof *at);
-    if (!asked || !at) {
-        free(asked);
-        free(at);
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the edge requests");
-    }
-    for (size_t i = 0; i < l->in->face_count; i++) {
+    *edges = malloc((ne ? ne : 1) * sizeof **edges);
+    *lo = malloc((ne ? ne : 1) * sizeof **lo);
+    limn_status st = asked && *edges && *lo ? LIMN_OK
+                                            : ctx_fail(l->p->ctx, LIMN_ERR_MEMORY,
+                                                       "out of memory for the edge requests");
+    for (size_t i = 0; !st && i < l->in->face_count; i++) {
         size_t pf = l->star.block_face[i];
         for (uint32_t c = pm->face_offsets[pf]; c < pm->face_offsets[pf + 1]; c++) {
             uint32_t e = l->topo.corner_edge[c];
             if (l->edge_id[e] != UINT32_MAX || asked[e])
                 continue;
             asked[e] = 1;
-            uint32_t lo = l->star.ids[l->topo.edge_vertices[2 * e]];
-            at[mpi_rmesh_owner(l->in, p->size, lo) + 1]++;
-            n++;
+            (*edges)[k] = e;
+            (*lo)[k++] = l->star.ids[l->topo.edge_vertices[2 * e]];
         }
     }
+    free(asked);
+    *n = k;
+    return st;
+}
+
+/* Those edges grouped by the rank that owns their lower vertex: (lo, hi)
+   pairs in req, their patch edges in which. Collective (the owners). */
+static limn_status pack_requests(level *l, int *cnt, uint32_t **req, uint32_t **which)
+{
+    mpi_part *p = l->p;
+    uint32_t *edges = NULL, *lo = NULL;
+    size_t n = 0;
+    size_t *at = calloc((size_t)p->size + 1, sizeof *at);
+    limn_status st = at ? asked_edges(l, &edges, &lo, &n)
+                        : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    int *owner = malloc((n ? n : 1) * sizeof *owner);
     *req = malloc((n ? 2 * n : 1) * sizeof **req);
     *which = malloc((n ? n : 1) * sizeof **which);
-    limn_status st = *req && *which && n <= INT32_MAX / 2
-                         ? LIMN_OK
-                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu requests", n);
-    for (int r = 0; r < p->size; r++) {
+    if (!st && (!owner || !*req || !*which || n > INT32_MAX / 2))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu requests", n);
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_rmesh_owners(p, l->in, n, lo, owner);
+    for (size_t k = 0; !st && k < n; k++)
+        at[owner[k] + 1]++;
+    for (int r = 0; !st && r < p->size; r++) {
         cnt[r] = (int)(2 * at[r + 1]);
         at[r + 1] += at[r];
     }
-    for (size_t e = 0; !st && e < ne; e++) {
-        if (!asked[e])
-            continue;
-        uint32_t lo = l->star.ids[l->topo.edge_vertices[2 * e]];
-        size_t k = at[mpi_rmesh_owner(l->in, p->size, lo)]++;
-        (*req)[2 * k] = lo;
-        (*req)[2 * k + 1] = l->star.ids[l->topo.edge_vertices[2 * e + 1]];
-        (*which)[k] = (uint32_t)e;
+    for (size_t k = 0; !st && k < n; k++) {
+        size_t j = at[owner[k]]++;
+        (*req)[2 * j] = lo[k];
+        (*req)[2 * j + 1] = l->star.ids[l->topo.edge_vertices[2 * edges[k] + 1]];
+        (*which)[j] = edges[k];
     }
-    free(asked);
+    free(edges);
+    free(lo);
+    free(owner);
     free(at);
     return st;
 }
@@ -224,6 +310,7 @@ static limn_status fetch_edges(level *l)
     uint32_t *req = NULL, *which = NULL, *got = NULL, *ans = NULL, *back = NULL;
     size_t words = 0, n_back = 0;
     limn_status st = cnt ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    st = mpi_agree(p, st);
     if (!st)
         st = pack_requests(l, cnt, &req, &which);
     st = mpi_agree(p, st);
@@ -299,48 +386,52 @@ static limn_status child_faces(level *l, mpi_rmesh *out)
     return LIMN_OK;
 }
 
-/* The new level: the old segments, the face points' (Catmull-Clark: nv +
-   the face blocks), the edge points' (one per old segment), the children. */
+/* The new level: the old segments (taken from in), the face points'
+   (Catmull-Clark: nv + the face blocks, split), the edge points' (one per old
+   segment), the children. */
 static limn_status hand_over(level *l, mpi_rmesh *out)
 {
     mpi_part *p = l->p;
-    size_t w = (size_t)p->size + 1;
+    size_t S = (size_t)l->in->segments, R = (size_t)p->size;
     int cc = l->scheme == LIMN_SCHEME_CATMARK;
     memset(out, 0, sizeof *out);
-    out->owns_pos = out->owns_faces = 1;
-    out->segments = 2 * l->in->segments + cc;
-    out->dist = malloc((size_t)out->segments * w * sizeof *out->dist);
-    limn_status st = out->dist ? child_faces(l, out)
-                               : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    out->owns_faces = 1;
+    out->segments = 2 * (int)S + cc;
+    out->seg = calloc((size_t)out->segments, sizeof *out->seg);
+    mpi_rseg *fp = out->seg ? &out->seg[S] : NULL;
+    if (fp && cc)
+        fp->dist = malloc((R + 1) * sizeof *fp->dist);
+    size_t *fd = malloc((R + 1) * sizeof *fd);
+    limn_status st = out->seg && fd && (!cc || fp->dist) ? child_faces(l, out)
+                                                        : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                                                                   "out of memory");
     st = mpi_agree(p, st);
-    if (st) {
-        mpi_rmesh_free(out);
-        return st;
-    }
-    size_t *d = out->dist + (size_t)l->in->segments * w;
-    memcpy(out->dist, l->in->dist, (size_t)l->in->segments * w * sizeof *d);
-    if (cc) {
-        mpi_blocks_dist(p, l->in->face_count, d);
-        for (size_t r = 0; r < w; r++)
-            d[r] += l->nv;
-        d += w;
-    }
-    memcpy(d, l->edge_dist, (size_t)l->in->segments * w * sizeof *d);
-    size_t *fd = malloc(w * sizeof *fd);
-    st = mpi_agree(p, fd ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory"));
     if (!st) {
         mpi_blocks_dist(p, out->face_count, fd);
         out->face_begin = fd[p->rank];
         out->face_total = fd[p->size];
     }
+    if (!st && cc) {
+        mpi_blocks_dist(p, l->in->face_count, fp->dist);
+        for (size_t r = 0; r <= R; r++)
+            fp->dist[r] += l->nv;
+        fp->start = l->nv;
+        fp->end = l->nv + l->nf;
+    }
     free(fd);
+    if (st) {
+        mpi_rmesh_free(out);
+        return st;
+    }
+    memcpy(out->seg, l->in->seg, S * sizeof *out->seg);
+    memset(l->in->seg, 0, S * sizeof *l->in->seg);
+    memcpy(out->seg + S + (size_t)cc, l->edge_seg, S * sizeof *out->seg);
+    memset(l->edge_seg, 0, S * sizeof *l->edge_seg);
     out->vertex_total = l->new_total;
     out->n_owned = l->n_new;
     out->pos = l->new_xyz;
     l->new_xyz = NULL;
-    if (st)
-        mpi_rmesh_free(out);
-    return st;
+    return LIMN_OK;
 }
 
 /* Notes an array of n entries of a level of total vertices. */
@@ -361,11 +452,14 @@ static void level_free(level *l)
     if (l->have_topo)
         topology_free(&l->topo);
     free(l->edge_id);
-    free(l->edge_dist);
+    for (int s = 0; l->edge_seg && s < l->in->segments; s++)
+        mpi_rseg_free(&l->edge_seg[s]);
+    free(l->edge_seg);
+    free(l->next_id);
     free(l->new_xyz);
 }
 
-limn_status mpi_refine_level(mpi_part *p, const mpi_rmesh *mesh, limn_scheme scheme,
+limn_status mpi_refine_level(mpi_part *p, mpi_rmesh *mesh, limn_scheme scheme,
                              double alpha, mpi_rmesh *out, mpi_refine_stats *stats)
 {
     level l = {.p = p, .in = mesh, .scheme = scheme};
@@ -421,7 +515,7 @@ limn_status mpi_refine_limit(mpi_part *p, mpi_rmesh *m, limn_scheme scheme, doub
     if (!st)
         st = limn_limit_positions(p->ctx, s.mesh, scheme, alpha, lim);
     for (size_t i = 0; !st && i < nb; i++) {
-        size_t v = mpi_star_local(&s, (uint32_t)mpi_rmesh_id(m, p->rank, p->size, i));
+        size_t v = mpi_star_local(&s, (uint32_t)mpi_rmesh_id(m, p->rank, i));
         memcpy(block + 3 * i, lim + 3 * v, 3 * sizeof *block);
     }
     if (!st)
@@ -433,9 +527,7 @@ limn_status mpi_refine_limit(mpi_part *p, mpi_rmesh *m, limn_scheme scheme, doub
         free(block);
         return st;
     }
-    if (m->owns_pos)
-        free(m->pos);
+    free(m->pos);
     m->pos = block;
-    m->owns_pos = 1;
     return LIMN_OK;
 }

@@ -17,37 +17,60 @@
 #include "mpi/mpi_mesh.h"
 
 /* A level of the refinement spread over the ranks. A rank keeps the points it
-   computed, so its vertices stay where its faces are: the vertex ids are
-   segments of the level's numbering, each split over the ranks in rank
-   order: the input's vertices, then for each step its face points and, for
-   each segment of the level before, the points of the edges whose lower
-   vertex lies in it (edges are numbered by their lower vertex, so those of
-   one segment are one range). Segments: 2^L for L Loop steps, 2^(L+1) - 1
-   for Catmull-Clark (63 at 5 levels).
-   The faces are blocks in rank order as in limn_mpi_mesh. */
+   computes, so its vertices stay where its faces are. The vertex ids are
+   segments of the numbering: the input's vertices, then per step its face
+   points and, for each segment of the level before, the points of the edges
+   whose lower vertex lies in it (edges are numbered by their lower vertex,
+   so those of one segment are one range). A segment is either split over the
+   ranks in rank order (face points; edge points of such a segment) or a
+   directory: owned as a partition says (an input vertex by the lowest rank
+   whose face block uses it, so a rank's vertices are where its faces are;
+   edge points of such a segment, by their lower vertex's owner), each id's
+   owner held in even blocks of the segment. Segments: 2^L after L Loop steps,
+   2^(L+1) - 1 for Catmull-Clark (63 at 5 levels). The faces are blocks in
+   rank order as in limn_mpi_mesh. */
+typedef struct mpi_rseg {
+    size_t start, end;     /* ids [start, end) */
+    size_t *dist;          /* size + 1: split: rank r owns [dist[r], dist[r+1]);
+                              directory: the blocks of dir */
+    int directory;
+    uint32_t *dir;         /* directory: the owner of each id of this rank's block */
+    size_t n_own;
+    uint32_t *own;         /* directory: this rank's ids, increasing */
+} mpi_rseg;
+
 typedef struct mpi_rmesh {
     int segments;
-    size_t *dist;          /* segments * (size + 1): rank r owns ids
-                              [dist[s (size+1) + r], dist[s (size+1) + r + 1]) of segment s */
+    mpi_rseg *seg;
     size_t vertex_total, face_total;
-    size_t n_owned;        /* this rank's vertices, by segment then id */
+    size_t n_owned;        /* this rank's vertices, by segment, then by id */
     double *pos;           /* 3 per owned vertex */
     size_t face_begin, face_count;
     uint32_t *face_offsets, *face_indices; /* CSR from 0, global vertex ids */
-    int owns_pos, owns_faces; /* else a limn_mpi_mesh's (not freed here) */
+    int owns_faces;        /* else a limn_mpi_mesh's (not freed here) */
 } mpi_rmesh;
 
-/* The level of a distributed mesh (its blocks, borrowed). */
+/* The level of a distributed mesh: its vertices moved to their owners (the
+   lowest rank whose faces use each), its face blocks borrowed. Collective. */
 limn_status mpi_rmesh_of(mpi_part *p, const limn_mpi_mesh *mesh, mpi_rmesh *out);
 /* The level moved to even vertex blocks as a new distributed mesh; collective. */
 limn_status mpi_rmesh_to_mesh(mpi_part *p, const mpi_rmesh *m, limn_mpi_mesh **out);
 void mpi_rmesh_free(mpi_rmesh *m);
-/* The segment of vertex id, the rank owning it, and the index of id among this rank's (SIZE_MAX: not its). */
-int mpi_rmesh_segment(const mpi_rmesh *m, int size, size_t id);
-int mpi_rmesh_owner(const mpi_rmesh *m, int size, size_t id);
-size_t mpi_rmesh_local(const mpi_rmesh *m, int rank, int size, size_t id);
-/* The global id of this rank's owned vertex i. */
-size_t mpi_rmesh_id(const mpi_rmesh *m, int rank, int size, size_t i);
+void mpi_rseg_free(mpi_rseg *s);
+/* Collective: the owner of each of n ids (directories asked). */
+limn_status mpi_rmesh_owners(mpi_part *p, const mpi_rmesh *m, size_t n, const uint32_t *ids,
+                             int *owner);
+/* The segment of id; this rank's vertices in segment s. */
+int mpi_rmesh_segment(const mpi_rmesh *m, size_t id);
+size_t mpi_rseg_count(const mpi_rseg *s, int rank);
+/* The index of id among this rank's vertices (SIZE_MAX: not its), and the
+   global id of this rank's vertex i. */
+size_t mpi_rmesh_local(const mpi_rmesh *m, int rank, size_t id);
+size_t mpi_rmesh_id(const mpi_rmesh *m, int rank, size_t i);
+/* Collective: a directory segment [start, end) owned by this rank's ids own
+   (n, increasing, taken): its even blocks and their owners. */
+limn_status mpi_rseg_directory(mpi_part *p, size_t start, size_t end, uint32_t *own, size_t n,
+                               mpi_rseg *out);
 
 /* This rank's star. */
 typedef struct mpi_star {
@@ -80,8 +103,9 @@ typedef struct mpi_refine_stats {
    LOOP or CATMARK; alpha the first step's) as a new distributed mesh *out
    whose vertices and faces are numbered as refine_plan_build numbers level 1
    of the whole mesh: old vertices, face points (Catmull-Clark) in face
-   order, edge points in edge order; each rank owning what it computed. */
-limn_status mpi_refine_level(mpi_part *p, const mpi_rmesh *mesh, limn_scheme scheme,
+   order, edge points in edge order; each rank owning what it computed.
+   mesh's segments move to *out. */
+limn_status mpi_refine_level(mpi_part *p, mpi_rmesh *mesh, limn_scheme scheme,
                              double alpha, mpi_rmesh *out, mpi_refine_stats *stats);
 
 /* Collective, agreed: limn_limit_positions of the whole mesh, each rank's

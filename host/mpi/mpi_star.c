@@ -53,13 +53,14 @@ size_t mpi_star_local(const mpi_star *s, uint32_t v)
     return lo < (s->mesh ? s->mesh->vertex_count : 0) && s->ids[lo] == v ? lo : SIZE_MAX;
 }
 
-/* The distinct other ranks owning a corner of face f, into to (at most d);
-   returns how many. */
-static int face_targets(const mpi_part *p, const mpi_rmesh *s, size_t f, int *to)
+/* The distinct other ranks owning a corner of face f (owner: of each
+   corner of the block), into to (at most d); returns how many. */
+static int face_targets(const mpi_part *p, const mpi_rmesh *s, const int *owner, size_t f,
+                        int *to)
 {
     int n = 0;
     for (uint32_t c = s->face_offsets[f]; c < s->face_offsets[f + 1]; c++) {
-        int r = mpi_rmesh_owner(s, p->size, s->face_indices[c]);
+        int r = owner[c];
         int seen = r == p->rank;
         for (int k = 0; k < n && !seen; k++)
             seen = to[k] == r;
@@ -70,17 +71,23 @@ static int face_targets(const mpi_part *p, const mpi_rmesh *s, size_t f, int *to
 }
 
 /* Face records (id low, id high, size, corners) for the ranks that need
-   them, grouped by rank; *words their total. */
+   them, grouped by rank. Collective (the corners' owners). */
 static limn_status pack_faces(mpi_part *p, const mpi_rmesh *s, int *cnt, uint32_t **send)
 {
+    size_t nc = s->face_offsets[s->face_count];
     int *to = malloc(((size_t)p->size + 1) * sizeof *to);
+    int *owner = malloc((nc ? nc : 1) * sizeof *owner);
     size_t *at = calloc((size_t)p->size + 1, sizeof *at);
-    limn_status st = to && at ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    limn_status st = to && at && owner ? LIMN_OK
+                                       : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_rmesh_owners(p, s, nc, s->face_indices, owner);
     memset(cnt, 0, (size_t)p->size * sizeof *cnt);
     size_t total = 0;
     for (size_t f = 0; !st && f < s->face_count; f++) {
         uint32_t d = s->face_offsets[f + 1] - s->face_offsets[f];
-        int n = face_targets(p, s, f, to);
+        int n = face_targets(p, s, owner, f, to);
         for (int k = 0; k < n; k++) {
             at[to[k] + 1] += 3 + (size_t)d;
             total += 3 + (size_t)d;
@@ -97,7 +104,7 @@ static limn_status pack_faces(mpi_part *p, const mpi_rmesh *s, int *cnt, uint32_
     for (size_t f = 0; !st && f < s->face_count; f++) {
         uint32_t b = s->face_offsets[f], d = s->face_offsets[f + 1] - b;
         size_t id = s->face_begin + f;
-        int n = face_targets(p, s, f, to);
+        int n = face_targets(p, s, owner, f, to);
         for (int k = 0; k < n; k++) {
             uint32_t *w = *send + at[to[k]];
             w[0] = (uint32_t)id;
@@ -109,6 +116,7 @@ static limn_status pack_faces(mpi_part *p, const mpi_rmesh *s, int *cnt, uint32_
     }
     free(to);
     free(at);
+    free(owner);
     return st;
 }
 
@@ -147,7 +155,7 @@ static limn_status collect_vertices(mpi_part *p, const mpi_rmesh *m, const star_
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu star corners", n);
     size_t k = 0;
     for (size_t v = 0; v < nb; v++)
-        keys[k++] = mpi_rmesh_id(m, p->rank, p->size, v);
+        keys[k++] = mpi_rmesh_id(m, p->rank, v);
     for (size_t i = 0; i < nf; i++)
         for (uint32_t c = 0; c < f[i].size; c++)
             keys[k++] = f[i].corners[c];
@@ -193,22 +201,25 @@ static limn_status fill_faces(mpi_part *p, const mpi_rmesh *m, const star_face *
 static limn_status fetch_positions(mpi_part *p, const mpi_rmesh *m, mpi_star *s)
 {
     size_t n = s->mesh->vertex_count, R = (size_t)p->size;
-    int *cnt = calloc(4 * R, sizeof *cnt);
+    int *cnt = calloc(4 * R, sizeof *cnt), *owner = malloc((n ? n : 1) * sizeof *owner);
     size_t *at = calloc(R + 1, sizeof *at);
     uint32_t *ask = malloc((n ? n : 1) * sizeof *ask), *got = NULL;
     size_t *where = malloc((n ? n : 1) * sizeof *where), asked = 0, answered = 0;
     double *ans = NULL, *back = NULL;
-    limn_status st = cnt && at && ask && where
+    limn_status st = cnt && at && ask && where && owner
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu requests", n);
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_rmesh_owners(p, m, n, s->ids, owner);
     for (size_t i = 0; !st && i < n; i++)
-        at[mpi_rmesh_owner(m, p->size, s->ids[i]) + 1]++;
+        at[owner[i] + 1]++;
     for (size_t r = 0; !st && r < R; r++) {
         cnt[r] = (int)at[r + 1];
         at[r + 1] += at[r];
     }
     for (size_t i = 0; !st && i < n; i++) {
-        size_t k = at[mpi_rmesh_owner(m, p->size, s->ids[i])]++;
+        size_t k = at[owner[i]]++;
         ask[k] = s->ids[i];
         where[k] = i;
     }
@@ -218,7 +229,7 @@ static limn_status fetch_positions(mpi_part *p, const mpi_rmesh *m, mpi_star *s)
     if (!st && !(ans = malloc((asked ? 3 * asked : 1) * sizeof *ans)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu answers", asked);
     for (size_t k = 0; !st && k < asked; k++) {
-        size_t v = mpi_rmesh_local(m, p->rank, p->size, got[k]);
+        size_t v = mpi_rmesh_local(m, p->rank, got[k]);
         if (v == SIZE_MAX)
             st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT, "rank %d was asked for vertex %u, not its",
                           p->rank, got[k]);
@@ -232,6 +243,7 @@ static limn_status fetch_positions(mpi_part *p, const mpi_rmesh *m, mpi_star *s)
     for (size_t k = 0; !st && k < answered; k++)
         memcpy(s->mesh->positions + 3 * where[k], back + 3 * k, 3 * sizeof *back);
     free(cnt);
+    free(owner);
     free(at);
     free(ask);
     free(where);
@@ -249,6 +261,7 @@ limn_status mpi_star_build(mpi_part *p, const mpi_rmesh *mesh, mpi_star *out)
     star_face *faces = NULL;
     size_t words = 0, nf = 0;
     limn_status st = cnt ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    st = mpi_agree(p, st);
     if (!st)
         st = pack_faces(p, mesh, cnt, &send);
     st = mpi_agree(p, st);
