@@ -2,16 +2,18 @@
 /*
  * One refinement step over ranks (mpi_refine.h): each rank refines its star
  * with refine/'s plan (the single process's step rows, here for the patch),
- * keeps the vertex points of its vertex block, the face points of its face
- * block and the edge points of the edges whose lower vertex is in its block,
- * and numbers them as one process does: old vertices keep their ids, the
- * face point of face f is nv + f (Catmull-Clark), the edge points follow in
- * edge order. topology.c numbers the edges by (lower vertex, upper vertex),
- * a function of the vertex ids alone, so a rank's edges are one run of that
- * order: their first id is a prefix sum (MPI_Exscan) of the ranks' counts.
- * The child faces of the face block take the ids of their edges' points from
- * the ranks that own them (one request and one answer exchange), and the new
- * vertices move to even blocks (one store exchange).
+ * keeps the vertex points of its own vertices, the face points of its face
+ * block and the edge points of the edges whose lower vertex it owns, and
+ * numbers them as one process does: old vertices keep their ids, the face
+ * point of face f is nv + f (Catmull-Clark), the edge points follow in edge
+ * order. topology.c numbers the edges by (lower vertex, upper vertex), a
+ * function of the vertex ids alone, so the edges of the lower vertices of one
+ * segment are one range: in a split segment a rank's run starts after the
+ * earlier ranks' (an Allgather of the counts), in a directory segment each
+ * vertex's first edge id is a prefix sum of the counts in the directory's
+ * blocks (a store, an Exscan, a fetch). The child faces of the face block
+ * take the ids of their edges' points from the ranks that own them (one
+ * request and one answer exchange). Each rank keeps what it computed.
  */
 #include "mpi/mpi_refine.h"
 
