@@ -293,6 +293,21 @@ LIMN_API limn_status limn_mpi_mesh_morph(limn_context *ctx, const limn_mpi_mesh 
                                          limn_series_report *report,
                                          const limn_mpi_options *mpi, limn_mpi_result *result);
 
+/* limn_subdivide on a distributed mesh: every level refined rank by rank
+   (each rank refines the faces around its vertex block and keeps its own
+   points, numbered as one process numbers them), the limit (options->limit)
+   a last product; *surface gets the refined distributed mesh (even vertex
+   blocks, the children of each rank's face block), whose file
+   (limn_mpi_mesh_write) is the single process's bytes. options->max_memory
+   is not checked (no rank holds the whole estimate's arrays); report as
+   limn_subdivide's with estimated_bytes 0. mpi and result may be NULL. */
+LIMN_API limn_status limn_mpi_mesh_subdivide(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                             const limn_subdivide_options *options,
+                                             limn_mpi_mesh **surface,
+                                             limn_subdivide_report *report,
+                                             const limn_mpi_options *mpi,
+                                             limn_mpi_result *result);
+
 #ifdef __cplusplus
 }
 #endif
