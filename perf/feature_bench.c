@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * Issue 16 items 2-3: limn denoise --preserve-features against bilateral
- * normal filtering (Zheng et al. 2011), Taubin lambda|mu and limn's default
- * denoise, in one run on CAD-like meshes with sharp edges (fandisk, a
- * bevelled cube, a puck with chamfered caps) and on smooth organic ones.
+ * normal filtering (Zheng et al. 2011), Taubin lambda|mu, limn denoise's
+ * default (the SURE polynomial) and its paper form (m = 2, K = 3), in one
+ * run on CAD-like meshes with sharp edges (fandisk, a bevelled cube, a puck
+ * with chamfered caps) and on smooth organic ones.
  *
  *   feature_bench [--meshes DIR] [--device SPEC] [--out DIR] [--sigma S]...
  *                 [--outer K] [--normal T] [--vertex V] [--sigma-r R] [--tangential U]
@@ -134,9 +135,18 @@ static void run_limn(bench *b)
     limn_mesh *m = NULL;
     limn_series_report r = {.size = sizeof r};
     double t0 = now();
-    if (limn_denoise(b->ctx, b->noisy, NULL, 2, 3, 0, &m, &r))
+    /* limn denoise's default: the SURE polynomial, 12 products, a closed mesh's volume kept */
+    limn_mesh_measures a = {.size = sizeof a};
+    if (limn_mesh_measure(b->ctx, b->noisy, &a))
+        die(b->ctx, "measure");
+    if (limn_denoise_sure(b->ctx, b->noisy, NULL, 12, a.closed, &m, NULL, &r))
         die(b->ctx, "denoise");
-    report(b, "limn denoise (default m=2 K=3)", "default", m, now() - t0);
+    report(b, "limn denoise (default: SURE, 12)", "default", m, now() - t0);
+    limn_mesh_destroy(m);
+    t0 = now();
+    if (limn_denoise(b->ctx, b->noisy, NULL, 2, 3, 0, &m, &r))
+        die(b->ctx, "denoise --m 2 --steps 3");
+    report(b, "limn denoise --m 2 --steps 3", NULL, m, now() - t0);
     limn_mesh_destroy(m);
     t0 = now();
     if (limn_denoise_features(b->ctx, b->noisy, &b->fo, &m, &r))
