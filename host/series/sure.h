@@ -24,17 +24,24 @@ double sure_sigma(const double *r, size_t n3, int degree, const double *t);
    first is the exact trace. */
 void sure_traces(const stencil_csr *a, limn_scheme scheme, int degree, double *t);
 
-/* d solving (R^T R) d = rhs for the columns r_i = r + i*n3, i < degree (QR
-   by modified Gram-Schmidt, twice; d_i = 0 where r_i lies in the span of the
-   earlier ones). LIMN_ERR_MEMORY on allocation failure. */
+/* d minimising |R d|^2 - 2 rhs . d for the columns r_i = r + i*n3, i < degree
+   (QR by modified Gram-Schmidt, twice; d_i = 0 where r_i lies in the span of
+   the earlier ones): mu_max = 0 solves (R^T R) d = rhs; mu_max > 0 keeps the
+   gain 1 + sum_i d_i mu^{i+1} in [0, 1] on a grid of mu in (0, mu_max] (no
+   band amplified or turned over). LIMN_ERR_MEMORY on allocation failure. */
 limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
-                               const double *rhs, double *d);
+                               const double *rhs, double mu_max, double *d);
+
+/* A bound on the spectral radius of B = E - A (Gershgorin: the largest
+   absolute row sum of B). */
+double sure_spectrum_bound(const stencil_csr *a);
 
 /* d[0..N-1] minimising |sum_i d_i r_i|^2 + 6 sigma^2 sum_i d_i t_i (SURE up to
    a constant) for r_i = r + i*3n, i = 0..N-1 (the vectors (E - A)^{i+1} y);
-   0 where a vector adds nothing new. LIMN_ERR_MEMORY on allocation failure. */
+   0 where a vector adds nothing new; mu_max as in sure_least_squares.
+   LIMN_ERR_MEMORY on allocation failure. */
 limn_status sure_coefficients(limn_context *ctx, const double *r, size_t n3, int degree,
-                              double sigma, const double *t, double *d);
+                              double sigma, const double *t, double mu_max, double *d);
 
 /* The filter on an open run (4 work vectors): N products, the vectors read
    back, the coefficients fitted, the result on the host; *sigma (may be NULL)
