@@ -31,18 +31,27 @@ typedef struct features_mpi {
     double *n;
 } features_mpi;
 
+/* One ghost refresh (faces: normals, else positions), timed and counted. */
+static limn_status refresh(features_mpi *f, limn_status st, int faces, double *v)
+{
+    double t0 = MPI_Wtime();
+    st = mpi_agree(f->p, st);
+    if (!st)
+        st = faces ? mpi_feature_sync_faces(f->p, f->mesh, &f->fp, v)
+                   : mpi_feature_sync_vertices(f->p, f->mesh, &f->fp, v);
+    f->p->stats.exchanges++;
+    f->p->stats.seconds_halo += MPI_Wtime() - t0;
+    return st;
+}
+
 static limn_status sync_normals(void *user, limn_status st, double *n)
 {
-    features_mpi *f = user;
-    st = mpi_agree(f->p, st);
-    return st ? st : mpi_feature_sync_faces(f->p, f->mesh, &f->fp, n);
+    return refresh(user, st, 1, n);
 }
 
 static limn_status sync_positions(void *user, limn_status st, double *x)
 {
-    features_mpi *f = user;
-    st = mpi_agree(f->p, st);
-    return st ? st : mpi_feature_sync_vertices(f->p, f->mesh, &f->fp, x);
+    return refresh(user, st, 0, x);
 }
 
 /* feature_mean_spacing of the whole mesh: the block rows' distances added
@@ -97,8 +106,11 @@ static limn_status features_open(features_mpi *f, limn_series_report *r)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", nf);
     st = mpi_agree(p, st);
     r->seconds_stencil = MPI_Wtime() - t0;
+    p->stats.seconds_distribute = r->seconds_stencil;
     if (st)
         return st;
+    p->stats.owned = f->mesh->slice.vertex_count;
+    p->stats.ghosts = f->fp.vertex_ghosts;
     const stencil_csr *w = &f->fm.ring;
     uint64_t mine = w->row_offsets[f->fp.face_base + f->mesh->slice.face_count] -
                     w->row_offsets[f->fp.face_base],
@@ -106,6 +118,7 @@ static limn_status features_open(features_mpi *f, limn_series_report *r)
     MPI_Allreduce(&mine, &all, 1, MPI_UINT64_T, MPI_SUM, p->comm);
     r->stencil_nonzeros = (size_t)all;
     snprintf(r->device, sizeof r->device, "%s", f->run.dev->name);
+    snprintf(p->stats.device, sizeof p->stats.device, "%s", f->run.dev->name);
     return LIMN_OK;
 }
 
@@ -136,6 +149,8 @@ static limn_status features_run(mpi_part *p, const limn_mpi_mesh *mesh,
         double t1 = MPI_Wtime();
         st = mpi_agree(p, feature_rounds(p->ctx, &f.fm, &f.run, o, x, f.n, r, &sync));
         r->seconds_compute = MPI_Wtime() - t1;
+        p->stats.seconds_solve = r->seconds_compute;
+        p->stats.seconds_compute = r->seconds_compute - p->stats.seconds_halo;
     }
     if (!st)
         st = mpi_agree(p, check_finite(&f));
