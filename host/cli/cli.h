@@ -263,6 +263,7 @@ typedef struct cli_series_measures {
 typedef struct cli_series_call {
     cli_series_kind kind;
     int terms, m, steps, from, to, keep_volume;
+    const limn_feature_options *features; /* denoise: non-NULL for --preserve-features */
     cli_series_measures *measures; /* may be NULL; else filled after the filter */
 } cli_series_call;
 /* smooth, denoise or sharpen on slices (limn_mpi_mesh_smooth etc.), as

@@ -29,8 +29,8 @@ static const char *const help =
     "T_{k+1} = sum_{i=0..m} (E - A)^i A T_k, K times ((m + 1) K stencil products).\n"
     "Smaller m smooths more; the paper uses m = 2-3 and K = 3-4. Every band gain\n"
     "is at most 1, so the mesh shrinks a little: the volume change is reported\n"
-    "(closed meshes; for open ones the volume is not defined). Under MPI only\n"
-    "this form runs.\n"
+    "(closed meshes; for open ones the volume is not defined). Under MPI this\n"
+    "form and --preserve-features run (on a file input, in slices).\n"
     "\n"
     "  -o, --output FILE      mesh to write (.obj, .ply binary, .off)\n"
     "  --products N           the default's degree, 1 <= N <= 64          [12]\n"
@@ -164,9 +164,6 @@ static int check_mode(const extra *e)
     if (!e->preserve && e->feature_given)
         return cli_usage_error("denoise", "--normal-steps, --vertex-steps, --outer-steps, "
                                           "--sigma-r and --tangential need --preserve-features");
-    if (e->preserve && cli_mpi_ranks() > 1)
-        return cli_usage_error("denoise", "--preserve-features does not run on several MPI "
-                                          "ranks yet (run it on one process)");
     if (e->preserve && !(e->fo.tangential >= 0.0 && e->fo.tangential <= 1.0))
         return cli_usage_error("denoise", "--tangential %g must lie in [0, 1]", e->fo.tangential);
     return 0;
@@ -221,6 +218,13 @@ static int choose_form(const series_cli *c, extra *e)
 {
     if (e->preserve) {
         e->keep_volume = e->keep_volume > 0;
+        e->fo.keep_volume = e->keep_volume;
+        /* on several ranks only the distributed path (limn_mpi_mesh_denoise_features) */
+        if (cli_mpi_ranks() > 1 && c->a.inputs[0] && c->a.output &&
+            !cli_mpi_sliced(c->a.inputs[0], c->a.in_format, c->a.output, c->a.per_rank))
+            return cli_usage_error(c->a.cmd, "--preserve-features runs on several MPI ranks "
+                                             "on slices only: a PLY, OBJ or OFF file in, a file "
+                                             "out, no --per-rank-output");
         return 0;
     }
     int paper = e->m >= 0 || e->steps >= 0;
@@ -267,7 +271,8 @@ int cli_denoise(int argc, char **argv)
         return rc;
     /* on slices the volumes are limn_mpi_mesh_measure's (cli_mpi_series_sliced) */
     cli_series_call call = {.kind = CLI_SERIES_DENOISE, .m = e.m, .steps = e.steps,
-                            .keep_volume = e.keep_volume, .measures = &e.v};
+                            .keep_volume = e.keep_volume,
+                            .features = e.preserve ? &e.fo : NULL, .measures = &e.v};
     series_filter f = {run,  measure, &e.mean_displacement, {json_extra, print_extra, &e},
                        &call};
     return series_cli_filter(&c, &f);

@@ -154,8 +154,7 @@ static limn_status smooth_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     return mpi_mesh_series_close(&s, st, result, r);
 }
 
-/* limn_denoise's refusal of a mesh whose volume is not defined. */
-static limn_status check_closed(mpi_part *p, const limn_mpi_mesh *mesh)
+limn_status mpi_mesh_check_closed(mpi_part *p, const limn_mpi_mesh *mesh)
 {
     mpi_mesh_counts k;
     limn_status st = mpi_mesh_census(p, mesh, &k);
@@ -184,7 +183,7 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     if (s.p.comm == MPI_COMM_NULL)
         return st;
     if (!st && keep_volume)
-        st = check_closed(&s.p, mesh);
+        st = mpi_mesh_check_closed(&s.p, mesh);
     /* keep_volume after the run: filter.c's step needs the whole mesh on the root */
     if (!st)
         st = series_denoise_run(&e, NULL, m, steps, 0, NULL);
