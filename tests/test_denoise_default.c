@@ -151,7 +151,7 @@ static void least_squares_solves_normal_equations(void **s)
         }
         g[i][K] = rhs[i];
     }
-    CHECK_OK(ctx, sure_least_squares(ctx, r, N, K, rhs, d));
+    CHECK_OK(ctx, sure_least_squares(ctx, r, N, K, rhs, NULL, d));
     for (int c = 0; c < K; c++) /* Gauss-Jordan on the normal equations */
         for (int i = 0; i < K; i++) {
             if (i == c)

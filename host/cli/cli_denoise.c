@@ -26,8 +26,8 @@ static const char *const help =
     "T_{k+1} = sum_{i=0..m} (E - A)^i A T_k, K times ((m + 1) K stencil products).\n"
     "Smaller m smooths more; the paper uses m = 2-3 and K = 3-4. Every band gain\n"
     "is at most 1, so the mesh shrinks a little: the volume change is reported\n"
-    "(closed meshes; for open ones the volume is not defined). Under MPI only\n"
-    "this form runs.\n"
+    "(closed meshes; for open ones the volume is not defined). Both forms run\n"
+    "under MPI with the single process's result.\n"
     "\n"
     "  -o, --output FILE      mesh to write (.obj, .ply binary, .off)\n"
     "  --products N           the default's degree, 1 <= N <= 64          [12]\n"
@@ -114,6 +114,9 @@ static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, li
                        limn_series_report *r, void *user)
 {
     extra *e = user;
+    if (e->products && cli_mpi_ranks() > 1)
+        return cli_mpi_denoise_sure(ctx, in, &c->opt, e->products, &e->keep_volume, out,
+                                    &e->sigma, r, &c->piece);
     if (e->products) {
         /* the default form keeps a closed mesh's volume unless told --no-keep-volume */
         limn_mesh_measures a = {.size = sizeof a};
@@ -150,16 +153,13 @@ static limn_status measure(limn_context *ctx, const limn_mesh *in, const limn_me
 }
 
 /* --products, or eq. 8 with --m / --steps (their defaults 2, 3 for the one
-   not given); the default form has no MPI path. */
+   not given). */
 static int choose_form(const series_cli *c, extra *e)
 {
     int paper = e->m >= 0 || e->steps >= 0;
     if (paper && e->products)
         return cli_usage_error(c->a.cmd, "--products selects the default form and --m / --steps "
                                          "the paper's: give one or the other");
-    if (!paper && cli_mpi_ranks() > 1)
-        return cli_usage_error(c->a.cmd, "the default form (SURE-fitted polynomial) has no MPI "
-                                         "path yet: give --m and --steps for eq. 8");
     if (!paper && !e->products)
         e->products = 12;
     if (e->m < 0)
@@ -191,7 +191,8 @@ int cli_denoise(int argc, char **argv)
         return rc;
     /* on slices the volumes are limn_mpi_mesh_measure's (cli_mpi_series_sliced) */
     cli_series_call call = {.kind = CLI_SERIES_DENOISE, .m = e.m, .steps = e.steps,
-                            .keep_volume = e.keep_volume, .measures = &e.v};
+                            .keep_volume = e.keep_volume, .products = e.products,
+                            .sigma = &e.sigma, .kept = &e.keep_volume, .measures = &e.v};
     series_filter f = {run,  measure, &e.mean_displacement, {json_extra, print_extra, &e},
                        &call};
     return series_cli_filter(&c, &f);

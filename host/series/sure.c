@@ -29,18 +29,26 @@ static double lattice_symbol(limn_scheme scheme, double u, double w)
     return 1.0 - (2.0 + cos(u)) * (2.0 + cos(w)) / 9.0;
 }
 
+double sure_row_diagonal(const stencil_csr *a, size_t v)
+{
+    double diag = 1.0;
+    for (uint32_t j = a->row_offsets[v]; j < a->row_offsets[v + 1]; j++)
+        if (a->columns[j] == v)
+            diag -= a->weights[j];
+    return diag;
+}
+
 void sure_traces(const stencil_csr *a, limn_scheme scheme, int degree, double *t)
 {
-    enum { GRID = 64 }; /* exact for trigonometric polynomials of degree < 64 */
-    size_t n = a->rows;
     double tr1 = 0.0;
-    for (size_t v = 0; v < n; v++) {
-        double diag = 1.0;
-        for (uint32_t j = a->row_offsets[v]; j < a->row_offsets[v + 1]; j++)
-            if (a->columns[j] == v)
-                diag -= a->weights[j];
-        tr1 += diag;
-    }
+    for (size_t v = 0; v < a->rows; v++)
+        tr1 += sure_row_diagonal(a, v);
+    sure_traces_from(tr1, a->rows, scheme, degree, t);
+}
+
+void sure_traces_from(double tr1, size_t n, limn_scheme scheme, int degree, double *t)
+{
+    enum { GRID = 64 }; /* exact for trigonometric polynomials of degree < 64 */
     for (int i = 0; i < degree; i++)
         t[i] = 0.0;
     const double h = 2.0 * 3.14159265358979323846 / GRID;
@@ -55,21 +63,26 @@ void sure_traces(const stencil_csr *a, limn_scheme scheme, int degree, double *t
         t[i] *= (double)n * (sc *= scale);
 }
 
-static double dot(const double *x, const double *y, size_t n)
+double sure_dot_from(double s, const double *x, const double *y, size_t n)
 {
-    double s = 0.0;
     for (size_t i = 0; i < n; i++)
         s += x[i] * y[i];
     return s;
 }
 
-double sure_sigma(const double *r, size_t n3, int degree, const double *t)
+/* The inner product: sum's (a global one) or this process's. */
+static double dot_of(const sure_sum *sum, const double *x, const double *y, size_t n)
+{
+    return sum ? sum->dot(sum->user, x, y, n) : sure_dot_from(0.0, x, y, n);
+}
+
+double sure_sigma(const double *r, size_t n3, int degree, const double *t, const sure_sum *sum)
 {
     double s2 = INFINITY;
     for (int i = 0; i < degree; i++) {
         const double *ri = r + (size_t)i * n3;
         if (t[2 * i + 1] > 0.0)
-            s2 = fmin(s2, dot(ri, ri, n3) / (3.0 * t[2 * i + 1]));
+            s2 = fmin(s2, dot_of(sum, ri, ri, n3) / (3.0 * t[2 * i + 1]));
     }
     return isinf(s2) ? 0.0 : sqrt(s2);
 }
@@ -77,23 +90,24 @@ double sure_sigma(const double *r, size_t n3, int degree, const double *t)
 /* Modified Gram-Schmidt, twice, of the columns r_i into q: u (degree^2,
    upper triangular) with r = q u; keep[i] = 0 where r_i lies (to 1e-10 of its
    length) in the span of the earlier ones. */
-static void orthogonalise(const double *r, size_t n3, int degree, double *q, double *u, int *keep)
+static void orthogonalise(const double *r, size_t n3, int degree, const sure_sum *sum, double *q,
+                          double *u, int *keep)
 {
     memset(u, 0, (size_t)degree * degree * sizeof *u);
     for (int i = 0; i < degree; i++) {
         double *qi = q + (size_t)i * n3;
         memcpy(qi, r + (size_t)i * n3, n3 * sizeof *qi);
-        double len = sqrt(dot(qi, qi, n3));
+        double len = sqrt(dot_of(sum, qi, qi, n3));
         for (int pass = 0; pass < 2; pass++)
             for (int j = 0; j < i; j++) {
                 if (!keep[j])
                     continue;
-                double *qj = q + (size_t)j * n3, c = dot(qj, qi, n3);
+                double *qj = q + (size_t)j * n3, c = dot_of(sum, qj, qi, n3);
                 u[j * degree + i] += c;
                 for (size_t k = 0; k < n3; k++)
                     qi[k] -= c * qj[k];
             }
-        double rest = sqrt(dot(qi, qi, n3));
+        double rest = sqrt(dot_of(sum, qi, qi, n3));
         keep[i] = rest > 1e-10 * len && rest > 0.0;
         u[i * degree + i] = keep[i] ? rest : 1.0;
         for (size_t k = 0; keep[i] && k < n3; k++)
@@ -102,9 +116,9 @@ static void orthogonalise(const double *r, size_t n3, int degree, double *q, dou
 }
 
 limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
-                               const double *rhs, double *d)
+                               const double *rhs, const sure_sum *sum, double *d)
 {
-    double *q = malloc((size_t)degree * n3 * sizeof *q);
+    double *q = malloc((size_t)degree * (n3 ? n3 : 1) * sizeof *q); /* n3 = 0: an empty rank */
     double *u = malloc((size_t)degree * degree * sizeof *u);
     int *keep = calloc((size_t)degree, sizeof *keep);
     if (!q || !u || !keep) {
@@ -112,7 +126,7 @@ limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, in
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu doubles",
                         degree, n3);
     }
-    orthogonalise(r, n3, degree, q, u, keep);
+    orthogonalise(r, n3, degree, sum, q, u, keep);
     /* u^T u d = rhs on the kept columns: forward, then back */
     double *w = d;
     for (int i = 0; i < degree; i++) {
@@ -132,12 +146,30 @@ limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, in
 }
 
 limn_status sure_coefficients(limn_context *ctx, const double *r, size_t n3, int degree,
-                              double sigma, const double *t, double *d)
+                              double sigma, const double *t, const sure_sum *sum, double *d)
 {
     double rhs[LIMN_MAX_SURE_PRODUCTS];
     for (int i = 0; i < degree; i++)
         rhs[i] = -3.0 * sigma * sigma * t[i];
-    return sure_least_squares(ctx, r, n3, degree, rhs, d);
+    return sure_least_squares(ctx, r, n3, degree, rhs, sum, d);
+}
+
+limn_status sure_fit(limn_context *ctx, const double *r, size_t n3, int degree, const double *t,
+                     const sure_sum *sum, double *sigma, double *d)
+{
+    *sigma = sure_sigma(r, n3, degree, t, sum);
+    return sure_coefficients(ctx, r, n3, degree, *sigma, t, sum, d);
+}
+
+void sure_combine(const double *y, const double *r, size_t n3, int degree, const double *d,
+                  double *out)
+{
+    for (size_t k = 0; k < n3; k++) {
+        double v = y[k];
+        for (int i = 0; i < degree; i++)
+            v += d[i] * r[(size_t)i * n3 + k];
+        out[k] = v;
+    }
 }
 
 /* r + i*3n = B^{i+1} y, i < degree, on the host (degree products). */
@@ -174,18 +206,13 @@ limn_status sure_denoise_run(limn_context *ctx, series_run *s, const limn_mesh *
     double sg = 0.0;
     if (!st) {
         sure_traces(&s->op.host, s->op.scheme, 2 * degree, t);
-        sg = sure_sigma(r, n3, degree, t);
-        st = sure_coefficients(ctx, r, n3, degree, sg, t, d);
+        st = sure_fit(ctx, r, n3, degree, t, NULL, &sg, d);
     }
     limn_mesh *m = NULL;
     if (!st)
         st = limn_mesh_copy(ctx, mesh, &m);
-    for (size_t k = 0; !st && k < n3; k++) {
-        double v = m->positions[k];
-        for (int i = 0; i < degree; i++)
-            v += d[i] * r[(size_t)i * n3 + k];
-        m->positions[k] = v;
-    }
+    if (!st)
+        sure_combine(mesh->positions, r, n3, degree, d, m->positions);
     if (!st)
         st = series_check_finite(ctx, m->positions, s->n, "denoising");
     if (sigma)
