@@ -10,8 +10,9 @@
  * and without; an open mesh with keep_volume is refused on every rank with
  * limn_denoise_sure's message, nothing made. Meshes: the generated
  * composites and closed meshes of test_mpi (several components, boundaries,
- * a non-manifold fin, isolated vertices, n-gons), with seeded noise, and
- * shared meshes when ../shared/meshes is there. Rank 0 runs the single
+ * a non-manifold fin, isolated vertices, n-gons), with seeded noise, tiny
+ * meshes (one triangle, a pyramid: ranks without vertices), and shared
+ * meshes when ../shared/meshes is there. Rank 0 runs the single
  * process on the same file.
  */
 #include "mpi_check.h"
@@ -22,6 +23,7 @@
 
 #include "limn_mpi.h"
 
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -209,6 +211,15 @@ int main(int argc, char **argv)
     mesh_case(ctx, "closed quad, noisy", cquad, LIMN_SCHEME_CATMARK, 0.3);
     mesh_case(ctx, "composite tri", otri, LIMN_SCHEME_LOOP, 0.0);
     mesh_case(ctx, "composite quad, noisy", oquad, LIMN_SCHEME_CATMARK, 0.2);
+    /* tiny meshes: at 5 ranks some without vertices or rows */
+    static const double one_pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0.2};
+    static const uint32_t one_off[] = {0, 3}, one_idx[] = {0, 1, 2};
+    limn_mesh *one = NULL, *pyramid = test_mesh_pyramid(ctx);
+    limn_mesh_create(ctx, 3, one_pos, 1, one_off, one_idx, &one);
+    mesh_case(ctx, "one triangle", one, LIMN_SCHEME_LOOP, 0.0);
+    mesh_case(ctx, "pyramid, noisy", pyramid, LIMN_SCHEME_CATMARK, 0.1);
+    limn_mesh_destroy(one);
+    limn_mesh_destroy(pyramid);
     shared_cases(ctx);
     limn_mesh_destroy(ctri);
     limn_mesh_destroy(cquad);
