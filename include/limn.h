@@ -699,6 +699,42 @@ LIMN_API limn_status limn_denoise_sure(limn_context *ctx, const limn_mesh *mesh,
                                        int keep_volume, limn_mesh **out, double *sigma,
                                        limn_series_report *report);
 
+/*
+ * Feature-preserving denoising (docs/series.md "Keeping sharp features"):
+ * outer_steps times, the face normals are filtered normal_steps times by a
+ * face operator W (row f: the faces sharing a vertex with f) rebuilt from
+ * the current normals before every product (bilateral in normals, as Zheng
+ * et al. 2011: w_fj = a_j exp(-|c_f - c_j|^2 / 2 sigma_s^2)
+ * exp(-|n_f - n_j|^2 / 2 sigma_r^2), rows divided by their sums, so the
+ * weights are >= 0, rows sum to 1 and W's eigenvalues lie in [-1, 1]), then
+ * the vertices are moved vertex_steps times to fit the filtered normals
+ * (Sun et al. 2007) plus `tangential` times a pull to their faces'
+ * centroids within the vertex's plane (it undoes faces the noise folded
+ * over). W's products run on the context's device; "products" in the report
+ * counts them. Same input and options: the same bytes on either backend.
+ */
+typedef struct limn_feature_options {
+    size_t size;              /* sizeof, set by limn_feature_options_default() */
+    int outer_steps;          /* filter-then-fit rounds, 1..LIMN_MAX_STEPS; default 2 */
+    int normal_steps;         /* products of W a round, 1..LIMN_MAX_STEPS; default 10 */
+    int vertex_steps;         /* vertex-fit sweeps a round, 1..LIMN_MAX_STEPS; default 10 */
+    double sigma_r;           /* range kernel width on |n_f - n_j|, > 0; default 0.35 */
+    double sigma_s;           /* spatial kernel width; 0 (default): the mean distance
+                                 between the centroids of neighbouring faces */
+    double tangential;        /* the tangential pull, in [0, 1]; default 0.25 */
+    int keep_volume;          /* 1: the result scaled about the mean of its vertices back to
+                                 the input's volume, as limn_denoise's (closed meshes only:
+                                 LIMN_ERR_TOPOLOGY otherwise); default 0 */
+} limn_feature_options;
+
+LIMN_API void limn_feature_options_default(limn_feature_options *options);
+
+/* A new mesh: mesh denoised with its sharp edges kept (above); report: the
+   series report (scheme and stencil fields unused, products: W's). */
+LIMN_API limn_status limn_denoise_features(limn_context *ctx, const limn_mesh *mesh,
+                                           const limn_feature_options *options, limn_mesh **out,
+                                           limn_series_report *report);
+
 /* Seed 000: T_{k+1} = T_k + sum_{i=from..to} (E - A)^i T_k, `steps` times
    (to * steps products); 0 <= from <= to. */
 LIMN_API limn_status limn_sharpen(limn_context *ctx, const limn_mesh *mesh,

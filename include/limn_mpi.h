@@ -42,10 +42,19 @@
 extern "C" {
 #endif
 
+/* How a distributed mesh's vertices are split over the ranks (limn_mpi_mesh_*). */
+typedef enum limn_mpi_partition {
+    LIMN_MPI_PARTITION_AUTO = 0,   /* the environment's LIMN_MPI_PARTITION (sfc | scotch), else sfc */
+    LIMN_MPI_PARTITION_SFC = 1,    /* a Hilbert curve through the positions: fast, even parts */
+    LIMN_MPI_PARTITION_SCOTCH = 2  /* PT-Scotch on the edge graph: a smaller cut, slower */
+} limn_mpi_partition;
+
 typedef struct limn_mpi_options {
     size_t size;              /* sizeof, set by limn_mpi_options_default() */
     int root;                 /* rank holding the input and receiving the result; default 0 */
     int keep_piece;           /* 1: return this rank's piece in limn_mpi_result; default 0 */
+    int partition;            /* limn_mpi_partition; default AUTO (added after keep_piece:
+                                 callers built before it get AUTO) */
 } limn_mpi_options;
 
 LIMN_API void limn_mpi_options_default(limn_mpi_options *options);
@@ -303,6 +312,21 @@ LIMN_API limn_status limn_mpi_mesh_morph(limn_context *ctx, const limn_mpi_mesh 
                                          limn_mpi_morph_frame_fn fn, void *user,
                                          limn_series_report *report,
                                          const limn_mpi_options *mpi, limn_mpi_result *result);
+
+/* limn_subdivide on a distributed mesh: every level refined rank by rank
+   (each rank refines the faces around its vertex block and keeps its own
+   points, numbered as one process numbers them), the limit (options->limit)
+   a last product; *surface gets the refined distributed mesh (even vertex
+   blocks, the children of each rank's face block), whose file
+   (limn_mpi_mesh_write) is the single process's bytes. options->max_memory
+   is not checked (no rank holds the whole estimate's arrays); report as
+   limn_subdivide's with estimated_bytes 0. mpi and result may be NULL. */
+LIMN_API limn_status limn_mpi_mesh_subdivide(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                             const limn_subdivide_options *options,
+                                             limn_mpi_mesh **surface,
+                                             limn_subdivide_report *report,
+                                             const limn_mpi_options *mpi,
+                                             limn_mpi_result *result);
 
 #ifdef __cplusplus
 }

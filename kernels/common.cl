@@ -2,15 +2,23 @@
 /*
  * The helpers every kernel file uses, first in the one program
  * (host/device/opencl/opencl_program.c joins common.cl, stencil.cl, series.cl,
- * solve.cl, mixed.cl and sgs.cl). ROWS_PER_ITEM comes from the build options
- * (-D ROWS_PER_ITEM=DEVICE_ROWS_PER_ITEM, host/device/device.h). FP_CONTRACT
- * OFF as in every file (tests/check_kernels.sh).
+ * solve.cl, mixed.cl and sgs.cl). The kernel shape comes from the build
+ * options (host/device/opencl/opencl_shape.c): the cpu shape
+ * -D ROWS_PER_ITEM=DEVICE_ROWS_PER_ITEM (host/device/device.h), the CSR table
+ * and one partial reduction per work-item; the gpu shape -D ROWS_PER_ITEM=1
+ * -D KERNEL_SHAPE_GPU=1 -D GROUP_SIZE=G -D SELL_C=C: one row per work-item,
+ * the table in SELL-C slices (host/stencil/stencil_sell.h; the SGS table
+ * stays CSR) and one partial per group, reduced in local memory.
+ * FP_CONTRACT OFF as in every file (tests/check_kernels.sh).
  */
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #pragma OPENCL FP_CONTRACT OFF
 
 #ifndef ROWS_PER_ITEM
 #error ROWS_PER_ITEM is a build option (-D ROWS_PER_ITEM=DEVICE_ROWS_PER_ITEM, device.h)
+#endif
+#if defined(KERNEL_SHAPE_GPU) && (ROWS_PER_ITEM != 1 || !defined(GROUP_SIZE) || !defined(SELL_C))
+#error the gpu shape is -D ROWS_PER_ITEM=1 -D KERNEL_SHAPE_GPU=1 -D GROUP_SIZE=G -D SELL_C=C
 #endif
 
 /* A work-item's rows: [begin, end), ROWS_PER_ITEM of them from
@@ -65,11 +73,42 @@ inline double4 range_product(uint from, uint to, global const uint *col, global 
     return acc;
 }
 
+#ifdef KERNEL_SHAPE_GPU
+/* The table in SELL-C slices: row i's k-th entry at ro[s] + k SELL_C + lane
+   (s = i / SELL_C, lane = i % SELL_C), the slice's entries ending at
+   ro[s + 1]; the padding past a row's own entries has weight 0. The same
+   sum in the same order as CSR, plus those 0 x_j terms (exact). No
+   prefetching (`last`, `ahead` unused). */
+#define SELL_PRODUCT(name, real, vec)                                                          \
+    inline vec name(uint i, global const uint *ro, global const uint *col,                     \
+                    global const real *w, global const vec *x, uint last, uint ahead)          \
+    {                                                                                          \
+        vec acc = (vec)((real)0);                                                              \
+        uint s = i / SELL_C, end = ro[s + 1];                                                  \
+        for (uint k = ro[s] + i % SELL_C; k < end; k += SELL_C)                                \
+            acc += w[k] * x[col[k]];                                                           \
+        return acc;                                                                            \
+    }
+SELL_PRODUCT(row_product_ahead, double, double4)
+SELL_PRODUCT(row_product_f, float, float4)
+
+inline double4 row_product(uint i, global const uint *ro, global const uint *col,
+                           global const double *w, global const double4 *x)
+{
+    return row_product_ahead(i, ro, col, w, x, 0, 0);
+}
+
+/* The prefetch bound: unused (and ro has one entry a slice, not a row). */
+#define TABLE_LAST(ro, rows) 0u
+#else
 inline double4 row_product(uint i, global const uint *ro, global const uint *col,
                            global const double *w, global const double4 *x)
 {
     return range_product(ro[i], ro[i + 1], col, w, x);
 }
+
+/* The table's last entry, the look-ahead's bound (GATHER_AHEAD). */
+#define TABLE_LAST(ro, rows) (ro[rows] - 1)
 
 /* Row i of A x with the gathers prefetched (GATHER_AHEAD), in double
    (row_product_ahead) and in float (row_product_f, mixed.cl): the same sum
@@ -87,6 +126,7 @@ inline double4 row_product(uint i, global const uint *ro, global const uint *col
     }
 ROW_PRODUCT_AHEAD(row_product_ahead, double, double4)
 ROW_PRODUCT_AHEAD(row_product_f, float, float4)
+#endif
 
 /* Row i's residual b_i - (A x)_i (x, y, z; w = 0), component by component as
    the reference backend: in double (residual_row) and float (residual_row_f). */
@@ -143,3 +183,50 @@ inline void store_partials(global double *partials, uint slot, item_rows span, d
         partials[3 * slot + 2] = sq;
     }
 }
+
+/*
+ * A reducing kernel declares REDUCTION_SCRATCH first and ends with
+ * STORE_PARTIALS(partials, base, span, mx, sum, sq), reached by every
+ * work-item. cpu shape: the item's partials at slot base + item. gpu shape:
+ * the group's, at slot base + global id / GROUP_SIZE (a global offset is a
+ * whole number of groups), combined in local memory by a fixed pairwise
+ * tree (item l takes l + stride for stride = G/2, G/4, ..., 1; an item without
+ * rows brings 0, 0, 0), so the order is the same on every run.
+ */
+#ifdef KERNEL_SHAPE_GPU
+#define REDUCTION_SCRATCH local double reduction_scratch_[3 * GROUP_SIZE]
+#define STORE_PARTIALS(partials, base, span, mx, sum, sq)                                      \
+    group_partials(partials, (base) + (uint)(get_global_id(0) / GROUP_SIZE), span, mx, sum,   \
+                   sq, reduction_scratch_)
+
+inline void group_partials(global double *partials, uint slot, item_rows span, double mx,
+                           double sum, double sq, local double *red)
+{
+    /* three arrays of GROUP_SIZE (max, sum, sum of squares): neighbouring
+       items use neighbouring words, free of bank conflicts */
+    local double *rmax = red, *rsum = red + GROUP_SIZE, *rsq = red + 2 * GROUP_SIZE;
+    uint l = (uint)get_local_id(0);
+    rmax[l] = mx;
+    rsum[l] = sum;
+    rsq[l] = sq;
+    for (uint stride = GROUP_SIZE / 2; stride > 0; stride /= 2) {
+        barrier(CLK_LOCAL_MEM_FENCE);
+        if (l < stride) {
+            double other = rmax[l + stride];
+            rmax[l] = other > rmax[l] ? other : rmax[l];
+            rsum[l] += rsum[l + stride];
+            rsq[l] += rsq[l + stride];
+        }
+    }
+    /* item 0's own span starts at the group's first row */
+    if (l == 0 && span.begin < span.end) {
+        partials[3 * slot] = rmax[0];
+        partials[3 * slot + 1] = rsum[0];
+        partials[3 * slot + 2] = rsq[0];
+    }
+}
+#else
+#define REDUCTION_SCRATCH (void)0
+#define STORE_PARTIALS(partials, base, span, mx, sum, sq)                                      \
+    store_partials(partials, (base) + span.item, span, mx, sum, sq)
+#endif

@@ -18,15 +18,16 @@ kernel void residual_f(uint rows, global const uint *ro, global const uint *col,
                        global const double4 *p, global float4 *r_f, global double *partials,
                        uint ahead)
 {
+    REDUCTION_SCRATCH;
     item_rows span = rows_of_item(0, rows);
     double mx = 0.0, sum = 0.0, sq = 0.0;
-    uint last = ro[rows] - 1;
+    uint last = TABLE_LAST(ro, rows);
     for (uint i = span.begin; i < span.end; i++) {
         double4 ri = residual_row(i, ro, col, w, m, p, last, ahead);
         r_f[i] = (float4)((float)ri.x, (float)ri.y, (float)ri.z, 0.0f);
         accumulate_norms(ri.x, ri.y, ri.z, &mx, &sum, &sq);
     }
-    store_partials(partials, span.item, span, mx, sum, sq);
+    STORE_PARTIALS(partials, 0, span, mx, sum, sq);
 }
 
 /* s = b - A_f d; next = d + c1 (d - prev) + c2 s, in float (the Chebyshev
@@ -38,15 +39,16 @@ kernel void step_f(uint rows, global const uint *ro, global const uint *col,
                    global const float4 *prev, global float4 *next, global double *partials,
                    float c1, float c2, uint ahead)
 {
+    REDUCTION_SCRATCH;
     item_rows span = rows_of_item(0, rows);
     double mx = 0.0, sum = 0.0, sq = 0.0;
-    uint last = ro[rows] - 1;
+    uint last = TABLE_LAST(ro, rows);
     for (uint i = span.begin; i < span.end; i++) {
         float4 si = residual_row_f(i, ro, col, w, b, d, last, ahead);
         next[i] = recurrence_row_f(d[i], prev[i], si, c1, c2);
         accumulate_norms(si.x, si.y, si.z, &mx, &sum, &sq);
     }
-    store_partials(partials, span.item, span, mx, sum, sq);
+    STORE_PARTIALS(partials, 0, span, mx, sum, sq);
 }
 
 /* p += d (float widened to double, exactly). */

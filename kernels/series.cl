@@ -24,6 +24,7 @@ kernel void series_step(uint rows, global const uint *ro, global const uint *col
                         global double4 *x_next, global double4 *ax, global double4 *acc,
                         int flags, int acc_mode, global double *partials)
 {
+    REDUCTION_SCRATCH;
     item_rows span = rows_of_item(0, rows);
     double mx = 0.0, sum = 0.0, sq = 0.0;
     for (uint i = span.begin; i < span.end; i++) {
@@ -41,7 +42,7 @@ kernel void series_step(uint rows, global const uint *ro, global const uint *col
             acc[i] = acc[i] + xi;
         accumulate_norms(v.x, v.y, v.z, &mx, &sum, &sq);
     }
-    store_partials(partials, span.item, span, mx, sum, sq);
+    STORE_PARTIALS(partials, 0, span, mx, sum, sq);
 }
 
 /* out = a x + b y */
@@ -56,11 +57,12 @@ kernel void axpby(uint rows, double a, global const double4 *x, double b,
 /* Partial max, sum and sum of squares of |x_i| (x, y, z). */
 kernel void norms(uint rows, global const double4 *x, global double *partials)
 {
+    REDUCTION_SCRATCH;
     item_rows span = rows_of_item(0, rows);
     double mx = 0.0, sum = 0.0, sq = 0.0;
     for (uint i = span.begin; i < span.end; i++) {
         double4 v = x[i];
         accumulate_norms(v.x, v.y, v.z, &mx, &sum, &sq);
     }
-    store_partials(partials, span.item, span, mx, sum, sq);
+    STORE_PARTIALS(partials, 0, span, mx, sum, sq);
 }

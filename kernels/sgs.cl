@@ -44,6 +44,7 @@ kernel void sgs_lower(uint rows, uint first, global const uint *ro, global const
                       global double4 *t, global double4 *u, global double4 *st,
                       global double4 *rhat, global double *partials, uint base, int start)
 {
+    REDUCTION_SCRATCH;
     item_rows span = rows_of_item(first, rows);
     double mx = 0.0, sum = 0.0;
     for (uint i = span.begin; i < span.end; i++) {
@@ -84,7 +85,7 @@ kernel void sgs_lower(uint rows, uint first, global const uint *ro, global const
             sum += dot3(p, in.y * (ti + ui));
         }
     }
-    store_partials(partials, base + span.item, span, mx, sum, 0.0);
+    STORE_PARTIALS(partials, base, span, mx, sum, 0.0);
 }
 
 /* x += alpha t; r -= alpha st; rhat -= alpha sqrt(d) (t + u);
@@ -94,6 +95,7 @@ kernel void sgs_update(uint rows, global const double4 *info, global const doubl
                        global double4 *r, global double4 *rhat, double alpha,
                        global double *partials)
 {
+    REDUCTION_SCRATCH;
     item_rows span = rows_of_item(0, rows);
     double mx = 0.0, sum = 0.0;
     for (uint i = span.begin; i < span.end; i++) {
@@ -109,5 +111,5 @@ kernel void sgs_update(uint rows, global const double4 *info, global const doubl
         mx = len > mx ? len : mx;
         sum += dot3(rh, rh);
     }
-    store_partials(partials, span.item, span, mx, sum, 0.0);
+    STORE_PARTIALS(partials, 0, span, mx, sum, 0.0);
 }

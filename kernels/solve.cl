@@ -14,6 +14,7 @@ kernel void spmv_dot(uint rows, global const uint *ro, global const uint *col,
                      global const double *w, global const double4 *x, global double4 *y,
                      global const double *dinv, global double *partials)
 {
+    REDUCTION_SCRATCH;
     item_rows span = rows_of_item(0, rows);
     double sum = 0.0;
     for (uint i = span.begin; i < span.end; i++) {
@@ -21,7 +22,7 @@ kernel void spmv_dot(uint rows, global const uint *ro, global const uint *col,
         y[i] = acc;
         sum += dinv[i] * dot3(x[i], acc);
     }
-    store_partials(partials, span.item, span, 0.0, sum, 0.0);
+    STORE_PARTIALS(partials, 0, span, 0.0, sum, 0.0);
 }
 
 /* x += alpha p; z -= alpha q; partials: max |z_i|, sum dinv_i |z_i|^2, sum |z_i|^2 */
@@ -29,6 +30,7 @@ kernel void pcg_update(uint rows, double alpha, global const double4 *p,
                        global const double4 *q, global double4 *x, global double4 *z,
                        global const double *dinv, global double *partials)
 {
+    REDUCTION_SCRATCH;
     item_rows span = rows_of_item(0, rows);
     double mx = 0.0, rz = 0.0, sq = 0.0;
     for (uint i = span.begin; i < span.end; i++) {
@@ -43,7 +45,7 @@ kernel void pcg_update(uint rows, double alpha, global const double4 *p,
         rz += dinv[i] * s;
         sq += s;
     }
-    store_partials(partials, span.item, span, mx, rz, sq);
+    STORE_PARTIALS(partials, 0, span, mx, rz, sq);
 }
 
 /* One step of a two-term recurrence (Chebyshev iteration, host/interpolate.c):
@@ -56,13 +58,14 @@ kernel void cheb_step(uint rows, global const uint *ro, global const uint *col,
                       global const double4 *p, global double4 *prev_next,
                       global double *partials, double c1, double c2, uint ahead)
 {
+    REDUCTION_SCRATCH;
     item_rows span = rows_of_item(0, rows);
     double mx = 0.0, sum = 0.0, sq = 0.0;
-    uint last = ro[rows] - 1;
+    uint last = TABLE_LAST(ro, rows);
     for (uint i = span.begin; i < span.end; i++) {
         double4 ri = residual_row(i, ro, col, w, m, p, last, ahead);
         prev_next[i] = recurrence_row(p[i], prev_next[i], ri, c1, c2);
         accumulate_norms(ri.x, ri.y, ri.z, &mx, &sum, &sq);
     }
-    store_partials(partials, span.item, span, mx, sum, sq);
+    STORE_PARTIALS(partials, 0, span, mx, sum, sq);
 }

@@ -58,13 +58,14 @@ kernel void interp_step(uint rows, global const uint *ro, global const uint *col
                         global const double4 *p, global double4 *p_next,
                         global double *partials, double omega, uint ahead)
 {
+    REDUCTION_SCRATCH;
     item_rows span = rows_of_item(0, rows);
     double mx = 0.0, sum = 0.0, sq = 0.0;
-    uint last = ro[rows] - 1;
+    uint last = TABLE_LAST(ro, rows);
     for (uint i = span.begin; i < span.end; i++) {
         double4 ri = residual_row(i, ro, col, w, m, p, last, ahead), pi = p[i];
         p_next[i] = (double4)(pi.x + omega * ri.x, pi.y + omega * ri.y, pi.z + omega * ri.z, 0.0);
         accumulate_norms(ri.x, ri.y, ri.z, &mx, &sum, &sq);
     }
-    store_partials(partials, span.item, span, mx, sum, sq);
+    STORE_PARTIALS(partials, 0, span, mx, sum, sq);
 }

@@ -11,6 +11,13 @@ stencil table (perf/osd_iteration, where it finishes within --osd-timeout),
 and the floor: reading the file from the page cache, and the solve loop's
 bytes over the triad `limn bench` measures on the same device.
 
+Beside each of issue 13's targets it prints the floor this machine allows,
+measured in the same run: bytes a stage must write to fresh memory over the
+first-touch rate (perf/first_touch: a memset of newly mapped pages), file
+bytes over the page-cache read rate, the loop's bytes over the triad. A
+target below its floor cannot be met here without touching less fresh
+memory (docs/performance.md "The whole job, end to end").
+
   python3 perf/end_to_end.py [--python VENV/bin/python] [--json out.json] [--only 2.1M]
 
 Needs a build with -DLIMN_BUILD_PERF=ON for the OpenSubdiv rows (left out
@@ -67,6 +74,59 @@ def floor_read(path):
     return best
 
 
+def ply_counts(path):
+    """Vertex and face counts from a PLY header."""
+    counts = {}
+    with open(path, "rb") as f:
+        for line in f:
+            w = line.split()
+            if w[:1] == [b"element"]:
+                counts[w[1].decode()] = int(w[2])
+            if w[:1] == [b"end_header"]:
+                break
+    return counts.get("vertex", 0), counts.get("face", 0)
+
+
+def first_touch(a):
+    """Fresh-memory and touched-memory write rates (bytes/s), or None."""
+    exe = os.path.join(a.build, "perf", "first_touch")
+    if not os.path.exists(exe):
+        return None
+    j = json.loads(subprocess.run([exe], stdout=subprocess.PIPE, text=True,
+                                  check=True).stdout)
+    return {"first_touch": j["first_touch_gb_per_s"] * 1e9,
+            "touched": j["touched_gb_per_s"] * 1e9}
+
+
+def mesh_bytes(vertices, faces, corners):
+    """A limn mesh in memory: double positions, uint32 face offsets and indices."""
+    return 24 * vertices + 4 * (faces + 1) + 4 * faces * corners
+
+
+def floors(row, report, rates):
+    """The floor of each target's figure, seconds (module docstring)."""
+    n, nf, nnz = report["vertices"], report["faces"], report["stencil_nonzeros"]
+    corners = 3 if report["scheme"] == "loop" else 4
+    touch = rates["first_touch"]
+    read = row["floor_read"]
+    faces = mesh_bytes(0, nf, corners)
+    # the solve outside its loop: M and P as 4 doubles a row, the float
+    # weights of a mixed solve, and the control mesh's faces (its positions
+    # are P's memory)
+    setup = 64 * n + (4 * nnz if report.get("products_float") else 0) + faces
+    row["fresh_bytes"] = {"solve_setup": setup, "mesh": mesh_bytes(n, nf, corners),
+                          "table": 12 * nnz + 4 * (n + 1)}
+    out_n, out_f = row["subdivide1_counts"]
+    subdivide = mesh_bytes(n, nf, corners) + mesh_bytes(out_n, out_f, corners) \
+        + row["subdivide1_file_bytes"]
+    fresh = row["fresh_bytes"]
+    return {"solve_setup": setup / touch,
+            "interpolate": read + row["floor_loop"] + (fresh["mesh"] + fresh["table"] + setup
+                                                       + row["output_file_bytes"]) / touch,
+            "info": read + fresh["mesh"] / touch,
+            "subdivide1": read + subdivide / touch}
+
+
 def limn_rows(a, path, tmp):
     limn = os.path.join(a.build, "limn")
     rep, out = os.path.join(tmp, "r.json"), os.path.join(tmp, "o.ply")
@@ -74,12 +134,16 @@ def limn_rows(a, path, tmp):
     if r.returncode:
         sys.exit("limn interpolate failed: " + r.stderr)
     j = json.load(open(rep))
+    out_bytes = os.path.getsize(out)
     row = {"vertices": j["vertices"], "interpolate_wall": t, "seconds": j["seconds"],
            "peak_bytes_per_vertex": j["peak_rss_bytes"] / j["vertices"],
            "method": j["method"], "products": j["products"],
-           "products_float": j.get("products_float", 0), "stencil_nonzeros": j["stencil_nonzeros"]}
+           "products_float": j.get("products_float", 0), "stencil_nonzeros": j["stencil_nonzeros"],
+           "output_file_bytes": out_bytes}
     row["info_wall"], _ = wall([limn, "info", path])
     row["subdivide1_wall"], _ = wall([limn, "subdivide", path, "-o", out, "--levels", "1", "-q"])
+    row["subdivide1_counts"] = ply_counts(out)
+    row["subdivide1_file_bytes"] = os.path.getsize(out)
     os.remove(out)
     return row, j
 
@@ -117,6 +181,44 @@ def fmt(v):
     return "–" if v is None else "%.2f" % v
 
 
+def target_rows(r):
+    """(target, figure, bound, floor) per issue-13 target; None where not measured."""
+    s, fl, tm = r["seconds"], r.get("floors") or {}, r.get("trimesh_load")
+    times = lambda k: None if tm is None else k * tm
+    return [("solve outside the loop <= 0.25 x loop", s["solve"] - s["iterations"],
+             0.25 * s["iterations"], fl.get("solve_setup")),
+            ("interpolate end to end <= 1.5 x trimesh.load", r["interpolate_wall"], times(1.5),
+             fl.get("interpolate")),
+            ("limn info <= 2 x trimesh.load", r["info_wall"], times(2), fl.get("info")),
+            ("subdivide --levels 1 <= 2 x trimesh.load", r["subdivide1_wall"], times(2),
+             fl.get("subdivide1")),
+            ("peak bytes a vertex <= 350 (Loop)", r["peak_bytes_per_vertex"], 350.0, None)]
+
+
+def verdict(figure, bound, floor):
+    if bound is None:
+        return "not measured"
+    met = "met" if figure <= bound else "missed"
+    if floor is not None and floor > bound:
+        met += ": the floor exceeds the target by %.1fx" % (floor / bound)
+    return met
+
+
+def print_targets(rows):
+    for name, r in rows.items():
+        print("\n%s: target | figure | target value | floor on this machine | verdict" % name)
+        print("|---|---:|---:|---:|---|")
+        for label, figure, bound, floor in target_rows(r):
+            print("| %s | %s | %s | %s | %s |" % (label, fmt(figure), fmt(bound), fmt(floor),
+                                                  verdict(figure, bound, floor)))
+        t = r.get("rates")
+        if t:
+            print("first touch %.2f GB/s, touched %.2f GB/s, page cache read %.2f GB/s, "
+                  "triad %.2f GB/s" % (t["first_touch"] / 1e9, t["touched"] / 1e9,
+                                       r["file_bytes"] / r["floor_read"] / 1e9,
+                                       r["triad_gb_per_s"]))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
@@ -133,6 +235,9 @@ def main():
             row, report = limn_rows(a, path, tmp)
             row["floor_read"] = floor_read(path)
             row["floor_loop"], row["triad_gb_per_s"] = loop_floor(a, report, tmp)
+            row["file_bytes"] = os.path.getsize(path)
+            row["rates"] = first_touch(a)
+            row["floors"] = floors(row, report, row["rates"]) if row["rates"] else None
             anchors(a, path, row)
             rows[name] = row
     s = lambda r, k: r["seconds"].get(k)
@@ -148,12 +253,15 @@ def main():
              ("OpenSubdiv TopologyRefinerFactory", lambda r: r.get("osd_refiner")),
              ("OpenSubdiv limit stencil table", lambda r: r.get("osd_stencils")),
              ("floor: read the file (page cache)", lambda r: r["floor_read"]),
-             ("floor: loop bytes / triad", lambda r: r["floor_loop"])]
+             ("floor: loop bytes / triad", lambda r: r["floor_loop"]),
+             ("floor: solve outside the loop (fresh bytes / first touch)",
+              lambda r: (r.get("floors") or {}).get("solve_setup"))]
     names = list(rows)
     print("| seconds | " + " | ".join("%s (%d vertices)" % (n, rows[n]["vertices"]) for n in names) + " |")
     print("|---|" + "---:|" * len(names))
     for label, get in lines:
         print("| %s | %s |" % (label, " | ".join(fmt(get(rows[n])) for n in names)))
+    print_targets(rows)
     if not a.python:
         print("\ntrimesh.load: not measured (give --python VENV/bin/python with trimesh)")
     if a.json:

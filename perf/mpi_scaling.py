@@ -86,6 +86,9 @@ def main():
     ap.add_argument("--fs-node-gbs", type=float, default=1.0,
                     help="model: file system bandwidth one node gets, GB/s")
     ap.add_argument("--ranks-per-node", type=int, default=8)
+    ap.add_argument("--partition-model", default="sfc", choices=["sfc", "scotch"],
+                    help="pipeline model: the partition's growth with P (the curve's default "
+                         "O(n/P) + 13 Allreduces, or PT-Scotch's assumed log2 P)")
     ap.add_argument("--neighbours", type=int, default=8,
                     help="model: neighbour ranks at least (2D partitions: about 6)")
     args = ap.parse_args()
@@ -366,8 +369,12 @@ def model_row(c, p, n, args):
     lat, bw = args.latency_us * 1e-6, args.bandwidth_gbs * 1e9
     v = n / p
     ghosts = c["ghost_coefficient"] * math.sqrt(v)
-    setup = v * (c["load_per_vertex"] + c["rows_per_vertex"] +
-                 c["partition_per_vertex"] * math.log2(p))
+    if args.partition_model == "scotch":  # PT-Scotch's per-vertex cost grows as log2 P (assumed)
+        part = v * c["partition_per_vertex"] * math.log2(p)
+    else:  # the curve: O(v), and 13 digits of (P - 1) x 255 binary searches and an Allreduce each
+        part = (v * c["partition_per_vertex"] + 13 * (p - 1) * 255 * math.log2(v) * 5e-9 +
+                13 * (math.log2(p) * lat + (p - 1) * 255 * 8 / bw))
+    setup = v * (c["load_per_vertex"] + c["rows_per_vertex"]) + part
     values = 2 * ghosts
     halo = (c["halo_per_value"] * values + c["neighbours"] * 2 * lat +
             values * c["bytes_per_value"] / bw)
@@ -391,7 +398,8 @@ def print_model(c, args):
     print(f"model at {n:.3g} vertices (unit costs from the 2-rank run; {args.latency_us:g} us "
           f"a message, {args.bandwidth_gbs:g} GB/s network per rank; file system "
           f"{args.fs_aggregate_gbs:g} GB/s aggregate, {args.fs_node_gbs:g} GB/s per node, "
-          f"{args.ranks_per_node} ranks a node; {c['iterations']} iterations):")
+          f"{args.ranks_per_node} ranks a node; {c['iterations']} iterations; partition "
+          f"grows as {args.partition_model}'s):")
     print("| ranks | nodes | vertices / rank | ghosts / rank | memory / rank | set-up s | "
           "s / iteration (compute + halo + reduce) | solve s | I/O s | total s |")
     print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Partition quality and time: serial METIS (mpi_partition.c, today's root
- * path) against the distributed PT-Scotch partition (mpi_dgraph.c), both
+ * Partition quality and time: serial METIS (mpi_partition.c, the root
+ * path) against the distributed PT-Scotch partition (mpi_dgraph.c) and the
+ * space-filling curve (mpi_sfc.c, the distributed pipeline's default), all
  * into as many parts as ranks (driven by perf/partition_compare.py).
  *
  *   mpirun -np R partition_compare [--strategy quality|default|speed] MESH [MESH ...]
@@ -11,14 +12,16 @@
  * faces; METIS runs on rank 0 alone on the whole mesh. Rank 0 prints one
  * JSON line per mesh: vertices, edges, and per partitioner the edge cut, the
  * imbalance (largest part / mean), the wall seconds (METIS: the graph and
- * METIS on rank 0; PT-Scotch: the whole collective call, slowest rank) and
- * the CPU seconds of the process (PT-Scotch: the busiest rank's), which a
- * shared machine inflates less than the wall time.
+ * METIS on rank 0; PT-Scotch and the curve: the whole collective call,
+ * slowest rank) and the CPU seconds of the process (the distributed ones:
+ * the busiest rank's), which a shared machine inflates less than the wall
+ * time. The curve's cut is counted on rank 0 from the gathered parts.
  */
 #include "limn.h"
 
 #include "mpi/mpi_dgraph.h"
 #include "mpi/mpi_part.h"
+#include "mpi/mpi_sfc.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -87,6 +90,53 @@ static int scotch_run(limn_context *ctx, const limn_mesh *m, int rank, int size,
     return s == LIMN_OK;
 }
 
+/* The curve over all ranks, vertices in even blocks; its cut and
+   imbalance from the parts gathered on rank 0. */
+typedef struct sfc_figures {
+    size_t cut;
+    double imbalance, seconds, cpu;
+} sfc_figures;
+
+static int sfc_run(limn_context *ctx, const limn_mesh *m, int rank, int size, sfc_figures *f)
+{
+    size_t n = limn_mesh_vertex_count(m);
+    size_t *vtxdist = malloc(((size_t)size + 1) * sizeof *vtxdist);
+    int *cnt = malloc(2 * (size_t)size * sizeof *cnt), *disp = cnt + size;
+    for (int r = 0; r <= size; r++)
+        vtxdist[r] = n * (size_t)r / (size_t)size;
+    for (int r = 0; r < size; r++) {
+        cnt[r] = (int)(vtxdist[r + 1] - vtxdist[r]);
+        disp[r] = (int)vtxdist[r];
+    }
+    mpi_part p;
+    uint32_t *part = NULL, *all = rank == 0 ? malloc((n + 1) * sizeof *all) : NULL;
+    mpi_sfc_stats st;
+    double c0 = cpu_seconds();
+    limn_status s = mpi_part_begin(ctx, MPI_COMM_WORLD, NULL, &p);
+    if (!s)
+        s = mpi_sfc_partition(&p, vtxdist, limn_mesh_positions(m) + 3 * vtxdist[rank], size,
+                              &part, &st);
+    double c = cpu_seconds() - c0;
+    MPI_Allreduce(&c, &f->cpu, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    if (!s) {
+        MPI_Gatherv(part, cnt[rank], MPI_UINT32_T, all, cnt, disp, MPI_UINT32_T, 0,
+                    MPI_COMM_WORLD);
+        f->imbalance = st.imbalance;
+        f->seconds = st.seconds;
+        if (rank == 0 && mpi_edge_cut(ctx, m, size, all, &f->cut))
+            s = LIMN_ERR_MEMORY;
+    }
+    if (s != LIMN_OK && rank == 0)
+        fprintf(stderr, "partition_compare: curve: %s\n", limn_context_message(ctx));
+    if (p.comm != MPI_COMM_NULL)
+        mpi_part_end(&p);
+    free(part);
+    free(all);
+    free(cnt);
+    free(vtxdist);
+    return s == LIMN_OK;
+}
+
 static int one_mesh(limn_context *ctx, const char *path, int rank, int size,
                     mpi_dgraph_strategy strategy)
 {
@@ -106,14 +156,19 @@ static int one_mesh(limn_context *ctx, const char *path, int rank, int size,
     mpi_dgraph_stats st;
     MPI_Barrier(MPI_COMM_WORLD);
     ok = scotch_run(ctx, m, rank, size, strategy, &st, &scpu) && ok;
+    sfc_figures sf = {0, 0, 0, 0};
+    MPI_Barrier(MPI_COMM_WORLD);
+    ok = sfc_run(ctx, m, rank, size, &sf) && ok;
     if (ok && rank == 0)
         printf("{\"mesh\": \"%s\", \"parts\": %d, \"strategy\": %d, \"vertices\": %zu, "
                "\"edges\": %zu, \"metis_cut\": %zu, \"metis_imbalance\": %.4f, "
                "\"metis_seconds\": %.4f, \"metis_cpu\": %.4f, \"scotch_cut\": %zu, "
                "\"scotch_imbalance\": %.4f, \"scotch_seconds\": %.4f, \"scotch_cpu\": %.4f, "
-               "\"graph_seconds\": %.4f}\n",
+               "\"graph_seconds\": %.4f, \"sfc_cut\": %zu, \"sfc_imbalance\": %.4f, "
+               "\"sfc_seconds\": %.4f, \"sfc_cpu\": %.4f}\n",
                path, size, (int)strategy, st.vertices, st.edges, mcut, mimb, msec[0], msec[1],
-               st.edge_cut, st.imbalance, st.seconds, scpu, st.seconds_graph);
+               st.edge_cut, st.imbalance, st.seconds, scpu, st.seconds_graph, sf.cut,
+               sf.imbalance, sf.seconds, sf.cpu);
     fflush(stdout);
     limn_mesh_destroy(m);
     return ok;

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Partition: PT-Scotch (distributed) against METIS (serial), 2, 4 and 8 parts.
+"""Partition: PT-Scotch and the Hilbert curve (distributed) against METIS (serial), 2, 4, 8 parts.
 
     bash scripts/build.sh -DLIMN_BUILD_PERF=ON && python3 perf/partition_compare.py
 
@@ -15,6 +15,8 @@ seconds and, in parentheses, CPU seconds of the process (PT-Scotch: the
 busiest rank's; Open MPI's waiting in collectives counts as CPU too), and the
 wall seconds of PT-Scotch's call spent on the edge exchange and adjacency.
 --strategy picks PT-Scotch's (quality, the library's choice; default; speed).
+The curve (mpi_sfc.c, the distributed pipeline's default): its cut, imbalance
+and seconds (wall and CPU, the slowest and busiest rank's) beside them.
 """
 import json
 import os
@@ -51,18 +53,23 @@ def main():
     rows = runs(exe, meshes, [int(x) for x in a.parts.split(",")], a.strategy)
     rows.sort(key=lambda r: (r["mesh"], r["parts"]))
     print(f"PT-Scotch strategy: {a.strategy}\n")
-    print("| mesh | vertices | parts | METIS cut | PT-Scotch cut | ratio | METIS imbalance | "
-          "PT-Scotch imbalance | METIS s (CPU) | PT-Scotch s (CPU) | of which graph s |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    print("| mesh | vertices | parts | METIS cut | PT-Scotch cut | curve cut | Scotch / METIS "
+          "| curve / METIS | METIS imbalance | PT-Scotch imbalance | curve imbalance "
+          "| METIS s (CPU) | PT-Scotch s (CPU) | curve s (CPU) |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for r in rows:
-        ratio = r["scotch_cut"] / r["metis_cut"] if r["metis_cut"] else float("nan")
+        mc = r["metis_cut"]
+        ratio = r["scotch_cut"] / mc if mc else float("nan")
+        sratio = r["sfc_cut"] / mc if mc else float("nan")
         name = os.path.relpath(os.path.realpath(r["mesh"]), os.path.realpath(a.meshes))
         print(f"| {r['mesh'] if name.startswith('..') else name} "
-              f"| {r['vertices']:,} | {r['parts']} | {r['metis_cut']:,} | {r['scotch_cut']:,} "
-              f"| {ratio:.2f} | {r['metis_imbalance']:.3f} | {r['scotch_imbalance']:.3f} "
+              f"| {r['vertices']:,} | {r['parts']} | {mc:,} | {r['scotch_cut']:,} "
+              f"| {r['sfc_cut']:,} | {ratio:.2f} | {sratio:.2f} "
+              f"| {r['metis_imbalance']:.3f} | {r['scotch_imbalance']:.3f} "
+              f"| {r['sfc_imbalance']:.3f} "
               f"| {r['metis_seconds']:.3f} ({r['metis_cpu']:.3f}) "
-              f"| {r['scotch_seconds']:.3f} ({r['scotch_cpu']:.3f}) | {r['graph_seconds']:.3f} |")
-
+              f"| {r['scotch_seconds']:.3f} ({r['scotch_cpu']:.3f}) "
+              f"| {r['sfc_seconds']:.3f} ({r['sfc_cpu']:.3f}) |")
 
 if __name__ == "__main__":
     main()

@@ -188,6 +188,21 @@ static limn_status call_texture(limn_context *ctx, const limn_mesh *mesh, const 
     return st;
 }
 
+static void fill_feature(void *p)
+{
+    limn_feature_options *o = p;
+    limn_feature_options_default(o);
+    o->normal_steps = 2;
+    o->vertex_steps = 2;
+}
+static limn_status call_feature(limn_context *ctx, const limn_mesh *mesh, const void *p)
+{
+    limn_mesh *out = NULL;
+    limn_status st = limn_denoise_features(ctx, mesh, p, &out, NULL);
+    limn_mesh_destroy(out);
+    return st;
+}
+
 static void fill_render(void *p)
 {
     limn_render_options *o = p;
@@ -215,6 +230,7 @@ OPTIONS_TEST(series, limn_series_options, "limn_bands", alpha)
 OPTIONS_TEST(morph, limn_morph_options, "limn_morph", linear)
 OPTIONS_TEST(texture, limn_texture_options, "limn_texture", max_memory)
 OPTIONS_TEST(render, limn_render_options, "limn_render", color)
+OPTIONS_TEST(feature, limn_feature_options, "limn_denoise_features", keep_volume)
 
 /* Every defaults function sets size to the struct as compiled (also the
    embedded series of morph and texture). */
@@ -228,6 +244,9 @@ static void defaults_set_size(void **s)
     limn_morph_options e;
     limn_texture_options f;
     limn_render_options g;
+    limn_feature_options h;
+    limn_feature_options_default(&h);
+    assert_int_equal(h.size, sizeof h);
     limn_repair_options_default(&a);
     limn_interpolate_options_default(&b);
     limn_subdivide_options_default(&c);
@@ -542,7 +561,7 @@ static void report_refused_before_work(void **s)
 
 TEST_MAIN(NULL, NULL, cmocka_unit_test(defaults_set_size), cmocka_unit_test(repair),
           cmocka_unit_test(interpolate), cmocka_unit_test(subdivide), cmocka_unit_test(series),
-          cmocka_unit_test(morph), cmocka_unit_test(texture), cmocka_unit_test(render),
+          cmocka_unit_test(morph), cmocka_unit_test(texture), cmocka_unit_test(render), cmocka_unit_test(feature),
           REFERENCE_TEST(embedded_series_size), REFERENCE_TEST(embedded_series_newer),
           cmocka_unit_test(older_options_get_defaults), cmocka_unit_test(report_repair),
           cmocka_unit_test(report_info), cmocka_unit_test(report_interpolate),

@@ -83,6 +83,8 @@ static void mutable_edits_are_checked(void **s)
                 "vertex 4", says);
         REFUSED(ctx, limn_sharpen(ctx, m, NULL, 0, 1, 1, &out, NULL), "limn_sharpen",
                 "vertex 4", says);
+        REFUSED(ctx, limn_denoise_features(ctx, m, NULL, &out, NULL), "limn_denoise_features",
+                "vertex 4", says);
         REFUSED(ctx, limn_morph(ctx, m, good, NULL, api_count_frame, &frames, NULL), "limn_morph",
                 "FROM", "vertex 4", says);
         REFUSED(ctx, limn_morph(ctx, good, m, NULL, api_count_frame, &frames, NULL), "limn_morph",

@@ -8,12 +8,16 @@
  * On every small and medium shared mesh the scheme accepts, plus the embedded
  * Spot. Interior valence-2 vertices are left out of the OpenSubdiv route (its
  * limit mask differs there, see test_osd_limit.c).
- * Also: the singular alpha = 0 cube, the iteration cap, bad options.
+ * Also: the singular alpha = 0 cube, the iteration cap, bad options; the
+ * control mesh's faces and colours against the input's (its positions are the
+ * solve's rows made positions in place: mesh_rows4_to_xyz against a plain
+ * strided copy).
  */
 #include "support.h"
 #include "osd_oracle.h"
 #include "refine_oracle.h"
 #include "topology/topology.h"
+#include "mesh/mesh.h"
 
 #include <math.h>
 #include <setjmp.h>
@@ -174,6 +178,63 @@ static void embedded_spot(void **s)
     limn_context_destroy(ctx);
 }
 
+/* Device rows to positions in place, against a strided copy, at sizes
+   around the first rows whose source and target overlap. */
+static void rows4_to_xyz(void **s)
+{
+    (void)s;
+    for (size_t n = 0; n < 1030; n = n < 8 ? n + 1 : n * 2 + 7) {
+        double *rows = malloc((4 * n + 1) * sizeof *rows);
+        double *want = malloc((3 * n + 1) * sizeof *want);
+        assert_non_null(rows);
+        assert_non_null(want);
+        for (size_t i = 0; i < 4 * n; i++)
+            rows[i] = (double)i + 0.25;
+        for (size_t k = 0; k < n; k++)
+            for (int c = 0; c < 3; c++)
+                want[3 * k + (size_t)c] = rows[4 * k + (size_t)c];
+        double *got = mesh_rows4_to_xyz(rows, n);
+        if (n)
+            assert_memory_equal(got, want, 3 * n * sizeof *got);
+        free(got);
+        free(want);
+    }
+}
+
+/* The control mesh keeps the input's faces and colours, whatever the route
+   its positions took (in place, or through a renumbering: --method paper
+   renumbers a scattered order). */
+static void control_keeps_faces(void **s)
+{
+    limn_context *ctx = *s;
+    limn_mesh *g = test_mesh_grid(ctx, 9, 7, 1);
+    size_t n = limn_mesh_vertex_count(g);
+    uint8_t *rgb = malloc(3 * n);
+    assert_non_null(rgb);
+    for (size_t i = 0; i < 3 * n; i++)
+        rgb[i] = (uint8_t)(i * 7);
+    assert_int_equal(limn_mesh_set_colors(ctx, g, rgb), LIMN_OK);
+    limn_method methods[] = {LIMN_METHOD_AUTO, LIMN_METHOD_PAPER};
+    for (int k = 0; k < 2; k++) {
+        limn_interpolate_options o;
+        limn_interpolate_options_default(&o);
+        o.method = methods[k];
+        limn_mesh *p = NULL;
+        assert_int_equal(limn_interpolate(ctx, g, &o, &p, NULL), LIMN_OK);
+        assert_int_equal(limn_mesh_vertex_count(p), n);
+        assert_int_equal(limn_mesh_face_count(p), limn_mesh_face_count(g));
+        assert_int_equal(limn_mesh_index_count(p), limn_mesh_index_count(g));
+        assert_memory_equal(limn_mesh_face_offsets(p), limn_mesh_face_offsets(g),
+                            (limn_mesh_face_count(g) + 1) * sizeof(uint32_t));
+        assert_memory_equal(limn_mesh_face_indices(p), limn_mesh_face_indices(g),
+                            limn_mesh_index_count(g) * sizeof(uint32_t));
+        assert_memory_equal(limn_mesh_colors(p), rgb, 3 * n);
+        limn_mesh_destroy(p);
+    }
+    free(rgb);
+    limn_mesh_destroy(g);
+}
+
 /* Generated meshes: closed, open, all vertex kinds, both schemes. */
 static void generated_meshes(void **s)
 {
@@ -301,4 +362,5 @@ static void methods(void **s)
 TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated_meshes), CONTEXT_TEST(singular_cube),
           cmocka_unit_test(methods), CONTEXT_TEST(iteration_cap_and_options),
           cmocka_unit_test(embedded_spot), cmocka_unit_test(small_meshes),
-          cmocka_unit_test(medium_meshes))
+          cmocka_unit_test(medium_meshes), cmocka_unit_test(rows4_to_xyz),
+          CONTEXT_TEST(control_keeps_faces))

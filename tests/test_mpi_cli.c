@@ -3,11 +3,13 @@
  * `mpirun -np N limn ...` as a user meets it (2 and 3 ranks; bands, denoise
  * and sharpen also 5): interpolate (--precision float too), bands, smooth,
  * denoise (eq. 8 and the default SURE form, on slices and the root path),
- * sharpen and morph write the very bytes of one process (paper
+ * sharpen, morph and subdivide (2, 3, 5 ranks, --limit) write the
+ * very bytes of one process (paper
  * iteration and series: every row is summed in the same order), weighted,
  * cg and sgs agree to 1e-12 with the same iteration count; --per-rank-output writes
  * one piece per rank; a bad input gives one message, exit status 1 on every
- * rank, no output and no hang; commands that do not run distributed refuse.
+ * rank, no output and no hang; commands that do not run distributed refuse;
+ * the same bytes with either partition (LIMN_MPI_PARTITION=sfc | scotch).
  * Meshes: generated with several components, boundaries and an isolated
  * vertex, and shared real meshes when ../shared/meshes is there.
  */
@@ -436,6 +438,44 @@ static void bands_sharpen_same(void **s)
     assert_false(test_file_exists(at("bad_energy.json")));
 }
 
+/* subdivide on slices (limn_mpi_mesh_subdivide): the single process's bytes
+   on 2, 3 and 5 ranks, Loop and Catmull-Clark, with --limit; a bad input
+   gives one message and nothing written; standard output is refused. */
+static void subdivide_same(void **s)
+{
+    (void)s;
+    write_inputs();
+    static const char *runs[][2] = {{"tri.obj", "--levels 2 --limit"},
+                                    {"tri.obj", "--levels 1 --scheme catmark"},
+                                    {"quad.obj", "--levels 2 --limit --alpha 0.5"}};
+    for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
+        for (size_t k = 0; k < sizeof runs / sizeof *runs; k++) {
+            char args[1024];
+            snprintf(args, sizeof args, "subdivide '%s' -o '%s' %s -q", at(runs[k][0]),
+                     at("d1.ply"), runs[k][1]);
+            assert_int_equal(run(0, args), 0);
+            snprintf(args, sizeof args, "subdivide '%s' -o '%s' %s --report '%s'",
+                     at(runs[k][0]), at("d2.ply"), runs[k][1], at("d2.json"));
+            if (run(ranks, args) != 0)
+                fail_msg("%s", test_text);
+            assert_int_equal(count(test_text, " faces -> "), 1); /* the summary, once */
+            assert_true(report_sliced(at("d2.json")));
+            assert_true(test_same_bytes(at("d1.ply"), at("d2.ply")));
+        }
+        printf("  subdivide (Loop, Catmull-Clark, --limit), %d ranks: same bytes\n", ranks);
+    }
+    char args[1024];
+    assert_int_equal(test_write_text(at("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n"), 0);
+    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --levels 1", at("broken.obj"),
+             at("bad.ply"));
+    assert_int_equal(run(3, args), 1);
+    assert_int_equal(count(test_text, "limn subdivide: error:"), 1);
+    assert_false(test_file_exists(at("bad.ply")));
+    snprintf(args, sizeof args, "subdivide '%s' -o - --format ply --levels 1", at("quad.obj"));
+    assert_int_equal(run(2, args), 2);
+    assert_int_equal(count(test_text, "standard input or output"), 1);
+}
+
 /* Every rank reads its slice of the file and each phase of the slice reader
    parses the header: a header warning is still printed once, by rank 0;
    so are the repair's (counted over the ranks). */
@@ -567,6 +607,35 @@ static void device_per_rank(void **s)
     }
 }
 
+/* The default partition (the Hilbert curve) and PT-Scotch's give the single
+   process's bytes on 2, 3 and 5 ranks (the rows do not depend on the parts);
+   an unknown LIMN_MPI_PARTITION is one error, status 2, nothing written. */
+static void partitions_same(void **s)
+{
+    (void)s;
+    write_inputs();
+    static const char *kinds[] = {"sfc", "scotch"};
+    static const int ranks[] = {2, 3, 5};
+    for (int k = 0; k < 2; k++) {
+        setenv("LIMN_MPI_PARTITION", kinds[k], 1);
+        for (int r = 0; r < 3; r++) {
+            printf("  LIMN_MPI_PARTITION=%s\n", kinds[k]);
+            interpolate_same(at("tri.obj"), "--method paper", ranks[r], 1);
+            assert_true(report_sliced(at("many.json")));
+            interpolate_same(at("quad.obj"), "--alpha 0.5", ranks[r], 1);
+            assert_true(report_sliced(at("many.json")));
+        }
+    }
+    setenv("LIMN_MPI_PARTITION", "metis", 1);
+    char args[1024];
+    snprintf(args, sizeof args, "interpolate '%s' -o '%s'", at("tri.obj"), at("bad.ply"));
+    assert_int_equal(run(3, args), 2); /* an argument error, as a bad option */
+    unsetenv("LIMN_MPI_PARTITION");
+    assert_int_equal(count(test_text, "error:"), 1);
+    assert_non_null(strstr(test_text, "LIMN_MPI_PARTITION is 'metis'"));
+    assert_false(test_file_exists(at("bad.ply")));
+}
+
 static void errors(void **s)
 {
     (void)s;
@@ -621,7 +690,8 @@ int main(void)
         cmocka_unit_test(series_same),           cmocka_unit_test(bands_sharpen_same),
         cmocka_unit_test(per_rank),              cmocka_unit_test(warnings_once),
         cmocka_unit_test(device_per_rank),       cmocka_unit_test(errors),
-        cmocka_unit_test(denoise_volume_same),
+        cmocka_unit_test(denoise_volume_same),   cmocka_unit_test(partitions_same),
+        cmocka_unit_test(subdivide_same),
     };
     return cmocka_run_group_tests(tests, setup, test_scratch_teardown);
 }

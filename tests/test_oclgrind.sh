@@ -9,7 +9,9 @@
 # order, so the results do not depend on the device. Oclgrind's Debian
 # package installs no ICD file: its wrapper preloads its runtime, which is
 # then the only platform limn sees. (--uninitialized is not used: it reports
-# buffers filled by clEnqueueFillBuffer.) Exit 77 (skipped) without oclgrind.
+# buffers filled by clEnqueueFillBuffer.) Then the gpu kernel shape, every
+# method, precision and series command once (gpu_cases, below). Exit 77
+# (skipped) without oclgrind.
 #   tests/test_oclgrind.sh LIMN DATA_DIR
 set -euo pipefail
 limn=${1:?usage: test_oclgrind.sh LIMN DATA_DIR}
@@ -87,24 +89,52 @@ cases=(
     "texture|texture $work/tri.obj -o OUT.ply --colors #ff0000,#00ff00,#0000ff --levels 1"
 )
 
-failed=0
-for c in "${cases[@]}"; do
-    name=${c%%|*}
-    args=${c#*|}
-    t0=$SECONDS
-    bad=0
+# The gpu kernel shape (LIMN_KERNEL_SHAPE=gpu, docs/performance.md "Kernel
+# shapes"): one row per work-item over the SELL table, partials reduced in
+# local memory with barriers, which --data-races checks. Groups of 4 on both
+# sides (Oclgrind's --max-wgsize, PoCL's POCL_MAX_WORK_GROUP_SIZE): several
+# groups and SELL slices per launch on these small meshes, a group limit
+# below the cpu shape's 8, and the same reduction tree on both, so the same
+# bytes. Every method and precision, and every series command, once.
+gpu_cases=(
+    "gpu-paper-double|interpolate $spot -o OUT.ply --method paper --precision double --tol 1e-4"
+    "gpu-weighted-double|interpolate $spot -o OUT.ply --method weighted --precision double --tol 1e-4"
+    "gpu-chebyshev-double|interpolate $spot -o OUT.ply --method chebyshev --precision double"
+    "gpu-cg-double|interpolate $spot -o OUT.ply --method cg --precision double"
+    "gpu-sgs-double|interpolate $spot -o OUT.ply --method sgs --precision double"
+    "gpu-paper-float|interpolate $work/tri.obj -o OUT.ply --method paper --precision float --tol 1e-4"
+    "gpu-weighted-float|interpolate $work/tri.obj -o OUT.ply --method weighted --precision float --tol 1e-4"
+    "gpu-chebyshev-float|interpolate $spot -o OUT.ply --method chebyshev --precision float"
+    "gpu-subdivide-limit|subdivide $work/tri.obj -o OUT.ply --levels 1 --limit"
+    "gpu-smooth|smooth $spot -o OUT.ply --terms 3"
+    "gpu-denoise|denoise $spot -o OUT.ply --m 2 --steps 2"
+    "gpu-sharpen|sharpen $spot -o OUT.ply --from 1 --to 2 --steps 1"
+    "gpu-bands|bands $spot --count 2 -o OUT"
+    "gpu-morph|morph $spot $work/spot_smooth.obj -o OUT/f%02d.ply --frames 3"
+    "gpu-texture|texture $work/tri.obj -o OUT.ply --colors #ff0000,#00ff00,#0000ff --levels 1"
+)
+
+# run_case NAME ARGS SHAPE: the command on PoCL and under Oclgrind (SHAPE
+# gpu: the gpu shape in groups of 4, above); 1 when it failed.
+run_case() {
+    local name=$1 args=$2 shape=$3 t0=$SECONDS bad=0 side out rc
+    local -a pocl_env=() grind_opts=()
+    if [[ $shape == gpu ]]; then
+        pocl_env=(LIMN_KERNEL_SHAPE=gpu POCL_MAX_WORK_GROUP_SIZE=4)
+        grind_opts=(--max-wgsize 4)
+    fi
     for side in pocl oclgrind; do
         mkdir -p "$work/$side/$name"
         out=$work/$side/$name/out
         [[ $args == morph* ]] && mkdir -p "$out"
         # shellcheck disable=SC2086 # the arguments are words on purpose
         set -- ${args//OUT/$out}
+        rc=0
         if [[ $side == pocl ]]; then
-            rc=0
-            "$limn" "$@" -q >"$work/$side/$name.log" 2>&1 || rc=$?
+            env "${pocl_env[@]}" "$limn" "$@" -q >"$work/$side/$name.log" 2>&1 || rc=$?
         else
-            rc=0
-            oclgrind --check-api --data-races "$limn" "$@" -q >"$work/$side/$name.log" 2>&1 || rc=$?
+            env "${pocl_env[@]:0:1}" oclgrind --check-api --data-races "${grind_opts[@]}" \
+                "$limn" "$@" -q >"$work/$side/$name.log" 2>&1 || rc=$?
         fi
         if [[ $rc -ne 0 ]]; then
             echo "FAIL $name ($side): exit $rc"
@@ -133,7 +163,17 @@ for c in "${cases[@]}"; do
     if [[ $bad -eq 0 ]]; then
         echo "ok   $name ($files file(s) identical, $((SECONDS - t0)) s)"
     fi
-    failed=$((failed | bad))
+    return $bad
+}
+
+failed=0
+for c in "${cases[@]}"; do
+    run_case "${c%%|*}" "${c#*|}" cpu || failed=1
 done
-echo "test_oclgrind: ${#cases[@]} commands in $((SECONDS - start)) s"
+cpu_seconds=$((SECONDS - start))
+for c in "${gpu_cases[@]}"; do
+    run_case "${c%%|*}" "${c#*|}" gpu || failed=1
+done
+echo "test_oclgrind: ${#cases[@]} commands in the cpu shape in $cpu_seconds s," \
+    "${#gpu_cases[@]} in the gpu shape in $((SECONDS - start - cpu_seconds)) s"
 exit $failed

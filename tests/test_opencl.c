@@ -69,7 +69,7 @@ static void pure_rule(void **s)
     opencl_device_props devs[5] = {
         fake(0, 0, "llvmpipe (no fp64)", "OpenCL 3.0 ", 0, 1024),
         fake(0, 1, "old one", "OpenCL 1.1 vendor", dbl, 1024),
-        fake(1, 0, "tiny groups", "OpenCL 1.2", dbl, 4),
+        fake(1, 0, "old and tiny", "OpenCL 1.0", dbl, 4),
         fake(1, 1, "good cpu", "OpenCL 3.0 PoCL", dbl, 4096),
         fake(2, 0, "good gpu", "OpenCL 1.2 CUDA", dbl, 1024),
     };
@@ -80,7 +80,12 @@ static void pure_rule(void **s)
     assert_int_equal(opencl_unusable(&devs[1], why, sizeof why), 1);
     assert_non_null(strstr(why, "needs OpenCL 1.2, the device has 'OpenCL 1.1 vendor'"));
     assert_int_equal(opencl_unusable(&devs[2], why, sizeof why), 1);
-    assert_non_null(strstr(why, "work-groups of at most 4 items, the kernels use 8"));
+    assert_non_null(strstr(why, "needs OpenCL 1.2"));
+    /* groups below DEVICE_WORKGROUP run the gpu kernel shape (opencl_shape.c) */
+    opencl_device_props tiny = fake(1, 0, "tiny groups", "OpenCL 1.2", dbl, 4);
+    assert_int_equal(opencl_unusable(&tiny, why, sizeof why), 0);
+    tiny.max_work_group = tiny.max_item_size = 1;
+    assert_int_equal(opencl_unusable(&tiny, why, sizeof why), 0);
     assert_int_equal(opencl_unusable(&devs[3], why, sizeof why), 0);
     assert_int_equal(opencl_unusable(&devs[4], why, sizeof why), 0);
 

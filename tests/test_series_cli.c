@@ -91,6 +91,13 @@ static void bad_usage(void **s)
         {"denoise '%s' -o out.ply --scheme butterfly", "is not one of auto, loop, catmark", 2},
         {"denoise '%s' -o out.ply --device cuda", "unknown device 'cuda'", 2},
         {"denoise '%s' -o out.ply --scheme loop", "Loop subdivision needs triangles", 1},
+        {"denoise '%s' -o out.ply --preserve-features --m 2", "takes neither --m nor --steps", 2},
+        {"denoise '%s' -o out.ply --preserve-features --steps 2", "takes neither --m", 2},
+        {"denoise '%s' -o out.ply --preserve-features --products 4", "nor --products", 2},
+        {"denoise '%s' -o out.ply --sigma-r 0.3", "need --preserve-features", 2},
+        {"denoise '%s' -o out.ply --preserve-features --sigma-r 0", "must be positive", 2},
+        {"denoise '%s' -o out.ply --preserve-features --normal-steps 0", "must be at least 1", 2},
+        {"denoise '%s' -o out.ply --preserve-features --tangential 2", "must lie in [0, 1]", 2},
         {"sharpen '%s' -o out.ply --to 3", "--from M and --to N are required", 2},
         {"sharpen '%s' -o out.ply --from 3 --to 1", "--to 1 is below --from 3", 2},
         {"morph '%s' -o 'f%%04d.ply'", "two meshes are needed", 2},
@@ -246,6 +253,18 @@ static void good_runs(void **s)
     change = strtod(strstr(rep, "\"volume_change\": ") + 17, NULL);
     assert_true(change > -1e-9 && change < 1e-9);
     assert_non_null(strstr(slurp("dn.json"), "\"form\": \"paper\""));
+    /* denoise --preserve-features: its options in the report, W's products counted */
+    assert_int_equal(limn("denoise '%s' -o df.ply --preserve-features --normal-steps 4 "
+                          "--outer-steps 2 --keep-volume -q --report df.json",
+                          spot),
+                     0);
+    rep = slurp("df.json");
+    static const char *const fkeys[] = {"\"preserve_features\": true", "\"normal_steps\": 4",
+                                        "\"outer_steps\": 2", "\"products\": 8",
+                                        "\"volume_change\": "};
+    has_keys(rep, fkeys, sizeof fkeys / sizeof *fkeys);
+    change = strtod(strstr(rep, "\"volume_change\": ") + 17, NULL);
+    assert_true(change > -1e-9 && change < 1e-9);
 
     /* smooth and sharpen */
     assert_int_equal(limn("smooth '%s' -o sm.obj --terms 2 -q", spot), 0);

@@ -32,6 +32,14 @@
 static const limn_series_options series_defaults = SERIES_DEFAULTS;
 static const limn_morph_options morph_defaults = {
     .size = sizeof(limn_morph_options), .series = SERIES_DEFAULTS, .frames = 30, .m = 2, .p = 0.8};
+static const limn_feature_options feature_defaults = {.size = sizeof(limn_feature_options),
+                                                    .outer_steps = 2,
+                                                    .normal_steps = 10,
+                                                    .vertex_steps = 10,
+                                                    .sigma_r = 0.35,
+                                                    .sigma_s = 0.0,
+                                                    .tangential = 0.25,
+                                                    .keep_volume = 0};
 static const limn_texture_options texture_defaults = {.size = sizeof(limn_texture_options),
                                                       .series = SERIES_DEFAULTS,
                                                       .levels = 3,
@@ -78,6 +86,8 @@ ABI_FLAT(abi_subdivide_report, limn_subdivide_report, "sizeof(limn_subdivide_rep
          seconds_limit, NULL);
 ABI_FLAT(abi_series_options, limn_series_options, "limn_series_options_default()", alpha,
          &series_defaults);
+ABI_FLAT(abi_feature_options, limn_feature_options, "limn_feature_options_default()",
+         keep_volume, &feature_defaults);
 ABI_FLAT(abi_series_report, limn_series_report, "sizeof(limn_series_report)", seconds_compute,
          NULL);
 ABI_FLAT(abi_triad_report, limn_triad_report, "sizeof(limn_triad_report)", device, NULL);

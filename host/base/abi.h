@@ -76,6 +76,7 @@ typedef struct abi_call {
     union {
         limn_series_options series;
         limn_morph_options morph;
+        limn_feature_options feature;
         limn_texture_options texture;
         limn_interpolate_options interpolate;
         limn_subdivide_options subdivide;
@@ -122,7 +123,7 @@ int abi_report_holds(const abi_layout *layout, const void *p, size_t end);
 
 extern const abi_layout abi_repair_options, abi_repair_report, abi_mesh_info,
     abi_interpolate_options, abi_report, abi_subdivide_options, abi_subdivide_report,
-    abi_series_options, abi_series_report, abi_morph_options, abi_mesh_measures,
+    abi_series_options, abi_feature_options, abi_series_report, abi_morph_options, abi_mesh_measures,
     abi_mesh_comparison, abi_texture_options, abi_render_options, abi_write_options,
     abi_write_report, abi_triad_report;
 

@@ -309,6 +309,12 @@ typedef struct cli_morph_sink {
 limn_status cli_mpi_morph_sliced(limn_context *ctx, const cli_sliced_job *job,
                                  const char *to_path, const limn_morph_options *o,
                                  cli_morph_sink *sink, limn_series_report *r, double seconds[2]);
+/* subdivide on slices (limn_mpi_mesh_subdivide): every rank reads its slice,
+   refines its share level by level and writes its part of the surface;
+   seconds[0] the load, seconds[1] the write. */
+limn_status cli_mpi_subdivide_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                     const limn_subdivide_options *o, limn_subdivide_report *r,
+                                     limn_write_report *written, double seconds[2]);
 /* Collective: every rank's peak resident memory so far, to rank 0, for the
    report's per_rank entries. */
 void cli_mpi_note_memory(void);

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* limn denoise: by default the SURE-fitted polynomial in A (limn_denoise_sure),
-   or seed 000 eq. 8 (--m, --steps); the volume change reported. */
+   or seed 000 eq. 8 (--m, --steps), or with --preserve-features
+   limn_denoise_features (docs/series.md); the volume change reported. */
 #include "cli_series.h"
 
 #include <limits.h>
@@ -26,8 +27,8 @@ static const char *const help =
     "T_{k+1} = sum_{i=0..m} (E - A)^i A T_k, K times ((m + 1) K stencil products).\n"
     "Smaller m smooths more; the paper uses m = 2-3 and K = 3-4. Every band gain\n"
     "is at most 1, so the mesh shrinks a little: the volume change is reported\n"
-    "(closed meshes; for open ones the volume is not defined). Both forms run\n"
-    "under MPI with the single process's result.\n"
+    "(closed meshes; for open ones the volume is not defined). The default form\n"
+    "and eq. 8 run under MPI with the single process's result.\n"
     "\n"
     "  -o, --output FILE      mesh to write (.obj, .ply binary, .off)\n"
     "  --products N           the default's degree, 1 <= N <= 64          [12]\n"
@@ -37,6 +38,18 @@ static const char *const help =
     "                         back to the input's volume (closed meshes only;\n"
     "                         the default form does so on closed meshes unless\n"
     "                         --no-keep-volume)\n"
+    "  --preserve-features    keep sharp edges: filter the face normals with a\n"
+    "                         bilateral face operator rebuilt from the current\n"
+    "                         normals before each product, then fit the vertices\n"
+    "                         to them (Zheng et al. 2011, Sun et al. 2007, with a\n"
+    "                         tangential pull); for CAD-like meshes. Takes:\n"
+    "    --normal-steps T     face-operator products a round, T >= 1      [10]\n"
+    "    --vertex-steps V     vertex-fit sweeps a round, V >= 1           [10]\n"
+    "    --outer-steps K      rounds of filter-then-fit, K >= 1            [2]\n"
+    "    --sigma-r R          normal range kernel width, R > 0          [0.35]\n"
+    "    --tangential U       tangential pull in [0, 1]                 [0.25]\n"
+    "                         (not with --m, --steps or --products;\n"
+    "                         --keep-volume works too)\n"
     SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
     CLI_MPI_HELP
@@ -46,6 +59,8 @@ typedef struct extra {
     int m, steps, keep_volume;
     int products;             /* the default form's degree; 0 with --m / --steps */
     double sigma;             /* its noise estimate */
+    int preserve, feature_given, series_given; /* --preserve-features; its options; --m etc. */
+    limn_feature_options fo;
     cli_series_measures v;    /* volumes and areas (on slices: cli_mpi_series_sliced's) */
     double mean_displacement;
 } extra;
@@ -53,8 +68,15 @@ typedef struct extra {
 static void json_extra(json_out *j, void *user)
 {
     extra *e = user;
-    json_string(j, "form", e->products ? "sure" : "paper");
-    if (e->products) {
+    json_string(j, "form", e->preserve ? "features" : e->products ? "sure" : "paper");
+    json_bool(j, "preserve_features", e->preserve);
+    if (e->preserve) {
+        json_integer(j, "normal_steps", e->fo.normal_steps);
+        json_integer(j, "vertex_steps", e->fo.vertex_steps);
+        json_integer(j, "outer_steps", e->fo.outer_steps);
+        json_number(j, "sigma_r", e->fo.sigma_r);
+        json_number(j, "tangential", e->fo.tangential);
+    } else if (e->products) {
         json_integer(j, "degree", e->products);
         json_number(j, "sigma_estimate", e->sigma);
     } else {
@@ -81,7 +103,10 @@ static void print_extra(void *user)
 {
     extra *e = user;
     const cli_series_measures *v = &e->v;
-    if (e->products)
+    if (e->preserve)
+        fprintf(stderr, "  features kept: %d x (%d normal products, %d vertex sweeps), sigma_r %g",
+                e->fo.outer_steps, e->fo.normal_steps, e->fo.vertex_steps, e->fo.sigma_r);
+    else if (e->products)
         fprintf(stderr, "  SURE-fitted polynomial of degree %d, noise sigma estimated %.3g",
                 e->products, e->sigma);
     else
@@ -107,13 +132,52 @@ static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
         {"--products", CLI_OWN_INT, &e->products, 1, LIMN_MAX_SURE_PRODUCTS},
         {"--steps", CLI_OWN_INT, &e->steps, 1, INT_MAX},
     };
-    return cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
+    const cli_own_option feature[] = {
+        {"--preserve-features", CLI_OWN_FLAG, &e->preserve, 1, 0},
+        {"--normal-steps", CLI_OWN_INT, &e->fo.normal_steps, 1, INT_MAX},
+        {"--vertex-steps", CLI_OWN_INT, &e->fo.vertex_steps, 1, INT_MAX},
+        {"--outer-steps", CLI_OWN_INT, &e->fo.outer_steps, 1, INT_MAX},
+        {"--sigma-r", CLI_OWN_POSITIVE, &e->fo.sigma_r, 0, 0},
+        {"--tangential", CLI_OWN_NUMBER, &e->fo.tangential, 0, 0},
+    };
+    int volume = strstr(argv[*i], "keep-volume") != NULL;
+    int rc = cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
+    if (rc != CLI_OWN_UNKNOWN) {
+        e->series_given |= !volume;
+        return rc;
+    }
+    int flag = strcmp(argv[*i], "--preserve-features") == 0;
+    rc = cli_args_own(a, argc, argv, i, feature, sizeof feature / sizeof *feature);
+    if (rc != CLI_OWN_UNKNOWN && !flag)
+        e->feature_given = 1;
+    return rc;
+}
+
+/* --preserve-features and the options of the other forms exclude each other. */
+static int check_mode(const extra *e)
+{
+    if (e->preserve && e->series_given)
+        return cli_usage_error("denoise",
+                               "--preserve-features takes neither --m nor --steps nor --products");
+    if (!e->preserve && e->feature_given)
+        return cli_usage_error("denoise", "--normal-steps, --vertex-steps, --outer-steps, "
+                                          "--sigma-r and --tangential need --preserve-features");
+    if (e->preserve && cli_mpi_ranks() > 1)
+        return cli_usage_error("denoise", "--preserve-features does not run on several MPI "
+                                          "ranks yet (run it on one process)");
+    if (e->preserve && !(e->fo.tangential >= 0.0 && e->fo.tangential <= 1.0))
+        return cli_usage_error("denoise", "--tangential %g must lie in [0, 1]", e->fo.tangential);
+    return 0;
 }
 
 static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, limn_mesh **out,
                        limn_series_report *r, void *user)
 {
     extra *e = user;
+    if (e->preserve) {
+        e->fo.keep_volume = e->keep_volume > 0;
+        return limn_denoise_features(ctx, in, &e->fo, out, r);
+    }
     if (e->products && cli_mpi_ranks() > 1)
         return cli_mpi_denoise_sure(ctx, in, &c->opt, e->products, &e->keep_volume, out,
                                     &e->sigma, r, &c->piece);
@@ -156,6 +220,10 @@ static limn_status measure(limn_context *ctx, const limn_mesh *in, const limn_me
    not given). */
 static int choose_form(const series_cli *c, extra *e)
 {
+    if (e->preserve) {
+        e->keep_volume = e->keep_volume > 0;
+        return 0;
+    }
     int paper = e->m >= 0 || e->steps >= 0;
     if (paper && e->products)
         return cli_usage_error(c->a.cmd, "--products selects the default form and --m / --steps "
@@ -176,13 +244,19 @@ int cli_denoise(int argc, char **argv)
     series_cli c;
     series_cli_init(&c, "denoise", help, 1);
     extra e = {.m = -1, .steps = -1, .keep_volume = -1};
+    limn_feature_options_default(&e.fo);
     static const struct option longopts[] = {
-        CLI_ARGS_OPTIONS, CLI_FLAG("per-rank-output"), CLI_FLAG("keep-volume"),
-        CLI_FLAG("no-keep-volume"), CLI_VALUE("m"),
-        CLI_VALUE("steps"), CLI_VALUE("products"), CLI_OPTIONS_END};
+        CLI_ARGS_OPTIONS,          CLI_FLAG("per-rank-output"), CLI_FLAG("keep-volume"),
+        CLI_FLAG("no-keep-volume"), CLI_VALUE("m"),             CLI_VALUE("steps"),
+        CLI_VALUE("products"),     CLI_FLAG("preserve-features"), CLI_VALUE("normal-steps"),
+        CLI_VALUE("vertex-steps"), CLI_VALUE("outer-steps"),    CLI_VALUE("sigma-r"),
+        CLI_VALUE("tangential"),   CLI_OPTIONS_END};
     int rc = cli_args_parse(&c.a, longopts, argc, argv, own_option, &e);
     if (rc)
         return rc < 0 ? 0 : rc;
+    rc = cli_mpi_root_rc(check_mode(&e));
+    if (rc)
+        return rc;
     rc = choose_form(&c, &e);
     if (rc)
         return rc;

@@ -7,7 +7,7 @@
  * prints, every rank computes its share, and every failure is agreed on so
  * that all ranks exit with the same status and the message is printed once.
  * On file inputs, interpolate, smooth, denoise, sharpen, bands and morph
- * run on slices instead (cli_mpi_sliced): every rank reads, computes
+ * run on slices instead, and subdivide only there (cli_mpi_sliced): every rank reads, computes
  * and writes its share of a distributed mesh, none holding it whole.
  * The other commands refuse to run on several ranks.
  */
@@ -382,6 +382,34 @@ limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
     return st;
 }
 
+limn_status cli_mpi_subdivide_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                     const limn_subdivide_options *o, limn_subdivide_report *r,
+                                     limn_write_report *written, double seconds[2])
+{
+    limn_mpi_mesh *mesh = NULL, *surface = NULL;
+    double t0 = MPI_Wtime();
+    limn_status st = read_sliced(ctx, job, &mesh);
+    seconds[0] = MPI_Wtime() - t0;
+    limn_mpi_options mo = options();
+    mo.keep_piece = 0;
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    g.sliced = 1;
+    if (!st) {
+        st = limn_mpi_mesh_subdivide(ctx, mesh, o, &surface, r, &mo, &res);
+        cli_print_warnings(job->cmd, ctx);
+        collect(&res);
+        limn_mpi_result_free(&res);
+    }
+    limn_mpi_mesh_destroy(mesh); /* before the write: the surface is all that is left */
+    double t1 = MPI_Wtime();
+    if (!st)
+        st = limn_mpi_mesh_write(ctx, surface, job->output, job->out_format, job->write,
+                                 written);
+    seconds[1] = MPI_Wtime() - t1;
+    limn_mpi_mesh_destroy(surface);
+    return st;
+}
+
 /* The input's energy (sum of its squared coordinates in input order) and
    the largest |sum of the bands - input| over the blocks, as cli_bands.c's
    compute gives them: the sum passed from rank to rank, the maximum exact. */
@@ -581,7 +609,8 @@ char *cli_mpi_rank_path(const char *path)
 
 static int distributed(const char *cmd)
 {
-    static const char *names[] = {"interpolate", "bands", "smooth", "denoise", "sharpen", "morph"};
+    static const char *names[] = {"interpolate", "bands",   "smooth",   "denoise",
+                                  "sharpen",     "morph",   "subdivide"};
     for (size_t k = 0; k < sizeof names / sizeof *names; k++)
         if (strcmp(cmd, names[k]) == 0)
             return 1;
@@ -619,8 +648,8 @@ int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **))
         if (g.rank == 0)
             fprintf(stderr,
                     "limn %s: does not run on several MPI ranks (%d here): run it without "
-                    "mpirun; interpolate, bands, smooth, denoise, sharpen and morph run "
-                    "distributed\n",
+                    "mpirun; interpolate, bands, smooth, denoise, sharpen, morph and subdivide "
+                    "run distributed\n",
                     argv[1], g.size);
         rc = EXIT_USAGE;
     } else {

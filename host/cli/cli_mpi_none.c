@@ -115,3 +115,10 @@ char *cli_mpi_rank_path(const char *path)
     (void)path;
     return NULL;
 }
+limn_status cli_mpi_subdivide_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                     const limn_subdivide_options *o, limn_subdivide_report *r,
+                                     limn_write_report *written, double seconds[2])
+{
+    (void)ctx, (void)job, (void)o, (void)r, (void)written, (void)seconds;
+    return none();
+}

@@ -24,6 +24,9 @@ static const char *const help =
     "  --fallback reference   run on the reference backend when OpenCL fails\n"
     "  --format F, --input-format F, --output-precision P, --overwrite-input, -q\n"
     "                         (as in interpolate)\n"
+    "Under mpirun (several ranks) on a .ply/.obj/.off file every rank reads its\n"
+    "slice, refines its share and writes its part of OUTPUT (the same bytes);\n"
+    "--max-memory and --fallback are not applied there.\n"
     CLI_REPAIR_HELP
     CLI_HOST_THREADS_HELP
     CLI_PATHS_HELP;
@@ -66,6 +69,7 @@ static limn_status write_report(limn_context *ctx, const cli_args *a,
     json_integer(j, "estimated_bytes", (long long)r->estimated_bytes);
     json_integer(j, "peak_rss_bytes", (long long)cli_peak_rss());
     json_string(j, "device", r->device);
+    cli_mpi_json(j);
     json_object_begin(j, "seconds");
     json_number(j, "load", sec[0]);
     json_number(j, "plan", r->seconds_plan);
@@ -109,8 +113,78 @@ static limn_status refine(limn_context *ctx, const cli_args *a, const limn_mesh 
     return st;
 }
 
+/* The surface and the report (rank 0's) staged, then committed together. */
+static int finish(limn_context *ctx, cli_args *a, limn_status st, const limn_mesh *surface,
+                  const limn_subdivide_report *r, double sec[3], double t0)
+{
+    limn_output_set *set = NULL;
+    if (!st)
+        st = limn_output_set_create(ctx, &set);
+    if (!st && surface) {
+        double t1 = cli_now();
+        st = cli_args_stage_output(a, ctx, set, surface, a->output);
+        sec[1] = cli_now() - t1;
+    }
+    sec[2] = cli_now() - t0;
+    cli_mpi_note_memory();
+    if (!st && a->report && cli_mpi_rank() == 0)
+        st = write_report(ctx, a, r, sec, set);
+    st = cli_commit_outputs(ctx, st, set);
+    int rc = st ? cli_fail("subdivide", ctx, st) : 0;
+    if (!st && !a->quiet) {
+        print_summary(a, r, sec);
+        cli_mpi_print();
+        cli_args_print_written(a);
+    }
+    return rc;
+}
+
+/* Under mpirun on a file: every rank reads its slice, refines its share and
+   writes its part of the surface (limn_mpi_mesh_subdivide); rank 0 reports. */
+static int run_sliced(cli_args *a, const limn_subdivide_options *o)
+{
+    limn_context *ctx = limn_context_create();
+    if (!ctx)
+        return EXIT_FAILURE_RUN;
+    double sec[3] = {0, 0, 0}, t0 = cli_now();
+    limn_status st = cli_set_host_threads(ctx, a->host_threads);
+    if (!st)
+        st = limn_context_set_device(ctx, a->device);
+    a->quiet |= cli_mpi_rank() != 0; /* under mpirun rank 0 prints */
+    st = cli_mpi_agree(ctx, st);
+    limn_write_options wo;
+    limn_write_options_default(&wo);
+    wo.precision = a->precision;
+    cli_sliced_job job = {a->cmd,       a->inputs[0],  a->output, &a->repair,
+                          a->in_format, a->out_format, &wo};
+    limn_subdivide_report r = {.size = sizeof r};
+    limn_write_report wr = {.size = sizeof wr};
+    double io[2] = {0, 0};
+    if (!st) {
+        cli_progress_enable(ctx, a->quiet);
+        st = cli_mpi_subdivide_sliced(ctx, &job, o, &r, &wr, io);
+        cli_progress_done();
+    }
+    sec[0] = io[0];
+    sec[1] = io[1];
+    a->written = wr;
+    a->wrote = !st;
+    int rc = finish(ctx, a, st, NULL, &r, sec, t0);
+    limn_context_destroy(ctx);
+    return rc;
+}
+
 static int run(cli_args *a, const limn_subdivide_options *o)
 {
+    if (cli_mpi_ranks() > 1) {
+        if (cli_mpi_sliced(a->inputs[0], a->in_format, a->output, 0))
+            return run_sliced(a, o);
+        if (cli_mpi_rank() == 0)
+            cli_usage_error(a->cmd, "on several MPI ranks the input and the output must be "
+                            ".ply, .obj or .off files (not standard input or output)");
+        return EXIT_USAGE;
+    }
+
     limn_context *ctx = limn_context_create();
     if (!ctx)
         return EXIT_FAILURE_RUN;
@@ -122,23 +196,7 @@ static int run(cli_args *a, const limn_subdivide_options *o)
     if (!st)
         st = refine(ctx, a, mesh, o, &surface, &r);
     /* the surface and the report are both complete before either appears */
-    limn_output_set *set = NULL;
-    if (!st)
-        st = limn_output_set_create(ctx, &set);
-    if (!st) {
-        double t1 = cli_now();
-        st = cli_args_stage_output(a, ctx, set, surface, a->output);
-        sec[1] = cli_now() - t1;
-        sec[2] = cli_now() - t0;
-    }
-    if (!st && a->report)
-        st = write_report(ctx, a, &r, sec, set);
-    st = cli_commit_outputs(ctx, st, set);
-    int rc = st ? cli_fail("subdivide", ctx, st) : 0;
-    if (!st && !a->quiet) {
-        print_summary(a, &r, sec);
-        cli_args_print_written(a);
-    }
+    int rc = finish(ctx, a, st, surface, &r, sec, t0);
     limn_mesh_destroy(mesh);
     limn_mesh_destroy(surface);
     limn_context_destroy(ctx);

@@ -70,10 +70,38 @@ static int gathers_scatter(const stencil_csr *a)
 typedef limn_status (*buffer_from_host)(struct device *dev, size_t bytes, const void *host,
                                         device_buffer **out);
 
+/* The table in SELL slices (a device whose kernels want them,
+   device.sell_slice): copied, the host layout freed at once. */
+static limn_status sell_to_device(struct device *dev, const stencil_csr *host, device_csr *out)
+{
+    stencil_sell s;
+    limn_status st = stencil_sell_build(dev->ctx, host, dev->sell_slice, &s);
+    if (st)
+        return st;
+    out->rows = host->rows;
+    out->nonzeros = s.slice_offsets[s.slices];
+    st = dev->ops->buffer_create(dev, (s.slices + 1) * sizeof(uint32_t), s.slice_offsets,
+                                 &out->row_offsets);
+    if (!st)
+        st = dev->ops->buffer_create(dev, out->nonzeros * sizeof(uint32_t), s.columns,
+                                     &out->columns);
+    if (!st)
+        st = dev->ops->buffer_create(dev, out->nonzeros * sizeof(double), s.weights,
+                                     &out->weights);
+    stencil_sell_free(&s);
+    if (st)
+        device_csr_release(dev, out);
+    return st;
+}
+
 static limn_status csr_to_device(struct device *dev, const stencil_csr *host,
                                  buffer_from_host make, device_csr *out)
 {
     memset(out, 0, sizeof *out);
+    if (dev->sell_slice) {
+        out->gather_ahead = gathers_scatter(host);
+        return sell_to_device(dev, host, out);
+    }
     out->rows = host->rows;
     out->nonzeros = host->row_offsets[host->rows];
     out->gather_ahead = gathers_scatter(host);

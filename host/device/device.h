@@ -4,9 +4,10 @@
  * Two implementations: OpenCL (device_opencl.c) and plain C (device_ref.c).
  * Vectors are stored as 4 doubles per vertex (x, y, z, unused) because a
  * 32-byte record per row streams faster than three separate arrays.
- * Reductions are split into fixed chunks of rows (DEVICE_ROWS_PER_ITEM);
- * each chunk's partial result is finished on the host in chunk order, so the
- * result does not depend on the number of threads.
+ * Reductions are split into fixed chunks of rows (DEVICE_ROWS_PER_ITEM; on
+ * OpenCL in the gpu kernel shape, a work-group's rows, device/opencl/
+ * opencl_shape.h); each chunk's partial result is finished on the host in
+ * chunk order, so the result does not depend on the number of threads.
  */
 #ifndef LIMN_DEVICE_H
 #define LIMN_DEVICE_H
@@ -14,6 +15,7 @@
 #include "limn.h"
 #include "stencil/sgs_table.h"
 #include "stencil/stencil.h"
+#include "stencil/stencil_sell.h"
 
 #define DEVICE_ROWS_PER_ITEM 256
 #define DEVICE_WORKGROUP 8
@@ -31,8 +33,8 @@ typedef struct device_csr {
     size_t rows;
     size_t nonzeros;
     size_t row_begin;
-    device_buffer *row_offsets;  /* uint32, rows + 1 */
-    device_buffer *columns;      /* uint32, nonzeros */
+    device_buffer *row_offsets;  /* uint32, rows + 1; SELL (device.sell_slice): slices + 1 */
+    device_buffer *columns;      /* uint32, nonzeros (SELL: entries with padding) */
     device_buffer *weights;      /* double, nonzeros */
     device_buffer *weights_f;    /* float copy for the float path (device_csr_add_float);
                                     NULL until then */
@@ -165,11 +167,12 @@ typedef struct device_ops {
     limn_status (*buffer_read)(struct device *dev, device_buffer *buf, size_t bytes,
                                void *dst);
     void (*buffer_release)(struct device *dev, device_buffer *buf);
-    /* A buffer of host memory that outlives it and that nothing writes while
-       it lives: used in place where the device shares host memory (the
-       reference backend, OpenCL CPU devices), else a copy as buffer_create.
-       Vectors the kernels read whole (double4 rows) must come from
-       device_host_alloc: aligned loads. */
+    /* A buffer of host memory that outlives it and that the host does not
+       write while it lives: used in place where the device shares host memory
+       (the reference backend, OpenCL CPU devices), else a copy as
+       buffer_create. Kernels may write it; buffer_read into that same memory
+       then makes it current (in place: no copy). Vectors the kernels read
+       whole (double4 rows) must come from device_host_alloc: aligned loads. */
     limn_status (*buffer_share)(struct device *dev, size_t bytes, const void *host,
                                 device_buffer **out);
     /* A buffer whose contents are undefined until written: for one that a
@@ -221,6 +224,8 @@ struct device {
     char name[256];
     void *impl;
     device_setup_times setup; /* accumulated over the device's life */
+    size_t sell_slice;        /* 0: tables upload as CSR; C: in SELL-C slices (the OpenCL
+                                 gpu kernel shape, opencl_shape.h, stencil/stencil_sell.h) */
 };
 
 /*

@@ -81,6 +81,22 @@ limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
     return LIMN_OK;
 }
 
+/* The faces and colours of mesh into *out (allocated by mesh_alloc for its
+   counts); on failure *out is destroyed and NULL. */
+static limn_status copy_faces_colors(limn_context *ctx, const limn_mesh *mesh, limn_mesh **out)
+{
+    limn_mesh *m = *out;
+    memcpy(m->face_offsets, mesh->face_offsets, (mesh->face_count + 1) * sizeof(uint32_t));
+    memcpy(m->face_indices, mesh->face_indices,
+           mesh->face_offsets[mesh->face_count] * sizeof(uint32_t));
+    limn_status st = mesh->colors ? limn_mesh_set_colors(ctx, m, mesh->colors) : LIMN_OK;
+    if (st) {
+        limn_mesh_destroy(m);
+        *out = NULL;
+    }
+    return st;
+}
+
 limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh **out)
 {
     /* no ctx_clear: operations call this for their results, keeping their warnings */
@@ -93,20 +109,33 @@ limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh *
                                 mesh->face_offsets[mesh->face_count], out);
     if (st)
         return st;
-    limn_mesh *m = *out;
-    memcpy(m->positions, mesh->positions, mesh->vertex_count * 3 * sizeof(double));
-    memcpy(m->face_offsets, mesh->face_offsets, (mesh->face_count + 1) * sizeof(uint32_t));
-    memcpy(m->face_indices, mesh->face_indices,
-           mesh->face_offsets[mesh->face_count] * sizeof(uint32_t));
-    if (mesh->colors) {
-        st = limn_mesh_set_colors(ctx, m, mesh->colors);
-        if (st) {
-            limn_mesh_destroy(m);
-            *out = NULL;
-            return st;
-        }
+    memcpy((*out)->positions, mesh->positions, mesh->vertex_count * 3 * sizeof(double));
+    return copy_faces_colors(ctx, mesh, out);
+}
+
+double *mesh_rows4_to_xyz(double *rows4, size_t vertices)
+{
+    /* row k's source 4k.. lies at or past everything rows before it wrote */
+    for (size_t k = 0; k < vertices; k++)
+        memmove(rows4 + 3 * k, rows4 + 4 * k, 3 * sizeof *rows4);
+    double *shrunk = realloc(rows4, (vertices ? 3 * vertices : 1) * sizeof *rows4);
+    return shrunk ? shrunk : rows4;
+}
+
+limn_status mesh_copy_with_positions(limn_context *ctx, const limn_mesh *mesh, double *positions,
+                                     limn_mesh **out)
+{
+    *out = NULL;
+    limn_status st =
+        mesh_alloc(ctx, 0, mesh->face_count, mesh->face_offsets[mesh->face_count], out);
+    if (st) {
+        free(positions);
+        return st;
     }
-    return LIMN_OK;
+    free((*out)->positions);
+    (*out)->positions = positions;
+    (*out)->vertex_count = mesh->vertex_count;
+    return copy_faces_colors(ctx, mesh, out);
 }
 
 limn_status mesh_hand_over(limn_status st, limn_mesh *made, limn_mesh **out)

@@ -34,6 +34,16 @@ limn_status mesh_alloc(limn_context *ctx, size_t vertex_count, size_t face_count
    made is destroyed (and *out left as it is); returns st. */
 limn_status mesh_hand_over(limn_status st, limn_mesh *made, limn_mesh **out);
 
+/* Device rows (4 doubles a vertex, malloc'd) made positions in place: the
+   first 3 of every 4 doubles moved down and the block shrunk; returns the
+   block (never NULL: the unshrunk one if realloc fails). */
+double *mesh_rows4_to_xyz(double *rows4, size_t vertices);
+/* limn_mesh_copy with other positions: mesh's faces and colours copied, and
+   `positions` (3 doubles a vertex, malloc'd) taken over, freed on failure
+   too. For results whose positions already lie in memory of their own. */
+limn_status mesh_copy_with_positions(limn_context *ctx, const limn_mesh *mesh, double *positions,
+                                     limn_mesh **out);
+
 /* The bounding box (lo, hi; zeros for no vertices) and its diagonal. */
 double mesh_bbox_diagonal(const limn_mesh *mesh, double lo[3], double hi[3]);
 

@@ -122,6 +122,40 @@ void limn_mpi_result_free(limn_mpi_result *r)
     r->piece_owned = 0;
 }
 
+/* The partition of a distributed mesh: the option, else LIMN_MPI_PARTITION
+   (sfc | scotch), else the space-filling curve. Every rank decides alike
+   when the launcher gives them the same environment (mpirun does); a rank
+   that decides otherwise is refused, not left in another partitioner's
+   collectives. */
+static limn_status part_partition(mpi_part *p, int want)
+{
+    const char *env = getenv("LIMN_MPI_PARTITION");
+    limn_status st = LIMN_OK;
+    if (want == LIMN_MPI_PARTITION_AUTO && env && *env) {
+        want = !strcmp(env, "sfc")      ? LIMN_MPI_PARTITION_SFC
+               : !strcmp(env, "scotch") ? LIMN_MPI_PARTITION_SCOTCH
+                                        : -1;
+        if (want < 0)
+            st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                          "LIMN_MPI_PARTITION is '%s': sfc or scotch (or unset: sfc)", env);
+    } else if (want != LIMN_MPI_PARTITION_AUTO && want != LIMN_MPI_PARTITION_SFC &&
+               want != LIMN_MPI_PARTITION_SCOTCH) {
+        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                      "limn_mpi_options.partition is %d: LIMN_MPI_PARTITION_AUTO, _SFC or _SCOTCH",
+                      want);
+    }
+    p->partition = want == LIMN_MPI_PARTITION_SCOTCH ? LIMN_MPI_PARTITION_SCOTCH
+                                                      : LIMN_MPI_PARTITION_SFC;
+    int lo = st ? -1 : p->partition, hi = lo;
+    MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_INT, MPI_MIN, p->comm);
+    MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_INT, MPI_MAX, p->comm);
+    if (!st && lo >= 0 && lo != hi)
+        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                      "the ranks chose different partitions (LIMN_MPI_PARTITION differs "
+                      "between them): give every rank the same");
+    return st;
+}
+
 limn_status mpi_part_begin(limn_context *ctx, MPI_Comm comm, const limn_mpi_options *mpi,
                            mpi_part *p)
 {
@@ -153,6 +187,8 @@ limn_status mpi_part_begin(limn_context *ctx, MPI_Comm comm, const limn_mpi_opti
     if (p->root < 0 || p->root >= p->size)
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "the root rank is %d; the communicator has %d",
                        p->root, p->size);
+    if (!st)
+        st = part_partition(p, mpi ? mpi->partition : LIMN_MPI_PARTITION_AUTO);
     return mpi_agree(p, st);
 }
 

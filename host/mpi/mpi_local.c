@@ -15,6 +15,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Bits enough for the values 0 .. n (at most 32: n below 2^32). */
+static int bits_for(size_t n)
+{
+    int b = 1;
+    while (b < 32 && ((size_t)1 << b) <= n)
+        b++;
+    return b;
+}
+
 /* The distinct vertices of this rank's faces, increasing (*ref, *nref), and
    for each face corner the index of its vertex in that list (*corner_ref). */
 static limn_status referenced(mpi_part *p, size_t nf, const uint32_t *off, const uint32_t *idx,
@@ -29,14 +38,21 @@ static limn_status referenced(mpi_part *p, size_t nf, const uint32_t *off, const
         free(cr);
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu face corners", nc);
     }
+    /* key: the id above the corner, packed (id - lowest id, then cb bits of
+       corner), so the radix sort skips the digits no key uses */
+    uint32_t lo = UINT32_MAX;
     for (size_t c = 0; c < nc; c++)
-        key[c] = (uint64_t)idx[c] << 32 | c;
+        lo = idx[c] < lo ? idx[c] : lo;
+    int cb = bits_for(nc);
+    uint64_t mask = ((uint64_t)1 << cb) - 1;
+    for (size_t c = 0; c < nc; c++)
+        key[c] = (uint64_t)(idx[c] - lo) << cb | c;
     mpi_local_sort(key, nc);
     for (size_t i = 0; i < nc; i++) {
-        uint32_t v = (uint32_t)(key[i] >> 32);
+        uint32_t v = (uint32_t)(key[i] >> cb) + lo;
         if (i == 0 || v != r[k - 1])
             r[k++] = v;
-        cr[(uint32_t)key[i]] = (uint32_t)(k - 1);
+        cr[key[i] & mask] = (uint32_t)(k - 1);
     }
     free(key);
     *ref = r;
@@ -279,24 +295,34 @@ static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, 
         free(key);
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
     }
-    /* key: id, then where the corner's part is (UINT32_MAX: an owned vertex) */
+    /* key: id - lowest id, then xb bits of where the corner's part is plus
+       one (0: an owned vertex), packed so the radix sort skips unused digits */
+    uint32_t lo = UINT32_MAX;
     for (size_t i = 0; i < n_own; i++)
-        key[n++] = (uint64_t)own[i] << 32 | UINT32_MAX;
+        lo = own[i] < lo ? own[i] : lo;
     for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
         for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
-            key[n++] = (uint64_t)w[at + 3 + c] << 32 | (uint32_t)(at + 3 + d + c);
+            lo = w[at + 3 + c] < lo ? w[at + 3 + c] : lo;
+    int xb = bits_for(nw);
+    uint64_t mask = ((uint64_t)1 << xb) - 1;
+    for (size_t i = 0; i < n_own; i++)
+        key[n++] = (uint64_t)(own[i] - lo) << xb;
+    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+        for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
+            key[n++] = (uint64_t)(w[at + 3 + c] - lo) << xb | (at + 3 + d + c + 1);
     mpi_local_sort(key, n);
     for (size_t i = 0, o = 0; i < n; i++) {
-        uint32_t id = (uint32_t)(key[i] >> 32), x = (uint32_t)key[i];
+        uint32_t id = (uint32_t)(key[i] >> xb) + lo;
+        size_t x = (size_t)(key[i] & mask); /* 0: owned, else the part's word + 1 */
         if (i == 0 || id != s->ids[k - 1]) {
             s->ids[k] = id;
-            s->part[k] = x == UINT32_MAX ? (uint32_t)p->rank : w[x];
+            s->part[k] = x == 0 ? (uint32_t)p->rank : w[x - 1];
             if (s->part[k] == (uint32_t)p->rank && o < n_own)
                 s->owned[o++] = (uint32_t)k;
             k++;
         }
-        if (x != UINT32_MAX)
-            w[x] = (uint32_t)(k - 1);
+        if (x != 0)
+            w[x - 1] = (uint32_t)(k - 1);
     }
     free(key);
     uint32_t *ids = realloc(s->ids, (k ? k : 1) * sizeof *ids);

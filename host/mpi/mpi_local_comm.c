@@ -128,6 +128,16 @@ static int cmp_u64(const void *a, const void *b)
 
 void mpi_local_sort(uint64_t *a, size_t n)
 {
+    if (n <= 32) { /* a vertex's ring and the like: insertion, no calls */
+        for (size_t i = 1; i < n; i++) {
+            uint64_t x = a[i];
+            size_t j = i;
+            for (; j > 0 && a[j - 1] > x; j--)
+                a[j] = a[j - 1];
+            a[j] = x;
+        }
+        return;
+    }
     uint64_t diff = 0;
     for (size_t i = 1; i < n; i++)
         diff |= a[i] ^ a[0];

@@ -42,8 +42,8 @@ limn_status mpi_mesh_scheme(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme 
                             limn_scheme *out);
 
 /* The rows of a distributed mesh (mpi_mesh_interpolate.c; shared with the
-   series, mpi_mesh_series.c): the PT-Scotch partition, then p filled by
-   mpi_local_build; *m4 the owned rows of M (4 doubles a row, caller frees). */
+   series, mpi_mesh_series.c): the partition (p->partition: the Hilbert
+   curve or PT-Scotch), then p filled by mpi_local_build; *m4 the owned rows of M (4 doubles a row, caller frees). */
 limn_status mpi_mesh_build_rows(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
                                 double alpha, double **m4);
 

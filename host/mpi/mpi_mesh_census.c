@@ -129,20 +129,41 @@ static void classify(ring *g, uint32_t v, const uint32_t *const *t, uint32_t n, 
     k[4]++; /* referenced */
 }
 
+/* The nc corners got (v, prev, next) by vertex, each vertex's in arrival
+   (= corner) order, as v << 32 | corner: a counting sort over the block
+   [begin, begin + nb) that holds every v. */
+static limn_status corners_by_vertex(mpi_part *p, const uint32_t *got, size_t nc, size_t begin,
+                                     size_t nb, uint64_t *order)
+{
+    size_t *at = calloc(nb + 1, sizeof *at);
+    if (!at)
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nb);
+    for (size_t c = 0; c < nc; c++)
+        at[got[3 * c] - begin + 1]++;
+    for (size_t v = 0; v < nb; v++)
+        at[v + 1] += at[v];
+    for (size_t c = 0; c < nc; c++)
+        order[at[got[3 * c] - begin]++] = (uint64_t)got[3 * c] << 32 | c;
+    free(at);
+    return LIMN_OK;
+}
+
 /* The classification of every vertex whose corners arrived (n words). */
-static limn_status classify_all(mpi_part *p, const uint32_t *got, size_t n, uint64_t k[5])
+static limn_status classify_all(mpi_part *p, const limn_mpi_mesh *mesh, const uint32_t *got,
+                                size_t n, uint64_t k[5])
 {
     size_t nc = n / 3, longest = 0;
     uint64_t *order = malloc((nc ? nc : 1) * sizeof *order);
     const uint32_t **t = malloc((nc ? nc : 1) * sizeof *t);
-    if (!order || !t) {
+    limn_status cs = order && t ? corners_by_vertex(p, got, nc, mesh->vertex_dist[p->rank],
+                                                    mesh->slice.vertex_count, order)
+                                : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                                           "out of memory for %zu corners", nc);
+    if (cs) {
         free(order);
         free(t);
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu corners", nc);
+        return cs;
     }
-    for (size_t c = 0; c < nc; c++) /* by vertex, corners in arrival (= corner) order */
-        order[c] = (uint64_t)got[3 * c] << 32 | c;
-    mpi_local_sort(order, nc);
     for (size_t i = 0, j; i < nc; i = j) {
         for (j = i; j < nc && order[j] >> 32 == order[i] >> 32; j++)
             ;
@@ -190,7 +211,7 @@ limn_status mpi_mesh_census(mpi_part *p, const limn_mpi_mesh *mesh, mpi_mesh_cou
     free(send);
     free(cnt);
     if (!st)
-        st = classify_all(p, got, n, k);
+        st = classify_all(p, mesh, got, n, k);
     free(got);
     st = mpi_agree(p, st);
     if (st)

@@ -5,9 +5,11 @@
  * face of each set the original and every other one a duplicate of it
  * (mesh_repair.c's find_duplicates). Every face goes, as its sorted vertex
  * list, to the block owner of its lowest vertex, so all copies of a set
- * meet on one rank; there the records are sorted (size, vertices, face),
- * each set's later faces are duplicates of its first, and each verdict goes
- * back to the rank holding the face, which drops it when asked.
+ * meet on one rank; there the records are grouped by a hash of their set
+ * (a radix sort of 64-bit keys) and only records sharing a hash are sorted
+ * (size, vertices, face): each set's later faces are duplicates of its
+ * first, and each verdict goes back to the rank holding the face, which
+ * drops it when asked.
  */
 #include "mpi/mpi_blocks.h"
 #include "mpi/mpi_local.h"
@@ -40,6 +42,33 @@ static int cmp_u32(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* A face's corners sorted: insertion for the usual few, qsort past 16. */
+static void sort_corners(uint32_t *v, uint32_t d)
+{
+    if (d > 16) {
+        qsort(v, d, sizeof *v, cmp_u32);
+        return;
+    }
+    for (uint32_t i = 1; i < d; i++) {
+        uint32_t x = v[i], j = i;
+        for (; j > 0 && v[j - 1] > x; j--)
+            v[j] = v[j - 1];
+        v[j] = x;
+    }
+}
+
+/* A record's vertex set (its size and sorted vertices) as 64 bits: equal
+   sets hash alike, so only records of equal hashes need comparing. */
+static uint64_t rec_hash(const uint32_t *r)
+{
+    uint64_t h = 0x9e3779b97f4a7c15ULL ^ r[2];
+    for (uint32_t c = 0; c < r[2]; c++) {
+        h = (h ^ r[3 + c]) * 0xff51afd7ed558ccdULL;
+        h ^= h >> 32;
+    }
+    return h;
+}
+
 /* This rank's faces as records grouped by the owner of their lowest vertex
    (cnt[r] words to rank r). */
 static limn_status records_out(mpi_part *p, const limn_mpi_mesh *mesh, uint32_t **out, int *cnt)
@@ -61,7 +90,7 @@ static limn_status records_out(mpi_part *p, const limn_mpi_mesh *mesh, uint32_t 
         tmp[o + 1] = (uint32_t)(g >> 32);
         tmp[o + 2] = d;
         memcpy(tmp + o + 3, s->face_indices + b, d * sizeof *tmp);
-        qsort(tmp + o + 3, d, sizeof *tmp, cmp_u32);
+        sort_corners(tmp + o + 3, d);
         dest[f] = mpi_blocks_owner(mesh->vertex_dist, p->size, d ? tmp[o + 3] : 0);
         at[dest[f] + 1] += 3 + d;
         o += 3 + d;
@@ -89,6 +118,54 @@ static limn_status records_out(mpi_part *p, const limn_mpi_mesh *mesh, uint32_t 
     return st;
 }
 
+/* The (face, original) pairs of the sets among the nr records r: records
+   are grouped by hash (the high bits of a radix-sorted key whose low `ib`
+   bits are the record's index), and only a group of two or more is sorted
+   in full (size, vertices, face): each set's later faces are duplicates of
+   its first, as the single process finds. *np pairs into pairs. */
+static limn_status find_sets(mpi_part *p, const uint32_t **r, size_t nr, uint64_t *pairs,
+                             size_t *np)
+{
+    int ib = 1;
+    while (ib < 40 && ((size_t)1 << ib) < nr)
+        ib++;
+    uint64_t low = ((uint64_t)1 << ib) - 1;
+    uint64_t *key = malloc((nr ? nr : 1) * sizeof *key);
+    const uint32_t **group = malloc((nr ? nr : 1) * sizeof *group);
+    *np = 0;
+    if (!key || !group) {
+        free(key);
+        free(group);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
+    }
+    for (size_t k = 0; k < nr; k++)
+        key[k] = (rec_hash(r[k]) & ~low) | k;
+    mpi_local_sort(key, nr);
+    for (size_t i = 0, j; i < nr; i = j) {
+        for (j = i + 1; j < nr && (key[j] & ~low) == (key[i] & ~low); j++)
+            ;
+        if (j - i < 2)
+            continue; /* a hash of its own: no copy of this set here */
+        size_t g = j - i;
+        for (size_t k = 0; k < g; k++)
+            group[k] = r[key[i + k] & low];
+        qsort(group, g, sizeof *group, cmp_rec);
+        for (size_t a = 0, b; a < g; a = b) { /* a set's first face is the original */
+            uint64_t of = rec_face(group[a]);
+            for (b = a + 1; b < g && group[b][2] == group[a][2] &&
+                            memcmp(group[b] + 3, group[a] + 3, group[a][2] * sizeof **group) == 0;
+                 b++) {
+                pairs[2 * *np] = rec_face(group[b]);
+                pairs[2 * *np + 1] = of;
+                (*np)++;
+            }
+        }
+    }
+    free(key);
+    free(group);
+    return LIMN_OK;
+}
+
 /* The verdicts on the records received (n words): (face, original) pairs
    grouped by the rank holding the face, vcnt[r] pairs to rank r. */
 static limn_status verdicts(mpi_part *p, const limn_mpi_mesh *mesh, const uint32_t *rec, size_t n,
@@ -99,31 +176,20 @@ static limn_status verdicts(mpi_part *p, const limn_mpi_mesh *mesh, const uint32
         nr++;
     const uint32_t **r = malloc((nr ? nr : 1) * sizeof *r);
     uint64_t *pairs = malloc((nr ? 2 * nr : 1) * sizeof *pairs);
-    uint64_t *sorted = malloc((nr ? 2 * nr : 1) * sizeof *sorted);
     size_t *at = calloc((size_t)p->size + 1, sizeof *at), np = 0;
     *out = NULL;
-    if (!r || !pairs || !sorted || !at) {
-        free(r);
-        free(pairs);
-        free(sorted);
-        free(at);
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
-    }
-    for (size_t o = 0, k = 0; o < n; o += 3 + rec[o + 2])
+    limn_status st = r && pairs && at ? LIMN_OK
+                                      : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                                                 "out of memory looking for duplicate faces");
+    for (size_t o = 0, k = 0; !st && o < n; o += 3 + rec[o + 2])
         r[k++] = rec + o;
-    qsort(r, nr, sizeof *r, cmp_rec);
-    for (size_t i = 0, j; i < nr; i = j) { /* a set's first face is the original */
-        uint64_t of = rec_face(r[i]);
-        for (j = i + 1; j < nr && r[j][2] == r[i][2] &&
-                        memcmp(r[j] + 3, r[i] + 3, r[i][2] * sizeof **r) == 0;
-             j++) {
-            pairs[2 * np] = rec_face(r[j]);
-            pairs[2 * np + 1] = of;
-            np++;
-        }
-    }
-    int *dest = malloc((np ? np : 1) * sizeof *dest);
-    limn_status st = dest ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    if (!st)
+        st = find_sets(p, r, nr, pairs, &np);
+    free(r);
+    int *dest = st ? NULL : malloc((np ? np : 1) * sizeof *dest);
+    uint64_t *sorted = st ? NULL : malloc((np ? 2 * np : 1) * sizeof *sorted);
+    if (!st && (!dest || !sorted))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     for (size_t k = 0; !st && k < np; k++) {
         dest[k] = mpi_blocks_owner(mesh->face_dist, p->size, (size_t)pairs[2 * k]);
         at[dest[k] + 1]++;
@@ -137,7 +203,6 @@ static limn_status verdicts(mpi_part *p, const limn_mpi_mesh *mesh, const uint32
         sorted[2 * to] = pairs[2 * k];
         sorted[2 * to + 1] = pairs[2 * k + 1];
     }
-    free(r);
     free(pairs);
     free(at);
     free(dest);

@@ -2,8 +2,8 @@
 /*
  * limn_mpi_mesh_interpolate: the interpolation with no rank holding the
  * whole mesh. The vertex blocks are partitioned over the ranks in parallel
- * (mpi_dgraph.c, PT-Scotch), every rank builds the rows of its vertices
- * from the faces around them (mpi_local.c), the solve is the one of
+ * (mpi_sfc.c, a Hilbert curve, or mpi_dgraph.c, PT-Scotch), every rank
+ * builds the rows of its vertices from the faces around them (mpi_local.c), the solve is the one of
  * limn_interpolate_mpi (mpi_interpolate.c), and the owned results go back to
  * the vertex blocks of a distributed control mesh with the input's faces.
  * Each row is summed in the single process's order, so the results are the
@@ -15,6 +15,7 @@
 #include "mpi/mpi_blocks.h"
 #include "mpi/mpi_dgraph.h"
 #include "mpi/mpi_local.h"
+#include "mpi/mpi_sfc.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -71,19 +72,20 @@ limn_status mpi_mesh_build_rows(mpi_part *p, const limn_mpi_mesh *mesh, limn_sch
 {
     const mesh_slice *s = &mesh->slice;
     uint32_t *part_of = NULL;
-    mpi_dgraph_stats ds;
     double t0 = MPI_Wtime();
-    limn_status st = mpi_dgraph_partition(p->ctx, p->comm, mesh->vertex_dist, s->face_count,
-                                          s->face_offsets, s->face_indices, p->size, &part_of,
-                                          &ds);
+    limn_status st;
+    if (p->partition == LIMN_MPI_PARTITION_SCOTCH) {
+        mpi_dgraph_stats ds;
+        st = mpi_dgraph_partition(p->ctx, p->comm, mesh->vertex_dist, s->face_count,
+                                  s->face_offsets, s->face_indices, p->size, &part_of, &ds);
+    } else {
+        st = mpi_sfc_partition(p, mesh->vertex_dist, s->positions, p->size, &part_of, NULL);
+    }
     p->stats.seconds_partition = MPI_Wtime() - t0;
-    if (!st) {
-        p->stats.edge_cut = ds.edge_cut;
-        p->edge_cut = ds.edge_cut;
+    if (!st) /* the edge cut comes from the local build (mpi_local_counts) */
         st = mpi_local_build(p, mesh->vertex_dist, s->positions, part_of, s->face_begin,
                              s->face_count, s->face_offsets, s->face_indices, scheme, alpha,
                              NULL, m4, NULL);
-    }
     free(part_of);
     return st;
 }

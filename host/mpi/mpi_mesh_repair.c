@@ -74,26 +74,33 @@ static void take_faces(mesh_slice *s, limn_mesh *m, const uint32_t *ids)
 }
 
 /* Repairs this rank's block in place (when allowed): r gets its counts and
-   the block's first repeat (global face and vertex; SIZE_MAX when none). */
+   the block's first repeat (global face and vertex; SIZE_MAX when none).
+   The repeats are looked for on the block's own arrays (a face is judged
+   by its corners alone); only a block with one builds its local mesh. */
 static limn_status repair_block(limn_context *ctx, mesh_slice *s, int allowed,
                                 limn_repair_report *r)
 {
-    uint32_t *ids = NULL;
-    limn_mesh *m = NULL;
-    limn_status st = local_mesh(ctx, s, &ids, &m);
+    limn_mesh view = {.vertex_count = s->vertex_total,
+                      .face_count = s->face_count,
+                      .face_offsets = s->face_offsets,
+                      .face_indices = s->face_indices};
     size_t first = SIZE_MAX;
     uint32_t first_v = 0;
-    if (!st)
-        st = face_first_repeat(ctx, m, &first, &first_v);
+    limn_status st = face_first_repeat(ctx, &view, &first, &first_v);
     r->first_repeat_face = SIZE_MAX;
-    if (!st && first != SIZE_MAX) {
-        r->first_repeat_face = s->face_begin + first;
-        r->first_repeat_vertex = ids[first_v];
-        if (allowed)
-            st = repair_fix_repeats(ctx, m, r);
-        if (!st && allowed)
-            take_faces(s, m, ids);
-    }
+    if (st || first == SIZE_MAX)
+        return st;
+    r->first_repeat_face = s->face_begin + first;
+    r->first_repeat_vertex = first_v; /* a global id: the view's numbering */
+    if (!allowed)
+        return LIMN_OK;
+    uint32_t *ids = NULL;
+    limn_mesh *m = NULL;
+    st = local_mesh(ctx, s, &ids, &m);
+    if (!st)
+        st = repair_fix_repeats(ctx, m, r);
+    if (!st)
+        take_faces(s, m, ids);
     limn_mesh_destroy(m);
     free(ids);
     return st;

@@ -50,6 +50,7 @@ typedef struct mpi_part {
     MPI_Comm comm;                /* a duplicate of the caller's */
     int rank, size, root;
     int local_size;               /* ranks on this node */
+    int partition;                /* limn_mpi_partition of a distributed mesh: SFC or SCOTCH */
     /* the global problem (same on every rank) */
     limn_scheme scheme;
     double alpha, diag;

@@ -16,6 +16,7 @@
 #include "topology/topology.h"
 #include "device/choice/choice.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -106,8 +107,7 @@ static limn_status child_faces(limn_context *ctx, const topology *t, limn_scheme
     limn_status st = mesh_alloc(ctx, child_vertices, nf, ni, out);
     if (st)
         return st;
-    limn_mesh *m = *out;
-    memset(m->positions, 0, child_vertices * 3 * sizeof(double));
+    limn_mesh *m = *out; /* positions unset: written by whoever applies the plan */
     uint32_t nv = (uint32_t)t->vertex_count;
     child_job j = {t, scheme, m, nv,
                    scheme == LIMN_SCHEME_LOOP ? nv : nv + (uint32_t)t->face_count};
@@ -174,50 +174,84 @@ limn_status refine_plan_build(limn_context *ctx, const limn_mesh *base, limn_sch
     return st;
 }
 
+/* Level `from`'s data (`channels` doubles a vertex) carried to the finest
+   level: *rows is its device rows (4 doubles a vertex, device_host_alloc),
+   which the caller frees. Each level's rows are host memory the device uses
+   in place where it shares it (no device copy, the last read-back a map). */
+static limn_status apply_rows(limn_context *ctx, const refine_plan *plan, int from, int channels,
+                              const double *in, double **rows)
+{
+    *rows = NULL;
+    struct device *dev;
+    limn_status st = device_get(ctx, &dev);
+    if (st)
+        return st;
+    size_t n = plan->meshes[from]->vertex_count;
+    double *x_host = n < SIZE_MAX / 32 ? device_host_alloc(4 * n * sizeof *x_host) : NULL;
+    if (!x_host)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+    for (size_t i = 0; i < n; i++) {
+        memset(x_host + 4 * i, 0, 4 * sizeof *x_host);
+        memcpy(x_host + 4 * i, in + (size_t)channels * i, (size_t)channels * sizeof(double));
+    }
+    device_buffer *x = NULL;
+    st = dev->ops->buffer_share(dev, 4 * n * sizeof(double), x_host, &x);
+    for (int k = from; !st && k < plan->levels; k++) {
+        const stencil_csr *h = &plan->steps[k];
+        double *y_host = device_host_alloc(4 * h->rows * sizeof *y_host);
+        device_buffer *y = NULL;
+        device_csr a = {0};
+        st = y_host ? device_csr_share(dev, h, &a) /* the plan's table outlives it */
+                    : ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", h->rows);
+        if (!st) /* the spmv writes every row */
+            st = dev->ops->buffer_share(dev, 4 * h->rows * sizeof(double), y_host, &y);
+        if (!st)
+            st = dev->ops->spmv(dev, &a, x, y);
+        if (a.row_offsets)
+            device_csr_release(dev, &a);
+        dev->ops->buffer_release(dev, x); /* before its memory goes */
+        free(x_host);
+        x = y;
+        x_host = y_host;
+    }
+    size_t n_out = plan->meshes[plan->levels]->vertex_count;
+    if (!st) /* into its own memory: in place where shared */
+        st = dev->ops->buffer_read(dev, x, 4 * n_out * sizeof(double), x_host);
+    if (x)
+        dev->ops->buffer_release(dev, x);
+    if (st)
+        free(x_host);
+    else
+        *rows = x_host;
+    return st;
+}
+
 limn_status refine_plan_apply(limn_context *ctx, const refine_plan *plan, int from, int channels,
                               const double *in, double *out)
 {
     if (from < 0 || from > plan->levels || channels < 1 || channels > 4)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "refine_plan_apply: bad level %d or channels %d",
                          from, channels);
-    struct device *dev;
-    limn_status st = device_get(ctx, &dev);
+    double *rows;
+    limn_status st = apply_rows(ctx, plan, from, channels, in, &rows);
+    size_t n_out = plan->meshes[plan->levels]->vertex_count;
+    for (size_t i = 0; !st && i < n_out; i++)
+        memcpy(out + (size_t)channels * i, rows + 4 * i, (size_t)channels * sizeof(double));
+    free(rows);
+    return st;
+}
+
+limn_status refine_plan_apply_positions(limn_context *ctx, refine_plan *plan,
+                                        const double *positions)
+{
+    double *rows;
+    limn_status st = apply_rows(ctx, plan, 0, 3, positions, &rows);
     if (st)
         return st;
-    size_t n = plan->meshes[from]->vertex_count;
-    size_t n_out = plan->meshes[plan->levels]->vertex_count;
-    double *buf = calloc(4 * (n_out > n ? n_out : n) + 4, sizeof *buf);
-    if (!buf)
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n_out);
-    for (size_t i = 0; i < n; i++)
-        memcpy(buf + 4 * i, in + (size_t)channels * i, (size_t)channels * sizeof(double));
-    device_buffer *x = NULL, *y = NULL;
-    st = dev->ops->buffer_create(dev, 4 * n * sizeof(double), buf, &x);
-    for (int k = from; !st && k < plan->levels; k++) {
-        device_csr a;
-        const stencil_csr *h = &plan->steps[k];
-        st = device_csr_share(dev, h, &a); /* the plan's table outlives it */
-        if (!st)
-            st = dev->ops->buffer_scratch(dev, 4 * h->rows * sizeof(double), &y);
-        if (!st)
-            st = dev->ops->spmv(dev, &a, x, y);
-        if (!st) {
-            dev->ops->buffer_release(dev, x);
-            x = y;
-            y = NULL;
-        }
-        device_csr_release(dev, &a);
-    }
-    if (!st)
-        st = dev->ops->buffer_read(dev, x, 4 * n_out * sizeof(double), buf);
-    for (size_t i = 0; !st && i < n_out; i++)
-        memcpy(out + (size_t)channels * i, buf + 4 * i, (size_t)channels * sizeof(double));
-    if (x)
-        dev->ops->buffer_release(dev, x);
-    if (y)
-        dev->ops->buffer_release(dev, y);
-    free(buf);
-    return st;
+    limn_mesh *fine = plan->meshes[plan->levels];
+    free(fine->positions);
+    fine->positions = mesh_rows4_to_xyz(rows, fine->vertex_count);
+    return LIMN_OK;
 }
 
 void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, int limit,

@@ -21,7 +21,8 @@ typedef struct refine_plan {
     double alpha;
     int levels;
     limn_mesh **meshes;    /* levels + 1 meshes; meshes[0] is a copy of the base
-                              (positions of the finer ones are left unset: 0) */
+                              (positions of the finer ones are undefined until
+                              written: refine_plan_apply_positions, texture.c) */
     stencil_csr *steps;    /* levels tables: level k -> k + 1 */
 } refine_plan;
 
@@ -38,6 +39,11 @@ void refine_plan_free(refine_plan *plan);
  */
 limn_status refine_plan_apply(limn_context *ctx, const refine_plan *plan, int from,
                               int channels, const double *in, double *out);
+/* refine_plan_apply of the base positions (3 doubles a vertex) into the
+   finest mesh's positions, made of the device's rows in place (no fresh
+   positions to fill). */
+limn_status refine_plan_apply_positions(limn_context *ctx, refine_plan *plan,
+                                        const double *positions);
 
 /* Predicted vertex, face and index counts of level `levels`, and the peak
    bytes of a whole subdivide run (plan, apply, the limit operator of the

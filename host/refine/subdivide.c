@@ -135,7 +135,7 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mesh *mesh,
     for (int k = 0; k < plan.levels; k++)
         r->stencil_nonzeros += plan.steps[k].row_offsets[plan.steps[k].rows];
     limn_mesh *out = plan.meshes[plan.levels];
-    st = refine_plan_apply(ctx, &plan, 0, 3, mesh->positions, out->positions);
+    st = refine_plan_apply_positions(ctx, &plan, mesh->positions);
     double t2 = clock_seconds();
     r->seconds_apply = t2 - t1;
     if (!st && o->limit) {

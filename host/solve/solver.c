@@ -9,7 +9,9 @@
 #include "base/clock.h"
 #include "base/context.h"
 #include "solve/solve_mixed.h"
+#include "device/device.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -47,7 +49,34 @@ void solver_destroy(solver *s)
             s->dev->ops->buffer_release(s->dev, s->p[i]);
     if (s->m)
         s->dev->ops->buffer_release(s->dev, s->m);
+    for (int i = 0; i < 2; i++)
+        free(s->p_host[i]); /* after their buffers: a device may still use them */
     memset(s, 0, sizeof *s);
+}
+
+/* Iterate i in host memory the device uses in place where it can (no device
+   copy, no read-back): a copy of init, or zeros. */
+static limn_status iterate_buffer(solver *s, int i, size_t n, const double *init)
+{
+    size_t bytes = 4 * n * sizeof(double);
+    s->p_host[i] = n < SIZE_MAX / 32 ? device_host_alloc(bytes) : NULL;
+    if (!s->p_host[i])
+        return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+    if (init)
+        memcpy(s->p_host[i], init, bytes);
+    else
+        memset(s->p_host[i], 0, bytes);
+    return s->dev->ops->buffer_share(s->dev, bytes, s->p_host[i], &s->p[i]);
+}
+
+/* Drops iterate i: its buffer, then its host memory. */
+static void iterate_drop(solver *s, int i)
+{
+    if (s->p[i])
+        s->dev->ops->buffer_release(s->dev, s->p[i]);
+    s->p[i] = NULL;
+    free(s->p_host[i]);
+    s->p_host[i] = NULL;
 }
 
 /* The method's start (its tiers' blocks) in host arrays: P in buf on success; on
@@ -101,8 +130,9 @@ static limn_status step_local(void *user, int cur, const solve_step *sp, device_
 }
 
 limn_status solver_solve(solver *s, stencil_operator *op, double diag, double *buf,
-                         limn_report *r)
+                         double **p_out, limn_report *r)
 {
+    *p_out = NULL;
     const limn_interpolate_options *o = s->o;
     size_t n = op->vertex_count;
     s->dev = op->dev;
@@ -116,12 +146,12 @@ limn_status solver_solve(solver *s, stencil_operator *op, double diag, double *b
     if (!st && s->ops->block)
         st = run_start(s, op, o->tolerance * diag, buf, r);
     if (!st)
-        st = s->dev->ops->buffer_create(s->dev, 4 * n * sizeof(double), buf, &s->p[0]);
+        st = iterate_buffer(s, 0, n, buf);
     int done = 0;
     if (!st && s->precision == LIMN_PRECISION_FLOAT)
         st = solve_mixed(s->ctx, op, s->m, s->p[0], o, diag, s->ops->method, &done, r);
     if (!st && !done)
-        st = s->dev->ops->buffer_create(s->dev, 4 * n * sizeof(double), NULL, &s->p[1]);
+        st = iterate_buffer(s, 1, n, NULL); /* defined: Chebyshev's first step reads it */
     double t_loop = clock_seconds(), compiles = s->dev->setup.kernels; /* first launches */
     local_step ls = {op, s};
     if (!st && !done)
@@ -133,11 +163,16 @@ limn_status solver_solve(solver *s, stencil_operator *op, double diag, double *b
     if (s->m)
         s->dev->ops->buffer_release(s->dev, s->m);
     s->m = NULL;
-    if (s->p[1 - s->which]) {
-        s->dev->ops->buffer_release(s->dev, s->p[1 - s->which]);
-        s->p[1 - s->which] = NULL;
-    }
+    iterate_drop(s, 1 - s->which);
+    /* into the iterate's own memory: in place where the device shares it */
     if (!st)
-        st = s->dev->ops->buffer_read(s->dev, s->p[s->which], 4 * n * sizeof(double), buf);
+        st = s->dev->ops->buffer_read(s->dev, s->p[s->which], 4 * n * sizeof(double),
+                                      s->p_host[s->which]);
+    if (!st) {
+        s->dev->ops->buffer_release(s->dev, s->p[s->which]);
+        s->p[s->which] = NULL;
+        *p_out = s->p_host[s->which];
+        s->p_host[s->which] = NULL;
+    }
     return st;
 }

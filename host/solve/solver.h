@@ -40,6 +40,7 @@ typedef struct solver {
     limn_precision precision;
     struct device *dev;
     device_buffer *m, *p[2]; /* M and the two iterates, on the device */
+    double *p_host[2];       /* the iterates' host memory (device_host_alloc) */
     int which;               /* after solver_solve: the buffer p[which] holds P */
 } solver;
 
@@ -49,10 +50,11 @@ void solver_create(limn_context *ctx, limn_method method, solver *s);
 limn_status solver_set_from_options(solver *s, const limn_interpolate_options *o,
                                     size_t vertices, limn_report *r);
 /* Solves on op's device: buf holds M packed in the operator's order (4
-   doubles a row) and receives P; fills the report's method, iteration,
-   product and error fields. diag: scale of the tolerance. */
+   doubles a row; a start may overwrite it); on success *p_out is P in that
+   layout, host memory the caller frees (NULL on failure). Fills the report's
+   method, iteration, product and error fields. diag: scale of the tolerance. */
 limn_status solver_solve(solver *s, stencil_operator *op, double diag, double *buf,
-                         limn_report *r);
+                         double **p_out, limn_report *r);
 void solver_destroy(solver *s);
 
 #endif

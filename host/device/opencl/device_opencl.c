@@ -83,9 +83,28 @@ static limn_status cl_buffer_share(struct device *dev, size_t bytes, const void 
         return cl_buffer_create(dev, bytes, host, out);
     limn_status st =
         make_buffer(dev, bytes, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, host, 0, out);
-    if (!st)
+    if (!st) {
         (*out)->shared = 1;
+        (*out)->host = (void *)host;
+    }
     return st;
+}
+
+/* A read of a shared buffer into its own host memory: a map, which waits for
+   the kernels and makes that memory current (PoCL's CPU device: no copy). */
+static limn_status read_in_place(struct device *dev, device_buffer *buf, size_t offset,
+                                 size_t bytes, void *dst)
+{
+    cl_int err;
+    cl_command_queue q = impl_of(dev)->queue;
+    void *mapped = clEnqueueMapBuffer(q, buf->mem, CL_TRUE, CL_MAP_READ, offset, bytes, 0, NULL,
+                                      NULL, &err);
+    CHECK(err, "clEnqueueMapBuffer");
+    if (mapped != dst)
+        memcpy(dst, mapped, bytes); /* a runtime that mapped a copy */
+    CHECK(clEnqueueUnmapMemObject(q, buf->mem, mapped, 0, NULL, NULL), "clEnqueueUnmapMemObject");
+    CHECK(clFinish(q), "clFinish");
+    return LIMN_OK;
 }
 
 /* One blocking transfer between buf's bytes [offset, offset + bytes) and the
@@ -99,6 +118,8 @@ static limn_status transfer(struct device *dev, device_buffer *buf, size_t offse
                          src ? "write" : "read");
     if (!bytes && skip_empty)
         return LIMN_OK;
+    if (!src && buf->shared && bytes && dst == (char *)buf->host + offset)
+        return read_in_place(dev, buf, offset, bytes, dst);
     cl_command_queue q = impl_of(dev)->queue;
     if (src)
         CHECK(clEnqueueWriteBuffer(q, buf->mem, CL_TRUE, offset, bytes, src, 0, NULL, NULL),
@@ -145,12 +166,6 @@ static void cl_buffer_release(struct device *dev, device_buffer *buf)
     }
 }
 
-size_t opencl_work_items(size_t rows)
-{
-    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
-    return (chunks + DEVICE_WORKGROUP - 1) / DEVICE_WORKGROUP * DEVICE_WORKGROUP;
-}
-
 limn_status opencl_bind(struct device *dev, cl_kernel k, cl_uint first, const opencl_arg *args,
                         size_t count)
 {
@@ -185,7 +200,7 @@ static limn_status compile_on_first_launch(struct device *dev, opencl_kernel_id 
     double t0 = clock_seconds();
     cl_kernel k = im->kernels[id];
     cl_uint none = 0, all = (cl_uint)rows_arg; /* argument 0 restored after */
-    size_t size = DEVICE_WORKGROUP;
+    size_t size = im->shape.group;
     CHECK(clSetKernelArg(k, 0, sizeof none, &none), "clSetKernelArg(rows)");
     cl_int err = clEnqueueNDRangeKernel(im->queue, k, 1, NULL, &size, &size, 0, NULL, NULL);
     if (err == CL_SUCCESS)
@@ -198,18 +213,18 @@ static limn_status compile_on_first_launch(struct device *dev, opencl_kernel_id 
     return LIMN_OK;
 }
 
-/* A row range starting at row first_item * DEVICE_ROWS_PER_ITEM uses the
-   global work offset, so the kernels need no argument for it
-   (device_csr.row_begin). */
+/* A row range starting at row first_item * rows_per_item uses the global
+   work offset, so the kernels need no argument for it (device_csr.row_begin). */
 limn_status opencl_launch(struct device *dev, opencl_kernel_id id, size_t first_item,
                           size_t rows)
 {
     if (rows == 0)
         return LIMN_OK;
-    limn_status st = compile_on_first_launch(dev, id, first_item * DEVICE_ROWS_PER_ITEM + rows);
+    const opencl_shape *shape = &impl_of(dev)->shape;
+    limn_status st = compile_on_first_launch(dev, id, first_item * shape->rows_per_item + rows);
     if (st)
         return st;
-    size_t global = opencl_work_items(rows), local = DEVICE_WORKGROUP, offset = first_item;
+    size_t global = opencl_shape_items(shape, rows), local = shape->group, offset = first_item;
     cl_int err = clEnqueueNDRangeKernel(impl_of(dev)->queue, impl_of(dev)->kernels[id], 1,
                                         first_item ? &offset : NULL, &global, &local, 0, NULL,
                                         NULL);
@@ -233,13 +248,13 @@ static limn_status cl_spmv(struct device *dev, const device_csr *a, device_buffe
         return st;
     opencl_arg args[] = {OPENCL_MEM(x, "x"), OPENCL_MEM(y, "y")};
     st = opencl_bind(dev, k, 4, args, 2);
-    return st ? st : opencl_launch(dev, K_SPMV, opencl_first_item(a), a->rows);
+    return st ? st : opencl_launch(dev, K_SPMV, opencl_first_item(dev, a), a->rows);
 }
 
-limn_status opencl_ensure_partials(struct device *dev, size_t first_item, size_t rows)
+limn_status opencl_ensure_partials(struct device *dev, size_t first_slot, size_t rows)
 {
     opencl_impl *im = impl_of(dev);
-    size_t items = first_item + opencl_work_items(rows) + 1;
+    size_t items = first_slot + opencl_shape_slots(&im->shape, rows) + 1;
     if (items <= im->partials_items)
         return LIMN_OK;
     if (im->partials)
@@ -263,15 +278,15 @@ limn_status opencl_reduce(struct device *dev, opencl_kernel_id id, const device_
                           device_norms *out)
 {
     cl_kernel k = impl_of(dev)->kernels[id];
-    size_t first = opencl_first_item(a);
-    limn_status st = opencl_ensure_partials(dev, first, a->rows);
+    size_t slot = opencl_first_slot(dev, a);
+    limn_status st = opencl_ensure_partials(dev, slot, a->rows);
     if (!st)
         st = opencl_set_csr_args(dev, k, a, weights);
     if (!st)
         st = opencl_bind(dev, k, 4, args, count);
     if (!st)
-        st = opencl_launch(dev, id, first, a->rows);
-    return st ? st : opencl_finish_partials(dev, first, a->rows, out);
+        st = opencl_launch(dev, id, opencl_first_item(dev, a), a->rows);
+    return st ? st : opencl_finish_partials(dev, slot, a->rows, out);
 }
 
 limn_status opencl_reduce_rows(struct device *dev, opencl_kernel_id id, size_t rows,
@@ -285,14 +300,14 @@ limn_status opencl_reduce_rows(struct device *dev, opencl_kernel_id id, size_t r
     return st ? st : opencl_finish_partials(dev, 0, rows, out);
 }
 
-limn_status opencl_finish_partials(struct device *dev, size_t first_item, size_t rows,
+limn_status opencl_finish_partials(struct device *dev, size_t first_slot, size_t rows,
                                    device_norms *out)
 {
     opencl_impl *im = impl_of(dev);
-    size_t chunks = (rows + DEVICE_ROWS_PER_ITEM - 1) / DEVICE_ROWS_PER_ITEM;
+    size_t chunks = opencl_shape_chunks(&im->shape, rows);
     if (chunks)
         CHECK(clEnqueueReadBuffer(im->queue, im->partials, CL_TRUE,
-                                  first_item * 3 * sizeof(double), chunks * 3 * sizeof(double),
+                                  first_slot * 3 * sizeof(double), chunks * 3 * sizeof(double),
                                   im->host_partials, 0, NULL, NULL),
               "reading the reduction partials");
     device_norms_finish(im->host_partials, chunks, out);

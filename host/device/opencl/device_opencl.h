@@ -10,6 +10,7 @@
 
 #include "device/device.h"
 #include "device/opencl/opencl_errors.h"
+#include "device/opencl/opencl_shape.h"
 
 /* Every kernel of the program; each takes `uint rows` as its first argument. */
 typedef enum opencl_kernel_id {
@@ -35,6 +36,7 @@ struct device_buffer {
     cl_mem mem;
     size_t bytes;
     int shared;   /* CL_MEM_USE_HOST_PTR: the queue finishes before it is released */
+    void *host;   /* that host memory, when shared */
 };
 
 typedef struct opencl_impl {
@@ -46,7 +48,8 @@ typedef struct opencl_impl {
     int compiled[K_COUNT];    /* launched once (PoCL compiled its work-group function) */
     cl_ulong max_alloc;
     cl_bool host_unified;     /* CL_DEVICE_HOST_UNIFIED_MEMORY: buffers may use host memory */
-    cl_mem partials;          /* 3 doubles per work-item, grown on demand */
+    opencl_shape shape;       /* the kernels' shape (opencl_shape.h), fixed at build */
+    cl_mem partials;          /* 3 doubles per partial slot, grown on demand */
     size_t partials_items;
     double *host_partials;
 } opencl_impl;
@@ -67,8 +70,6 @@ limn_status opencl_build_program(struct device *dev);
 void opencl_release_program(opencl_impl *im);
 const char *opencl_kernel_name(opencl_kernel_id id);
 
-/* Work-items for `rows` rows: one per chunk, rounded up to work-groups. */
-size_t opencl_work_items(size_t rows);
 /* One kernel argument: its size, a pointer to its value, and its name for
    the error message. */
 typedef struct opencl_arg {
@@ -88,16 +89,21 @@ limn_status opencl_set_csr_args(struct device *dev, cl_kernel k, const device_cs
    already set). */
 limn_status opencl_launch(struct device *dev, opencl_kernel_id id, size_t first_item,
                           size_t rows);
-/* A row range's first work-item (device_csr.row_begin is a multiple of
-   DEVICE_ROWS_PER_ITEM). */
-static inline size_t opencl_first_item(const device_csr *a)
+/* A row range's first work-item and first partial slot (device_csr.row_begin
+   is a multiple of DEVICE_ROWS_PER_ITEM, so of either shape's rows per item
+   and per slot). */
+static inline size_t opencl_first_item(struct device *dev, const device_csr *a)
 {
-    return a->row_begin / DEVICE_ROWS_PER_ITEM;
+    return a->row_begin / impl_of(dev)->shape.rows_per_item;
 }
-/* Makes room for the partial norms of `rows` rows from work-item first_item. */
-limn_status opencl_ensure_partials(struct device *dev, size_t first_item, size_t rows);
-/* Reads those partial norms and finishes them in chunk order. */
-limn_status opencl_finish_partials(struct device *dev, size_t first_item, size_t rows,
+static inline size_t opencl_first_slot(struct device *dev, const device_csr *a)
+{
+    return a->row_begin / impl_of(dev)->shape.rows_per_slot;
+}
+/* Makes room for the partial norms of `rows` rows from slot first_slot. */
+limn_status opencl_ensure_partials(struct device *dev, size_t first_slot, size_t rows);
+/* Reads those partial norms and finishes them in slot order. */
+limn_status opencl_finish_partials(struct device *dev, size_t first_slot, size_t rows,
                                    device_norms *out);
 /* A reducing kernel over table a: room for its partials, the table bound as
    arguments 0-3 (with `weights`), args[0 .. count) from argument 4, the

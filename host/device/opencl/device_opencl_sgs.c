@@ -59,7 +59,7 @@ static limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int sta
     cl_kernel k = im->kernels[K_SGS_LOWER];
     size_t items = 0;
     for (size_t c = 0; c < a->colours; c++)
-        items += opencl_work_items(a->colour_begin[c + 1] - a->colour_begin[c]);
+        items += opencl_shape_slots(&im->shape, a->colour_begin[c + 1] - a->colour_begin[c]);
     limn_status st = opencl_ensure_partials(dev, items, 0);
     if (!st)
         st = set_table(dev, k, a);
@@ -86,7 +86,7 @@ static limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int sta
         st = opencl_bind(dev, k, 16, &base_arg, 1);
         if (!st)
             st = opencl_launch(dev, K_SGS_LOWER, 0, rows);
-        base += opencl_work_items(rows);
+        base += opencl_shape_slots(&im->shape, rows);
     }
     if (st)
         return st;
@@ -99,11 +99,11 @@ static limn_status cl_sgs_lower(struct device *dev, const device_sgs *a, int sta
     for (size_t c = 0; c < a->colours; c++) {
         size_t rows = a->colour_begin[c + 1] - a->colour_begin[c];
         device_norms n;
-        device_norms_finish(im->host_partials + 3 * base, (rows + DEVICE_ROWS_PER_ITEM - 1) /
-                                                              DEVICE_ROWS_PER_ITEM, &n);
+        device_norms_finish(im->host_partials + 3 * base, opencl_shape_chunks(&im->shape, rows),
+                            &n);
         out->max = n.max > out->max ? n.max : out->max;
         out->sum += n.sum;
-        base += opencl_work_items(rows);
+        base += opencl_shape_slots(&im->shape, rows);
     }
     return LIMN_OK;
 }

@@ -121,23 +121,34 @@ static limn_status build_with(struct device *dev, const char *options, int *pref
     return LIMN_OK;
 }
 
-limn_status opencl_build_program(struct device *dev)
+/* The build options: the shape's (opencl_shape_options), prefetching when
+   `prefetch`, then the test's extra ones. */
+static void program_options(const opencl_impl *im, int prefetch, char *options, size_t size)
 {
-    opencl_impl *im = impl_of(dev);
-    double t0 = clock_seconds();
-    /* gathers prefetched ahead on CPU devices whose compiler targets the
-       machine (kernels/stencil.cl: not SPIR, e.g. Oclgrind) */
-    cl_device_type type = 0;
-    clGetDeviceInfo(im->device, CL_DEVICE_TYPE, sizeof type, &type, NULL);
-    int prefetch = (type & CL_DEVICE_TYPE_CPU) != 0;
     /* test-only: options appended to the build (tests/test_opencl.c) */
     const char *extra = getenv("LIMN_TEST_EXTRA_BUILD_OPTIONS");
-    char options[512];
-    snprintf(options, sizeof options, "-D ROWS_PER_ITEM=%d%s%s%s", DEVICE_ROWS_PER_ITEM,
-             prefetch ? " -D LIMN_PREFETCH=96" : "", extra && *extra ? " " : "",
-             extra ? extra : "");
+    char shape[160];
+    opencl_shape_options(&im->shape, shape, sizeof shape);
+    snprintf(options, size, "%s%s%s%s", shape, prefetch ? " -D LIMN_PREFETCH=96" : "",
+             extra && *extra ? " " : "", extra ? extra : "");
     if (device_test_fault("build")) /* test-only (device.h): a genuine compile error */
-        snprintf(options, sizeof options, "-D ROWS_PER_ITEM=limn_test_fault_build");
+        snprintf(options, size, "-D ROWS_PER_ITEM=limn_test_fault_build");
+}
+
+static void drop_program(opencl_impl *im)
+{
+    opencl_release_program(im);
+    memset(im->kernels, 0, sizeof im->kernels);
+    im->program = NULL;
+}
+
+/* Builds with prefetching when `prefetch`; if that fails in a way prefetching
+   may cause, once more without, with a warning. */
+static limn_status build_shaped(struct device *dev, int prefetch)
+{
+    opencl_impl *im = impl_of(dev);
+    char options[512];
+    program_options(im, prefetch, options, sizeof options);
     int suspect;
     limn_status st = build_with(dev, options, &suspect);
     if (st && prefetch && suspect) {
@@ -145,16 +156,50 @@ limn_status opencl_build_program(struct device *dev)
            more without, so that prefetching never costs the device */
         char first[sizeof dev->ctx->message];
         snprintf(first, sizeof first, "%s", limn_context_message(dev->ctx));
-        opencl_release_program(im);
-        memset(im->kernels, 0, sizeof im->kernels);
-        im->program = NULL;
-        snprintf(options, sizeof options, "-D ROWS_PER_ITEM=%d%s%s", DEVICE_ROWS_PER_ITEM,
-                 extra && *extra ? " " : "", extra ? extra : "");
+        drop_program(im);
+        program_options(im, 0, options, sizeof options);
         st = build_with(dev, options, &suspect);
         if (!st)
             ctx_warn(dev->ctx, "%s: built without prefetching the gathers (with it: %.600s)",
                       dev->name, first);
     }
+    return st;
+}
+
+/* The least CL_KERNEL_WORK_GROUP_SIZE over the program's kernels (0: none
+   reported). */
+static size_t least_kernel_group(const opencl_impl *im)
+{
+    size_t least = 0;
+    for (int k = 0; k < K_COUNT; k++) {
+        size_t g = 0;
+        if (clGetKernelWorkGroupInfo(im->kernels[k], im->device, CL_KERNEL_WORK_GROUP_SIZE,
+                                     sizeof g, &g, NULL) == CL_SUCCESS &&
+            g && (!least || g < least))
+            least = g;
+    }
+    return least;
+}
+
+limn_status opencl_build_program(struct device *dev)
+{
+    opencl_impl *im = impl_of(dev);
+    double t0 = clock_seconds();
+    limn_status st = opencl_shape_choose(dev->ctx, im->device, &im->shape);
+    if (st)
+        return st;
+    /* gathers prefetched ahead on CPU devices whose compiler targets the
+       machine (kernels/common.cl: not SPIR, e.g. Oclgrind), in the cpu shape */
+    cl_device_type type = 0;
+    clGetDeviceInfo(im->device, CL_DEVICE_TYPE, sizeof type, &type, NULL);
+    int prefetch = (type & CL_DEVICE_TYPE_CPU) != 0 && !im->shape.gpu;
+    st = build_shaped(dev, prefetch);
+    if (!st && opencl_shape_fit(&im->shape, least_kernel_group(im))) {
+        /* a kernel allows smaller groups than the device: its GROUP_SIZE */
+        drop_program(im);
+        st = build_shaped(dev, prefetch);
+    }
+    dev->sell_slice = im->shape.sell_slice;
     dev->setup.build += clock_seconds() - t0;
     return st;
 }

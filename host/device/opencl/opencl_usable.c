@@ -2,8 +2,7 @@
 /*
  * Which OpenCL devices limn can run on, and which ones a choice matches.
  * The kernels need double precision (every operator is double; float is
- * only the mixed solve's correction), work-groups of DEVICE_WORKGROUP items,
- * and OpenCL 1.2 (clEnqueueFillBuffer, CL_PROGRAM_KERNEL_NAMES). Names match
+ * only the mixed solve's correction) and OpenCL 1.2 (clEnqueueFillBuffer, CL_PROGRAM_KERNEL_NAMES). Names match
  * as substrings, never exactly (PoCL's device names carry the CPU model).
  */
 #include "device/opencl/opencl_usable.h"
@@ -67,12 +66,8 @@ int opencl_unusable(const opencl_device_props *d, char *why, size_t size)
                             "cl_khr_fp64)");
         return 1;
     }
-    if (d->max_work_group < DEVICE_WORKGROUP || d->max_item_size < DEVICE_WORKGROUP) {
-        snprintf(why, size, "work-groups of at most %zu items, the kernels use %d",
-                 d->max_work_group < d->max_item_size ? d->max_work_group : d->max_item_size,
-                 DEVICE_WORKGROUP);
-        return 1;
-    }
+    /* any group size runs: below DEVICE_WORKGROUP the gpu kernel shape
+       (opencl_shape.c) takes groups as small as the device's */
     return 0;
 }
 

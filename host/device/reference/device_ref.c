@@ -79,7 +79,8 @@ static limn_status ref_buffer_read(struct device *dev, device_buffer *buf, size_
 {
     if (bytes > buf->bytes)
         return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
-    memcpy(dst, buf->data, bytes);
+    if (dst != buf->data) /* a shared buffer read into its own memory: nothing to move */
+        memcpy(dst, buf->data, bytes);
     return LIMN_OK;
 }
 
@@ -97,7 +98,8 @@ static limn_status ref_buffer_read_at(struct device *dev, device_buffer *buf, si
 {
     if (offset > buf->bytes || bytes > buf->bytes - offset)
         return ctx_fail(dev->ctx, LIMN_ERR_ARGUMENT, "buffer read past its end");
-    memcpy(dst, (const char *)buf->data + offset, bytes);
+    if (dst != (const char *)buf->data + offset)
+        memcpy(dst, (const char *)buf->data + offset, bytes);
     return LIMN_OK;
 }
 

@@ -1,0 +1,279 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Space-filling-curve partition (mpi_sfc.h): Hilbert keys of the block's
+ * positions, a stable radix sort of them on each rank, the cut points found
+ * digit by digit over all ranks, each vertex's part from where its key falls.
+ */
+#include "mpi/mpi_sfc.h"
+
+#include "base/context.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SFC_BITS 21                       /* per axis: 3 x 21 = 63-bit keys */
+#define SFC_CELLS ((1u << SFC_BITS) - 1u) /* the largest coordinate */
+
+/* The 21 low bits of x at every third bit (bit b to bit 3 b). */
+static uint64_t spread3(uint32_t x)
+{
+    uint64_t v = x & SFC_CELLS;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+}
+
+uint64_t mpi_sfc_hilbert(uint32_t x, uint32_t y, uint32_t z)
+{
+    /* Skilling's transform ("Programming the Hilbert curve", 2004): axes to
+       the transposed Hilbert index, whose bits interleaved are the key */
+    uint32_t X[3] = {x, y, z};
+    const uint32_t top = 1u << (SFC_BITS - 1);
+    for (uint32_t q = top; q > 1; q >>= 1) {
+        uint32_t low = q - 1;
+        for (int i = 0; i < 3; i++) {
+            if (X[i] & q) {
+                X[0] ^= low;
+            } else {
+                uint32_t t = (X[0] ^ X[i]) & low;
+                X[0] ^= t;
+                X[i] ^= t;
+            }
+        }
+    }
+    X[1] ^= X[0];
+    X[2] ^= X[1];
+    uint32_t t = 0;
+    for (uint32_t q = top; q > 1; q >>= 1)
+        if (X[2] & q)
+            t ^= q - 1;
+    /* bit b of axis i goes to bit 3 b + 2 - i */
+    return spread3(X[0] ^ t) << 2 | spread3(X[1] ^ t) << 1 | spread3(X[2] ^ t);
+}
+
+typedef struct sfc_rec {
+    uint64_t key;
+    uint32_t at; /* index in the block: the global id is begin + at */
+} sfc_rec;
+
+/* The bounding cube's lower corner and the scale to SFC_CELLS (exact: min
+   and max are the same in any reduction order). */
+static void sfc_cube(mpi_part *p, const double *pos, size_t n, double lo[3], double *scale)
+{
+    double m[6] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
+    for (size_t v = 0; v < n; v++)
+        for (int a = 0; a < 3; a++) {
+            double x = pos[3 * v + a];
+            if (isfinite(x)) {
+                m[a] = x < m[a] ? x : m[a];
+                m[3 + a] = -x < m[3 + a] ? -x : m[3 + a];
+            }
+        }
+    MPI_Allreduce(MPI_IN_PLACE, m, 6, MPI_DOUBLE, MPI_MIN, p->comm);
+    double extent = 0;
+    for (int a = 0; a < 3; a++) {
+        lo[a] = isfinite(m[a]) ? m[a] : 0.0;
+        double e = isfinite(m[a]) ? -m[3 + a] - m[a] : 0.0;
+        extent = e > extent ? e : extent;
+    }
+    *scale = extent > 0 && isfinite(extent) ? (double)SFC_CELLS / extent : 0.0;
+}
+
+static uint32_t sfc_cell(double x, double lo, double scale)
+{
+    double t = (x - lo) * scale;
+    if (!(t > 0)) /* below, or not a number */
+        return 0;
+    return t >= (double)SFC_CELLS ? SFC_CELLS : (uint32_t)t;
+}
+
+/* Stable LSD radix sort by key, 16 bits a pass (records come in block
+   order, so equal keys stay in id order). tmp: n records. */
+static void sfc_sort(sfc_rec *r, sfc_rec *tmp, size_t n, size_t *count)
+{
+    uint64_t diff = 0;
+    for (size_t i = 1; i < n; i++)
+        diff |= r[i].key ^ r[0].key;
+    sfc_rec *src = r, *dst = tmp;
+    for (int shift = 0; shift < 64; shift += 16) {
+        if (!((diff >> shift) & 0xffff))
+            continue;
+        memset(count, 0, 65537 * sizeof *count);
+        for (size_t i = 0; i < n; i++)
+            count[((src[i].key >> shift) & 0xffff) + 1]++;
+        for (size_t d = 0; d < 65536; d++)
+            count[d + 1] += count[d];
+        for (size_t i = 0; i < n; i++)
+            dst[count[(src[i].key >> shift) & 0xffff]++] = src[i];
+        sfc_rec *t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != r)
+        memcpy(r, src, n * sizeof *r);
+}
+
+/* (key, id) of r below the cut point c = {key, id}. */
+static int sfc_below(const sfc_rec *r, size_t begin, const uint64_t *c)
+{
+    return r->key < c[0] || (r->key == c[0] && begin + r->at < c[1]);
+}
+
+static uint64_t sfc_count_below(const sfc_rec *r, size_t n, size_t begin, const uint64_t *c)
+{
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (sfc_below(r + mid, begin, c))
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* The digits the cut search settles, one Allreduce each, from the top:
+   the key's 63 bits in 7-bit digits, then the id's 32 in 8-bit ones. */
+static const struct sfc_digit {
+    int word, shift, width;
+} sfc_digits[] = {{0, 56, 7}, {0, 49, 7}, {0, 42, 7}, {0, 35, 7}, {0, 28, 7}, {0, 21, 7},
+                  {0, 14, 7}, {0, 7, 7},  {0, 0, 7},  {1, 24, 8}, {1, 16, 8}, {1, 8, 8},
+                  {1, 0, 8}};
+#define SFC_CANDIDATES 255 /* nonzero values of the widest digit */
+
+/* cut[2q], cut[2q+1]: the largest (key, id) with exactly total * (q + 1) /
+   parts vertices of the whole mesh below it, q < parts - 1; settled digit
+   by digit from the top: for each candidate value of the digit, the count
+   below it over all ranks (count: (parts - 1) * SFC_CANDIDATES). */
+static void sfc_cuts(mpi_part *p, const sfc_rec *r, size_t n, size_t begin, size_t total,
+                     int parts, uint64_t *cut, uint64_t *count)
+{
+    size_t m = (size_t)parts - 1;
+    if (m == 0)
+        return;
+    memset(cut, 0, 2 * m * sizeof *cut);
+    for (size_t k = 0; k < sizeof sfc_digits / sizeof *sfc_digits; k++) {
+        const struct sfc_digit *g = sfc_digits + k;
+        uint64_t values = ((uint64_t)1 << g->width) - 1;
+        for (size_t q = 0; q < m; q++)
+            for (uint64_t d = 1; d <= values; d++) {
+                uint64_t c[2] = {cut[2 * q], cut[2 * q + 1]};
+                c[g->word] |= d << g->shift;
+                count[q * SFC_CANDIDATES + d - 1] = sfc_count_below(r, n, begin, c);
+            }
+        MPI_Allreduce(MPI_IN_PLACE, count, (int)(m * SFC_CANDIDATES), MPI_UINT64_T, MPI_SUM,
+                      p->comm);
+        for (size_t q = 0; q < m; q++) {
+            uint64_t target = (uint64_t)total * (q + 1) / (uint64_t)parts, best = 0;
+            for (uint64_t d = 1; d <= values; d++) /* the counts grow with d */
+                if (count[q * SFC_CANDIDATES + d - 1] <= target)
+                    best = d;
+            cut[2 * q + g->word] |= best << g->shift;
+        }
+    }
+}
+
+/* Each vertex's part: the number of cut points at or below its (key, id). */
+static void sfc_assign(const sfc_rec *r, size_t n, size_t begin, const uint64_t *cut, int parts,
+                       uint32_t *part_of)
+{
+    size_t s = 0, m = (size_t)parts - 1;
+    for (size_t i = 0; i < n; i++) {
+        while (s < m && !sfc_below(r + i, begin, cut + 2 * s))
+            s++;
+        part_of[r[i].at] = (uint32_t)s;
+    }
+}
+
+/* Part sizes over the ranks (count: parts entries, scratch). */
+static void sfc_stats(mpi_part *p, const uint32_t *part_of, size_t n, size_t total, int parts,
+                      uint64_t *count, mpi_sfc_stats *s)
+{
+    memset(count, 0, (size_t)parts * sizeof *count);
+    for (size_t v = 0; v < n; v++)
+        count[part_of[v]]++;
+    MPI_Allreduce(MPI_IN_PLACE, count, parts, MPI_UINT64_T, MPI_SUM, p->comm);
+    s->part_max = 0;
+    s->part_min = SIZE_MAX;
+    for (int q = 0; q < parts; q++) {
+        s->part_max = count[q] > s->part_max ? (size_t)count[q] : s->part_max;
+        s->part_min = count[q] < s->part_min ? (size_t)count[q] : s->part_min;
+    }
+    s->imbalance = total ? (double)s->part_max * parts / (double)total : 1.0;
+}
+
+typedef struct sfc_work {
+    sfc_rec *rec, *tmp;
+    size_t *radix;
+    uint64_t *cut, *count;
+} sfc_work;
+
+static limn_status sfc_alloc(mpi_part *p, size_t n, int parts, sfc_work *w)
+{
+    w->rec = malloc((n ? n : 1) * sizeof *w->rec);
+    w->tmp = malloc((n ? n : 1) * sizeof *w->tmp);
+    w->radix = malloc(65537 * sizeof *w->radix);
+    w->cut = malloc(2 * (size_t)parts * sizeof *w->cut);
+    w->count = malloc((size_t)parts * SFC_CANDIDATES * sizeof *w->count);
+    if (w->rec && w->tmp && w->radix && w->cut && w->count)
+        return LIMN_OK;
+    return ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                    "space-filling-curve partition: out of memory for %zu vertices on rank %d",
+                    n, p->rank);
+}
+
+static void sfc_free(sfc_work *w)
+{
+    free(w->rec);
+    free(w->tmp);
+    free(w->radix);
+    free(w->cut);
+    free(w->count);
+}
+
+limn_status mpi_sfc_partition(mpi_part *p, const size_t *vtxdist, const double *positions,
+                              int parts, uint32_t **part_of, mpi_sfc_stats *stats)
+{
+    double t0 = MPI_Wtime();
+    size_t begin = vtxdist[p->rank], n = vtxdist[p->rank + 1] - begin, total = vtxdist[p->size];
+    sfc_work w = {0};
+    *part_of = NULL;
+    limn_status st = parts >= 1 ? LIMN_OK
+                                : ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                                           "space-filling-curve partition: %d parts (needs >= 1)",
+                                           parts);
+    if (!st)
+        st = sfc_alloc(p, n, parts, &w);
+    if (!st && !(*part_of = malloc((n ? n : 1) * sizeof **part_of)))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu parts", n);
+    st = mpi_agree(p, st);
+    if (!st) {
+        double lo[3], scale;
+        sfc_cube(p, positions, n, lo, &scale);
+        for (size_t v = 0; v < n; v++) {
+            const double *x = positions + 3 * v;
+            w.rec[v] = (sfc_rec){mpi_sfc_hilbert(sfc_cell(x[0], lo[0], scale),
+                                                 sfc_cell(x[1], lo[1], scale),
+                                                 sfc_cell(x[2], lo[2], scale)),
+                                 (uint32_t)v};
+        }
+        sfc_sort(w.rec, w.tmp, n, w.radix);
+        sfc_cuts(p, w.rec, n, begin, total, parts, w.cut, w.count);
+        sfc_assign(w.rec, n, begin, w.cut, parts, *part_of);
+        if (stats)
+            sfc_stats(p, *part_of, n, total, parts, w.count, stats);
+    } else {
+        free(*part_of);
+        *part_of = NULL;
+    }
+    sfc_free(&w);
+    double t = MPI_Wtime() - t0;
+    MPI_Allreduce(MPI_IN_PLACE, &t, 1, MPI_DOUBLE, MPI_MAX, p->comm);
+    if (stats)
+        stats->seconds = t;
+    return st;
+}

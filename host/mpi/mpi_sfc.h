@@ -1,0 +1,46 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Space-filling-curve vertex partition (issue 14): the default partition of
+ * the distributed pipeline, PT-Scotch (mpi_dgraph.h) the alternative.
+ *
+ * Every vertex gets the 3-D Hilbert key of its position (21 bits an axis in
+ * the bounding cube of the whole mesh, 63 bits), ties broken by its global
+ * id; the vertices are cut along that order into parts of exactly
+ * n * (q + 1) / parts - n * q / parts vertices. The cut points are found
+ * digit by digit over the 95-bit (key, id) values (13 digits of 7 or 8
+ * bits), one Allreduce of (parts - 1) x 255 counts a digit, each count a
+ * binary search in this rank's sorted keys: O(n / P) work per rank (one
+ * radix sort), no edge exchange, no rank holding more than its block. The
+ * parts depend on the positions, the ids and the part count only: not on
+ * how the vertices are split into blocks, nor on the faces.
+ */
+#ifndef LIMN_MPI_SFC_H
+#define LIMN_MPI_SFC_H
+
+#include "mpi/mpi_part.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct mpi_sfc_stats {
+    size_t part_max, part_min; /* vertices of the largest and smallest part */
+    double imbalance;          /* part_max / (vertices / parts): 1 is perfect */
+    double seconds;            /* wall time of the call, the slowest rank's */
+} mpi_sfc_stats;
+
+/* The Hilbert key of a point with integer coordinates below 2^21 (each
+   axis), 63 bits; consecutive keys are neighbouring cells. */
+uint64_t mpi_sfc_hilbert(uint32_t x, uint32_t y, uint32_t z);
+
+/*
+ * Collective over p->comm. vtxdist[size + 1] as mpi_dgraph_partition's;
+ * positions: 3 doubles per vertex of this rank's block (non-finite ones are
+ * put at the cube's lowest corner); parts >= 1. *part_of (malloc'd, at
+ * least one entry, caller frees) gets the part of each block vertex, in
+ * [0, parts); stats (may be NULL) the global figures. On failure every
+ * rank gets the same status and message and *part_of is NULL.
+ */
+limn_status mpi_sfc_partition(mpi_part *p, const size_t *vtxdist, const double *positions,
+                              int parts, uint32_t **part_of, mpi_sfc_stats *stats);
+
+#endif

@@ -1,0 +1,46 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Feature-preserving denoising (limn_denoise_features, docs/series.md): the
+ * face normals are filtered by a data-dependent face operator W, rebuilt from
+ * the current normals before every product (bilateral weights: rows sum to
+ * 1, weights >= 0), then the vertices move to fit the filtered normals (Sun
+ * et al. 2007) with a tangential relaxation. The pieces here are plain
+ * functions of the mesh so that tests can check W.
+ */
+#ifndef LIMN_SERIES_FEATURES_H
+#define LIMN_SERIES_FEATURES_H
+
+#include "stencil/stencil.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* The faces of one polygon mesh: vertex -> faces, the face ring pattern and
+   per-face geometry of the current positions. */
+typedef struct feature_mesh {
+    size_t vertices, faces;
+    const uint32_t *offsets, *indices; /* the mesh's faces (not owned) */
+    uint32_t *vf_offsets, *vf;         /* faces around each vertex */
+    stencil_csr ring;                  /* W: row f, the faces sharing a vertex with f */
+    double *normal, *area, *centroid;  /* 3, 1, 3 per face */
+    double sigma_s;                    /* the spatial kernel's width */
+} feature_mesh;
+
+limn_status feature_mesh_build(limn_context *ctx, const limn_mesh *mesh, feature_mesh *fm);
+void feature_mesh_free(feature_mesh *fm);
+
+/* Unit (Newell) normals, areas and centroids of the faces at positions x. */
+void feature_faces_update(feature_mesh *fm, const double *x);
+/* The mean distance between the centroids of ring neighbours. */
+double feature_mean_spacing(const feature_mesh *fm);
+/* W's weights from the normals n (3 per face): a_j exp(-|c_i - c_j|^2 /
+   2 sigma_s^2) exp(-|n_i - n_j|^2 / 2 sigma_r^2), each row divided by its
+   sum (a row of zero weights keeps its own face). */
+void feature_weights(feature_mesh *fm, const double *n, double sigma_r);
+/* steps Jacobi sweeps of x_v += (1 / |F_v|) (sum_f n_f (n_f . (c_f - x_v))
+   + tangential P_v sum_f (c_f - x_v)), P_v the projection onto the plane
+   of the area-weighted mean of the n_f around v. */
+limn_status feature_fit_vertices(limn_context *ctx, feature_mesh *fm, const double *n, double *x,
+                                 int steps, double tangential);
+
+#endif
