@@ -27,7 +27,8 @@ double sure_dot_from(double s, const double *x, const double *y, size_t n);
    tr B^{2k} there, the signal only adds, and at high k little of a smooth
    surface is left, so a clean mesh finds a small sigma. Energies, not
    medians: right for noise along the normals too (a median of coordinates
-   is not). 0 when no trace is positive. */
+   is not). 0 when no trace is positive. sum: the inner product (NULL: this
+   process's own). */
 double sure_sigma(const double *r, size_t n3, int degree, const double *t, const sure_sum *sum);
 
 /* Estimates of tr((E - A)^i), i = 1..degree, into t[0..degree-1]: n times the i-th
@@ -41,7 +42,8 @@ double sure_row_diagonal(const stencil_csr *a, size_t v);
 
 /* d solving (R^T R) d = rhs for the columns r_i = r + i*n3, i < degree (QR
    by modified Gram-Schmidt, twice; d_i = 0 where r_i lies in the span of the
-   earlier ones). LIMN_ERR_MEMORY on allocation failure. */
+   earlier ones; the inner products sum's, NULL: this process's).
+   LIMN_ERR_MEMORY on allocation failure. */
 limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
                                const double *rhs, const sure_sum *sum, double *d);
 
