@@ -337,12 +337,14 @@ static void denoise_volume_same(void **s)
     static const char *keys[] = {"\"closed\"",      "\"volume_input\"", "\"volume_output\"",
                                  "\"area_input\"",  "\"area_output\"",  "\"keep_volume\"",
                                  "\"sigma_estimate\""};
-    /* eq. 8, then the default form (SURE: volume kept on a closed mesh by default) */
-    static const char *cases[][2] = {
-        {"closed.obj", "--m 2 --steps 3 --keep-volume"}, {"closed.obj", "--m 2 --steps 3"},
-        {"quad.obj", "--m 2 --steps 3"}, {"closed.obj", ""}, {"closed.obj", "--no-keep-volume"},
-        {"quad.obj", "--products 5"}, {"tri.obj", ""}};
-    for (int c = 0; c < 7; c++)
+    /* eq. 8, then the default form (SURE: volume kept on a closed mesh by default; its
+       other cases in process, test_mpi_denoise, which is lighter under the sanitizers) */
+    static const char *cases[][2] = {{"closed.obj", "--m 2 --steps 3 --keep-volume"},
+                                     {"closed.obj", "--m 2 --steps 3"},
+                                     {"quad.obj", "--m 2 --steps 3"},
+                                     {"closed.obj", ""},
+                                     {"quad.obj", "--products 5"}};
+    for (int c = 0; c < 5; c++)
         for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
             char args[2048];
             snprintf(args, sizeof args,
@@ -387,7 +389,7 @@ static void denoise_volume_same(void **s)
     /* and on the root path (standard input: limn_denoise_sure_mpi): the same bytes */
     snprintf(args, sizeof args, "denoise '%s' -o '%s' -q", at("closed.obj"), at("v1.ply"));
     assert_int_equal(run(0, args), 0);
-    for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
+    for (int ranks = 2; ranks <= 5; ranks += 3) {
         snprintf(args, sizeof args, "denoise - --input-format obj -o '%s' -q < '%s'",
                  at("v2.ply"), at("closed.obj"));
         if (run(ranks, args) != 0)
