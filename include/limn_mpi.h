@@ -283,6 +283,19 @@ LIMN_API limn_status limn_mpi_mesh_sharpen(limn_context *ctx, const limn_mpi_mes
                                            limn_series_report *report,
                                            const limn_mpi_options *mpi, limn_mpi_result *result);
 
+/* limn_denoise_features on a distributed mesh, no rank holding the whole
+   mesh: each rank filters the normals of its face block and fits its
+   vertex block, the faces and vertices around them refreshed from their
+   owners between the steps; *out has the same blocks and faces and the
+   single process's bits (keep_volume as limn_mpi_mesh_denoise's). Options,
+   checks and report as limn_denoise_features; keep_piece is ignored. */
+LIMN_API limn_status limn_mpi_mesh_denoise_features(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                                    const limn_feature_options *options,
+                                                    limn_mpi_mesh **out,
+                                                    limn_series_report *report,
+                                                    const limn_mpi_options *mpi,
+                                                    limn_mpi_result *result);
+
 /* limn_bands on a distributed mesh: bands[i] (count + 1 entries, the
    caller's array; the caller destroys each) gets band i as a distributed
    mesh with the input's blocks and faces and the band's vectors as its

@@ -3,8 +3,9 @@
  * limn denoise's default, limn_denoise_sure (issue 16 item 1): each piece
  * against an independent route — the lattice traces against dense matrix
  * powers on regular tori (where the lattice is exact), the least squares
- * against the normal equations by Gaussian elimination, the noise estimate
- * against the noise put in — and the properties: with seeded noise it beats
+ * against the normal equations by Gaussian elimination, the constrained fit
+ * (the gain kept in [0, 1]) against brute force over degree-2 gains, the
+ * noise estimate against the noise put in — and the properties: with seeded noise it beats
  * Taubin lambda|mu (perf/taubin.c, independent) at the same number of
  * operator products by >= 10% in distance and normal error on shared meshes
  * where the oracle bound says that is reachable, volume kept; a clean mesh is
@@ -151,7 +152,7 @@ static void least_squares_solves_normal_equations(void **s)
         }
         g[i][K] = rhs[i];
     }
-    CHECK_OK(ctx, sure_least_squares(ctx, r, N, K, rhs, NULL, d));
+    CHECK_OK(ctx, sure_least_squares(ctx, r, N, K, rhs, NULL, 0.0, d));
     for (int c = 0; c < K; c++) /* Gauss-Jordan on the normal equations */
         for (int i = 0; i < K; i++) {
             if (i == c)
@@ -162,6 +163,60 @@ static void least_squares_solves_normal_equations(void **s)
         }
     for (int i = 0; i < K; i++)
         assert_true(fabs(d[i] - g[i][K] / g[i][i]) <= 1e-10 * (1.0 + fabs(d[i])));
+    limn_context_destroy(ctx);
+}
+
+/* 1 + d1 mu + d2 mu^2 in [lo, hi] at 257 points of [0, 1]. */
+static int gain_within(double d1, double d2, double lo, double hi)
+{
+    for (int k = 0; k <= 256; k++) {
+        double mu = k / 256.0, g = 1.0 + d1 * mu + d2 * mu * mu;
+        if (g < lo || g > hi)
+            return 0;
+    }
+    return 1;
+}
+
+/* The constrained fit (the gain kept in [0, 1] on mu in (0, 1]) against brute
+   force over a fine grid of degree-2 gains: no feasible point does better,
+   the fit is feasible to within what its 64 grid points allow and close to
+   the brute-force minimiser, and the unconstrained fit was not feasible. */
+static void constrained_fit_against_brute_force(void **s)
+{
+    (void)s;
+    limn_context *ctx = ctx_for("reference");
+    enum { N = 400 };
+    double r[2 * N], rhs[2] = {-3.0, -0.5}, g[2][2] = {{0}}, d[2], free_d[2];
+    for (int k = 0; k < N; k++) { /* B's eigenvalues mu in [0, 1], y decaying */
+        double mu = k / (N - 1.0), y = exp(-3.0 * mu) + 0.3 * sin(7.0 * k);
+        r[k] = mu * y, r[N + k] = mu * mu * y;
+    }
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++)
+            for (int k = 0; k < N; k++)
+                g[i][j] += r[i * N + k] * r[j * N + k];
+#define OBJECTIVE(a, b)                                                                        \
+    (g[0][0] * (a) * (a) + 2.0 * g[0][1] * (a) * (b) + g[1][1] * (b) * (b) -                   \
+     2.0 * (rhs[0] * (a) + rhs[1] * (b)))
+    CHECK_OK(ctx, sure_least_squares(ctx, r, N, 2, rhs, NULL, 0.0, free_d));
+    assert_false(gain_within(free_d[0], free_d[1], -0.05, 1.05));
+    CHECK_OK(ctx, sure_least_squares(ctx, r, N, 2, rhs, NULL, 1.0, d));
+    assert_true(gain_within(d[0], d[1], -2e-3, 1.0 + 2e-3));
+    double best = INFINITY, bd[2] = {0, 0};
+    for (int i = 0; i <= 1000; i++) /* d1 in [-4, 0], g(1) = 1 + d1 + d2 in [0, 1] */
+        for (int j = 0; j <= 250; j++) {
+            double d1 = -0.004 * i, d2 = -d1 - 0.004 * j;
+            if (OBJECTIVE(d1, d2) < best && gain_within(d1, d2, -1e-12, 1.0 + 1e-12))
+                best = OBJECTIVE(d1, d2), bd[0] = d1, bd[1] = d2;
+        }
+    double fit = OBJECTIVE(d[0], d[1]), unconstrained = OBJECTIVE(free_d[0], free_d[1]);
+#undef OBJECTIVE
+    assert_true(fit <= best + 1e-12 * fabs(best));
+    assert_true(fit >= unconstrained);
+    printf("  fit %.9g at (%.4f, %.4f), brute force %.9g at (%.3f, %.3f), unconstrained %.9g\n",
+           fit, d[0], d[1], best, bd[0], bd[1], unconstrained);
+    assert_true(best - fit <= 1e-3 * (best - unconstrained));
+    assert_true(fabs(d[0] - bd[0]) <= 0.01 && fabs(d[1] - bd[1]) <= 0.01);
     limn_context_destroy(ctx);
 }
 
@@ -334,6 +389,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(traces_exact_on_regular_tori),
         cmocka_unit_test(least_squares_solves_normal_equations),
+        cmocka_unit_test(constrained_fit_against_brute_force),
         cmocka_unit_test(sigma_estimate_finds_the_noise),
         cmocka_unit_test(beats_taubin_at_equal_products),
         cmocka_unit_test(clean_mesh_nearly_unchanged),

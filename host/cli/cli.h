@@ -272,6 +272,7 @@ typedef struct cli_series_call {
     int products;                  /* denoise: > 0 the default (SURE) form of this degree */
     double *sigma;                 /* its noise estimate (may be NULL) */
     int *kept;                     /* keep_volume < 0 resolved (closed), may be NULL */
+    const limn_feature_options *features; /* denoise: non-NULL for --preserve-features */
     cli_series_measures *measures; /* may be NULL; else filled after the filter */
 } cli_series_call;
 /* smooth, denoise or sharpen on slices (limn_mpi_mesh_smooth etc.), as

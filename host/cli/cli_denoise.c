@@ -15,12 +15,14 @@ static const char *const help =
     "limit operator A (N stencil products) whose coefficients minimise Stein's\n"
     "unbiased estimate of the squared distance to the unknown clean mesh, for\n"
     "noise whose deviation is estimated from the mesh (from the energy left in\n"
-    "(E - A)^k M; reported). Chosen by measurement: with the same 12 products\n"
-    "as Taubin lambda|mu (0.5, -0.53) it has 10-60% less distance and normal\n"
-    "error on quad meshes (noise 0.2-0.5 x the mean edge) and on triangle meshes\n"
-    "at high noise; in 16 of the 21 cases measured where it does not, no\n"
-    "degree-12 polynomial in A can (the oracle bound, docs/series.md). A clean\n"
-    "mesh is left nearly as it is (the estimate finds little noise).\n"
+    "(E - A)^k M; reported), with the gain kept in [0, 1] on A's spectrum (no\n"
+    "band amplified). Chosen by measurement: with the same 12 products as\n"
+    "Taubin lambda|mu (0.5, -0.53) it has >= 10% less distance and normal error\n"
+    "(up to 58% and 81%) in 23 of 40 cases (quad meshes at noise 0.2-0.5 x the\n"
+    "mean edge, most triangle meshes at 0.3-0.5); in 16 of the other 17 no\n"
+    "degree-12 polynomial in A can (the oracle bound; build/perf/denoise_default,\n"
+    "docs/series.md). A clean mesh is left nearly as it is (the estimate finds\n"
+    "little noise).\n"
     "\n"
     "--m or --steps: eq. 8 of Lai & Cheng (2011), 'Fast Mesh Interpolation and\n"
     "Mesh Decomposition with Applications': T_0 = INPUT,\n"
@@ -28,7 +30,8 @@ static const char *const help =
     "Smaller m smooths more; the paper uses m = 2-3 and K = 3-4. Every band gain\n"
     "is at most 1, so the mesh shrinks a little: the volume change is reported\n"
     "(closed meshes; for open ones the volume is not defined). The default form\n"
-    "and eq. 8 run under MPI with the single process's result.\n"
+    "and eq. 8 run under MPI with the single process's result; under MPI\n"
+    "--preserve-features runs too (on a file input, in slices).\n"
     "\n"
     "  -o, --output FILE      mesh to write (.obj, .ply binary, .off)\n"
     "  --products N           the default's degree, 1 <= N <= 64          [12]\n"
@@ -162,9 +165,6 @@ static int check_mode(const extra *e)
     if (!e->preserve && e->feature_given)
         return cli_usage_error("denoise", "--normal-steps, --vertex-steps, --outer-steps, "
                                           "--sigma-r and --tangential need --preserve-features");
-    if (e->preserve && cli_mpi_ranks() > 1)
-        return cli_usage_error("denoise", "--preserve-features does not run on several MPI "
-                                          "ranks yet (run it on one process)");
     if (e->preserve && !(e->fo.tangential >= 0.0 && e->fo.tangential <= 1.0))
         return cli_usage_error("denoise", "--tangential %g must lie in [0, 1]", e->fo.tangential);
     return 0;
@@ -222,6 +222,13 @@ static int choose_form(const series_cli *c, extra *e)
 {
     if (e->preserve) {
         e->keep_volume = e->keep_volume > 0;
+        e->fo.keep_volume = e->keep_volume;
+        /* on several ranks only the distributed path (limn_mpi_mesh_denoise_features) */
+        if (cli_mpi_ranks() > 1 && c->a.inputs[0] && c->a.output &&
+            !cli_mpi_sliced(c->a.inputs[0], c->a.in_format, c->a.output, c->a.per_rank))
+            return cli_usage_error(c->a.cmd, "--preserve-features runs on several MPI ranks "
+                                             "on slices only: a PLY, OBJ or OFF file in, a file "
+                                             "out, no --per-rank-output");
         return 0;
     }
     int paper = e->m >= 0 || e->steps >= 0;
@@ -266,7 +273,8 @@ int cli_denoise(int argc, char **argv)
     /* on slices the volumes are limn_mpi_mesh_measure's (cli_mpi_series_sliced) */
     cli_series_call call = {.kind = CLI_SERIES_DENOISE, .m = e.m, .steps = e.steps,
                             .keep_volume = e.keep_volume, .products = e.products,
-                            .sigma = &e.sigma, .kept = &e.keep_volume, .measures = &e.v};
+                            .sigma = &e.sigma, .kept = &e.keep_volume,
+                            .features = e.preserve ? &e.fo : NULL, .measures = &e.v};
     series_filter f = {run,  measure, &e.mean_displacement, {json_extra, print_extra, &e},
                        &call};
     return series_cli_filter(&c, &f);

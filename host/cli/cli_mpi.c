@@ -307,6 +307,8 @@ static limn_status series_call(limn_context *ctx, const limn_mpi_mesh *mesh,
     case CLI_SERIES_SMOOTH:
         return limn_mpi_mesh_smooth(ctx, mesh, o, c->terms, out, r, mo, res);
     case CLI_SERIES_DENOISE:
+        if (c->features)
+            return limn_mpi_mesh_denoise_features(ctx, mesh, c->features, out, r, mo, res);
         if (c->products)
             return denoise_sure_sliced(ctx, mesh, o, c, out, r, mo, res);
         return limn_mpi_mesh_denoise(ctx, mesh, o, c->m, c->steps, c->keep_volume, out, r, mo,

@@ -15,48 +15,22 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Bits enough for the values 0 .. n (at most 32: n below 2^32). */
-static int bits_for(size_t n)
-{
-    int b = 1;
-    while (b < 32 && ((size_t)1 << b) <= n)
-        b++;
-    return b;
-}
-
 /* The distinct vertices of this rank's faces, increasing (*ref, *nref), and
    for each face corner the index of its vertex in that list (*corner_ref). */
 static limn_status referenced(mpi_part *p, size_t nf, const uint32_t *off, const uint32_t *idx,
                               uint32_t **ref, size_t *nref, uint32_t **corner_ref)
 {
-    size_t nc = off[nf], k = 0;
-    uint64_t *key = malloc((nc ? nc : 1) * sizeof *key);
+    size_t nc = off[nf];
     uint32_t *r = malloc((nc ? nc : 1) * sizeof *r), *cr = malloc((nc ? nc : 1) * sizeof *cr);
-    if (!key || !r || !cr) {
-        free(key);
+    limn_status st = r && cr ? mpi_local_distinct(p->ctx, idx, nc, r, nref, cr)
+                             : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                                        "out of memory for %zu face corners", nc);
+    if (st) {
         free(r);
         free(cr);
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu face corners", nc);
+        return st;
     }
-    /* key: the id above the corner, packed (id - lowest id, then cb bits of
-       corner), so the radix sort skips the digits no key uses */
-    uint32_t lo = UINT32_MAX;
-    for (size_t c = 0; c < nc; c++)
-        lo = idx[c] < lo ? idx[c] : lo;
-    int cb = bits_for(nc);
-    uint64_t mask = ((uint64_t)1 << cb) - 1;
-    for (size_t c = 0; c < nc; c++)
-        key[c] = (uint64_t)(idx[c] - lo) << cb | c;
-    mpi_local_sort(key, nc);
-    for (size_t i = 0; i < nc; i++) {
-        uint32_t v = (uint32_t)(key[i] >> cb) + lo;
-        if (i == 0 || v != r[k - 1])
-            r[k++] = v;
-        cr[key[i] & mask] = (uint32_t)(k - 1);
-    }
-    free(key);
     *ref = r;
-    *nref = k;
     *corner_ref = cr;
     return LIMN_OK;
 }
@@ -286,45 +260,40 @@ static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_
 static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, size_t n_own,
                                 uint32_t *w, size_t nw)
 {
-    size_t cap = n_own + nw, n = 0, k = 0;
-    uint64_t *key = malloc((cap ? cap : 1) * sizeof *key);
+    size_t nc = 0, k = 0;
+    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+        nc += w[at + 2];
+    size_t cap = n_own + nc, n = n_own;
+    uint32_t *all = malloc((cap ? cap : 1) * sizeof *all);
+    uint32_t *index = malloc((cap ? cap : 1) * sizeof *index);
     s->ids = malloc((cap ? cap : 1) * sizeof *s->ids);
     s->part = malloc((cap ? cap : 1) * sizeof *s->part);
     s->owned = malloc((n_own ? n_own : 1) * sizeof *s->owned);
-    if (!key || !s->ids || !s->part || !s->owned) {
-        free(key);
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
+    limn_status st = all && index && s->ids && s->part && s->owned
+                         ? LIMN_OK
+                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
+    if (!st) { /* the owned ids, then every corner's */
+        memcpy(all, own, n_own * sizeof *all);
+        for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+            for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
+                all[n++] = w[at + 3 + c];
+        st = mpi_local_distinct(p->ctx, all, cap, s->ids, &k, index);
     }
-    /* key: id - lowest id, then xb bits of where the corner's part is plus
-       one (0: an owned vertex), packed so the radix sort skips unused digits */
-    uint32_t lo = UINT32_MAX;
-    for (size_t i = 0; i < n_own; i++)
-        lo = own[i] < lo ? own[i] : lo;
-    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
-        for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
-            lo = w[at + 3 + c] < lo ? w[at + 3 + c] : lo;
-    int xb = bits_for(nw);
-    uint64_t mask = ((uint64_t)1 << xb) - 1;
-    for (size_t i = 0; i < n_own; i++)
-        key[n++] = (uint64_t)(own[i] - lo) << xb;
-    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
-        for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
-            key[n++] = (uint64_t)(w[at + 3 + c] - lo) << xb | (at + 3 + d + c + 1);
-    mpi_local_sort(key, n);
-    for (size_t i = 0, o = 0; i < n; i++) {
-        uint32_t id = (uint32_t)(key[i] >> xb) + lo;
-        size_t x = (size_t)(key[i] & mask); /* 0: owned, else the part's word + 1 */
-        if (i == 0 || id != s->ids[k - 1]) {
-            s->ids[k] = id;
-            s->part[k] = x == 0 ? (uint32_t)p->rank : w[x - 1];
-            if (s->part[k] == (uint32_t)p->rank && o < n_own)
-                s->owned[o++] = (uint32_t)k;
-            k++;
+    free(all);
+    n = n_own;
+    for (size_t at = 0; !st && at < nw; at += record_words(w[at + 2]))
+        for (uint32_t c = 0, d = w[at + 2]; c < d; c++, n++) {
+            s->part[index[n]] = w[at + 3 + d + c]; /* the same for every copy */
+            w[at + 3 + d + c] = index[n];
         }
-        if (x != 0)
-            w[x - 1] = (uint32_t)(k - 1);
-    }
-    free(key);
+    for (size_t i = 0; !st && i < n_own; i++)
+        s->part[index[i]] = (uint32_t)p->rank;
+    free(index);
+    if (st)
+        return st;
+    for (size_t i = 0, o = 0; i < k && o < n_own; i++)
+        if (s->part[i] == (uint32_t)p->rank)
+            s->owned[o++] = (uint32_t)i;
     uint32_t *ids = realloc(s->ids, (k ? k : 1) * sizeof *ids);
     uint32_t *part = realloc(s->part, (k ? k : 1) * sizeof *part);
     s->ids = ids ? ids : s->ids; /* shrinking: the old block stays valid */

@@ -84,6 +84,18 @@ double mpi_local_diagonal(mpi_part *p, const double *pos, size_t nb);
 /* Sorts n keys increasing (radix passes; qsort when short or out of memory). */
 void mpi_local_sort(uint64_t *a, size_t n);
 
+/* mpi_local_sort's result for keys spread evenly over their high bits (a
+   hash's): one counting pass by the top bits, then each bucket (a few keys
+   on average) sorted alone, in place of up to four 16-bit radix passes. */
+void mpi_local_sort_uniform(uint64_t *a, size_t n);
+
+/* The distinct values of ids[0 .. n) into distinct, increasing (*nd of
+   them; room for n), and each element's place in that list into index[i]:
+   a bitmap over the ids' range when it is at most 32 n wide (no sort), else
+   a radix sort of the packed (id, element) keys. Same output either way. */
+limn_status mpi_local_distinct(limn_context *ctx, const uint32_t *ids, size_t n,
+                               uint32_t *distinct, size_t *nd, uint32_t *index);
+
 /* Notes a per-vertex array of `entries` in s->stats. */
 void mpi_local_note(struct local_sub *s, size_t entries);
 

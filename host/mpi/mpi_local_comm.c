@@ -168,6 +168,137 @@ void mpi_local_sort(uint64_t *a, size_t n)
     free(count);
 }
 
+void mpi_local_sort_uniform(uint64_t *a, size_t n)
+{
+    int bb = 1; /* top bits: about 8 keys a bucket, 16 bits at most */
+    while (bb < 16 && ((size_t)8 << bb) < n)
+        bb++;
+    uint64_t *b = n > 256 ? malloc(n * sizeof *b) : NULL;
+    size_t nbk = (size_t)1 << bb, *at = b ? calloc(nbk + 1, sizeof *at) : NULL;
+    if (!at) { /* short lists, or no room: the radix passes */
+        free(b);
+        mpi_local_sort(a, n);
+        return;
+    }
+    int shift = 64 - bb;
+    for (size_t i = 0; i < n; i++)
+        at[(a[i] >> shift) + 1]++;
+    for (size_t k = 0; k < nbk; k++)
+        at[k + 1] += at[k];
+    for (size_t i = 0; i < n; i++)
+        b[at[a[i] >> shift]++] = a[i]; /* at[k]: now the end of bucket k */
+    for (size_t k = 0, begin = 0; k < nbk; begin = at[k++])
+        mpi_local_sort(b + begin, at[k] - begin);
+    memcpy(a, b, n * sizeof *a);
+    free(b);
+    free(at);
+}
+
+/* Bits enough for the values 0 .. n (at most 32: n below 2^32). */
+static int bits_for(size_t n)
+{
+    int b = 1;
+    while (b < 32 && ((size_t)1 << b) <= n)
+        b++;
+    return b;
+}
+
+static int ones(uint64_t x)
+{
+#if defined(__GNUC__)
+    return __builtin_popcountll(x);
+#else
+    int k = 0;
+    for (; x; x &= x - 1)
+        k++;
+    return k;
+#endif
+}
+
+static int lowest_bit(uint64_t x) /* x != 0 */
+{
+#if defined(__GNUC__)
+    return __builtin_ctzll(x);
+#else
+    int b = 0;
+    while (!(x & 1)) {
+        x >>= 1;
+        b++;
+    }
+    return b;
+#endif
+}
+
+/* mpi_local_distinct by a bitmap of [lo, lo + range): one bit an id and a
+   count of the ids below each word; 0 when out of memory. */
+static int distinct_bitmap(const uint32_t *ids, size_t n, uint32_t lo, uint64_t range,
+                           uint32_t *distinct, size_t *nd, uint32_t *index)
+{
+    size_t nw = (size_t)((range + 63) / 64), k = 0;
+    uint64_t *bits = calloc(nw, sizeof *bits);
+    size_t *below = malloc(nw * sizeof *below);
+    if (!bits || !below) {
+        free(bits);
+        free(below);
+        return 0;
+    }
+    for (size_t i = 0; i < n; i++) {
+        uint32_t r = ids[i] - lo;
+        bits[r >> 6] |= (uint64_t)1 << (r & 63);
+    }
+    for (size_t w = 0; w < nw; w++) {
+        below[w] = k;
+        for (uint64_t x = bits[w]; x; x &= x - 1)
+            distinct[k++] = lo + (uint32_t)(64 * w) + (uint32_t)lowest_bit(x);
+    }
+    for (size_t i = 0; i < n; i++) {
+        uint32_t r = ids[i] - lo;
+        index[i] = (uint32_t)(below[r >> 6] + (size_t)ones(bits[r >> 6] &
+                                                            (((uint64_t)1 << (r & 63)) - 1)));
+    }
+    free(bits);
+    free(below);
+    *nd = k;
+    return 1;
+}
+
+limn_status mpi_local_distinct(limn_context *ctx, const uint32_t *ids, size_t n,
+                               uint32_t *distinct, size_t *nd, uint32_t *index)
+{
+    *nd = 0;
+    if (n == 0)
+        return LIMN_OK;
+    uint32_t lo = UINT32_MAX, hi = 0;
+    for (size_t i = 0; i < n; i++) {
+        lo = ids[i] < lo ? ids[i] : lo;
+        hi = ids[i] > hi ? ids[i] : hi;
+    }
+    uint64_t range = (uint64_t)hi - lo + 1;
+    /* the bitmap and its counts (range / 4 bytes) below the sort's n keys */
+    if (range <= 32 * (uint64_t)n && distinct_bitmap(ids, n, lo, range, distinct, nd, index))
+        return LIMN_OK;
+    /* key: the id above the element, packed (id - lowest id, then cb bits of
+       element), so the radix sort skips the digits no key uses */
+    uint64_t *key = malloc(n * sizeof *key);
+    if (!key)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory sorting %zu vertex ids", n);
+    int cb = bits_for(n);
+    uint64_t mask = ((uint64_t)1 << cb) - 1;
+    for (size_t i = 0; i < n; i++)
+        key[i] = (uint64_t)(ids[i] - lo) << cb | i;
+    mpi_local_sort(key, n);
+    size_t k = 0;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t v = (uint32_t)(key[i] >> cb) + lo;
+        if (i == 0 || v != distinct[k - 1])
+            distinct[k++] = v;
+        index[key[i] & mask] = (uint32_t)(k - 1);
+    }
+    free(key);
+    *nd = k;
+    return LIMN_OK;
+}
+
 /* The bounding box diagonal of all vertices, as mesh_bbox_diagonal gives it
    for the whole mesh (min and max are exact in any order). */
 double mpi_local_diagonal(mpi_part *p, const double *pos, size_t nb)

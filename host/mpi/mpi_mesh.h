@@ -75,6 +75,9 @@ typedef struct mpi_mesh_counts {
 } mpi_mesh_counts;
 /* Collective, agreed. */
 limn_status mpi_mesh_census(mpi_part *p, const limn_mpi_mesh *mesh, mpi_mesh_counts *out);
+/* limn_denoise's refusal of a mesh whose volume is not defined (its
+   message), from the census (mpi_mesh_series.c). Collective, agreed. */
+limn_status mpi_mesh_check_closed(mpi_part *p, const limn_mpi_mesh *mesh);
 
 /* ------------------------------------------------------ mpi_mesh_measure.c */
 

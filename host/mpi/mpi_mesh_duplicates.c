@@ -6,7 +6,8 @@
  * (mesh_repair.c's find_duplicates). Every face goes, as its sorted vertex
  * list, to the block owner of its lowest vertex, so all copies of a set
  * meet on one rank; there the records are grouped by a hash of their set
- * (a radix sort of 64-bit keys) and only records sharing a hash are sorted
+ * (a sort of 64-bit keys: one pass by the top bits, the hash being uniform,
+ * then each small bucket) and only records sharing a hash are sorted
  * (size, vertices, face): each set's later faces are duplicates of its
  * first, and each verdict goes back to the rank holding the face, which
  * drops it when asked.
@@ -140,7 +141,7 @@ static limn_status find_sets(mpi_part *p, const uint32_t **r, size_t nr, uint64_
     }
     for (size_t k = 0; k < nr; k++)
         key[k] = (rec_hash(r[k]) & ~low) | k;
-    mpi_local_sort(key, nr);
+    mpi_local_sort_uniform(key, nr);
     for (size_t i = 0, j; i < nr; i = j) {
         for (j = i + 1; j < nr && (key[j] & ~low) == (key[i] & ~low); j++)
             ;

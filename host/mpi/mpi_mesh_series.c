@@ -156,8 +156,7 @@ static limn_status smooth_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     return mpi_mesh_series_close(&s, st, result, r);
 }
 
-/* limn_denoise's refusal of a mesh whose volume is not defined. */
-static limn_status check_closed(mpi_part *p, const limn_mpi_mesh *mesh)
+limn_status mpi_mesh_check_closed(mpi_part *p, const limn_mpi_mesh *mesh)
 {
     mpi_mesh_counts k;
     limn_status st = mpi_mesh_census(p, mesh, &k);
@@ -186,7 +185,7 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     if (s.p.comm == MPI_COMM_NULL)
         return st;
     if (!st && keep_volume)
-        st = check_closed(&s.p, mesh);
+        st = mpi_mesh_check_closed(&s.p, mesh);
     /* keep_volume after the run: filter.c's step needs the whole mesh on the root */
     if (!st)
         st = series_denoise_run(&e, NULL, m, steps, 0, NULL);
@@ -246,18 +245,28 @@ static limn_status check_finite_blocks(mpi_part *p, const limn_mpi_mesh *mesh, c
                     all);
 }
 
-/* The SURE filter on the blocks: tr(E - A) and the degree vectors B^i y
-   (distributed products) in block order, then sure_fit with chained_dot
-   and the combination, every rank on its block. */
+/* sure_spectrum_bound of the whole operator: a max over rows, so the max
+   of the ranks' owned rows (exact, in any order). Before p->host goes. */
+static double spectrum_bound(const mpi_part *p)
+{
+    double mine = sure_spectrum_bound(&p->host), all = 0.0;
+    MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_MAX, p->comm);
+    return all;
+}
+
+/* The SURE filter on the blocks: tr(E - A), the spectrum bound and the
+   degree vectors B^i y (distributed products) in block order, then sure_fit
+   with chained_dot and the combination, every rank on its block. */
 static limn_status sure_blocks(series_mpi *s, const series_engine *e, int degree, double *r,
                                double *q, double *sigma)
 {
     mpi_part *p = &s->p;
     const limn_mpi_mesh *mesh = s->mesh;
     size_t n3 = 3 * mesh->slice.vertex_count;
-    double t[3 * LIMN_MAX_SURE_PRODUCTS], *d = t + 2 * degree, tr[3];
+    double t[3 * LIMN_MAX_SURE_PRODUCTS], *d = t + 2 * degree, tr[3], mu_max = 0.0;
     limn_status st = rows_to_block(s, NULL, q); /* the diagonal first: p->host goes later */
     if (!st) {
+        mu_max = spectrum_bound(p);
         mpi_mesh_chained_sums(p, q, mesh->slice.vertex_count, 3, tr);
         sure_traces_from(tr[0], mesh->vertex_dist[p->size], p->scheme, 2 * degree, t);
         st = e->ops->upload(e, NULL, e->buf[0]);
@@ -274,7 +283,7 @@ static limn_status sure_blocks(series_mpi *s, const series_engine *e, int degree
     }
     sure_sum sum = {chained_dot, p};
     if (!st)
-        st = mpi_agree(p, sure_fit(p->ctx, r, n3, degree, t, &sum, sigma, d));
+        st = mpi_agree(p, sure_fit(p->ctx, r, n3, degree, t, &sum, mu_max, sigma, d));
     if (!st)
         sure_combine(mesh->slice.positions, r, n3, degree, d, q);
     return st ? st : check_finite_blocks(p, mesh, q);
@@ -296,7 +305,7 @@ static limn_status denoise_sure_sized(limn_context *ctx, const limn_mpi_mesh *me
     if (s.p.comm == MPI_COMM_NULL)
         return st;
     if (!st && keep_volume)
-        st = check_closed(&s.p, mesh);
+        st = mpi_mesh_check_closed(&s.p, mesh);
     size_t n3 = 3 * mesh->slice.vertex_count + 1; /* + 1: an empty block */
     double *rv = malloc((size_t)products * n3 * sizeof *rv), *q = malloc(n3 * sizeof *q);
     if (!st && (!rv || !q))

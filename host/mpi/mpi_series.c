@@ -270,7 +270,8 @@ static limn_status sure_root(series_mpi *s, const limn_mesh *mesh, int degree, c
     size_t n3 = 3 * s->p.n_global;
     double t[3 * LIMN_MAX_SURE_PRODUCTS], *d = t + 2 * degree;
     sure_traces(&s->p.global.host, s->p.scheme, 2 * degree, t);
-    limn_status st = sure_fit(ctx, r, n3, degree, t, NULL, sigma, d);
+    double mu_max = sure_spectrum_bound(&s->p.global.host);
+    limn_status st = sure_fit(ctx, r, n3, degree, t, NULL, mu_max, sigma, d);
     if (!st)
         st = limn_mesh_copy(ctx, mesh, out);
     if (!st)

@@ -33,24 +33,21 @@ uint64_t mpi_sfc_hilbert(uint32_t x, uint32_t y, uint32_t z)
        the transposed Hilbert index, whose bits interleaved are the key */
     uint32_t X[3] = {x, y, z};
     const uint32_t top = 1u << (SFC_BITS - 1);
+    /* without branches: the bits are data, a branch on each mispredicts */
     for (uint32_t q = top; q > 1; q >>= 1) {
         uint32_t low = q - 1;
         for (int i = 0; i < 3; i++) {
-            if (X[i] & q) {
-                X[0] ^= low;
-            } else {
-                uint32_t t = (X[0] ^ X[i]) & low;
-                X[0] ^= t;
-                X[i] ^= t;
-            }
+            uint32_t set = 0u - ((X[i] & q) != 0); /* all ones when bit q is set */
+            uint32_t t = (X[0] ^ X[i]) & low & ~set; /* set: invert X[0]'s low bits */
+            X[0] ^= (low & set) | t;                 /* clear: exchange them */
+            X[i] ^= t;
         }
     }
     X[1] ^= X[0];
     X[2] ^= X[1];
     uint32_t t = 0;
     for (uint32_t q = top; q > 1; q >>= 1)
-        if (X[2] & q)
-            t ^= q - 1;
+        t ^= (q - 1) & (0u - ((X[2] & q) != 0));
     /* bit b of axis i goes to bit 3 b + 2 - i */
     return spread3(X[0] ^ t) << 2 | spread3(X[1] ^ t) << 1 | spread3(X[2] ^ t);
 }

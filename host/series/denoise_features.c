@@ -26,9 +26,9 @@ void limn_feature_options_default(limn_feature_options *o)
     abi_default(&abi_feature_options, o);
 }
 
-static limn_status check_feature_options(limn_context *ctx, const limn_feature_options *o)
+limn_status feature_check_options(limn_context *ctx, const char *fn,
+                                  const limn_feature_options *o)
 {
-    const char *fn = "limn_denoise_features";
     limn_status st =
         check_count(ctx, fn, "outer_steps", o->outer_steps, 1, LIMN_MAX_STEPS, "LIMN_MAX_STEPS");
     if (!st)
@@ -53,17 +53,7 @@ static limn_status check_feature_options(limn_context *ctx, const limn_feature_o
     return st;
 }
 
-/* W and two face vectors (4 doubles a face) on the device, the host's
-   staging copy. */
-typedef struct feature_run {
-    struct device *dev;
-    device_csr w;
-    device_buffer *in, *out;
-    double *host;
-    size_t faces;
-} feature_run;
-
-static void run_close(feature_run *r)
+void feature_run_close(feature_run *r)
 {
     if (r->dev) {
         device_csr_release(r->dev, &r->w);
@@ -76,7 +66,7 @@ static void run_close(feature_run *r)
     memset(r, 0, sizeof *r);
 }
 
-static limn_status run_open(limn_context *ctx, const feature_mesh *fm, feature_run *r)
+limn_status feature_run_open(limn_context *ctx, const feature_mesh *fm, feature_run *r)
 {
     memset(r, 0, sizeof *r);
     r->faces = fm->faces;
@@ -93,7 +83,7 @@ static limn_status run_open(limn_context *ctx, const feature_mesh *fm, feature_r
     if (!st && !r->host)
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", fm->faces);
     if (st)
-        run_close(r);
+        feature_run_close(r);
     return st;
 }
 
@@ -122,10 +112,9 @@ static limn_status filter_product(feature_run *r, const feature_mesh *fm, double
     return st;
 }
 
-/* The rounds on positions x (3 per vertex); n: 3 per face scratch. */
-static limn_status feature_rounds(limn_context *ctx, feature_mesh *fm, feature_run *run,
-                                  const limn_feature_options *o, double *x, double *n,
-                                  limn_series_report *r)
+limn_status feature_rounds(limn_context *ctx, feature_mesh *fm, feature_run *run,
+                           const limn_feature_options *o, double *x, double *n,
+                           limn_series_report *r, const feature_sync *sync)
 {
     limn_status st = LIMN_OK;
     for (int k = 0; !st && k < o->outer_steps; k++) {
@@ -134,10 +123,12 @@ static limn_status feature_rounds(limn_context *ctx, feature_mesh *fm, feature_r
         for (int t = 0; !st && t < o->normal_steps; t++) {
             feature_weights(fm, n, o->sigma_r);
             st = filter_product(run, fm, n);
+            if (sync)
+                st = sync->normals(sync->user, st, n);
             r->products++;
         }
         if (!st)
-            st = feature_fit_vertices(ctx, fm, n, x, o->vertex_steps, o->tangential);
+            st = feature_fit_vertices(ctx, fm, n, x, o->vertex_steps, o->tangential, sync);
         ctx_progress(ctx, "denoise", (double)(k + 1) / o->outer_steps);
     }
     return st;
@@ -156,7 +147,7 @@ static limn_status features_compute(limn_context *ctx, const limn_mesh *mesh,
         return st;
     r->seconds_stencil = clock_seconds() - t0;
     r->stencil_nonzeros = fm.ring.row_offsets[fm.faces];
-    st = run_open(ctx, &fm, &run);
+    st = feature_run_open(ctx, &fm, &run);
     limn_mesh *m = NULL;
     double *n = malloc(3 * (fm.faces ? fm.faces : 1) * sizeof *n);
     if (!st && !n)
@@ -169,7 +160,7 @@ static limn_status features_compute(limn_context *ctx, const limn_mesh *mesh,
         feature_faces_update(&fm, m->positions);
         fm.sigma_s = o->sigma_s > 0.0 ? o->sigma_s : feature_mean_spacing(&fm);
         double t1 = clock_seconds();
-        st = feature_rounds(ctx, &fm, &run, o, m->positions, n, r);
+        st = feature_rounds(ctx, &fm, &run, o, m->positions, n, r, NULL);
         r->seconds_compute = clock_seconds() - t1;
     }
     if (!st)
@@ -178,7 +169,7 @@ static limn_status features_compute(limn_context *ctx, const limn_mesh *mesh,
         st = series_keep_volume(ctx, mesh, m);
     free(n);
     if (run.dev)
-        run_close(&run);
+        feature_run_close(&run);
     feature_mesh_free(&fm);
     return mesh_hand_over(st, m, out);
 }
@@ -211,7 +202,7 @@ static limn_status features_sized(limn_context *ctx, const limn_mesh *mesh,
     series_report_init(r, mesh);
     if (!out)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: out is NULL", fn);
-    st = check_feature_options(ctx, o);
+    st = feature_check_options(ctx, fn, o);
     if (!st && (mesh->vertex_count == 0 || mesh->face_count == 0))
         st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY, "the mesh has no %s",
                       mesh->vertex_count ? "faces" : "vertices");

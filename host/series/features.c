@@ -136,17 +136,23 @@ void feature_faces_update(feature_mesh *fm, const double *x)
     }
 }
 
-double feature_mean_spacing(const feature_mesh *fm)
+double feature_spacing_add(const feature_mesh *fm, size_t begin, size_t end, double sum,
+                           size_t *count)
 {
     const stencil_csr *w = &fm->ring;
-    double sum = 0.0;
-    size_t count = 0;
-    for (size_t i = 0; i < w->rows; i++)
+    for (size_t i = begin; i < end; i++)
         for (uint32_t k = w->row_offsets[i]; k < w->row_offsets[i + 1]; k++)
             if (w->columns[k] != i) {
                 sum += sqrt(dist2(fm->centroid + 3 * i, fm->centroid + 3 * (size_t)w->columns[k]));
-                count++;
+                (*count)++;
             }
+    return sum;
+}
+
+double feature_mean_spacing(const feature_mesh *fm)
+{
+    size_t count = 0;
+    double sum = feature_spacing_add(fm, 0, fm->ring.rows, 0.0, &count);
     return count ? sum / (double)count : 0.0;
 }
 
@@ -215,15 +221,20 @@ static void fit_sweep(feature_mesh *fm, const double *n, const double *x, double
 }
 
 limn_status feature_fit_vertices(limn_context *ctx, feature_mesh *fm, const double *n, double *x,
-                                 int steps, double tangential)
+                                 int steps, double tangential, const feature_sync *sync)
 {
     double *y = malloc(3 * (fm->vertices ? fm->vertices : 1) * sizeof *y);
-    if (!y)
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", fm->vertices);
-    for (int s = 0; s < steps; s++) {
+    limn_status st = y ? LIMN_OK
+                       : ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices",
+                                  fm->vertices);
+    if (sync) /* every rank learns of a failed allocation before the sweeps */
+        st = sync->positions(sync->user, st, x);
+    for (int s = 0; !st && s < steps; s++) {
         fit_sweep(fm, n, x, y, tangential);
         memcpy(x, y, 3 * fm->vertices * sizeof *x);
+        if (sync)
+            st = sync->positions(sync->user, st, x);
     }
     free(y);
-    return LIMN_OK;
+    return st;
 }

@@ -10,6 +10,7 @@
 #ifndef LIMN_SERIES_FEATURES_H
 #define LIMN_SERIES_FEATURES_H
 
+#include "device/device.h"
 #include "stencil/stencil.h"
 
 #include <stddef.h>
@@ -33,6 +34,11 @@ void feature_mesh_free(feature_mesh *fm);
 void feature_faces_update(feature_mesh *fm, const double *x);
 /* The mean distance between the centroids of ring neighbours. */
 double feature_mean_spacing(const feature_mesh *fm);
+/* sum plus the distances of rows [begin, end) to their neighbours, added
+   in row and column order as feature_mean_spacing adds them; *count grows
+   by their number (the MPI path carries sum from rank to rank). */
+double feature_spacing_add(const feature_mesh *fm, size_t begin, size_t end, double sum,
+                           size_t *count);
 /* W's weights from the normals n (3 per face): a_j exp(-|c_i - c_j|^2 /
    2 sigma_s^2) exp(-|n_i - n_j|^2 / 2 sigma_r^2), each row divided by its
    sum (a row of zero weights keeps its own face). */
@@ -40,7 +46,38 @@ void feature_weights(feature_mesh *fm, const double *n, double sigma_r);
 /* steps Jacobi sweeps of x_v += (1 / |F_v|) (sum_f n_f (n_f . (c_f - x_v))
    + tangential P_v sum_f (c_f - x_v)), P_v the projection onto the plane
    of the area-weighted mean of the n_f around v. */
+/* What a caller spreading the faces over ranks does between the steps
+   (NULL: nothing): after each product of W, the normals n; after each
+   vertex sweep (and once before the first), the positions x. Each gets the
+   status so far and returns it agreed (all ranks call each in step). */
+typedef struct feature_sync {
+    limn_status (*normals)(void *user, limn_status st, double *n);
+    limn_status (*positions)(void *user, limn_status st, double *x);
+    void *user;
+} feature_sync;
 limn_status feature_fit_vertices(limn_context *ctx, feature_mesh *fm, const double *n, double *x,
-                                 int steps, double tangential);
+                                 int steps, double tangential, const feature_sync *sync);
+
+/* ------------------------------------------------- denoise_features.c */
+
+/* The checks of limn_denoise_features' options (fn: for messages). */
+limn_status feature_check_options(limn_context *ctx, const char *fn,
+                                  const limn_feature_options *o);
+/* W and two face vectors (4 doubles a face) on the device, the host's
+   staging copy. */
+typedef struct feature_run {
+    struct device *dev;
+    device_csr w;
+    device_buffer *in, *out;
+    double *host;
+    size_t faces;
+} feature_run;
+limn_status feature_run_open(limn_context *ctx, const feature_mesh *fm, feature_run *r);
+void feature_run_close(feature_run *r);
+/* The rounds on positions x (3 per vertex; fm's faces current at x):
+   n (3 per face) ends with the last round's filtered normals. */
+limn_status feature_rounds(limn_context *ctx, feature_mesh *fm, feature_run *run,
+                           const limn_feature_options *o, double *x, double *n,
+                           limn_series_report *r, const feature_sync *sync);
 
 #endif

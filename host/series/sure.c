@@ -8,7 +8,12 @@
  * r_i = B^i y. Its minimiser is the best polynomial of degree N in A for this
  * mesh, found without the clean mesh: the vectors r_i cost the N products the
  * filter needs anyway, the result is their combination. p(1) = 1 (d_0 = 1), so
- * a translation moves the result by the same translation.
+ * a translation moves the result by the same translation. The minimiser is
+ * taken under the constraint that the gain p on B's spectrum (eigenvalue mu
+ * of B, Gershgorin's interval) stays in [0, 1]: no band amplified, none turned
+ * over. Unconstrained, the 12 free coefficients fit the risk estimate's noise
+ * with gains far outside [0, 1] where A has little energy (-2e5 at the top of
+ * bunny's interval); the constraint removes that freedom at no cost in bias.
  */
 #include "series/sure.h"
 
@@ -18,6 +23,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+enum { SURE_GRID = 64 }; /* points where the gain is kept in [0, 1] */
 
 /* The symbol of B on the regular lattice at frequency (u, w): Loop's
    triangular lattice (valence 6) or Catmull-Clark's quad lattice (valence 4),
@@ -115,11 +122,179 @@ static void orthogonalise(const double *r, size_t n3, int degree, const sure_sum
     }
 }
 
-limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
-                               const double *rhs, const sure_sum *sum, double *d)
+/* w = U^{-T} rhs on the kept columns (forward substitution). */
+static void solve_transposed(const double *u, const int *keep, int degree, const double *rhs,
+                             double *w)
 {
+    for (int i = 0; i < degree; i++) {
+        double s = keep[i] ? rhs[i] : 0.0;
+        for (int j = 0; j < i && keep[i]; j++)
+            s -= keep[j] ? u[j * degree + i] * w[j] : 0.0;
+        w[i] = keep[i] ? s / u[i * degree + i] : 0.0;
+    }
+}
+
+/* d = U^{-1} z on the kept columns (back substitution), 0 elsewhere. */
+static void solve_upper(const double *u, const int *keep, int degree, const double *z, double *d)
+{
+    for (int i = degree - 1; i >= 0; i--) {
+        double s = z[i];
+        for (int j = i + 1; j < degree && keep[i]; j++)
+            s -= keep[j] ? u[i * degree + j] * d[j] : 0.0;
+        d[i] = keep[i] ? s / u[i * degree + i] : 0.0;
+    }
+}
+
+/* The gain's rows on the grid: g(mu_k) = 1 + sum_i d_i mu_k^{i+1} = 1 + h_k . z
+   for z = U d, so h_k = v_k U^{-1} (v_k the powers of mu_k), normalised: h[k]
+   unit rows, len[k] their lengths. Chebyshev points on (0, mu_max]. */
+static void gain_rows(const double *u, const int *keep, int degree, double mu_max, double *h,
+                      double *len)
+{
+    for (int k = 0; k < SURE_GRID; k++) {
+        double mu = 0.5 * mu_max * (1.0 - cos(3.14159265358979323846 * (k + 1) / SURE_GRID));
+        double *hk = h + (size_t)k * degree, pw = 1.0, l2 = 0.0;
+        for (int j = 0; j < degree; j++) {
+            double s = (pw *= mu);
+            for (int i = 0; i < j && keep[j]; i++)
+                s -= keep[i] ? hk[i] * u[i * degree + j] : 0.0;
+            hk[j] = keep[j] ? s / u[j * degree + j] : 0.0;
+            l2 += hk[j] * hk[j];
+        }
+        len[k] = sqrt(l2);
+        for (int j = 0; j < degree && len[k] > 0.0; j++)
+            hk[j] /= len[k];
+    }
+}
+
+/* s[P] minimising |E_P s - e| for the columns in P (count of them, each
+   rows long, at e + col*rows), by modified Gram-Schmidt twice; q: count *
+   rows scratch, u: count^2. */
+static void passive_least_squares(const double *e, int rows, const int *set, int count,
+                                  double *q, double *u, double *s)
+{
+    for (int i = 0; i < count; i++) {
+        double *qi = q + (size_t)i * rows;
+        memcpy(qi, e + (size_t)set[i] * rows, (size_t)rows * sizeof *qi);
+        for (int j = 0; j < count; j++)
+            u[j * count + i] = 0.0;
+        for (int pass = 0; pass < 2; pass++)
+            for (int j = 0; j < i; j++) {
+                double c = sure_dot_from(0.0, q + (size_t)j * rows, qi, (size_t)rows);
+                u[j * count + i] += c;
+                for (int k = 0; k < rows; k++)
+                    qi[k] -= c * q[(size_t)j * rows + k];
+            }
+        double l = sqrt(sure_dot_from(0.0, qi, qi, (size_t)rows));
+        u[i * count + i] = l > 0.0 ? l : 1.0;
+        for (int k = 0; k < rows && l > 0.0; k++)
+            qi[k] /= l;
+    }
+    for (int i = count - 1; i >= 0; i--) { /* target (0, ..., 0, 1) */
+        double v = q[(size_t)i * rows + rows - 1];
+        for (int j = i + 1; j < count; j++)
+            v -= u[i * count + j] * s[j];
+        s[i] = v / u[i * count + i];
+    }
+}
+
+/* Lawson & Hanson's NNLS (1974, ch. 23) for min |E x - e|, x >= 0, E: rows x
+   cols, column-major, e = (0, ..., 0, 1); work: 2 cols + rows^2 + rows * cols
+   doubles, set: 2 cols ints. */
+static void nnls(const double *e, int rows, int cols, double *x, double *work, int *set)
+{
+    double *w = work, *sp = w + cols, *u = sp + cols, *q = u + (size_t)rows * rows;
+    int *passive = set, *in = set + cols, count = 0;
+    memset(x, 0, (size_t)cols * sizeof *x);
+    memset(in, 0, (size_t)cols * sizeof *in);
+    for (int outer = 0; outer < 3 * cols; outer++) {
+        int best = -1;
+        for (int j = 0; j < cols; j++) { /* the gradient E^T (e - E x) */
+            const double *ej = e + (size_t)j * rows;
+            w[j] = ej[rows - 1];
+            for (int i = 0; i < count; i++)
+                w[j] -= sure_dot_from(0.0, ej, e + (size_t)passive[i] * rows, (size_t)rows) * x[passive[i]];
+            if (!in[j] && w[j] > 1e-12 && (best < 0 || w[j] > w[best]))
+                best = j;
+        }
+        if (best < 0 || count == rows)
+            return;
+        passive[count++] = best, in[best] = 1;
+        for (int inner = 0; inner < 3 * cols; inner++) {
+            passive_least_squares(e, rows, passive, count, q, u, sp);
+            double alpha = 1.0;
+            for (int i = 0; i < count; i++)
+                if (sp[i] <= 0.0)
+                    alpha = fmin(alpha, x[passive[i]] / (x[passive[i]] - sp[i]));
+            for (int i = 0; i < count; i++)
+                x[passive[i]] += alpha * (sp[i] - x[passive[i]]);
+            if (alpha >= 1.0)
+                break;
+            for (int i = 0; i < count; i++)
+                if (x[passive[i]] <= 1e-15) {
+                    x[passive[i]] = 0.0, in[passive[i]] = 0;
+                    passive[i--] = passive[--count];
+                }
+        }
+    }
+}
+
+/* z nearest c with the gain in [0, 1] on the grid, a least-distance problem:
+   x = z - c minimises |x| with G x >= f (G x >= f: -h . x >= h . c and
+   h . x >= -1/len - h . c), solved through NNLS on E = [G^T; f^T] (Lawson &
+   Hanson, ch. 23: x = -r/r_last, r = E u - e), f scaled to 1 and back. */
+static void project_gain(const double *h, const double *len, int degree, const double *c,
+                         double *z, double *work)
+{
+    int rows = degree + 1, cols = 2 * SURE_GRID, set[4 * SURE_GRID];
+    double *e = work, *u = e + (size_t)rows * cols, *rest = u + cols, scale = 0.0;
+    memcpy(z, c, (size_t)degree * sizeof *z);
+    for (int k = 0; k < cols; k++) {
+        const double *hk = h + (size_t)(k / 2) * degree;
+        double sign = k % 2 ? 1.0 : -1.0, hc = sure_dot_from(0.0, hk, c, (size_t)degree);
+        double f = len[k / 2] > 0.0 ? (k % 2 ? -1.0 / len[k / 2] - hc : hc) : -1.0;
+        for (int j = 0; j < degree; j++)
+            e[(size_t)k * rows + j] = sign * hk[j];
+        e[(size_t)k * rows + degree] = f;
+        scale = fmax(scale, fabs(f));
+    }
+    for (int k = 0; k < cols && scale > 0.0; k++)
+        e[(size_t)k * rows + degree] /= scale;
+    nnls(e, rows, cols, u, rest, set);
+    double r[LIMN_MAX_SURE_PRODUCTS + 1];
+    for (int i = 0; i < rows; i++) {
+        r[i] = -(i == degree);
+        for (int k = 0; k < cols; k++)
+            r[i] += e[(size_t)k * rows + i] * u[k];
+    }
+    for (int j = 0; j < degree && r[degree] != 0.0; j++)
+        z[j] = c[j] - scale * r[j] / r[degree];
+}
+
+/* The fit in the orthonormal basis: z = U^{-T} rhs minimises |z - c|^2;
+   with mu_max > 0 projected onto the gains in [0, 1]; d = U^{-1} z. */
+static void fit(const double *u, const int *keep, int degree, const double *rhs, double mu_max,
+                double *work, double *d)
+{
+    double *c = work, *z = c + degree, *h = z + degree, *len = h + (size_t)SURE_GRID * degree;
+    double *scratch = len + SURE_GRID;
+    solve_transposed(u, keep, degree, rhs, c);
+    memcpy(z, c, (size_t)degree * sizeof *z);
+    if (mu_max > 0.0) {
+        gain_rows(u, keep, degree, mu_max, h, len);
+        project_gain(h, len, degree, c, z, scratch);
+    }
+    solve_upper(u, keep, degree, z, d);
+}
+
+limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
+                               const double *rhs, const sure_sum *sum, double mu_max, double *d)
+{
+    size_t rows = (size_t)degree + 1, cols = 2 * SURE_GRID;
+    size_t nwork = 2 * (size_t)degree + (size_t)SURE_GRID * (degree + 1) + rows * cols + cols +
+                   2 * cols + rows * rows + rows * cols;
     double *q = malloc((size_t)degree * (n3 ? n3 : 1) * sizeof *q); /* n3 = 0: an empty rank */
-    double *u = malloc((size_t)degree * degree * sizeof *u);
+    double *u = malloc(((size_t)degree * degree + nwork) * sizeof *u);
     int *keep = calloc((size_t)degree, sizeof *keep);
     if (!q || !u || !keep) {
         free(q), free(u), free(keep);
@@ -127,38 +302,42 @@ limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, in
                         degree, n3);
     }
     orthogonalise(r, n3, degree, sum, q, u, keep);
-    /* u^T u d = rhs on the kept columns: forward, then back */
-    double *w = d;
-    for (int i = 0; i < degree; i++) {
-        double s = keep[i] ? rhs[i] : 0.0;
-        for (int j = 0; j < i && keep[i]; j++)
-            s -= keep[j] ? u[j * degree + i] * w[j] : 0.0;
-        w[i] = keep[i] ? s / u[i * degree + i] : 0.0;
-    }
-    for (int i = degree - 1; i >= 0; i--) {
-        double s = w[i];
-        for (int j = i + 1; j < degree && keep[i]; j++)
-            s -= keep[j] ? u[i * degree + j] * d[j] : 0.0;
-        d[i] = keep[i] ? s / u[i * degree + i] : 0.0;
-    }
+    fit(u, keep, degree, rhs, mu_max, u + (size_t)degree * degree, d);
     free(q), free(u), free(keep);
     return LIMN_OK;
 }
 
+double sure_spectrum_bound(const stencil_csr *a)
+{
+    double top = 0.0;
+    for (size_t v = 0; v < a->rows; v++) {
+        double row = 0.0, diag = 1.0;
+        for (uint32_t j = a->row_offsets[v]; j < a->row_offsets[v + 1]; j++) {
+            if (a->columns[j] == v)
+                diag -= a->weights[j];
+            else
+                row += fabs(a->weights[j]);
+        }
+        top = fmax(top, fabs(diag) + row);
+    }
+    return top;
+}
+
 limn_status sure_coefficients(limn_context *ctx, const double *r, size_t n3, int degree,
-                              double sigma, const double *t, const sure_sum *sum, double *d)
+                              double sigma, const double *t, const sure_sum *sum, double mu_max,
+                              double *d)
 {
     double rhs[LIMN_MAX_SURE_PRODUCTS];
     for (int i = 0; i < degree; i++)
         rhs[i] = -3.0 * sigma * sigma * t[i];
-    return sure_least_squares(ctx, r, n3, degree, rhs, sum, d);
+    return sure_least_squares(ctx, r, n3, degree, rhs, sum, mu_max, d);
 }
 
 limn_status sure_fit(limn_context *ctx, const double *r, size_t n3, int degree, const double *t,
-                     const sure_sum *sum, double *sigma, double *d)
+                     const sure_sum *sum, double mu_max, double *sigma, double *d)
 {
     *sigma = sure_sigma(r, n3, degree, t, sum);
-    return sure_coefficients(ctx, r, n3, degree, *sigma, t, sum, d);
+    return sure_coefficients(ctx, r, n3, degree, *sigma, t, sum, mu_max, d);
 }
 
 void sure_combine(const double *y, const double *r, size_t n3, int degree, const double *d,
@@ -206,7 +385,7 @@ limn_status sure_denoise_run(limn_context *ctx, series_run *s, const limn_mesh *
     double sg = 0.0;
     if (!st) {
         sure_traces(&s->op.host, s->op.scheme, 2 * degree, t);
-        st = sure_fit(ctx, r, n3, degree, t, NULL, &sg, d);
+        st = sure_fit(ctx, r, n3, degree, t, NULL, sure_spectrum_bound(&s->op.host), &sg, d);
     }
     limn_mesh *m = NULL;
     if (!st)

@@ -40,22 +40,31 @@ void sure_traces(const stencil_csr *a, limn_scheme scheme, int degree, double *t
 void sure_traces_from(double tr1, size_t n, limn_scheme scheme, int degree, double *t);
 double sure_row_diagonal(const stencil_csr *a, size_t v);
 
-/* d solving (R^T R) d = rhs for the columns r_i = r + i*n3, i < degree (QR
-   by modified Gram-Schmidt, twice; d_i = 0 where r_i lies in the span of the
-   earlier ones; the inner products sum's, NULL: this process's).
+/* d minimising |R d|^2 - 2 rhs . d for the columns r_i = r + i*n3, i < degree
+   (QR by modified Gram-Schmidt, twice; d_i = 0 where r_i lies in the span of
+   the earlier ones; the inner products sum's, NULL: this process's): mu_max =
+   0 solves (R^T R) d = rhs; mu_max > 0 keeps the gain 1 + sum_i d_i mu^{i+1}
+   in [0, 1] on a grid of mu in (0, mu_max] (no band amplified or turned
+   over; the same on every rank, from the same R^T R and mu_max).
    LIMN_ERR_MEMORY on allocation failure. */
 limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
-                               const double *rhs, const sure_sum *sum, double *d);
+                               const double *rhs, const sure_sum *sum, double mu_max, double *d);
+
+/* A bound on the spectral radius of B = E - A (Gershgorin: the largest
+   absolute row sum of B; over rows, so the max of the slices' bounds). */
+double sure_spectrum_bound(const stencil_csr *a);
 
 /* d[0..N-1] minimising |sum_i d_i r_i|^2 + 6 sigma^2 sum_i d_i t_i (SURE up to
    a constant) for r_i = r + i*3n, i = 0..N-1 (the vectors (E - A)^{i+1} y);
-   0 where a vector adds nothing new. LIMN_ERR_MEMORY on allocation failure. */
+   0 where a vector adds nothing new; mu_max as in sure_least_squares.
+   LIMN_ERR_MEMORY on allocation failure. */
 limn_status sure_coefficients(limn_context *ctx, const double *r, size_t n3, int degree,
-                              double sigma, const double *t, const sure_sum *sum, double *d);
+                              double sigma, const double *t, const sure_sum *sum, double mu_max,
+                              double *d);
 
 /* sure_sigma into *sigma, then sure_coefficients with it into d. */
 limn_status sure_fit(limn_context *ctx, const double *r, size_t n3, int degree, const double *t,
-                     const sure_sum *sum, double *sigma, double *d);
+                     const sure_sum *sum, double mu_max, double *sigma, double *d);
 
 /* out = y + sum_i d_i r_i (r_i = r + i*n3): the filter's result. */
 void sure_combine(const double *y, const double *r, size_t n3, int degree, const double *d,
