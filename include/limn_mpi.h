@@ -126,6 +126,16 @@ LIMN_API limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const li
                                       int keep_volume, limn_mesh **out, limn_series_report *report,
                                       const limn_mpi_options *mpi, limn_mpi_result *result);
 
+/* limn_denoise_sure over comm (input, *out and *sigma on root; *sigma, may
+   be NULL, on every rank): the products distributed, the fit on the root
+   after a gather of each; the single process's bits. */
+LIMN_API limn_status limn_denoise_sure_mpi(limn_context *ctx, MPI_Comm comm,
+                                           const limn_mesh *mesh,
+                                           const limn_series_options *options, int products,
+                                           int keep_volume, limn_mesh **out, double *sigma,
+                                           limn_series_report *report,
+                                           const limn_mpi_options *mpi, limn_mpi_result *result);
+
 /* limn_sharpen over comm (input and *out on root): the single process's bits. */
 LIMN_API limn_status limn_sharpen_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
                                       const limn_series_options *options, int from, int to,
@@ -257,6 +267,16 @@ LIMN_API limn_status limn_mpi_mesh_denoise(limn_context *ctx, const limn_mpi_mes
                                            int keep_volume, limn_mpi_mesh **out,
                                            limn_series_report *report,
                                            const limn_mpi_options *mpi, limn_mpi_result *result);
+/* limn_denoise_sure on a distributed mesh: no rank gathers a vector; the
+   noise estimate's and the fit's inner products are summed rank to rank in
+   input order (the single process's additions), so the single process's
+   bits on any rank count; *sigma (may be NULL) on every rank. */
+LIMN_API limn_status limn_mpi_mesh_denoise_sure(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                                const limn_series_options *options, int products,
+                                                int keep_volume, limn_mpi_mesh **out,
+                                                double *sigma, limn_series_report *report,
+                                                const limn_mpi_options *mpi,
+                                                limn_mpi_result *result);
 LIMN_API limn_status limn_mpi_mesh_sharpen(limn_context *ctx, const limn_mpi_mesh *mesh,
                                            const limn_series_options *options, int from, int to,
                                            int steps, limn_mpi_mesh **out,

@@ -62,7 +62,7 @@ static void weighted_fit(limn_context *ctx, const double *r, const double *e0, c
         }
         rhs[i] = s;
     }
-    if (sure_least_squares(ctx, scratch, n3, degree, rhs, 0.0, d))
+    if (sure_least_squares(ctx, scratch, n3, degree, rhs, NULL, 0.0, d))
         fail(ctx, "least squares");
 }
 

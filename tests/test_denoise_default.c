@@ -152,7 +152,7 @@ static void least_squares_solves_normal_equations(void **s)
         }
         g[i][K] = rhs[i];
     }
-    CHECK_OK(ctx, sure_least_squares(ctx, r, N, K, rhs, 0.0, d));
+    CHECK_OK(ctx, sure_least_squares(ctx, r, N, K, rhs, NULL, 0.0, d));
     for (int c = 0; c < K; c++) /* Gauss-Jordan on the normal equations */
         for (int i = 0; i < K; i++) {
             if (i == c)
@@ -198,9 +198,9 @@ static void constrained_fit_against_brute_force(void **s)
 #define OBJECTIVE(a, b)                                                                        \
     (g[0][0] * (a) * (a) + 2.0 * g[0][1] * (a) * (b) + g[1][1] * (b) * (b) -                   \
      2.0 * (rhs[0] * (a) + rhs[1] * (b)))
-    CHECK_OK(ctx, sure_least_squares(ctx, r, N, 2, rhs, 0.0, free_d));
+    CHECK_OK(ctx, sure_least_squares(ctx, r, N, 2, rhs, NULL, 0.0, free_d));
     assert_false(gain_within(free_d[0], free_d[1], -0.05, 1.05));
-    CHECK_OK(ctx, sure_least_squares(ctx, r, N, 2, rhs, 1.0, d));
+    CHECK_OK(ctx, sure_least_squares(ctx, r, N, 2, rhs, NULL, 1.0, d));
     assert_true(gain_within(d[0], d[1], -2e-3, 1.0 + 2e-3));
     double best = INFINITY, bd[2] = {0, 0};
     for (int i = 0; i <= 1000; i++) /* d1 in [-4, 0], g(1) = 1 + d1 + d2 in [0, 1] */

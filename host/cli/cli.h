@@ -221,6 +221,12 @@ limn_status cli_mpi_smooth(limn_context *ctx, const limn_mesh *mesh,
 limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
                             const limn_series_options *o, int m, int steps, int keep_volume,
                             limn_mesh **out, limn_series_report *r, limn_mesh **piece);
+/* limn_denoise_sure_mpi; *keep_volume < 0: kept when the mesh is closed
+   (the root's measure), resolved in place on every rank. */
+limn_status cli_mpi_denoise_sure(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_series_options *o, int products, int *keep_volume,
+                                 limn_mesh **out, double *sigma, limn_series_report *r,
+                                 limn_mesh **piece);
 limn_status cli_mpi_sharpen(limn_context *ctx, const limn_mesh *mesh,
                             const limn_series_options *o, int from, int to, int steps,
                             limn_mesh **out, limn_series_report *r, limn_mesh **piece);
@@ -263,6 +269,9 @@ typedef struct cli_series_measures {
 typedef struct cli_series_call {
     cli_series_kind kind;
     int terms, m, steps, from, to, keep_volume;
+    int products;                  /* denoise: > 0 the default (SURE) form of this degree */
+    double *sigma;                 /* its noise estimate (may be NULL) */
+    int *kept;                     /* keep_volume < 0 resolved (closed), may be NULL */
     const limn_feature_options *features; /* denoise: non-NULL for --preserve-features */
     cli_series_measures *measures; /* may be NULL; else filled after the filter */
 } cli_series_call;

@@ -29,8 +29,9 @@ static const char *const help =
     "T_{k+1} = sum_{i=0..m} (E - A)^i A T_k, K times ((m + 1) K stencil products).\n"
     "Smaller m smooths more; the paper uses m = 2-3 and K = 3-4. Every band gain\n"
     "is at most 1, so the mesh shrinks a little: the volume change is reported\n"
-    "(closed meshes; for open ones the volume is not defined). Under MPI this\n"
-    "form and --preserve-features run (on a file input, in slices).\n"
+    "(closed meshes; for open ones the volume is not defined). The default form\n"
+    "and eq. 8 run under MPI with the single process's result; under MPI\n"
+    "--preserve-features runs too (on a file input, in slices).\n"
     "\n"
     "  -o, --output FILE      mesh to write (.obj, .ply binary, .off)\n"
     "  --products N           the default's degree, 1 <= N <= 64          [12]\n"
@@ -177,6 +178,9 @@ static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, li
         e->fo.keep_volume = e->keep_volume > 0;
         return limn_denoise_features(ctx, in, &e->fo, out, r);
     }
+    if (e->products && cli_mpi_ranks() > 1)
+        return cli_mpi_denoise_sure(ctx, in, &c->opt, e->products, &e->keep_volume, out,
+                                    &e->sigma, r, &c->piece);
     if (e->products) {
         /* the default form keeps a closed mesh's volume unless told --no-keep-volume */
         limn_mesh_measures a = {.size = sizeof a};
@@ -213,7 +217,7 @@ static limn_status measure(limn_context *ctx, const limn_mesh *in, const limn_me
 }
 
 /* --products, or eq. 8 with --m / --steps (their defaults 2, 3 for the one
-   not given); the default form has no MPI path. */
+   not given). */
 static int choose_form(const series_cli *c, extra *e)
 {
     if (e->preserve) {
@@ -231,9 +235,6 @@ static int choose_form(const series_cli *c, extra *e)
     if (paper && e->products)
         return cli_usage_error(c->a.cmd, "--products selects the default form and --m / --steps "
                                          "the paper's: give one or the other");
-    if (!paper && cli_mpi_ranks() > 1)
-        return cli_usage_error(c->a.cmd, "the default form (SURE-fitted polynomial) has no MPI "
-                                         "path yet: give --m and --steps for eq. 8");
     if (!paper && !e->products)
         e->products = 12;
     if (e->m < 0)
@@ -271,7 +272,8 @@ int cli_denoise(int argc, char **argv)
         return rc;
     /* on slices the volumes are limn_mpi_mesh_measure's (cli_mpi_series_sliced) */
     cli_series_call call = {.kind = CLI_SERIES_DENOISE, .m = e.m, .steps = e.steps,
-                            .keep_volume = e.keep_volume,
+                            .keep_volume = e.keep_volume, .products = e.products,
+                            .sigma = &e.sigma, .kept = &e.keep_volume,
                             .features = e.preserve ? &e.fo : NULL, .measures = &e.v};
     series_filter f = {run,  measure, &e.mean_displacement, {json_extra, print_extra, &e},
                        &call};

@@ -142,6 +142,31 @@ limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
     return st;
 }
 
+limn_status cli_mpi_denoise_sure(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_series_options *o, int products, int *keep_volume,
+                                 limn_mesh **out, double *sigma, limn_series_report *r,
+                                 limn_mesh **piece)
+{
+    limn_status st = LIMN_OK;
+    if (*keep_volume < 0) { /* the default form keeps a closed mesh's volume */
+        limn_mesh_measures a = {.size = sizeof a};
+        if (cli_mpi_rank() == 0)
+            st = limn_mesh_measure(ctx, mesh, &a);
+        st = cli_mpi_agree(ctx, st);
+        *keep_volume = a.closed;
+        MPI_Bcast(keep_volume, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    }
+    if (st)
+        return st;
+    limn_mpi_options mo = options();
+    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
+    st = limn_denoise_sure_mpi(ctx, MPI_COMM_WORLD, mesh, o, products, *keep_volume, out, sigma,
+                               r, &mo, &res);
+    collect(&res);
+    adopt_piece(&res, piece);
+    return st;
+}
+
 limn_status cli_mpi_sharpen(limn_context *ctx, const limn_mesh *mesh,
                             const limn_series_options *o, int from, int to, int steps,
                             limn_mesh **out, limn_series_report *r, limn_mesh **piece)
@@ -251,6 +276,27 @@ limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *
     return st;
 }
 
+/* The default denoise form on a distributed mesh; keep_volume < 0: kept
+   when the mesh is closed (limn_mpi_mesh_measure). */
+static limn_status denoise_sure_sliced(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                       const limn_series_options *o, const cli_series_call *c,
+                                       limn_mpi_mesh **out, limn_series_report *r,
+                                       const limn_mpi_options *mo, limn_mpi_result *res)
+{
+    int keep = c->keep_volume;
+    if (keep < 0) {
+        limn_mesh_measures a = {.size = sizeof a};
+        limn_status st = limn_mpi_mesh_measure(ctx, mesh, &a);
+        if (st)
+            return st;
+        keep = a.closed;
+    }
+    if (c->kept)
+        *c->kept = keep;
+    return limn_mpi_mesh_denoise_sure(ctx, mesh, o, c->products, keep, out, c->sigma, r, mo,
+                                      res);
+}
+
 /* The filter of call on a distributed mesh. */
 static limn_status series_call(limn_context *ctx, const limn_mpi_mesh *mesh,
                                const limn_series_options *o, const cli_series_call *c,
@@ -263,6 +309,8 @@ static limn_status series_call(limn_context *ctx, const limn_mpi_mesh *mesh,
     case CLI_SERIES_DENOISE:
         if (c->features)
             return limn_mpi_mesh_denoise_features(ctx, mesh, c->features, out, r, mo, res);
+        if (c->products)
+            return denoise_sure_sliced(ctx, mesh, o, c, out, r, mo, res);
         return limn_mpi_mesh_denoise(ctx, mesh, o, c->m, c->steps, c->keep_volume, out, r, mo,
                                      res);
     default:

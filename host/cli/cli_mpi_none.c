@@ -45,6 +45,15 @@ limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
         (void)piece;
     return none();
 }
+limn_status cli_mpi_denoise_sure(limn_context *ctx, const limn_mesh *mesh,
+                                 const limn_series_options *o, int products, int *keep_volume,
+                                 limn_mesh **out, double *sigma, limn_series_report *r,
+                                 limn_mesh **piece)
+{
+    (void)ctx, (void)mesh, (void)o, (void)products, (void)keep_volume, (void)out, (void)sigma,
+        (void)r, (void)piece;
+    return none();
+}
 limn_status cli_mpi_sharpen(limn_context *ctx, const limn_mesh *mesh,
                             const limn_series_options *o, int from, int to, int steps,
                             limn_mesh **out, limn_series_report *r, limn_mesh **piece)

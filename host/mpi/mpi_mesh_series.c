@@ -23,7 +23,9 @@
 #include "device/reference/device_ref.h"
 #include "mesh/check.h"
 #include "series/series.h"
+#include "series/sure.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -192,6 +194,140 @@ static limn_status denoise_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     return mpi_mesh_series_close(&s, st, result, r);
 }
 
+/* sure_sum's dot over the vertex blocks: the ranks in turn carry the
+   running sum along (input order, the single process's additions). */
+static double chained_dot(void *user, const double *x, const double *y, size_t n)
+{
+    mpi_part *p = user;
+    double s = 0.0;
+    if (p->rank > 0)
+        MPI_Recv(&s, 1, MPI_DOUBLE, p->rank - 1, 2, p->comm, MPI_STATUS_IGNORE);
+    s = sure_dot_from(s, x, y, n);
+    if (p->rank + 1 < p->size)
+        MPI_Send(&s, 1, MPI_DOUBLE, p->rank + 1, 2, p->comm);
+    MPI_Bcast(&s, 1, MPI_DOUBLE, p->size - 1, p->comm);
+    return s;
+}
+
+/* The owned rows of b (or, b NULL, each owned row's 1 - a_vv in its first
+   slot) into the vertex blocks, 3 per block vertex, at dst. */
+static limn_status rows_to_block(series_mpi *s, device_buffer *b, double *dst)
+{
+    mpi_part *p = &s->p;
+    limn_status st = LIMN_OK;
+    if (b)
+        st = p->dev->ops->buffer_read_at(p->dev, b, 0, 4 * p->n_owned * sizeof(double), s->rows4);
+    for (size_t i = 0; !b && i < p->n_owned; i++)
+        s->rows4[4 * i] = sure_row_diagonal(&p->host, i);
+    st = mpi_agree(p, st);
+    double *block = NULL;
+    if (!st)
+        st = mpi_mesh_results_to_blocks(p, s->mesh, s->rows4, &block);
+    if (!st)
+        memcpy(dst, block, 3 * s->mesh->slice.vertex_count * sizeof *dst);
+    free(block);
+    return st;
+}
+
+/* series_check_finite on the blocks: the lowest non-finite vertex of all. */
+static limn_status check_finite_blocks(mpi_part *p, const limn_mpi_mesh *mesh, const double *q)
+{
+    unsigned long long bad = ULLONG_MAX, all;
+    for (size_t k = 0; k < 3 * mesh->slice.vertex_count && bad == ULLONG_MAX; k++)
+        if (!isfinite(q[k]))
+            bad = mesh->vertex_dist[p->rank] + k / 3;
+    MPI_Allreduce(&bad, &all, 1, MPI_UNSIGNED_LONG_LONG, MPI_MIN, p->comm);
+    if (all == ULLONG_MAX)
+        return LIMN_OK;
+    return ctx_fail(p->ctx, LIMN_ERR_NO_CONVERGENCE,
+                    "denoising produced a non-finite coordinate at vertex %llu; nothing was "
+                    "written (use fewer steps or terms)",
+                    all);
+}
+
+/* sure_spectrum_bound of the whole operator: a max over rows, so the max
+   of the ranks' owned rows (exact, in any order). Before p->host goes. */
+static double spectrum_bound(const mpi_part *p)
+{
+    double mine = sure_spectrum_bound(&p->host), all = 0.0;
+    MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_MAX, p->comm);
+    return all;
+}
+
+/* The SURE filter on the blocks: tr(E - A), the spectrum bound and the
+   degree vectors B^i y (distributed products) in block order, then sure_fit
+   with chained_dot and the combination, every rank on its block. */
+static limn_status sure_blocks(series_mpi *s, const series_engine *e, int degree, double *r,
+                               double *q, double *sigma)
+{
+    mpi_part *p = &s->p;
+    const limn_mpi_mesh *mesh = s->mesh;
+    size_t n3 = 3 * mesh->slice.vertex_count;
+    double t[3 * LIMN_MAX_SURE_PRODUCTS], *d = t + 2 * degree, tr[3], mu_max = 0.0;
+    limn_status st = rows_to_block(s, NULL, q); /* the diagonal first: p->host goes later */
+    if (!st) {
+        mu_max = spectrum_bound(p);
+        mpi_mesh_chained_sums(p, q, mesh->slice.vertex_count, 3, tr);
+        sure_traces_from(tr[0], mesh->vertex_dist[p->size], p->scheme, 2 * degree, t);
+        st = e->ops->upload(e, NULL, e->buf[0]);
+    }
+    device_buffer **b = e->buf, *cur = b[0];
+    for (int i = 0; !st && i < degree; i++) {
+        device_buffer *next = cur == b[1] ? b[2] : b[1];
+        st = e->ops->term(e, cur, next, b[3], SERIES_STORE_NEXT, SERIES_ACC_NONE, LIMN_OK);
+        ++*e->products;
+        st = e->ops->agree(e, st);
+        if (!st)
+            st = rows_to_block(s, next, r + (size_t)i * n3);
+        cur = next;
+    }
+    sure_sum sum = {chained_dot, p};
+    if (!st)
+        st = mpi_agree(p, sure_fit(p->ctx, r, n3, degree, t, &sum, mu_max, sigma, d));
+    if (!st)
+        sure_combine(mesh->slice.positions, r, n3, degree, d, q);
+    return st ? st : check_finite_blocks(p, mesh, q);
+}
+
+/* limn_mpi_mesh_denoise_sure on structs of this library's layout. */
+static limn_status denoise_sure_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                      const limn_series_options *o, int products,
+                                      int keep_volume, limn_mpi_mesh **out, double *sigma,
+                                      limn_series_report *r, const limn_mpi_options *mpi,
+                                      limn_mpi_result *result)
+{
+    const char *fn = "limn_mpi_mesh_denoise_sure";
+    series_mpi s;
+    series_engine e;
+    limn_status st = check_count(ctx, fn, "products", products, 1, LIMN_MAX_SURE_PRODUCTS,
+                                 "LIMN_MAX_SURE_PRODUCTS");
+    st = mpi_mesh_series_open(ctx, fn, mesh, o, mpi, st, out, &s, &e, r);
+    if (s.p.comm == MPI_COMM_NULL)
+        return st;
+    if (!st && keep_volume)
+        st = mpi_mesh_check_closed(&s.p, mesh);
+    size_t n3 = 3 * mesh->slice.vertex_count + 1; /* + 1: an empty block */
+    double *rv = malloc((size_t)products * n3 * sizeof *rv), *q = malloc(n3 * sizeof *q);
+    if (!st && (!rv || !q))
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu vertices",
+                      products, mesh->slice.vertex_count);
+    st = mpi_agree(&s.p, st);
+    double sg = 0.0;
+    if (!st)
+        st = sure_blocks(&s, &e, products, rv, q, &sg);
+    free(rv);
+    if (!st) {
+        st = mpi_mesh_control_of(&s.p, mesh, q, out); /* takes q */
+        q = NULL;
+    }
+    free(q);
+    if (!st && keep_volume)
+        st = mpi_agree(&s.p, mpi_mesh_keep_volume(&s.p, mesh, *out));
+    if (sigma)
+        *sigma = st ? 0.0 : sg;
+    return mpi_mesh_series_close(&s, st, result, r);
+}
+
 /* limn_mpi_mesh_sharpen on structs of this library's layout. */
 static limn_status sharpen_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
                                  const limn_series_options *o, int from, int to, int steps,
@@ -331,6 +467,20 @@ limn_status limn_mpi_mesh_denoise(limn_context *ctx, const limn_mpi_mesh *mesh,
     return st ? st
               : mpi_leave(&c, denoise_sized(ctx, mesh, c.abi.options, m, steps, keep_volume,
                                             out, c.abi.report, c.mpi, c.result));
+}
+
+limn_status limn_mpi_mesh_denoise_sure(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                       const limn_series_options *options, int products,
+                                       int keep_volume, limn_mpi_mesh **out, double *sigma,
+                                       limn_series_report *report, const limn_mpi_options *mpi,
+                                       limn_mpi_result *result)
+{
+    mpi_call c;
+    limn_status st =
+        enter(&c, ctx, mesh, "limn_mpi_mesh_denoise_sure", options, report, mpi, result, out);
+    return st ? st
+              : mpi_leave(&c, denoise_sure_sized(ctx, mesh, c.abi.options, products, keep_volume,
+                                                 out, sigma, c.abi.report, c.mpi, c.result));
 }
 
 limn_status limn_mpi_mesh_sharpen(limn_context *ctx, const limn_mpi_mesh *mesh,

@@ -17,6 +17,7 @@
 #include "mesh/mesh.h"
 #include "series/filter.h"
 #include "series/series.h"
+#include "series/sure.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -225,6 +226,20 @@ static limn_status smooth_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn
     return finish(&s, st, mesh, mpi, result, out, r);
 }
 
+/* limn_denoise's refusal of keep_volume on a mesh whose volume is not
+   defined, on the root (the others pass st through). */
+static limn_status check_root_closed(series_mpi *s, limn_status st, int keep_volume)
+{
+    const topology *t = &s->p.global.topo;
+    if (!st && keep_volume && s->p.rank == s->p.root && !measure_topology_closed(t))
+        st = ctx_fail(s->p.ctx, LIMN_ERR_TOPOLOGY,
+                      "keeping the volume needs a closed mesh, and this one has %zu boundary, "
+                      "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
+                      "not defined",
+                      t->boundary_edges, t->nonmanifold_edges, t->inconsistent_edges);
+    return st;
+}
+
 /* limn_denoise_mpi on structs of this library's layout. */
 static limn_status denoise_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
                                      const limn_series_options *o, int m, int steps,
@@ -238,17 +253,91 @@ static limn_status denoise_mpi_sized(limn_context *ctx, MPI_Comm comm, const lim
         st = check_count(ctx, "limn_denoise_mpi", "m", m, 0, LIMN_MAX_TERMS, "LIMN_MAX_TERMS");
     if (!st)
         st = check_steps(ctx, "limn_denoise_mpi", steps, m + 1LL, "(m + 1) * steps");
-    st = root_out(&s, st, "limn_denoise_mpi", out);
-    const topology *t = &s.p.global.topo;
-    if (!st && keep_volume && s.p.rank == s.p.root && !measure_topology_closed(t))
-        st = ctx_fail(ctx, LIMN_ERR_TOPOLOGY,
-                       "keeping the volume needs a closed mesh, and this one has %zu boundary, "
-                       "%zu non-manifold and %zu inconsistently oriented edges: its volume is "
-                       "not defined",
-                       t->boundary_edges, t->nonmanifold_edges, t->inconsistent_edges);
+    st = check_root_closed(&s, root_out(&s, st, "limn_denoise_mpi", out), keep_volume);
     st = start_engine(&s, st, &e, &r->products);
     if (!st)
         st = series_denoise_run(&e, mesh, m, steps, keep_volume, out);
+    return finish(&s, st, mesh, mpi, result, out, r);
+}
+
+/* The root's half of limn_denoise_sure: the fit on the gathered vectors r
+   (degree of them, input order) in the single process's arithmetic
+   (sure_denoise_run's), the result a copy of mesh, its volume kept. */
+static limn_status sure_root(series_mpi *s, const limn_mesh *mesh, int degree, const double *r,
+                             int keep_volume, limn_mesh **out, double *sigma)
+{
+    limn_context *ctx = s->p.ctx;
+    size_t n3 = 3 * s->p.n_global;
+    double t[3 * LIMN_MAX_SURE_PRODUCTS], *d = t + 2 * degree;
+    sure_traces(&s->p.global.host, s->p.scheme, 2 * degree, t);
+    double mu_max = sure_spectrum_bound(&s->p.global.host);
+    limn_status st = sure_fit(ctx, r, n3, degree, t, NULL, mu_max, sigma, d);
+    if (!st)
+        st = limn_mesh_copy(ctx, mesh, out);
+    if (!st)
+        sure_combine(mesh->positions, r, n3, degree, d, (*out)->positions);
+    if (!st)
+        st = series_check_finite(ctx, (*out)->positions, s->p.n_global, "denoising");
+    if (!st && keep_volume)
+        st = series_keep_volume(ctx, mesh, *out);
+    return st;
+}
+
+/* limn_denoise_sure over MPI: the degree products B^i y distributed (halo
+   exchanges, the single process's rows and bits), each gathered to the
+   root, which fits and combines them as one process does (it holds the
+   mesh on this path, and degree vectors as one process does). */
+static limn_status sure_run(const series_engine *e, const limn_mesh *mesh, int degree,
+                            int keep_volume, limn_mesh **out, double *sigma)
+{
+    series_mpi *s = e->user;
+    size_t n3 = e->root ? 3 * s->p.n_global : 0;
+    double *r = e->root ? malloc((size_t)degree * n3 * sizeof *r) : NULL;
+    limn_status st = mpi_agree(&s->p, e->root && !r ? ctx_fail(s->p.ctx, LIMN_ERR_MEMORY,
+                                                               "out of memory for %d vectors",
+                                                               degree)
+                                                    : LIMN_OK);
+    device_buffer **b = e->buf, *cur = b[0];
+    if (!st)
+        st = e->ops->upload(e, e->root ? mesh->positions : NULL, cur);
+    for (int i = 0; !st && i < degree; i++) {
+        device_buffer *next = cur == b[1] ? b[2] : b[1];
+        st = e->ops->term(e, cur, next, b[3], SERIES_STORE_NEXT, SERIES_ACC_NONE, LIMN_OK);
+        ++*e->products;
+        st = e->ops->agree(e, st);
+        if (!st)
+            st = e->ops->download(e, next, r ? r + (size_t)i * n3 : NULL);
+        cur = next;
+    }
+    double sg = 0.0;
+    if (!st && e->root)
+        st = sure_root(s, mesh, degree, r, keep_volume, out, &sg);
+    st = mpi_agree(&s->p, st);
+    MPI_Bcast(&sg, 1, MPI_DOUBLE, s->p.root, s->p.comm);
+    if (sigma)
+        *sigma = sg;
+    free(r);
+    return st;
+}
+
+/* limn_denoise_sure_mpi on structs of this library's layout. */
+static limn_status denoise_sure_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                          const limn_series_options *o, int products,
+                                          int keep_volume, limn_mesh **out, double *sigma,
+                                          limn_series_report *r, const limn_mpi_options *mpi,
+                                          limn_mpi_result *result)
+{
+    const char *fn = "limn_denoise_sure_mpi";
+    series_mpi s;
+    series_engine e;
+    limn_status st = open_series(ctx, fn, comm, mesh, o, mpi, result, &s, r);
+    if (!st)
+        st = check_count(ctx, fn, "products", products, 1, LIMN_MAX_SURE_PRODUCTS,
+                         "LIMN_MAX_SURE_PRODUCTS");
+    st = check_root_closed(&s, root_out(&s, st, fn, out), keep_volume);
+    st = start_engine(&s, st, &e, &r->products);
+    if (!st)
+        st = sure_run(&e, mesh, products, keep_volume, out, sigma);
     return finish(&s, st, mesh, mpi, result, out, r);
 }
 
@@ -436,6 +525,21 @@ limn_status limn_denoise_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *
     return st ? st
               : mpi_leave(&c, denoise_mpi_sized(ctx, comm, mesh, c.abi.options, m, steps,
                                                 keep_volume, out, c.abi.report, c.mpi, c.result));
+}
+
+limn_status limn_denoise_sure_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *mesh,
+                                  const limn_series_options *options, int products,
+                                  int keep_volume, limn_mesh **out, double *sigma,
+                                  limn_series_report *report, const limn_mpi_options *mpi,
+                                  limn_mpi_result *result)
+{
+    mpi_call c;
+    limn_status st = mpi_enter(&c, ctx, comm, "limn_denoise_sure_mpi", &abi_series_options,
+                               options, &abi_series_report, report, mpi, result, out);
+    return st ? st
+              : mpi_leave(&c, denoise_sure_mpi_sized(ctx, comm, mesh, c.abi.options, products,
+                                                     keep_volume, out, sigma, c.abi.report, c.mpi,
+                                                     c.result));
 }
 
 limn_status limn_morph_mpi(limn_context *ctx, MPI_Comm comm, const limn_mesh *from,

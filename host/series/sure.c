@@ -36,18 +36,26 @@ static double lattice_symbol(limn_scheme scheme, double u, double w)
     return 1.0 - (2.0 + cos(u)) * (2.0 + cos(w)) / 9.0;
 }
 
+double sure_row_diagonal(const stencil_csr *a, size_t v)
+{
+    double diag = 1.0;
+    for (uint32_t j = a->row_offsets[v]; j < a->row_offsets[v + 1]; j++)
+        if (a->columns[j] == v)
+            diag -= a->weights[j];
+    return diag;
+}
+
 void sure_traces(const stencil_csr *a, limn_scheme scheme, int degree, double *t)
 {
-    enum { GRID = 64 }; /* exact for trigonometric polynomials of degree < 64 */
-    size_t n = a->rows;
     double tr1 = 0.0;
-    for (size_t v = 0; v < n; v++) {
-        double diag = 1.0;
-        for (uint32_t j = a->row_offsets[v]; j < a->row_offsets[v + 1]; j++)
-            if (a->columns[j] == v)
-                diag -= a->weights[j];
-        tr1 += diag;
-    }
+    for (size_t v = 0; v < a->rows; v++)
+        tr1 += sure_row_diagonal(a, v);
+    sure_traces_from(tr1, a->rows, scheme, degree, t);
+}
+
+void sure_traces_from(double tr1, size_t n, limn_scheme scheme, int degree, double *t)
+{
+    enum { GRID = 64 }; /* exact for trigonometric polynomials of degree < 64 */
     for (int i = 0; i < degree; i++)
         t[i] = 0.0;
     const double h = 2.0 * 3.14159265358979323846 / GRID;
@@ -62,21 +70,26 @@ void sure_traces(const stencil_csr *a, limn_scheme scheme, int degree, double *t
         t[i] *= (double)n * (sc *= scale);
 }
 
-static double dot(const double *x, const double *y, size_t n)
+double sure_dot_from(double s, const double *x, const double *y, size_t n)
 {
-    double s = 0.0;
     for (size_t i = 0; i < n; i++)
         s += x[i] * y[i];
     return s;
 }
 
-double sure_sigma(const double *r, size_t n3, int degree, const double *t)
+/* The inner product: sum's (a global one) or this process's. */
+static double dot_of(const sure_sum *sum, const double *x, const double *y, size_t n)
+{
+    return sum ? sum->dot(sum->user, x, y, n) : sure_dot_from(0.0, x, y, n);
+}
+
+double sure_sigma(const double *r, size_t n3, int degree, const double *t, const sure_sum *sum)
 {
     double s2 = INFINITY;
     for (int i = 0; i < degree; i++) {
         const double *ri = r + (size_t)i * n3;
         if (t[2 * i + 1] > 0.0)
-            s2 = fmin(s2, dot(ri, ri, n3) / (3.0 * t[2 * i + 1]));
+            s2 = fmin(s2, dot_of(sum, ri, ri, n3) / (3.0 * t[2 * i + 1]));
     }
     return isinf(s2) ? 0.0 : sqrt(s2);
 }
@@ -84,23 +97,24 @@ double sure_sigma(const double *r, size_t n3, int degree, const double *t)
 /* Modified Gram-Schmidt, twice, of the columns r_i into q: u (degree^2,
    upper triangular) with r = q u; keep[i] = 0 where r_i lies (to 1e-10 of its
    length) in the span of the earlier ones. */
-static void orthogonalise(const double *r, size_t n3, int degree, double *q, double *u, int *keep)
+static void orthogonalise(const double *r, size_t n3, int degree, const sure_sum *sum, double *q,
+                          double *u, int *keep)
 {
     memset(u, 0, (size_t)degree * degree * sizeof *u);
     for (int i = 0; i < degree; i++) {
         double *qi = q + (size_t)i * n3;
         memcpy(qi, r + (size_t)i * n3, n3 * sizeof *qi);
-        double len = sqrt(dot(qi, qi, n3));
+        double len = sqrt(dot_of(sum, qi, qi, n3));
         for (int pass = 0; pass < 2; pass++)
             for (int j = 0; j < i; j++) {
                 if (!keep[j])
                     continue;
-                double *qj = q + (size_t)j * n3, c = dot(qj, qi, n3);
+                double *qj = q + (size_t)j * n3, c = dot_of(sum, qj, qi, n3);
                 u[j * degree + i] += c;
                 for (size_t k = 0; k < n3; k++)
                     qi[k] -= c * qj[k];
             }
-        double rest = sqrt(dot(qi, qi, n3));
+        double rest = sqrt(dot_of(sum, qi, qi, n3));
         keep[i] = rest > 1e-10 * len && rest > 0.0;
         u[i * degree + i] = keep[i] ? rest : 1.0;
         for (size_t k = 0; keep[i] && k < n3; k++)
@@ -166,12 +180,12 @@ static void passive_least_squares(const double *e, int rows, const int *set, int
             u[j * count + i] = 0.0;
         for (int pass = 0; pass < 2; pass++)
             for (int j = 0; j < i; j++) {
-                double c = dot(q + (size_t)j * rows, qi, (size_t)rows);
+                double c = sure_dot_from(0.0, q + (size_t)j * rows, qi, (size_t)rows);
                 u[j * count + i] += c;
                 for (int k = 0; k < rows; k++)
                     qi[k] -= c * q[(size_t)j * rows + k];
             }
-        double l = sqrt(dot(qi, qi, (size_t)rows));
+        double l = sqrt(sure_dot_from(0.0, qi, qi, (size_t)rows));
         u[i * count + i] = l > 0.0 ? l : 1.0;
         for (int k = 0; k < rows && l > 0.0; k++)
             qi[k] /= l;
@@ -199,7 +213,7 @@ static void nnls(const double *e, int rows, int cols, double *x, double *work, i
             const double *ej = e + (size_t)j * rows;
             w[j] = ej[rows - 1];
             for (int i = 0; i < count; i++)
-                w[j] -= dot(ej, e + (size_t)passive[i] * rows, (size_t)rows) * x[passive[i]];
+                w[j] -= sure_dot_from(0.0, ej, e + (size_t)passive[i] * rows, (size_t)rows) * x[passive[i]];
             if (!in[j] && w[j] > 1e-12 && (best < 0 || w[j] > w[best]))
                 best = j;
         }
@@ -237,7 +251,7 @@ static void project_gain(const double *h, const double *len, int degree, const d
     memcpy(z, c, (size_t)degree * sizeof *z);
     for (int k = 0; k < cols; k++) {
         const double *hk = h + (size_t)(k / 2) * degree;
-        double sign = k % 2 ? 1.0 : -1.0, hc = dot(hk, c, (size_t)degree);
+        double sign = k % 2 ? 1.0 : -1.0, hc = sure_dot_from(0.0, hk, c, (size_t)degree);
         double f = len[k / 2] > 0.0 ? (k % 2 ? -1.0 / len[k / 2] - hc : hc) : -1.0;
         for (int j = 0; j < degree; j++)
             e[(size_t)k * rows + j] = sign * hk[j];
@@ -274,12 +288,12 @@ static void fit(const double *u, const int *keep, int degree, const double *rhs,
 }
 
 limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
-                               const double *rhs, double mu_max, double *d)
+                               const double *rhs, const sure_sum *sum, double mu_max, double *d)
 {
     size_t rows = (size_t)degree + 1, cols = 2 * SURE_GRID;
     size_t nwork = 2 * (size_t)degree + (size_t)SURE_GRID * (degree + 1) + rows * cols + cols +
                    2 * cols + rows * rows + rows * cols;
-    double *q = malloc((size_t)degree * n3 * sizeof *q);
+    double *q = malloc((size_t)degree * (n3 ? n3 : 1) * sizeof *q); /* n3 = 0: an empty rank */
     double *u = malloc(((size_t)degree * degree + nwork) * sizeof *u);
     int *keep = calloc((size_t)degree, sizeof *keep);
     if (!q || !u || !keep) {
@@ -287,7 +301,7 @@ limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, in
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu doubles",
                         degree, n3);
     }
-    orthogonalise(r, n3, degree, q, u, keep);
+    orthogonalise(r, n3, degree, sum, q, u, keep);
     fit(u, keep, degree, rhs, mu_max, u + (size_t)degree * degree, d);
     free(q), free(u), free(keep);
     return LIMN_OK;
@@ -310,12 +324,31 @@ double sure_spectrum_bound(const stencil_csr *a)
 }
 
 limn_status sure_coefficients(limn_context *ctx, const double *r, size_t n3, int degree,
-                              double sigma, const double *t, double mu_max, double *d)
+                              double sigma, const double *t, const sure_sum *sum, double mu_max,
+                              double *d)
 {
     double rhs[LIMN_MAX_SURE_PRODUCTS];
     for (int i = 0; i < degree; i++)
         rhs[i] = -3.0 * sigma * sigma * t[i];
-    return sure_least_squares(ctx, r, n3, degree, rhs, mu_max, d);
+    return sure_least_squares(ctx, r, n3, degree, rhs, sum, mu_max, d);
+}
+
+limn_status sure_fit(limn_context *ctx, const double *r, size_t n3, int degree, const double *t,
+                     const sure_sum *sum, double mu_max, double *sigma, double *d)
+{
+    *sigma = sure_sigma(r, n3, degree, t, sum);
+    return sure_coefficients(ctx, r, n3, degree, *sigma, t, sum, mu_max, d);
+}
+
+void sure_combine(const double *y, const double *r, size_t n3, int degree, const double *d,
+                  double *out)
+{
+    for (size_t k = 0; k < n3; k++) {
+        double v = y[k];
+        for (int i = 0; i < degree; i++)
+            v += d[i] * r[(size_t)i * n3 + k];
+        out[k] = v;
+    }
 }
 
 /* r + i*3n = B^{i+1} y, i < degree, on the host (degree products). */
@@ -352,19 +385,13 @@ limn_status sure_denoise_run(limn_context *ctx, series_run *s, const limn_mesh *
     double sg = 0.0;
     if (!st) {
         sure_traces(&s->op.host, s->op.scheme, 2 * degree, t);
-        sg = sure_sigma(r, n3, degree, t);
-        double mu_max = sure_spectrum_bound(&s->op.host);
-        st = sure_coefficients(ctx, r, n3, degree, sg, t, mu_max, d);
+        st = sure_fit(ctx, r, n3, degree, t, NULL, sure_spectrum_bound(&s->op.host), &sg, d);
     }
     limn_mesh *m = NULL;
     if (!st)
         st = limn_mesh_copy(ctx, mesh, &m);
-    for (size_t k = 0; !st && k < n3; k++) {
-        double v = m->positions[k];
-        for (int i = 0; i < degree; i++)
-            v += d[i] * r[(size_t)i * n3 + k];
-        m->positions[k] = v;
-    }
+    if (!st)
+        sure_combine(mesh->positions, r, n3, degree, d, m->positions);
     if (!st)
         st = series_check_finite(ctx, m->positions, s->n, "denoising");
     if (sigma)

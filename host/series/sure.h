@@ -10,30 +10,48 @@
 
 #include "series/series.h"
 
+/* A global inner product: dot(user, x, y, n) over every process's part of
+   the vectors (n: this process's length), the same sum on all of them (the
+   MPI twins pass it rank to rank). NULL where one process holds the whole. */
+typedef struct sure_sum {
+    double (*dot)(void *user, const double *x, const double *y, size_t n);
+    void *user;
+} sure_sum;
+
+/* s + sum_i x_i y_i, added in index order (the single process's dot from s). */
+double sure_dot_from(double s, const double *x, const double *y, size_t n);
+
 /* The noise deviation per coordinate: the smallest over k = 1..N of
    sqrt(|B^k y|^2 / (3 tr B^{2k})) (r + (k-1)*n3 = B^k y; t from sure_traces
    up to 2N, t[2k-1] = tr B^{2k}): noise alone puts |B^k n|^2 ~ 3 sigma^2
    tr B^{2k} there, the signal only adds, and at high k little of a smooth
    surface is left, so a clean mesh finds a small sigma. Energies, not
    medians: right for noise along the normals too (a median of coordinates
-   is not). 0 when no trace is positive. */
-double sure_sigma(const double *r, size_t n3, int degree, const double *t);
+   is not). 0 when no trace is positive. sum: the inner product (NULL: this
+   process's own). */
+double sure_sigma(const double *r, size_t n3, int degree, const double *t, const sure_sum *sum);
 
 /* Estimates of tr((E - A)^i), i = 1..degree, into t[0..degree-1]: n times the i-th
    moment of the regular lattice's symbol of the scheme, scaled so that the
    first is the exact trace. */
 void sure_traces(const stencil_csr *a, limn_scheme scheme, int degree, double *t);
+/* The same from tr(E - A) = tr1 over n rows (sure_traces sums
+   sure_row_diagonal in row order: 1 - a_vv of row v). */
+void sure_traces_from(double tr1, size_t n, limn_scheme scheme, int degree, double *t);
+double sure_row_diagonal(const stencil_csr *a, size_t v);
 
 /* d minimising |R d|^2 - 2 rhs . d for the columns r_i = r + i*n3, i < degree
    (QR by modified Gram-Schmidt, twice; d_i = 0 where r_i lies in the span of
-   the earlier ones): mu_max = 0 solves (R^T R) d = rhs; mu_max > 0 keeps the
-   gain 1 + sum_i d_i mu^{i+1} in [0, 1] on a grid of mu in (0, mu_max] (no
-   band amplified or turned over). LIMN_ERR_MEMORY on allocation failure. */
+   the earlier ones; the inner products sum's, NULL: this process's): mu_max =
+   0 solves (R^T R) d = rhs; mu_max > 0 keeps the gain 1 + sum_i d_i mu^{i+1}
+   in [0, 1] on a grid of mu in (0, mu_max] (no band amplified or turned
+   over; the same on every rank, from the same R^T R and mu_max).
+   LIMN_ERR_MEMORY on allocation failure. */
 limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
-                               const double *rhs, double mu_max, double *d);
+                               const double *rhs, const sure_sum *sum, double mu_max, double *d);
 
 /* A bound on the spectral radius of B = E - A (Gershgorin: the largest
-   absolute row sum of B). */
+   absolute row sum of B; over rows, so the max of the slices' bounds). */
 double sure_spectrum_bound(const stencil_csr *a);
 
 /* d[0..N-1] minimising |sum_i d_i r_i|^2 + 6 sigma^2 sum_i d_i t_i (SURE up to
@@ -41,7 +59,16 @@ double sure_spectrum_bound(const stencil_csr *a);
    0 where a vector adds nothing new; mu_max as in sure_least_squares.
    LIMN_ERR_MEMORY on allocation failure. */
 limn_status sure_coefficients(limn_context *ctx, const double *r, size_t n3, int degree,
-                              double sigma, const double *t, double mu_max, double *d);
+                              double sigma, const double *t, const sure_sum *sum, double mu_max,
+                              double *d);
+
+/* sure_sigma into *sigma, then sure_coefficients with it into d. */
+limn_status sure_fit(limn_context *ctx, const double *r, size_t n3, int degree, const double *t,
+                     const sure_sum *sum, double mu_max, double *sigma, double *d);
+
+/* out = y + sum_i d_i r_i (r_i = r + i*n3): the filter's result. */
+void sure_combine(const double *y, const double *r, size_t n3, int degree, const double *d,
+                  double *out);
 
 /* The filter on an open run (4 work vectors): N products, the vectors read
    back, the coefficients fitted, the result on the host; *sigma (may be NULL)

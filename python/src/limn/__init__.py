@@ -177,19 +177,44 @@ def _volumes(ctx, mesh, out, rep):
         rep["volume_note"] = "not defined: the mesh is not closed"
 
 
-def denoise(V, F, m=2, steps=3, keep_volume=False, scheme="auto", alpha=0.0, device=None,
-            fallback=None, progress=None):
-    """Smooths noise away (Lai & Cheng 2011, eq. 8): T_{k+1} =
-    sum_{i=0..m} (E - A)^i A T_k, ``steps`` times -> ``(V2, report)``.
-    keep_volume scales the result back to the input's volume (closed meshes).
-    report: the keys of ``limn denoise --report`` (volumes, areas, ...)."""
+def denoise(V, F, m=None, steps=None, keep_volume=None, scheme="auto", alpha=0.0, device=None,
+            fallback=None, progress=None, products=None):
+    """Smooths noise away -> ``(V2, report)``, as ``limn denoise``.
+
+    By default (neither m nor steps given) limn denoise's default form: the
+    polynomial E + sum_{i=1..products} d_i (E - A)^i of degree ``products``
+    (default 12, 1..64; that many stencil products) in the limit operator A
+    whose coefficients minimise Stein's unbiased estimate of the squared
+    distance to the unknown clean mesh, for noise whose deviation is
+    estimated from the mesh (report["sigma_estimate"]). keep_volume (default:
+    whether the mesh is closed) scales the result back to the input's volume.
+
+    With m or steps: Lai & Cheng 2011, eq. 8, T_{k+1} = sum_{i=0..m} (E - A)^i
+    A T_k, ``steps`` times (defaults m = 2, steps = 3; keep_volume default
+    False); products is then refused.
+
+    report: the keys of ``limn denoise --report`` (form, volumes, areas, ...)."""
     head = _series_head(scheme, alpha)
-    m = _core.integer("m", m, 0)
-    steps = _core.integer("steps", steps, 1)
+    paper = m is not None or steps is not None
+    if paper and products is not None:
+        raise ValueError("denoise: products selects the default form and m / steps the "
+                         "paper's: give one or the other")
+    if paper:
+        m = _core.integer("m", 2 if m is None else m, 0)
+        steps = _core.integer("steps", 3 if steps is None else steps, 1)
+    else:
+        products = _core.integer("products", 12 if products is None else products, 1, 64)
     with _core.context(device, fallback, progress) as (ctx, _):
         mesh = _core.make_mesh(ctx, V, F)
-        out, rep = ctx.denoise(mesh, *head, m, steps, bool(keep_volume))
-        rep.update(m=m, steps=steps, keep_volume=bool(keep_volume))
+        if paper:
+            keep = bool(keep_volume)
+            out, rep = ctx.denoise(mesh, *head, m, steps, keep)
+            rep.update(form="paper", m=m, steps=steps)
+        else:
+            keep = ctx.measure(mesh)["closed"] if keep_volume is None else bool(keep_volume)
+            out, rep = ctx.denoise_sure(mesh, *head, products, keep)
+            rep.update(form="sure", degree=products)
+        rep["keep_volume"] = keep
         _volumes(ctx, mesh, out, rep)
         rep["mean_rel_displacement"] = _displacement(ctx, mesh, out, rep)
         V2, _, _, _ = _core.mesh_arrays(ctx, out)

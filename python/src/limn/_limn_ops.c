@@ -232,6 +232,29 @@ static PyObject *ctx_denoise(LimnContext *c, PyObject *args)
     return filter(c, args, FILTER_DENOISE);
 }
 
+/* denoise_sure(mesh, scheme, alpha, products, keep_volume) -> (mesh, report):
+   limn denoise's default; the report's "sigma_estimate" the noise estimate. */
+static PyObject *ctx_denoise_sure(LimnContext *c, PyObject *args)
+{
+    limn_mesh *mesh;
+    int scheme, products, keep_volume;
+    double alpha;
+    if (!PyArg_ParseTuple(args, "O&idip", limn_py_mesh_arg, &mesh, &scheme, &alpha, &products,
+                          &keep_volume) ||
+        limn_py_enter(c) < 0)
+        return NULL;
+    limn_series_options o = series_options(scheme, alpha);
+    limn_series_report r = {.size = sizeof r};
+    limn_mesh *out = NULL;
+    double sigma = 0.0;
+    limn_status st;
+    CALL(c, st, limn_denoise_sure(c->ctx, mesh, &o, products, keep_volume, &out, &sigma, &r));
+    PyObject *rep = st || c->exc_type ? Py_NewRef(Py_None) : series_report(&r);
+    if (rep && rep != Py_None && SET_NUM(rep, "sigma_estimate", sigma) < 0)
+        Py_CLEAR(rep);
+    return mesh_and_report(c, st, out, rep);
+}
+
 static PyObject *ctx_sharpen(LimnContext *c, PyObject *args)
 {
     return filter(c, args, FILTER_SHARPEN);
@@ -372,6 +395,7 @@ PyMethodDef limn_py_ops_methods[] = {
     {"subdivide", (PyCFunction)ctx_subdivide, METH_VARARGS, "limn_subdivide"},
     {"smooth", (PyCFunction)ctx_smooth, METH_VARARGS, "limn_smooth"},
     {"denoise", (PyCFunction)ctx_denoise, METH_VARARGS, "limn_denoise"},
+    {"denoise_sure", (PyCFunction)ctx_denoise_sure, METH_VARARGS, "limn_denoise_sure"},
     {"sharpen", (PyCFunction)ctx_sharpen, METH_VARARGS, "limn_sharpen"},
     {"bands", (PyCFunction)ctx_bands, METH_VARARGS, "limn_bands"},
     {"morph", (PyCFunction)ctx_morph, METH_VARARGS, "limn_morph"},
