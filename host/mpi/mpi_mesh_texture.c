@@ -301,6 +301,7 @@ static limn_status texture_finish(tex *t, mpi_refine_stats *rs, limn_mpi_mesh **
     }
     if (!st)
         st = mpi_refine_limit(p, &t->cur, t->scheme, alpha, rs);
+    t->r->products += 2; /* texture.c's two limit products */
     double *positions = t->cur.pos;
     t->cur.pos = sum;
     sum = NULL;
