@@ -326,6 +326,19 @@ LIMN_API limn_status limn_mpi_mesh_morph(limn_context *ctx, const limn_mpi_mesh 
                                          limn_series_report *report,
                                          const limn_mpi_options *mpi, limn_mpi_result *result);
 
+/* limn_texture on a distributed mesh: the levels refined as
+   limn_mpi_mesh_subdivide refines them, each level's noise interpolated by
+   a distributed solve, the controls carried down the levels and the limit
+   taken rank by rank; *surface gets G_L on its limit with per-vertex
+   colours (even vertex blocks), whose PLY file (limn_mpi_mesh_write) is the
+   single process's bytes. options (never NULL: there are no default
+   colours) as limn_texture's; max_memory is not checked (as
+   limn_mpi_mesh_subdivide). mpi and result may be NULL. */
+LIMN_API limn_status limn_mpi_mesh_texture(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                           const limn_texture_options *options,
+                                           limn_mpi_mesh **surface, limn_series_report *report,
+                                           const limn_mpi_options *mpi, limn_mpi_result *result);
+
 /* limn_subdivide on a distributed mesh: every level refined rank by rank
    (each rank refines the faces around its vertex block and keeps its own
    points, numbered as one process numbers them), the limit (options->limit)

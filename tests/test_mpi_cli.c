@@ -3,7 +3,8 @@
  * `mpirun -np N limn ...` as a user meets it (2 and 3 ranks; bands, denoise
  * and sharpen also 5): interpolate (--precision float too), bands, smooth,
  * denoise (eq. 8 and the default SURE form, on slices and the root path),
- * sharpen, morph and subdivide (2, 3, 5 ranks, --limit) write the
+ * sharpen, morph, subdivide (2, 3, 5 ranks, --limit) and texture (2, 3, 5
+ * ranks, Loop and Catmull-Clark, every option) write the
  * very bytes of one process (paper
  * iteration and series: every row is summed in the same order), weighted,
  * cg and sgs agree to 1e-12 with the same iteration count; --per-rank-output writes
@@ -478,6 +479,68 @@ static void subdivide_same(void **s)
     assert_int_equal(count(test_text, "standard input or output"), 1);
 }
 
+/* texture on slices (limn_mpi_mesh_texture): the single process's bytes on
+   2, 3 and 5 ranks, Loop and Catmull-Clark, with every option of texture
+   (levels, seed, frequency, tol, colours in both spellings, the output
+   formats, the scheme and alpha); a bad input and a singular level give
+   one message and nothing written; standard output is refused. */
+static void texture_same(void **s)
+{
+    (void)s;
+    write_inputs();
+    static const char *runs[][2] = {
+        {"tri.obj", "--levels 2 --colors '#ff0000,#00ff00,#0000ff'"},
+        {"tri.obj", "--levels 2 --seed 9 --frequency 2.5 --tol 1e-8 --colours '#abc,#123456'"},
+        {"quad.obj", "--levels 1 --alpha 0.5 --colors '#102030' --format ply-ascii"},
+        {"quad.obj", "--levels 2 --alpha 0.5 --scheme catmark --colors '#f00,#0f0,#00f,#fff' "
+                     "--format ply-be"},
+        {"tri.obj", "--levels 0 --scheme catmark --alpha 0.5 --colors '#000,#fff'"}};
+    for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
+        for (size_t k = 0; k < sizeof runs / sizeof *runs; k++) {
+            char args[1024];
+            snprintf(args, sizeof args, "texture '%s' -o '%s' %s -q", at(runs[k][0]),
+                     at("t1.ply"), runs[k][1]);
+            if (run(0, args) != 0)
+                fail_msg("%s", test_text);
+            snprintf(args, sizeof args, "texture '%s' -o '%s' %s --report '%s'",
+                     at(runs[k][0]), at("t2.ply"), runs[k][1], at("t2.json"));
+            if (run(ranks, args) != 0)
+                fail_msg("%s", test_text);
+            assert_int_equal(count(test_text, "vertices and"), 1); /* the summary, once */
+            assert_true(report_sliced(at("t2.json")));
+            assert_true(test_same_bytes(at("t1.ply"), at("t2.ply")));
+        }
+        printf("  texture (Loop, Catmull-Clark, every option), %d ranks: same bytes\n", ranks);
+    }
+    char args[1024];
+    assert_int_equal(test_write_text(at("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n"), 0);
+    snprintf(args, sizeof args, "texture '%s' -o '%s' --colors '#fff'", at("broken.obj"),
+             at("bad.ply"));
+    assert_int_equal(run(3, args), 1);
+    assert_int_equal(count(test_text, "limn texture: error:"), 1);
+    assert_false(test_file_exists(at("bad.ply")));
+    /* Catmull-Clark with alpha 0 on these meshes: a level's interpolation stalls */
+    snprintf(args, sizeof args, "texture '%s' -o '%s' --colors '#fff' --levels 1",
+             at("quad.obj"), at("bad.ply"));
+    int one = run(0, args);
+    static char single[sizeof test_text];
+    snprintf(single, sizeof single, "%s", test_text);
+    assert_int_equal(run(3, args), one);
+    if (one) {
+        assert_int_equal(count(test_text, "limn texture: error:"), 1);
+        const char *line = strstr(test_text, "limn texture: error:");
+        size_t len = strcspn(line, "\n");
+        char want[1024];
+        snprintf(want, sizeof want, "%.*s", (int)len, line);
+        assert_non_null(strstr(single, want)); /* the single process's message */
+        assert_false(test_file_exists(at("bad.ply")));
+    }
+    snprintf(args, sizeof args, "texture '%s' -o - --format ply --colors '#fff'",
+             at("quad.obj"));
+    assert_int_equal(run(2, args), 2);
+    assert_int_equal(count(test_text, "standard input or output"), 1);
+}
+
 /* Every rank reads its slice of the file and each phase of the slice reader
    parses the header: a header warning is still printed once, by rank 0;
    so are the repair's (counted over the ranks). */
@@ -694,6 +757,7 @@ int main(void)
         cmocka_unit_test(device_per_rank),       cmocka_unit_test(errors),
         cmocka_unit_test(denoise_volume_same),   cmocka_unit_test(partitions_same),
         cmocka_unit_test(subdivide_same),
+        cmocka_unit_test(texture_same),
     };
     return cmocka_run_group_tests(tests, setup, test_scratch_teardown);
 }

@@ -13,6 +13,13 @@
  * with one message, the single process's for the refusal, and no surface.
  * Per-rank memory (internal probe mpi_mesh_subdivide): no array a rank
  * builds reaches a level's global vertex count.
+ * Texture over ranks: limn_mpi_mesh_texture + limn_mpi_mesh_write give the
+ * bytes of limn_texture + limn_mesh_write (Loop, Catmull-Clark with alpha
+ * 0.5, 0 to 4 levels: three carried fields per extra refinement and one
+ * more, seeds, frequencies, colours) on the same meshes, even and uneven
+ * blocks; a singular level fails as in one process (its message, every
+ * rank); a Loop refusal, NULL options and a device failing on the last rank
+ * reach every rank with one message and no surface.
  */
 #include "mpi_check.h"
 #include "mpi_meshes.h"
@@ -209,6 +216,169 @@ static void all_options(limn_context *ctx, const char *name, const limn_mesh *m,
     refine_case(ctx, name, m, triangles ? LIMN_SCHEME_LOOP : LIMN_SCHEME_CATMARK, 0.0, 2, 1, 1);
 }
 
+/* The texture options of the cases: three colours, seed and frequency as given. */
+static limn_texture_options texture_options(limn_scheme scheme, double alpha, int levels,
+                                            uint64_t seed, double frequency)
+{
+    static const uint8_t rgb[9] = {200, 30, 10, 20, 220, 40, 10, 50, 240};
+    limn_texture_options o;
+    limn_texture_options_default(&o);
+    o.series.scheme = scheme;
+    o.series.alpha = alpha;
+    o.levels = levels;
+    o.seed = seed;
+    o.frequency = frequency;
+    o.colors = rgb;
+    o.color_count = 3;
+    return o;
+}
+
+/* limn_texture of in on rank 0 (written to ref on success); its status and
+   message in *msg. */
+static limn_status texture_single(limn_context *ctx, const char *in,
+                                  const limn_texture_options *o, const char *ref, char *msg,
+                                  size_t cap)
+{
+    limn_mesh *m = NULL, *s = NULL;
+    limn_series_report r = {.size = sizeof r};
+    limn_status st = limn_mesh_read(ctx, in, LIMN_FORMAT_AUTO, &m);
+    if (!st)
+        st = limn_mesh_repair(ctx, m, NULL, NULL);
+    if (!st)
+        st = limn_texture(ctx, m, o, &s, &r);
+    if (!st)
+        st = limn_mesh_write(ctx, s, ref, LIMN_FORMAT_AUTO);
+    snprintf(msg, cap, "%s", st ? limn_context_message(ctx) : "");
+    limn_mesh_destroy(m);
+    limn_mesh_destroy(s);
+    return st;
+}
+
+/* Every rank: the distributed mesh as `distributed` reads it, textured and written. */
+static limn_status texture_distributed(limn_context *ctx, const char *in, int blocks,
+                                       const limn_texture_options *o, const char *out)
+{
+    limn_mpi_mesh *m = NULL, *s = NULL;
+    limn_status st;
+    if (blocks) {
+        limn_mesh *whole = NULL;
+        st = limn_mesh_read(ctx, in, LIMN_FORMAT_AUTO, &whole);
+        if (!st)
+            st = uneven(ctx, whole, &m);
+        limn_mesh_destroy(whole);
+    } else {
+        st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &m);
+    }
+    if (!st)
+        st = limn_mpi_mesh_repair(ctx, m, NULL, NULL);
+    limn_series_report r = {.size = sizeof r};
+    if (!st)
+        st = limn_mpi_mesh_texture(ctx, m, o, &s, &r, NULL, NULL);
+    if (!st)
+        st = limn_mpi_mesh_write(ctx, s, out, LIMN_FORMAT_AUTO, NULL, NULL);
+    limn_mpi_mesh_destroy(m);
+    limn_mpi_mesh_destroy(s);
+    return st;
+}
+
+static int agreed(limn_context *ctx, limn_status st, char *msg, size_t cap);
+
+/* One texture case: the same bytes, or the same failure on every rank. */
+static void texture_case(limn_context *ctx, const char *name, const limn_mesh *mesh,
+                         const limn_texture_options *o, int blocks, int must_succeed)
+{
+    char in[320], ref[320], out[320], want[512] = "", msg[512];
+    snprintf(in, sizeof in, "%s/tin.ply", dir);
+    snprintf(ref, sizeof ref, "%s/tref.ply", dir);
+    snprintf(out, sizeof out, "%s/tout.ply", dir);
+    int sst = 0;
+    if (rank == 0) {
+        CHECK(limn_mesh_write(ctx, mesh, in, LIMN_FORMAT_AUTO) == LIMN_OK, "%s: writing %s",
+              name, in);
+        sst = (int)texture_single(ctx, in, o, ref, want, sizeof want);
+    }
+    MPI_Bcast(&sst, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Bcast(want, sizeof want, MPI_CHAR, 0, MPI_COMM_WORLD);
+    CHECK(!must_succeed || !sst, "%s texture, one process: %s", name, want);
+    limn_status st = texture_distributed(ctx, in, blocks, o, out);
+    int same = agreed(ctx, st, msg, sizeof msg);
+    CHECK((int)st == sst && same && strcmp(msg, sst ? want : msg) == 0,
+          "%s texture (%d ranks, %s, alpha %g, %d levels): status %d, one process %d ('%s' "
+          "against '%s')", name, size, limn_scheme_name(o->series.scheme), o->series.alpha,
+          o->levels, (int)st, sst, msg, want);
+    if (rank == 0 && !st && !sst && o->levels == 4)
+        printf("%s texture, %d ranks, %s, 4 levels: same bytes\n", name, size,
+               limn_scheme_name(o->series.scheme));
+    if (rank == 0 && !st && !sst)
+        CHECK(test_same_bytes(ref, out),
+              "%s texture (%d ranks, %s, alpha %g, %d levels%s): differs from one process's",
+              name, size, limn_scheme_name(o->series.scheme), o->series.alpha, o->levels,
+              blocks ? ", uneven blocks" : "");
+    if (rank == 0 && sst)
+        CHECK(!test_file_exists(out), "%s: %s written after a failure", name, out);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) {
+        unlink(in);
+        unlink(ref);
+        unlink(out);
+    }
+}
+
+/* The texture's levels and options on one mesh (Loop only on triangles). */
+static void texture_options_case(limn_context *ctx, const char *name, const limn_mesh *m,
+                                 int triangles)
+{
+    limn_scheme own = triangles ? LIMN_SCHEME_LOOP : LIMN_SCHEME_CATMARK;
+    for (int levels = 0; levels <= 4; levels++) {
+        limn_texture_options o = texture_options(own, 0.5, levels, 1, 4.0);
+        texture_case(ctx, name, m, &o, 0, 1);
+    }
+    limn_texture_options o = texture_options(LIMN_SCHEME_CATMARK, 0.5, 2, 12345, 1.5);
+    texture_case(ctx, name, m, &o, 1, 1);
+    o = texture_options(LIMN_SCHEME_CATMARK, 0.0, 1, 3, 4.0); /* may be singular: either way */
+    texture_case(ctx, name, m, &o, 0, 0);
+}
+
+/* A Loop refusal (a quad), NULL options and a device failing on the last
+   rank: one message on every rank, no surface. */
+static void texture_failures(limn_context *ctx, const limn_mesh *quads)
+{
+    char in[320], msg[512];
+    snprintf(in, sizeof in, "%s/tfail.ply", dir);
+    if (rank == 0)
+        CHECK(limn_mesh_write(ctx, quads, in, LIMN_FORMAT_AUTO) == LIMN_OK, "writing %s", in);
+    MPI_Barrier(MPI_COMM_WORLD);
+    limn_mpi_mesh *m = NULL, *s = NULL;
+    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &m);
+    CHECK(st == LIMN_OK, "reading %s: %s", in, limn_context_message(ctx));
+    limn_texture_options o = texture_options(LIMN_SCHEME_LOOP, 0.0, 1, 1, 4.0);
+    st = limn_mpi_mesh_texture(ctx, m, &o, &s, NULL, NULL, NULL);
+    int same = agreed(ctx, st, msg, sizeof msg);
+    CHECK(st == LIMN_ERR_TOPOLOGY && !s && same, "Loop on quads: status %d, '%s' (agreed %d)",
+          (int)st, msg, same);
+    st = limn_mpi_mesh_texture(ctx, m, NULL, &s, NULL, NULL, NULL);
+    same = agreed(ctx, st, msg, sizeof msg);
+    CHECK(st == LIMN_ERR_ARGUMENT && !s && same && strstr(msg, "colours"),
+          "NULL options: status %d, '%s' (agreed %d)", (int)st, msg, same);
+    limn_context *bad = limn_context_create();
+    if (rank == size - 1)
+        limn_context_set_device(bad, "opencl:99.99");
+    o.series.scheme = LIMN_SCHEME_CATMARK;
+    o.series.alpha = 0.5;
+    st = limn_mpi_mesh_texture(bad, m, &o, &s, NULL, NULL, NULL);
+    same = agreed(bad, st, msg, sizeof msg);
+    CHECK(st != LIMN_OK && !s && same && msg[0],
+          "texture, device on rank %d: status %d, '%s' (agreed %d)", size - 1, (int)st, msg,
+          same);
+    if (!st)
+        limn_mpi_mesh_destroy(s);
+    limn_context_destroy(bad);
+    limn_mpi_mesh_destroy(m);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0)
+        unlink(in);
+}
+
 /* The same status and message on every rank, the message rank 0's. */
 static int agreed(limn_context *ctx, limn_status st, char *msg, size_t cap)
 {
@@ -302,6 +472,11 @@ int main(int argc, char **argv)
     failures_case(ctx, otri);
     memory_case(ctx, 0);
     memory_case(ctx, 1);
+    texture_options_case(ctx, "composite tri", otri, 1);
+    texture_options_case(ctx, "composite quad", oquad, 0);
+    texture_options_case(ctx, "closed tri", ctri, 1);
+    texture_options_case(ctx, "closed quad", cquad, 0);
+    texture_failures(ctx, oquad);
     int shared = rank == 0 ? test_shared_meshes() != NULL : 0;
     MPI_Bcast(&shared, 1, MPI_INT, 0, MPI_COMM_WORLD);
     static const char *const real[] = {"small/suzanne.obj", "medium/bob_quad.obj",

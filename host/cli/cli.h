@@ -258,7 +258,8 @@ limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *
 typedef enum cli_series_kind {
     CLI_SERIES_SMOOTH,
     CLI_SERIES_DENOISE,
-    CLI_SERIES_SHARPEN
+    CLI_SERIES_SHARPEN,
+    CLI_SERIES_TEXTURE
 } cli_series_kind;
 /* The volumes and areas of denoise's report: the input's (closed from its
    edges) and the result's, measured on slices as one process measures them. */
@@ -274,6 +275,8 @@ typedef struct cli_series_call {
     int *kept;                     /* keep_volume < 0 resolved (closed), may be NULL */
     const limn_feature_options *features; /* denoise: non-NULL for --preserve-features */
     cli_series_measures *measures; /* may be NULL; else filled after the filter */
+    const limn_texture_options *texture; /* texture: its options (series from the call's) */
+    size_t *out_counts;            /* texture: the surface's vertices and faces (2) */
 } cli_series_call;
 /* smooth, denoise or sharpen on slices (limn_mpi_mesh_smooth etc.), as
    cli_mpi_interpolate_sliced; *displacement the mean distance from the

@@ -7,7 +7,7 @@
  * prints, every rank computes its share, and every failure is agreed on so
  * that all ranks exit with the same status and the message is printed once.
  * On file inputs, interpolate, smooth, denoise, sharpen, bands and morph
- * run on slices instead, and subdivide only there (cli_mpi_sliced): every rank reads, computes
+ * run on slices instead, and subdivide and texture only there (cli_mpi_sliced): every rank reads, computes
  * and writes its share of a distributed mesh, none holding it whole.
  * The other commands refuse to run on several ranks.
  */
@@ -297,6 +297,22 @@ static limn_status denoise_sure_sliced(limn_context *ctx, const limn_mpi_mesh *m
                                       res);
 }
 
+/* texture on a distributed mesh: its options with the call's series options. */
+static limn_status texture_call(limn_context *ctx, const limn_mpi_mesh *mesh,
+                                const limn_series_options *o, const cli_series_call *c,
+                                limn_mpi_mesh **out, limn_series_report *r,
+                                const limn_mpi_options *mo, limn_mpi_result *res)
+{
+    limn_texture_options t = *c->texture;
+    t.series = *o;
+    limn_status st = limn_mpi_mesh_texture(ctx, mesh, &t, out, r, mo, res);
+    if (!st && c->out_counts) {
+        c->out_counts[0] = limn_mpi_mesh_vertex_total(*out);
+        c->out_counts[1] = limn_mpi_mesh_face_total(*out);
+    }
+    return st;
+}
+
 /* The filter of call on a distributed mesh. */
 static limn_status series_call(limn_context *ctx, const limn_mpi_mesh *mesh,
                                const limn_series_options *o, const cli_series_call *c,
@@ -306,6 +322,8 @@ static limn_status series_call(limn_context *ctx, const limn_mpi_mesh *mesh,
     switch (c->kind) {
     case CLI_SERIES_SMOOTH:
         return limn_mpi_mesh_smooth(ctx, mesh, o, c->terms, out, r, mo, res);
+    case CLI_SERIES_TEXTURE:
+        return texture_call(ctx, mesh, o, c, out, r, mo, res);
     case CLI_SERIES_DENOISE:
         if (c->features)
             return limn_mpi_mesh_denoise_features(ctx, mesh, c->features, out, r, mo, res);
@@ -371,7 +389,7 @@ limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
         collect(&res);
         limn_mpi_result_free(&res);
     }
-    if (!st)
+    if (!st && call->kind != CLI_SERIES_TEXTURE) /* texture: another mesh, no displacement */
         *displacement = block_displacement(mesh, out, r->bbox_diagonal);
     if (!st && call->measures)
         st = measure_sliced(ctx, mesh, out, call->measures);
@@ -611,8 +629,8 @@ char *cli_mpi_rank_path(const char *path)
 
 static int distributed(const char *cmd)
 {
-    static const char *names[] = {"interpolate", "bands",   "smooth",   "denoise",
-                                  "sharpen",     "morph",   "subdivide"};
+    static const char *names[] = {"interpolate", "bands", "smooth",    "denoise",
+                                  "sharpen",     "morph", "subdivide", "texture"};
     for (size_t k = 0; k < sizeof names / sizeof *names; k++)
         if (strcmp(cmd, names[k]) == 0)
             return 1;
@@ -650,8 +668,8 @@ int cli_mpi_main(int argc, char **argv, int (*dispatch)(int, char **))
         if (g.rank == 0)
             fprintf(stderr,
                     "limn %s: does not run on several MPI ranks (%d here): run it without "
-                    "mpirun; interpolate, bands, smooth, denoise, sharpen, morph and subdivide "
-                    "run distributed\n",
+                    "mpirun; interpolate, bands, smooth, denoise, sharpen, morph, subdivide and "
+                    "texture run distributed\n",
                     argv[1], g.size);
         rc = EXIT_USAGE;
     } else {

@@ -89,7 +89,7 @@ static int parse_colors(const char *text, uint8_t *rgb, size_t *count, char *why
 typedef struct extra {
     limn_texture_options t;
     uint8_t rgb[3 * MAX_COLORS];
-    size_t out_vertices, out_faces;
+    size_t out[2]; /* the surface's vertices and faces */
     const char *colors;
 } extra;
 
@@ -101,16 +101,16 @@ static void json_extra(json_out *j, void *user)
     json_integer(j, "seed", (long long)e->t.seed);
     json_number(j, "frequency", e->t.frequency);
     json_number(j, "tolerance", e->t.tolerance);
-    json_integer(j, "output_vertices", (long long)e->out_vertices);
-    json_integer(j, "output_faces", (long long)e->out_faces);
+    json_integer(j, "output_vertices", (long long)e->out[0]);
+    json_integer(j, "output_faces", (long long)e->out[1]);
 }
 
 static void print_extra(void *user)
 {
     extra *e = user;
     fprintf(stderr, "  %d levels, %zu colours, seed %llu: %zu vertices and %zu faces written\n",
-            e->t.levels, e->t.color_count, (unsigned long long)e->t.seed, e->out_vertices,
-            e->out_faces);
+            e->t.levels, e->t.color_count, (unsigned long long)e->t.seed, e->out[0],
+            e->out[1]);
 }
 
 /* --seed S: a non-negative integer. */
@@ -168,6 +168,18 @@ static int check(series_cli *c, const extra *e)
     return 0;
 }
 
+/* On several ranks texture runs on slices only: file input and output. */
+static int sliced_only(series_cli *c)
+{
+    if (cli_mpi_ranks() < 2 ||
+        cli_mpi_sliced(c->a.inputs[0], c->a.in_format, c->a.output, c->a.per_rank))
+        return 0;
+    if (cli_mpi_rank() == 0)
+        cli_usage_error(c->a.cmd, "on several MPI ranks the input and the output must be "
+                        ".ply, .obj or .off files (not standard input or output)");
+    return EXIT_USAGE;
+}
+
 static limn_status run(series_cli *c, limn_context *ctx, const limn_mesh *in, limn_mesh **out,
                        limn_series_report *r, void *user)
 {
@@ -182,8 +194,8 @@ static limn_status measure(limn_context *ctx, const limn_mesh *in, const limn_me
 {
     (void)ctx, (void)in, (void)r;
     extra *e = user;
-    e->out_vertices = limn_mesh_vertex_count(out);
-    e->out_faces = limn_mesh_face_count(out);
+    e->out[0] = limn_mesh_vertex_count(out);
+    e->out[1] = limn_mesh_face_count(out);
     return LIMN_OK;
 }
 
@@ -201,8 +213,13 @@ int cli_texture(int argc, char **argv)
     int rc = cli_args_parse(&c.a, longopts, argc, argv, own_option, &e);
     if (rc)
         return rc < 0 ? 0 : rc;
-    if ((rc = check(&c, &e)))
+    if ((rc = cli_mpi_root_rc(check(&c, &e))))
         return rc;
-    series_filter f = {run, measure, NULL, {json_extra, print_extra, &e}, NULL};
+    if ((rc = sliced_only(&c)))
+        return rc;
+    e.t.colors = e.rgb;
+    /* on slices the surface's counts come back through call (no measure runs) */
+    cli_series_call call = {.kind = CLI_SERIES_TEXTURE, .texture = &e.t, .out_counts = e.out};
+    series_filter f = {run, measure, NULL, {json_extra, print_extra, &e}, &call};
     return series_cli_filter(&c, &f);
 }

@@ -33,6 +33,7 @@ static void mesh_free(limn_mpi_mesh *m)
     if (!m)
         return;
     mesh_slice_free(&m->slice);
+    free(m->colors);
     free(m->vertex_dist);
     free(m->face_dist);
     if (m->comm != MPI_COMM_NULL)

@@ -18,6 +18,7 @@ struct limn_mpi_mesh {
     size_t *vertex_dist;  /* size + 1: rank r holds vertices [dist[r], dist[r+1]) */
     size_t *face_dist;    /* size + 1: the same for faces */
     mesh_slice slice;
+    uint8_t *colors;      /* 3 per vertex of the block, or NULL (limn_mpi_mesh_texture) */
 };
 
 /* A handle over comm taking the slice (zeroed in *slice on success);

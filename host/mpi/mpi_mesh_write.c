@@ -54,6 +54,7 @@ static limn_status write_sized(limn_context *ctx, mpi_part *p, const limn_mpi_me
                            .n_owned = s->vertex_count,
                            .owned_ids = ids,
                            .pos = s->positions,
+                           .colors = mesh->colors,
                            .face_begin = s->face_begin,
                            .face_count = s->face_count,
                            .face_offsets = s->face_offsets,

@@ -56,6 +56,10 @@ limn_status mpi_rmesh_of(mpi_part *p, const limn_mpi_mesh *mesh, mpi_rmesh *out)
 /* The level moved to even vertex blocks as a new distributed mesh; collective. */
 limn_status mpi_rmesh_to_mesh(mpi_part *p, const mpi_rmesh *m, limn_mpi_mesh **out);
 void mpi_rmesh_free(mpi_rmesh *m);
+/* Collective, agreed: a copy of m with its own segments, m's faces borrowed
+   and pos (3 per owned vertex, taken: freed with the copy, also on failure)
+   for positions: a second field refined on m's numbering (the texture). */
+limn_status mpi_rmesh_borrow(mpi_part *p, const mpi_rmesh *m, double *pos, mpi_rmesh *out);
 void mpi_rseg_free(mpi_rseg *s);
 /* Collective: the owner of each of n ids (directories asked). */
 limn_status mpi_rmesh_owners(mpi_part *p, const mpi_rmesh *m, size_t n, const uint32_t *ids,

@@ -304,3 +304,37 @@ limn_status mpi_rmesh_to_mesh(mpi_part *p, const mpi_rmesh *m, limn_mpi_mesh **o
     mesh_slice_free(&s);
     return st;
 }
+
+limn_status mpi_rmesh_borrow(mpi_part *p, const mpi_rmesh *m, double *pos, mpi_rmesh *out)
+{
+    *out = *m;
+    out->owns_faces = 0;
+    out->pos = pos;
+    out->seg = calloc((size_t)m->segments, sizeof *out->seg);
+    size_t R = (size_t)p->size + 1;
+    limn_status st = out->seg ? LIMN_OK : LIMN_ERR_MEMORY;
+    for (int k = 0; !st && k < m->segments; k++) {
+        const mpi_rseg *a = &m->seg[k];
+        mpi_rseg *b = &out->seg[k];
+        *b = *a;
+        b->dir = b->own = NULL; /* nothing of a's freed with the copy */
+        b->dist = malloc(R * sizeof *b->dist);
+        size_t nd = a->directory ? a->dist[p->rank + 1] - a->dist[p->rank] : 0;
+        b->dir = a->dir ? malloc((nd ? nd : 1) * sizeof *b->dir) : NULL;
+        b->own = a->own ? malloc((a->n_own ? a->n_own : 1) * sizeof *b->own) : NULL;
+        if (!b->dist || (a->dir && !b->dir) || (a->own && !b->own)) {
+            st = LIMN_ERR_MEMORY;
+            break;
+        }
+        memcpy(b->dist, a->dist, R * sizeof *b->dist);
+        if (a->dir)
+            memcpy(b->dir, a->dir, nd * sizeof *b->dir);
+        if (a->own)
+            memcpy(b->own, a->own, a->n_own * sizeof *b->own);
+    }
+    if (st) {
+        mpi_rmesh_free(out); /* frees pos too: the caller's array is the copy's */
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for a copy of the segments");
+    }
+    return mpi_agree(p, st);
+}

@@ -49,4 +49,13 @@ limn_status series_keep_volume(limn_context *ctx, const limn_mesh *mesh, limn_me
 limn_status series_emit_frame(const limn_mesh *from, const limn_mesh *to, int closed, double diag,
                               int index, const double *pos, limn_morph_frame_fn fn, void *user);
 
+/* limn_texture's checks of its options (shared with the MPI layer's texture). */
+limn_status texture_check_options(limn_context *ctx, const limn_texture_options *o);
+/* The texture's colours: values[stride * v] (n of them) normalised by the
+   field's range [mn, mx] (over the whole mesh) and mapped through the
+   B-spline of o's colours, 3 bytes per vertex into rgb. */
+limn_status texture_map_colors(limn_context *ctx, const limn_texture_options *o,
+                               const double *values, size_t stride, size_t n, double mn,
+                               double mx, uint8_t *rgb);
+
 #endif

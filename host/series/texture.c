@@ -204,7 +204,7 @@ static limn_status solve_scalar(limn_context *ctx, series_run *s, double tol, in
     return st;
 }
 
-static limn_status check_texture_options(limn_context *ctx, const limn_texture_options *o)
+limn_status texture_check_options(limn_context *ctx, const limn_texture_options *o)
 {
     limn_status st = check_scheme(ctx, "limn_texture", o->series.scheme);
     if (!st)
@@ -290,7 +290,7 @@ static limn_status check_texture(limn_context *ctx, const limn_mesh *mesh,
     if (st)
         return st;
     series_report_init(r, mesh);
-    st = check_texture_options(ctx, o);
+    st = texture_check_options(ctx, o);
     if (st)
         return st;
     if (mesh->vertex_count == 0 || mesh->face_count == 0)
@@ -376,16 +376,10 @@ static limn_status texture_level(limn_context *ctx, texture_work *w, int i)
     return st;
 }
 
-/* The field (channel x of s's host, nf vertices) normalised to [0, 1] and
-   mapped through the colour spline onto result. */
-static limn_status texture_colors(limn_context *ctx, const limn_texture_options *o,
-                                  const double *host, size_t nf, uint8_t *rgb, limn_mesh *result)
+limn_status texture_map_colors(limn_context *ctx, const limn_texture_options *o,
+                               const double *values, size_t stride, size_t n, double mn,
+                               double mx, uint8_t *rgb)
 {
-    double mn = INFINITY, mx = -INFINITY;
-    for (size_t v = 0; v < nf; v++) {
-        mn = fmin(mn, host[4 * v]);
-        mx = fmax(mx, host[4 * v]);
-    }
     size_t k = o->color_count;
     double *d = malloc((k + 2) * 3 * sizeof *d);
     if (!d)
@@ -398,12 +392,26 @@ static limn_status texture_colors(limn_context *ctx, const limn_texture_options 
             chi[c] = x > chi[c] ? x : chi[c];
         }
     spline_controls(o->colors, k, d);
-    for (size_t v = 0; v < nf; v++) {
-        double t = mx > mn ? (host[4 * v] - mn) / (mx - mn) : 0.5;
+    for (size_t v = 0; v < n; v++) {
+        double t = mx > mn ? (values[stride * v] - mn) / (mx - mn) : 0.5;
         spline_color(d, k, clo, chi, t, rgb + 3 * v);
     }
     free(d);
-    return limn_mesh_set_colors(ctx, result, rgb);
+    return LIMN_OK;
+}
+
+/* The field (channel x of s's host, nf vertices) normalised to [0, 1] and
+   mapped through the colour spline onto result. */
+static limn_status texture_colors(limn_context *ctx, const limn_texture_options *o,
+                                  const double *host, size_t nf, uint8_t *rgb, limn_mesh *result)
+{
+    double mn = INFINITY, mx = -INFINITY;
+    for (size_t v = 0; v < nf; v++) {
+        mn = fmin(mn, host[4 * v]);
+        mx = fmax(mx, host[4 * v]);
+    }
+    limn_status st = texture_map_colors(ctx, o, host, 4, nf, mn, mx, rgb);
+    return st ? st : limn_mesh_set_colors(ctx, result, rgb);
 }
 
 /* G_L's operator (still open): its limit points, the summed field there, the colours. */
