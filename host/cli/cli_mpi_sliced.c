@@ -40,14 +40,7 @@ static limn_status read_sliced(limn_context *ctx, const cli_sliced_job *job,
     st = limn_mpi_mesh_repair(ctx, *mesh, &o, &rep);
     cli_print_warnings(cmd, ctx);
     if (!st && limn_mpi_mesh_face_total(*mesh) == 0)
-        st = rep.faces_before
-                 ? cli_error(LIMN_ERR_TOPOLOGY,
-                             "%s: no faces are left after the repair (all %zu were degenerate): "
-                             "nothing to %s",
-                             input, rep.faces_before, cmd)
-                 : cli_error(LIMN_ERR_TOPOLOGY,
-                             "%s: the mesh has no faces (a point cloud?): nothing to %s", input,
-                             cmd);
+        st = cli_no_faces(cmd, input, rep.faces_before);
     return st;
 }
 
@@ -106,33 +99,65 @@ static limn_status write_sliced(limn_context *ctx, const cli_sliced_job *job, li
     return st;
 }
 
-/* ------------------------------------------------------------- interpolate */
+/* ---------------------------------------------------- interpolate, subdivide */
 
-typedef struct interpolate_job {
-    const limn_interpolate_options *o;
-    limn_report *r;
-    limn_mpi_mesh *control;
-} interpolate_job;
+/* A job whose result is one mesh: its options, its report, the result. */
+typedef struct mesh_job {
+    const void *o; /* limn_interpolate_options, limn_subdivide_options */
+    void *r;       /* limn_report, limn_subdivide_report */
+    limn_mpi_mesh *out;
+} mesh_job;
 
 static limn_status interpolate_fn(limn_context *ctx, limn_mpi_mesh *const in[2], void *user,
                                   const limn_mpi_options *mo, limn_mpi_result *res)
 {
-    interpolate_job *j = user;
-    return limn_mpi_mesh_interpolate(ctx, in[0], j->o, &j->control, j->r, mo, res);
+    mesh_job *j = user;
+    return limn_mpi_mesh_interpolate(ctx, in[0], j->o, &j->out, j->r, mo, res);
+}
+
+static limn_status subdivide_fn(limn_context *ctx, limn_mpi_mesh *const in[2], void *user,
+                                const limn_mpi_options *mo, limn_mpi_result *res)
+{
+    mesh_job *j = user;
+    return limn_mpi_mesh_subdivide(ctx, in[0], j->o, &j->out, j->r, mo, res);
+}
+
+/* call's job (a mesh_job) on the slices, then its result written; the
+   input destroyed before the write when drop_input (subdivide: the surface
+   is all that is left). */
+static limn_status mesh_result(limn_context *ctx, const cli_sliced_job *job,
+                               const sliced_call *call, int drop_input,
+                               limn_write_report *written, double seconds[2])
+{
+    mesh_job *j = call->user;
+    limn_mpi_mesh *in[2] = {NULL, NULL};
+    limn_status st = run_sliced(ctx, job, call, in, seconds);
+    if (drop_input) {
+        limn_mpi_mesh_destroy(in[0]);
+        in[0] = NULL;
+    }
+    st = write_sliced(ctx, job, st, j->out, written, seconds);
+    limn_mpi_mesh_destroy(in[0]);
+    limn_mpi_mesh_destroy(j->out);
+    return st;
 }
 
 limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *job,
                                        const limn_interpolate_options *o, limn_report *r,
                                        limn_write_report *written, double seconds[2])
 {
-    interpolate_job j = {o, r, NULL};
+    mesh_job j = {o, r, NULL};
     sliced_call call = {interpolate_fn, &j, NULL, 1};
-    limn_mpi_mesh *in[2] = {NULL, NULL};
-    limn_status st = run_sliced(ctx, job, &call, in, seconds);
-    st = write_sliced(ctx, job, st, j.control, written, seconds);
-    limn_mpi_mesh_destroy(in[0]);
-    limn_mpi_mesh_destroy(j.control);
-    return st;
+    return mesh_result(ctx, job, &call, 0, written, seconds);
+}
+
+limn_status cli_mpi_subdivide_sliced(limn_context *ctx, const cli_sliced_job *job,
+                                     const limn_subdivide_options *o, limn_subdivide_report *r,
+                                     limn_write_report *written, double seconds[2])
+{
+    mesh_job j = {o, r, NULL};
+    sliced_call call = {subdivide_fn, &j, NULL, 0};
+    return mesh_result(ctx, job, &call, 1, written, seconds);
 }
 
 /* ----------------------------------------------------------------- series */
@@ -257,35 +282,6 @@ limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
     st = write_sliced(ctx, job, st, j.out, written, seconds);
     limn_mpi_mesh_destroy(in[0]);
     limn_mpi_mesh_destroy(j.out);
-    return st;
-}
-
-/* -------------------------------------------------------------- subdivide */
-
-typedef struct subdivide_job {
-    const limn_subdivide_options *o;
-    limn_subdivide_report *r;
-    limn_mpi_mesh *surface;
-} subdivide_job;
-
-static limn_status subdivide_fn(limn_context *ctx, limn_mpi_mesh *const in[2], void *user,
-                                const limn_mpi_options *mo, limn_mpi_result *res)
-{
-    subdivide_job *j = user;
-    return limn_mpi_mesh_subdivide(ctx, in[0], j->o, &j->surface, j->r, mo, res);
-}
-
-limn_status cli_mpi_subdivide_sliced(limn_context *ctx, const cli_sliced_job *job,
-                                     const limn_subdivide_options *o, limn_subdivide_report *r,
-                                     limn_write_report *written, double seconds[2])
-{
-    subdivide_job j = {o, r, NULL};
-    sliced_call call = {subdivide_fn, &j, NULL, 0};
-    limn_mpi_mesh *in[2] = {NULL, NULL};
-    limn_status st = run_sliced(ctx, job, &call, in, seconds);
-    limn_mpi_mesh_destroy(in[0]); /* before the write: the surface is all that is left */
-    st = write_sliced(ctx, job, st, j.surface, written, seconds);
-    limn_mpi_mesh_destroy(j.surface);
     return st;
 }
 
