@@ -63,40 +63,8 @@ done
 # 3. the solve suite on generated meshes
 work=$(mktemp -d "${TMPDIR:-/tmp}/limn_gpu_run_XXXXXX")
 trap 'rm -rf "$work"' EXIT
-cat >"$work/loop.obj" <<'EOF'
-v 0 -0.525731 0.850651
-v 0.850651 0 0.525731
-v 0.850651 0 -0.525731
-v -0.850651 0 -0.525731
-v -0.850651 0 0.525731
-v -0.525731 0.850651 0
-v 0.525731 0.850651 0
-v 0.525731 -0.850651 0
-v -0.525731 -0.850651 0
-v 0 -0.525731 -0.850651
-v 0 0.525731 -0.850651
-v 0 0.525731 0.850651
-f 2 3 7
-f 2 8 3
-f 4 5 6
-f 5 4 9
-f 7 6 12
-f 6 7 11
-f 10 11 3
-f 11 10 4
-f 8 9 10
-f 9 8 1
-f 12 1 2
-f 1 12 5
-f 7 3 11
-f 2 7 12
-f 4 6 11
-f 6 5 12
-f 3 8 10
-f 8 2 1
-f 4 10 9
-f 5 9 1
-EOF
+# the base meshes: data/'s icosahedron (Loop) and a cube (Catmull-Clark)
+cp "$root/data/icosahedron.obj" "$work/loop.obj"
 cat >"$work/catmark.obj" <<'EOF'
 v -1 -1 -1
 v 1 -1 -1

@@ -19,7 +19,7 @@ install_prefix cli_installed "$build"
 # the CLI's own files only: nothing of host/ can be found beside them
 mkdir "$tmp/cli"
 cp "$src"/host/cli/*.c "$src"/host/cli/*.h "$tmp/cli/"
-rm "$tmp/cli/cli_mpi.c"
+rm "$tmp/cli/cli_mpi.c" "$tmp/cli/cli_mpi_sliced.c"
 # shellcheck disable=SC2086 # FLAGS is a list of flags
 if ! "$cc" -std=c11 -Wall -Wextra -Wpedantic -Werror -O2 -D_POSIX_C_SOURCE=200809L \
         -I"$prefix/include" $flags "$tmp"/cli/*.c -o "$tmp/limn" \

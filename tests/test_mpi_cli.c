@@ -3,17 +3,18 @@
  * `mpirun -np N limn ...` as a user meets it (2 and 3 ranks; bands, denoise
  * and sharpen also 5): interpolate (--precision float too), bands, smooth,
  * denoise (eq. 8 and the default SURE form, on slices and the root path),
- * sharpen, morph, subdivide (2, 3, 5 ranks, --limit) and texture (2, 3, 5
- * ranks, Loop and Catmull-Clark, every option) write the
- * very bytes of one process (paper
- * iteration and series: every row is summed in the same order), weighted,
- * cg and sgs agree to 1e-12 with the same iteration count; --per-rank-output writes
+ * sharpen and morph write the very bytes of one process (paper iteration
+ * and series: every row is summed in the same order), weighted, cg and sgs
+ * agree to 1e-12 with the same iteration count; --per-rank-output writes
  * one piece per rank; a bad input gives one message, exit status 1 on every
  * rank, no output and no hang; commands that do not run distributed refuse;
  * the same bytes with either partition (LIMN_MPI_PARTITION=sfc | scotch).
  * Meshes: generated with several components, boundaries and an isolated
  * vertex, and shared real meshes when ../shared/meshes is there.
+ * subdivide and texture: test_mpi_cli_refine.c; denoise --preserve-features:
+ * test_mpi_cli_features.c (the launcher of all three: mpi_cli.c).
  */
+#include "mpi_cli.h"
 #include "shell.h"
 #include "support.h"
 
@@ -29,7 +30,6 @@
 
 #include <cmocka.h>
 
-
 static int setup(void **s)
 {
     (void)s;
@@ -37,81 +37,6 @@ static int setup(void **s)
 }
 
 static const char *at(const char *name) { return test_join(test_dir, name); }
-
-/* Runs `limn ARGS` (ranks > 0: under the MPI launcher, killed after 300 s so
-   that a hang fails instead of blocking), output in test_text; the exit status.
-   Under the sanitizers the ranks run without LeakSanitizer: its
-   stop-the-world tracer segfaults at exit while Open MPI's and PoCL's
-   threads wind down ("Tracer caught signal 11 ... LeakSanitizer has
-   encountered a fatal error", google/sanitizers#1353) - seen three times in
-   a row on a loaded CI machine, after limn had written its output. The same
-   code's leaks are still checked: by the one-process runs here and by
-   test_mpi (the MPI layer in process, 2 and 3 ranks). Memory errors and
-   undefined behaviour still fail the ranks. */
-static int run(int ranks, const char *args)
-{
-    char cmd[8192];
-    const char *asan = getenv("ASAN_OPTIONS");
-    char no_leaks[512] = "";
-    if (asan)
-        snprintf(no_leaks, sizeof no_leaks, "ASAN_OPTIONS='%s:detect_leaks=0' ", asan);
-    if (ranks > 0)
-        snprintf(cmd, sizeof cmd, "%stimeout 300 %s %d '%s' %s 2>&1", no_leaks,
-                 getenv("LIMN_MPIEXEC"), ranks, getenv("LIMN_BIN"), args);
-    else
-        snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", getenv("LIMN_BIN"), args);
-    return test_run(test_text, sizeof test_text, cmd);
-}
-
-static size_t count(const char *hay, const char *needle)
-{
-    size_t n = 0;
-    for (const char *p = strstr(hay, needle); p; p = strstr(p + 1, needle))
-        n++;
-    return n;
-}
-
-
-/* The generated inputs: several components, boundaries, an isolated vertex. */
-static void write_inputs(void)
-{
-    limn_context *ctx = limn_context_create();
-    limn_mesh *grid = test_mesh_grid(ctx, 40, 30, 1), *quads = test_mesh_grid(ctx, 40, 30, 0);
-    limn_mesh *ico = test_mesh_icosahedron(ctx), *cube = test_mesh_cube(ctx);
-    /* two components each: an OBJ by hand (the grid, then the closed piece) */
-    const limn_mesh *pairs[2][2] = {{grid, ico}, {quads, cube}};
-    const char *names[2] = {"tri.obj", "quad.obj"};
-    for (int k = 0; k < 2; k++) {
-        FILE *f = fopen(at(names[k]), "w");
-        assert_non_null(f);
-        size_t base = 0;
-        for (int part = 0; part < 2; part++) {
-            const limn_mesh *m = pairs[k][part];
-            const double *p = limn_mesh_positions(m);
-            for (size_t i = 0; i < limn_mesh_vertex_count(m); i++)
-                fprintf(f, "v %.17g %.17g %.17g\n", p[3 * i] + 50.0 * part, p[3 * i + 1],
-                        p[3 * i + 2]);
-            if (part == 0) {
-                fprintf(f, "v -5 -5 0\n"); /* isolated */
-                base++;
-            }
-            const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
-            for (size_t fc = 0; fc < limn_mesh_face_count(m); fc++) {
-                fprintf(f, "f");
-                for (uint32_t c = off[fc]; c < off[fc + 1]; c++)
-                    fprintf(f, " %zu", (size_t)idx[c] + 1 + (part ? base : 0));
-                fprintf(f, "\n");
-            }
-            base += limn_mesh_vertex_count(m);
-        }
-        assert_int_equal(fclose(f), 0);
-    }
-    limn_mesh_destroy(grid);
-    limn_mesh_destroy(quads);
-    limn_mesh_destroy(ico);
-    limn_mesh_destroy(cube);
-    limn_context_destroy(ctx);
-}
 
 static int report_iterations(const char *path)
 {
@@ -154,17 +79,17 @@ static void interpolate_same(const char *input, const char *opts, int ranks, int
     const char *one = at("one.ply"), *many = at("many.ply");
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' %s -q", input, one,
              at("one.json"), opts);
-    if (run(0, args) != 0)
+    if (mpi_cli_run(0, args) != 0)
         fail_msg("one process: %s", test_text);
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' %s", input, many,
              at("many.json"), opts);
-    int rc = run(ranks, args);
+    int rc = mpi_cli_run(ranks, args);
     if (rc != 0) {
         fputs(test_text, stderr); /* whole: cmocka's message is cut short */
         fail_msg("%d ranks: exit status %d", ranks, rc);
     }
     /* rank 0 printed the summary once, with every rank's line */
-    assert_int_equal(count(test_text, "  device: "), 1);
+    assert_int_equal(mpi_cli_count(test_text, "  device: "), 1);
     char line[32];
     snprintf(line, sizeof line, "rank %d:", ranks - 1);
     assert_non_null(strstr(test_text, line));
@@ -181,7 +106,7 @@ static void interpolate_same(const char *input, const char *opts, int ranks, int
 static void interpolate_generated(void **s)
 {
     (void)s;
-    write_inputs();
+    mpi_cli_write_inputs();
     for (int ranks = 2; ranks <= 3; ranks++) {
         interpolate_same(at("tri.obj"), "--method paper", ranks, 1);
         interpolate_same(at("tri.obj"), "--method weighted", ranks, 0);
@@ -211,20 +136,10 @@ static void interpolate_shared(void **s)
     interpolate_same(path, "", 3, 1);
 }
 
-/* The report at path says the run was on slices (no rank held the mesh). */
-static int report_sliced(const char *path)
-{
-    size_t n = 0;
-    char *text = test_slurp(path, &n);
-    int yes = text && strstr(text, "\"distributed_mesh\": true") != NULL;
-    free(text);
-    return yes;
-}
-
 static void series_same(void **s)
 {
     (void)s;
-    write_inputs();
+    mpi_cli_write_inputs();
     /* smooth, denoise and sharpen on a file input: slices (limn_mpi_mesh_smooth
        etc.), the single process's bytes (--keep-volume: denoise_volume_same) */
     static const char *cmds[] = {"smooth '%s' -o '%s' --terms 4 -q",
@@ -237,21 +152,21 @@ static void series_same(void **s)
             char in[4200];
             snprintf(in, sizeof in, "%s", at(inputs[(k + ranks) % 2]));
             snprintf(args, sizeof args, cmds[k], in, at("s1.ply"));
-            assert_int_equal(run(0, args), 0);
+            assert_int_equal(mpi_cli_run(0, args), 0);
             snprintf(args, sizeof args, cmds[k], in, at("s2.ply"));
             strcat(args, " --report '");
             strcat(args, at("s2.json"));
             strcat(args, "'");
-            if (run(ranks, args) != 0)
+            if (mpi_cli_run(ranks, args) != 0)
                 fail_msg("%s", test_text);
             assert_true(test_same_bytes(at("s1.ply"), at("s2.ply")));
-            assert_true(report_sliced(at("s2.json")));
+            assert_true(mpi_cli_report_sliced(at("s2.json")));
         }
     /* morph on slices (both inputs files): every frame the same bytes, the
        same per-frame measures in the report; the series and the blend */
     char args[1024];
     snprintf(args, sizeof args, "denoise '%s' -o '%s' --steps 6 -q", at("quad.obj"), at("to.ply"));
-    assert_int_equal(run(0, args), 0);
+    assert_int_equal(mpi_cli_run(0, args), 0);
     snprintf(args, sizeof args, "mkdir -p '%s' '%s'", at("f1"), at("f2"));
     assert_int_equal(system(args), 0);
     for (int linear = 0; linear <= 1; linear++)
@@ -260,11 +175,11 @@ static void series_same(void **s)
             snprintf(args, sizeof args,
                      "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 %s --report '%s' -q",
                      at("quad.obj"), at("to.ply"), at("f1"), how, at("m1.json"));
-            assert_int_equal(run(0, args), 0);
+            assert_int_equal(mpi_cli_run(0, args), 0);
             snprintf(args, sizeof args,
                      "morph '%s' '%s' -o '%s/f%%d.ply' --frames 3 %s --report '%s' -q",
                      at("quad.obj"), at("to.ply"), at("f2"), how, at("m2.json"));
-            if (run(ranks, args) != 0)
+            if (mpi_cli_run(ranks, args) != 0)
                 fail_msg("%s", test_text);
             for (int k = 0; k < 3; k++) {
                 char a[64], b[64];
@@ -272,7 +187,7 @@ static void series_same(void **s)
                 snprintf(b, sizeof b, "f2/f%d.ply", k);
                 assert_true(test_same_bytes(at(a), at(b)));
             }
-            assert_true(report_sliced(at("m2.json")));
+            assert_true(mpi_cli_report_sliced(at("m2.json")));
             size_t n1 = 0, n2 = 0;
             char *r1 = test_slurp(at("m1.json"), &n1), *r2 = test_slurp(at("m2.json"), &n2);
             assert_non_null(r1);
@@ -333,7 +248,7 @@ static void report_value(const char *path, const char *key, char *out, size_t ca
 static void denoise_volume_same(void **s)
 {
     (void)s;
-    write_inputs();
+    mpi_cli_write_inputs();
     write_closed(at("closed.obj"));
     static const char *keys[] = {"\"closed\"",      "\"volume_input\"", "\"volume_output\"",
                                  "\"area_input\"",  "\"area_output\"",  "\"keep_volume\"",
@@ -351,14 +266,14 @@ static void denoise_volume_same(void **s)
             snprintf(args, sizeof args,
                      "denoise '%s' -o '%s' %s --report '%s' -q", at(cases[c][0]), at("v1.ply"),
                      cases[c][1], at("v1.json"));
-            assert_int_equal(run(0, args), 0);
+            assert_int_equal(mpi_cli_run(0, args), 0);
             snprintf(args, sizeof args,
                      "denoise '%s' -o '%s' %s --report '%s' -q", at(cases[c][0]), at("v2.ply"),
                      cases[c][1], at("v2.json"));
-            if (run(ranks, args) != 0)
+            if (mpi_cli_run(ranks, args) != 0)
                 fail_msg("%s", test_text);
             assert_true(test_same_bytes(at("v1.ply"), at("v2.ply")));
-            assert_true(report_sliced(at("v2.json")));
+            assert_true(mpi_cli_report_sliced(at("v2.json")));
             for (size_t k = 0; k < sizeof keys / sizeof *keys; k++) {
                 char a[128], b[128];
                 report_value(at("v1.json"), keys[k], a, sizeof a);
@@ -370,30 +285,30 @@ static void denoise_volume_same(void **s)
     char args[2048];
     snprintf(args, sizeof args, "denoise '%s' -o '%s' --m 2 --steps 3 --keep-volume",
              at("quad.obj"), at("open1.ply"));
-    assert_int_equal(run(0, args), 1);
+    assert_int_equal(mpi_cli_run(0, args), 1);
     const char *why = strstr(test_text, "keeping the volume needs a closed mesh");
     assert_non_null(why);
     char one[512];
     snprintf(one, sizeof one, "%.*s", (int)strcspn(why, "\n"), why);
     snprintf(args, sizeof args, "denoise '%s' -o '%s' --m 2 --steps 3 --keep-volume",
              at("quad.obj"), at("open2.ply"));
-    assert_int_equal(run(3, args), 1);
-    assert_int_equal(count(test_text, "limn denoise: error:"), 1);
-    assert_int_equal(count(test_text, one), 1); /* the same edge counts */
+    assert_int_equal(mpi_cli_run(3, args), 1);
+    assert_int_equal(mpi_cli_count(test_text, "limn denoise: error:"), 1);
+    assert_int_equal(mpi_cli_count(test_text, one), 1); /* the same edge counts */
     assert_false(test_file_exists(at("open2.ply")));
     /* the default form: the same refusal of an open mesh's --keep-volume */
     snprintf(args, sizeof args, "denoise '%s' -o '%s' --keep-volume", at("quad.obj"),
              at("open3.ply"));
-    assert_int_equal(run(5, args), 1);
-    assert_int_equal(count(test_text, "keeping the volume needs a closed mesh"), 1);
+    assert_int_equal(mpi_cli_run(5, args), 1);
+    assert_int_equal(mpi_cli_count(test_text, "keeping the volume needs a closed mesh"), 1);
     assert_false(test_file_exists(at("open3.ply")));
     /* and on the root path (standard input: limn_denoise_sure_mpi): the same bytes */
     snprintf(args, sizeof args, "denoise '%s' -o '%s' -q", at("closed.obj"), at("v1.ply"));
-    assert_int_equal(run(0, args), 0);
+    assert_int_equal(mpi_cli_run(0, args), 0);
     for (int ranks = 2; ranks <= 5; ranks += 3) {
         snprintf(args, sizeof args, "denoise - --input-format obj -o '%s' -q < '%s'",
                  at("v2.ply"), at("closed.obj"));
-        if (run(ranks, args) != 0)
+        if (mpi_cli_run(ranks, args) != 0)
             fail_msg("%s", test_text);
         assert_true(test_same_bytes(at("v1.ply"), at("v2.ply")));
     }
@@ -404,18 +319,18 @@ static void denoise_volume_same(void **s)
 static void bands_sharpen_same(void **s)
 {
     (void)s;
-    write_inputs();
+    mpi_cli_write_inputs();
     static const char *files[] = {"_band0.ply", "_band1.ply", "_remainder.ply", "_energy.json"};
     for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
         char args[1024], a[64], b[64];
         snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2 -q", at("tri.obj"), at("b1"));
-        assert_int_equal(run(0, args), 0);
+        assert_int_equal(mpi_cli_run(0, args), 0);
         snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2 --report '%s'", at("tri.obj"),
                  at("b2"), at("b2.json"));
-        if (run(ranks, args) != 0)
+        if (mpi_cli_run(ranks, args) != 0)
             fail_msg("%s", test_text);
-        assert_int_equal(count(test_text, "bands + remainder written"), 1);
-        assert_true(report_sliced(at("b2.json"))); /* limn_mpi_mesh_bands */
+        assert_int_equal(mpi_cli_count(test_text, "bands + remainder written"), 1);
+        assert_true(mpi_cli_report_sliced(at("b2.json"))); /* limn_mpi_mesh_bands */
         for (int k = 0; k < 4; k++) {
             snprintf(a, sizeof a, "b1%s", files[k]);
             snprintf(b, sizeof b, "b2%s", files[k]);
@@ -423,10 +338,10 @@ static void bands_sharpen_same(void **s)
         }
         snprintf(args, sizeof args, "sharpen '%s' -o '%s' --from 1 --to 2 --steps 2 -q",
                  at("quad.obj"), at("s1.ply"));
-        assert_int_equal(run(0, args), 0);
+        assert_int_equal(mpi_cli_run(0, args), 0);
         snprintf(args, sizeof args, "sharpen '%s' -o '%s' --from 1 --to 2 --steps 2 -q",
                  at("quad.obj"), at("s2.ply"));
-        if (run(ranks, args) != 0)
+        if (mpi_cli_run(ranks, args) != 0)
             fail_msg("%s", test_text);
         assert_true(test_same_bytes(at("s1.ply"), at("s2.ply")));
         printf("  bands --count 2 and sharpen, %d ranks: same bytes\n", ranks);
@@ -435,110 +350,10 @@ static void bands_sharpen_same(void **s)
     assert_int_equal(test_write_text(at("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n"), 0);
     char args[1024];
     snprintf(args, sizeof args, "bands '%s' -o '%s' --count 2", at("broken.obj"), at("bad"));
-    assert_int_equal(run(3, args), 1);
-    assert_int_equal(count(test_text, "limn bands: error:"), 1);
+    assert_int_equal(mpi_cli_run(3, args), 1);
+    assert_int_equal(mpi_cli_count(test_text, "limn bands: error:"), 1);
     assert_false(test_file_exists(at("bad_band0.ply")));
     assert_false(test_file_exists(at("bad_energy.json")));
-}
-
-/* subdivide on slices (limn_mpi_mesh_subdivide): the single process's bytes
-   on 2, 3 and 5 ranks, Loop and Catmull-Clark, with --limit; a bad input
-   gives one message and nothing written; standard output is refused. */
-static void subdivide_same(void **s)
-{
-    (void)s;
-    write_inputs();
-    static const char *runs[][2] = {{"tri.obj", "--levels 2 --limit"},
-                                    {"tri.obj", "--levels 1 --scheme catmark"},
-                                    {"quad.obj", "--levels 2 --limit --alpha 0.5"}};
-    for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
-        for (size_t k = 0; k < sizeof runs / sizeof *runs; k++) {
-            char args[1024];
-            snprintf(args, sizeof args, "subdivide '%s' -o '%s' %s -q", at(runs[k][0]),
-                     at("d1.ply"), runs[k][1]);
-            assert_int_equal(run(0, args), 0);
-            snprintf(args, sizeof args, "subdivide '%s' -o '%s' %s --report '%s'",
-                     at(runs[k][0]), at("d2.ply"), runs[k][1], at("d2.json"));
-            if (run(ranks, args) != 0)
-                fail_msg("%s", test_text);
-            assert_int_equal(count(test_text, " faces -> "), 1); /* the summary, once */
-            assert_true(report_sliced(at("d2.json")));
-            assert_true(test_same_bytes(at("d1.ply"), at("d2.ply")));
-        }
-        printf("  subdivide (Loop, Catmull-Clark, --limit), %d ranks: same bytes\n", ranks);
-    }
-    char args[1024];
-    assert_int_equal(test_write_text(at("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n"), 0);
-    snprintf(args, sizeof args, "subdivide '%s' -o '%s' --levels 1", at("broken.obj"),
-             at("bad.ply"));
-    assert_int_equal(run(3, args), 1);
-    assert_int_equal(count(test_text, "limn subdivide: error:"), 1);
-    assert_false(test_file_exists(at("bad.ply")));
-    snprintf(args, sizeof args, "subdivide '%s' -o - --format ply --levels 1", at("quad.obj"));
-    assert_int_equal(run(2, args), 2);
-    assert_int_equal(count(test_text, "standard input or output"), 1);
-}
-
-/* texture on slices (limn_mpi_mesh_texture): the single process's bytes on
-   2, 3 and 5 ranks, Loop and Catmull-Clark, with every option of texture
-   (levels, seed, frequency, tol, colours in both spellings, the output
-   formats, the scheme and alpha); a bad input and a singular level give
-   one message and nothing written; standard output is refused. */
-static void texture_same(void **s)
-{
-    (void)s;
-    write_inputs();
-    static const char *runs[][2] = {
-        {"tri.obj", "--levels 2 --colors '#ff0000,#00ff00,#0000ff'"},
-        {"tri.obj", "--levels 2 --seed 9 --frequency 2.5 --tol 1e-8 --colours '#abc,#123456'"},
-        {"quad.obj", "--levels 1 --alpha 0.5 --colors '#102030' --format ply-ascii"},
-        {"quad.obj", "--levels 2 --alpha 0.5 --scheme catmark --colors '#f00,#0f0,#00f,#fff' "
-                     "--format ply-be"},
-        {"tri.obj", "--levels 0 --scheme catmark --alpha 0.5 --colors '#000,#fff'"}};
-    for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
-        for (size_t k = 0; k < sizeof runs / sizeof *runs; k++) {
-            char args[1024];
-            snprintf(args, sizeof args, "texture '%s' -o '%s' %s -q", at(runs[k][0]),
-                     at("t1.ply"), runs[k][1]);
-            if (run(0, args) != 0)
-                fail_msg("%s", test_text);
-            snprintf(args, sizeof args, "texture '%s' -o '%s' %s --report '%s'",
-                     at(runs[k][0]), at("t2.ply"), runs[k][1], at("t2.json"));
-            if (run(ranks, args) != 0)
-                fail_msg("%s", test_text);
-            assert_int_equal(count(test_text, "vertices and"), 1); /* the summary, once */
-            assert_true(report_sliced(at("t2.json")));
-            assert_true(test_same_bytes(at("t1.ply"), at("t2.ply")));
-        }
-        printf("  texture (Loop, Catmull-Clark, every option), %d ranks: same bytes\n", ranks);
-    }
-    char args[1024];
-    assert_int_equal(test_write_text(at("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n"), 0);
-    snprintf(args, sizeof args, "texture '%s' -o '%s' --colors '#fff'", at("broken.obj"),
-             at("bad.ply"));
-    assert_int_equal(run(3, args), 1);
-    assert_int_equal(count(test_text, "limn texture: error:"), 1);
-    assert_false(test_file_exists(at("bad.ply")));
-    /* Catmull-Clark with alpha 0 on these meshes: a level's interpolation stalls */
-    snprintf(args, sizeof args, "texture '%s' -o '%s' --colors '#fff' --levels 1",
-             at("quad.obj"), at("bad.ply"));
-    int one = run(0, args);
-    static char single[sizeof test_text];
-    snprintf(single, sizeof single, "%s", test_text);
-    assert_int_equal(run(3, args), one);
-    if (one) {
-        assert_int_equal(count(test_text, "limn texture: error:"), 1);
-        const char *line = strstr(test_text, "limn texture: error:");
-        size_t len = strcspn(line, "\n");
-        char want[1024];
-        snprintf(want, sizeof want, "%.*s", (int)len, line);
-        assert_non_null(strstr(single, want)); /* the single process's message */
-        assert_false(test_file_exists(at("bad.ply")));
-    }
-    snprintf(args, sizeof args, "texture '%s' -o - --format ply --colors '#fff'",
-             at("quad.obj"));
-    assert_int_equal(run(2, args), 2);
-    assert_int_equal(count(test_text, "standard input or output"), 1);
 }
 
 /* Every rank reads its slice of the file and each phase of the slice reader
@@ -558,11 +373,11 @@ static void warnings_once(void **s)
                      0);
     char args[2048];
     snprintf(args, sizeof args, "interpolate '%s' -o '%s'", in, at("extra_many.ply"));
-    if (run(2, args) != 0)
+    if (mpi_cli_run(2, args) != 0)
         fail_msg("2 ranks: %s", test_text);
-    assert_int_equal(count(test_text, "vertex property dropped"), 1);
+    assert_int_equal(mpi_cli_count(test_text, "vertex property dropped"), 1);
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' -q", in, at("extra_one.ply"));
-    assert_int_equal(run(0, args), 0);
+    assert_int_equal(mpi_cli_run(0, args), 0);
     assert_true(test_same_bytes(at("extra_one.ply"), at("extra_many.ply")));
     /* the repair's warnings on slices (a duplicate face at the other end of
        the file, a fin, an unused vertex): one process's words, said once */
@@ -575,7 +390,7 @@ static void warnings_once(void **s)
                                  "used by no face"};
     char one[4][512];
     snprintf(args, sizeof args, "smooth '%s' -o '%s' --terms 2", bad, at("kept1.ply"));
-    assert_int_equal(run(0, args), 0);
+    assert_int_equal(mpi_cli_run(0, args), 0);
     for (int k = 0; k < 4; k++) {
         const char *w = strstr(test_text, said[k]);
         assert_non_null(w);
@@ -584,21 +399,21 @@ static void warnings_once(void **s)
         snprintf(one[k], sizeof one[k], "%.*s", (int)strcspn(w, "\n"), w);
     }
     snprintf(args, sizeof args, "smooth '%s' -o '%s' --terms 2", bad, at("kept3.ply"));
-    if (run(3, args) != 0)
+    if (mpi_cli_run(3, args) != 0)
         fail_msg("%s", test_text);
     for (int k = 0; k < 4; k++)
-        assert_int_equal(count(test_text, one[k]), 1);
+        assert_int_equal(mpi_cli_count(test_text, one[k]), 1);
     assert_true(test_same_bytes(at("kept1.ply"), at("kept3.ply")));
 }
 
 static void per_rank(void **s)
 {
     (void)s;
-    write_inputs();
+    mpi_cli_write_inputs();
     char args[1024];
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --per-rank-output -q", at("tri.obj"),
              at("piece.ply"));
-    if (run(3, args) != 0)
+    if (mpi_cli_run(3, args) != 0)
         fail_msg("%s", test_text);
     assert_false(test_file_exists(at("piece.ply"))); /* the pieces instead */
     limn_context *ctx = limn_context_create();
@@ -616,7 +431,7 @@ static void per_rank(void **s)
     assert_true(total > 41 * 31 + 1 + 12);
     limn_context_destroy(ctx);
     /* one process refuses the option */
-    assert_int_equal(run(0, args), 2);
+    assert_int_equal(mpi_cli_run(0, args), 2);
     assert_non_null(strstr(test_text, "--per-rank-output needs several MPI ranks"));
 }
 
@@ -638,14 +453,14 @@ static void device_per_rank(void **s)
     snprintf(cmd, sizeof cmd, "mkdir -p '%s' && printf '%%s\\n' '%s' > '%s' && cp '%s' '%s'",
              at("icd"), lib, at("icd/a.icd"), at("icd/a.icd"), at("icd/b.icd"));
     assert_int_equal(system(cmd), 0);
-    write_inputs();
+    mpi_cli_write_inputs();
     char args[2048];
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' -q", at("quad.obj"), at("one.ply"));
-    assert_int_equal(run(0, args), 0);
+    assert_int_equal(mpi_cli_run(0, args), 0);
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --report '%s' -q", at("quad.obj"),
              at("many.ply"), at("many.json"));
     setenv("OCL_ICD_VENDORS", at("icd"), 1);
-    int rc = run(3, args);
+    int rc = mpi_cli_run(3, args);
     unsetenv("OCL_ICD_VENDORS");
     if (rc != 0)
         fail_msg("%s", test_text);
@@ -678,7 +493,7 @@ static void device_per_rank(void **s)
 static void partitions_same(void **s)
 {
     (void)s;
-    write_inputs();
+    mpi_cli_write_inputs();
     static const char *kinds[] = {"sfc", "scotch"};
     static const int ranks[] = {2, 3, 5};
     for (int k = 0; k < 2; k++) {
@@ -686,17 +501,17 @@ static void partitions_same(void **s)
         for (int r = 0; r < 3; r++) {
             printf("  LIMN_MPI_PARTITION=%s\n", kinds[k]);
             interpolate_same(at("tri.obj"), "--method paper", ranks[r], 1);
-            assert_true(report_sliced(at("many.json")));
+            assert_true(mpi_cli_report_sliced(at("many.json")));
             interpolate_same(at("quad.obj"), "--alpha 0.5", ranks[r], 1);
-            assert_true(report_sliced(at("many.json")));
+            assert_true(mpi_cli_report_sliced(at("many.json")));
         }
     }
     setenv("LIMN_MPI_PARTITION", "metis", 1);
     char args[1024];
     snprintf(args, sizeof args, "interpolate '%s' -o '%s'", at("tri.obj"), at("bad.ply"));
-    assert_int_equal(run(3, args), 2); /* an argument error, as a bad option */
+    assert_int_equal(mpi_cli_run(3, args), 2); /* an argument error, as a bad option */
     unsetenv("LIMN_MPI_PARTITION");
-    assert_int_equal(count(test_text, "error:"), 1);
+    assert_int_equal(mpi_cli_count(test_text, "error:"), 1);
     assert_non_null(strstr(test_text, "LIMN_MPI_PARTITION is 'metis'"));
     assert_false(test_file_exists(at("bad.ply")));
 }
@@ -707,43 +522,43 @@ static void errors(void **s)
     char args[1024];
     /* a missing file and a malformed one: one message, status 1, nothing written */
     snprintf(args, sizeof args, "interpolate '%s' -o '%s'", at("missing.obj"), at("bad.ply"));
-    assert_int_equal(run(3, args), 1);
-    assert_int_equal(count(test_text, "limn interpolate: error:"), 1);
+    assert_int_equal(mpi_cli_run(3, args), 1);
+    assert_int_equal(mpi_cli_count(test_text, "limn interpolate: error:"), 1);
     assert_non_null(strstr(test_text, "missing.obj"));
     assert_false(test_file_exists(at("bad.ply")));
     assert_int_equal(test_write_text(at("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n"), 0);
     snprintf(args, sizeof args, "smooth '%s' -o '%s' --terms 2", at("broken.obj"), at("bad.ply"));
-    assert_int_equal(run(2, args), 1);
-    assert_int_equal(count(test_text, "limn smooth: error:"), 1);
+    assert_int_equal(mpi_cli_run(2, args), 1);
+    assert_int_equal(mpi_cli_count(test_text, "limn smooth: error:"), 1);
     assert_non_null(strstr(test_text, "broken.obj"));
     assert_false(test_file_exists(at("bad.ply")));
     /* Loop on quads fails on the root while building the operator */
-    write_inputs();
+    mpi_cli_write_inputs();
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --scheme loop", at("quad.obj"),
              at("bad.ply"));
-    assert_int_equal(run(2, args), 1);
-    assert_int_equal(count(test_text, "error:"), 1);
+    assert_int_equal(mpi_cli_run(2, args), 1);
+    assert_int_equal(mpi_cli_count(test_text, "error:"), 1);
     assert_non_null(strstr(test_text, "Loop"));
     assert_false(test_file_exists(at("bad.ply")));
     /* a usage error, once */
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --tol -1", at("quad.obj"),
              at("bad.ply"));
-    assert_int_equal(run(3, args), 2);
-    assert_int_equal(count(test_text, "--tol -1 must be positive"), 1);
+    assert_int_equal(mpi_cli_run(3, args), 2);
+    assert_int_equal(mpi_cli_count(test_text, "--tol -1 must be positive"), 1);
     /* options the single process refuses: an argument error (status 2), one
        message, nothing written */
     snprintf(args, sizeof args, "interpolate '%s' -o '%s' --method cg --precision float",
              at("quad.obj"), at("bad.ply"));
-    assert_int_equal(run(3, args), 2);
-    assert_int_equal(count(test_text, "precision float runs the chebyshev"), 1);
+    assert_int_equal(mpi_cli_run(3, args), 2);
+    assert_int_equal(mpi_cli_count(test_text, "precision float runs the chebyshev"), 1);
     assert_false(test_file_exists(at("bad.ply")));
     /* a command that does not run distributed */
     snprintf(args, sizeof args, "info '%s'", at("quad.obj"));
-    assert_int_equal(run(2, args), 2);
-    assert_int_equal(count(test_text, "does not run on several MPI ranks"), 1);
+    assert_int_equal(mpi_cli_run(2, args), 2);
+    assert_int_equal(mpi_cli_count(test_text, "does not run on several MPI ranks"), 1);
     /* one rank under the launcher: as without it */
     snprintf(args, sizeof args, "info '%s'", at("quad.obj"));
-    assert_int_equal(run(1, args), 0);
+    assert_int_equal(mpi_cli_run(1, args), 0);
 }
 
 int main(void)
@@ -756,8 +571,6 @@ int main(void)
         cmocka_unit_test(per_rank),              cmocka_unit_test(warnings_once),
         cmocka_unit_test(device_per_rank),       cmocka_unit_test(errors),
         cmocka_unit_test(denoise_volume_same),   cmocka_unit_test(partitions_same),
-        cmocka_unit_test(subdivide_same),
-        cmocka_unit_test(texture_same),
     };
     return cmocka_run_group_tests(tests, setup, test_scratch_teardown);
 }

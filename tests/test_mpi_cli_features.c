@@ -7,9 +7,11 @@
  * a bevelled cube of triangles, a chamfered puck of quads) and the shared
  * fandisk when ../shared/meshes is there; a bad input gives one message,
  * exit status 1 and nothing written; an input that cannot be sliced is
- * refused (status 2). A separate file: test_mpi_cli.c is at its size limit.
+ * refused (status 2). A separate file: test_mpi_cli.c is at its size limit
+ * (the launcher, shared with test_mpi_cli.c and test_mpi_cli_refine.c: mpi_cli.c).
  */
 #include "cad_shapes.h"
+#include "mpi_cli.h"
 #include "noise.h"
 #include "shell.h"
 #include "support.h"
@@ -31,32 +33,6 @@ static int setup(void **s)
 
 static const char *at(const char *name) { return test_join(test_dir, name); }
 
-/* `limn ARGS` (ranks > 0: under the MPI launcher, killed after 300 s so a
-   hang fails), output in test_text; the exit status. Under the sanitizers
-   the ranks run without LeakSanitizer (test_mpi_cli.c's run says why). */
-static int run(int ranks, const char *args)
-{
-    char cmd[8192];
-    const char *asan = getenv("ASAN_OPTIONS");
-    char no_leaks[512] = "";
-    if (asan)
-        snprintf(no_leaks, sizeof no_leaks, "ASAN_OPTIONS='%s:detect_leaks=0' ", asan);
-    if (ranks > 0)
-        snprintf(cmd, sizeof cmd, "%stimeout 300 %s %d '%s' %s 2>&1", no_leaks,
-                 getenv("LIMN_MPIEXEC"), ranks, getenv("LIMN_BIN"), args);
-    else
-        snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", getenv("LIMN_BIN"), args);
-    return test_run(test_text, sizeof test_text, cmd);
-}
-
-static size_t count(const char *hay, const char *needle)
-{
-    size_t n = 0;
-    for (const char *p = strstr(hay, needle); p; p = strstr(p + 1, needle))
-        n++;
-    return n;
-}
-
 /* shape's mesh with seeded noise of 0.3 mean edges, written to path. */
 static void write_noisy(cad_shape shape, int n, int triangles, uint64_t seed, const char *path)
 {
@@ -69,15 +45,6 @@ static void write_noisy(cad_shape shape, int n, int triangles, uint64_t seed, co
     limn_context_destroy(ctx);
 }
 
-static int report_sliced(const char *path)
-{
-    size_t n = 0;
-    char *text = test_slurp(path, &n);
-    int yes = text && strstr(text, "\"distributed_mesh\": true") != NULL;
-    free(text);
-    return yes;
-}
-
 /* One process, then 2, 3 and 5 ranks: the same bytes, on slices. */
 static void same_on_ranks(const char *path, const char *extra)
 {
@@ -85,18 +52,18 @@ static void same_on_ranks(const char *path, const char *extra)
     snprintf(input, sizeof input, "%s", path); /* test_join's buffers rotate */
     snprintf(args, sizeof args, "denoise '%s' -o '%s' --preserve-features %s -q", input,
              at("one.ply"), extra);
-    if (run(0, args) != 0)
+    if (mpi_cli_run(0, args) != 0)
         fail_msg("%s", test_text);
     for (int ranks = 2; ranks <= 5; ranks += ranks == 3 ? 2 : 1) {
         remove(at("many.ply"));
         snprintf(args, sizeof args,
                  "denoise '%s' -o '%s' --preserve-features %s --report '%s' -q", input,
                  at("many.ply"), extra, at("many.json"));
-        if (run(ranks, args) != 0)
+        if (mpi_cli_run(ranks, args) != 0)
             fail_msg("%d ranks: %s", ranks, test_text);
         if (!test_same_bytes(at("one.ply"), at("many.ply")))
             fail_msg("%s %s on %d ranks: not the single process's bytes", input, extra, ranks);
-        assert_true(report_sliced(at("many.json")));
+        assert_true(mpi_cli_report_sliced(at("many.json")));
     }
 }
 
@@ -131,21 +98,21 @@ static void features_errors(void **s)
                      0);
     snprintf(args, sizeof args, "denoise '%s' -o '%s' --preserve-features", at("broken.obj"),
              at("bad.ply"));
-    assert_int_equal(run(3, args), 1);
-    assert_int_equal(count(test_text, "limn denoise: error:"), 1);
+    assert_int_equal(mpi_cli_run(3, args), 1);
+    assert_int_equal(mpi_cli_count(test_text, "limn denoise: error:"), 1);
     assert_false(test_file_exists(at("bad.ply")));
     assert_int_equal(test_write_text(at("open.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
                                                      "v 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n"),
                      0);
     snprintf(args, sizeof args, "denoise '%s' -o '%s' --preserve-features --keep-volume",
              at("open.obj"), at("bad.ply"));
-    assert_int_equal(run(3, args), 1);
-    assert_int_equal(count(test_text, "limn denoise: error:"), 1);
-    assert_int_equal(count(test_text, "keeping the volume needs a closed mesh"), 1);
+    assert_int_equal(mpi_cli_run(3, args), 1);
+    assert_int_equal(mpi_cli_count(test_text, "limn denoise: error:"), 1);
+    assert_int_equal(mpi_cli_count(test_text, "keeping the volume needs a closed mesh"), 1);
     assert_false(test_file_exists(at("bad.ply")));
     snprintf(args, sizeof args, "denoise '%s' -o - --preserve-features", at("open.obj"));
-    assert_int_equal(run(2, args), 2);
-    assert_int_equal(count(test_text, "on slices only"), 1);
+    assert_int_equal(mpi_cli_run(2, args), 2);
+    assert_int_equal(mpi_cli_count(test_text, "on slices only"), 1);
 }
 
 int main(void)

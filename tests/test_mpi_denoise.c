@@ -179,23 +179,11 @@ static void mesh_case(limn_context *ctx, const char *name, limn_mesh *mesh, limn
     }
 }
 
-/* The shared meshes (holes, non-manifold edges, n-gons) when there. */
-static void shared_cases(limn_context *ctx)
+/* A shared mesh (holes, non-manifold edges, n-gons: mpi_check_shared), noisy. */
+static void shared_case(limn_context *ctx, size_t k, const char *path, limn_mesh *m)
 {
-    int shared = rank == 0 ? test_shared_meshes() != NULL : 0;
-    MPI_Bcast(&shared, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    static const char *const real[] = {"small/suzanne.obj", "small/fandisk_quads.off",
-                                       "small/cow.obj"};
-    for (size_t k = 0; shared && k < sizeof real / sizeof *real; k++) {
-        limn_mesh *m = NULL;
-        int ok = 1;
-        if (rank == 0)
-            ok = limn_mesh_read(ctx, test_shared_path(real[k]), LIMN_FORMAT_AUTO, &m) == LIMN_OK;
-        MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
-        if (ok)
-            mesh_case(ctx, real[k], m, LIMN_SCHEME_AUTO, 0.3);
-        limn_mesh_destroy(m);
-    }
+    (void)k;
+    mesh_case(ctx, path, m, LIMN_SCHEME_AUTO, 0.3);
 }
 
 int main(int argc, char **argv)
@@ -220,19 +208,13 @@ int main(int argc, char **argv)
     mesh_case(ctx, "pyramid, noisy", pyramid, LIMN_SCHEME_CATMARK, 0.1);
     limn_mesh_destroy(one);
     limn_mesh_destroy(pyramid);
-    shared_cases(ctx);
+    static const char *const real[] = {"small/suzanne.obj", "small/fandisk_quads.off",
+                                       "small/cow.obj"};
+    mpi_check_shared(ctx, real, sizeof real / sizeof *real, shared_case);
     limn_mesh_destroy(ctri);
     limn_mesh_destroy(cquad);
     limn_mesh_destroy(otri);
     limn_mesh_destroy(oquad);
     limn_context_destroy(ctx);
-    if (rank == 0)
-        rmdir(dir);
-    int all = 0;
-    MPI_Allreduce(&failures, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
-    if (rank == 0)
-        printf("test_mpi_denoise: %d ranks, %d checks on rank 0, %d failures on all ranks\n",
-               size, checks, all);
-    MPI_Finalize();
-    return all ? 1 : 0;
+    return mpi_check_finish("test_mpi_denoise", dir, checks, failures);
 }

@@ -421,11 +421,5 @@ int main(int argc, char **argv)
         bad_index_case(ctx);
     shared_meshes(ctx);
     limn_context_destroy(ctx);
-    int all = 0;
-    MPI_Allreduce(&failures, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
-    if (rank == 0)
-        printf("test_mpi_dgraph: %d ranks, %d checks on rank 0, %d failures on all ranks\n", size,
-               checks, all);
-    MPI_Finalize();
-    return all ? 1 : 0;
+    return mpi_check_finish("test_mpi_dgraph", NULL, checks, failures);
 }

@@ -591,11 +591,5 @@ int main(int argc, char **argv)
     for (size_t k = 0; k < sizeof all / sizeof *all; k++)
         limn_mesh_destroy(all[k]);
     limn_context_destroy(ctx);
-    int total = 0;
-    MPI_Allreduce(&failures, &total, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
-    if (rank == 0)
-        printf("test_mpi_local: %d ranks, %d checks on rank 0, %d failures on all ranks\n", size,
-               checks, total);
-    MPI_Finalize();
-    return total ? 1 : 0;
+    return mpi_check_finish("test_mpi_local", NULL, checks, failures);
 }

@@ -140,6 +140,13 @@ static void measure_case(limn_context *ctx, const char *name, const limn_mesh *m
     }
 }
 
+/* A shared mesh (mpi_check_shared): closed or not, as it is. */
+static void shared_case(limn_context *ctx, size_t k, const char *path, limn_mesh *m)
+{
+    (void)k;
+    measure_case(ctx, path, m, LIMN_SCHEME_AUTO, 0.0, -1);
+}
+
 int main(int argc, char **argv)
 {
     MPI_Init(&argc, &argv);
@@ -157,33 +164,14 @@ int main(int argc, char **argv)
     measure_case(ctx, "turned face", flip, LIMN_SCHEME_CATMARK, 0.0, 0);
     measure_case(ctx, "composite tri", otri, LIMN_SCHEME_LOOP, 0.0, 0);
     measure_case(ctx, "composite quad", oquad, LIMN_SCHEME_CATMARK, 0.0, 0);
-    int shared = rank == 0 ? test_shared_meshes() != NULL : 0;
-    MPI_Bcast(&shared, 1, MPI_INT, 0, MPI_COMM_WORLD);
     static const char *const real[] = {"small/suzanne.obj", "small/cow.obj",
                                        "medium/bob_quad.obj"};
-    for (size_t k = 0; shared && k < sizeof real / sizeof *real; k++) {
-        limn_mesh *m = NULL;
-        int ok = 1;
-        if (rank == 0)
-            ok = limn_mesh_read(ctx, test_shared_path(real[k]), LIMN_FORMAT_AUTO, &m) == LIMN_OK;
-        MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
-        if (ok)
-            measure_case(ctx, real[k], m, LIMN_SCHEME_AUTO, 0.0, -1);
-        limn_mesh_destroy(m);
-    }
+    mpi_check_shared(ctx, real, sizeof real / sizeof *real, shared_case);
     limn_mesh_destroy(ctri);
     limn_mesh_destroy(cquad);
     limn_mesh_destroy(otri);
     limn_mesh_destroy(oquad);
     limn_mesh_destroy(flip);
     limn_context_destroy(ctx);
-    if (rank == 0)
-        rmdir(dir);
-    int all = 0;
-    MPI_Allreduce(&failures, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
-    if (rank == 0)
-        printf("test_mpi_measure: %d ranks, %d checks on rank 0, %d failures on all ranks\n",
-               size, checks, all);
-    MPI_Finalize();
-    return all ? 1 : 0;
+    return mpi_check_finish("test_mpi_measure", dir, checks, failures);
 }

@@ -456,6 +456,16 @@ static void series_errors(limn_context *ctx, const limn_mesh *mesh)
         unlink(in);
 }
 
+/* The shared mesh real[k] of main (mpi_check_shared): the pipeline, one
+   series filter in turn, bands on the last. */
+static void shared_case(limn_context *ctx, size_t k, const char *path, limn_mesh *m)
+{
+    pipeline_case(ctx, path, m, "ply", LIMN_SCHEME_AUTO, 0.0, LIMN_METHOD_AUTO);
+    series_case(ctx, path, m, (enum series_kind)(k % 3), LIMN_SCHEME_AUTO, 0.0);
+    if (k == 4) /* bob_quad: several chunks of rows, blocks not on their edges */
+        bands_case(ctx, path, m, 2);
+}
+
 int main(int argc, char **argv)
 {
     MPI_Init(&argc, &argv);
@@ -486,36 +496,12 @@ int main(int argc, char **argv)
     bands_case(ctx, "composite quad", quad, 2);
     split_and_create(ctx, quad);
     errors(ctx);
-
-    int shared = rank == 0 ? test_shared_meshes() != NULL : 0;
-    MPI_Bcast(&shared, 1, MPI_INT, 0, MPI_COMM_WORLD);
     static const char *const real[] = {"small/suzanne.obj", "small/bun_zipper_res4.ply",
                                        "small/cow.obj", "opensubdiv/catmark_nonman_edges.obj",
                                        "medium/bob_quad.obj"};
-    for (size_t k = 0; shared && k < sizeof real / sizeof *real; k++) {
-        limn_mesh *m = NULL;
-        int ok = 1;
-        if (rank == 0)
-            ok = limn_mesh_read(ctx, test_shared_path(real[k]), LIMN_FORMAT_AUTO, &m) == LIMN_OK;
-        MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
-        if (ok)
-            pipeline_case(ctx, real[k], m, "ply", LIMN_SCHEME_AUTO, 0.0, LIMN_METHOD_AUTO);
-        if (ok)
-            series_case(ctx, real[k], m, (enum series_kind)(k % 3), LIMN_SCHEME_AUTO, 0.0);
-        if (ok && k == 4) /* bob_quad: several chunks of rows, blocks not on their edges */
-            bands_case(ctx, real[k], m, 2);
-        limn_mesh_destroy(m);
-    }
+    mpi_check_shared(ctx, real, sizeof real / sizeof *real, shared_case);
     limn_mesh_destroy(tri);
     limn_mesh_destroy(quad);
     limn_context_destroy(ctx);
-    if (rank == 0)
-        rmdir(dir);
-    int all = 0;
-    MPI_Allreduce(&failures, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
-    if (rank == 0)
-        printf("test_mpi_mesh: %d ranks, %d checks on rank 0, %d failures on all ranks\n", size,
-               checks, all);
-    MPI_Finalize();
-    return all ? 1 : 0;
+    return mpi_check_finish("test_mpi_mesh", dir, checks, failures);
 }

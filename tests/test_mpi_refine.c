@@ -456,6 +456,19 @@ static void failures_case(limn_context *ctx, const limn_mesh *tri)
         unlink(in);
 }
 
+/* A shared mesh (mpi_check_shared): its own scheme, then Catmull-Clark
+   with the limit, and Loop when it is all triangles. */
+static void shared_case(limn_context *ctx, size_t k, const char *path, limn_mesh *m)
+{
+    (void)k;
+    int tri = rank == 0 && m->face_offsets[m->face_count] == 3 * m->face_count;
+    MPI_Bcast(&tri, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    refine_case(ctx, path, m, LIMN_SCHEME_AUTO, 0.0, 2, 0, 0);
+    refine_case(ctx, path, m, LIMN_SCHEME_CATMARK, 0.0, 1, 1, 0);
+    if (tri)
+        refine_case(ctx, path, m, LIMN_SCHEME_LOOP, 0.0, 1, 1, 0);
+}
+
 int main(int argc, char **argv)
 {
     MPI_Init(&argc, &argv);
@@ -477,39 +490,13 @@ int main(int argc, char **argv)
     texture_options_case(ctx, "closed tri", ctri, 1);
     texture_options_case(ctx, "closed quad", cquad, 0);
     texture_failures(ctx, oquad);
-    int shared = rank == 0 ? test_shared_meshes() != NULL : 0;
-    MPI_Bcast(&shared, 1, MPI_INT, 0, MPI_COMM_WORLD);
     static const char *const real[] = {"small/suzanne.obj", "medium/bob_quad.obj",
                                        "medium/fertility.off"};
-    for (size_t k = 0; shared && k < sizeof real / sizeof *real; k++) {
-        limn_mesh *m = NULL;
-        int ok = 1, tri = 0;
-        if (rank == 0) {
-            ok = limn_mesh_read(ctx, test_shared_path(real[k]), LIMN_FORMAT_AUTO, &m) == LIMN_OK;
-            tri = ok && m->face_offsets[m->face_count] == 3 * m->face_count;
-        }
-        MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
-        MPI_Bcast(&tri, 1, MPI_INT, 0, MPI_COMM_WORLD);
-        if (ok) {
-            refine_case(ctx, real[k], m, LIMN_SCHEME_AUTO, 0.0, 2, 0, 0);
-            refine_case(ctx, real[k], m, LIMN_SCHEME_CATMARK, 0.0, 1, 1, 0);
-            if (tri)
-                refine_case(ctx, real[k], m, LIMN_SCHEME_LOOP, 0.0, 1, 1, 0);
-        }
-        limn_mesh_destroy(m);
-    }
+    mpi_check_shared(ctx, real, sizeof real / sizeof *real, shared_case);
     limn_mesh_destroy(otri);
     limn_mesh_destroy(oquad);
     limn_mesh_destroy(ctri);
     limn_mesh_destroy(cquad);
     limn_context_destroy(ctx);
-    if (rank == 0)
-        rmdir(dir);
-    int all = 0;
-    MPI_Allreduce(&failures, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
-    if (rank == 0)
-        printf("test_mpi_refine: %d ranks, %d checks on rank 0, %d failures on all ranks\n",
-               size, checks, all);
-    MPI_Finalize();
-    return all ? 1 : 0;
+    return mpi_check_finish("test_mpi_refine", dir, checks, failures);
 }

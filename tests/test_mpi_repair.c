@@ -177,13 +177,5 @@ int main(int argc, char **argv)
     limn_mesh_destroy(bad_tri);
     limn_mesh_destroy(bad_quad);
     limn_context_destroy(ctx);
-    if (rank == 0)
-        rmdir(dir);
-    int all = 0;
-    MPI_Allreduce(&failures, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
-    if (rank == 0)
-        printf("test_mpi_repair: %d ranks, %d checks on rank 0, %d failures on all ranks\n",
-               size, checks, all);
-    MPI_Finalize();
-    return all ? 1 : 0;
+    return mpi_check_finish("test_mpi_repair", dir, checks, failures);
 }

@@ -25,42 +25,8 @@ trap 'rm -rf "$work"' EXIT
 start=$SECONDS
 
 spot=$data/spot_control_mesh.obj
-# A small triangle mesh for Loop: an icosahedron refined once (42 vertices).
-cat >"$work/ico.obj" <<'EOF'
-v 0 -0.525731 0.850651
-v 0.850651 0 0.525731
-v 0.850651 0 -0.525731
-v -0.850651 0 -0.525731
-v -0.850651 0 0.525731
-v -0.525731 0.850651 0
-v 0.525731 0.850651 0
-v 0.525731 -0.850651 0
-v -0.525731 -0.850651 0
-v 0 -0.525731 -0.850651
-v 0 0.525731 -0.850651
-v 0 0.525731 0.850651
-f 2 3 7
-f 2 8 3
-f 4 5 6
-f 5 4 9
-f 7 6 12
-f 6 7 11
-f 10 11 3
-f 11 10 4
-f 8 9 10
-f 9 8 1
-f 12 1 2
-f 1 12 5
-f 7 3 11
-f 2 7 12
-f 4 6 11
-f 6 5 12
-f 3 8 10
-f 8 2 1
-f 4 10 9
-f 5 9 1
-EOF
-"$limn" subdivide "$work/ico.obj" -o "$work/tri.obj" --levels 1 -q
+# A small triangle mesh for Loop: the icosahedron of data/ refined once (42 vertices).
+"$limn" subdivide "$data/icosahedron.obj" -o "$work/tri.obj" --levels 1 -q
 # morph's target: spot smoothed (same faces, same vertex order)
 "$limn" smooth "$spot" -o "$work/spot_smooth.obj" --terms 2 -q
 

@@ -70,6 +70,9 @@ limn_status cli_set_host_threads(limn_context *ctx, int n);
     "target is replaced; '-', FIFOs and devices are written last, straight through.\n"
 /* 1 when arg is a repair option (recorded in *r), else 0. */
 int cli_repair_arg(const char *arg, cli_repair *r);
+/* The refusal of a mesh with no faces to CMD: none left after the repair
+   (faces_before > 0 of them, all degenerate) or none in the file. */
+limn_status cli_no_faces(const char *cmd, const char *path, size_t faces_before);
 /* Reads path, prints its warnings, repairs the mesh by the policy (printing
    what was changed as "limn CMD: warning: ..."), and with need_faces refuses a
    mesh that has (or is left with) no faces. Unless quiet, the read and the

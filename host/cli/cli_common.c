@@ -313,6 +313,17 @@ int cli_repair_arg(const char *arg, cli_repair *r)
     return 1;
 }
 
+limn_status cli_no_faces(const char *cmd, const char *path, size_t faces_before)
+{
+    if (faces_before)
+        return cli_error(LIMN_ERR_TOPOLOGY,
+                         "%s: no faces are left after the repair (all %zu were degenerate): "
+                         "nothing to %s",
+                         path, faces_before, cmd);
+    return cli_error(LIMN_ERR_TOPOLOGY,
+                     "%s: the mesh has no faces (a point cloud?): nothing to %s", path, cmd);
+}
+
 limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
                           limn_format format, const cli_repair *r, int need_faces, int quiet,
                           limn_mesh **out)
@@ -346,14 +357,7 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
     limn_context_set_progress(ctx, NULL, NULL); /* the caller's stages enable their own */
     cli_print_warnings(cmd, ctx);
     if (!st && need_faces && limn_mesh_face_count(*out) == 0)
-        st = rep.faces_before
-                 ? cli_error(LIMN_ERR_TOPOLOGY,
-                                     "%s: no faces are left after the repair (all %zu were "
-                                     "degenerate): nothing to %s",
-                                     path, rep.faces_before, cmd)
-                 : cli_error(LIMN_ERR_TOPOLOGY,
-                                     "%s: the mesh has no faces (a point cloud?): nothing to %s",
-                                     path, cmd);
+        st = cli_no_faces(cmd, path, rep.faces_before);
     if (st) {
         limn_mesh_destroy(*out);
         *out = NULL;

@@ -7,15 +7,13 @@
  * prints, every rank computes its share, and every failure is agreed on so
  * that all ranks exit with the same status and the message is printed once.
  * On file inputs, interpolate, smooth, denoise, sharpen, bands and morph
- * run on slices instead, and subdivide and texture only there (cli_mpi_sliced): every rank reads, computes
- * and writes its share of a distributed mesh, none holding it whole.
+ * run on slices instead, and subdivide and texture only there
+ * (cli_mpi_sliced.c): every rank reads, computes and writes its share of a
+ * distributed mesh, none holding it whole.
  * The other commands refuse to run on several ranks.
  */
-#include "cli.h"
+#include "cli_mpi.h"
 
-#include <limn_mpi.h>
-
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #ifdef __GLIBC__
@@ -75,8 +73,7 @@ int cli_mpi_root_rc(int rc)
 void cli_mpi_set_per_rank(int on) { g.per_rank = on; }
 int cli_mpi_per_rank(void) { return g.per_rank; }
 
-/* Every rank's statistics to the root, for the report and the summary. */
-static void collect(const limn_mpi_result *res)
+void cli_mpi_collect(const limn_mpi_result *res)
 {
     free(g.all);
     g.all = NULL;
@@ -88,13 +85,13 @@ static void collect(const limn_mpi_result *res)
                0, MPI_COMM_WORLD);
 }
 
-static void adopt_piece(limn_mpi_result *res, limn_mesh **piece)
+void cli_mpi_mark_sliced(void) { g.sliced = 1; }
+
+void cli_mpi_gather_load(double seconds)
 {
-    if (piece) {
-        *piece = res->piece;
-        res->piece = NULL;
-    }
-    limn_mpi_result_free(res);
+    free(g.load);
+    g.load = g.rank == 0 ? calloc((size_t)g.size, sizeof *g.load) : NULL;
+    MPI_Gather(&seconds, 1, MPI_DOUBLE, g.load, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
 }
 
 static limn_mpi_options options(void)
@@ -105,16 +102,27 @@ static limn_mpi_options options(void)
     return o;
 }
 
+/* The end of every call on the root path: every rank's figures to the
+   root, this rank's piece into *piece (when not NULL), res freed; st. */
+static limn_status gathered(limn_status st, limn_mpi_result *res, limn_mesh **piece)
+{
+    cli_mpi_collect(res);
+    if (piece) {
+        *piece = res->piece;
+        res->piece = NULL;
+    }
+    limn_mpi_result_free(res);
+    return st;
+}
+
 limn_status cli_mpi_interpolate(limn_context *ctx, const limn_mesh *mesh,
                                 const limn_interpolate_options *o, limn_mesh **control,
                                 limn_report *r, limn_mesh **piece)
 {
     limn_mpi_options mo = options();
     limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    limn_status st = limn_interpolate_mpi(ctx, MPI_COMM_WORLD, mesh, o, control, r, &mo, &res);
-    collect(&res);
-    adopt_piece(&res, piece);
-    return st;
+    return gathered(limn_interpolate_mpi(ctx, MPI_COMM_WORLD, mesh, o, control, r, &mo, &res),
+                    &res, piece);
 }
 
 limn_status cli_mpi_smooth(limn_context *ctx, const limn_mesh *mesh,
@@ -123,10 +131,8 @@ limn_status cli_mpi_smooth(limn_context *ctx, const limn_mesh *mesh,
 {
     limn_mpi_options mo = options();
     limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    limn_status st = limn_smooth_mpi(ctx, MPI_COMM_WORLD, mesh, o, terms, out, r, &mo, &res);
-    collect(&res);
-    adopt_piece(&res, piece);
-    return st;
+    return gathered(limn_smooth_mpi(ctx, MPI_COMM_WORLD, mesh, o, terms, out, r, &mo, &res),
+                    &res, piece);
 }
 
 limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
@@ -135,11 +141,9 @@ limn_status cli_mpi_denoise(limn_context *ctx, const limn_mesh *mesh,
 {
     limn_mpi_options mo = options();
     limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    limn_status st = limn_denoise_mpi(ctx, MPI_COMM_WORLD, mesh, o, m, steps, keep_volume, out, r,
-                                      &mo, &res);
-    collect(&res);
-    adopt_piece(&res, piece);
-    return st;
+    return gathered(limn_denoise_mpi(ctx, MPI_COMM_WORLD, mesh, o, m, steps, keep_volume, out, r,
+                                     &mo, &res),
+                    &res, piece);
 }
 
 limn_status cli_mpi_denoise_sure(limn_context *ctx, const limn_mesh *mesh,
@@ -160,11 +164,9 @@ limn_status cli_mpi_denoise_sure(limn_context *ctx, const limn_mesh *mesh,
         return st;
     limn_mpi_options mo = options();
     limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    st = limn_denoise_sure_mpi(ctx, MPI_COMM_WORLD, mesh, o, products, *keep_volume, out, sigma,
-                               r, &mo, &res);
-    collect(&res);
-    adopt_piece(&res, piece);
-    return st;
+    return gathered(limn_denoise_sure_mpi(ctx, MPI_COMM_WORLD, mesh, o, products, *keep_volume,
+                                          out, sigma, r, &mo, &res),
+                    &res, piece);
 }
 
 limn_status cli_mpi_sharpen(limn_context *ctx, const limn_mesh *mesh,
@@ -173,11 +175,9 @@ limn_status cli_mpi_sharpen(limn_context *ctx, const limn_mesh *mesh,
 {
     limn_mpi_options mo = options();
     limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    limn_status st =
-        limn_sharpen_mpi(ctx, MPI_COMM_WORLD, mesh, o, from, to, steps, out, r, &mo, &res);
-    collect(&res);
-    adopt_piece(&res, piece);
-    return st;
+    return gathered(
+        limn_sharpen_mpi(ctx, MPI_COMM_WORLD, mesh, o, from, to, steps, out, r, &mo, &res), &res,
+        piece);
 }
 
 limn_status cli_mpi_bands(limn_context *ctx, const limn_mesh *mesh, const limn_series_options *o,
@@ -186,11 +186,9 @@ limn_status cli_mpi_bands(limn_context *ctx, const limn_mesh *mesh, const limn_s
     limn_mpi_options mo = options();
     mo.keep_piece = 0;
     limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    limn_status st =
-        limn_bands_mpi(ctx, MPI_COMM_WORLD, mesh, o, count, bands, energy, r, &mo, &res);
-    collect(&res);
-    limn_mpi_result_free(&res);
-    return st;
+    return gathered(
+        limn_bands_mpi(ctx, MPI_COMM_WORLD, mesh, o, count, bands, energy, r, &mo, &res), &res,
+        NULL);
 }
 
 limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_mesh *to,
@@ -200,345 +198,8 @@ limn_status cli_mpi_morph(limn_context *ctx, const limn_mesh *from, const limn_m
     limn_mpi_options mo = options();
     mo.keep_piece = 0;
     limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    limn_status st = limn_morph_mpi(ctx, MPI_COMM_WORLD, from, to, o, fn, user, r, &mo, &res);
-    collect(&res);
-    limn_mpi_result_free(&res);
-    return st;
-}
-
-int cli_mpi_sliced(const char *input, limn_format in_format, const char *output, int per_rank)
-{
-    if (g.size == 1 || per_rank || strcmp(input, "-") == 0 || strcmp(output, "-") == 0)
-        return 0;
-    limn_format f;
-    if (!limn_format_from_path(input, &f) || (in_format != LIMN_FORMAT_AUTO && in_format != f))
-        return 0;
-    return f == LIMN_FORMAT_PLY || f == LIMN_FORMAT_OBJ || f == LIMN_FORMAT_OFF;
-}
-
-/* Every rank's slice of input, repaired by the command's policy. */
-static limn_status read_sliced(limn_context *ctx, const cli_sliced_job *job,
-                               limn_mpi_mesh **mesh)
-{
-    const char *cmd = job->cmd, *input = job->input;
-    const cli_repair *repair = job->repair;
-    limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, input, job->in_format, mesh);
-    cli_print_warnings(cmd, ctx);
-    if (st)
-        return st;
-    limn_repair_options o;
-    limn_repair_options_default(&o);
-    o.repeated_vertices = !repair->off;
-    o.duplicate_faces = repair->drop_duplicates;
-    limn_repair_report rep = {.size = sizeof rep};
-    st = limn_mpi_mesh_repair(ctx, *mesh, &o, &rep);
-    cli_print_warnings(cmd, ctx);
-    if (!st && limn_mpi_mesh_face_total(*mesh) == 0)
-        st = rep.faces_before
-                 ? cli_error(LIMN_ERR_TOPOLOGY,
-                             "%s: no faces are left after the repair (all %zu were degenerate): "
-                             "nothing to %s",
-                             input, rep.faces_before, cmd)
-                 : cli_error(LIMN_ERR_TOPOLOGY,
-                             "%s: the mesh has no faces (a point cloud?): nothing to %s", input,
-                             cmd);
-    return st;
-}
-
-limn_status cli_mpi_interpolate_sliced(limn_context *ctx, const cli_sliced_job *job,
-                                       const limn_interpolate_options *o, limn_report *r,
-                                       limn_write_report *written, double seconds[2])
-{
-    limn_mpi_mesh *mesh = NULL, *control = NULL;
-    double t0 = MPI_Wtime();
-    limn_status st = read_sliced(ctx, job, &mesh);
-    seconds[0] = MPI_Wtime() - t0;
-    free(g.load);
-    g.load = g.rank == 0 ? calloc((size_t)g.size, sizeof *g.load) : NULL;
-    MPI_Gather(&seconds[0], 1, MPI_DOUBLE, g.load, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-    limn_mpi_options mo = options();
-    mo.keep_piece = 0;
-    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    g.sliced = 1;
-    if (!st) {
-        st = limn_mpi_mesh_interpolate(ctx, mesh, o, &control, r, &mo, &res);
-        cli_print_warnings(job->cmd, ctx);
-        collect(&res);
-        limn_mpi_result_free(&res);
-    }
-    double t1 = MPI_Wtime();
-    if (!st)
-        st = limn_mpi_mesh_write(ctx, control, job->output, job->out_format, job->write,
-                                 written);
-    seconds[1] = MPI_Wtime() - t1;
-    limn_mpi_mesh_destroy(mesh);
-    limn_mpi_mesh_destroy(control);
-    return st;
-}
-
-/* The default denoise form on a distributed mesh; keep_volume < 0: kept
-   when the mesh is closed (limn_mpi_mesh_measure). */
-static limn_status denoise_sure_sliced(limn_context *ctx, const limn_mpi_mesh *mesh,
-                                       const limn_series_options *o, const cli_series_call *c,
-                                       limn_mpi_mesh **out, limn_series_report *r,
-                                       const limn_mpi_options *mo, limn_mpi_result *res)
-{
-    int keep = c->keep_volume;
-    if (keep < 0) {
-        limn_mesh_measures a = {.size = sizeof a};
-        limn_status st = limn_mpi_mesh_measure(ctx, mesh, &a);
-        if (st)
-            return st;
-        keep = a.closed;
-    }
-    if (c->kept)
-        *c->kept = keep;
-    return limn_mpi_mesh_denoise_sure(ctx, mesh, o, c->products, keep, out, c->sigma, r, mo,
-                                      res);
-}
-
-/* texture on a distributed mesh: its options with the call's series options. */
-static limn_status texture_call(limn_context *ctx, const limn_mpi_mesh *mesh,
-                                const limn_series_options *o, const cli_series_call *c,
-                                limn_mpi_mesh **out, limn_series_report *r,
-                                const limn_mpi_options *mo, limn_mpi_result *res)
-{
-    limn_texture_options t = *c->texture;
-    t.series = *o;
-    limn_status st = limn_mpi_mesh_texture(ctx, mesh, &t, out, r, mo, res);
-    if (!st && c->out_counts) {
-        c->out_counts[0] = limn_mpi_mesh_vertex_total(*out);
-        c->out_counts[1] = limn_mpi_mesh_face_total(*out);
-    }
-    return st;
-}
-
-/* The filter of call on a distributed mesh. */
-static limn_status series_call(limn_context *ctx, const limn_mpi_mesh *mesh,
-                               const limn_series_options *o, const cli_series_call *c,
-                               limn_mpi_mesh **out, limn_series_report *r,
-                               const limn_mpi_options *mo, limn_mpi_result *res)
-{
-    switch (c->kind) {
-    case CLI_SERIES_SMOOTH:
-        return limn_mpi_mesh_smooth(ctx, mesh, o, c->terms, out, r, mo, res);
-    case CLI_SERIES_TEXTURE:
-        return texture_call(ctx, mesh, o, c, out, r, mo, res);
-    case CLI_SERIES_DENOISE:
-        if (c->features)
-            return limn_mpi_mesh_denoise_features(ctx, mesh, c->features, out, r, mo, res);
-        if (c->products)
-            return denoise_sure_sliced(ctx, mesh, o, c, out, r, mo, res);
-        return limn_mpi_mesh_denoise(ctx, mesh, o, c->m, c->steps, c->keep_volume, out, r, mo,
-                                     res);
-    default:
-        return limn_mpi_mesh_sharpen(ctx, mesh, o, c->from, c->to, c->steps, out, r, mo, res);
-    }
-}
-
-/* The mean distance between the vertex blocks of a and b (the same blocks)
-   over diag, as series_mean_displacement gives it, the sum over the ranks. */
-static double block_displacement(const limn_mpi_mesh *a, const limn_mpi_mesh *b, double diag)
-{
-    const double *p = limn_mpi_mesh_positions(a), *q = limn_mpi_mesh_positions(b);
-    double sum = 0.0, all = 0.0;
-    for (size_t i = 0; i < limn_mpi_mesh_vertex_count(a); i++) {
-        double d[3] = {p[3 * i] - q[3 * i], p[3 * i + 1] - q[3 * i + 1],
-                       p[3 * i + 2] - q[3 * i + 2]};
-        sum += sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    }
-    MPI_Allreduce(&sum, &all, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-    size_t n = limn_mpi_mesh_vertex_total(a);
-    return n ? all / (double)n / (diag > 0 ? diag : 1.0) : 0.0;
-}
-
-/* The input's measures and the result's volume and area, as cli_denoise.c's
-   measure takes them from the whole meshes (the same bits). */
-static limn_status measure_sliced(limn_context *ctx, const limn_mpi_mesh *in,
-                                  const limn_mpi_mesh *out, cli_series_measures *m)
-{
-    limn_mesh_measures a = {.size = sizeof a};
-    limn_status st = limn_mpi_mesh_measure(ctx, in, &a);
-    if (!st)
-        st = limn_mpi_mesh_volume_area(ctx, out, &m->volume_out, &m->area_out);
-    if (st)
-        return st;
-    m->measured = 1;
-    m->closed = a.closed;
-    m->volume_in = a.volume;
-    m->area_in = a.area;
-    return LIMN_OK;
-}
-
-limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
-                                  const limn_series_options *o, const cli_series_call *call,
-                                  limn_series_report *r, limn_write_report *written,
-                                  double *displacement, double seconds[2])
-{
-    limn_mpi_mesh *mesh = NULL, *out = NULL;
-    double t0 = MPI_Wtime();
-    limn_status st = read_sliced(ctx, job, &mesh);
-    seconds[0] = MPI_Wtime() - t0;
-    limn_mpi_options mo = options();
-    mo.keep_piece = 0;
-    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    g.sliced = 1;
-    if (!st) {
-        st = series_call(ctx, mesh, o, call, &out, r, &mo, &res);
-        cli_print_warnings(job->cmd, ctx);
-        collect(&res);
-        limn_mpi_result_free(&res);
-    }
-    if (!st && call->kind != CLI_SERIES_TEXTURE) /* texture: another mesh, no displacement */
-        *displacement = block_displacement(mesh, out, r->bbox_diagonal);
-    if (!st && call->measures)
-        st = measure_sliced(ctx, mesh, out, call->measures);
-    double t1 = MPI_Wtime();
-    if (!st)
-        st = limn_mpi_mesh_write(ctx, out, job->output, job->out_format, job->write, written);
-    seconds[1] = MPI_Wtime() - t1;
-    limn_mpi_mesh_destroy(mesh);
-    limn_mpi_mesh_destroy(out);
-    return st;
-}
-
-limn_status cli_mpi_subdivide_sliced(limn_context *ctx, const cli_sliced_job *job,
-                                     const limn_subdivide_options *o, limn_subdivide_report *r,
-                                     limn_write_report *written, double seconds[2])
-{
-    limn_mpi_mesh *mesh = NULL, *surface = NULL;
-    double t0 = MPI_Wtime();
-    limn_status st = read_sliced(ctx, job, &mesh);
-    seconds[0] = MPI_Wtime() - t0;
-    limn_mpi_options mo = options();
-    mo.keep_piece = 0;
-    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    g.sliced = 1;
-    if (!st) {
-        st = limn_mpi_mesh_subdivide(ctx, mesh, o, &surface, r, &mo, &res);
-        cli_print_warnings(job->cmd, ctx);
-        collect(&res);
-        limn_mpi_result_free(&res);
-    }
-    limn_mpi_mesh_destroy(mesh); /* before the write: the surface is all that is left */
-    double t1 = MPI_Wtime();
-    if (!st)
-        st = limn_mpi_mesh_write(ctx, surface, job->output, job->out_format, job->write,
-                                 written);
-    seconds[1] = MPI_Wtime() - t1;
-    limn_mpi_mesh_destroy(surface);
-    return st;
-}
-
-/* The input's energy (sum of its squared coordinates in input order) and
-   the largest |sum of the bands - input| over the blocks, as cli_bands.c's
-   compute gives them: the sum passed from rank to rank, the maximum exact. */
-static void bands_check(const limn_mpi_mesh *mesh, limn_mpi_mesh *const *bands, int count,
-                        cli_bands_out *out)
-{
-    double sum = 0.0, worst = 0.0;
-    if (g.rank > 0)
-        MPI_Recv(&sum, 1, MPI_DOUBLE, g.rank - 1, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    const double *m = limn_mpi_mesh_positions(mesh);
-    for (size_t k = 0; k < 3 * limn_mpi_mesh_vertex_count(mesh); k++) {
-        double s = 0.0;
-        for (int i = 0; i <= count; i++)
-            s += limn_mpi_mesh_positions(bands[i])[k];
-        worst = fmax(worst, fabs(s - m[k]));
-        sum += m[k] * m[k];
-    }
-    if (g.rank + 1 < g.size)
-        MPI_Send(&sum, 1, MPI_DOUBLE, g.rank + 1, 0, MPI_COMM_WORLD);
-    MPI_Bcast(&sum, 1, MPI_DOUBLE, g.size - 1, MPI_COMM_WORLD);
-    MPI_Allreduce(&worst, &out->max_sum_error, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-    out->input_energy = sum;
-}
-
-limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
-                                 const limn_series_options *o, int count, cli_bands_out *out,
-                                 limn_series_report *r, double seconds[2])
-{
-    limn_mpi_mesh *mesh = NULL, **bands = calloc((size_t)count + 1, sizeof *bands);
-    double t0 = MPI_Wtime();
-    limn_status st = cli_mpi_agree(ctx, bands ? LIMN_OK
-                                              : cli_error(LIMN_ERR_MEMORY, "out of memory"));
-    if (!st)
-        st = read_sliced(ctx, job, &mesh);
-    seconds[0] = MPI_Wtime() - t0;
-    limn_mpi_options mo = options();
-    mo.keep_piece = 0;
-    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    g.sliced = 1;
-    if (!st) {
-        st = limn_mpi_mesh_bands(ctx, mesh, o, count, bands, out->energy, r, &mo, &res);
-        cli_print_warnings(job->cmd, ctx);
-        collect(&res);
-        limn_mpi_result_free(&res);
-    }
-    if (!st)
-        bands_check(mesh, bands, count, out);
-    double t1 = MPI_Wtime();
-    int written = 0;
-    for (; !st && written <= count; written++)
-        st = limn_mpi_mesh_write(ctx, bands[written], out->paths[written], job->out_format,
-                                 job->write, NULL);
-    for (int i = 0; st && g.rank == 0 && i < written - 1; i++)
-        remove(out->paths[i]); /* the bands before the failed one */
-    seconds[1] = MPI_Wtime() - t1;
-    for (int i = 0; bands && i <= count; i++)
-        limn_mpi_mesh_destroy(bands[i]);
-    free(bands);
-    limn_mpi_mesh_destroy(mesh);
-    return st;
-}
-
-/* limn_mpi_mesh_morph's frames to the CLI's sink (every rank). */
-typedef struct morph_frames {
-    limn_context *ctx;
-    const cli_sliced_job *job;
-    cli_morph_sink *sink;
-} morph_frames;
-
-static limn_status sliced_frame(void *user, const limn_mpi_mesh *frame, const limn_morph_frame *f)
-{
-    morph_frames *m = user;
-    double t = MPI_Wtime();
-    const char *name = m->sink->name(m->sink->user, f->index);
-    limn_status st = limn_mpi_mesh_write(m->ctx, frame, name, m->job->out_format, m->job->write,
-                                         NULL);
-    m->sink->written += !st;
-    m->sink->record(m->sink->user, f);
-    m->sink->write_seconds += MPI_Wtime() - t;
-    return st;
-}
-
-limn_status cli_mpi_morph_sliced(limn_context *ctx, const cli_sliced_job *job,
-                                 const char *to_path, const limn_morph_options *o,
-                                 cli_morph_sink *sink, limn_series_report *r, double seconds[2])
-{
-    limn_mpi_mesh *from = NULL, *to = NULL;
-    cli_sliced_job tj = *job;
-    tj.input = to_path;
-    double t0 = MPI_Wtime();
-    limn_status st = read_sliced(ctx, job, &from);
-    if (!st)
-        st = read_sliced(ctx, &tj, &to);
-    seconds[0] = MPI_Wtime() - t0;
-    limn_mpi_options mo = options();
-    mo.keep_piece = 0;
-    limn_mpi_result res = {.size = sizeof res, .stats.size = sizeof res.stats};
-    g.sliced = 1;
-    morph_frames mf = {ctx, job, sink};
-    if (!st) {
-        st = limn_mpi_mesh_morph(ctx, from, to, o, sliced_frame, &mf, r, &mo, &res);
-        cli_print_warnings(job->cmd, ctx);
-        collect(&res);
-        limn_mpi_result_free(&res);
-    }
-    seconds[1] = sink->write_seconds;
-    limn_mpi_mesh_destroy(from);
-    limn_mpi_mesh_destroy(to);
-    return st;
+    return gathered(limn_morph_mpi(ctx, MPI_COMM_WORLD, from, to, o, fn, user, r, &mo, &res),
+                    &res, NULL);
 }
 
 void cli_mpi_note_memory(void)

@@ -7,7 +7,7 @@
  * from v's corners (one use: boundary; more than two: non-manifold; two in
  * the same direction: non-manifold and inconsistent), counted at its lower
  * vertex; v non-manifold when an edge of it is, or its corners do not make
- * one fan (order_fan's walk); v referenced when it has a corner. The counts
+ * one fan (topology_fan_walk, as the topology walks it); v referenced when it has a corner. The counts
  * are summed over the ranks: exact.
  */
 #include "mpi/mpi_blocks.h"
@@ -15,6 +15,7 @@
 #include "mpi/mpi_mesh.h"
 
 #include "base/context.h"
+#include "topology/topology_fan.h"
 
 #include <limits.h>
 #include <stdlib.h>
@@ -60,34 +61,11 @@ static limn_status corners_out(mpi_part *p, const limn_mpi_mesh *mesh, uint32_t 
 /* The scratch of one vertex's classification (n corners). */
 typedef struct ring {
     uint64_t *key;          /* 2 n: w << 32 | k << 1 | (1: back) */
-    uint32_t *total, *fwd;  /* per edge: uses, the corner going v -> w (or UINT32_MAX) */
+    ring_edge *edge;        /* per edge: the other vertex, uses, the corner going v -> w */
     uint32_t *at_v;         /* per edge: corners going v -> w */
-    uint32_t *w;            /* per edge: the other vertex */
     uint32_t *back;         /* per corner: its edge to the previous vertex */
     uint32_t *next_edge;    /* per corner: its edge to the next vertex */
 } ring;
-
-/* order_fan: whether v's corners make one fan (ne edges classified). */
-static int one_fan(const ring *g, uint32_t n)
-{
-    if (n <= 1)
-        return 1;
-    uint32_t start = 0;
-    for (uint32_t i = 0; i < n; i++)
-        if (g->total[g->next_edge[i]] == 1) {
-            start = i;
-            break;
-        }
-    uint32_t count = 0, i = start;
-    do {
-        if (count == n)
-            return 0;
-        count++;
-        uint32_t across = g->back[i];
-        i = g->total[across] == 2 ? g->fwd[across] : UINT32_MAX;
-    } while (i != UINT32_MAX && i != start);
-    return count == n;
-}
 
 /* Vertex v's corners t (prev, next pairs, n of them, in corner order). */
 static void classify(ring *g, uint32_t v, const uint32_t *const *t, uint32_t n, uint64_t k[5])
@@ -100,7 +78,9 @@ static void classify(ring *g, uint32_t v, const uint32_t *const *t, uint32_t n, 
     uint32_t ne = 0, nm = 0;
     for (uint32_t i = 0; i < 2 * n;) {
         uint32_t w = (uint32_t)(g->key[i] >> 32), j = i;
-        g->fwd[ne] = UINT32_MAX;
+        ring_edge *re = &g->edge[ne];
+        re->forward = UINT32_MAX;
+        re->flags = 0; /* not needed here: the counts below */
         g->at_v[ne] = 0;
         for (; j < 2 * n && (uint32_t)(g->key[j] >> 32) == w; j++) {
             uint32_t c = (uint32_t)g->key[j] >> 1;
@@ -108,14 +88,14 @@ static void classify(ring *g, uint32_t v, const uint32_t *const *t, uint32_t n, 
                 g->back[c] = ne;
             } else {
                 g->at_v[ne]++;
-                g->fwd[ne] = c;
+                re->forward = c;
                 g->next_edge[c] = ne;
             }
         }
-        g->w[ne] = w;
-        g->total[ne] = j - i;
-        int bnd = g->total[ne] == 1, inc = g->total[ne] == 2 && g->at_v[ne] != 1;
-        int nonman = g->total[ne] > 2 || inc;
+        re->w = w;
+        re->total = j - i;
+        int bnd = re->total == 1, inc = re->total == 2 && g->at_v[ne] != 1;
+        int nonman = re->total > 2 || inc;
         nm += nonman;
         if (w > v) { /* each edge counted once, at its lower vertex */
             k[0] += bnd;
@@ -125,7 +105,7 @@ static void classify(ring *g, uint32_t v, const uint32_t *const *t, uint32_t n, 
         ne++;
         i = j;
     }
-    k[3] += nm || !one_fan(g, n);
+    k[3] += nm || !topology_fan_walk(g->edge, g->next_edge, g->back, n, NULL, NULL);
     k[4]++; /* referenced */
 }
 
@@ -170,17 +150,17 @@ static limn_status classify_all(mpi_part *p, const limn_mpi_mesh *mesh, const ui
         longest = j - i > longest ? j - i : longest;
     }
     ring g;
-    g.key = malloc((2 * longest + 1) * sizeof *g.key);
-    uint32_t *words = malloc((6 * (2 * longest + 1)) * sizeof *words);
-    limn_status st = g.key && words ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    size_t e = 2 * longest + 1;
+    g.key = malloc(e * sizeof *g.key);
+    g.edge = malloc(e * sizeof *g.edge);
+    uint32_t *words = malloc(3 * e * sizeof *words);
+    limn_status st = g.key && g.edge && words
+                         ? LIMN_OK
+                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     if (!st) {
-        size_t e = 2 * longest + 1;
-        g.total = words;
-        g.fwd = words + e;
-        g.at_v = words + 2 * e;
-        g.w = words + 3 * e;
-        g.back = words + 4 * e;
-        g.next_edge = words + 5 * e;
+        g.at_v = words;
+        g.back = words + e;
+        g.next_edge = words + 2 * e;
     }
     for (size_t i = 0, j; !st && i < nc; i = j) {
         for (j = i; j < nc && order[j] >> 32 == order[i] >> 32; j++)
@@ -190,6 +170,7 @@ static limn_status classify_all(mpi_part *p, const limn_mpi_mesh *mesh, const ui
     free(order);
     free(t);
     free(g.key);
+    free(g.edge);
     free(words);
     return st;
 }

@@ -5,6 +5,7 @@
  * counts, writes and classifies them without reading another vertex.
  */
 #include "topology/topology_build.h"
+#include "topology/topology_fan.h"
 
 #include <string.h>
 
@@ -47,11 +48,6 @@ int topo_count(topo_build *b)
     return parallel_run(b->t->vertex_count, b->parts, count_range, b);
 }
 
-/* One edge {v, w} as v sees it. */
-typedef struct ring_edge {
-    uint32_t w, total, forward; /* forward: the slot going v -> w, or UINT32_MAX */
-    uint8_t flags;
-} ring_edge;
 /* ring edges live in the words of the scratch, 4 each */
 _Static_assert(sizeof(ring_edge) <= 4 * sizeof(uint32_t), "ring_edge is 4 words");
 
@@ -145,19 +141,14 @@ static uint32_t ring_edges(topo_build *b, uint32_t v, uint64_t *keys, ring_edge 
     return count;
 }
 
-/* Orders v's corners into one fan, walking backwards across edges from a
-   corner whose forward edge is a boundary (so an open fan is covered whole);
-   0 when they form several fans. ring: scratch of n; fwd, back: ring_edges'. */
-static int order_fan(topo_build *b, uint32_t v, const ring_edge *e, const uint32_t *fwd,
-                     const uint32_t *back, uint32_t *ring)
+int topology_fan_walk(const ring_edge *e, const uint32_t *fwd, const uint32_t *back, uint32_t n,
+                      const uint32_t *ids, uint32_t *order)
 {
-    topology *t = b->t;
-    uint32_t s = t->vertex_corner_offsets[v], n = t->vertex_corner_offsets[v + 1] - s;
     if (n <= 1)
         return 1;
     uint32_t start = 0;
     for (uint32_t i = 0; i < n; i++)
-        if (e[fwd[i]].flags & EDGE_BOUNDARY) {
+        if (e[fwd[i]].total == 1) { /* a boundary */
             start = i;
             break;
         }
@@ -165,14 +156,27 @@ static int order_fan(topo_build *b, uint32_t v, const ring_edge *e, const uint32
     do {
         if (count == n)
             return 0;
-        ring[count++] = t->vertex_corners[s + i];
+        if (order)
+            order[count] = ids[i];
+        count++;
         /* across the edge to the previous vertex: its corner that leaves v */
         const ring_edge *across = &e[back[i]];
         i = across->total == 2 ? across->forward : UINT32_MAX;
     } while (i != UINT32_MAX && i != start);
-    if (count != n)
+    return count == n;
+}
+
+/* Orders v's corners into one fan (topology_fan_walk); 0 when they form
+   several fans. ring: scratch of n; fwd, back: ring_edges'. */
+static int order_fan(topo_build *b, uint32_t v, const ring_edge *e, const uint32_t *fwd,
+                     const uint32_t *back, uint32_t *ring)
+{
+    topology *t = b->t;
+    uint32_t s = t->vertex_corner_offsets[v], n = t->vertex_corner_offsets[v + 1] - s;
+    if (!topology_fan_walk(e, fwd, back, n, t->vertex_corners + s, ring))
         return 0;
-    memcpy(t->vertex_corners + s, ring, n * sizeof *ring);
+    if (n > 1)
+        memcpy(t->vertex_corners + s, ring, n * sizeof *ring);
     return 1;
 }
 
