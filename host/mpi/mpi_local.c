@@ -313,6 +313,25 @@ static void free_records(uint32_t **words, face_rec **recs)
     *recs = NULL;
 }
 
+/* The sub-mesh's repair. limn_mesh_repair changes faces only where one uses
+   a vertex twice or, when asked, where faces repeat; its duplicate search and
+   its census, with no report asked and its warnings dropped (sub_mesh), only
+   cost time, and the operator builds the topology the repair would have
+   cached. So a sub-mesh without a repeated corner (every sub-mesh of a mesh
+   limn_mpi_mesh_repair has seen) is left as it is unless duplicates are to
+   be removed: the same faces, the same operator. */
+static limn_status sub_repair(limn_context *ctx, limn_mesh *m, const limn_repair_options *repair)
+{
+    if (!repair || !repair->duplicate_faces) {
+        size_t first = SIZE_MAX;
+        uint32_t v = 0;
+        limn_status st = face_first_repeat(ctx, m, &first, &v);
+        if (st || first == SIZE_MAX)
+            return st;
+    }
+    return limn_mesh_repair(ctx, m, repair, NULL);
+}
+
 /* The sub-mesh (faces by increasing id, local vertex numbers), repaired; the
    records (*words, *recs) are freed once the faces are out of them. */
 static limn_status sub_mesh(mpi_part *p, local_sub *s, uint32_t **words, face_rec **recs_in,
@@ -348,7 +367,7 @@ static limn_status sub_mesh(mpi_part *p, local_sub *s, uint32_t **words, face_re
     free(off); /* the mesh holds its own copies */
     free(idx);
     if (!st)
-        st = limn_mesh_repair(ctx, *out, repair, NULL);
+        st = sub_repair(ctx, *out, repair);
     free(ctx->warnings);
     ctx->warnings = warnings;
     ctx->warnings_len = warnings_len;
