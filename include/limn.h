@@ -710,21 +710,31 @@ LIMN_API limn_status limn_denoise_sure(limn_context *ctx, const limn_mesh *mesh,
  * the vertices are moved vertex_steps times to fit the filtered normals
  * (Sun et al. 2007) plus `tangential` times a pull to their faces'
  * centroids within the vertex's plane (it undoes faces the noise folded
- * over). W's products run on the context's device; "products" in the report
- * counts them. Same input and options: the same bytes on either backend.
+ * over). With `adaptive` (the default) the rounds after the first take
+ * their range width from the noise left: sigma_r = 1.5 x the median of
+ * |n_f - n_j| over the ring (at least 0.05), with normal_steps / 2 (rounded
+ * up) products each, so a smooth second pass does not erode the creases the
+ * first kept. W's products run on the context's device; "products" in the
+ * report counts them. Same input and options: the same bytes on either
+ * backend.
  */
 typedef struct limn_feature_options {
     size_t size;              /* sizeof, set by limn_feature_options_default() */
-    int outer_steps;          /* filter-then-fit rounds, 1..LIMN_MAX_STEPS; default 2 */
-    int normal_steps;         /* products of W a round, 1..LIMN_MAX_STEPS; default 10 */
+    int outer_steps;          /* filter-then-fit rounds, 1..LIMN_MAX_STEPS; default 3 */
+    int normal_steps;         /* products of W a round (the first with adaptive),
+                                 1..LIMN_MAX_STEPS; default 10 */
     int vertex_steps;         /* vertex-fit sweeps a round, 1..LIMN_MAX_STEPS; default 10 */
-    double sigma_r;           /* range kernel width on |n_f - n_j|, > 0; default 0.35 */
+    double sigma_r;           /* range kernel width on |n_f - n_j| (the first round's with
+                                 adaptive), > 0; default 0.35 */
     double sigma_s;           /* spatial kernel width; 0 (default): the mean distance
                                  between the centroids of neighbouring faces */
-    double tangential;        /* the tangential pull, in [0, 1]; default 0.25 */
+    double tangential;        /* the tangential pull, in [0, 1]; default 0.1 */
     int keep_volume;          /* 1: the result scaled about the mean of its vertices back to
                                  the input's volume, as limn_denoise's (closed meshes only:
                                  LIMN_ERR_TOPOLOGY otherwise); default 0 */
+    int adaptive;             /* 1 (default): later rounds' sigma_r from the noise left and
+                                 half the products (above); 0: sigma_r and normal_steps in
+                                 every round */
 } limn_feature_options;
 
 LIMN_API void limn_feature_options_default(limn_feature_options *options);

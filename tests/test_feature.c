@@ -197,6 +197,7 @@ static void test_matches_independent_bnf(void **state)
     limn_feature_options o;
     limn_feature_options_default(&o);
     o.tangential = 0.0;
+    o.adaptive = 0; /* BNF's sigma_r and products in every round */
     o.sigma_s = 0.1;
     o.outer_steps = 2;
     o.normal_steps = 20;
@@ -216,6 +217,54 @@ static void test_matches_independent_bnf(void **state)
     limn_mesh_destroy(clean);
     limn_mesh_destroy(noisy);
     limn_mesh_destroy(out);
+    limn_context_destroy(ctx);
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The adaptive rounds' noise estimate against the sorted pairs: the
+   histogram's median within one bin of the middle of all |n_f - n_j| (the
+   pairs recomputed here from the ring), and its sigma_r the stated rule. */
+static void test_noise_median(void **state)
+{
+    (void)state;
+    limn_context *ctx = ctx_for("reference");
+    limn_mesh *clean = cad_shape_mesh(ctx, CAD_BEVELLED_CUBE, 8, 1), *noisy = NULL;
+    CHECK_OK(ctx, limn_mesh_copy(ctx, clean, &noisy));
+    test_gaussian_noise(noisy, 0.3 * test_mean_edge(clean), 5);
+    feature_mesh fm;
+    CHECK_OK(ctx, feature_mesh_build(ctx, noisy, &fm));
+    feature_faces_update(&fm, limn_mesh_positions(noisy));
+    const stencil_csr *w = &fm.ring;
+    double *d = malloc(w->row_offsets[w->rows] * sizeof *d);
+    size_t m = 0;
+    for (size_t i = 0; i < w->rows; i++)
+        for (uint32_t k = w->row_offsets[i]; k < w->row_offsets[i + 1]; k++)
+            if (w->columns[k] != i) {
+                const double *a = fm.normal + 3 * i, *b = fm.normal + 3 * w->columns[k];
+                d[m++] = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                              (a[2] - b[2]) * (a[2] - b[2]));
+            }
+    qsort(d, m, sizeof *d, compare_doubles);
+    uint64_t *bins = calloc(FEATURE_NOISE_BINS, sizeof *bins);
+    feature_noise_count(&fm, fm.normal, 0, fm.faces, bins);
+    double median = feature_noise_median(bins), bin = 2.0 / FEATURE_NOISE_BINS;
+    print_message("noise median %.6f, sorted pairs' middle %.6f\n", median, d[m / 2]);
+    assert_true(fabs(median - d[m / 2]) <= bin);
+    assert_true(median > 0.1); /* 0.3 x edge noise: tens of degrees between neighbours */
+    assert_true(feature_adaptive_sigma(median) == FEATURE_ADAPTIVE_GAIN * median);
+    assert_true(feature_adaptive_sigma(0.0) == FEATURE_ADAPTIVE_FLOOR);
+    uint64_t none[FEATURE_NOISE_BINS] = {0};
+    assert_true(feature_noise_median(none) == 0.0);
+    free(bins);
+    free(d);
+    feature_mesh_free(&fm);
+    limn_mesh_destroy(clean);
+    limn_mesh_destroy(noisy);
     limn_context_destroy(ctx);
 }
 
@@ -279,6 +328,9 @@ static void test_bad_options(void **state)
     o.keep_volume = 2;
     expect_refused(ctx, cube, &o, "keep_volume");
     limn_feature_options_default(&o);
+    o.adaptive = -1;
+    expect_refused(ctx, cube, &o, "adaptive");
+    limn_feature_options_default(&o);
     o.size = 4;
     expect_refused(ctx, cube, &o, "size");
     assert_int_equal(limn_denoise_features(ctx, cube, NULL, NULL, NULL), LIMN_ERR_ARGUMENT);
@@ -325,6 +377,7 @@ int main(void)
         cmocka_unit_test(test_cube_edges_kept),
         cmocka_unit_test(test_operator_rows),
         cmocka_unit_test(test_matches_independent_bnf),
+        cmocka_unit_test(test_noise_median),
         cmocka_unit_test(test_backends_same_bytes),
         cmocka_unit_test(test_bad_options),
         cmocka_unit_test(test_keep_volume),

@@ -33,13 +33,14 @@ static const limn_series_options series_defaults = SERIES_DEFAULTS;
 static const limn_morph_options morph_defaults = {
     .size = sizeof(limn_morph_options), .series = SERIES_DEFAULTS, .frames = 30, .m = 2, .p = 0.8};
 static const limn_feature_options feature_defaults = {.size = sizeof(limn_feature_options),
-                                                    .outer_steps = 2,
+                                                    .outer_steps = 3,
                                                     .normal_steps = 10,
                                                     .vertex_steps = 10,
                                                     .sigma_r = 0.35,
                                                     .sigma_s = 0.0,
-                                                    .tangential = 0.25,
-                                                    .keep_volume = 0};
+                                                    .tangential = 0.1,
+                                                    .keep_volume = 0,
+                                                    .adaptive = 1};
 static const limn_texture_options texture_defaults = {.size = sizeof(limn_texture_options),
                                                       .series = SERIES_DEFAULTS,
                                                       .levels = 3,

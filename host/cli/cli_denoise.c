@@ -48,9 +48,12 @@ static const char *const help =
     "                         tangential pull); for CAD-like meshes. Takes:\n"
     "    --normal-steps T     face-operator products a round, T >= 1      [10]\n"
     "    --vertex-steps V     vertex-fit sweeps a round, V >= 1           [10]\n"
-    "    --outer-steps K      rounds of filter-then-fit, K >= 1            [2]\n"
-    "    --sigma-r R          normal range kernel width, R > 0          [0.35]\n"
-    "    --tangential U       tangential pull in [0, 1]                 [0.25]\n"
+    "    --outer-steps K      rounds of filter-then-fit, K >= 1            [3]\n"
+    "    --sigma-r R          the first round's range kernel width, R > 0 [0.35]\n"
+    "                         (later rounds: 1.5 x the median neighbour normal\n"
+    "                         difference left, >= 0.05, with T/2 products)\n"
+    "    --fixed-rounds       every round with R and T (plain BNF rounds)\n"
+    "    --tangential U       tangential pull in [0, 1]                  [0.1]\n"
     "                         (not with --m, --steps or --products;\n"
     "                         --keep-volume works too)\n"
     SERIES_HELP
@@ -79,6 +82,7 @@ static void json_extra(json_out *j, void *user)
         json_integer(j, "outer_steps", e->fo.outer_steps);
         json_number(j, "sigma_r", e->fo.sigma_r);
         json_number(j, "tangential", e->fo.tangential);
+        json_bool(j, "adaptive", e->fo.adaptive);
     } else if (e->products) {
         json_integer(j, "degree", e->products);
         json_number(j, "sigma_estimate", e->sigma);
@@ -142,6 +146,7 @@ static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
         {"--outer-steps", CLI_OWN_INT, &e->fo.outer_steps, 1, INT_MAX},
         {"--sigma-r", CLI_OWN_POSITIVE, &e->fo.sigma_r, 0, 0},
         {"--tangential", CLI_OWN_NUMBER, &e->fo.tangential, 0, 0},
+        {"--fixed-rounds", CLI_OWN_FLAG, &e->fo.adaptive, 0, 0},
     };
     int volume = strstr(argv[*i], "keep-volume") != NULL;
     int rc = cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
@@ -164,7 +169,8 @@ static int check_mode(const extra *e)
                                "--preserve-features takes neither --m nor --steps nor --products");
     if (!e->preserve && e->feature_given)
         return cli_usage_error("denoise", "--normal-steps, --vertex-steps, --outer-steps, "
-                                          "--sigma-r and --tangential need --preserve-features");
+                                          "--sigma-r, --tangential and --fixed-rounds need "
+                                          "--preserve-features");
     if (e->preserve && !(e->fo.tangential >= 0.0 && e->fo.tangential <= 1.0))
         return cli_usage_error("denoise", "--tangential %g must lie in [0, 1]", e->fo.tangential);
     return 0;
@@ -257,7 +263,7 @@ int cli_denoise(int argc, char **argv)
         CLI_FLAG("no-keep-volume"), CLI_VALUE("m"),             CLI_VALUE("steps"),
         CLI_VALUE("products"),     CLI_FLAG("preserve-features"), CLI_VALUE("normal-steps"),
         CLI_VALUE("vertex-steps"), CLI_VALUE("outer-steps"),    CLI_VALUE("sigma-r"),
-        CLI_VALUE("tangential"),   CLI_OPTIONS_END};
+        CLI_VALUE("tangential"),   CLI_FLAG("fixed-rounds"),     CLI_OPTIONS_END};
     int rc = cli_args_parse(&c.a, longopts, argc, argv, own_option, &e);
     if (rc)
         return rc < 0 ? 0 : rc;

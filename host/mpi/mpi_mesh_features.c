@@ -54,6 +54,17 @@ static limn_status sync_positions(void *user, limn_status st, double *x)
     return refresh(user, st, 0, x);
 }
 
+/* The block rows' noise histogram summed over the ranks (integer counts:
+   the single process's in any order). */
+static limn_status sync_counts(void *user, limn_status st, uint64_t *bins, size_t n)
+{
+    features_mpi *f = user;
+    st = mpi_agree(f->p, st);
+    if (!st)
+        MPI_Allreduce(MPI_IN_PLACE, bins, (int)n, MPI_UINT64_T, MPI_SUM, f->p->comm);
+    return st;
+}
+
 /* feature_mean_spacing of the whole mesh: the block rows' distances added
    to the previous rank's running sum (the single process's order). */
 static double chained_spacing(features_mpi *f)
@@ -145,7 +156,9 @@ static limn_status features_run(mpi_part *p, const limn_mpi_mesh *mesh,
     if (!st) {
         feature_faces_update(&f.fm, x);
         f.fm.sigma_s = o->sigma_s > 0.0 ? o->sigma_s : chained_spacing(&f);
-        feature_sync sync = {sync_normals, sync_positions, &f};
+        size_t begin = f.fp.face_base;
+        feature_sync sync = {sync_normals, sync_positions, sync_counts, begin,
+                             begin + mesh->slice.face_count, &f};
         double t1 = MPI_Wtime();
         st = mpi_agree(p, feature_rounds(p->ctx, &f.fm, &f.run, o, x, f.n, r, &sync));
         r->seconds_compute = MPI_Wtime() - t1;

@@ -47,6 +47,9 @@ limn_status feature_check_options(limn_context *ctx, const char *fn,
     if (!st && o->keep_volume != 0 && o->keep_volume != 1)
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: keep_volume is %d; it must be 0 or 1", fn,
                       o->keep_volume);
+    if (!st && o->adaptive != 0 && o->adaptive != 1)
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: adaptive is %d; it must be 0 or 1", fn,
+                      o->adaptive);
     if (!st && !(o->tangential >= 0.0 && o->tangential <= 1.0))
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: tangential is %g; it must lie in [0, 1]", fn,
                       o->tangential);
@@ -112,6 +115,32 @@ static limn_status filter_product(feature_run *r, const feature_mesh *fm, double
     return st;
 }
 
+/* The range width and products of round k: the options' in the first (and
+   in every round without adaptive); later, from the noise left in the
+   current normals fm->normal, summed over the ranks by sync. */
+static limn_status round_kernel(limn_context *ctx, const feature_mesh *fm,
+                                const limn_feature_options *o, int k, const feature_sync *sync,
+                                double *sigma_r, int *products)
+{
+    *sigma_r = o->sigma_r;
+    *products = o->normal_steps;
+    if (k == 0 || !o->adaptive)
+        return LIMN_OK;
+    uint64_t *bins = calloc(FEATURE_NOISE_BINS, sizeof *bins);
+    limn_status st = bins ? LIMN_OK
+                          : ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the noise census");
+    if (!st)
+        feature_noise_count(fm, fm->normal, sync ? sync->rows_begin : 0,
+                            sync ? sync->rows_end : fm->faces, bins);
+    if (sync)
+        st = sync->counts(sync->user, st, bins, FEATURE_NOISE_BINS);
+    if (!st)
+        *sigma_r = feature_adaptive_sigma(feature_noise_median(bins));
+    *products = (o->normal_steps + 1) / 2;
+    free(bins);
+    return st;
+}
+
 limn_status feature_rounds(limn_context *ctx, feature_mesh *fm, feature_run *run,
                            const limn_feature_options *o, double *x, double *n,
                            limn_series_report *r, const feature_sync *sync)
@@ -120,8 +149,11 @@ limn_status feature_rounds(limn_context *ctx, feature_mesh *fm, feature_run *run
     for (int k = 0; !st && k < o->outer_steps; k++) {
         feature_faces_update(fm, x);
         memcpy(n, fm->normal, 3 * fm->faces * sizeof *n);
-        for (int t = 0; !st && t < o->normal_steps; t++) {
-            feature_weights(fm, n, o->sigma_r);
+        double sigma_r;
+        int products;
+        st = round_kernel(ctx, fm, o, k, sync, &sigma_r, &products);
+        for (int t = 0; !st && t < products; t++) {
+            feature_weights(fm, n, sigma_r);
             st = filter_product(run, fm, n);
             if (sync)
                 st = sync->normals(sync->user, st, n);

@@ -48,15 +48,35 @@ void feature_weights(feature_mesh *fm, const double *n, double sigma_r);
    of the area-weighted mean of the n_f around v. */
 /* What a caller spreading the faces over ranks does between the steps
    (NULL: nothing): after each product of W, the normals n; after each
-   vertex sweep (and once before the first), the positions x. Each gets the
-   status so far and returns it agreed (all ranks call each in step). */
+   vertex sweep (and once before the first), the positions x; the noise
+   histogram of rows [rows_begin, rows_end) (its block) summed over the
+   ranks in place. Each gets the status so far and returns it agreed (all
+   ranks call each in step). */
 typedef struct feature_sync {
     limn_status (*normals)(void *user, limn_status st, double *n);
     limn_status (*positions)(void *user, limn_status st, double *x);
+    limn_status (*counts)(void *user, limn_status st, uint64_t *bins, size_t n);
+    size_t rows_begin, rows_end;
     void *user;
 } feature_sync;
 limn_status feature_fit_vertices(limn_context *ctx, feature_mesh *fm, const double *n, double *x,
                                  int steps, double tangential, const feature_sync *sync);
+
+/* ------------------------------------------------------ feature_noise.c */
+
+/* The noise left in the normals for the adaptive rounds: |n_f - n_j| over
+   the ring pairs (j != f) counted in FEATURE_NOISE_BINS bins of [0, 2]. */
+enum { FEATURE_NOISE_BINS = 4096 };
+#define FEATURE_ADAPTIVE_GAIN 1.5
+#define FEATURE_ADAPTIVE_FLOOR 0.05
+/* Adds the pairs of rows [begin, end) (n: 3 per face) to bins. */
+void feature_noise_count(const feature_mesh *fm, const double *n, size_t begin, size_t end,
+                         uint64_t bins[FEATURE_NOISE_BINS]);
+/* The median of the counted pairs, linear within its bin; 0 if none. */
+double feature_noise_median(const uint64_t bins[FEATURE_NOISE_BINS]);
+/* A later round's sigma_r from that median: FEATURE_ADAPTIVE_GAIN times
+   it, at least FEATURE_ADAPTIVE_FLOOR. */
+double feature_adaptive_sigma(double median);
 
 /* ------------------------------------------------- denoise_features.c */
 
