@@ -75,14 +75,16 @@ static fault faults(size_t i, char *env, size_t size)
 }
 
 /* Each fault: refused without the fallback, completed on the reference
-   backend with it (flag or environment), for interpolate and subdivide. */
+   backend with it (flag or environment), for interpolate and subdivide
+   (--limit: the refined positions are made on the host, the limit points on
+   the device). */
 static void each_fault(void **s)
 {
     (void)s;
     char out[256], ref[256], env[512], env2[600];
     snprintf(out, sizeof out, "%s/out.ply", test_dir);
     static const char *const commands[] = {"interpolate '%s' -o '%s' %s",
-                                           "subdivide '%s' -o '%s' --levels 2 %s"};
+                                           "subdivide '%s' -o '%s' --levels 2 --limit %s"};
     for (size_t c = 0; c < 2; c++) {
         snprintf(ref, sizeof ref, "%s/ref%zu.ply", test_dir, c);
         assert_int_equal(run("", commands[c], spot(), ref, "--device reference -q"), 0);

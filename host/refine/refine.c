@@ -7,6 +7,7 @@
  * 4-9 entries a row; see README "Subdivision surfaces" for the measurement.
  */
 #include "refine/refine.h"
+#include "base/clock.h"
 #include "base/context.h"
 #include "base/parallel.h"
 #include "device/device.h"
@@ -171,6 +172,65 @@ limn_status refine_plan_build(limn_context *ctx, const limn_mesh *base, limn_sch
     }
     if (st)
         refine_plan_free(plan);
+    return st;
+}
+
+/* One level of refine_surface: cur's child mesh (faces as refine_plan_build
+   makes them) with its positions made from the masks as they are made. */
+static limn_status surface_level(limn_context *ctx, const limn_mesh *cur, int first,
+                                 limn_scheme scheme, double alpha, limn_mesh **next,
+                                 size_t *entries, double *seconds_apply)
+{
+    topology t;
+    /* the base's cached topology (the repair's) on the first level */
+    limn_status st = first ? topology_get(ctx, cur, &t) : topology_build(ctx, cur, &t);
+    if (st)
+        return st;
+    step_rows rows = {.t = &t, .scheme = scheme, .alpha = first ? alpha : 0.0};
+    rows.face_base = t.vertex_count;
+    rows.edge_base = t.vertex_count + (scheme == LIMN_SCHEME_LOOP ? 0 : t.face_count);
+    size_t child_vertices = rows.edge_base + t.edge_count, n = 0;
+    if (child_vertices > UINT32_MAX)
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "the next level would have %zu vertices (over 2^32)",
+                      child_vertices);
+    if (!st)
+        st = child_faces(ctx, &t, scheme, child_vertices, next);
+    double t0 = clock_seconds();
+    if (!st)
+        st = stencil_build_apply3(ctx, child_vertices, step_bound, step_fill, &rows,
+                                  cur->positions, (*next)->positions, &n);
+    *seconds_apply += clock_seconds() - t0;
+    *entries += n;
+    if (st) {
+        limn_mesh_destroy(*next);
+        *next = NULL;
+    }
+    topology_free(&t);
+    return st;
+}
+
+limn_status refine_surface(limn_context *ctx, const limn_mesh *base, limn_scheme scheme,
+                           double alpha, int levels, limn_mesh **out, size_t *entries,
+                           double *seconds_apply)
+{
+    *out = NULL;
+    *entries = 0;
+    *seconds_apply = 0;
+    if (levels < 0 || levels > 16)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "levels is %d; it must lie in 0..16", levels);
+    if (levels == 0)
+        return limn_mesh_copy(ctx, base, out);
+    limn_mesh *cur = NULL;
+    limn_status st = LIMN_OK;
+    for (int k = 0; !st && k < levels; k++) {
+        limn_mesh *next = NULL;
+        st = surface_level(ctx, k == 0 ? base : cur, k == 0, scheme, alpha, &next, entries,
+                           seconds_apply);
+        limn_mesh_destroy(cur); /* the level below is no longer read */
+        cur = next;
+        ctx_progress(ctx, "refine", (double)(k + 1) / (double)levels);
+    }
+    *out = cur;
     return st;
 }
 

@@ -45,6 +45,19 @@ limn_status refine_plan_apply(limn_context *ctx, const refine_plan *plan, int fr
 limn_status refine_plan_apply_positions(limn_context *ctx, refine_plan *plan,
                                         const double *positions);
 
+/*
+ * The finest level of refining base `levels` times (0..16; scheme resolved,
+ * alpha on the first step of Catmull-Clark only), the same mesh, bytes for
+ * bytes, as refine_plan_build + refine_plan_apply_positions, without their
+ * step tables or device: each level's rows are used as they are made
+ * (stencil_build_apply3), so a one-shot refinement moves a fraction of the
+ * bytes, and a level below is freed once the next exists. *entries: the
+ * nonzeros the step tables would hold; *seconds_apply: the rows' time.
+ */
+limn_status refine_surface(limn_context *ctx, const limn_mesh *base, limn_scheme scheme,
+                           double alpha, int levels, limn_mesh **out, size_t *entries,
+                           double *seconds_apply);
+
 /* Predicted vertex, face and index counts of level `levels`, and the peak
    bytes of a whole subdivide run (plan, apply, the limit operator of the
    finest level when `limit`, the OpenCL runtime), without building anything. */

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* limn_subdivide: refine the control mesh into the surface, on the device. */
+/* limn_subdivide: refine the control mesh into the surface (the limit
+   positions of --limit on the device). */
 #include "base/abi.h"
 #include "mesh/check.h"
 #include "base/context.h"
@@ -126,25 +127,24 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mesh *mesh,
     snprintf(r->device, sizeof r->device, "%s", dev->name);
 
     double t0 = clock_seconds();
-    refine_plan plan;
-    st = refine_plan_build(ctx, mesh, scheme, r->alpha, o->levels, &plan);
+    limn_mesh *out = NULL;
+    double seconds_apply;
+    st = refine_surface(ctx, mesh, scheme, r->alpha, o->levels, &out, &r->stencil_nonzeros,
+                        &seconds_apply);
     if (st)
         return st;
-    double t1 = clock_seconds();
-    r->seconds_plan = t1 - t0;
-    for (int k = 0; k < plan.levels; k++)
-        r->stencil_nonzeros += plan.steps[k].row_offsets[plan.steps[k].rows];
-    limn_mesh *out = plan.meshes[plan.levels];
-    st = refine_plan_apply_positions(ctx, &plan, mesh->positions);
     double t2 = clock_seconds();
-    r->seconds_apply = t2 - t1;
+    /* the rows are used as they are made: their time is the apply, the
+       rest (topologies, faces) the plan */
+    r->seconds_apply = seconds_apply;
+    r->seconds_plan = t2 - t0 - seconds_apply;
     if (!st && o->limit) {
         double *lim = malloc((out->vertex_count ? out->vertex_count : 1) * 3 * sizeof *lim);
         if (!lim)
             st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for limit positions");
         /* alpha acts on the first step only: past level 0 the limit is standard */
         if (!st)
-            st = limn_limit_positions(ctx, out, scheme, plan.levels == 0 ? r->alpha : 0.0, lim);
+            st = operator_limit_positions(ctx, out, scheme, o->levels == 0 ? r->alpha : 0.0, lim);
         if (!st)
             memcpy(out->positions, lim, out->vertex_count * 3 * sizeof *lim);
         free(lim);
@@ -155,12 +155,12 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mesh *mesh,
                        "colours to the refined surface (%zu vertices), which has none",
                   out->vertex_count);
     if (!st) {
-        plan.meshes[plan.levels] = NULL; /* the caller owns it now */
         r->vertices = out->vertex_count;
         r->faces = out->face_count;
         *surface = out;
+    } else {
+        limn_mesh_destroy(out);
     }
-    refine_plan_free(&plan);
     return st;
 }
 

@@ -144,8 +144,14 @@ limn_status limn_limit_positions(limn_context *ctx, const limn_mesh *mesh, limn_
     if (!(alpha >= 0.0 && alpha <= 1.0))
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
                          "limn_limit_positions: alpha is %g; it must lie in [0, 1]", alpha);
+    return operator_limit_positions(ctx, mesh, scheme, alpha, out);
+}
+
+limn_status operator_limit_positions(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
+                                     double alpha, double *out)
+{
     stencil_operator op;
-    st = operator_build(ctx, mesh, scheme, alpha, &op);
+    limn_status st = operator_build(ctx, mesh, scheme, alpha, &op);
     if (st)
         return st;
     size_t n = mesh->vertex_count;

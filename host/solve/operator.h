@@ -46,5 +46,9 @@ limn_status operator_resolve_scheme(limn_context *ctx, const limn_mesh *mesh, li
 limn_status operator_build(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
                            double alpha, stencil_operator *out);
 void operator_free(stencil_operator *op);
+/* limn_limit_positions of checked arguments, inside another entry point (the
+   context's warnings so far are kept: limn_subdivide --limit's fallback). */
+limn_status operator_limit_positions(limn_context *ctx, const limn_mesh *mesh, limn_scheme scheme,
+                                     double alpha, double *out);
 
 #endif

@@ -162,6 +162,80 @@ limn_status stencil_build(limn_context *ctx, size_t rows, size_t cols, stencil_r
     return LIMN_OK;
 }
 
+/*
+ * Rows made and used at once (stencil_build_apply3): each range fills a row
+ * into its own scratch, merges it as fill_range does and takes its product
+ * with x as stencil_apply3 does (the device's spmv: the same order), so y is
+ * the same bytes as through a stored table, for any thread count.
+ */
+typedef struct apply_job {
+    stencil_row_bound bound;
+    stencil_row_fill fill;
+    const void *user;
+    const double *x;
+    double *y;
+    size_t rows;
+    unsigned parts;
+    size_t entries[PARALLEL_MAX];  /* the merged entries of the range's rows */
+    int no_memory[PARALLEL_MAX];
+} apply_job;
+
+static int apply_range(void *arg, size_t begin, size_t end)
+{
+    apply_job *j = arg;
+    unsigned part = parallel_part(j->rows, j->parts, begin);
+    uint32_t *cols = NULL;
+    double *w = NULL;
+    size_t cap = 0, entries = 0;
+    for (size_t r = begin; r < end; r++) {
+        size_t want = j->bound(j->user, r);
+        if (want > cap) {
+            cap = 2 * want < 64 ? 64 : 2 * want;
+            free(cols);
+            free(w);
+            cols = malloc(cap * sizeof *cols);
+            w = malloc(cap * sizeof *w);
+            if (!cols || !w) {
+                j->no_memory[part] = 1;
+                break;
+            }
+        }
+        size_t n = sort_merge(cols, w, j->fill(j->user, r, cols, w));
+        double s0 = 0, s1 = 0, s2 = 0;
+        for (size_t k = 0; k < n; k++) {
+            const double *p = j->x + 3 * (size_t)cols[k];
+            s0 += w[k] * p[0];
+            s1 += w[k] * p[1];
+            s2 += w[k] * p[2];
+        }
+        j->y[3 * r] = s0;
+        j->y[3 * r + 1] = s1;
+        j->y[3 * r + 2] = s2;
+        entries += n;
+    }
+    free(cols);
+    free(w);
+    j->entries[part] = entries;
+    return j->no_memory[part];
+}
+
+limn_status stencil_build_apply3(limn_context *ctx, size_t rows, stencil_row_bound bound,
+                                 stencil_row_fill fill, const void *user, const double *x,
+                                 double *y, size_t *entries)
+{
+    apply_job job = {.bound = bound, .fill = fill, .user = user, .x = x, .y = y, .rows = rows};
+    job.parts = parallel_threads(ctx, (uint64_t)rows * STENCIL_ROW_BYTES);
+    if ((size_t)job.parts > rows)
+        job.parts = rows ? (unsigned)rows : 1;
+    int failed = parallel_run(rows, job.parts, apply_range, &job);
+    *entries = 0;
+    for (unsigned i = 0; i < job.parts; i++)
+        *entries += job.entries[i];
+    return failed ? ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the rows of %zu vertices",
+                             rows)
+                  : LIMN_OK;
+}
+
 typedef struct limit_rows {
     const topology *t;
     limn_scheme scheme;

@@ -24,6 +24,13 @@ typedef size_t (*stencil_row_fill)(const void *user, size_t row, uint32_t *cols,
 limn_status stencil_build(limn_context *ctx, size_t rows, size_t cols, stencil_row_bound bound,
                           stencil_row_fill fill, const void *user, stencil_csr *out);
 
+/* y = A x, 3 doubles a vertex, with the rows stencil_build would make used
+   as they are made (no table is stored): the same bytes as stencil_build and
+   stencil_apply3 or the device's spmv, for any thread count. *entries: the
+   entries the table would hold. */
+limn_status stencil_build_apply3(limn_context *ctx, size_t rows, stencil_row_bound bound,
+                                 stencil_row_fill fill, const void *user, const double *x,
+                                 double *y, size_t *entries);
 limn_status stencil_limit_build(limn_context *ctx, const struct topology *topo,
                                 limn_scheme scheme, double alpha, stencil_csr *out);
 void stencil_free(stencil_csr *csr);
