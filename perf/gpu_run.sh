@@ -21,7 +21,10 @@
 #   GPU_RUN_DEVICE   the --device of every run                   [opencl]
 #   GPU_RUN_SIZES    bench sizes                     [2M 4M 8M 16M]
 #   GPU_RUN_LEVELS   meshes, SCHEME:LEVELS   [loop:9 catmark:10 loop:10]
-#   GPU_RUN_METHODS  METHOD:PRECISION    [chebyshev:double chebyshev:float cg:double]
+#   GPU_RUN_METHODS  METHOD:PRECISION[:TOL]
+#                           [chebyshev:double chebyshev:float cg:double]
+#                    (TOL: the run's --tol; a smooth refined mesh meets the
+#                    default 1e-6 in 1-2 iterations, too few to time a loop)
 #   GPU_RUN_TRIAD    triad bytes per array                          [1G]
 #   GPU_RUN_SHAPES   kernel shapes                              [gpu cpu]
 set -euo pipefail
@@ -50,6 +53,42 @@ limn=$LIMN
 "$limn" devices | tee "$out/devices.txt" | tee -a "$log"
 nvidia-smi --query-gpu=name,memory.total,clocks.max.memory --format=csv >"$out/gpu.txt" 2>&1 ||
     echo "(no nvidia-smi)" >"$out/gpu.txt"
+
+# 1b. the device against the C reference backend: the same output bytes for
+# commands whose results are products only (docs/performance.md "Kernel
+# shapes": A.P bit-identical, only norms and dots may differ in the last
+# digits, so CG and the stop tests are left out), in each shape
+bytes_mesh=$(mktemp -d "${TMPDIR:-/tmp}/limn_gpu_bytes_XXXXXX")
+"$limn" subdivide "$root/data/spot_control_mesh.obj" -o "$bytes_mesh/spot3.ply" --levels 3 \
+    --device reference -q >>"$log" 2>&1
+: >"$out/bytes.txt"
+while IFS='|' read -r name args; do
+    [[ -n $name ]] || continue
+    # shellcheck disable=SC2086 # args is a list of words
+    "$limn" $args -o "$bytes_mesh/ref.ply" --device reference -q >>"$log" 2>&1 ||
+        { echo "$name: reference failed" >>"$out/bytes.txt"; continue; }
+    for shape in $shapes; do
+        # shellcheck disable=SC2086
+        if ! LIMN_KERNEL_SHAPE=$shape "$limn" $args -o "$bytes_mesh/dev.ply" --device "$device" \
+            -q >>"$log" 2>&1; then
+            echo "$name, $shape shape: FAILED" >>"$out/bytes.txt"
+        elif cmp -s "$bytes_mesh/ref.ply" "$bytes_mesh/dev.ply"; then
+            echo "$name, $shape shape: same bytes" >>"$out/bytes.txt"
+        else
+            echo "$name, $shape shape: DIFFERENT bytes" >>"$out/bytes.txt"
+        fi
+    done
+done <<EOF_BYTES
+interpolate paper double|interpolate $bytes_mesh/spot3.ply --method paper --precision double --tol 1e-10 --max-iter 2000
+interpolate chebyshev double|interpolate $bytes_mesh/spot3.ply --method chebyshev --precision double --tol 1e-12
+interpolate paper float|interpolate $bytes_mesh/spot3.ply --method paper --precision float --tol 1e-6
+subdivide --limit|subdivide $root/data/spot_control_mesh.obj --levels 3 --limit
+smooth 6 terms|smooth $bytes_mesh/spot3.ply --terms 6
+denoise eq. 8|denoise $bytes_mesh/spot3.ply --m 2 --steps 3 --no-keep-volume
+sharpen|sharpen $bytes_mesh/spot3.ply --from 2 --to 4 --steps 2
+EOF_BYTES
+rm -rf "$bytes_mesh"
+say "backends: $(grep -c 'same bytes' "$out/bytes.txt") same, $(grep -vc 'same bytes' "$out/bytes.txt") not"
 
 # 2. limn bench per size and shape
 for n in $sizes; do
@@ -88,12 +127,15 @@ for sl in $levels; do
     "$limn" subdivide "$work/$scheme.obj" -o "$mesh" --levels "$level" --device "$device" -q \
         >>"$log" 2>&1
     for mp in $methods; do
-        method=${mp%%:*} precision=${mp#*:}
+        method=${mp%%:*} precision=${mp#*:} tol=
+        if [[ $precision == *:* ]]; then tol=${precision#*:} precision=${precision%%:*}; fi
         for shape in $shapes; do
-            say "interpolate $scheme-$level --method $method --precision $precision, $shape shape"
+            say "interpolate $scheme-$level --method $method --precision $precision${tol:+ --tol $tol}, $shape shape"
             LIMN_KERNEL_SHAPE=$shape "$limn" interpolate "$mesh" -o "$work/p.ply" \
-                --method "$method" --precision "$precision" --device "$device" -q \
-                --report "$out/solve-$scheme-$level-$method-$precision-$shape.json" >>"$log" 2>&1
+                --method "$method" --precision "$precision" ${tol:+--tol "$tol" --max-iter 5000} \
+                --device "$device" -q \
+                --report "$out/solve-$scheme-$level-$method-$precision${tol:+-$tol}-$shape.json" \
+                >>"$log" 2>&1 || say "  failed (see $log)"
         done
     done
     rm -f "$mesh" "$work/p.ply"
