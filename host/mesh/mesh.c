@@ -5,6 +5,7 @@
 #include "base/context.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -81,15 +82,91 @@ limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
     return LIMN_OK;
 }
 
-/* The faces and colours of mesh into *out (allocated by mesh_alloc for its
-   counts); on failure *out is destroyed and NULL. */
-static limn_status copy_faces_colors(limn_context *ctx, const limn_mesh *mesh, limn_mesh **out)
+/* Drops this mesh's hold on its faces (freed by the last holder). */
+static void faces_release(limn_mesh *m)
 {
+    _Atomic size_t *shares = atomic_load(&m->face_shares);
+    if (!shares || atomic_fetch_sub(shares, 1) == 1) {
+        free(m->face_offsets);
+        free(m->face_indices);
+        free((void *)shares);
+    }
+    atomic_store(&m->face_shares, NULL);
+    m->face_offsets = m->face_indices = NULL;
+    m->face_count = 0;
+}
+
+/* to (holding no faces) shares from's: the count installed on from when it
+   held them alone (a compare-and-swap: a loser's count is dropped). */
+static limn_status faces_share(limn_context *ctx, const limn_mesh *from, limn_mesh *to)
+{
+    limn_mesh *f = (limn_mesh *)from; /* only its atomic count changes */
+    _Atomic size_t *shares = atomic_load(&f->face_shares);
+    if (!shares) {
+        _Atomic size_t *mine = malloc(sizeof *mine);
+        if (!mine)
+            return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory copying a mesh");
+        atomic_init(mine, 1);
+        if (atomic_compare_exchange_strong(&f->face_shares, &shares, mine))
+            shares = mine;
+        else
+            free((void *)mine); /* another copy installed one: shares is it */
+    }
+    atomic_fetch_add(shares, 1);
+    atomic_store(&to->face_shares, shares);
+    to->face_offsets = from->face_offsets;
+    to->face_indices = from->face_indices;
+    to->face_count = from->face_count;
+    return LIMN_OK;
+}
+
+limn_status mesh_faces_own(limn_context *ctx, limn_mesh *m)
+{
+    if (!atomic_load(&m->face_shares))
+        return LIMN_OK;
+    size_t nf = m->face_count, nc = m->face_offsets[nf];
+    uint32_t *off = malloc((nf + 1) * sizeof *off), *idx = malloc((nc ? nc : 1) * sizeof *idx);
+    if (!off || !idx) {
+        free(off);
+        free(idx);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the faces of a mesh");
+    }
+    memcpy(off, m->face_offsets, (nf + 1) * sizeof *off);
+    memcpy(idx, m->face_indices, nc * sizeof *idx);
+    mesh_faces_replace(m, nf, off, idx);
+    return LIMN_OK;
+}
+
+void mesh_faces_replace(limn_mesh *m, size_t face_count, uint32_t *face_offsets,
+                        uint32_t *face_indices)
+{
+    faces_release(m);
+    m->face_offsets = face_offsets;
+    m->face_indices = face_indices;
+    m->face_count = face_count;
+}
+
+/* A mesh with mesh's vertex count, sharing its faces, with a copy of its
+   colours; its positions are `positions` (taken over, freed on failure
+   too), or room for them when NULL. */
+static limn_status alloc_sharing(limn_context *ctx, const limn_mesh *mesh, double *positions,
+                                 limn_mesh **out)
+{
+    limn_status st = mesh_alloc(ctx, positions ? 0 : mesh->vertex_count, 0, 0, out);
+    if (st) {
+        free(positions);
+        return st;
+    }
     limn_mesh *m = *out;
-    memcpy(m->face_offsets, mesh->face_offsets, (mesh->face_count + 1) * sizeof(uint32_t));
-    memcpy(m->face_indices, mesh->face_indices,
-           mesh->face_offsets[mesh->face_count] * sizeof(uint32_t));
-    limn_status st = mesh->colors ? limn_mesh_set_colors(ctx, m, mesh->colors) : LIMN_OK;
+    if (positions) {
+        free(m->positions);
+        m->positions = positions;
+    }
+    m->vertex_count = mesh->vertex_count;
+    faces_release(m);
+    st = faces_share(ctx, mesh, m);
+    if (!st && mesh->colors)
+        st = limn_mesh_set_colors(ctx, m, mesh->colors);
     if (st) {
         limn_mesh_destroy(m);
         *out = NULL;
@@ -105,12 +182,10 @@ limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh *
     if (!mesh || !out)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mesh_copy: %s is NULL",
                          !mesh ? "mesh" : "out");
-    limn_status st = mesh_alloc(ctx, mesh->vertex_count, mesh->face_count,
-                                mesh->face_offsets[mesh->face_count], out);
-    if (st)
-        return st;
-    memcpy((*out)->positions, mesh->positions, mesh->vertex_count * 3 * sizeof(double));
-    return copy_faces_colors(ctx, mesh, out);
+    limn_status st = alloc_sharing(ctx, mesh, NULL, out);
+    if (!st)
+        memcpy((*out)->positions, mesh->positions, mesh->vertex_count * 3 * sizeof(double));
+    return st;
 }
 
 double *mesh_rows4_to_xyz(double *rows4, size_t vertices)
@@ -126,16 +201,7 @@ limn_status mesh_copy_with_positions(limn_context *ctx, const limn_mesh *mesh, d
                                      limn_mesh **out)
 {
     *out = NULL;
-    limn_status st =
-        mesh_alloc(ctx, 0, mesh->face_count, mesh->face_offsets[mesh->face_count], out);
-    if (st) {
-        free(positions);
-        return st;
-    }
-    free((*out)->positions);
-    (*out)->positions = positions;
-    (*out)->vertex_count = mesh->vertex_count;
-    return copy_faces_colors(ctx, mesh, out);
+    return alloc_sharing(ctx, mesh, positions, out);
 }
 
 limn_status mesh_hand_over(limn_status st, limn_mesh *made, limn_mesh **out)
@@ -154,8 +220,7 @@ void limn_mesh_destroy(limn_mesh *mesh)
     if (mesh->topology)
         mesh->topology_drop(mesh->topology);
     free(mesh->positions);
-    free(mesh->face_offsets);
-    free(mesh->face_indices);
+    faces_release(mesh);
     free(mesh->colors);
     free(mesh);
 }

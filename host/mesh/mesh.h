@@ -23,12 +23,27 @@ struct limn_mesh {
        topology layer sits above this one). */
     struct topology *_Atomic topology;
     void (*topology_drop)(struct topology *);
+    /* Faces never change once a mesh is made, except through
+       mesh_faces_own / mesh_faces_replace, so copies share them:
+       face_shares is NULL while this mesh alone holds face_offsets and
+       face_indices, else the count of meshes holding them (installed on the
+       original by the first copy, atomically: copies of a const mesh may run
+       on several threads). The last holder frees them. */
+    _Atomic size_t *_Atomic face_shares;
 };
 
 /* Allocates a mesh with room for the given counts (contents uninitialised,
    face_offsets[0] = 0). Fails with a message on overflow or no memory. */
 limn_status mesh_alloc(limn_context *ctx, size_t vertex_count, size_t face_count,
                        size_t index_count, limn_mesh **out);
+
+/* Faces this mesh alone holds, before they change: a private copy when
+   they are shared (fails only without memory, the mesh unchanged). */
+limn_status mesh_faces_own(limn_context *ctx, limn_mesh *mesh);
+/* New faces (malloc'd, taken over) in place of the mesh's, which are
+   released (freed by their last holder). */
+void mesh_faces_replace(limn_mesh *mesh, size_t face_count, uint32_t *face_offsets,
+                        uint32_t *face_indices);
 
 /* The end of a call that makes a mesh: on LIMN_OK *out = made, otherwise
    made is destroyed (and *out left as it is); returns st. */
@@ -38,7 +53,7 @@ limn_status mesh_hand_over(limn_status st, limn_mesh *made, limn_mesh **out);
    first 3 of every 4 doubles moved down and the block shrunk; returns the
    block (never NULL: the unshrunk one if realloc fails). */
 double *mesh_rows4_to_xyz(double *rows4, size_t vertices);
-/* limn_mesh_copy with other positions: mesh's faces and colours copied, and
+/* limn_mesh_copy with other positions: mesh's faces shared, colours copied, and
    `positions` (3 doubles a vertex, malloc'd) taken over, freed on failure
    too. For results whose positions already lie in memory of their own. */
 limn_status mesh_copy_with_positions(limn_context *ctx, const limn_mesh *mesh, double *positions,

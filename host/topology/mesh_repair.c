@@ -128,21 +128,20 @@ limn_status repair_fix_repeats(limn_context *ctx, limn_mesh *m, limn_repair_repo
     free(stack);
     free(w);
     topology_uncache(m);
-    free(m->face_offsets);
-    free(m->face_indices);
     uint32_t *off = realloc(o.offsets, (o.faces + 1) * sizeof *off);
     uint32_t *idx = realloc(o.indices, (o.corners ? o.corners : 1) * sizeof *idx);
-    m->face_offsets = off ? off : o.offsets;
-    m->face_indices = idx ? idx : o.indices;
-    m->face_count = o.faces;
+    mesh_faces_replace(m, o.faces, off ? off : o.offsets, idx ? idx : o.indices);
     return LIMN_OK;
 }
 
 /* ------------------------------------------------------------- duplicates */
 
 /* Removes the faces marked in dup, keeping the order of the others. */
-static void remove_marked(limn_mesh *m, const uint8_t *dup)
+static limn_status remove_marked(limn_context *ctx, limn_mesh *m, const uint8_t *dup)
 {
+    limn_status st = mesh_faces_own(ctx, m); /* a copy's faces are another mesh's too */
+    if (st)
+        return st;
     topology_uncache(m);
     size_t out = 0, w = 0;
     for (size_t f = 0; f < m->face_count; f++) {
@@ -154,6 +153,7 @@ static void remove_marked(limn_mesh *m, const uint8_t *dup)
         m->face_offsets[++out] = (uint32_t)w;
     }
     m->face_count = out;
+    return LIMN_OK;
 }
 
 /* Faces with the vertex set of an earlier face (face_keys.h), removed when
@@ -177,10 +177,8 @@ static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
         r->duplicate_faces = found.count;
         r->first_duplicate_face = found.first;
         r->first_duplicate_of = found.first_of;
-        if (remove) {
-            remove_marked(m, dup);
+        if (remove && !(st = remove_marked(ctx, m, dup)))
             r->duplicates_removed = r->duplicate_faces;
-        }
     }
     free(dup);
     return st;

@@ -391,14 +391,10 @@ limn_status mio_make_mesh(limn_context *ctx, mio_arrays *a, limn_mesh **out)
     if (st)
         return st;
     free(m->positions);
-    free(m->face_offsets);
-    free(m->face_indices);
     m->positions = growbuf_take(&a->pos);
-    m->face_offsets = growbuf_take(&a->offsets);
-    m->face_indices = growbuf_take(&a->indices);
+    mesh_faces_replace(m, nf, growbuf_take(&a->offsets), growbuf_take(&a->indices));
     m->colors = a->col.len ? growbuf_take(&a->col) : NULL;
     m->vertex_count = nv;
-    m->face_count = nf;
     if (!m->positions || !m->face_offsets || !m->face_indices) {
         limn_mesh_destroy(m);
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a mesh");
