@@ -524,6 +524,11 @@ typedef struct limn_report {
        kernel's first launch. seconds_solve leaves the last out. */
     double seconds_opencl_platform, seconds_opencl_context, seconds_opencl_build,
         seconds_opencl_kernels;
+    /* Of seconds_solve, what follows the last loop: the read-back of P and
+       the control mesh made from it (0 on several ranks). What precedes the
+       loops, packing M and the buffers, is seconds_solve minus
+       seconds_iterations minus this. */
+    double seconds_solve_finish;
 } limn_report;
 
 /*

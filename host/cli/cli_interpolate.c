@@ -241,6 +241,7 @@ static limn_status write_report(limn_context *ctx, const args *x, const limn_rep
     json_number(j, "stencil", r->seconds_stencil);
     json_number(j, "solve", r->seconds_solve);
     json_number(j, "iterations", r->seconds_iterations);
+    json_number(j, "solve_finish", r->seconds_solve_finish);
     json_number(j, "opencl_setup", r->seconds_opencl_platform + r->seconds_opencl_context +
                                        r->seconds_opencl_build + r->seconds_opencl_kernels);
     if (sr)

@@ -226,6 +226,9 @@ struct device {
     device_setup_times setup; /* accumulated over the device's life */
     size_t sell_slice;        /* 0: tables upload as CSR; C: in SELL-C slices (the OpenCL
                                  gpu kernel shape, opencl_shape.h, stencil/stencil_sell.h) */
+    int host_shared;          /* buffer_share uses host memory in place (the reference
+                                 backend, OpenCL devices with CL_DEVICE_HOST_UNIFIED_MEMORY);
+                                 0: a discrete device, where it copies */
 };
 
 /*

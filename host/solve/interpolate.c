@@ -118,7 +118,10 @@ static limn_status interpolate_sized(limn_context *ctx, const limn_mesh *mesh,
     if (!st && check_positions(NULL, "", out->positions, n))
         st = check_nonfinite_iteration(ctx, "the control mesh", r->iterations, op.scheme,
                                        op.alpha, sv.precision == LIMN_PRECISION_FLOAT);
-    r->seconds_solve = clock_seconds() - t0;
+    double t_end = clock_seconds();
+    r->seconds_solve = t_end - t0;
+    if (sv.finish_begin > 0)
+        r->seconds_solve_finish = t_end - sv.finish_begin;
     device_setup_report(ctx, &setup, r);
     r->max_rel_error = diag > 0 ? r->max_abs_error / diag : r->max_abs_error;
     r->mean_rel_error = diag > 0 ? r->mean_abs_error / diag : r->mean_abs_error;

@@ -54,11 +54,20 @@ void solver_destroy(solver *s)
     memset(s, 0, sizeof *s);
 }
 
-/* Iterate i in host memory the device uses in place where it can (no device
-   copy, no read-back): a copy of init, or zeros. */
-static limn_status iterate_buffer(solver *s, int i, size_t n, const double *init)
+/* Iterate i: a copy of init (from_m: init is M's rows, which the device
+   holds), or zeros. Where the device shares host memory, host memory it uses
+   in place (no device copy, no read-back); on a discrete device, device
+   memory alone, a copy of M made there (1 M + 0 M: the same values), so no
+   host block is written before the result is read back. */
+static limn_status iterate_buffer(solver *s, int i, size_t n, const double *init, int from_m)
 {
     size_t bytes = 4 * n * sizeof(double);
+    if (!s->dev->host_shared) {
+        if (!from_m)
+            return s->dev->ops->buffer_create(s->dev, bytes, init, &s->p[i]);
+        limn_status st = s->dev->ops->buffer_scratch(s->dev, bytes, &s->p[i]);
+        return st ? st : s->dev->ops->axpby(s->dev, n, 1.0, s->m, 0.0, s->m, s->p[i]);
+    }
     s->p_host[i] = n < SIZE_MAX / 32 ? device_host_alloc(bytes) : NULL;
     if (!s->p_host[i])
         return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
@@ -145,26 +154,32 @@ limn_status solver_solve(solver *s, stencil_operator *op, double diag, double *b
                       : s->dev->ops->buffer_share(s->dev, 4 * n * sizeof(double), buf, &s->m);
     if (!st && s->ops->block)
         st = run_start(s, op, o->tolerance * diag, buf, r);
-    if (!st)
-        st = iterate_buffer(s, 0, n, buf);
+    if (!st) /* P starts as M, or as the method's start (now in buf) */
+        st = iterate_buffer(s, 0, n, buf, !s->ops->block);
     int done = 0;
     if (!st && s->precision == LIMN_PRECISION_FLOAT)
         st = solve_mixed(s->ctx, op, s->m, s->p[0], o, diag, s->ops->method, &done, r);
     if (!st && !done)
-        st = iterate_buffer(s, 1, n, NULL); /* defined: Chebyshev's first step reads it */
+        st = iterate_buffer(s, 1, n, NULL, 0); /* defined: Chebyshev's first step reads it */
     double t_loop = clock_seconds(), compiles = s->dev->setup.kernels; /* first launches */
     local_step ls = {op, s};
     if (!st && !done)
         st = solve_iterate(s->ctx, step_local, &ls, op->vertex_count, op->scheme,
                            op->alpha, o, diag, s->ops->kind, &s->which, r);
-    r->seconds_iterations += clock_seconds() - t_loop - (s->dev->setup.kernels - compiles);
+    s->finish_begin = clock_seconds();
+    r->seconds_iterations += s->finish_begin - t_loop - (s->dev->setup.kernels - compiles);
     /* M (perhaps buf itself) and the other iterate are done with: released
        before P lands in buf, which also lowers the peak */
     if (s->m)
         s->dev->ops->buffer_release(s->dev, s->m);
     s->m = NULL;
     iterate_drop(s, 1 - s->which);
-    /* into the iterate's own memory: in place where the device shares it */
+    /* into the iterate's own memory: in place where the device shares it; a
+       discrete device's into host memory made for it now */
+    if (!st && !s->p_host[s->which] &&
+        !(s->p_host[s->which] = n < SIZE_MAX / 32 ? device_host_alloc(4 * n * sizeof(double))
+                                                  : NULL))
+        st = ctx_fail(s->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
     if (!st)
         st = s->dev->ops->buffer_read(s->dev, s->p[s->which], 4 * n * sizeof(double),
                                       s->p_host[s->which]);

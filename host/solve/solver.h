@@ -42,6 +42,7 @@ typedef struct solver {
     device_buffer *m, *p[2]; /* M and the two iterates, on the device */
     double *p_host[2];       /* the iterates' host memory (device_host_alloc) */
     int which;               /* after solver_solve: the buffer p[which] holds P */
+    double finish_begin;     /* clock_seconds() when the last loop ended */
 } solver;
 
 /* method: resolved, not AUTO. */

@@ -468,6 +468,7 @@ static limn_status open_device(struct device *dev, const char *spec)
     if (clGetDeviceInfo(choice.device, CL_DEVICE_HOST_UNIFIED_MEMORY, sizeof im->host_unified,
                         &im->host_unified, NULL) != CL_SUCCESS)
         im->host_unified = CL_FALSE; /* then copies, as for a discrete device */
+    dev->host_shared = im->host_unified == CL_TRUE;
     double t1 = clock_seconds();
     dev->setup.platform += t1 - t0;
     cl_int err;

@@ -368,6 +368,7 @@ limn_status device_open_reference(limn_context *ctx, struct device **out)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory opening the reference backend");
     dev->ops = &reference_ops;
     dev->ctx = ctx;
+    dev->host_shared = 1;
     strcpy(dev->name, "reference (plain C, 1 thread)");
     *out = dev;
     return LIMN_OK;
