@@ -76,6 +76,52 @@ int parallel_run(size_t n, unsigned parts, parallel_fn fn, void *arg)
     return bad;
 }
 
+typedef struct prefix_job {
+    uint32_t *a;
+    size_t n;
+    unsigned parts;
+    uint32_t start[PARALLEL_MAX];
+} prefix_job;
+
+static int prefix_sum_range(void *arg, size_t begin, size_t end)
+{
+    prefix_job *j = arg;
+    uint32_t sum = 0;
+    for (size_t i = begin; i < end; i++)
+        sum += j->a[i + 1];
+    j->start[parallel_part(j->n, j->parts, begin)] = sum;
+    return 0;
+}
+
+static int prefix_add_range(void *arg, size_t begin, size_t end)
+{
+    prefix_job *j = arg;
+    uint32_t at = j->start[parallel_part(j->n, j->parts, begin)];
+    for (size_t i = begin; i < end; i++) {
+        at += j->a[i + 1];
+        j->a[i + 1] = at;
+    }
+    return 0;
+}
+
+void parallel_prefix_u32(uint32_t *a, size_t n, unsigned parts)
+{
+    a[0] = 0;
+    prefix_job j = {.a = a, .n = n, .parts = clamp_parts(n, parts)};
+    if (j.parts > 1) {
+        parallel_run(n, j.parts, prefix_sum_range, &j);
+        uint32_t at = 0;
+        for (unsigned i = 0; i < j.parts; i++) {
+            uint32_t sum = j.start[i];
+            j.start[i] = at;
+            at += sum;
+        }
+    } else {
+        j.start[0] = 0;
+    }
+    parallel_run(n, j.parts, prefix_add_range, &j);
+}
+
 /* The CPUs of the affinity mask, when hwloc cannot count cores. */
 static int affinity_cpus(void)
 {

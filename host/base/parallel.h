@@ -28,6 +28,15 @@ size_t parallel_cut(size_t n, unsigned parts, unsigned i);
 unsigned parallel_part(size_t n, unsigned parts, size_t begin);
 
 /*
+ * Counts into offsets in place over `parts` ranges: a[1..n] hold counts on
+ * entry, and on return a[0] = 0 and a[i + 1] = a[i] + count i (uint32: the
+ * caller knows the total fits). Each range sums its counts, the sums are
+ * scanned in range order, then each range adds its start: the same values
+ * for any parts (one pass when parts is 1).
+ */
+void parallel_prefix_u32(uint32_t *a, size_t n, unsigned parts);
+
+/*
  * Threads for `bytes` of work: the context's host thread count
  * (parallel_host_threads), one per PARALLEL_GRAIN bytes at most, so small
  * meshes stay on the calling thread.

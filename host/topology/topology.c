@@ -123,47 +123,115 @@ void topology_free(topology *t)
     memset(t, 0, sizeof *t);
 }
 
-static uint32_t find_root(uint32_t *parent, uint32_t x)
+/* A union-find that ranges of edges update at once, lock-free. Every link
+   points to a smaller index: a union links the larger root under the smaller
+   by compare-and-swap (retried when another thread linked either first), and
+   path halving stores a grandparent, an ancestor in the same set, with a
+   plain store (a concurrent halving may store a nearer ancestor over it:
+   still the same set, still a smaller index). So no cycle can form and the
+   sets are those of the sequential union-find (which root stands for a set
+   may differ; only the counts are used). */
+static uint32_t find_shared(_Atomic uint32_t *parent, uint32_t x)
 {
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
+    for (;;) {
+        uint32_t p = atomic_load_explicit(&parent[x], memory_order_relaxed);
+        if (p == x)
+            return x;
+        uint32_t g = atomic_load_explicit(&parent[p], memory_order_relaxed);
+        if (g != p)
+            atomic_store_explicit(&parent[x], g, memory_order_relaxed);
+        x = g;
     }
-    return x;
 }
 
-static void unite(uint32_t *parent, uint32_t a, uint32_t b)
+static void unite_shared(_Atomic uint32_t *parent, uint32_t a, uint32_t b)
 {
-    a = find_root(parent, a);
-    b = find_root(parent, b);
-    if (a != b)
-        parent[a < b ? b : a] = a < b ? a : b;
+    for (;;) {
+        a = find_shared(parent, a);
+        b = find_shared(parent, b);
+        if (a == b)
+            return;
+        if (a > b) {
+            uint32_t t = a;
+            a = b;
+            b = t;
+        }
+        uint32_t expected = b; /* b still a root: it now points at a */
+        if (atomic_compare_exchange_strong_explicit(&parent[b], &expected, a,
+                                                    memory_order_relaxed, memory_order_relaxed))
+            return;
+    }
+}
+
+typedef struct components_job {
+    const topology *t;
+    _Atomic uint32_t *parent;
+    int boundary;            /* 0: every edge, faces' components; 1: boundary edges, loops */
+    size_t roots[PARALLEL_MAX];
+    unsigned parts;
+} components_job;
+
+static int components_init(void *arg, size_t begin, size_t end)
+{
+    components_job *j = arg;
+    for (size_t v = begin; v < end; v++)
+        atomic_init(&j->parent[v], (uint32_t)v);
+    return 0;
+}
+
+static int components_unite(void *arg, size_t begin, size_t end)
+{
+    components_job *j = arg;
+    const topology *t = j->t;
+    for (size_t e = begin; e < end; e++)
+        if (!j->boundary || (t->edge_flags[e] & EDGE_BOUNDARY))
+            unite_shared(j->parent, t->edge_vertices[2 * e], t->edge_vertices[2 * e + 1]);
+    return 0;
+}
+
+/* Roots after every union: each set has exactly one. */
+static int components_roots(void *arg, size_t begin, size_t end)
+{
+    components_job *j = arg;
+    const topology *t = j->t;
+    size_t n = 0;
+    for (size_t v = begin; v < end; v++) {
+        int counted = j->boundary ? (t->vertex_flags[v] & VERTEX_BOUNDARY) != 0
+                                  : t->vertex_corner_offsets[v + 1] > t->vertex_corner_offsets[v];
+        n += counted && atomic_load_explicit(&j->parent[v], memory_order_relaxed) == v;
+    }
+    j->roots[parallel_part(t->vertex_count, j->parts, begin)] = n;
+    return 0;
+}
+
+/* Sets of j->t's vertices joined by its edges (boundary edges when
+   j->boundary), counted over the referenced (boundary) vertices. */
+static size_t count_sets(components_job *j)
+{
+    size_t nv = j->t->vertex_count, total = 0;
+    memset(j->roots, 0, sizeof j->roots);
+    parallel_run(nv, j->parts, components_init, j);
+    parallel_run(j->t->edge_count, j->parts, components_unite, j);
+    parallel_run(nv, j->parts, components_roots, j);
+    for (unsigned i = 0; i < PARALLEL_MAX; i++)
+        total += j->roots[i];
+    return total;
 }
 
 /* Components of the faces (through shared vertices) and connected pieces of
-   the boundary-edge graph (the boundary loops of a manifold mesh). */
-static limn_status count_components(limn_context *ctx, topology *t)
+   the boundary-edge graph (the boundary loops of a manifold mesh), over the
+   host threads. */
+static limn_status count_components(limn_context *ctx, topology *t, unsigned parts)
 {
     size_t nv = t->vertex_count;
-    uint32_t *parent = malloc((nv ? nv : 1) * sizeof *parent);
-    if (!parent)
+    components_job j = {.t = t, .parts = parts};
+    j.parent = malloc((nv ? nv : 1) * sizeof *j.parent);
+    if (!j.parent)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory counting components");
-    for (uint32_t v = 0; v < nv; v++)
-        parent[v] = v;
-    for (size_t e = 0; e < t->edge_count; e++)
-        unite(parent, t->edge_vertices[2 * e], t->edge_vertices[2 * e + 1]);
-    for (uint32_t v = 0; v < nv; v++)
-        if (t->vertex_corner_offsets[v + 1] > t->vertex_corner_offsets[v] && find_root(parent, v) == v)
-            t->components++;
-    for (uint32_t v = 0; v < nv; v++)
-        parent[v] = v;
-    for (size_t e = 0; e < t->edge_count; e++)
-        if (t->edge_flags[e] & EDGE_BOUNDARY)
-            unite(parent, t->edge_vertices[2 * e], t->edge_vertices[2 * e + 1]);
-    for (uint32_t v = 0; v < nv; v++)
-        if ((t->vertex_flags[v] & VERTEX_BOUNDARY) && find_root(parent, v) == v)
-            t->boundary_loops++;
-    free(parent);
+    t->components = count_sets(&j);
+    j.boundary = 1;
+    t->boundary_loops = count_sets(&j);
+    free((void *)j.parent);
     return LIMN_OK;
 }
 
@@ -206,18 +274,38 @@ static void sum_counts(topo_build *b)
     }
 }
 
-/* Counts into offsets: a[0] = 0, a[v + 1] += a[v]. */
-static void prefix(uint32_t *a, size_t n)
-{
-    a[0] = 0;
-    for (size_t v = 0; v < n; v++)
-        a[v + 1] += a[v];
-}
-
 static limn_status no_memory(limn_context *ctx, const topology *t)
 {
     return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the topology of %zu vertices",
                     t->vertex_count);
+}
+
+/* The vertices' cursors: cleared, then their corner counts copied out
+   (offsets to be), then set to where each vertex's bucket starts. */
+static int cursor_clear(void *arg, size_t begin, size_t end)
+{
+    topo_build *b = arg;
+    for (size_t v = begin; v < end; v++)
+        atomic_store_explicit(&b->cursor[v], 0, memory_order_relaxed);
+    return 0;
+}
+
+static int cursor_counts(void *arg, size_t begin, size_t end)
+{
+    topo_build *b = arg;
+    for (size_t v = begin; v < end; v++)
+        b->t->vertex_corner_offsets[v + 1] =
+            atomic_load_explicit(&b->cursor[v], memory_order_relaxed);
+    return 0;
+}
+
+static int cursor_starts(void *arg, size_t begin, size_t end)
+{
+    topo_build *b = arg;
+    for (size_t v = begin; v < end; v++)
+        atomic_store_explicit(&b->cursor[v], b->t->vertex_corner_offsets[v],
+                              memory_order_relaxed);
+    return 0;
 }
 
 /* Passes 1-3: face checks, vertex buckets, and the counts that place edges. */
@@ -225,30 +313,25 @@ static limn_status place(limn_context *ctx, topo_build *b)
 {
     topology *t = b->t;
     size_t nv = t->vertex_count;
-    for (size_t v = 0; v < nv; v++)
-        atomic_store_explicit(&b->cursor[v], 0, memory_order_relaxed);
+    parallel_run(nv, b->parts, cursor_clear, b);
     topo_faces(b);
     limn_status st = gather(ctx, b);
     if (st)
         return st;
     topo_corner_counts(b);
     ctx_progress(ctx, "topology", 0.15);
-    t->vertex_corner_offsets[0] = 0;
-    for (size_t v = 0; v < nv; v++) {
-        uint32_t at = t->vertex_corner_offsets[v];
-        t->vertex_corner_offsets[v + 1] =
-            at + atomic_load_explicit(&b->cursor[v], memory_order_relaxed);
-        atomic_store_explicit(&b->cursor[v], at, memory_order_relaxed);
-    }
+    parallel_run(nv, b->parts, cursor_counts, b);
+    parallel_prefix_u32(t->vertex_corner_offsets, nv, b->parts);
+    parallel_run(nv, b->parts, cursor_starts, b);
     topo_scatter(b);
     ctx_progress(ctx, "topology", 0.3);
     topo_count(b);
     st = gather(ctx, b);
     if (st)
         return st;
-    prefix(t->vertex_edge_offsets, nv);
-    prefix(b->edge_base, nv);
-    prefix(b->entry_base, nv);
+    parallel_prefix_u32(t->vertex_edge_offsets, nv, b->parts);
+    parallel_prefix_u32(b->edge_base, nv, b->parts);
+    parallel_prefix_u32(b->entry_base, nv, b->parts);
     ctx_progress(ctx, "topology", 0.5);
     return LIMN_OK;
 }
@@ -301,7 +384,7 @@ static limn_status connect(limn_context *ctx, topo_build *b)
     topo_corner_faces(b);
     sum_counts(b);
     ctx_progress(ctx, "topology", 0.9);
-    return count_components(ctx, t);
+    return count_components(ctx, t, b->parts);
 }
 
 static atomic_size_t builds;
