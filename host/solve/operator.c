@@ -7,6 +7,7 @@
 #include "mesh/mesh.h"
 #include "stencil/reorder.h"
 #include "base/clock.h"
+#include "base/parallel.h"
 #include "device/choice/choice.h"
 
 #include <math.h>
@@ -53,16 +54,34 @@ limn_status operator_build(limn_context *ctx, const limn_mesh *mesh, limn_scheme
     return operator_build_ex(ctx, mesh, scheme, alpha, 0, op);
 }
 
-void operator_pack(const stencil_operator *op, const double *xyz, double *rows4)
+typedef struct pack_job {
+    const stencil_operator *op;
+    const double *xyz;
+    double *rows4;
+} pack_job;
+
+static int pack_range(void *arg, size_t begin, size_t end)
 {
-    for (size_t k = 0; k < op->vertex_count; k++) {
-        const double *src = xyz + 3 * (size_t)(op->order ? op->order[k] : k);
-        double *dst = rows4 + 4 * k;
+    const pack_job *j = arg;
+    const uint32_t *order = j->op->order;
+    for (size_t k = begin; k < end; k++) {
+        const double *src = j->xyz + 3 * (size_t)(order ? order[k] : k);
+        double *dst = j->rows4 + 4 * k;
         dst[0] = src[0];
         dst[1] = src[1];
         dst[2] = src[2];
         dst[3] = 0.0;
     }
+    return 0;
+}
+
+void operator_pack(const stencil_operator *op, const double *xyz, double *rows4)
+{
+    /* over the host threads: rows4 is usually fresh memory, whose first
+       touches are most of the cost */
+    pack_job j = {op, xyz, rows4};
+    parallel_run(op->vertex_count, parallel_threads(op->dev->ctx, (uint64_t)op->vertex_count * 56),
+                 pack_range, &j);
 }
 
 void operator_unpack(const stencil_operator *op, const double *rows4, double *xyz)
