@@ -4,9 +4,11 @@
  * the topology (a[0] = 0, a[i + 1] += a[i]): every length from 0 to 300 and
  * a long one, 1 to 64 ranges (more ranges than items too), counts that make
  * the sums wrap past 2^32 as uint32 arithmetic does; and parallel_run's
- * ranges covering [0, n) once, in order, for the same counts.
+ * ranges covering [0, n) once, in order, for the same counts; parallel_copy
+ * against memcpy for lengths around its range cuts, 1 to 8 host threads.
  */
 #include "base/parallel.h"
+#include "limn.h"
 
 #include <setjmp.h>
 #include <stdarg.h>
@@ -86,9 +88,39 @@ static void ranges_cover_once(void **state)
         }
 }
 
+static void copy_as_memcpy(void **state)
+{
+    (void)state;
+    limn_context *ctx = limn_context_create();
+    assert_non_null(ctx);
+    size_t big = ((size_t)9 << 20) + 7; /* past PARALLEL_GRAIN: several ranges */
+    unsigned char *from = malloc(big), *to = malloc(big);
+    assert_non_null(from);
+    assert_non_null(to);
+    uint64_t seed = 7;
+    for (size_t i = 0; i < big; i++)
+        from[i] = (unsigned char)lcg(&seed);
+    static const size_t sizes[] = {0, 1, 4095, (size_t)4 << 20, ((size_t)8 << 20) + 1, 0};
+    for (int threads = 1; threads <= 8; threads *= 2) {
+        assert_int_equal(limn_context_set_host_threads(ctx, threads), LIMN_OK);
+        for (size_t s = 0; s < sizeof sizes / sizeof *sizes; s++) {
+            size_t n = s + 1 < sizeof sizes / sizeof *sizes ? sizes[s] : big;
+            memset(to, 0xA5, big);
+            parallel_copy(ctx, to, from, n);
+            assert_memory_equal(to, from, n);
+            for (size_t i = n; i < big && i < n + 64; i++)
+                assert_int_equal(to[i], 0xA5); /* nothing past the end */
+        }
+    }
+    free(from);
+    free(to);
+    limn_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {cmocka_unit_test(prefix_as_sequential),
-                                       cmocka_unit_test(ranges_cover_once)};
+                                       cmocka_unit_test(ranges_cover_once),
+                                       cmocka_unit_test(copy_as_memcpy)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -10,6 +10,7 @@
 #include <pthread.h>
 #include <sched.h>
 #include <stdlib.h>
+#include <string.h>
 
 typedef struct range_job {
     parallel_fn fn;
@@ -120,6 +121,24 @@ void parallel_prefix_u32(uint32_t *a, size_t n, unsigned parts)
         j.start[0] = 0;
     }
     parallel_run(n, j.parts, prefix_add_range, &j);
+}
+
+typedef struct copy_job {
+    char *to;
+    const char *from;
+} copy_job;
+
+static int copy_bytes(void *arg, size_t begin, size_t end)
+{
+    copy_job *j = arg;
+    memcpy(j->to + begin, j->from + begin, end - begin);
+    return 0;
+}
+
+void parallel_copy(limn_context *ctx, void *to, const void *from, size_t bytes)
+{
+    copy_job j = {to, from};
+    parallel_run(bytes, parallel_threads(ctx, bytes), copy_bytes, &j);
 }
 
 /* The CPUs of the affinity mask, when hwloc cannot count cores. */

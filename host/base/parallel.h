@@ -36,6 +36,11 @@ unsigned parallel_part(size_t n, unsigned parts, size_t begin);
  */
 void parallel_prefix_u32(uint32_t *a, size_t n, unsigned parts);
 
+/* memcpy over the context's host threads (parallel_threads of bytes): for
+   large copies whose destination may be fresh memory, whose first touches
+   then spread over the threads too. */
+void parallel_copy(limn_context *ctx, void *to, const void *from, size_t bytes);
+
 /*
  * Threads for `bytes` of work: the context's host thread count
  * (parallel_host_threads), one per PARALLEL_GRAIN bytes at most, so small

@@ -7,6 +7,7 @@
 #include "device/opencl/opencl_select.h"
 #include "base/clock.h"
 #include "device/opencl/opencl_open.h"
+#include "device/opencl/opencl_staging.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -60,10 +61,24 @@ static limn_status make_buffer(struct device *dev, size_t bytes, cl_mem_flags fl
     return LIMN_OK;
 }
 
+static limn_status transfer(struct device *dev, device_buffer *buf, size_t offset, size_t bytes,
+                            const void *src, void *dst, int skip_empty);
+
 static limn_status cl_buffer_create(struct device *dev, size_t bytes, const void *init,
                                     device_buffer **out)
 {
     int copy = init && bytes;
+    if (copy && opencl_staging_wanted(dev, bytes)) {
+        /* a discrete device: written through the pinned staging memory,
+           not copied from the caller's (pageable) memory by the driver */
+        limn_status st = make_buffer(dev, bytes, CL_MEM_READ_WRITE, NULL, 0, out);
+        if (!st && (st = transfer(dev, *out, 0, bytes, init, NULL, 0))) {
+            clReleaseMemObject((*out)->mem);
+            free(*out);
+            *out = NULL;
+        }
+        return st;
+    }
     return make_buffer(dev, bytes, CL_MEM_READ_WRITE | (copy ? CL_MEM_COPY_HOST_PTR : 0),
                        copy ? init : NULL, 1, out);
 }
@@ -120,6 +135,9 @@ static limn_status transfer(struct device *dev, device_buffer *buf, size_t offse
         return LIMN_OK;
     if (!src && buf->shared && bytes && dst == (char *)buf->host + offset)
         return read_in_place(dev, buf, offset, bytes, dst);
+    limn_status staged;
+    if (!buf->shared && opencl_staged_transfer(dev, buf->mem, offset, bytes, src, dst, &staged))
+        return staged;
     cl_command_queue q = impl_of(dev)->queue;
     if (src)
         CHECK(clEnqueueWriteBuffer(q, buf->mem, CL_TRUE, offset, bytes, src, 0, NULL, NULL),
@@ -410,6 +428,7 @@ static void cl_close(struct device *dev)
         if (im->partials)
             clReleaseMemObject(im->partials);
         free(im->host_partials);
+        opencl_staging_release(im);
         opencl_release_program(im);
         if (im->queue)
             clReleaseCommandQueue(im->queue);

@@ -52,6 +52,10 @@ typedef struct opencl_impl {
     cl_mem partials;          /* 3 doubles per partial slot, grown on demand */
     size_t partials_items;
     double *host_partials;
+    cl_mem staging;           /* pinned staging of large transfers (opencl_staging.h) */
+    void *staging_host;       /* its mapping, for the device's life */
+    size_t staging_bytes;
+    int staging_failed;       /* could not be made: transfers go direct */
 } opencl_impl;
 
 #define CHECK(call, what)                                                                      \
