@@ -85,7 +85,19 @@ static void last_holder_repairs(void **state)
     assert_int_equal(r.repeats_removed, 1);
     assert_int_equal(r.duplicate_faces, 1); /* found and kept: not asked to remove */
     assert_int_equal(limn_mesh_face_count(a), 4);
+    /* a copy of the repaired mesh shares its new faces, and a repair of that
+       copy (removing the duplicate) leaves the original's faces alone */
+    limn_mesh *b = NULL;
+    assert_int_equal(limn_mesh_copy(ctx, a, &b), LIMN_OK);
+    assert_ptr_equal(limn_mesh_face_indices(b), limn_mesh_face_indices(a));
+    limn_repair_options o;
+    limn_repair_options_default(&o);
+    o.duplicate_faces = 1;
+    assert_int_equal(limn_mesh_repair(ctx, b, &o, &r), LIMN_OK);
+    assert_int_equal(limn_mesh_face_count(b), 3);
+    assert_int_equal(limn_mesh_face_count(a), 4);
     limn_mesh_destroy(a);
+    limn_mesh_destroy(b);
 }
 
 #define THREADS 4

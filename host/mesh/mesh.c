@@ -122,8 +122,14 @@ static limn_status faces_share(limn_context *ctx, const limn_mesh *from, limn_me
 
 limn_status mesh_faces_own(limn_context *ctx, limn_mesh *m)
 {
-    if (!atomic_load(&m->face_shares))
+    _Atomic size_t *shares = atomic_load(&m->face_shares);
+    if (!shares)
         return LIMN_OK;
+    if (atomic_load(shares) == 1) { /* the other holders are gone: no copy */
+        free((void *)shares);
+        atomic_store(&m->face_shares, NULL);
+        return LIMN_OK;
+    }
     size_t nf = m->face_count, nc = m->face_offsets[nf];
     uint32_t *off = malloc((nf + 1) * sizeof *off), *idx = malloc((nc ? nc : 1) * sizeof *idx);
     if (!off || !idx) {
