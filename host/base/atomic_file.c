@@ -96,8 +96,10 @@ static limn_status open_regular(limn_context *ctx, atomic_file *af)
         int e = errno;
         if (!af->f)
             close(fd);
+        /* the message before the abort, which frees af->path */
+        limn_status st = write_failed(ctx, af->path, e);
         atomic_file_abort(af);
-        return write_failed(ctx, af->path, e);
+        return st;
     }
     return LIMN_OK;
 }
