@@ -1004,6 +1004,36 @@ static void unwritable_directory(void **s)
 
 /* ------------------------------------------------------------------ memory */
 
+/* A number of the report's JSON text after "key": . */
+static double json_figure(const char *json, const char *key)
+{
+    char quoted[64];
+    snprintf(quoted, sizeof quoted, "\"%s\": ", key);
+    const char *p = strstr(json, quoted);
+    assert_non_null(p);
+    return strtod(p + strlen(quoted), NULL);
+}
+
+/* `limn subdivide MESH ARGS`: its estimate at least its measured peak. */
+static void subdivide_estimate_covers(const char *mesh, const char *args)
+{
+    char report[300], path[600];
+    snprintf(report, sizeof report, "%s/r.json", dir);
+    snprintf(path, sizeof path, "%s", mesh);
+    assert_int_equal(limn("subdivide '%s' -o '%s' %s --report '%s' -q", path, out_path, args,
+                          report),
+                     0);
+    size_t n;
+    char *json = test_slurp(report, &n);
+    double estimate = json_figure(json, "estimated_bytes"), rss = json_figure(json, "peak_rss_bytes");
+    free(json);
+    print_message("  subdivide %s %s: estimated %.1f MiB, measured peak %.1f MiB\n",
+                  strrchr(path, '/') + 1, args, estimate / (1 << 20), rss / (1 << 20));
+    assert_true(estimate >= rss);
+    unlink(report);
+    unlink(out_path);
+}
+
 static void max_memory(void **s)
 {
     (void)s;
@@ -1059,6 +1089,17 @@ static void max_memory(void **s)
         limn_context_destroy(ctx);
         unlink(report);
         unlink(out_path);
+    }
+    /* subdivide's estimate (its report has both figures) against its peak:
+       Loop and Catmull-Clark, with and without --limit; 2.6M output vertices
+       (0.4 and 0.9 GiB) for the per-vertex terms, not just the constant */
+    subdivide_estimate_covers(test_data_path("icosahedron.obj"), "--levels 9");
+    subdivide_estimate_covers(test_data_path("icosahedron.obj"), "--levels 9 --limit");
+    subdivide_estimate_covers(spot(), "--levels 6");
+    subdivide_estimate_covers(spot(), "--levels 5 --limit");
+    if (test_shared_meshes()) {
+        subdivide_estimate_covers(test_shared_path("medium/horse.ply"), "--levels 2");
+        subdivide_estimate_covers(test_shared_path("medium/bob_quad.obj"), "--levels 3 --limit");
     }
 #endif
 }

@@ -345,9 +345,13 @@ void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, int 
     *vertices = (size_t)v;
     *faces = (size_t)f;
     *indices = (size_t)idx;
-    /* Measured peaks (README "Subdivision surfaces"): 262-342 bytes per output
-       vertex without --limit, 645-700 with it (the finest level's topology and
-       limit table), plus ~100-150 MB for the OpenCL runtime; 20% margin. */
-    double per_vertex = limit ? 840.0 : 420.0;
-    *peak_bytes = (size_t)(per_vertex * v) + ((size_t)192 << 20);
+    /* Measured peaks less ~150 MiB of runtime (docs/subdivision.md, 2026-12-04,
+       after the levels were applied as they are made): 38-114 bytes per output
+       vertex without --limit, 248-316 with it (the finest level's topology and
+       limit table), and the input mesh with its topology held throughout, ~250
+       bytes per input vertex at most (limn info's peak); about 20% margin on
+       each, tests/test_robust.c checks the estimate against measured peaks. */
+    double per_output = limit ? 400.0 : 140.0, per_input = 250.0;
+    *peak_bytes = (size_t)(per_output * v + per_input * (double)base->vertex_count) +
+                  ((size_t)192 << 20);
 }
