@@ -6,6 +6,7 @@
  */
 #include "mesh/check.h"
 #include "base/context.h"
+#include "base/parallel.h"
 #include "mesh/mesh.h"
 
 #include <math.h>
@@ -20,6 +21,41 @@ static limn_status finite(limn_context *ctx, const char *fn, const char *name, c
                              "was computed or written",
                              fn, name ? name : "", name ? ": " : "", first + i / 3,
                              "xyz"[i % 3], xyz[i]);
+    return LIMN_OK;
+}
+
+/* The first index at or past the vertex count in each range of indices
+   (SIZE_MAX when none). */
+typedef struct index_job {
+    const uint32_t *indices;
+    size_t n, vertex_count;
+    unsigned parts;
+    size_t bad[PARALLEL_MAX];
+} index_job;
+
+static int index_range(void *arg, size_t begin, size_t end)
+{
+    index_job *j = arg;
+    size_t i = begin;
+    while (i < end && j->indices[i] < j->vertex_count)
+        i++;
+    j->bad[parallel_part(j->n, j->parts, begin)] = i < end ? i : SIZE_MAX;
+    return 0;
+}
+
+limn_status check_face_indices(limn_context *ctx, const char *fn, const uint32_t *indices,
+                               size_t n, size_t vertex_count)
+{
+    index_job j = {.indices = indices, .n = n, .vertex_count = vertex_count};
+    j.parts = parallel_threads(ctx, (uint64_t)n * 4);
+    for (unsigned i = 0; i < PARALLEL_MAX; i++)
+        j.bad[i] = SIZE_MAX;
+    parallel_run(n, j.parts, index_range, &j);
+    for (unsigned i = 0; i < PARALLEL_MAX; i++) /* ranges in index order: the first */
+        if (j.bad[i] != SIZE_MAX)
+            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                            "%s: face index %zu is %u but there are %zu vertices", fn, j.bad[i],
+                            indices[j.bad[i]], vertex_count);
     return LIMN_OK;
 }
 

@@ -14,6 +14,11 @@ limn_status check_positions(limn_context *ctx, const char *fn, const double *xyz
 limn_status check_positions_from(limn_context *ctx, const char *fn, const double *xyz, size_t n,
                                  size_t first);
 
+/* Every one of the n face indices below vertex_count, over the context's
+   host threads; else names the first one, its value and the vertex count. */
+limn_status check_face_indices(limn_context *ctx, const char *fn, const uint32_t *indices,
+                               size_t n, size_t vertex_count);
+
 /* mesh non-NULL and check_positions; `name` says which mesh in messages
    ("FROM", "TO"), NULL where the function takes one ("the mesh"). */
 limn_status check_mesh(limn_context *ctx, const char *fn, const char *name,

@@ -61,12 +61,10 @@ limn_status limn_mesh_create(limn_context *ctx, size_t vertex_count,
                              f, (long)face_offsets[f + 1] - (long)face_offsets[f]);
     }
     size_t index_count = face_offsets[face_count];
-    for (size_t i = 0; i < index_count; i++)
-        if (face_indices[i] >= vertex_count)
-            return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                             "limn_mesh_create: face index %zu is %u but there are %zu vertices",
-                             i, face_indices[i], vertex_count);
-    limn_status st = check_positions(ctx, "limn_mesh_create", positions, vertex_count);
+    limn_status st =
+        check_face_indices(ctx, "limn_mesh_create", face_indices, index_count, vertex_count);
+    if (!st)
+        st = check_positions(ctx, "limn_mesh_create", positions, vertex_count);
     if (st)
         return st;
     limn_mesh *m;

@@ -15,7 +15,7 @@
  */
 #include "base/abi.h"
 #include "base/context.h"
-#include "base/parallel.h"
+#include "mesh/check.h"
 #include "mesh/mesh.h"
 #include "topology/face_keys.h"
 #include "topology/mesh_repair.h"
@@ -311,38 +311,6 @@ static limn_status report_kept(limn_context *ctx, limn_mesh *mesh, limn_repair_r
     return LIMN_OK;
 }
 
-/* The first face index at or past the vertex count, over ranges of
-   indices (SIZE_MAX when none). */
-typedef struct index_job {
-    const limn_mesh *m;
-    size_t bad[PARALLEL_MAX];
-    size_t n;
-    unsigned parts;
-} index_job;
-
-static int index_range(void *arg, size_t begin, size_t end)
-{
-    index_job *j = arg;
-    size_t i = begin;
-    while (i < end && j->m->face_indices[i] < j->m->vertex_count)
-        i++;
-    j->bad[parallel_part(j->n, j->parts, begin)] = i < end ? i : SIZE_MAX;
-    return 0;
-}
-
-static size_t first_bad_index(limn_context *ctx, const limn_mesh *m)
-{
-    index_job j = {.m = m, .n = m->face_offsets[m->face_count]};
-    j.parts = parallel_threads(ctx, (uint64_t)j.n * 4);
-    for (unsigned i = 0; i < PARALLEL_MAX; i++)
-        j.bad[i] = SIZE_MAX;
-    parallel_run(j.n, j.parts, index_range, &j);
-    for (unsigned i = 0; i < PARALLEL_MAX; i++)
-        if (j.bad[i] != SIZE_MAX)
-            return j.bad[i]; /* ranges in index order: the first is the earliest */
-    return SIZE_MAX;
-}
-
 /* limn_mesh_repair on options and report of this library's layout, both never NULL. */
 static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
                                 const limn_repair_options *options, limn_repair_report *report)
@@ -355,12 +323,12 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
     memset(r, 0, sizeof *r);
     r->first_duplicate_face = SIZE_MAX;
     r->faces_before = mesh->face_count;
-    size_t bad = first_bad_index(ctx, mesh);
-    if (bad != SIZE_MAX)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                         "limn_mesh_repair: face index %zu is %u but there are %zu vertices",
-                         bad, mesh->face_indices[bad], mesh->vertex_count);
-    limn_status st = repair_repeats(ctx, mesh, o, r);
+    limn_status st = check_face_indices(ctx, "limn_mesh_repair", mesh->face_indices,
+                                        mesh->face_offsets[mesh->face_count],
+                                        mesh->vertex_count);
+    if (st)
+        return st;
+    st = repair_repeats(ctx, mesh, o, r);
     ctx_progress(ctx, "repair", 0.2);
     if (!st)
         st = repair_duplicates(ctx, mesh, o->duplicate_faces, r);

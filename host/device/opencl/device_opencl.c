@@ -63,6 +63,7 @@ static limn_status make_buffer(struct device *dev, size_t bytes, cl_mem_flags fl
 
 static limn_status transfer(struct device *dev, device_buffer *buf, size_t offset, size_t bytes,
                             const void *src, void *dst, int skip_empty);
+static void cl_buffer_release(struct device *dev, device_buffer *buf);
 
 static limn_status cl_buffer_create(struct device *dev, size_t bytes, const void *init,
                                     device_buffer **out)
@@ -73,8 +74,7 @@ static limn_status cl_buffer_create(struct device *dev, size_t bytes, const void
            not copied from the caller's (pageable) memory by the driver */
         limn_status st = make_buffer(dev, bytes, CL_MEM_READ_WRITE, NULL, 0, out);
         if (!st && (st = transfer(dev, *out, 0, bytes, init, NULL, 0))) {
-            clReleaseMemObject((*out)->mem);
-            free(*out);
+            cl_buffer_release(dev, *out);
             *out = NULL;
         }
         return st;
