@@ -253,6 +253,9 @@ static int check_against_previous(limn_context *ctx, const limn_mesh *m, const c
             assert_string_equal(limn_context_message(ctx), message);
             continue;
         }
+        /* the build leaves corner_edge to refinement's request */
+        assert_null(t.corner_edge);
+        assert_int_equal(topology_corner_edges(ctx, &t), LIMN_OK);
         assert_same_topology(&t, &old, what);
         topology_free(&t);
     }
@@ -415,11 +418,15 @@ static void one_topology_per_run(void **state)
     assert_null(second.lent);
     assert_int_equal(topology_build_count() - before, 3);
     assert_int_equal(topology_previous_build(ctx, m, &fresh), LIMN_OK);
+    /* corner_edge made on request, on the loan too: the mesh's one keeps it */
+    assert_int_equal(topology_corner_edges(ctx, &t), LIMN_OK);
+    assert_int_equal(topology_corner_edges(ctx, &second), LIMN_OK);
     assert_same_topology(&t, &fresh, "cached");
     assert_same_topology(&second, &fresh, "built while the cache was lent");
     topology_free(&second);
     topology_free(&t);
     assert_ptr_equal(m->topology, cached); /* given back */
+    assert_non_null(cached->corner_edge);
     topology_previous_free(&fresh);
     limn_mesh_destroy(control);
     limn_mesh_destroy(m);
@@ -438,6 +445,7 @@ static void one_topology_per_run(void **state)
     assert_int_equal(m->face_count, 2);
     assert_int_equal(topology_get(ctx, m, &t), LIMN_OK);
     assert_int_equal(topology_previous_build(ctx, m, &fresh), LIMN_OK);
+    assert_int_equal(topology_corner_edges(ctx, &t), LIMN_OK);
     assert_same_topology(&t, &fresh, "after the repair");
     topology_free(&t);
     topology_previous_free(&fresh);

@@ -476,6 +476,8 @@ limn_status mpi_refine_level(mpi_part *p, mpi_rmesh *mesh, limn_scheme scheme,
     if (!st) {
         st = topology_build(p->ctx, l.star.mesh, &l.topo);
         l.have_topo = !st;
+        if (!st)
+            st = topology_corner_edges(p->ctx, &l.topo);
     }
     double t1 = MPI_Wtime();
     stats->seconds_plan += t1 - t0;

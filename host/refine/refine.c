@@ -100,12 +100,15 @@ static int child_range(void *arg, size_t begin, size_t end)
     return 0;
 }
 
-static limn_status child_faces(limn_context *ctx, const topology *t, limn_scheme scheme,
+static limn_status child_faces(limn_context *ctx, topology *t, limn_scheme scheme,
                                size_t child_vertices, limn_mesh **out)
 {
+    limn_status st = topology_corner_edges(ctx, t); /* child faces name parent edges */
+    if (st)
+        return st;
     size_t nf = scheme == LIMN_SCHEME_LOOP ? 4 * t->face_count : t->corner_count;
     size_t ni = scheme == LIMN_SCHEME_LOOP ? 12 * t->face_count : 4 * t->corner_count;
-    limn_status st = mesh_alloc(ctx, child_vertices, nf, ni, out);
+    st = mesh_alloc(ctx, child_vertices, nf, ni, out);
     if (st)
         return st;
     limn_mesh *m = *out; /* positions unset: written by whoever applies the plan */

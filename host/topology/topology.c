@@ -367,9 +367,7 @@ static limn_status connect(limn_context *ctx, topo_build *b)
     t->edge_corner_offsets = malloc((ne + 1) * sizeof *t->edge_corner_offsets);
     t->edge_flags = malloc(ne ? ne : 1);
     t->edge_corners = malloc((nc ? nc : 1) * sizeof *t->edge_corners);
-    t->corner_edge = malloc((nc ? nc : 1) * sizeof *t->corner_edge);
-    if (!t->edge_vertices || !t->edge_corner_offsets || !t->edge_flags || !t->edge_corners ||
-        !t->corner_edge)
+    if (!t->edge_vertices || !t->edge_corner_offsets || !t->edge_flags || !t->edge_corners)
         return no_memory(ctx, t);
     topo_edges(b);
     limn_status st = gather(ctx, b);

@@ -40,7 +40,8 @@ typedef struct topology {
     const uint32_t *face_offsets;   /* borrowed from the mesh */
     const uint32_t *face_indices;
     uint32_t *corner_face;          /* face of each corner */
-    uint32_t *corner_edge;          /* edge from corner k to corner k+1 of its face */
+    uint32_t *corner_edge;          /* edge from corner k to corner k+1 of its face; NULL
+                                       until topology_corner_edges */
     uint32_t *edge_vertices;        /* 2 per edge, lower index first */
     uint32_t *edge_corner_offsets;  /* edge_count + 1 */
     uint32_t *edge_corners;         /* corners whose outgoing edge is this edge */
@@ -92,6 +93,10 @@ void topology_slim(topology *t);
 limn_status topology_cache(limn_context *ctx, limn_mesh *mesh, topology *out);
 /* Drops the cached topology: before anything changes the faces. */
 void topology_uncache(limn_mesh *mesh);
+/* Fills t->corner_edge (the inverse of edge_corners) when it is NULL, over
+   the context's host threads; a lent topology's owner keeps it. Refinement
+   calls it: the build leaves it out (no other caller reads it). */
+limn_status topology_corner_edges(limn_context *ctx, topology *t);
 void topology_free(topology *topo);
 /* How many times topology_build ran in this process (tests: one per run). */
 size_t topology_build_count(void);

@@ -74,7 +74,9 @@ static uint32_t corner_prev(const topo_build *b, uint32_t slot, uint32_t c)
 }
 
 /* Writes owned edge {v, w} (keys: its corners at v as slot << 1, and at w as
-   slot << 1 | 1) with id id: vertices, corners in increasing order, flags. */
+   slot << 1 | 1) with id id: vertices, corners in increasing order, flags
+   (corner_edge, the inverse of the corners, only on request:
+   topology_corner_edges). */
 static void write_edge(topo_build *b, uint32_t v, const ring_edge *re, const uint64_t *keys,
                        uint32_t id, uint32_t *at, topo_counts *k)
 {
@@ -85,8 +87,6 @@ static void write_edge(topo_build *b, uint32_t v, const ring_edge *re, const uin
         out[i] = keys[i] & 1 ? corner_prev(b, s + slot, c) : c;
     }
     topo_sort_u32(out, re->total);
-    for (uint32_t i = 0; i < re->total; i++)
-        t->corner_edge[out[i]] = id;
     t->edge_vertices[2 * (size_t)id] = v;
     t->edge_vertices[2 * (size_t)id + 1] = re->w;
     t->edge_corner_offsets[id] = *at;
