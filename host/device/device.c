@@ -2,6 +2,7 @@
 /* The operations shared by both backends (the choice of backend is in
    device/choice/choice.c). */
 #include "device/device.h"
+#include "base/large_alloc.h"
 #include "base/context.h"
 
 #include <stdio.h>
@@ -204,5 +205,9 @@ void *device_host_alloc(size_t bytes)
 {
     const size_t page = 4096;
     size_t rounded = bytes ? (bytes + page - 1) / page * page : page;
-    return rounded < bytes ? NULL : aligned_alloc(page, rounded);
+    if (rounded < bytes)
+        return NULL;
+    void *p = aligned_alloc(page, rounded);
+    large_advise(p, rounded);
+    return p;
 }

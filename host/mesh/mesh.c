@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Mesh container: creation from caller arrays, accessors, copies. */
+#include "base/large_alloc.h"
 #include "mesh/mesh.h"
 #include "mesh/check.h"
 #include "base/context.h"
@@ -23,9 +24,9 @@ limn_status mesh_alloc(limn_context *ctx, size_t vertex_count, size_t face_count
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a mesh");
     m->vertex_count = vertex_count;
     m->face_count = face_count;
-    m->positions = malloc((vertex_count ? vertex_count : 1) * 3 * sizeof(double));
-    m->face_offsets = malloc((face_count + 1) * sizeof(uint32_t));
-    m->face_indices = malloc((index_count ? index_count : 1) * sizeof(uint32_t));
+    m->positions = large_malloc((vertex_count ? vertex_count : 1) * 3 * sizeof(double));
+    m->face_offsets = large_malloc((face_count + 1) * sizeof(uint32_t));
+    m->face_indices = large_malloc((index_count ? index_count : 1) * sizeof(uint32_t));
     if (!m->positions || !m->face_offsets || !m->face_indices) {
         limn_mesh_destroy(m);
         return ctx_fail(ctx, LIMN_ERR_MEMORY,
@@ -129,7 +130,8 @@ limn_status mesh_faces_own(limn_context *ctx, limn_mesh *m)
         return LIMN_OK;
     }
     size_t nf = m->face_count, nc = m->face_offsets[nf];
-    uint32_t *off = malloc((nf + 1) * sizeof *off), *idx = malloc((nc ? nc : 1) * sizeof *idx);
+    uint32_t *off = large_malloc((nf + 1) * sizeof *off);
+    uint32_t *idx = large_malloc((nc ? nc : 1) * sizeof *idx);
     if (!off || !idx) {
         free(off);
         free(idx);

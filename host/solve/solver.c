@@ -6,6 +6,7 @@
  * measures the residual of the P returned.
  */
 #include "solve/solver.h"
+#include "base/large_alloc.h"
 #include "base/clock.h"
 #include "base/context.h"
 #include "solve/solve_mixed.h"
@@ -94,7 +95,7 @@ static limn_status run_start(solver *s, const stencil_operator *op, double tol_a
                              limn_report *r)
 {
     size_t n = op->vertex_count;
-    double *p4 = malloc((n ? n : 1) * 4 * sizeof *p4);
+    double *p4 = large_malloc((n ? n : 1) * 4 * sizeof *p4);
     solve_stats stats = {.catmark_alpha0 = op->scheme == LIMN_SCHEME_CATMARK && op->alpha == 0.0};
     limn_status st;
     if (!p4)

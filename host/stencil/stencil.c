@@ -3,6 +3,7 @@
    repeated columns merged, so a table is a deterministic function of the
    topology. */
 #include "stencil/stencil.h"
+#include "base/large_alloc.h"
 #include "base/context.h"
 #include "base/parallel.h"
 #include "scheme/scheme.h"
@@ -129,9 +130,9 @@ limn_status stencil_build(limn_context *ctx, size_t rows, size_t cols, stencil_r
                         "a stencil table would hold %zu entries, more than 2^32", total);
     out->rows = rows;
     out->cols = cols;
-    out->row_offsets = malloc((rows + 1) * sizeof *out->row_offsets);
-    out->columns = malloc((total ? total : 1) * sizeof *out->columns);
-    out->weights = malloc((total ? total : 1) * sizeof *out->weights);
+    out->row_offsets = large_malloc((rows + 1) * sizeof *out->row_offsets);
+    out->columns = large_malloc((total ? total : 1) * sizeof *out->columns);
+    out->weights = large_malloc((total ? total : 1) * sizeof *out->weights);
     if (!out->row_offsets || !out->columns || !out->weights) {
         stencil_free(out);
         return ctx_fail(ctx, LIMN_ERR_MEMORY,

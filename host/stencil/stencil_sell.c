@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* SELL-C slices of a CSR table (stencil_sell.h). */
 #include "stencil/stencil_sell.h"
+#include "base/large_alloc.h"
 #include "base/context.h"
 
 #include <stdint.h>
@@ -43,7 +44,7 @@ limn_status stencil_sell_build(limn_context *ctx, const stencil_csr *a, size_t s
     if (slice == 0)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "SELL layout: a slice of 0 rows");
     size_t slices = (a->rows + slice - 1) / slice, total = 0;
-    out->slice_offsets = malloc((slices + 1) * sizeof *out->slice_offsets);
+    out->slice_offsets = large_malloc((slices + 1) * sizeof *out->slice_offsets);
     if (!out->slice_offsets)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the SELL layout's offsets");
     out->slice_offsets[0] = 0;
@@ -57,8 +58,8 @@ limn_status stencil_sell_build(limn_context *ctx, const stencil_csr *a, size_t s
         }
         out->slice_offsets[s + 1] = (uint32_t)total;
     }
-    out->columns = malloc((total ? total : 1) * sizeof *out->columns);
-    out->weights = malloc((total ? total : 1) * sizeof *out->weights);
+    out->columns = large_malloc((total ? total : 1) * sizeof *out->columns);
+    out->weights = large_malloc((total ? total : 1) * sizeof *out->weights);
     if (!out->columns || !out->weights) {
         stencil_sell_free(out);
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the SELL layout (%zu entries)",

@@ -2,6 +2,7 @@
 /* Face repeats and vertex-set hashes, over ranges of faces (face_keys.h). */
 #include "topology/face_keys.h"
 #include "base/context.h"
+#include "base/large_alloc.h"
 #include "base/parallel.h"
 #include "mesh/mesh.h"
 
@@ -296,8 +297,8 @@ limn_status face_find_duplicates(limn_context *ctx, const limn_mesh *m, uint32_t
     out->first = SIZE_MAX;
     out->first_of = 0;
     dup_job *j = calloc(1, sizeof *j);
-    uint64_t *hash = malloc((nf ? nf : 1) * sizeof *hash);
-    uint64_t *entry = malloc((nf ? nf : 1) * sizeof *entry);
+    uint64_t *hash = large_malloc((nf ? nf : 1) * sizeof *hash);
+    uint64_t *entry = large_malloc((nf ? nf : 1) * sizeof *entry);
     int failed = !j || !hash || !entry;
     if (!failed) {
         j->m = m;

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Topology construction (the passes: topology_build.h), the mesh's cached
    topology, and the scratch and sorting the passes share. */
+#include "base/large_alloc.h"
 #include "mesh/check.h"
 #include "topology/topology_build.h"
 #include "base/context.h"
@@ -225,7 +226,7 @@ static limn_status count_components(limn_context *ctx, topology *t, unsigned par
 {
     size_t nv = t->vertex_count;
     components_job j = {.t = t, .parts = parts};
-    j.parent = malloc((nv ? nv : 1) * sizeof *j.parent);
+    j.parent = large_malloc((nv ? nv : 1) * sizeof *j.parent);
     if (!j.parent)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory counting components");
     t->components = count_sets(&j);
@@ -351,7 +352,7 @@ static void reuse_buckets(topo_build *b)
         t->vertex_edges = shrunk ? shrunk : b->next;
     } else {
         free(b->next);
-        t->vertex_edges = malloc(ve * sizeof *t->vertex_edges);
+        t->vertex_edges = large_malloc(ve * sizeof *t->vertex_edges);
     }
     b->next = b->prev = NULL;
     b->wrap = NULL;
@@ -363,10 +364,10 @@ static limn_status connect(limn_context *ctx, topo_build *b)
     topology *t = b->t;
     size_t ne = b->edge_base[t->vertex_count], nc = t->corner_count;
     t->edge_count = ne;
-    t->edge_vertices = malloc((ne ? ne : 1) * 2 * sizeof *t->edge_vertices);
-    t->edge_corner_offsets = malloc((ne + 1) * sizeof *t->edge_corner_offsets);
-    t->edge_flags = malloc(ne ? ne : 1);
-    t->edge_corners = malloc((nc ? nc : 1) * sizeof *t->edge_corners);
+    t->edge_vertices = large_malloc((ne ? ne : 1) * 2 * sizeof *t->edge_vertices);
+    t->edge_corner_offsets = large_malloc((ne + 1) * sizeof *t->edge_corner_offsets);
+    t->edge_flags = large_malloc(ne ? ne : 1);
+    t->edge_corners = large_malloc((nc ? nc : 1) * sizeof *t->edge_corners);
     if (!t->edge_vertices || !t->edge_corner_offsets || !t->edge_flags || !t->edge_corners)
         return no_memory(ctx, t);
     topo_edges(b);
@@ -409,18 +410,18 @@ limn_status topology_build(limn_context *ctx, const limn_mesh *mesh, topology *t
     b.parts = parallel_threads(ctx, (uint64_t)nc * 60);
     for (unsigned i = 0; i < PARALLEL_MAX; i++)
         b.counts[i].bad_face = SIZE_MAX;
-    t->vertex_corner_offsets = malloc((nv + 1) * sizeof *t->vertex_corner_offsets);
-    t->vertex_corners = malloc((nc ? nc : 1) * sizeof *t->vertex_corners);
-    t->vertex_edge_offsets = malloc((nv + 1) * sizeof *t->vertex_edge_offsets);
-    t->vertex_flags = malloc(nv ? nv : 1);
-    t->vertex_rule = malloc(nv ? nv : 1);
-    t->crease_neighbors = malloc((nv ? nv : 1) * 2 * sizeof *t->crease_neighbors);
-    b.cursor = malloc((nv ? nv : 1) * sizeof *b.cursor);
-    b.next = malloc((nc ? nc : 1) * sizeof *b.next);
-    b.prev = malloc((nc ? nc : 1) * sizeof *b.prev);
-    b.wrap = malloc(nc ? nc : 1);
-    b.edge_base = malloc((nv + 1) * sizeof *b.edge_base);
-    b.entry_base = malloc((nv + 1) * sizeof *b.entry_base);
+    t->vertex_corner_offsets = large_malloc((nv + 1) * sizeof *t->vertex_corner_offsets);
+    t->vertex_corners = large_malloc((nc ? nc : 1) * sizeof *t->vertex_corners);
+    t->vertex_edge_offsets = large_malloc((nv + 1) * sizeof *t->vertex_edge_offsets);
+    t->vertex_flags = large_malloc(nv ? nv : 1);
+    t->vertex_rule = large_malloc(nv ? nv : 1);
+    t->crease_neighbors = large_malloc((nv ? nv : 1) * 2 * sizeof *t->crease_neighbors);
+    b.cursor = large_malloc((nv ? nv : 1) * sizeof *b.cursor);
+    b.next = large_malloc((nc ? nc : 1) * sizeof *b.next);
+    b.prev = large_malloc((nc ? nc : 1) * sizeof *b.prev);
+    b.wrap = large_malloc(nc ? nc : 1);
+    b.edge_base = large_malloc((nv + 1) * sizeof *b.edge_base);
+    b.entry_base = large_malloc((nv + 1) * sizeof *b.entry_base);
     limn_status st = LIMN_OK;
     if (!t->vertex_corner_offsets || !t->vertex_corners ||
         !t->vertex_edge_offsets || !t->vertex_flags || !t->vertex_rule || !t->crease_neighbors ||

@@ -6,6 +6,7 @@
  * array, and interpolation, info and the series never read it.
  */
 #include "base/context.h"
+#include "base/large_alloc.h"
 #include "base/parallel.h"
 #include "topology/topology.h"
 
@@ -25,7 +26,7 @@ limn_status topology_corner_edges(limn_context *ctx, topology *t)
     if (t->corner_edge)
         return LIMN_OK;
     size_t nc = t->corner_count;
-    t->corner_edge = malloc((nc ? nc : 1) * sizeof *t->corner_edge);
+    t->corner_edge = large_malloc((nc ? nc : 1) * sizeof *t->corner_edge);
     if (!t->corner_edge)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the edges of %zu corners", nc);
     /* every corner is in exactly one edge's list: each range writes its own
