@@ -5,7 +5,8 @@
  * the same operations in the same order with contraction off, so they are
  * expected to be bit-identical, and are asserted to 1e-12 of the scale — and
  * the iteration counts are equal. Two runs of the CLI give identical bytes,
- * also with PoCL on 1 and on 2 threads.
+ * also with PoCL on 1 and on 2 threads; a solve whose scratch is large enough
+ * to live in limn's own host memory, in float and double.
  */
 #include "shell.h"
 #include "support.h"
@@ -95,6 +96,42 @@ static void generated(void **s)
     agree_on("quad grid 40x37", g, LIMN_SCHEME_CATMARK, 0.5);
     agree_on("triangle grid 40x37", gt, LIMN_SCHEME_LOOP, 0.0);
     agree_on("cube", cube, LIMN_SCHEME_CATMARK, 0.5);
+}
+
+/* A mesh whose solve scratch passes LARGE_ALLOC_HUGE (4 MiB: 262,144 float4
+   rows): on a device sharing host memory that scratch lives in limn's own
+   advised host memory (device_opencl.c cl_buffer_scratch), in float and in
+   double; the same bytes as the reference backend either way. */
+static void large_scratch(void **s)
+{
+    limn_context *ctx = *s;
+    limn_mesh *g = test_keep_mesh(test_mesh_grid(ctx, 560, 520, 1));
+    assert_true(limn_mesh_vertex_count(g) > 262144);
+    limn_context *cl = limn_context_create(), *ref = limn_context_create();
+    assert_int_equal(limn_context_set_device(cl, "opencl"), LIMN_OK);
+    assert_int_equal(limn_context_set_device(ref, "reference"), LIMN_OK);
+    size_t n = limn_mesh_vertex_count(g);
+    static const limn_precision precisions[] = {LIMN_PRECISION_FLOAT, LIMN_PRECISION_DOUBLE};
+    for (int k = 0; k < 2; k++) {
+        limn_interpolate_options o;
+        limn_interpolate_options_default(&o);
+        o.scheme = LIMN_SCHEME_LOOP;
+        o.precision = precisions[k];
+        limn_mesh *pa = NULL, *pb = NULL;
+        limn_report ra = {.size = sizeof ra}, rb = {.size = sizeof rb};
+        if (limn_interpolate(cl, g, &o, &pa, &ra) != LIMN_OK)
+            fail_msg("opencl: %s", limn_context_message(cl));
+        assert_int_equal(limn_interpolate(ref, g, &o, &pb, &rb), LIMN_OK);
+        assert_int_equal(ra.iterations, rb.iterations);
+        assert_memory_equal(limn_mesh_positions(pa), limn_mesh_positions(pb),
+                            3 * n * sizeof(double));
+        printf("  %zu-vertex grid, %s: bit-identical, %d iterations\n", n,
+               k == 0 ? "float" : "double", ra.iterations);
+        limn_mesh_destroy(pa);
+        limn_mesh_destroy(pb);
+    }
+    limn_context_destroy(cl);
+    limn_context_destroy(ref);
 }
 
 static void shared(void **s)
@@ -202,4 +239,5 @@ static void deterministic_cli(void **s)
 }
 
 TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated), CONTEXT_TEST(shared),
-          cmocka_unit_test(deterministic_output), cmocka_unit_test(deterministic_cli))
+          cmocka_unit_test(deterministic_output), cmocka_unit_test(deterministic_cli),
+          CONTEXT_TEST(large_scratch))

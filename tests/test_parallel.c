@@ -5,7 +5,8 @@
  * a long one, 1 to 64 ranges (more ranges than items too), counts that make
  * the sums wrap past 2^32 as uint32 arithmetic does; and parallel_run's
  * ranges covering [0, n) once, in order, for the same counts; parallel_copy
- * against memcpy for lengths around its range cuts, 1 to 8 host threads.
+ * against memcpy and parallel_zero against memset for lengths around their
+ * range cuts, 1 to 8 host threads.
  */
 #include "base/parallel.h"
 #include "limn.h"
@@ -110,6 +111,13 @@ static void copy_as_memcpy(void **state)
             assert_memory_equal(to, from, n);
             for (size_t i = n; i < big && i < n + 64; i++)
                 assert_int_equal(to[i], 0xA5); /* nothing past the end */
+            /* parallel_zero: zeros over the same ranges, nothing past them */
+            parallel_zero(ctx, to, n);
+            for (size_t i = 0; i < n; i++)
+                if (to[i])
+                    fail_msg("byte %zu of %zu not zeroed (%d threads)", i, n, threads);
+            for (size_t i = n; i < big && i < n + 64; i++)
+                assert_int_equal(to[i], 0xA5);
         }
     }
     free(from);

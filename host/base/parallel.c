@@ -141,6 +141,17 @@ void parallel_copy(limn_context *ctx, void *to, const void *from, size_t bytes)
     parallel_run(bytes, parallel_threads(ctx, bytes), copy_bytes, &j);
 }
 
+static int zero_bytes(void *arg, size_t begin, size_t end)
+{
+    memset((char *)arg + begin, 0, end - begin);
+    return 0;
+}
+
+void parallel_zero(limn_context *ctx, void *to, size_t bytes)
+{
+    parallel_run(bytes, parallel_threads(ctx, bytes), zero_bytes, to);
+}
+
 /* The CPUs of the affinity mask, when hwloc cannot count cores. */
 static int affinity_cpus(void)
 {

@@ -40,6 +40,8 @@ void parallel_prefix_u32(uint32_t *a, size_t n, unsigned parts);
    large copies whose destination may be fresh memory, whose first touches
    then spread over the threads too. */
 void parallel_copy(limn_context *ctx, void *to, const void *from, size_t bytes);
+/* memset(to, 0, bytes) the same way. */
+void parallel_zero(limn_context *ctx, void *to, size_t bytes);
 
 /*
  * Threads for `bytes` of work: the context's host thread count

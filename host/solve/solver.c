@@ -8,6 +8,7 @@
 #include "solve/solver.h"
 #include "base/large_alloc.h"
 #include "base/clock.h"
+#include "base/parallel.h"
 #include "base/context.h"
 #include "solve/solve_mixed.h"
 #include "device/device.h"
@@ -72,10 +73,11 @@ static limn_status iterate_buffer(solver *s, int i, size_t n, const double *init
     s->p_host[i] = n < SIZE_MAX / 32 ? device_host_alloc(bytes) : NULL;
     if (!s->p_host[i])
         return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+    /* over the host threads: the first touches of the fresh block too */
     if (init)
-        memcpy(s->p_host[i], init, bytes);
+        parallel_copy(s->ctx, s->p_host[i], init, bytes);
     else
-        memset(s->p_host[i], 0, bytes);
+        parallel_zero(s->ctx, s->p_host[i], bytes);
     return s->dev->ops->buffer_share(s->dev, bytes, s->p_host[i], &s->p[i]);
 }
 

@@ -8,6 +8,7 @@
 #include "base/clock.h"
 #include "device/opencl/opencl_open.h"
 #include "device/opencl/opencl_staging.h"
+#include "base/large_alloc.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -83,9 +84,29 @@ static limn_status cl_buffer_create(struct device *dev, size_t bytes, const void
                        copy ? init : NULL, 1, out);
 }
 
+/* Scratch for the kernels alone. A device sharing host memory gets large
+   scratch in host memory of limn's own (device_host_alloc: page-aligned and
+   advised for huge pages, whose first touch by the kernels is several times
+   cheaper than the runtime's 4 KiB pages), used in place and freed with
+   the buffer. */
 static limn_status cl_buffer_scratch(struct device *dev, size_t bytes, device_buffer **out)
 {
-    return make_buffer(dev, bytes, CL_MEM_READ_WRITE, NULL, 0, out);
+    if (!impl_of(dev)->host_unified || bytes < LARGE_ALLOC_HUGE)
+        return make_buffer(dev, bytes, CL_MEM_READ_WRITE, NULL, 0, out);
+    void *host = device_host_alloc(bytes);
+    if (!host)
+        return ctx_fail(dev->ctx, LIMN_ERR_MEMORY, "out of host memory for a %.1f MiB buffer",
+                        (double)bytes / (1 << 20));
+    limn_status st =
+        make_buffer(dev, bytes, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, host, 0, out);
+    if (st) {
+        free(host);
+        return st;
+    }
+    (*out)->shared = 1;
+    (*out)->host = host;
+    (*out)->owns_host = 1;
+    return LIMN_OK;
 }
 
 /* In place on a device sharing host memory (PoCL's CPU device then neither
@@ -180,6 +201,8 @@ static void cl_buffer_release(struct device *dev, device_buffer *buf)
         clFinish(impl_of(dev)->queue);
     if (buf) {
         clReleaseMemObject(buf->mem);
+        if (buf->owns_host)
+            free(buf->host);
         free(buf);
     }
 }

@@ -37,6 +37,7 @@ struct device_buffer {
     size_t bytes;
     int shared;   /* CL_MEM_USE_HOST_PTR: the queue finishes before it is released */
     void *host;   /* that host memory, when shared */
+    int owns_host; /* host came from device_host_alloc for this buffer: freed with it */
 };
 
 typedef struct opencl_impl {

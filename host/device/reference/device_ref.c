@@ -7,6 +7,7 @@
 #include "base/context.h"
 #include "device/reference/device_ref.h"
 #include "device/reference/ref_open.h"
+#include "base/large_alloc.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -16,7 +17,7 @@ static limn_status ref_buffer_create(struct device *dev, size_t bytes, const voi
                                      device_buffer **out)
 {
     device_buffer *b = calloc(1, sizeof *b);
-    void *data = malloc(bytes ? bytes : 1);
+    void *data = large_malloc(bytes);
     if (!b || !data) {
         free(b);
         free(data);
@@ -36,7 +37,7 @@ static limn_status ref_buffer_create(struct device *dev, size_t bytes, const voi
 static limn_status ref_buffer_scratch(struct device *dev, size_t bytes, device_buffer **out)
 {
     device_buffer *b = calloc(1, sizeof *b);
-    void *data = malloc(bytes ? bytes : 1);
+    void *data = large_malloc(bytes);
     if (!b || !data) {
         free(b);
         free(data);
