@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Growable byte array (see growbuf.h). */
 #include "base/growbuf.h"
+#include "base/large_alloc.h"
 
 #include <stdlib.h>
 
@@ -21,6 +22,7 @@ int growbuf_reserve(growbuf *g, size_t more)
         growbuf_budget_give(g->budget, cap - g->cap);
         return 0;
     }
+    large_advise(p, cap); /* a reader's growing array: a mesh array to be */
     g->data = p;
     g->cap = cap;
     return 1;

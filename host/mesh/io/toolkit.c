@@ -10,6 +10,7 @@
 
 #include "mesh/io/toolkit.h"
 #include "base/context.h"
+#include "base/large_alloc.h"
 #include "mesh/mesh.h"
 
 #include <errno.h>
@@ -374,7 +375,7 @@ int mio_array_exact(growbuf *g, size_t n)
 {
     if (!growbuf_budget_take(g->budget, n))
         return 0;
-    if (!(g->data = malloc(n ? n : 1))) {
+    if (!(g->data = large_malloc(n))) {
         growbuf_budget_give(g->budget, n);
         return 0;
     }
