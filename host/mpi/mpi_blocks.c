@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Fetching and storing records by global id over a block distribution. */
 #include "mpi/mpi_blocks.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 
@@ -74,11 +75,11 @@ static limn_status plan_open(mpi_part *p, const size_t *dist, size_t n, const ui
     memset(b, 0, sizeof *b);
     size_t s = (size_t)p->size;
     b->send_count = calloc(s, sizeof *b->send_count);
-    b->send_displ = malloc(s * sizeof *b->send_displ);
-    b->recv_count = malloc(s * sizeof *b->recv_count);
-    b->recv_displ = malloc(s * sizeof *b->recv_displ);
-    b->order = malloc((n ? n : 1) * sizeof *b->order);
-    b->send_ids = malloc((n ? n : 1) * sizeof *b->send_ids);
+    b->send_displ = large_malloc(s * sizeof *b->send_displ);
+    b->recv_count = large_malloc(s * sizeof *b->recv_count);
+    b->recv_displ = large_malloc(s * sizeof *b->recv_displ);
+    b->order = large_malloc((n ? n : 1) * sizeof *b->order);
+    b->send_ids = large_malloc((n ? n : 1) * sizeof *b->send_ids);
     limn_status st = LIMN_OK;
     if (!b->send_count || !b->send_displ || !b->recv_count || !b->recv_displ || !b->order ||
         !b->send_ids)
@@ -109,7 +110,7 @@ static limn_status plan_open(mpi_part *p, const size_t *dist, size_t n, const ui
     if (!displacements(b->recv_count, b->recv_displ, p->size, &b->n_recv))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "rank %d is asked for more records than MPI's "
                       "int counts take", p->rank);
-    if (!st && !(b->recv_ids = malloc((b->n_recv ? b->n_recv : 1) * sizeof *b->recv_ids)))
+    if (!st && !(b->recv_ids = large_malloc((b->n_recv ? b->n_recv : 1) * sizeof *b->recv_ids)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu records", b->n_recv);
     st = mpi_agree(p, st);
     if (!st)
@@ -134,8 +135,8 @@ limn_status mpi_blocks_fetch(mpi_part *p, const size_t *dist, const void *block,
     limn_status st = plan_open(p, dist, n, ids, &b);
     char *answer = NULL, *got = NULL;
     if (!st) {
-        answer = malloc((b.n_recv ? b.n_recv : 1) * width);
-        got = malloc((n ? n : 1) * width);
+        answer = large_malloc((b.n_recv ? b.n_recv : 1) * width);
+        got = large_malloc((n ? n : 1) * width);
         if (!answer || !got)
             st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu records", n + b.n_recv);
         st = mpi_agree(p, st);
@@ -166,8 +167,8 @@ limn_status mpi_blocks_store(mpi_part *p, const size_t *dist, size_t n, const ui
     limn_status st = plan_open(p, dist, n, ids, &b);
     char *sent = NULL, *got = NULL;
     if (!st) {
-        sent = malloc((n ? n : 1) * width);
-        got = malloc((b.n_recv ? b.n_recv : 1) * width);
+        sent = large_malloc((n ? n : 1) * width);
+        got = large_malloc((b.n_recv ? b.n_recv : 1) * width);
         if (!sent || !got)
             st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu records", n + b.n_recv);
         st = mpi_agree(p, st);

@@ -12,6 +12,7 @@
  * (README "MPI" gives the measured difference).
  */
 #include "mpi/mpi_part.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "topology/topology.h"
@@ -164,9 +165,9 @@ static limn_status make_block(mpi_part *p, const int8_t *tier, int t, const doub
                 nnz += tier[a->columns[e]] == t;
     bl->s.rows = no;
     bl->s.cols = nl;
-    bl->s.row_offsets = malloc((no + 1) * sizeof *bl->s.row_offsets);
-    bl->s.columns = malloc((nnz ? nnz : 1) * sizeof *bl->s.columns);
-    bl->s.weights = malloc((nnz ? nnz : 1) * sizeof *bl->s.weights);
+    bl->s.row_offsets = large_malloc((no + 1) * sizeof *bl->s.row_offsets);
+    bl->s.columns = large_malloc((nnz ? nnz : 1) * sizeof *bl->s.columns);
+    bl->s.weights = large_malloc((nnz ? nnz : 1) * sizeof *bl->s.weights);
     bl->b4 = calloc(no ? 4 * no : 4, sizeof *bl->b4);
     bl->x4 = calloc(nl ? 4 * nl : 4, sizeof *bl->x4);
     bl->dinv = calloc(no ? no : 1, sizeof *bl->dinv);
@@ -217,7 +218,7 @@ limn_status mpi_solve_tiers(mpi_part *p, const double *m4, double tol_abs, int m
                             double *p4, mpi_block_fn solve_block, void *user, solve_stats *stats)
 {
     size_t no = p->n_owned, nl = no + p->n_ghost;
-    int8_t *tier = malloc(nl ? nl : 1);
+    int8_t *tier = large_malloc(nl ? nl : 1);
     limn_status st = tier ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     double count[3] = {0, 0, 0};
     for (size_t i = 0; !st && i < nl; i++) {

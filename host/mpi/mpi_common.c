@@ -6,6 +6,7 @@
  */
 #define _GNU_SOURCE /* sched_getaffinity: the cores this rank may use */
 #include "mpi/mpi_part.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
@@ -322,8 +323,8 @@ static limn_status root_counts(mpi_part *p, int **counts, int **displs)
     *displs = NULL;
     if (p->rank != p->root)
         return LIMN_OK;
-    *counts = malloc((size_t)p->size * sizeof **counts);
-    *displs = malloc((size_t)p->size * sizeof **displs);
+    *counts = large_malloc((size_t)p->size * sizeof **counts);
+    *displs = large_malloc((size_t)p->size * sizeof **displs);
     if (!*counts || !*displs)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %d ranks", p->size);
     for (int r = 0; r < p->size; r++) {
@@ -343,7 +344,7 @@ typedef struct rows_msg {
 static limn_status rows_msg_open(mpi_part *p, rows_msg *m)
 {
     limn_status st = root_counts(p, &m->counts, &m->displs);
-    m->mine = malloc((p->n_owned ? 3 * p->n_owned : 1) * sizeof *m->mine);
+    m->mine = large_malloc((p->n_owned ? 3 * p->n_owned : 1) * sizeof *m->mine);
     if (!m->mine)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_owned);
     return mpi_agree(p, st);

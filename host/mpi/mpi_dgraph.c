@@ -11,6 +11,7 @@
  * so plain MPI_Init is enough (no MPI_THREAD_MULTIPLE).
  */
 #include "mpi/mpi_dgraph.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 
@@ -168,7 +169,7 @@ static limn_status dg_exchange(dg_state *g, size_t face_count, const uint32_t *o
 {
     size_t P = (size_t)g->size, n_send = 0;
     size_t *nsend = calloc(P, sizeof *nsend), *nrecv = calloc(P, sizeof *nrecv);
-    int *ci = malloc(4 * P * sizeof *ci);
+    int *ci = large_malloc(4 * P * sizeof *ci);
     dg_send s = {NULL, calloc(P, sizeof(size_t)), NULL};
     limn_status st = LIMN_OK;
     if (!nsend || !nrecv || !ci || !s.fill)
@@ -178,7 +179,7 @@ static limn_status dg_exchange(dg_state *g, size_t face_count, const uint32_t *o
         memcpy(nsend, s.fill, P * sizeof *nsend);
         st = dg_displs(g, nsend, ci, ci + P, &n_send);
     }
-    if (st == LIMN_OK && !(s.buf = malloc((2 * n_send + 1) * sizeof *s.buf)))
+    if (st == LIMN_OK && !(s.buf = large_malloc((2 * n_send + 1) * sizeof *s.buf)))
         st = ctx_fail(g->ctx, LIMN_ERR_MEMORY,
                       "distributed partition: out of memory for rank %d's %zu faces", g->rank,
                       face_count);
@@ -191,7 +192,7 @@ static limn_status dg_exchange(dg_state *g, size_t face_count, const uint32_t *o
     if (st == LIMN_OK) {
         MPI_Alltoall(nsend, 1, MPI_UINT64_T, nrecv, 1, MPI_UINT64_T, g->comm);
         st = dg_displs(g, nrecv, ci + 2 * P, ci + 3 * P, n_recv);
-        if (st == LIMN_OK && !(*recv = malloc((2 * *n_recv + 1) * sizeof **recv)))
+        if (st == LIMN_OK && !(*recv = large_malloc((2 * *n_recv + 1) * sizeof **recv)))
             st = ctx_fail(g->ctx, LIMN_ERR_MEMORY,
                           "distributed partition: out of memory for rank %d's %zu edge ends",
                           g->rank, *n_recv);
@@ -220,7 +221,7 @@ static limn_status dg_adjacency(dg_state *g, const uint32_t *pairs, size_t n_pai
 {
     size_t n = g->n_local;
     g->xadj = calloc(n + 1, sizeof *g->xadj);
-    g->adj = malloc((n_pairs + 1) * sizeof *g->adj);
+    g->adj = large_malloc((n_pairs + 1) * sizeof *g->adj);
     size_t *fill = calloc(n + 1, sizeof *fill);
     if (!g->xadj || !g->adj || !fill) {
         free(fill);
@@ -330,7 +331,7 @@ static limn_status dg_scotch(dg_state *g, uint64_t *cut_twice)
 {
     SCOTCH_Dgraph d;
     int made = SCOTCH_dgraphInit(&d, g->comm) == 0;
-    SCOTCH_Num *part = malloc((g->n_local + 1) * sizeof *part);
+    SCOTCH_Num *part = large_malloc((g->n_local + 1) * sizeof *part);
     limn_status st = made && part ? LIMN_OK
                                   : ctx_fail(g->ctx, LIMN_ERR_MEMORY,
                                              "PT-Scotch: out of memory for a graph on rank %d",
@@ -344,7 +345,7 @@ static limn_status dg_scotch(dg_state *g, uint64_t *cut_twice)
     if (st == LIMN_OK) {
         SCOTCH_dgraphData(&d, NULL, NULL, NULL, NULL, &local_and_ghosts, NULL, NULL, NULL, NULL,
                           NULL, NULL, NULL, NULL, &gst, NULL, NULL);
-        if (!(halo = malloc(((size_t)local_and_ghosts + 1) * sizeof *halo)))
+        if (!(halo = large_malloc(((size_t)local_and_ghosts + 1) * sizeof *halo)))
             st = ctx_fail(g->ctx, LIMN_ERR_MEMORY, "distributed partition: out of memory");
     }
     st = dg_agree(g, st);
@@ -422,7 +423,7 @@ limn_status mpi_dgraph_partition_with(limn_context *ctx, MPI_Comm comm, const si
     g.n_local = vtxdist[g.rank + 1] - vtxdist[g.rank];
     *part_of = NULL;
     limn_status st = dg_check(&g, face_count, face_offsets, face_indices);
-    if (st == LIMN_OK && !(g.part_of = malloc((g.n_local + 1) * sizeof *g.part_of)))
+    if (st == LIMN_OK && !(g.part_of = large_malloc((g.n_local + 1) * sizeof *g.part_of)))
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "distributed partition: out of memory");
     st = dg_agree(&g, st);
     uint32_t *pairs = NULL;

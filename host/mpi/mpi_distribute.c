@@ -9,6 +9,7 @@
  * cost is a serial build on the root (measured in README "MPI").
  */
 #include "mpi/mpi_part.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
@@ -71,11 +72,11 @@ static limn_status plan_classes(mpi_part *p, plan *pl)
     const stencil_csr *a = &pl->g->host;
     size_t n = a->rows, R = (size_t)p->size;
     uint8_t *flag = calloc(n ? n : 1, 1);
-    size_t *cursor = malloc(4 * R * sizeof *cursor);
+    size_t *cursor = large_malloc(4 * R * sizeof *cursor);
     pl->cls_off = calloc(4 * R + 1, sizeof *pl->cls_off);
-    pl->lidx = malloc((n ? n : 1) * sizeof *pl->lidx);
-    p->root_off = malloc((R + 1) * sizeof *p->root_off);
-    p->root_ids = malloc((n ? n : 1) * sizeof *p->root_ids);
+    pl->lidx = large_malloc((n ? n : 1) * sizeof *pl->lidx);
+    p->root_off = large_malloc((R + 1) * sizeof *p->root_off);
+    p->root_ids = large_malloc((n ? n : 1) * sizeof *p->root_ids);
     if (!flag || !cursor || !pl->cls_off || !pl->lidx || !p->root_off || !p->root_ids) {
         free(flag);
         free(cursor);
@@ -189,11 +190,11 @@ static limn_status plan_ghosts(mpi_part *p, plan *pl)
     uint32_t *stamp = calloc(n ? n : 1, sizeof *stamp);
     pl->ghost_off = calloc(R + 1, sizeof *pl->ghost_off);
     pl->run_off = calloc(R + 1, sizeof *pl->run_off);
-    pl->ghosts = malloc(cap * sizeof *pl->ghosts);
-    pl->run_owner = malloc(run_cap * sizeof *pl->run_owner);
-    pl->run_begin = malloc(run_cap * sizeof *pl->run_begin);
-    pl->run_cnt = malloc(run_cap * sizeof *pl->run_cnt);
-    pl->loc = malloc((n ? n : 1) * sizeof *pl->loc);
+    pl->ghosts = large_malloc(cap * sizeof *pl->ghosts);
+    pl->run_owner = large_malloc(run_cap * sizeof *pl->run_owner);
+    pl->run_begin = large_malloc(run_cap * sizeof *pl->run_begin);
+    pl->run_cnt = large_malloc(run_cap * sizeof *pl->run_cnt);
+    pl->loc = large_malloc((n ? n : 1) * sizeof *pl->loc);
     uint64_t *keys = NULL;
     limn_status st = LIMN_OK;
     if (!stamp || !pl->ghost_off || !pl->run_off || !pl->ghosts || !pl->run_owner ||
@@ -224,21 +225,21 @@ static int rows_alloc(mpi_part *d, size_t no, size_t ng, size_t nnz, int n_recv,
 {
     mpi_halo *h = &d->halo;
     size_t nr = (size_t)(n_recv ? n_recv : 1), ns = (size_t)(n_send ? n_send : 1);
-    d->owned_ids = malloc((no ? no : 1) * sizeof *d->owned_ids);
-    d->owned_rule = malloc(no ? no : 1);
-    d->owned_scale = malloc((no ? no : 1) * sizeof *d->owned_scale);
-    d->ghost_ids = malloc((ng ? ng : 1) * sizeof *d->ghost_ids);
-    d->ghost_rule = malloc(ng ? ng : 1);
-    d->host.row_offsets = malloc((no + 1) * sizeof *d->host.row_offsets);
-    d->host.columns = malloc((nnz ? nnz : 1) * sizeof *d->host.columns);
-    d->host.weights = malloc((nnz ? nnz : 1) * sizeof *d->host.weights);
-    h->recv_rank = malloc(nr * sizeof *h->recv_rank);
-    h->recv_off = malloc(nr * sizeof *h->recv_off);
-    h->recv_cnt = malloc(nr * sizeof *h->recv_cnt);
-    h->send_rank = malloc(ns * sizeof *h->send_rank);
-    h->send_off = malloc(ns * sizeof *h->send_off);
-    h->send_cnt = malloc(ns * sizeof *h->send_cnt);
-    h->send_idx = malloc((n_idx ? n_idx : 1) * sizeof *h->send_idx);
+    d->owned_ids = large_malloc((no ? no : 1) * sizeof *d->owned_ids);
+    d->owned_rule = large_malloc(no ? no : 1);
+    d->owned_scale = large_malloc((no ? no : 1) * sizeof *d->owned_scale);
+    d->ghost_ids = large_malloc((ng ? ng : 1) * sizeof *d->ghost_ids);
+    d->ghost_rule = large_malloc(ng ? ng : 1);
+    d->host.row_offsets = large_malloc((no + 1) * sizeof *d->host.row_offsets);
+    d->host.columns = large_malloc((nnz ? nnz : 1) * sizeof *d->host.columns);
+    d->host.weights = large_malloc((nnz ? nnz : 1) * sizeof *d->host.weights);
+    h->recv_rank = large_malloc(nr * sizeof *h->recv_rank);
+    h->recv_off = large_malloc(nr * sizeof *h->recv_off);
+    h->recv_cnt = large_malloc(nr * sizeof *h->recv_cnt);
+    h->send_rank = large_malloc(ns * sizeof *h->send_rank);
+    h->send_off = large_malloc(ns * sizeof *h->send_off);
+    h->send_cnt = large_malloc(ns * sizeof *h->send_cnt);
+    h->send_idx = large_malloc((n_idx ? n_idx : 1) * sizeof *h->send_idx);
     return d->owned_ids && d->owned_rule && d->owned_scale && d->ghost_ids && d->ghost_rule &&
            d->host.row_offsets && d->host.columns && d->host.weights && h->recv_rank &&
            h->recv_off && h->recv_cnt && h->send_rank && h->send_off && h->send_cnt &&
@@ -442,7 +443,7 @@ static void drop_message(mpi_part *p, int tag)
     int bytes = 0;
     MPI_Probe(p->root, tag, p->comm, &status);
     MPI_Get_count(&status, MPI_BYTE, &bytes);
-    void *scratch = malloc(bytes > 0 ? (size_t)bytes : 1);
+    void *scratch = large_malloc(bytes > 0 ? (size_t)bytes : 1);
     MPI_Recv(scratch, bytes, MPI_BYTE, p->root, tag, p->comm, MPI_STATUS_IGNORE);
     free(scratch);
 }
@@ -521,8 +522,8 @@ static limn_status root_prepare(mpi_part *p, const limn_mesh *mesh, limn_scheme 
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                          "%zu vertices are more than the MPI layer can scatter (%d at most)",
                          p->n_global, INT_MAX / 3);
-    p->part_of = malloc((p->n_global ? p->n_global : 1) * sizeof *p->part_of);
-    p->root_buf = malloc((p->n_global ? 3 * p->n_global : 1) * sizeof *p->root_buf);
+    p->part_of = large_malloc((p->n_global ? p->n_global : 1) * sizeof *p->part_of);
+    p->root_buf = large_malloc((p->n_global ? 3 * p->n_global : 1) * sizeof *p->root_buf);
     if (!p->part_of || !p->root_buf)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", p->n_global);
     if (given) {

@@ -8,6 +8,7 @@
  * come from their block owners. Face records are words: id, size, corners.
  */
 #include "mpi/mpi_features.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
@@ -95,7 +96,7 @@ static limn_status pack_block(mpi_part *p, const limn_mpi_mesh *mesh, int *cnt, 
             cnt[r] = (int)at[r + 1];
             at[r + 1] += at[r];
         }
-        if (pass == 0 && !(*send = malloc((at[R] ? at[R] : 1) * sizeof **send))) {
+        if (pass == 0 && !(*send = large_malloc((at[R] ? at[R] : 1) * sizeof **send))) {
             size_t words = at[R];
             free(at);
             return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu face words", words);
@@ -113,7 +114,7 @@ static limn_status parse_faces(mpi_part *p, const uint32_t *w, size_t words, pat
     for (size_t i = 0; i < words; i += 2 + (size_t)w[i + 1])
         count++;
     *n = count;
-    *out = malloc((count ? count : 1) * sizeof **out);
+    *out = large_malloc((count ? count : 1) * sizeof **out);
     if (!*out)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", count);
     size_t k = 0;
@@ -160,7 +161,7 @@ static limn_status build_incidence(mpi_part *p, const limn_mpi_mesh *mesh, verte
             for (size_t i = 0; i < nb; i++)
                 v->off[i + 1] += v->off[i];
             total = v->off[nb];
-            if (!(v->of = malloc((total ? total : 1) * sizeof *v->of)))
+            if (!(v->of = large_malloc((total ? total : 1) * sizeof *v->of)))
                 return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", total);
         }
     }
@@ -174,7 +175,7 @@ static limn_status build_incidence(mpi_part *p, const limn_mpi_mesh *mesh, verte
 static limn_status gather_around(mpi_part *p, const limn_mpi_mesh *mesh, vertex_faces *v)
 {
     memset(v, 0, sizeof *v);
-    int *cnt = malloc(2 * (size_t)p->size * sizeof *cnt);
+    int *cnt = large_malloc(2 * (size_t)p->size * sizeof *cnt);
     uint32_t *send = NULL;
     size_t words = 0;
     limn_status st = cnt ? pack_block(p, mesh, cnt, &send)
@@ -199,8 +200,8 @@ static limn_status wanted_vertices(mpi_part *p, const limn_mpi_mesh *mesh, uint3
 {
     const mesh_slice *s = &mesh->slice;
     size_t nc = s->face_offsets[s->face_count], total = nc + s->vertex_count;
-    uint64_t *keys = malloc((total ? total : 1) * sizeof *keys);
-    *ids = malloc((total ? total : 1) * sizeof **ids);
+    uint64_t *keys = large_malloc((total ? total : 1) * sizeof *keys);
+    *ids = large_malloc((total ? total : 1) * sizeof **ids);
     if (!keys || !*ids) {
         free(keys);
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", total);
@@ -251,7 +252,7 @@ static limn_status answer(mpi_part *p, const limn_mpi_mesh *mesh, const vertex_f
             acnt[r] = (int)(w - begin);
         }
         words = w;
-        if (pass == 0 && !(*ans = malloc((words ? words : 1) * sizeof **ans))) {
+        if (pass == 0 && !(*ans = large_malloc((words ? words : 1) * sizeof **ans))) {
             free(stamp);
             return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu words", words);
         }
@@ -307,9 +308,9 @@ static limn_status patch_mesh(mpi_part *p, const limn_mpi_mesh *mesh, const patc
     size_t nb = mesh->slice.vertex_count, vb = mesh->vertex_dist[p->rank], nc = 0;
     for (size_t i = 0; i < nf; i++)
         nc += f[i].size;
-    uint64_t *keys = malloc((nc + nb ? nc + nb : 1) * sizeof *keys);
-    fp->vertex_ids = malloc((nc + nb ? nc + nb : 1) * sizeof *fp->vertex_ids);
-    fp->face_ids = malloc((nf ? nf : 1) * sizeof *fp->face_ids);
+    uint64_t *keys = large_malloc((nc + nb ? nc + nb : 1) * sizeof *keys);
+    fp->vertex_ids = large_malloc((nc + nb ? nc + nb : 1) * sizeof *fp->vertex_ids);
+    fp->face_ids = large_malloc((nf ? nf : 1) * sizeof *fp->face_ids);
     if (!keys || !fp->vertex_ids || !fp->face_ids) {
         free(keys);
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu patch corners", nc);
@@ -349,8 +350,8 @@ static limn_status ghosts_of(mpi_part *p, const uint32_t *ids, size_t n, size_t 
                              uint32_t **gid, size_t **at, size_t *count)
 {
     *count = n - own;
-    *gid = malloc((*count ? *count : 1) * sizeof **gid);
-    *at = malloc((*count ? *count : 1) * sizeof **at);
+    *gid = large_malloc((*count ? *count : 1) * sizeof **gid);
+    *at = large_malloc((*count ? *count : 1) * sizeof **at);
     if (!*gid || !*at)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu ghosts", *count);
     size_t k = 0;
@@ -372,7 +373,7 @@ static limn_status patch_ghosts(mpi_part *p, const limn_mpi_mesh *mesh, mpi_feat
                        mesh->slice.face_count, &fp->face_ghost_ids, &fp->face_ghost_at,
                        &fp->face_ghosts);
     size_t most = fp->vertex_ghosts > fp->face_ghosts ? fp->vertex_ghosts : fp->face_ghosts;
-    if (!st && !(fp->buf = malloc(3 * (most ? most : 1) * sizeof *fp->buf)))
+    if (!st && !(fp->buf = large_malloc(3 * (most ? most : 1) * sizeof *fp->buf)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu ghosts", most);
     return st;
 }

@@ -9,6 +9,7 @@
  * posting and waiting.
  */
 #include "mpi/mpi_part.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 
@@ -165,7 +166,7 @@ limn_status mpi_open_rows(mpi_part *p)
     h->send3 = calloc(nidx ? 3 * nidx : 1, sizeof *h->send3);
     h->recv3 = calloc(p->n_ghost ? 3 * p->n_ghost : 1, sizeof *h->recv3);
     h->ghost4 = calloc(p->n_ghost ? 4 * p->n_ghost : 1, sizeof *h->ghost4);
-    h->req = malloc((size_t)(h->n_recv + h->n_send + 1) * sizeof *h->req);
+    h->req = large_malloc((size_t)(h->n_recv + h->n_send + 1) * sizeof *h->req);
     if (!h->stage4 || !h->send3 || !h->recv3 || !h->ghost4 || !h->req)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the halo buffers");
     p->n_split = p->n_interior / DEVICE_ROWS_PER_ITEM * DEVICE_ROWS_PER_ITEM;

@@ -11,6 +11,7 @@
  * correction's ghosts in float, as the single process reads them.
  */
 #include "mpi/mpi_part.h"
+#include "base/large_alloc.h"
 
 #include "mesh/check.h"
 #include "base/context.h"
@@ -213,7 +214,7 @@ static limn_status open_vectors(mpi_part *p, limn_report *r, double **m4, double
         memset(*m4, 0, (nl ? 4 * nl : 4) * sizeof **m4);
     *p4 = calloc(nl ? 4 * nl : 4, sizeof **p4);
     if (p->rank == p->root)
-        *xyz = malloc((p->n_global ? 3 * p->n_global : 1) * sizeof **xyz);
+        *xyz = large_malloc((p->n_global ? 3 * p->n_global : 1) * sizeof **xyz);
     limn_status st = LIMN_OK;
     if (!*m4 || !*p4 || (p->rank == p->root && !*xyz))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);

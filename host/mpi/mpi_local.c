@@ -6,6 +6,7 @@
  * (vertex and face counts, stencil entries, bounding box, edge cut).
  */
 #include "mpi/mpi_local.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
@@ -21,7 +22,8 @@ static limn_status referenced(mpi_part *p, size_t nf, const uint32_t *off, const
                               uint32_t **ref, size_t *nref, uint32_t **corner_ref)
 {
     size_t nc = off[nf];
-    uint32_t *r = malloc((nc ? nc : 1) * sizeof *r), *cr = malloc((nc ? nc : 1) * sizeof *cr);
+    uint32_t *r = large_malloc((nc ? nc : 1) * sizeof *r);
+    uint32_t *cr = large_malloc((nc ? nc : 1) * sizeof *cr);
     limn_status st = r && cr ? mpi_local_distinct(p->ctx, idx, nc, r, nref, cr)
                              : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                                         "out of memory for %zu face corners", nc);
@@ -80,7 +82,7 @@ static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *co
         maxd = f->off[i + 1] - f->off[i] > maxd ? f->off[i + 1] - f->off[i] : maxd;
     int *cnt = calloc(2 * R, sizeof *cnt), *rcnt = cnt + R;
     size_t *at = calloc(R + 1, sizeof *at);
-    uint32_t *parts = malloc((maxd ? maxd : 1) * sizeof *parts), *buf = NULL;
+    uint32_t *parts = large_malloc((maxd ? maxd : 1) * sizeof *parts), *buf = NULL;
     limn_status st = LIMN_OK;
     if (!cnt || !at || !parts)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory sending faces");
@@ -112,7 +114,7 @@ static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *co
             cnt[r] = at[r + 1] > INT_MAX ? INT_MAX : (int)at[r + 1];
             at[r + 1] += at[r];
         }
-        if (!(buf = malloc((at[R] ? at[R] : 1) * sizeof *buf)))
+        if (!(buf = large_malloc((at[R] ? at[R] : 1) * sizeof *buf)))
             st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory sending faces");
     }
     st = mpi_agree(p, st);
@@ -178,7 +180,7 @@ static limn_status ref_parts(mpi_part *p, local_sub *s, const size_t *vtxdist,
     }
     if (!st && repair && !repair->repeated_vertices)
         st = refuse_repeats(p, f, vtxdist[p->size]);
-    *ref_part = st ? NULL : malloc((*nref ? *nref : 1) * sizeof **ref_part);
+    *ref_part = st ? NULL : large_malloc((*nref ? *nref : 1) * sizeof **ref_part);
     if (!st && !*ref_part)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", *nref);
     mpi_local_note(s, *nref);
@@ -197,7 +199,7 @@ static limn_status owned_ids(mpi_part *p, local_sub *s, const size_t *vtxdist,
     size_t R = (size_t)p->size, nb = vtxdist[p->rank + 1] - vtxdist[p->rank];
     int *cnt = calloc(2 * R, sizeof *cnt);
     size_t *at = calloc(R + 1, sizeof *at);
-    uint32_t *buf = malloc((nb ? nb : 1) * sizeof *buf);
+    uint32_t *buf = large_malloc((nb ? nb : 1) * sizeof *buf);
     limn_status st = cnt && at && buf ? LIMN_OK
                                       : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     for (size_t i = 0; !st && i < nb; i++)
@@ -238,7 +240,7 @@ static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_
     size_t n = 0;
     for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
         n++;
-    face_rec *r = malloc((n ? n : 1) * sizeof *r);
+    face_rec *r = large_malloc((n ? n : 1) * sizeof *r);
     if (!r)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", n);
     n = 0;
@@ -264,11 +266,11 @@ static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, 
     for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
         nc += w[at + 2];
     size_t cap = n_own + nc, n = n_own;
-    uint32_t *all = malloc((cap ? cap : 1) * sizeof *all);
-    uint32_t *index = malloc((cap ? cap : 1) * sizeof *index);
-    s->ids = malloc((cap ? cap : 1) * sizeof *s->ids);
-    s->part = malloc((cap ? cap : 1) * sizeof *s->part);
-    s->owned = malloc((n_own ? n_own : 1) * sizeof *s->owned);
+    uint32_t *all = large_malloc((cap ? cap : 1) * sizeof *all);
+    uint32_t *index = large_malloc((cap ? cap : 1) * sizeof *index);
+    s->ids = large_malloc((cap ? cap : 1) * sizeof *s->ids);
+    s->part = large_malloc((cap ? cap : 1) * sizeof *s->part);
+    s->owned = large_malloc((n_own ? n_own : 1) * sizeof *s->owned);
     limn_status st = all && index && s->ids && s->part && s->owned
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
@@ -343,7 +345,8 @@ static limn_status sub_mesh(mpi_part *p, local_sub *s, uint32_t **words, face_re
     size_t nc = 0;
     for (size_t i = 0; i < nf; i++)
         nc += w[recs[i].at + 2];
-    uint32_t *off = malloc((nf + 1) * sizeof *off), *idx = malloc((nc ? nc : 1) * sizeof *idx);
+    uint32_t *off = large_malloc((nf + 1) * sizeof *off);
+    uint32_t *idx = large_malloc((nc ? nc : 1) * sizeof *idx);
     limn_status st = off && idx ? LIMN_OK
                                 : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for faces");
     if (!st)
@@ -484,7 +487,7 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
         st = sub_vertices(p, s, t->own, t->nown, t->words, t->nw);
     free(t->own);
     t->own = NULL;
-    if (!st && !(t->pos = malloc((s->n ? 3 * s->n : 1) * sizeof *t->pos)))
+    if (!st && !(t->pos = large_malloc((s->n ? 3 * s->n : 1) * sizeof *t->pos)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu positions", s->n);
     st = mpi_agree(p, st);
     if (!st)

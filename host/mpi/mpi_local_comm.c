@@ -6,6 +6,7 @@
  * the bounding box over all blocks, and the global face and edge-cut counts.
  */
 #include "mpi/mpi_local.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
@@ -25,7 +26,7 @@ limn_status mpi_local_alltoallv(mpi_part *p, const void *send, const int *cnt, s
                                 void **recv, int *rcnt, size_t *total)
 {
     size_t R = (size_t)p->size;
-    int *sb = malloc(4 * R * sizeof *sb), *sd = sb + R, *rb = sb + 2 * R, *rd = sb + 3 * R;
+    int *sb = large_malloc(4 * R * sizeof *sb), *sd = sb + R, *rb = sb + 2 * R, *rd = sb + 3 * R;
     *recv = NULL;
     *total = 0;
     limn_status st = sb ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
@@ -51,7 +52,7 @@ limn_status mpi_local_alltoallv(mpi_part *p, const void *send, const int *cnt, s
         so += (size_t)cnt[r];
         ro += (size_t)rcnt[r];
     }
-    if (!st && !(*recv = malloc(ro ? ro * elem : 1)))
+    if (!st && !(*recv = large_malloc(ro ? ro * elem : 1)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu received entries", ro);
     st = mpi_agree(p, st);
     if (!st)
@@ -97,14 +98,14 @@ limn_status mpi_local_fetch(mpi_part *p, local_sub *s, const size_t *vtxdist,
     size_t nreq = 0, nans = 0;
     st = mpi_local_alltoallv(p, ids, cnt, sizeof(uint32_t), &req, rcnt, &nreq);
     mpi_local_note(s, nreq);
-    if (!st && !(ans = malloc(nreq ? nreq * elem : 1)))
+    if (!st && !(ans = large_malloc(nreq ? nreq * elem : 1)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory answering %zu requests", nreq);
     for (size_t i = 0; !st && i < nreq; i++) {
         size_t at = ((const uint32_t *)req)[i] - vtxdist[p->rank];
         memcpy((char *)ans + i * elem, (const char *)mine + at * elem, elem);
     }
     st = mpi_agree(p, st);
-    int *back = malloc(R * sizeof *back);
+    int *back = large_malloc(R * sizeof *back);
     if (!st && !back)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     st = mpi_agree(p, st);
@@ -141,8 +142,8 @@ void mpi_local_sort(uint64_t *a, size_t n)
     uint64_t diff = 0;
     for (size_t i = 1; i < n; i++)
         diff |= a[i] ^ a[0];
-    uint64_t *b = n > 256 ? malloc(n * sizeof *b) : NULL, *src = a, *dst = b;
-    size_t *count = b ? malloc(65537 * sizeof *count) : NULL;
+    uint64_t *b = n > 256 ? large_malloc(n * sizeof *b) : NULL, *src = a, *dst = b;
+    size_t *count = b ? large_malloc(65537 * sizeof *count) : NULL;
     if (!count) { /* short lists, or no room for the radix passes */
         free(b);
         qsort(a, n, sizeof *a, cmp_u64);
@@ -173,7 +174,7 @@ void mpi_local_sort_uniform(uint64_t *a, size_t n)
     int bb = 1; /* top bits: about 8 keys a bucket, 16 bits at most */
     while (bb < 16 && ((size_t)8 << bb) < n)
         bb++;
-    uint64_t *b = n > 256 ? malloc(n * sizeof *b) : NULL;
+    uint64_t *b = n > 256 ? large_malloc(n * sizeof *b) : NULL;
     size_t nbk = (size_t)1 << bb, *at = b ? calloc(nbk + 1, sizeof *at) : NULL;
     if (!at) { /* short lists, or no room: the radix passes */
         free(b);
@@ -236,7 +237,7 @@ static int distinct_bitmap(const uint32_t *ids, size_t n, uint32_t lo, uint64_t 
 {
     size_t nw = (size_t)((range + 63) / 64), k = 0;
     uint64_t *bits = calloc(nw, sizeof *bits);
-    size_t *below = malloc(nw * sizeof *below);
+    size_t *below = large_malloc(nw * sizeof *below);
     if (!bits || !below) {
         free(bits);
         free(below);
@@ -279,7 +280,7 @@ limn_status mpi_local_distinct(limn_context *ctx, const uint32_t *ids, size_t n,
         return LIMN_OK;
     /* key: the id above the element, packed (id - lowest id, then cb bits of
        element), so the radix sort skips the digits no key uses */
-    uint64_t *key = malloc(n * sizeof *key);
+    uint64_t *key = large_malloc(n * sizeof *key);
     if (!key)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory sorting %zu vertex ids", n);
     int cb = bits_for(n);
@@ -335,7 +336,7 @@ static uint32_t face_counter(const local_sub *s, const limn_mesh *m, size_t f)
 static limn_status local_cut(mpi_part *p, const local_sub *s, const limn_mesh *m, size_t *cut)
 {
     size_t nc = m->face_offsets[m->face_count], n = 0;
-    uint64_t *e = malloc((nc ? nc : 1) * sizeof *e);
+    uint64_t *e = large_malloc((nc ? nc : 1) * sizeof *e);
     *cut = 0;
     if (!e)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the edge cut");

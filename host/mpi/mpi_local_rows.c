@@ -11,6 +11,7 @@
  * vertex rule of each.
  */
 #include "mpi/mpi_local.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "scheme/scheme.h"
@@ -67,7 +68,7 @@ static limn_status find_ghosts(mpi_part *p, local_sub *s, rows_tmp *t)
     size_t n = s->n, no = s->n_owned, R = (size_t)p->size;
     uint8_t *mark = calloc(n ? n : 1, 1);
     t->flag = calloc(no ? no : 1, 1);
-    t->own_of = malloc((n ? n : 1) * sizeof *t->own_of);
+    t->own_of = large_malloc((n ? n : 1) * sizeof *t->own_of);
     t->cnt = calloc(2 * R, sizeof *t->cnt);
     mpi_local_note(s, n);
     if (!mark || !t->flag || !t->own_of || !t->cnt) {
@@ -89,7 +90,7 @@ static limn_status find_ghosts(mpi_part *p, local_sub *s, rows_tmp *t)
                 mark[c[e]] = 1;
             }
     }
-    t->g = malloc((t->ng ? t->ng : 1) * sizeof *t->g);
+    t->g = large_malloc((t->ng ? t->ng : 1) * sizeof *t->g);
     mpi_local_note(s, t->ng);
     if (!t->g) {
         free(mark);
@@ -109,7 +110,7 @@ static limn_status find_ghosts(mpi_part *p, local_sub *s, rows_tmp *t)
    ranks read (flag bit 1). */
 static limn_status exchange_requests(mpi_part *p, local_sub *s, rows_tmp *t)
 {
-    uint32_t *ids = malloc((t->ng ? t->ng : 1) * sizeof *ids);
+    uint32_t *ids = large_malloc((t->ng ? t->ng : 1) * sizeof *ids);
     limn_status st = ids ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     for (size_t i = 0; ids && i < t->ng; i++)
         ids[i] = (uint32_t)t->g[i].key;
@@ -147,7 +148,7 @@ static limn_status classes(mpi_part *p, local_sub *s, rows_tmp *t)
 {
     static const int cls[4] = {0, 3, 1, 2}; /* flag -> class */
     size_t no = s->n_owned, off[5] = {0, 0, 0, 0, 0};
-    t->lidx = malloc((no ? no : 1) * sizeof *t->lidx);
+    t->lidx = large_malloc((no ? no : 1) * sizeof *t->lidx);
     if (!t->lidx)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu rows", no);
     for (size_t i = 0; i < no; i++)
@@ -166,7 +167,7 @@ static limn_status classes(mpi_part *p, local_sub *s, rows_tmp *t)
    (owner, owner's local number) with their rules. */
 static limn_status exchange_answers(mpi_part *p, local_sub *s, rows_tmp *t)
 {
-    uint32_t *ans = malloc((t->nreq ? 2 * t->nreq : 1) * sizeof *ans);
+    uint32_t *ans = large_malloc((t->nreq ? 2 * t->nreq : 1) * sizeof *ans);
     limn_status st = ans ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     for (size_t i = 0; ans && i < t->nreq; i++) {
         ans[2 * i] = t->lidx[t->req[i]];
@@ -175,7 +176,7 @@ static limn_status exchange_answers(mpi_part *p, local_sub *s, rows_tmp *t)
     st = mpi_agree(p, st);
     void *got = NULL;
     size_t n = 0;
-    int *back = malloc((size_t)p->size * sizeof *back);
+    int *back = large_malloc((size_t)p->size * sizeof *back);
     if (!st && !back)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     st = mpi_agree(p, st);
@@ -208,16 +209,16 @@ static limn_status fill_rows(mpi_part *p, local_sub *s, rows_tmp *t)
                         "rank %d would hold %zu rows and %zu entries: too many for one MPI "
                         "message; use more ranks",
                         p->rank, no, nnz);
-    p->owned_ids = malloc((no ? no : 1) * sizeof *p->owned_ids);
-    p->owned_rule = malloc(no ? no : 1);
-    p->owned_scale = malloc((no ? no : 1) * sizeof *p->owned_scale);
-    p->ghost_ids = malloc((ng ? ng : 1) * sizeof *p->ghost_ids);
-    p->ghost_rule = malloc(ng ? ng : 1);
-    p->host.row_offsets = malloc((no + 1) * sizeof *p->host.row_offsets);
-    p->host.columns = malloc((nnz ? nnz : 1) * sizeof *p->host.columns);
-    p->host.weights = malloc((nnz ? nnz : 1) * sizeof *p->host.weights);
-    t->loc = malloc((s->n ? s->n : 1) * sizeof *t->loc);
-    uint32_t *order = malloc((no ? no : 1) * sizeof *order);
+    p->owned_ids = large_malloc((no ? no : 1) * sizeof *p->owned_ids);
+    p->owned_rule = large_malloc(no ? no : 1);
+    p->owned_scale = large_malloc((no ? no : 1) * sizeof *p->owned_scale);
+    p->ghost_ids = large_malloc((ng ? ng : 1) * sizeof *p->ghost_ids);
+    p->ghost_rule = large_malloc(ng ? ng : 1);
+    p->host.row_offsets = large_malloc((no + 1) * sizeof *p->host.row_offsets);
+    p->host.columns = large_malloc((nnz ? nnz : 1) * sizeof *p->host.columns);
+    p->host.weights = large_malloc((nnz ? nnz : 1) * sizeof *p->host.weights);
+    t->loc = large_malloc((s->n ? s->n : 1) * sizeof *t->loc);
+    uint32_t *order = large_malloc((no ? no : 1) * sizeof *order);
     mpi_local_note(s, s->n);
     if (!p->owned_ids || !p->owned_rule || !p->owned_scale || !p->ghost_ids || !p->ghost_rule ||
         !p->host.row_offsets || !p->host.columns || !p->host.weights || !t->loc || !order) {
@@ -273,13 +274,13 @@ static limn_status fill_halo(mpi_part *p, rows_tmp *t)
         nr += t->cnt[r] > 0;
         ns += t->rcnt[r] > 0;
     }
-    h->recv_rank = malloc((nr ? nr : 1) * sizeof *h->recv_rank);
-    h->recv_off = malloc((nr ? nr : 1) * sizeof *h->recv_off);
-    h->recv_cnt = malloc((nr ? nr : 1) * sizeof *h->recv_cnt);
-    h->send_rank = malloc((ns ? ns : 1) * sizeof *h->send_rank);
-    h->send_off = malloc((ns ? ns : 1) * sizeof *h->send_off);
-    h->send_cnt = malloc((ns ? ns : 1) * sizeof *h->send_cnt);
-    h->send_idx = malloc((t->nreq ? t->nreq : 1) * sizeof *h->send_idx);
+    h->recv_rank = large_malloc((nr ? nr : 1) * sizeof *h->recv_rank);
+    h->recv_off = large_malloc((nr ? nr : 1) * sizeof *h->recv_off);
+    h->recv_cnt = large_malloc((nr ? nr : 1) * sizeof *h->recv_cnt);
+    h->send_rank = large_malloc((ns ? ns : 1) * sizeof *h->send_rank);
+    h->send_off = large_malloc((ns ? ns : 1) * sizeof *h->send_off);
+    h->send_cnt = large_malloc((ns ? ns : 1) * sizeof *h->send_cnt);
+    h->send_idx = large_malloc((t->nreq ? t->nreq : 1) * sizeof *h->send_idx);
     if (!h->recv_rank || !h->recv_off || !h->recv_cnt || !h->send_rank || !h->send_off ||
         !h->send_cnt || !h->send_idx)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the halo plan");

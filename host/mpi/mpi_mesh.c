@@ -5,6 +5,7 @@
  * the checks the distributed calls share (bbox, magnitude, scheme).
  */
 #include "mpi/mpi_mesh.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/check.h"
@@ -72,8 +73,8 @@ limn_status mpi_mesh_adopt(mpi_part *p, mesh_slice *slice, limn_mpi_mesh **out)
     limn_status st = LIMN_OK;
     if (m) {
         m->comm = MPI_COMM_NULL;
-        m->vertex_dist = malloc(((size_t)p->size + 1) * sizeof *m->vertex_dist);
-        m->face_dist = malloc(((size_t)p->size + 1) * sizeof *m->face_dist);
+        m->vertex_dist = large_malloc(((size_t)p->size + 1) * sizeof *m->vertex_dist);
+        m->face_dist = large_malloc(((size_t)p->size + 1) * sizeof *m->face_dist);
     }
     if (!m || !m->vertex_dist || !m->face_dist)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for a distributed mesh");
@@ -192,9 +193,9 @@ static limn_status slice_copy(limn_context *ctx, size_t nv, const double *pos, s
                              "(offsets %u, %u): a face needs at least 3",
                              f, (int)off[f + 1] - (int)off[f], off[f], off[f + 1]);
     size_t nc = off[nf];
-    s->positions = malloc((nv ? 3 * nv : 1) * sizeof *s->positions);
-    s->face_offsets = malloc((nf + 1) * sizeof *s->face_offsets);
-    s->face_indices = malloc((nc ? nc : 1) * sizeof *s->face_indices);
+    s->positions = large_malloc((nv ? 3 * nv : 1) * sizeof *s->positions);
+    s->face_offsets = large_malloc((nf + 1) * sizeof *s->face_offsets);
+    s->face_indices = large_malloc((nc ? nc : 1) * sizeof *s->face_indices);
     if (!s->positions || !s->face_offsets || !s->face_indices) {
         mesh_slice_free(s);
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nv);

@@ -11,6 +11,7 @@
  * are summed over the ranks: exact.
  */
 #include "mpi/mpi_blocks.h"
+#include "base/large_alloc.h"
 #include "mpi/mpi_local.h"
 #include "mpi/mpi_mesh.h"
 
@@ -26,7 +27,7 @@ static limn_status corners_out(mpi_part *p, const limn_mpi_mesh *mesh, uint32_t 
 {
     const mesh_slice *s = &mesh->slice;
     size_t nc = s->face_offsets[s->face_count];
-    uint32_t *w = malloc((nc ? 3 * nc : 1) * sizeof *w);
+    uint32_t *w = large_malloc((nc ? 3 * nc : 1) * sizeof *w);
     size_t *at = calloc((size_t)p->size + 1, sizeof *at);
     limn_status st = w && at ? LIMN_OK
                              : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
@@ -133,8 +134,8 @@ static limn_status classify_all(mpi_part *p, const limn_mpi_mesh *mesh, const ui
                                 size_t n, uint64_t k[5])
 {
     size_t nc = n / 3, longest = 0;
-    uint64_t *order = malloc((nc ? nc : 1) * sizeof *order);
-    const uint32_t **t = malloc((nc ? nc : 1) * sizeof *t);
+    uint64_t *order = large_malloc((nc ? nc : 1) * sizeof *order);
+    const uint32_t **t = large_malloc((nc ? nc : 1) * sizeof *t);
     limn_status cs = order && t ? corners_by_vertex(p, got, nc, mesh->vertex_dist[p->rank],
                                                     mesh->slice.vertex_count, order)
                                 : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
@@ -151,9 +152,9 @@ static limn_status classify_all(mpi_part *p, const limn_mpi_mesh *mesh, const ui
     }
     ring g;
     size_t e = 2 * longest + 1;
-    g.key = malloc(e * sizeof *g.key);
-    g.edge = malloc(e * sizeof *g.edge);
-    uint32_t *words = malloc(3 * e * sizeof *words);
+    g.key = large_malloc(e * sizeof *g.key);
+    g.edge = large_malloc(e * sizeof *g.edge);
+    uint32_t *words = large_malloc(3 * e * sizeof *words);
     limn_status st = g.key && g.edge && words
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");

@@ -16,6 +16,7 @@
  * drops it when asked.
  */
 #include "mpi/mpi_blocks.h"
+#include "base/large_alloc.h"
 #include "mpi/mpi_local.h"
 #include "mpi/mpi_mesh.h"
 
@@ -80,10 +81,10 @@ static limn_status records_out(mpi_part *p, const limn_mpi_mesh *mesh, uint32_t 
 {
     const mesh_slice *s = &mesh->slice;
     size_t nf = s->face_count, words = 3 * nf + s->face_offsets[nf];
-    uint32_t *w = malloc((words ? words : 1) * sizeof *w);
-    uint32_t *tmp = malloc((words ? words : 1) * sizeof *tmp);
+    uint32_t *w = large_malloc((words ? words : 1) * sizeof *w);
+    uint32_t *tmp = large_malloc((words ? words : 1) * sizeof *tmp);
     size_t *at = calloc((size_t)p->size + 1, sizeof *at);
-    int *dest = malloc((nf ? nf : 1) * sizeof *dest);
+    int *dest = large_malloc((nf ? nf : 1) * sizeof *dest);
     limn_status st = w && tmp && at && dest
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
@@ -136,8 +137,8 @@ static limn_status find_sets(mpi_part *p, const uint32_t **r, size_t nr, uint64_
     while (ib < 40 && ((size_t)1 << ib) < nr)
         ib++;
     uint64_t low = ((uint64_t)1 << ib) - 1;
-    uint64_t *key = malloc((nr ? nr : 1) * sizeof *key);
-    const uint32_t **group = malloc((nr ? nr : 1) * sizeof *group);
+    uint64_t *key = large_malloc((nr ? nr : 1) * sizeof *key);
+    const uint32_t **group = large_malloc((nr ? nr : 1) * sizeof *group);
     *np = 0;
     if (!key || !group) {
         free(key);
@@ -180,8 +181,8 @@ static limn_status verdicts(mpi_part *p, const limn_mpi_mesh *mesh, const uint32
     size_t nr = 0;
     for (size_t o = 0; o < n; o += 3 + rec[o + 2])
         nr++;
-    const uint32_t **r = malloc((nr ? nr : 1) * sizeof *r);
-    uint64_t *pairs = malloc((nr ? 2 * nr : 1) * sizeof *pairs);
+    const uint32_t **r = large_malloc((nr ? nr : 1) * sizeof *r);
+    uint64_t *pairs = large_malloc((nr ? 2 * nr : 1) * sizeof *pairs);
     size_t *at = calloc((size_t)p->size + 1, sizeof *at), np = 0;
     *out = NULL;
     limn_status st = r && pairs && at ? LIMN_OK
@@ -192,8 +193,8 @@ static limn_status verdicts(mpi_part *p, const limn_mpi_mesh *mesh, const uint32
     if (!st)
         st = find_sets(p, r, nr, pairs, &np);
     free(r);
-    int *dest = st ? NULL : malloc((np ? np : 1) * sizeof *dest);
-    uint64_t *sorted = st ? NULL : malloc((np ? 2 * np : 1) * sizeof *sorted);
+    int *dest = st ? NULL : large_malloc((np ? np : 1) * sizeof *dest);
+    uint64_t *sorted = st ? NULL : large_malloc((np ? 2 * np : 1) * sizeof *sorted);
     if (!st && (!dest || !sorted))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     for (size_t k = 0; !st && k < np; k++) {

@@ -9,6 +9,7 @@
  * so the result is the single process's bits.
  */
 #include "mpi/mpi_features.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
@@ -113,7 +114,7 @@ static limn_status features_open(features_mpi *f, limn_series_report *r)
     if (!st)
         st = feature_run_open(p->ctx, &f->fm, &f->run);
     size_t nf = f->fp.mesh->face_count;
-    if (!st && !(f->n = malloc(3 * (nf ? nf : 1) * sizeof *f->n)))
+    if (!st && !(f->n = large_malloc(3 * (nf ? nf : 1) * sizeof *f->n)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", nf);
     st = mpi_agree(p, st);
     r->seconds_stencil = MPI_Wtime() - t0;
@@ -169,7 +170,7 @@ static limn_status features_run(mpi_part *p, const limn_mpi_mesh *mesh,
         st = mpi_agree(p, check_finite(&f));
     size_t nb = mesh->slice.vertex_count;
     double *block = NULL;
-    if (!st && !(block = malloc(3 * (nb ? nb : 1) * sizeof *block)))
+    if (!st && !(block = large_malloc(3 * (nb ? nb : 1) * sizeof *block)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nb);
     st = mpi_agree(p, st);
     if (!st) {

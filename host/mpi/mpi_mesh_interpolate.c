@@ -10,6 +10,7 @@
  * single process's, as limn_interpolate_mpi's are.
  */
 #include "mpi/mpi_mesh.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mpi/mpi_blocks.h"
@@ -27,8 +28,8 @@ limn_status mpi_mesh_control_of(mpi_part *p, const limn_mpi_mesh *mesh, double *
     mesh_slice s = *in;
     size_t nc = in->face_offsets[in->face_count];
     s.positions = positions;
-    s.face_offsets = malloc((in->face_count + 1) * sizeof *s.face_offsets);
-    s.face_indices = malloc((nc ? nc : 1) * sizeof *s.face_indices);
+    s.face_offsets = large_malloc((in->face_count + 1) * sizeof *s.face_offsets);
+    s.face_indices = large_malloc((nc ? nc : 1) * sizeof *s.face_indices);
     limn_status st = LIMN_OK;
     if (!s.face_offsets || !s.face_indices)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the control mesh's %zu faces",
@@ -47,8 +48,8 @@ limn_status mpi_mesh_results_to_blocks(mpi_part *p, const limn_mpi_mesh *mesh, c
                                        double **block)
 {
     size_t no = p->n_owned, nb = mesh->slice.vertex_count;
-    double *xyz = malloc((no ? 3 * no : 1) * sizeof *xyz);
-    *block = malloc((nb ? 3 * nb : 1) * sizeof **block);
+    double *xyz = large_malloc((no ? 3 * no : 1) * sizeof *xyz);
+    *block = large_malloc((nb ? 3 * nb : 1) * sizeof **block);
     limn_status st = LIMN_OK;
     if (!xyz || !*block)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu results", no + nb);

@@ -10,6 +10,7 @@
  * limn_mpi_mesh_measure and limn_mpi_mesh_volume_area are the public calls.
  */
 #include "mpi/mpi_mesh.h"
+#include "base/large_alloc.h"
 
 #include "base/abi.h"
 #include "base/context.h"
@@ -82,8 +83,8 @@ limn_status mpi_mesh_volume_area(mpi_part *p, const limn_mpi_mesh *mesh, const d
         nt += s->face_offsets[f + 1] - s->face_offsets[f] > 2
                   ? s->face_offsets[f + 1] - s->face_offsets[f] - 2
                   : 0;
-    double *pos = malloc((nc ? nc : 1) * 3 * sizeof *pos);
-    double *t = malloc((nt ? nt : 1) * 2 * sizeof *t);
+    double *pos = large_malloc((nc ? nc : 1) * 3 * sizeof *pos);
+    double *t = large_malloc((nt ? nt : 1) * 2 * sizeof *t);
     limn_status st = pos && t ? LIMN_OK
                               : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                                          "out of memory measuring %zu faces", s->face_count);

@@ -12,6 +12,7 @@
  * the blocks without an operator.
  */
 #include "mpi/mpi_blocks.h"
+#include "base/large_alloc.h"
 #include "mpi/mpi_mesh.h"
 #include "mpi/mpi_series.h"
 
@@ -34,11 +35,11 @@ static limn_status fetch_faces(mpi_part *p, const limn_mpi_mesh *m, size_t begin
 {
     const mesh_slice *s = &m->slice;
     size_t n = end - begin, nc = 0;
-    size_t *cdist = malloc(((size_t)p->size + 1) * sizeof *cdist);
-    uint64_t *rec = malloc((s->face_count ? s->face_count : 1) * 2 * sizeof *rec);
-    uint64_t *got = malloc((n ? n : 1) * 2 * sizeof *got);
-    uint32_t *ids = malloc((n ? n : 1) * sizeof *ids);
-    *off = malloc((n + 1) * sizeof **off);
+    size_t *cdist = large_malloc(((size_t)p->size + 1) * sizeof *cdist);
+    uint64_t *rec = large_malloc((s->face_count ? s->face_count : 1) * 2 * sizeof *rec);
+    uint64_t *got = large_malloc((n ? n : 1) * 2 * sizeof *got);
+    uint32_t *ids = large_malloc((n ? n : 1) * sizeof *ids);
+    *off = large_malloc((n + 1) * sizeof **off);
     *idx = NULL;
     limn_status st = cdist && rec && got && ids && *off
                          ? LIMN_OK
@@ -66,8 +67,8 @@ static limn_status fetch_faces(mpi_part *p, const limn_mpi_mesh *m, size_t begin
         for (size_t k = 0; k < n; k++)
             (*off)[k + 1] = (*off)[k] + (uint32_t)got[2 * k + 1];
         nc = (*off)[n];
-        cids = malloc((nc ? nc : 1) * sizeof *cids);
-        *idx = malloc((nc ? nc : 1) * sizeof **idx);
+        cids = large_malloc((nc ? nc : 1) * sizeof *cids);
+        *idx = large_malloc((nc ? nc : 1) * sizeof **idx);
         if (!cids || !*idx)
             st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu corners", nc);
         for (size_t c = 0; !st && c < nc; c++)
@@ -205,12 +206,12 @@ static limn_status morph_prepare(morph_run *m)
     mpi_part *p = m->p;
     const mesh_slice *s = &m->from->slice;
     size_t nb = s->vertex_count, nc = s->face_offsets[s->face_count];
-    uint32_t *ids = malloc((nb ? nb : 1) * sizeof *ids);
-    double *copy = malloc((nb ? 3 * nb : 1) * sizeof *copy);
-    m->to_block = malloc((nb ? 3 * nb : 1) * sizeof *m->to_block);
-    m->from_corners = malloc((nc ? 3 * nc : 1) * sizeof *m->from_corners);
-    m->corners = malloc((nc ? 3 * nc : 1) * sizeof *m->corners);
-    m->iota = malloc((nc ? nc : 1) * sizeof *m->iota);
+    uint32_t *ids = large_malloc((nb ? nb : 1) * sizeof *ids);
+    double *copy = large_malloc((nb ? 3 * nb : 1) * sizeof *copy);
+    m->to_block = large_malloc((nb ? 3 * nb : 1) * sizeof *m->to_block);
+    m->from_corners = large_malloc((nc ? 3 * nc : 1) * sizeof *m->from_corners);
+    m->corners = large_malloc((nc ? 3 * nc : 1) * sizeof *m->corners);
+    m->iota = large_malloc((nc ? nc : 1) * sizeof *m->iota);
     limn_status st = ids && copy && m->to_block && m->from_corners && m->corners && m->iota
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the morph");
@@ -271,7 +272,7 @@ static limn_status emit(morph_run *m, int k, const double *pos)
     }
     MPI_Allreduce(MPI_IN_PLACE, &flipped, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, p->comm);
     fr.flipped_faces = (size_t)flipped;
-    double *dist = malloc((nb ? nb : 1) * sizeof *dist), sum = 0.0;
+    double *dist = large_malloc((nb ? nb : 1) * sizeof *dist), sum = 0.0;
     st = mpi_agree(p, dist ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory"));
     if (st) {
         free(dist);
@@ -313,7 +314,7 @@ static limn_status morph_series(morph_run *m, series_mpi *s, const series_engine
     mpi_part *p = m->p;
     device_buffer **b = e->buf;
     size_t nb = m->from->slice.vertex_count;
-    double *q = malloc((nb ? 3 * nb : 1) * sizeof *q);
+    double *q = large_malloc((nb ? 3 * nb : 1) * sizeof *q);
     limn_status st =
         mpi_agree(p, q ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory"));
     if (!st)
@@ -350,7 +351,7 @@ static limn_status morph_series(morph_run *m, series_mpi *s, const series_engine
 static limn_status difference(mpi_part *p, series_mpi *s, const limn_mpi_mesh *to)
 {
     size_t no = p->n_owned;
-    double *t = malloc((no ? 3 * no : 1) * sizeof *t);
+    double *t = large_malloc((no ? 3 * no : 1) * sizeof *t);
     limn_status st =
         mpi_agree(p, t ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory"));
     if (!st)
@@ -403,7 +404,7 @@ static limn_status run_linear(morph_run *m, const limn_morph_options *o, limn_se
         r->alpha = scheme == LIMN_SCHEME_CATMARK ? o->series.alpha : 0.0;
         r->bbox_diagonal = mpi_mesh_bbox_diagonal(p, m->from);
         snprintf(r->device, sizeof r->device, "none (linear blend on the host)");
-        q = malloc((nb ? 3 * nb : 1) * sizeof *q);
+        q = large_malloc((nb ? 3 * nb : 1) * sizeof *q);
         st = mpi_agree(p, q ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory"));
     }
     double t0 = MPI_Wtime();

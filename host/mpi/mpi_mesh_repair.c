@@ -9,6 +9,7 @@
  * what stays as it is counted and said as it says it (mpi_mesh_census.c).
  */
 #include "mpi/mpi_mesh.h"
+#include "base/large_alloc.h"
 
 #include "base/abi.h"
 #include "base/context.h"
@@ -33,7 +34,7 @@ static limn_status local_mesh(limn_context *ctx, const mesh_slice *s, uint32_t *
                               limn_mesh **out)
 {
     size_t nc = s->face_offsets[s->face_count], nu = 0;
-    uint32_t *ids = malloc((nc ? nc : 1) * sizeof *ids);
+    uint32_t *ids = large_malloc((nc ? nc : 1) * sizeof *ids);
     if (!ids)
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory repairing %zu faces", s->face_count);
     memcpy(ids, s->face_indices, nc * sizeof *ids);

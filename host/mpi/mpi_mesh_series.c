@@ -17,6 +17,7 @@
  * rank to rank.
  */
 #include "mpi/mpi_mesh.h"
+#include "base/large_alloc.h"
 #include "mpi/mpi_series.h"
 
 #include "base/context.h"
@@ -307,7 +308,8 @@ static limn_status denoise_sure_sized(limn_context *ctx, const limn_mpi_mesh *me
     if (!st && keep_volume)
         st = mpi_mesh_check_closed(&s.p, mesh);
     size_t n3 = 3 * mesh->slice.vertex_count + 1; /* + 1: an empty block */
-    double *rv = malloc((size_t)products * n3 * sizeof *rv), *q = malloc(n3 * sizeof *q);
+    double *rv = large_malloc((size_t)products * n3 * sizeof *rv);
+    double *q = large_malloc(n3 * sizeof *q);
     if (!st && (!rv || !q))
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu vertices",
                       products, mesh->slice.vertex_count);

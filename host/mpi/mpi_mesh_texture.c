@@ -15,6 +15,7 @@
  * the single process's, so the file is its bytes.
  */
 #include "mpi/mpi_refine.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "device/device.h"
@@ -181,8 +182,8 @@ static limn_status append_field(tex *t, const size_t *dist, const double *block)
 {
     mpi_part *p = t->p;
     size_t n = t->cur.n_owned;
-    uint32_t *ids = malloc((n ? n : 1) * sizeof *ids);
-    double *got = malloc((n ? 3 * n : 3) * sizeof *got);
+    uint32_t *ids = large_malloc((n ? n : 1) * sizeof *ids);
+    double *got = large_malloc((n ? 3 * n : 3) * sizeof *got);
     double *more = realloc(t->carried, ((size_t)t->fields + 1) * (n ? n : 1) * sizeof *more);
     if (more)
         t->carried = more;
@@ -289,7 +290,7 @@ static limn_status texture_finish(tex *t, mpi_refine_stats *rs, limn_mpi_mesh **
     size_t n = t->cur.n_owned;
     double alpha = t->o->levels == 0 ? t->r->alpha : 0.0;
     double *sum = calloc(n ? 3 * n : 3, sizeof *sum);
-    uint8_t *rgb = malloc(n ? 3 * n : 3);
+    uint8_t *rgb = large_malloc(n ? 3 * n : 3);
     limn_status st = mpi_agree(p, sum && rgb ? LIMN_OK
                                              : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                                                         "out of memory for %zu vertices", n));
@@ -320,9 +321,9 @@ static limn_status texture_finish(tex *t, mpi_refine_stats *rs, limn_mpi_mesh **
     t->cur.pos = positions;
     if (!st)
         st = mpi_rmesh_to_mesh(p, &t->cur, out);
-    uint32_t *ids = st ? NULL : malloc((n ? n : 1) * sizeof *ids);
+    uint32_t *ids = st ? NULL : large_malloc((n ? n : 1) * sizeof *ids);
     size_t nb = st ? 0 : (*out)->slice.vertex_count;
-    uint8_t *block = st ? NULL : malloc(nb ? 3 * nb : 3);
+    uint8_t *block = st ? NULL : large_malloc(nb ? 3 * nb : 3);
     if (!st)
         st = mpi_agree(p, ids && block ? LIMN_OK
                                        : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory"));

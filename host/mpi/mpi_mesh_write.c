@@ -2,6 +2,7 @@
 /* limn_mpi_mesh_write: a distributed mesh's blocks written in parallel
    (mpi_write.c), the vertex block being what this rank owns. */
 #include "mpi/mpi_mesh.h"
+#include "base/large_alloc.h"
 
 #include "base/abi.h"
 #include "base/context.h"
@@ -38,7 +39,7 @@ static limn_status write_sized(limn_context *ctx, mpi_part *p, const limn_mpi_me
                                const limn_write_options *o, limn_write_report *r)
 {
     const mesh_slice *s = &mesh->slice;
-    uint32_t *ids = malloc((s->vertex_count ? s->vertex_count : 1) * sizeof *ids);
+    uint32_t *ids = large_malloc((s->vertex_count ? s->vertex_count : 1) * sizeof *ids);
     limn_status st = mpi_agree(p, ids ? LIMN_OK
                                       : ctx_fail(ctx, LIMN_ERR_MEMORY,
                                                  "out of memory for %zu vertices",

@@ -7,6 +7,7 @@
  * takes both. One part, or no more vertices than parts, needs no METIS.
  */
 #include "mpi/mpi_part.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
@@ -31,8 +32,8 @@ static limn_status edge_graph(limn_context *ctx, const limn_mesh *mesh, idx_t **
         return ctx_fail(ctx, LIMN_ERR_MEMORY,
                          "the mesh has %zu face corners: too many for METIS's 32-bit indices",
                          corners);
-    idx_t *xadj = calloc(n + 1, sizeof *xadj), *adj = malloc((2 * corners + 1) * sizeof *adj);
-    idx_t *fill = malloc((n + 1) * sizeof *fill);
+    idx_t *xadj = calloc(n + 1, sizeof *xadj), *adj = large_malloc((2 * corners + 1) * sizeof *adj);
+    idx_t *fill = large_malloc((n + 1) * sizeof *fill);
     if (!xadj || !adj || !fill) {
         free(xadj);
         free(adj);
@@ -91,7 +92,7 @@ limn_status mpi_partition(limn_context *ctx, const limn_mesh *mesh, int parts,
             part_of[v] = (uint32_t)(n <= (size_t)parts ? v : v * (size_t)parts / n);
     } else {
         idx_t nv = (idx_t)n, ncon = 1, np = parts, objval = 0;
-        idx_t *part = malloc(n * sizeof *part);
+        idx_t *part = large_malloc(n * sizeof *part);
         idx_t options[METIS_NOPTIONS];
         METIS_SetDefaultOptions(options);
         options[METIS_OPTION_SEED] = 4321; /* the same partition on every run */

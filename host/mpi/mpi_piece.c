@@ -6,6 +6,7 @@
  * one of its vertices). Built on the root from the gathered result and sent.
  */
 #include "mpi/mpi_part.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
@@ -53,8 +54,8 @@ static limn_status face_lists(mpi_part *p, const limn_mesh *mesh, size_t **off_o
             for (size_t r = 0; r < R; r++)
                 off[r + 1] += off[r];
             total = off[R];
-            faces = malloc((total ? total : 1) * sizeof *faces);
-            fill = malloc(R * sizeof *fill);
+            faces = large_malloc((total ? total : 1) * sizeof *faces);
+            fill = large_malloc(R * sizeof *fill);
             if (!faces || !fill) {
                 free(faces);
                 free(fill);
@@ -96,9 +97,9 @@ static limn_status build_piece(mpi_part *p, const limn_mesh *mesh, const double 
     size_t corners = 0;
     for (size_t k = face_off[r]; k < face_off[r + 1]; k++)
         corners += mesh->face_offsets[faces[k] + 1] - mesh->face_offsets[faces[k]];
-    pc->ids = malloc((no + corners + 1) * sizeof *pc->ids);
-    pc->off = malloc((nf + 1) * sizeof *pc->off);
-    pc->idx = malloc((corners + 1) * sizeof *pc->idx);
+    pc->ids = large_malloc((no + corners + 1) * sizeof *pc->ids);
+    pc->off = large_malloc((nf + 1) * sizeof *pc->off);
+    pc->idx = large_malloc((corners + 1) * sizeof *pc->idx);
     if (!pc->ids || !pc->off || !pc->idx)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the piece of rank %d", r);
     memcpy(pc->ids, p->root_ids + p->root_off[r], no * sizeof *pc->ids);
@@ -119,7 +120,7 @@ static limn_status build_piece(mpi_part *p, const limn_mesh *mesh, const double 
     qsort(pc->ids + no, nv - no, sizeof *pc->ids, cmp_u32);
     for (size_t i = no; i < nv; i++)
         loc[pc->ids[i]] = (uint32_t)i;
-    pc->pos = malloc((nv ? 3 * nv : 1) * sizeof *pc->pos);
+    pc->pos = large_malloc((nv ? 3 * nv : 1) * sizeof *pc->pos);
     if (!pc->pos)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the piece of rank %d", r);
     for (size_t i = 0; i < nv; i++)
@@ -165,10 +166,10 @@ static limn_status recv_piece(mpi_part *p, piece *pc)
         return ctx_fail(p->ctx, (limn_status)pc->h[P_STATUS], "the root failed");
     }
     size_t nv = pc->h[P_VERTICES], nf = pc->h[P_FACES], ni = pc->h[P_INDICES];
-    pc->ids = malloc((nv ? nv : 1) * sizeof *pc->ids);
-    pc->pos = malloc((nv ? 3 * nv : 1) * sizeof *pc->pos);
-    pc->off = malloc((nf + 1) * sizeof *pc->off);
-    pc->idx = malloc((ni ? ni : 1) * sizeof *pc->idx);
+    pc->ids = large_malloc((nv ? nv : 1) * sizeof *pc->ids);
+    pc->pos = large_malloc((nv ? 3 * nv : 1) * sizeof *pc->pos);
+    pc->off = large_malloc((nf + 1) * sizeof *pc->off);
+    pc->idx = large_malloc((ni ? ni : 1) * sizeof *pc->idx);
     int ok = pc->ids && pc->pos && pc->off && pc->idx;
     void *dst[] = {pc->ids, pc->pos, pc->off, pc->idx};
     int tags[] = {TAG_PIECE_IDS, TAG_PIECE_POS, TAG_PIECE_OFF, TAG_PIECE_IDX};
@@ -178,7 +179,7 @@ static limn_status recv_piece(mpi_part *p, piece *pc)
         MPI_Probe(p->root, tags[k], p->comm, &status);
         MPI_Get_count(&status, MPI_BYTE, &bytes);
         /* without memory the message is still taken, so the root's send completes */
-        void *scratch = ok ? NULL : malloc(bytes > 0 ? (size_t)bytes : 1);
+        void *scratch = ok ? NULL : large_malloc(bytes > 0 ? (size_t)bytes : 1);
         MPI_Recv(ok ? dst[k] : scratch, bytes, MPI_BYTE, p->root, tags[k], p->comm,
                  MPI_STATUS_IGNORE);
         free(scratch);
@@ -210,7 +211,7 @@ limn_status mpi_pieces(mpi_part *p, const limn_mesh *mesh_root, const double *xy
     if (p->rank == p->root) {
         size_t *face_off = NULL;
         uint32_t *faces = NULL;
-        uint32_t *loc = malloc((p->n_global ? p->n_global : 1) * sizeof *loc);
+        uint32_t *loc = large_malloc((p->n_global ? p->n_global : 1) * sizeof *loc);
         st = loc ? face_lists(p, mesh_root, &face_off, &faces)
                  : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the pieces");
         for (size_t v = 0; loc && v < p->n_global; v++)

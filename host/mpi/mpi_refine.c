@@ -16,6 +16,7 @@
  * request and one answer exchange). Each rank keeps what it computed.
  */
 #include "mpi/mpi_refine.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
@@ -67,7 +68,7 @@ static limn_status split_ids(level *l, int s, size_t start, const uint64_t *all,
 {
     size_t S = (size_t)l->in->segments, R = (size_t)l->p->size;
     mpi_rseg *g = &l->edge_seg[s];
-    g->dist = malloc((R + 1) * sizeof *g->dist);
+    g->dist = large_malloc((R + 1) * sizeof *g->dist);
     if (!g->dist)
         return ctx_fail(l->p->ctx, LIMN_ERR_MEMORY, "out of memory");
     g->dist[0] = start;
@@ -119,7 +120,7 @@ static limn_status directory_ids(level *l, int s, size_t start, size_t at, const
 static limn_status directory_segment(level *l, int s, size_t start, size_t end)
 {
     size_t ne = l->topo.edge_count, n = 0;
-    uint32_t *own = malloc((l->owned_edges ? l->owned_edges : 1) * sizeof *own);
+    uint32_t *own = large_malloc((l->owned_edges ? l->owned_edges : 1) * sizeof *own);
     limn_status st = mpi_agree(l->p, own ? LIMN_OK
                                          : ctx_fail(l->p->ctx, LIMN_ERR_MEMORY, "out of memory"));
     for (size_t e = 0; !st && e < ne; e++)
@@ -139,11 +140,11 @@ static limn_status number_edges(level *l)
     mpi_part *p = l->p;
     size_t ne = l->topo.edge_count, S = (size_t)l->in->segments, R = (size_t)p->size;
     size_t no = l->in->n_owned;
-    l->edge_id = malloc((ne ? ne : 1) * sizeof *l->edge_id);
+    l->edge_id = large_malloc((ne ? ne : 1) * sizeof *l->edge_id);
     l->edge_seg = calloc(S, sizeof *l->edge_seg);
-    l->next_id = malloc((no ? no : 1) * sizeof *l->next_id);
+    l->next_id = large_malloc((no ? no : 1) * sizeof *l->next_id);
     uint32_t *count = calloc(no ? no : 1, sizeof *count);
-    uint64_t *mine = calloc(S, sizeof *mine), *all = malloc(S * R * sizeof *all);
+    uint64_t *mine = calloc(S, sizeof *mine), *all = large_malloc(S * R * sizeof *all);
     limn_status st = l->edge_id && l->edge_seg && l->next_id && count && mine && all
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
@@ -198,7 +199,7 @@ static limn_status gather_points(level *l, mpi_refine_stats *stats)
     const mpi_rmesh *s = l->in;
     int cc = l->scheme == LIMN_SCHEME_CATMARK;
     size_t n = s->n_owned + (cc ? s->face_count : 0) + l->owned_edges;
-    l->new_xyz = malloc((n ? 3 * n : 1) * sizeof *l->new_xyz);
+    l->new_xyz = large_malloc((n ? 3 * n : 1) * sizeof *l->new_xyz);
     if (!l->new_xyz)
         return ctx_fail(l->p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu new vertices", n);
     const double *fine = l->plan.meshes[1]->positions;
@@ -246,8 +247,8 @@ static limn_status asked_edges(level *l, uint32_t **edges, uint32_t **lo, size_t
     const limn_mesh *pm = l->star.mesh;
     size_t ne = l->topo.edge_count, k = 0;
     uint8_t *asked = calloc(ne ? ne : 1, 1);
-    *edges = malloc((ne ? ne : 1) * sizeof **edges);
-    *lo = malloc((ne ? ne : 1) * sizeof **lo);
+    *edges = large_malloc((ne ? ne : 1) * sizeof **edges);
+    *lo = large_malloc((ne ? ne : 1) * sizeof **lo);
     limn_status st = asked && *edges && *lo ? LIMN_OK
                                             : ctx_fail(l->p->ctx, LIMN_ERR_MEMORY,
                                                        "out of memory for the edge requests");
@@ -277,9 +278,9 @@ static limn_status pack_requests(level *l, int *cnt, uint32_t **req, uint32_t **
     size_t *at = calloc((size_t)p->size + 1, sizeof *at);
     limn_status st = at ? asked_edges(l, &edges, &lo, &n)
                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
-    int *owner = malloc((n ? n : 1) * sizeof *owner);
-    *req = malloc((n ? 2 * n : 1) * sizeof **req);
-    *which = malloc((n ? n : 1) * sizeof **which);
+    int *owner = large_malloc((n ? n : 1) * sizeof *owner);
+    *req = large_malloc((n ? 2 * n : 1) * sizeof **req);
+    *which = large_malloc((n ? n : 1) * sizeof **which);
     if (!st && (!owner || !*req || !*which || n > INT32_MAX / 2))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu requests", n);
     st = mpi_agree(p, st);
@@ -308,7 +309,7 @@ static limn_status pack_requests(level *l, int *cnt, uint32_t **req, uint32_t **
 static limn_status fetch_edges(level *l)
 {
     mpi_part *p = l->p;
-    int *cnt = malloc(4 * (size_t)p->size * sizeof *cnt);
+    int *cnt = large_malloc(4 * (size_t)p->size * sizeof *cnt);
     uint32_t *req = NULL, *which = NULL, *got = NULL, *ans = NULL, *back = NULL;
     size_t words = 0, n_back = 0;
     limn_status st = cnt ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
@@ -318,7 +319,7 @@ static limn_status fetch_edges(level *l)
     st = mpi_agree(p, st);
     if (!st)
         st = mpi_local_alltoallv(p, req, cnt, sizeof *req, (void **)&got, cnt + p->size, &words);
-    if (!st && !(ans = malloc((words ? words / 2 : 1) * sizeof *ans)))
+    if (!st && !(ans = large_malloc((words ? words / 2 : 1) * sizeof *ans)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu answers", words / 2);
     for (size_t k = 0; !st && k < words / 2; k++)
         if ((ans[k] = answer_edge(l, got[2 * k], got[2 * k + 1])) == UINT32_MAX)
@@ -350,8 +351,8 @@ static limn_status child_faces(level *l, mpi_rmesh *out)
     int loop = l->scheme == LIMN_SCHEME_LOOP;
     size_t nc = s->face_offsets[s->face_count];
     out->face_count = loop ? 4 * s->face_count : nc;
-    out->face_offsets = malloc((out->face_count + 1) * sizeof *out->face_offsets);
-    out->face_indices = malloc((4 * out->face_count + 1) * sizeof *out->face_indices);
+    out->face_offsets = large_malloc((out->face_count + 1) * sizeof *out->face_offsets);
+    out->face_indices = large_malloc((4 * out->face_count + 1) * sizeof *out->face_indices);
     if (!out->face_offsets || !out->face_indices || 4 * out->face_count > UINT32_MAX)
         return ctx_fail(l->p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu child faces",
                         out->face_count);
@@ -402,8 +403,8 @@ static limn_status hand_over(level *l, mpi_rmesh *out)
     out->seg = calloc((size_t)out->segments, sizeof *out->seg);
     mpi_rseg *fp = out->seg ? &out->seg[S] : NULL;
     if (fp && cc)
-        fp->dist = malloc((R + 1) * sizeof *fp->dist);
-    size_t *fd = malloc((R + 1) * sizeof *fd);
+        fp->dist = large_malloc((R + 1) * sizeof *fp->dist);
+    size_t *fd = large_malloc((R + 1) * sizeof *fd);
     limn_status st = out->seg && fd && (!cc || fp->dist) ? child_faces(l, out)
                                                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                                                                    "out of memory");
@@ -513,8 +514,8 @@ limn_status mpi_refine_limit(mpi_part *p, mpi_rmesh *m, limn_scheme scheme, doub
     mpi_star s;
     limn_status st = mpi_star_build(p, m, &s);
     size_t nb = m->n_owned, n = st ? 0 : s.mesh->vertex_count;
-    double *lim = NULL, *block = malloc((nb ? 3 * nb : 1) * sizeof *block);
-    if (!st && (!block || !(lim = malloc((n ? 3 * n : 1) * sizeof *lim))))
+    double *lim = NULL, *block = large_malloc((nb ? 3 * nb : 1) * sizeof *block);
+    if (!st && (!block || !(lim = large_malloc((n ? 3 * n : 1) * sizeof *lim))))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu limit positions", n);
     if (!st)
         st = limn_limit_positions(p->ctx, s.mesh, scheme, alpha, lim);

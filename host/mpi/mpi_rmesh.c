@@ -7,6 +7,7 @@
  * to the even vertex blocks of a limn_mpi_mesh (one store exchange).
  */
 #include "mpi/mpi_refine.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/io/mesh_slice.h"
@@ -37,7 +38,8 @@ size_t mpi_rseg_count(const mpi_rseg *s, int rank)
 limn_status mpi_rmesh_owners(mpi_part *p, const mpi_rmesh *m, size_t n, const uint32_t *ids,
                              int *owner)
 {
-    uint32_t *ask = malloc((n ? n : 1) * sizeof *ask), *got = malloc((n ? n : 1) * sizeof *got);
+    uint32_t *ask = large_malloc((n ? n : 1) * sizeof *ask);
+    uint32_t *got = large_malloc((n ? n : 1) * sizeof *got);
     limn_status st = mpi_agree(p, ask && got ? LIMN_OK
                                              : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory"));
     for (int s = 0; !st && s < m->segments; s++) {
@@ -128,14 +130,14 @@ limn_status mpi_rseg_directory(mpi_part *p, size_t start, size_t end, uint32_t *
     out->directory = 1;
     out->own = own;
     out->n_own = n;
-    out->dist = malloc(((size_t)p->size + 1) * sizeof *out->dist);
-    uint32_t *mine = malloc((n ? n : 1) * sizeof *mine);
+    out->dist = large_malloc(((size_t)p->size + 1) * sizeof *out->dist);
+    uint32_t *mine = large_malloc((n ? n : 1) * sizeof *mine);
     limn_status st = out->dist && mine ? LIMN_OK
                                        : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     for (int r = 0; !st && r <= p->size; r++)
         out->dist[r] = start + mesh_slice_cut(end - start, (unsigned)p->size, (unsigned)r);
     size_t nb = st ? 0 : out->dist[p->rank + 1] - out->dist[p->rank];
-    if (!st && !(out->dir = malloc((nb ? nb : 1) * sizeof *out->dir)))
+    if (!st && !(out->dir = large_malloc((nb ? nb : 1) * sizeof *out->dir)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for a directory of %zu", nb);
     for (size_t i = 0; !st && i < n; i++)
         mine[i] = (uint32_t)p->rank;
@@ -153,7 +155,7 @@ static limn_status gather_own(mpi_part *p, const limn_mpi_mesh *mesh, const uint
     size_t nb = mesh->slice.vertex_count, R = (size_t)p->size;
     int *cnt = calloc(2 * R, sizeof *cnt);
     size_t *at = calloc(R + 1, sizeof *at);
-    uint32_t *send = malloc((nb ? nb : 1) * sizeof *send);
+    uint32_t *send = large_malloc((nb ? nb : 1) * sizeof *send);
     limn_status st = cnt && at && send ? LIMN_OK
                                        : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     for (size_t i = 0; !st && i < nb; i++)
@@ -183,10 +185,10 @@ static limn_status face_parts(mpi_part *p, const limn_mpi_mesh *mesh, uint32_t *
 {
     const mesh_slice *s = &mesh->slice;
     size_t nc = s->face_offsets[s->face_count], R = (size_t)p->size, n = 0, got_n = 0;
-    uint64_t *keys = malloc((nc ? nc : 1) * sizeof *keys);
-    uint32_t *send = malloc((nc ? nc : 1) * sizeof *send), *got = NULL;
+    uint64_t *keys = large_malloc((nc ? nc : 1) * sizeof *keys);
+    uint32_t *send = large_malloc((nc ? nc : 1) * sizeof *send), *got = NULL;
     int *cnt = calloc(2 * R, sizeof *cnt);
-    *part = malloc((s->vertex_count ? s->vertex_count : 1) * sizeof **part);
+    *part = large_malloc((s->vertex_count ? s->vertex_count : 1) * sizeof **part);
     limn_status st = keys && send && cnt && *part
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
@@ -249,7 +251,7 @@ limn_status mpi_rmesh_of(mpi_part *p, const limn_mpi_mesh *mesh, mpi_rmesh *out)
     out->face_indices = s->face_indices;
     out->n_owned = n;
     if (!st) {
-        out->pos = malloc((n ? 3 * n : 1) * sizeof *out->pos);
+        out->pos = large_malloc((n ? 3 * n : 1) * sizeof *out->pos);
         st = mpi_agree(p, out->pos ? LIMN_OK
                                    : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                                               "out of memory for %zu vertices", n));
@@ -268,8 +270,8 @@ static limn_status take_faces(mpi_part *p, const mpi_rmesh *m, mesh_slice *s)
     size_t nc = m->face_offsets[m->face_count];
     s->face_begin = m->face_begin;
     s->face_count = m->face_count;
-    s->face_offsets = malloc((m->face_count + 1) * sizeof *s->face_offsets);
-    s->face_indices = malloc((nc ? nc : 1) * sizeof *s->face_indices);
+    s->face_offsets = large_malloc((m->face_count + 1) * sizeof *s->face_offsets);
+    s->face_indices = large_malloc((nc ? nc : 1) * sizeof *s->face_indices);
     if (!s->face_offsets || !s->face_indices)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", m->face_count);
     memcpy(s->face_offsets, m->face_offsets, (m->face_count + 1) * sizeof *s->face_offsets);
@@ -279,8 +281,8 @@ static limn_status take_faces(mpi_part *p, const mpi_rmesh *m, mesh_slice *s)
 limn_status mpi_rmesh_to_mesh(mpi_part *p, const mpi_rmesh *m, limn_mpi_mesh **out)
 {
     mesh_slice s = {0};
-    size_t *dist = malloc(((size_t)p->size + 1) * sizeof *dist);
-    uint32_t *ids = malloc((m->n_owned ? m->n_owned : 1) * sizeof *ids);
+    size_t *dist = large_malloc(((size_t)p->size + 1) * sizeof *dist);
+    uint32_t *ids = large_malloc((m->n_owned ? m->n_owned : 1) * sizeof *ids);
     limn_status st = dist && ids ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     for (int r = 0; !st && r <= p->size; r++)
         dist[r] = mesh_slice_cut(m->vertex_total, (unsigned)p->size, (unsigned)r);
@@ -289,7 +291,7 @@ limn_status mpi_rmesh_to_mesh(mpi_part *p, const mpi_rmesh *m, limn_mpi_mesh **o
     if (!st) {
         s.vertex_begin = dist[p->rank];
         s.vertex_count = dist[p->rank + 1] - dist[p->rank];
-        s.positions = malloc((s.vertex_count ? 3 * s.vertex_count : 1) * sizeof *s.positions);
+        s.positions = large_malloc((s.vertex_count ? 3 * s.vertex_count : 1) * sizeof *s.positions);
         st = s.positions ? take_faces(p, m, &s)
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices",
                                     s.vertex_count);
@@ -318,10 +320,10 @@ limn_status mpi_rmesh_borrow(mpi_part *p, const mpi_rmesh *m, double *pos, mpi_r
         mpi_rseg *b = &out->seg[k];
         *b = *a;
         b->dir = b->own = NULL; /* nothing of a's freed with the copy */
-        b->dist = malloc(R * sizeof *b->dist);
+        b->dist = large_malloc(R * sizeof *b->dist);
         size_t nd = a->directory ? a->dist[p->rank + 1] - a->dist[p->rank] : 0;
-        b->dir = a->dir ? malloc((nd ? nd : 1) * sizeof *b->dir) : NULL;
-        b->own = a->own ? malloc((a->n_own ? a->n_own : 1) * sizeof *b->own) : NULL;
+        b->dir = a->dir ? large_malloc((nd ? nd : 1) * sizeof *b->dir) : NULL;
+        b->own = a->own ? large_malloc((a->n_own ? a->n_own : 1) * sizeof *b->own) : NULL;
         if (!b->dist || (a->dir && !b->dir) || (a->own && !b->own)) {
             st = LIMN_ERR_MEMORY;
             break;

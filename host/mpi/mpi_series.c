@@ -9,6 +9,7 @@
  * taken on the root after a gather, in the single process's arithmetic.
  */
 #include "mpi/mpi_series.h"
+#include "base/large_alloc.h"
 
 #include "mesh/check.h"
 #include "base/context.h"
@@ -43,7 +44,7 @@ limn_status mpi_series_buffers(series_mpi *s, int root_xyz, limn_series_report *
     int want_xyz = root_xyz && p->rank == p->root;
     s->rows4 = calloc(nl ? 4 * nl : 4, sizeof *s->rows4);
     if (want_xyz)
-        s->xyz = malloc(3 * p->n_global * sizeof *s->xyz);
+        s->xyz = large_malloc(3 * p->n_global * sizeof *s->xyz);
     if (!s->rows4 || (want_xyz && !s->xyz))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nl);
     for (int b = 0; !st && b < 4; b++)
@@ -292,7 +293,7 @@ static limn_status sure_run(const series_engine *e, const limn_mesh *mesh, int d
 {
     series_mpi *s = e->user;
     size_t n3 = e->root ? 3 * s->p.n_global : 0;
-    double *r = e->root ? malloc((size_t)degree * n3 * sizeof *r) : NULL;
+    double *r = e->root ? large_malloc((size_t)degree * n3 * sizeof *r) : NULL;
     limn_status st = mpi_agree(&s->p, e->root && !r ? ctx_fail(s->p.ctx, LIMN_ERR_MEMORY,
                                                                "out of memory for %d vectors",
                                                                degree)
@@ -484,7 +485,7 @@ static limn_status morph_mpi_sized(limn_context *ctx, MPI_Comm comm, const limn_
     if (!st && s.p.rank == s.p.root) {
         diag = mesh_bbox_diagonal(to, lo, hi);
         closed = measure_topology_closed(&s.p.global.topo);
-        q = malloc(3 * s.p.n_global * sizeof *q);
+        q = large_malloc(3 * s.p.n_global * sizeof *q);
         if (!q)
             st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", s.p.n_global);
         for (size_t i = 0; q && i < 3 * s.p.n_global; i++)

@@ -5,6 +5,7 @@
  * digit by digit over all ranks, each vertex's part from where its key falls.
  */
 #include "mpi/mpi_sfc.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 
@@ -211,11 +212,11 @@ typedef struct sfc_work {
 
 static limn_status sfc_alloc(mpi_part *p, size_t n, int parts, sfc_work *w)
 {
-    w->rec = malloc((n ? n : 1) * sizeof *w->rec);
-    w->tmp = malloc((n ? n : 1) * sizeof *w->tmp);
-    w->radix = malloc(65537 * sizeof *w->radix);
-    w->cut = malloc(2 * (size_t)parts * sizeof *w->cut);
-    w->count = malloc((size_t)parts * SFC_CANDIDATES * sizeof *w->count);
+    w->rec = large_malloc((n ? n : 1) * sizeof *w->rec);
+    w->tmp = large_malloc((n ? n : 1) * sizeof *w->tmp);
+    w->radix = large_malloc(65537 * sizeof *w->radix);
+    w->cut = large_malloc(2 * (size_t)parts * sizeof *w->cut);
+    w->count = large_malloc((size_t)parts * SFC_CANDIDATES * sizeof *w->count);
     if (w->rec && w->tmp && w->radix && w->cut && w->count)
         return LIMN_OK;
     return ctx_fail(p->ctx, LIMN_ERR_MEMORY,
@@ -245,7 +246,7 @@ limn_status mpi_sfc_partition(mpi_part *p, const size_t *vtxdist, const double *
                                            parts);
     if (!st)
         st = sfc_alloc(p, n, parts, &w);
-    if (!st && !(*part_of = malloc((n ? n : 1) * sizeof **part_of)))
+    if (!st && !(*part_of = large_malloc((n ? n : 1) * sizeof **part_of)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu parts", n);
     st = mpi_agree(p, st);
     if (!st) {

@@ -26,6 +26,7 @@
  * same iteration counts.
  */
 #include "mpi/mpi_part.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/check.h"
@@ -47,8 +48,8 @@ static limn_status colour_on_root(mpi_part *p, uint32_t *by_input, unsigned long
 {
     const stencil_operator *op = &p->global;
     size_t n = op->host.rows;
-    int8_t *tier = malloc(n ? n : 1);
-    uint32_t *colour = malloc((n ? n : 1) * sizeof *colour);
+    int8_t *tier = large_malloc(n ? n : 1);
+    uint32_t *colour = large_malloc((n ? n : 1) * sizeof *colour);
     limn_status st = LIMN_OK;
     if (!tier || !colour || (n && !by_input))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the colouring");
@@ -75,14 +76,14 @@ static limn_status colour_all(mpi_part *p, mpi_colouring *c)
     MPI_Bcast(&root_path, 1, MPI_INT, p->root, p->comm);
     if (!root_path) {
         size_t nl = p->n_owned + p->n_ghost;
-        c->colour = malloc((nl ? nl : 1) * sizeof *c->colour);
+        c->colour = large_malloc((nl ? nl : 1) * sizeof *c->colour);
         limn_status st = mpi_agree(p, c->colour ? LIMN_OK
                                                 : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                                                            "out of memory for the colouring"));
         return st ? st : mpi_sgs_colour_local(p, c->colour, c->colours);
     }
     size_t n = p->n_global, no = p->n_owned, nl = no + p->n_ghost;
-    uint32_t *by_input = malloc((n ? n : 1) * sizeof *by_input);
+    uint32_t *by_input = large_malloc((n ? n : 1) * sizeof *by_input);
     unsigned long long count[3] = {0, 0, 0};
     limn_status st = by_input ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     if (!st && p->rank == p->root)
@@ -92,7 +93,7 @@ static limn_status colour_all(mpi_part *p, mpi_colouring *c)
         /* one count per vertex (n < 2^32: the operator's column type) */
         MPI_Bcast(by_input, (int)n, MPI_UINT32_T, p->root, p->comm);
         MPI_Bcast(count, 3, MPI_UNSIGNED_LONG_LONG, p->root, p->comm);
-        c->colour = malloc((nl ? nl : 1) * sizeof *c->colour);
+        c->colour = large_malloc((nl ? nl : 1) * sizeof *c->colour);
         if (!c->colour)
             st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the colouring");
     }
@@ -131,13 +132,13 @@ static limn_status compact_block(mpi_part *p, const mpi_block *bl, const int8_t 
         nt += tier[i] == t;
     k->a.rows = nt;
     k->a.cols = nt + ng;
-    k->a.row_offsets = malloc((nt + 1) * sizeof *k->a.row_offsets);
-    k->a.columns = malloc((nnz ? nnz : 1) * sizeof *k->a.columns);
-    k->a.weights = malloc((nnz ? nnz : 1) * sizeof *k->a.weights);
-    k->colour = malloc((nt + ng ? nt + ng : 1) * sizeof *k->colour);
-    k->row_of = malloc((nt ? nt : 1) * sizeof *k->row_of);
-    k->at = malloc((no ? no : 1) * sizeof *k->at);
-    k->dinv = malloc((nt ? nt : 1) * sizeof *k->dinv);
+    k->a.row_offsets = large_malloc((nt + 1) * sizeof *k->a.row_offsets);
+    k->a.columns = large_malloc((nnz ? nnz : 1) * sizeof *k->a.columns);
+    k->a.weights = large_malloc((nnz ? nnz : 1) * sizeof *k->a.weights);
+    k->colour = large_malloc((nt + ng ? nt + ng : 1) * sizeof *k->colour);
+    k->row_of = large_malloc((nt ? nt : 1) * sizeof *k->row_of);
+    k->at = large_malloc((no ? no : 1) * sizeof *k->at);
+    k->dinv = large_malloc((nt ? nt : 1) * sizeof *k->dinv);
     if (!k->a.row_offsets || !k->a.columns || !k->a.weights || !k->colour || !k->row_of ||
         !k->at || !k->dinv)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for a solver block");
@@ -185,8 +186,8 @@ static limn_status make_view(sgs_run *s, const sgs_table *tab, const compact *k)
     const mpi_halo *h = &p->halo;
     size_t slots = h->n_send ? h->send_off[h->n_send - 1] + h->send_cnt[h->n_send - 1] : 0;
     size_t nt = tab->rows;
-    uint32_t *table_row = malloc((nt ? nt : 1) * sizeof *table_row);
-    s->send_idx = malloc((slots ? slots : 1) * sizeof *s->send_idx);
+    uint32_t *table_row = large_malloc((nt ? nt : 1) * sizeof *table_row);
+    s->send_idx = large_malloc((slots ? slots : 1) * sizeof *s->send_idx);
     s->view.stage = calloc(4 * (nt ? nt : 1), sizeof *s->view.stage);
     if (!table_row || !s->send_idx || !s->view.stage) {
         free(table_row);
@@ -354,7 +355,7 @@ static limn_status block_sgs(mpi_part *p, void *user, const mpi_block *bl, const
     if (!st)
         st = iterate(&s, &tab, tol_abs, max_iter, share, stats);
     size_t nt = tab.rows;
-    double *xs = malloc(4 * (nt ? nt : 1) * sizeof *xs);
+    double *xs = large_malloc(4 * (nt ? nt : 1) * sizeof *xs);
     if (!st && !xs)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     if (!st && nt)

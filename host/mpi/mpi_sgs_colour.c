@@ -15,6 +15,7 @@
  * between ranks, small for partitions into compact parts.
  */
 #include "mpi/mpi_local.h"
+#include "base/large_alloc.h"
 #include "mpi/mpi_part.h"
 
 #include "base/context.h"
@@ -86,12 +87,12 @@ limn_status mpi_sgs_colour_local(mpi_part *p, uint32_t *colour, size_t colours[3
         size_t len = p->host.row_offsets[i + 1] - p->host.row_offsets[i];
         longest = len > longest ? len : longest;
     }
-    int8_t *tier = malloc(nl ? nl : 1);
-    uint32_t *order = malloc((no ? no : 1) * sizeof *order);
-    uint64_t *key = malloc((no ? no : 1) * sizeof *key);
-    uint32_t *sendbuf = malloc((nsend ? nsend : 1) * sizeof *sendbuf);
+    int8_t *tier = large_malloc(nl ? nl : 1);
+    uint32_t *order = large_malloc((no ? no : 1) * sizeof *order);
+    uint64_t *key = large_malloc((no ? no : 1) * sizeof *key);
+    uint32_t *sendbuf = large_malloc((nsend ? nsend : 1) * sizeof *sendbuf);
     size_t *stamp = calloc(longest + 2, sizeof *stamp), pass = 0;
-    MPI_Request *req = malloc(((size_t)h->n_recv + (size_t)h->n_send + 1) * sizeof *req);
+    MPI_Request *req = large_malloc(((size_t)h->n_recv + (size_t)h->n_send + 1) * sizeof *req);
     limn_status st = tier && order && key && sendbuf && stamp && req && (no == 0 || p->host.row_offsets)
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the colouring");

@@ -8,6 +8,7 @@
  * positions fetched from their owners.
  */
 #include "mpi/mpi_refine.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
@@ -75,8 +76,8 @@ static int face_targets(const mpi_part *p, const mpi_rmesh *s, const int *owner,
 static limn_status pack_faces(mpi_part *p, const mpi_rmesh *s, int *cnt, uint32_t **send)
 {
     size_t nc = s->face_offsets[s->face_count];
-    int *to = malloc(((size_t)p->size + 1) * sizeof *to);
-    int *owner = malloc((nc ? nc : 1) * sizeof *owner);
+    int *to = large_malloc(((size_t)p->size + 1) * sizeof *to);
+    int *owner = large_malloc((nc ? nc : 1) * sizeof *owner);
     size_t *at = calloc((size_t)p->size + 1, sizeof *at);
     limn_status st = to && at && owner ? LIMN_OK
                                        : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
@@ -93,7 +94,7 @@ static limn_status pack_faces(mpi_part *p, const mpi_rmesh *s, int *cnt, uint32_
             total += 3 + (size_t)d;
         }
     }
-    if (!st && !(*send = malloc((total ? total : 1) * sizeof **send)))
+    if (!st && !(*send = large_malloc((total ? total : 1) * sizeof **send)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu face words", total);
     for (int r = 0; !st && r < p->size; r++) {
         if (at[r + 1] > (size_t)INT32_MAX)
@@ -127,7 +128,7 @@ static limn_status collect_faces(mpi_part *p, const mpi_rmesh *s, const uint32_t
     size_t count = s->face_count;
     for (size_t w = 0; w < words; w += 3 + (size_t)recv[w + 2])
         count++;
-    star_face *f = malloc((count ? count : 1) * sizeof *f);
+    star_face *f = large_malloc((count ? count : 1) * sizeof *f);
     if (!f)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu star faces", count);
     size_t k = 0;
@@ -150,7 +151,7 @@ static limn_status collect_vertices(mpi_part *p, const mpi_rmesh *m, const star_
     size_t nb = m->n_owned, n = nb;
     for (size_t i = 0; i < nf; i++)
         n += f[i].size;
-    uint64_t *keys = malloc((n ? n : 1) * sizeof *keys);
+    uint64_t *keys = large_malloc((n ? n : 1) * sizeof *keys);
     if (!keys)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu star corners", n);
     size_t k = 0;
@@ -164,7 +165,7 @@ static limn_status collect_vertices(mpi_part *p, const mpi_rmesh *m, const star_
     for (size_t i = 0; i < n; i++)
         if (u == 0 || keys[i] != keys[u - 1])
             keys[u++] = keys[i];
-    s->ids = malloc((u ? u : 1) * sizeof *s->ids);
+    s->ids = large_malloc((u ? u : 1) * sizeof *s->ids);
     for (size_t i = 0; s->ids && i < u; i++)
         s->ids[i] = (uint32_t)keys[i];
     free(keys);
@@ -179,8 +180,8 @@ static limn_status fill_faces(mpi_part *p, const mpi_rmesh *m, const star_face *
                               mpi_star *s)
 {
     limn_mesh *pm = s->mesh;
-    s->face_ids = malloc((nf ? nf : 1) * sizeof *s->face_ids);
-    s->block_face = malloc((m->face_count ? m->face_count : 1) * sizeof *s->block_face);
+    s->face_ids = large_malloc((nf ? nf : 1) * sizeof *s->face_ids);
+    s->block_face = large_malloc((m->face_count ? m->face_count : 1) * sizeof *s->block_face);
     if (!s->face_ids || !s->block_face)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu star faces", nf);
     size_t k = 0;
@@ -201,10 +202,10 @@ static limn_status fill_faces(mpi_part *p, const mpi_rmesh *m, const star_face *
 static limn_status fetch_positions(mpi_part *p, const mpi_rmesh *m, mpi_star *s)
 {
     size_t n = s->mesh->vertex_count, R = (size_t)p->size;
-    int *cnt = calloc(4 * R, sizeof *cnt), *owner = malloc((n ? n : 1) * sizeof *owner);
+    int *cnt = calloc(4 * R, sizeof *cnt), *owner = large_malloc((n ? n : 1) * sizeof *owner);
     size_t *at = calloc(R + 1, sizeof *at);
-    uint32_t *ask = malloc((n ? n : 1) * sizeof *ask), *got = NULL;
-    size_t *where = malloc((n ? n : 1) * sizeof *where), asked = 0, answered = 0;
+    uint32_t *ask = large_malloc((n ? n : 1) * sizeof *ask), *got = NULL;
+    size_t *where = large_malloc((n ? n : 1) * sizeof *where), asked = 0, answered = 0;
     double *ans = NULL, *back = NULL;
     limn_status st = cnt && at && ask && where && owner
                          ? LIMN_OK
@@ -226,7 +227,7 @@ static limn_status fetch_positions(mpi_part *p, const mpi_rmesh *m, mpi_star *s)
     st = mpi_agree(p, st);
     if (!st)
         st = mpi_local_alltoallv(p, ask, cnt, sizeof *ask, (void **)&got, cnt + R, &asked);
-    if (!st && !(ans = malloc((asked ? 3 * asked : 1) * sizeof *ans)))
+    if (!st && !(ans = large_malloc((asked ? 3 * asked : 1) * sizeof *ans)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu answers", asked);
     for (size_t k = 0; !st && k < asked; k++) {
         size_t v = mpi_rmesh_local(m, p->rank, got[k]);
@@ -256,7 +257,7 @@ static limn_status fetch_positions(mpi_part *p, const mpi_rmesh *m, mpi_star *s)
 limn_status mpi_star_build(mpi_part *p, const mpi_rmesh *mesh, mpi_star *out)
 {
     memset(out, 0, sizeof *out);
-    int *cnt = malloc(2 * (size_t)p->size * sizeof *cnt);
+    int *cnt = large_malloc(2 * (size_t)p->size * sizeof *cnt);
     uint32_t *send = NULL, *recv = NULL;
     star_face *faces = NULL;
     size_t words = 0, nf = 0;

@@ -3,6 +3,7 @@
    vertex blocks, the layout of the whole mesh, STL's corner positions, the
    formatting of this rank's parts; the file itself is mpi_write_io.c's. */
 #include "mpi/mpi_write_io.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 #include "mesh/check.h"
@@ -82,7 +83,7 @@ static limn_status check_shared(mpi_writer *w)
 {
     const mpi_write_part *in = w->in;
     size_t n = (size_t)w->size + 1;
-    size_t *root = malloc(n * sizeof *root);
+    size_t *root = large_malloc(n * sizeof *root);
     if (!root)
         return mpi_writer_agree(w, ctx_fail(w->ctx, LIMN_ERR_MEMORY, "out of memory"));
     memcpy(root, in->vtxdist, n * sizeof *root);
@@ -205,13 +206,13 @@ static limn_status move_to_blocks(mpi_writer *w)
         exchange_free(&x);
         return st;
     }
-    int *fill = malloc((size_t)w->size * sizeof *fill);
-    double *send = malloc((4 * x.sent + 1) * sizeof *send);
-    double *recv = malloc((4 * x.received + 1) * sizeof *recv);
-    uint8_t *srgb = w->layout.colors ? malloc(3 * x.sent + 1) : NULL;
-    uint8_t *rrgb = w->layout.colors ? malloc(3 * x.received + 1) : NULL;
-    w->pos = malloc((3 * w->vcount + 1) * sizeof *w->pos);
-    w->colors = w->layout.colors ? malloc(3 * w->vcount + 1) : NULL;
+    int *fill = large_malloc((size_t)w->size * sizeof *fill);
+    double *send = large_malloc((4 * x.sent + 1) * sizeof *send);
+    double *recv = large_malloc((4 * x.received + 1) * sizeof *recv);
+    uint8_t *srgb = w->layout.colors ? large_malloc(3 * x.sent + 1) : NULL;
+    uint8_t *rrgb = w->layout.colors ? large_malloc(3 * x.received + 1) : NULL;
+    w->pos = large_malloc((3 * w->vcount + 1) * sizeof *w->pos);
+    w->colors = w->layout.colors ? large_malloc(3 * w->vcount + 1) : NULL;
     unsigned char *seen = calloc(w->vcount + 1, 1);
     int oom = !fill || !send || !recv || !w->pos || !seen ||
               (w->layout.colors && (!srgb || !rrgb || !w->colors));
@@ -266,8 +267,8 @@ static limn_status fetch_corners(mpi_writer *w)
 {
     const mpi_write_part *in = w->in;
     size_t n_idx = in->face_count ? in->face_offsets[in->face_count] : 0;
-    uint32_t *ids = malloc((n_idx + 1) * sizeof *ids);
-    w->corner_idx = malloc((n_idx + 1) * sizeof *w->corner_idx);
+    uint32_t *ids = large_malloc((n_idx + 1) * sizeof *ids);
+    w->corner_idx = large_malloc((n_idx + 1) * sizeof *w->corner_idx);
     exchange x;
     limn_status st = exchange_begin(w, &x);
     if (!st && (!ids || !w->corner_idx))
@@ -290,9 +291,9 @@ static limn_status fetch_corners(mpi_writer *w)
     uint32_t *asked = NULL;
     double *answer = NULL;
     if (!st) {
-        asked = malloc((x.received + 1) * sizeof *asked);
-        answer = malloc((3 * x.received + 1) * sizeof *answer);
-        w->corners = malloc((3 * nu + 1) * sizeof *w->corners);
+        asked = large_malloc((x.received + 1) * sizeof *asked);
+        answer = large_malloc((3 * x.received + 1) * sizeof *answer);
+        w->corners = large_malloc((3 * nu + 1) * sizeof *w->corners);
         int oom = !asked || !answer || !w->corners;
         st = mpi_writer_agree(w, oom ? ctx_fail(w->ctx, LIMN_ERR_MEMORY, "out of memory") : 0);
     }

@@ -7,6 +7,7 @@
    through rank 0, rank by rank, into atomic_file's buffer, written at the
    commit as the single process does. */
 #include "mpi/mpi_write_io.h"
+#include "base/large_alloc.h"
 
 #include "base/context.h"
 
@@ -54,7 +55,7 @@ static limn_status open_target(mpi_writer *w)
         return LIMN_OK;
     int len = w->rank == 0 ? (int)strlen(w->af.tmp_path) + 1 : 0;
     MPI_Bcast(&len, 1, MPI_INT, 0, w->comm);
-    char *tmp = w->rank == 0 ? w->af.tmp_path : malloc((size_t)len);
+    char *tmp = w->rank == 0 ? w->af.tmp_path : large_malloc((size_t)len);
     int oom = !tmp;
     MPI_Allreduce(MPI_IN_PLACE, &oom, 1, MPI_INT, MPI_MAX, w->comm);
     if (oom) {
@@ -183,7 +184,7 @@ static limn_status relay(mpi_writer *w, int from, const unsigned char *mine, uin
 static limn_status write_streamed(mpi_writer *w)
 {
     uint64_t mine[2] = {w->vbytes.len, w->fbytes.len};
-    uint64_t *all = w->rank == 0 ? malloc(2 * (size_t)w->size * sizeof *all) : NULL;
+    uint64_t *all = w->rank == 0 ? large_malloc(2 * (size_t)w->size * sizeof *all) : NULL;
     int oom = w->rank == 0 && !all;
     MPI_Bcast(&oom, 1, MPI_INT, 0, w->comm);
     if (oom)

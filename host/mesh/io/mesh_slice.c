@@ -12,6 +12,7 @@
 #define _POSIX_C_SOURCE 200809L /* fileno, mmap */
 #endif
 #include "mesh/io/mesh_slice.h"
+#include "base/large_alloc.h"
 #include "base/context.h"
 #include "mesh/io/mesh_slice_formats.h"
 #include "mesh/mesh.h"
@@ -173,7 +174,7 @@ static limn_status src_open(limn_context *ctx, const char *path, limn_format for
     s->route = SRC_TEXT;
     if (s->kind != SLICE_PLY)
         return LIMN_OK;
-    if (!(s->p = malloc(sizeof *s->p)))
+    if (!(s->p = large_malloc(sizeof *s->p)))
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "%s: out of memory", path);
     else if (!(st = ply_open(s->p, ctx, path, s->sf.f)) && s->p->nv == 0)
         st = ctx_fail(ctx, LIMN_ERR_FORMAT, "%s: the file defines no vertices", path);
@@ -236,9 +237,9 @@ limn_status mesh_slice_of(limn_context *ctx, const limn_mesh *mesh, unsigned par
     s.face_count = mesh_slice_cut(s.face_total, parts, part + 1) - s.face_begin;
     const uint32_t *off = mesh->face_offsets + s.face_begin;
     size_t corners = off[s.face_count] - off[0];
-    s.positions = malloc(s.vertex_count * 24 + 1);
-    s.face_offsets = malloc((s.face_count + 1) * 4);
-    s.face_indices = malloc(corners * 4 + 1);
+    s.positions = large_malloc(s.vertex_count * 24 + 1);
+    s.face_offsets = large_malloc((s.face_count + 1) * 4);
+    s.face_indices = large_malloc(corners * 4 + 1);
     if (!s.positions || !s.face_offsets || !s.face_indices)
         return slice_hand_over(ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a slice"), &s,
                                out);
