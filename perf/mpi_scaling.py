@@ -21,8 +21,12 @@ The distributed pipeline instead (docs/mpi.md, "Distributed meshes"), side by
 side in one run: `limn interpolate --precision double --report` on the 2.1M
 float32 PLY (/tmp/limn_read_bench/scanner_l2_f32.ply) as one process and on
 2 and 4 ranks, and on the 8.6M one (/tmp/limn_e2e/scanner_l3_f32.ply) as one
-process and on 8 ranks (made as perf/end_to_end.py makes them when missing);
-checks every output is the single process's bytes (cmp) and prints per rank:
+process and on 8 ranks (made as perf/end_to_end.py makes them when missing),
+and each as 1 rank bound to one core (`mpirun -np 1 --bind-to core`: the core
+each rank of the 2-rank run has, the strong-scaling baseline), each mesh after
+one untimed run (this VM returns freed memory to its host: a first run after
+an idle spell pays for fresh memory). It checks every output is the single
+process's bytes (cmp) and prints per rank:
 peak resident bytes and the worst rank's ratio to the single process's,
 set-up seconds (load + partition + local rows), owned, ghosts, halo bytes and
 solve seconds; then the unit costs and the model for 16..1024 ranks at
@@ -216,12 +220,13 @@ def pipeline_inputs(args):
                                           only=["2.1M"] if args.skip_8m else None))
 
 
-def interpolate(limn, ranks, path, tmp, env, tol, root=False):
+def interpolate(limn, ranks, path, tmp, env, tol, root=False, bound=False):
     """One `limn interpolate --precision double` (plain for 1 rank, else under
     mpirun, oversubscribed; root: the input on standard input, which takes the
-    root path, rank 0 reading and building everything); returns (report,
-    output path, wall seconds)."""
-    out = os.path.join(tmp, f"out_{ranks}{'_root' if root else ''}.ply")
+    root path, rank 0 reading and building everything; bound: 1 rank under
+    `mpirun --bind-to core`, one core as each rank of the 2-rank run has: the
+    strong-scaling baseline); returns (report, output path, wall seconds)."""
+    out = os.path.join(tmp, f"out_{ranks}{'_root' if root else ''}{'_bound' if bound else ''}.ply")
     rep = os.path.join(tmp, f"report_{ranks}.json")
     src = ["-", "--input-format", "ply"] if root else [path]
     cmd = [limn, "interpolate"] + src + ["-o", out, "--report", rep, "--precision", "double",
@@ -230,6 +235,8 @@ def interpolate(limn, ranks, path, tmp, env, tol, root=False):
         cmd += ["--tol", tol]
     if ranks > 1:
         cmd = ["mpirun", "-np", str(ranks), "--oversubscribe", "--bind-to", "none"] + cmd
+    elif bound:
+        cmd = ["mpirun", "-np", "1", "--bind-to", "core"] + cmd
     t0 = time.time()
     with open(path, "rb") as stdin:
         r = subprocess.run(cmd, env=env, stdin=stdin if root else subprocess.DEVNULL,
@@ -239,10 +246,10 @@ def interpolate(limn, ranks, path, tmp, env, tol, root=False):
     return json.load(open(rep)), out, time.time() - t0
 
 
-def single_row(rep, wall):
+def single_row(rep, wall, bound=False):
     s = rep["seconds"]
     setup = s["load"] + s.get("topology", 0) + s.get("stencil", 0)
-    return {"ranks": 1, "path": "single", "vertices": rep["vertices"],
+    return {"ranks": 1, "path": "1 core" if bound else "single", "vertices": rep["vertices"],
             "iterations": rep["iterations"],
             "method": rep["method"], "wall": wall, "seconds": s,
             "peak_bytes": [rep["peak_rss_bytes"]], "setup": [setup],
@@ -279,18 +286,24 @@ def same_bytes(a, b):
 
 def run_pipeline(args, limn, env):
     rows = []
-    # (ranks, root path): the root path at 2 ranks is the set-up issue 14 replaces
-    plan = [("2.1M", [(1, 0), (2, 0), (4, 0), (2, 1)]), ("8.6M", [(1, 0), (8, 0)])]
+    # (ranks, root path, bound to one core): the root path at 2 ranks is the set-up
+    # issue 14 replaces; 1 rank bound to one core is the strong-scaling baseline
+    plan = [("2.1M", [(1, 0, 0), (1, 0, 1), (2, 0, 0), (4, 0, 0), (2, 1, 0)]),
+            ("8.6M", [(1, 0, 0), (1, 0, 1), (8, 0, 0)])]
     files = pipeline_inputs(args)
     for name, counts in plan:
         if name not in files:
             continue
         with tempfile.TemporaryDirectory(prefix="limn_scaling_", dir=args.tmp) as tmp:
+            # a run first, not kept: a VM that hands freed memory back to its host
+            # (free page reporting) makes the first run after an idle spell pay for
+            # fresh memory the later ones do not (docs/performance.md "First touch")
+            interpolate(limn, 1, files[name], tmp, env, args.tol_pipe)
             ref = None
-            for ranks, root in counts:
+            for ranks, root, bound in counts:
                 rep, out, wall = interpolate(limn, ranks, files[name], tmp, env, args.tol_pipe,
-                                             root)
-                row = single_row(rep, wall) if ranks == 1 else ranks_row(rep, wall, root)
+                                             root, bound)
+                row = single_row(rep, wall, bound) if ranks == 1 else ranks_row(rep, wall, root)
                 row["mesh"], row["file"] = name, files[name]
                 row["load_average"] = os.getloadavg()[0]
                 row["output_bytes"] = os.path.getsize(out)
@@ -423,10 +436,12 @@ def pipeline(args, limn, env):
     print_measured(rows)
     two = [r for r in rows if r["ranks"] == 2 and r["path"] == "distributed"][0]
     one = [r for r in rows if r["ranks"] == 1][0]
+    core = [r for r in rows if r["path"] == "1 core"]
     root = [r for r in rows if r["path"] == "root"]
     print(f"set-up, 1 -> 2 ranks: {one['setup'][0]:.2f} s -> {max(two['setup']):.2f} s "
-          f"(worst rank)" + (f"; the root path at 2 ranks: {max(root[0]['setup']):.2f} s"
-                             if root else ""))
+          f"(worst rank)" + (f"; 1 rank on one core: {core[0]['setup'][0]:.2f} s" if core
+                             else "") +
+          (f"; the root path at 2 ranks: {max(root[0]['setup']):.2f} s" if root else ""))
     costs = fitted_costs(rows, args)
     print("unit costs: " + ", ".join(f"{k} {v:.4g}" for k, v in costs.items()))
     model = print_model(costs, args)
