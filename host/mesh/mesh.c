@@ -197,8 +197,8 @@ limn_status limn_mesh_copy(limn_context *ctx, const limn_mesh *mesh, limn_mesh *
 double *mesh_rows4_to_xyz(double *rows4, size_t vertices)
 {
     /* row k's source 4k.. lies at or past everything rows before it wrote,
-       and each value is read before the forward copy writes over it (no
-       call per row: 8.6M memmove calls were a third of this) */
+       and each value is read before the forward copy writes over it: no
+       memmove call per row */
     for (size_t k = 1; k < vertices; k++) {
         double x = rows4[4 * k], y = rows4[4 * k + 1], z = rows4[4 * k + 2];
         rows4[3 * k] = x;
