@@ -225,14 +225,7 @@ static int rows_alloc(mpi_part *d, size_t no, size_t ng, size_t nnz, int n_recv,
 {
     mpi_halo *h = &d->halo;
     size_t nr = (size_t)(n_recv ? n_recv : 1), ns = (size_t)(n_send ? n_send : 1);
-    d->owned_ids = large_malloc((no ? no : 1) * sizeof *d->owned_ids);
-    d->owned_rule = large_malloc(no ? no : 1);
-    d->owned_scale = large_malloc((no ? no : 1) * sizeof *d->owned_scale);
-    d->ghost_ids = large_malloc((ng ? ng : 1) * sizeof *d->ghost_ids);
-    d->ghost_rule = large_malloc(ng ? ng : 1);
-    d->host.row_offsets = large_malloc((no + 1) * sizeof *d->host.row_offsets);
-    d->host.columns = large_malloc((nnz ? nnz : 1) * sizeof *d->host.columns);
-    d->host.weights = large_malloc((nnz ? nnz : 1) * sizeof *d->host.weights);
+    int rows = mpi_part_rows_alloc(d, no, ng, nnz);
     h->recv_rank = large_malloc(nr * sizeof *h->recv_rank);
     h->recv_off = large_malloc(nr * sizeof *h->recv_off);
     h->recv_cnt = large_malloc(nr * sizeof *h->recv_cnt);
@@ -240,10 +233,8 @@ static int rows_alloc(mpi_part *d, size_t no, size_t ng, size_t nnz, int n_recv,
     h->send_off = large_malloc(ns * sizeof *h->send_off);
     h->send_cnt = large_malloc(ns * sizeof *h->send_cnt);
     h->send_idx = large_malloc((n_idx ? n_idx : 1) * sizeof *h->send_idx);
-    return d->owned_ids && d->owned_rule && d->owned_scale && d->ghost_ids && d->ghost_rule &&
-           d->host.row_offsets && d->host.columns && d->host.weights && h->recv_rank &&
-           h->recv_off && h->recv_cnt && h->send_rank && h->send_off && h->send_cnt &&
-           h->send_idx;
+    return rows && h->recv_rank && h->recv_off && h->recv_cnt && h->send_rank && h->send_off &&
+           h->send_cnt && h->send_idx;
 }
 
 static void rows_free(mpi_part *d)

@@ -209,19 +209,11 @@ static limn_status fill_rows(mpi_part *p, local_sub *s, rows_tmp *t)
                         "rank %d would hold %zu rows and %zu entries: too many for one MPI "
                         "message; use more ranks",
                         p->rank, no, nnz);
-    p->owned_ids = large_malloc((no ? no : 1) * sizeof *p->owned_ids);
-    p->owned_rule = large_malloc(no ? no : 1);
-    p->owned_scale = large_malloc((no ? no : 1) * sizeof *p->owned_scale);
-    p->ghost_ids = large_malloc((ng ? ng : 1) * sizeof *p->ghost_ids);
-    p->ghost_rule = large_malloc(ng ? ng : 1);
-    p->host.row_offsets = large_malloc((no + 1) * sizeof *p->host.row_offsets);
-    p->host.columns = large_malloc((nnz ? nnz : 1) * sizeof *p->host.columns);
-    p->host.weights = large_malloc((nnz ? nnz : 1) * sizeof *p->host.weights);
+    int rows = mpi_part_rows_alloc(p, no, ng, nnz);
     t->loc = large_malloc((s->n ? s->n : 1) * sizeof *t->loc);
     uint32_t *order = large_malloc((no ? no : 1) * sizeof *order);
     mpi_local_note(s, s->n);
-    if (!p->owned_ids || !p->owned_rule || !p->owned_scale || !p->ghost_ids || !p->ghost_rule ||
-        !p->host.row_offsets || !p->host.columns || !p->host.weights || !t->loc || !order) {
+    if (!rows || !t->loc || !order) {
         free(order);
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the rows of rank %d",
                         p->rank);

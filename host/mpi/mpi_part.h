@@ -88,6 +88,10 @@ void mpi_part_end(mpi_part *p);
    the last product is done, before the results move (per-rank peak); the
    rest of p stays. mpi_part_end after it is fine. */
 void mpi_part_drop_rows(mpi_part *p);
+/* p's owned and ghost arrays (ids, rules, scales) and its host row table
+   for no owned rows, ng ghosts and nnz entries (none of length 0); 1 when
+   all are there (mpi_part_end frees them either way). */
+int mpi_part_rows_alloc(mpi_part *p, size_t no, size_t ng, size_t nnz);
 
 /*
  * Agreement before a collective phase: every rank passes its own status;
