@@ -71,7 +71,10 @@ typedef struct limn_mpi_stats {
     size_t edge_cut;          /* edges of the vertex graph between parts (all ranks) */
     size_t halo_bytes_sent, halo_bytes_received; /* per exchange, this rank */
     long long exchanges;      /* halo exchanges run */
-    double seconds_partition; /* root: building the operator and METIS; others: 0 */
+    double seconds_partition; /* root path: the root's operator and METIS, others 0;
+                                 distributed mesh: this call's partition (0 when
+                                 its rows came from the sub-mesh limn_mpi_mesh_repair
+                                 left: the partition ran there) */
     double seconds_distribute;/* sending / receiving the rows */
     double seconds_solve;     /* the iteration or the series products, wall clock */
     double seconds_compute;   /* device work on this rank's rows */
@@ -216,7 +219,13 @@ LIMN_API const uint32_t *limn_mpi_mesh_face_indices(const limn_mpi_mesh *mesh);
 /* limn_mesh_repair over the ranks: faces that use a vertex twice are
    repaired as the single process repairs them (the face blocks renumbered),
    report (may be NULL) and warnings with global numbers. Duplicate faces are
-   not looked for yet under MPI (options->duplicate_faces is refused). */
+   found (and removed with options->duplicate_faces) and what is kept is
+   counted as the single process does (components and boundary_loops stay
+   0). Unless duplicates are removed or PT-Scotch is chosen, the counts come
+   from every rank's sub-mesh under the curve partition (the faces at its
+   vertices), which stays on the mesh for the next call that builds rows
+   (interpolate, the series): it skips its own partition and face exchange.
+   That call, limn_mpi_mesh_destroy or another repair frees it. */
 LIMN_API limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh,
                                           const limn_repair_options *options,
                                           limn_repair_report *report);

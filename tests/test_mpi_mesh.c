@@ -3,8 +3,9 @@
  * The distributed pipeline against the single process, under mpirun with
  * 2, 3 and 5 ranks: every rank reads its slice of a file
  * (limn_mpi_mesh_read), repairs it (limn_mpi_mesh_repair), the operator is
- * built with no rank holding the whole mesh (limn_mpi_mesh_interpolate:
- * PT-Scotch partition, local rows) and the control mesh is written in
+ * built with no rank holding the whole mesh (limn_mpi_mesh_interpolate: the
+ * curve partition, local rows; from the sub-mesh the repair left, and again
+ * from its own partition) and the control mesh is written in
  * parallel (limn_mpi_mesh_write). Rank 0 runs limn_mesh_read, repair,
  * limn_interpolate and limn_mesh_write on the same file: the two outputs
  * must be the same bytes (paper and Chebyshev: the single process's bits),
@@ -49,19 +50,38 @@ static int single(limn_context *ctx, const char *in, const limn_interpolate_opti
     return ok;
 }
 
-/* Every rank: the distributed pipeline on in, writing out. */
+/* Every rank: the distributed pipeline on in, writing out. With again, a
+   second interpolation of the same mesh is written there: the first built
+   its rows from the sub-mesh the repair left (no partition of its own), the
+   second, that sub-mesh taken, partitions and exchanges the faces itself. */
 static limn_status distributed(limn_context *ctx, const char *in,
                                const limn_interpolate_options *o, const char *out,
-                               limn_report *r)
+                               const char *again, limn_report *r)
 {
     limn_mpi_mesh *m = NULL, *p = NULL;
+    limn_mpi_result res[2] = {{.size = sizeof res[0], .stats.size = sizeof res[0].stats},
+                              {.size = sizeof res[1], .stats.size = sizeof res[1].stats}};
     limn_status st = limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &m);
     if (!st)
         st = limn_mpi_mesh_repair(ctx, m, NULL, NULL);
     if (!st)
-        st = limn_mpi_mesh_interpolate(ctx, m, o, &p, r, NULL, NULL);
+        st = limn_mpi_mesh_interpolate(ctx, m, o, &p, r, NULL, &res[0]);
     if (!st)
         st = limn_mpi_mesh_write(ctx, p, out, LIMN_FORMAT_AUTO, NULL, NULL);
+    limn_mpi_mesh_destroy(p);
+    p = NULL;
+    if (!st && again) {
+        limn_report r2 = {.size = sizeof r2};
+        st = limn_mpi_mesh_interpolate(ctx, m, o, &p, &r2, NULL, &res[1]);
+        if (!st)
+            st = limn_mpi_mesh_write(ctx, p, again, LIMN_FORMAT_AUTO, NULL, NULL);
+        CHECK(st ||
+                  (res[0].stats.seconds_partition == 0.0 && res[1].stats.seconds_partition > 0.0),
+              "%s: partition seconds %g then %g: the repair's sub-mesh was not used once", in,
+              res[0].stats.seconds_partition, res[1].stats.seconds_partition);
+    }
+    limn_mpi_result_free(&res[0]);
+    limn_mpi_result_free(&res[1]);
     limn_mpi_mesh_destroy(m);
     limn_mpi_mesh_destroy(p);
     return st;
@@ -71,10 +91,11 @@ static limn_status distributed(limn_context *ctx, const char *in,
 static void pipeline_case(limn_context *ctx, const char *name, const limn_mesh *mesh,
                           const char *ext, limn_scheme scheme, double alpha, limn_method method)
 {
-    char in[320], ref[320], out[320];
+    char in[320], ref[320], out[320], again[320];
     snprintf(in, sizeof in, "%s/in.%s", dir, ext);
     snprintf(ref, sizeof ref, "%s/ref.ply", dir);
     snprintf(out, sizeof out, "%s/out.ply", dir);
+    snprintf(again, sizeof again, "%s/again.ply", dir);
     limn_interpolate_options o;
     limn_interpolate_options_default(&o);
     o.scheme = scheme;
@@ -91,17 +112,22 @@ static void pipeline_case(limn_context *ctx, const char *name, const limn_mesh *
     if (!ok)
         return;
     limn_report r = {.size = sizeof r};
-    limn_status st = distributed(ctx, in, &o, out, &r);
+    limn_status st = distributed(ctx, in, &o, out, again, &r);
     CHECK(st == LIMN_OK, "%s (%s, %s): %s", name, ext, limn_method_name(method),
           limn_context_message(ctx));
-    if (rank == 0 && st == LIMN_OK)
+    if (rank == 0 && st == LIMN_OK) {
         CHECK(test_same_bytes(ref, out), "%s (%s, %s, %d ranks): output differs from one process's",
               name, ext, limn_method_name(method), size);
+        CHECK(test_same_bytes(ref, again),
+              "%s (%s, %s, %d ranks): the second interpolation (its own partition) differs",
+              name, ext, limn_method_name(method), size);
+    }
     MPI_Barrier(MPI_COMM_WORLD);
     if (rank == 0) {
         unlink(in);
         unlink(ref);
         unlink(out);
+        unlink(again);
     }
 }
 
@@ -264,7 +290,7 @@ static void errors(limn_context *ctx)
     limn_interpolate_options o;
     limn_interpolate_options_default(&o);
     limn_report r = {.size = sizeof r};
-    limn_status st = distributed(ctx, in, &o, out, &r);
+    limn_status st = distributed(ctx, in, &o, out, NULL, &r);
     char msg[512];
     snprintf(msg, sizeof msg, "%s", limn_context_message(ctx));
     char root_msg[512];
@@ -275,7 +301,7 @@ static void errors(limn_context *ctx)
     CHECK(!test_file_exists(out), "bad index: %s was written", out);
     char missing[320];
     snprintf(missing, sizeof missing, "%s/missing.ply", dir);
-    st = distributed(ctx, missing, &o, out, &r);
+    st = distributed(ctx, missing, &o, out, NULL, &r);
     CHECK(st != LIMN_OK && strstr(limn_context_message(ctx), "missing.ply"),
           "missing file: status %d, '%s'", (int)st, limn_context_message(ctx));
     MPI_Barrier(MPI_COMM_WORLD);

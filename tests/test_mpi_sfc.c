@@ -105,6 +105,47 @@ static void hilbert_curve(void)
     CHECK(mpi_sfc_hilbert(top, top, top) < (uint64_t)1 << 63, "Hilbert: more than 63 bits");
 }
 
+/* The partition's table-driven keys (mpi_sfc_hilbert_table) against
+   Skilling's transform (mpi_sfc_hilbert) on every cell of a small cube at
+   the origin and at the top corner, and on 2e6 random cells (xorshift,
+   fixed seed), a quarter of them with small x (long runs of zero bits). */
+static void hilbert_table(void)
+{
+    mpi_sfc_table t;
+    mpi_sfc_table_init(&t);
+    size_t bad = 0, tried = 0;
+    uint32_t first[3] = {0, 0, 0};
+    const uint32_t top = (1u << 21) - 1;
+    for (uint32_t x = 0; x < 16; x++)
+        for (uint32_t y = 0; y < 16; y++)
+            for (uint32_t z = 0; z < 16; z++)
+                for (int corner = 0; corner < 2; corner++) {
+                    uint32_t q[3] = {corner ? top - x : x, corner ? top - y : y,
+                                     corner ? top - z : z};
+                    int differ = mpi_sfc_hilbert(q[0], q[1], q[2]) !=
+                                 mpi_sfc_hilbert_table(&t, q[0], q[1], q[2]);
+                    if (differ && !bad++)
+                        memcpy(first, q, sizeof q);
+                    tried++;
+                }
+    uint64_t r = 88172645463325252ull;
+    for (size_t i = 0; i < 2000000; i++, tried++) {
+        r ^= r << 13;
+        r ^= r >> 7;
+        r ^= r << 17;
+        uint32_t q[3] = {(uint32_t)r & top, (uint32_t)(r >> 21) & top, (uint32_t)(r >> 42) & top};
+        if (i % 4 == 1)
+            q[0] &= 0xffu;
+        int differ =
+            mpi_sfc_hilbert(q[0], q[1], q[2]) != mpi_sfc_hilbert_table(&t, q[0], q[1], q[2]);
+        if (differ && !bad++)
+            memcpy(first, q, sizeof q);
+    }
+    CHECK(bad == 0,
+          "Hilbert table: %zu of %zu keys differ from mpi_sfc_hilbert (first at %u %u %u)", bad,
+          tried, first[0], first[1], first[2]);
+}
+
 /* Even blocks (uneven = 0) or a share growing with the rank, rank 0 empty. */
 static void blocks(size_t n, int uneven, size_t *dist)
 {
@@ -367,6 +408,7 @@ int main(int argc, char **argv)
     CHECK(ok, "mpi_part_begin: %s (at most 63 ranks here)", limn_context_message(ctx));
     if (ok) {
         hilbert_curve();
+        hilbert_table();
         point_sets(&p);
         shared_meshes(&p);
         refusals(&p);

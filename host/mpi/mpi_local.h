@@ -40,6 +40,57 @@ typedef struct mpi_local_stats {
     double seconds;                 /* the whole build, this rank (wall clock) */
 } mpi_local_stats;
 
+/* This rank's sub-mesh and its operator, as mpi_local.c leaves them. */
+typedef struct local_sub {
+    size_t n;               /* sub-mesh vertices */
+    uint32_t *ids;          /* global id of each, increasing */
+    uint32_t *part;         /* owning rank of each */
+    size_t n_owned;
+    uint32_t *owned;        /* sub-mesh index of each owned vertex, increasing */
+    stencil_operator op;    /* the sub-mesh's operator (host only, input order) */
+    mpi_local_stats *stats;
+} local_sub;
+
+/* A rank's repaired sub-mesh before its operator (mpi_local_mesh_build):
+   what limn_mpi_mesh_repair keeps for the command after it, as the single
+   process's repair keeps the topology for the operator (mpi_mesh.h). */
+typedef struct mpi_local_mesh {
+    local_sub s;           /* ids, part, owned (its operator still empty) */
+    limn_mesh *mesh;       /* the sub-mesh: faces by increasing global id */
+    double *pos;           /* 3 per sub-mesh vertex */
+    uint64_t *face_ids;    /* global id of each sub-mesh face, when asked; else NULL */
+    size_t faces_received; /* input faces incident to an owned vertex */
+} mpi_local_mesh;
+
+/* Collective: the first half of mpi_local_build (arguments as there): the
+   partition's sub-mesh of this rank into *lm, with the faces' global ids
+   when face_ids. On failure *lm is empty. */
+limn_status mpi_local_mesh_build(mpi_part *p, const size_t *vtxdist, const double *positions,
+                                 const uint32_t *part_of, size_t face_begin, size_t face_count,
+                                 const uint32_t *face_offsets, const uint32_t *face_indices,
+                                 const limn_repair_options *repair, int face_ids,
+                                 mpi_local_mesh *lm, mpi_local_stats *stats);
+
+/* Collective: the second half, from *lm (emptied whatever the status):
+   the operator, p filled and the device opened, as mpi_local_build. */
+limn_status mpi_local_build_on(mpi_part *p, const size_t *vtxdist, const double *positions,
+                               mpi_local_mesh *lm, limn_scheme scheme, double alpha,
+                               double **owned_rows4, mpi_local_stats *stats);
+
+void mpi_local_mesh_free(mpi_local_mesh *lm);
+
+/* Collective (mpi_local_census.c): limn_mpi_mesh_repair's census and
+   duplicate search read from the sub-meshes (lm->face_ids needed), in
+   place of their exchanges: every face at an owned vertex is in its
+   sub-mesh, so a vertex's ring, an edge's faces and every copy of a face
+   are whole on each rank holding one of their vertices; each is counted on
+   the rank owning its lowest vertex. *k summed over the ranks; r gets
+   duplicate_faces, first_duplicate_face (SIZE_MAX when none) and _of. The
+   sub-mesh keeps the topology built here for its operator. */
+struct mpi_mesh_counts;
+limn_status mpi_local_census(mpi_part *p, mpi_local_mesh *lm, struct mpi_mesh_counts *k,
+                             limn_repair_report *r);
+
 /*
  * Collective over p->comm (p from mpi_part_begin). vtxdist[size + 1]: rank r
  * holds input vertices [vtxdist[r], vtxdist[r + 1]); positions (3 per
@@ -72,7 +123,6 @@ limn_status mpi_local_alltoallv(mpi_part *p, const void *send, const int *cnt, s
 /* Collective: for n increasing global ids, the block owners' values (elem
    bytes each, from `mine`, this rank's block of vtxdist) into out. Each
    block owner answers in the order asked, so answers land in id order. */
-struct local_sub;
 limn_status mpi_local_fetch(mpi_part *p, struct local_sub *s, const size_t *vtxdist,
                             const uint32_t *ids, size_t n, const void *mine, size_t elem,
                             void *out);
@@ -101,16 +151,6 @@ void mpi_local_note(struct local_sub *s, size_t entries);
 
 /* --------------------------------------------------------- mpi_local_rows.c */
 
-/* This rank's sub-mesh and its operator, as mpi_local.c leaves them. */
-typedef struct local_sub {
-    size_t n;               /* sub-mesh vertices */
-    uint32_t *ids;          /* global id of each, increasing */
-    uint32_t *part;         /* owning rank of each */
-    size_t n_owned;
-    uint32_t *owned;        /* sub-mesh index of each owned vertex, increasing */
-    stencil_operator op;    /* the sub-mesh's operator (host only, input order) */
-    mpi_local_stats *stats;
-} local_sub;
 
 /* Collective: p's owned rows (classes), ghosts (by owner, then the owner's
    local number, their rules from the owners) and halo from s. */

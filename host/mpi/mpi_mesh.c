@@ -14,6 +14,7 @@
 
 #include <limits.h>
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,10 +30,23 @@ limn_status mpi_mesh_part(limn_context *ctx, const limn_mpi_mesh *mesh,
     return mpi_part_begin(ctx, mesh->comm, mpi, p);
 }
 
+struct mpi_local_mesh *mpi_mesh_take_sub(const limn_mpi_mesh *mesh)
+{
+    return atomic_exchange(&((limn_mpi_mesh *)mesh)->sub, NULL);
+}
+
+void mpi_mesh_drop_sub(const limn_mpi_mesh *mesh)
+{
+    mpi_local_mesh *lm = mesh ? mpi_mesh_take_sub(mesh) : NULL;
+    mpi_local_mesh_free(lm);
+    free(lm);
+}
+
 static void mesh_free(limn_mpi_mesh *m)
 {
     if (!m)
         return;
+    mpi_mesh_drop_sub(m);
     mesh_slice_free(&m->slice);
     free(m->colors);
     free(m->vertex_dist);

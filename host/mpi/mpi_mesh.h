@@ -19,7 +19,18 @@ struct limn_mpi_mesh {
     size_t *face_dist;    /* size + 1: the same for faces */
     mesh_slice slice;
     uint8_t *colors;      /* 3 per vertex of the block, or NULL (limn_mpi_mesh_texture) */
+    /* The sub-mesh of this rank under the default partition, with its
+       topology, left by limn_mpi_mesh_repair (which counted from it) for the
+       next call that builds rows (mpi_mesh_build_rows takes it), as the
+       single process's repair leaves the topology; NULL when none. */
+    struct mpi_local_mesh *_Atomic sub;
 };
+
+/* The repair's sub-mesh out of the mesh (NULL when none): the caller's. */
+struct mpi_local_mesh *mpi_mesh_take_sub(const limn_mpi_mesh *mesh);
+/* Frees the repair's sub-mesh, if any: calls that never build rows from
+   it (refinement) drop it before their own memory peak. */
+void mpi_mesh_drop_sub(const limn_mpi_mesh *mesh);
 
 /* A handle over comm taking the slice (zeroed in *slice on success);
    collective (the blocks' beginnings are gathered and checked). */
@@ -44,7 +55,10 @@ limn_status mpi_mesh_scheme(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme 
 
 /* The rows of a distributed mesh (mpi_mesh_interpolate.c; shared with the
    series, mpi_mesh_series.c): the partition (p->partition: the Hilbert
-   curve or PT-Scotch), then p filled by mpi_local_build; *m4 the owned rows of M (4 doubles a row, caller frees). */
+   curve or PT-Scotch), then p filled by mpi_local_build; or, under the
+   curve, from the sub-mesh limn_mpi_mesh_repair left (no partition or
+   face exchange again). *m4 the owned rows of M (4 doubles a row, caller
+   frees). */
 limn_status mpi_mesh_build_rows(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
                                 double alpha, double **m4);
 

@@ -197,6 +197,7 @@ static limn_status features_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     limn_status st = mpi_mesh_part(ctx, mesh, mpi, &p);
     if (p.comm == MPI_COMM_NULL)
         return st;
+    mpi_mesh_drop_sub(mesh); /* no rows from the repair's sub-mesh here */
     if (!st)
         st = feature_check_options(ctx, fn, o);
     if (!st && !out)

@@ -72,6 +72,18 @@ limn_status mpi_mesh_build_rows(mpi_part *p, const limn_mpi_mesh *mesh, limn_sch
                                 double alpha, double **m4)
 {
     const mesh_slice *s = &mesh->slice;
+    mpi_local_mesh *lm = mpi_mesh_take_sub(mesh);
+    int have = lm && p->partition != LIMN_MPI_PARTITION_SCOTCH, all = 0;
+    MPI_Allreduce(&have, &all, 1, MPI_INT, MPI_MIN, p->comm);
+    if (all) { /* the repair's sub-mesh: partitioned and exchanged there */
+        p->stats.seconds_partition = 0.0;
+        limn_status st = mpi_local_build_on(p, mesh->vertex_dist, s->positions, lm, scheme,
+                                            alpha, m4, NULL);
+        free(lm);
+        return st;
+    }
+    mpi_local_mesh_free(lm);
+    free(lm);
     uint32_t *part_of = NULL;
     double t0 = MPI_Wtime();
     limn_status st;

@@ -434,6 +434,8 @@ static limn_status morph_sized(limn_context *ctx, const limn_mpi_mesh *from,
     limn_status st = mpi_mesh_part(ctx, from, mpi, &probe);
     if (probe.comm == MPI_COMM_NULL)
         return st;
+    if (to != from)
+        mpi_mesh_drop_sub(to); /* the rows are FROM's: TO's sub-mesh is never read */
     st = mpi_agree(&probe, st);
     if (!st)
         st = check_morph(&probe, from, to, o, fn);

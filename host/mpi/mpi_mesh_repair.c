@@ -5,8 +5,12 @@
  * alone (mesh_repair.c), so each rank repairs its block as the single
  * process repairs those faces, in the same order; the blocks are then
  * renumbered and the counts reduced. Duplicate faces are found across the
- * ranks as the single process finds them (mpi_mesh_duplicates.c), and
- * what stays as it is counted and said as it says it (mpi_mesh_census.c).
+ * ranks as the single process finds them, and what stays as it is counted
+ * and said as it says it: by default from the sub-meshes of the curve
+ * partition (mpi_local_census.c), which stay on the mesh for the rows built
+ * next, as the single process's repair leaves its topology for the
+ * operator; when duplicates are to be removed (the face blocks change) by
+ * the exchanges of mpi_mesh_duplicates.c and mpi_mesh_census.c.
  */
 #include "mpi/mpi_mesh.h"
 #include "base/large_alloc.h"
@@ -15,10 +19,13 @@
 #include "base/context.h"
 #include "mesh/mesh.h"
 #include "mpi/mpi_blocks.h"
+#include "mpi/mpi_local.h"
+#include "mpi/mpi_sfc.h"
 #include "topology/face_keys.h"
 #include "topology/mesh_repair.h"
 
 #include <limits.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -132,22 +139,54 @@ static int reduce_report(mpi_part *p, limn_repair_report *r)
     return gf != ULLONG_MAX;
 }
 
-/* mesh_repair.c's report_kept: what stays as it is, counted over the ranks
-   (mpi_mesh_census) and said in the same words. components and
-   boundary_loops stay 0: they need a walk over the whole mesh. */
-static limn_status report_kept(mpi_part *p, const limn_mpi_mesh *mesh, limn_repair_report *r)
+/* mesh_repair.c's report_kept: what stays as it is (the counts k over the
+   ranks) said in the same words. components and boundary_loops stay 0:
+   they need a walk over the whole mesh. */
+static void report_kept(mpi_part *p, const limn_mpi_mesh *mesh, const mpi_mesh_counts *k,
+                        limn_repair_report *r)
 {
-    mpi_mesh_counts k;
-    limn_status st = mpi_mesh_census(p, mesh, &k);
-    if (st)
-        return st;
-    size_t nm_edges = k.nonmanifold_edges - k.inconsistent_edges;
-    r->nonmanifold_edges = nm_edges;
-    r->nonmanifold_vertices = k.nonmanifold_vertices;
-    r->inconsistent_edges = k.inconsistent_edges;
-    r->unreferenced_vertices = mesh->vertex_dist[p->size] - k.referenced_vertices;
+    r->nonmanifold_edges = k->nonmanifold_edges - k->inconsistent_edges;
+    r->nonmanifold_vertices = k->nonmanifold_vertices;
+    r->inconsistent_edges = k->inconsistent_edges;
+    r->unreferenced_vertices = mesh->vertex_dist[p->size] - k->referenced_vertices;
     repair_warn_kept(p->ctx, r);
-    return LIMN_OK;
+}
+
+/* The duplicates and the counts from the sub-meshes of the curve partition
+   (mpi_local_census), which stay on the mesh for the next rows. */
+static limn_status census_by_sub(mpi_part *p, limn_mpi_mesh *mesh, mpi_mesh_counts *k,
+                                 limn_repair_report *r)
+{
+    const mesh_slice *s = &mesh->slice;
+    uint32_t *part_of = NULL;
+    mpi_local_mesh *lm = calloc(1, sizeof *lm);
+    limn_status st = lm ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_sfc_partition(p, mesh->vertex_dist, s->positions, p->size, &part_of, NULL);
+    if (!st)
+        st = mpi_local_mesh_build(p, mesh->vertex_dist, s->positions, part_of, s->face_begin,
+                                  s->face_count, s->face_offsets, s->face_indices, NULL, 1, lm,
+                                  NULL);
+    free(part_of);
+    if (!st)
+        st = mpi_local_census(p, lm, k, r);
+    if (!st) {
+        atomic_store(&mesh->sub, lm);
+        return LIMN_OK;
+    }
+    mpi_local_mesh_free(lm);
+    free(lm);
+    return st;
+}
+
+/* Duplicates (found, removed when asked) and the counts by the exchanges of
+   mpi_mesh_duplicates.c and mpi_mesh_census.c: the faces' blocks change. */
+static limn_status census_by_exchange(mpi_part *p, limn_mpi_mesh *mesh, int remove,
+                                      mpi_mesh_counts *k, limn_repair_report *r)
+{
+    limn_status st = mpi_mesh_duplicates(p, mesh, remove, r);
+    return st ? st : mpi_mesh_census(p, mesh, k);
 }
 
 /* The whole repair on structs of this library's layout (c from abi_enter). */
@@ -155,6 +194,7 @@ static limn_status repair_sized(mpi_part *p, limn_mpi_mesh *mesh, const limn_rep
                                 limn_repair_report *r)
 {
     memset(r, 0, sizeof *r);
+    mpi_mesh_drop_sub(mesh); /* made from faces this repair may change */
     r->faces_before = mesh->slice.face_total;
     limn_status st = repair_block(p->ctx, &mesh->slice, o->repeated_vertices, r);
     st = mpi_agree(p, st);
@@ -175,14 +215,20 @@ static limn_status repair_sized(mpi_part *p, limn_mpi_mesh *mesh, const limn_rep
         mesh->slice.face_total = mesh->face_dist[p->size];
         repair_warn_repeats(p->ctx, r, mesh->slice.face_total);
     }
-    st = mpi_mesh_duplicates(p, mesh, o->duplicate_faces, r);
+    mpi_mesh_counts k;
+    /* the sub-meshes are the curve's: under PT-Scotch (LIMN_MPI_PARTITION)
+       the rows will not come from them */
+    st = o->duplicate_faces || p->partition == LIMN_MPI_PARTITION_SCOTCH
+             ? census_by_exchange(p, mesh, o->duplicate_faces, &k, r)
+             : census_by_sub(p, mesh, &k, r);
     if (st)
         return st;
     repair_warn_duplicates(p->ctx, r);
     r->faces_after = mesh->slice.face_total;
     if (r->first_duplicate_face == SIZE_MAX)
         r->first_duplicate_face = 0;
-    return report_kept(p, mesh, r);
+    report_kept(p, mesh, &k, r);
+    return LIMN_OK;
 }
 
 limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh,

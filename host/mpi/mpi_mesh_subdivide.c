@@ -80,6 +80,7 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     limn_status st = mpi_mesh_part(ctx, mesh, mpi, &p);
     if (p.comm == MPI_COMM_NULL)
         return st;
+    mpi_mesh_drop_sub(mesh); /* no rows from the repair's sub-mesh here */
     if (!st)
         st = check_options(ctx, o, surface);
     struct device *dev = NULL;

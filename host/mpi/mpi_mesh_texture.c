@@ -384,6 +384,7 @@ static limn_status texture_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     limn_status st = mpi_mesh_part(ctx, mesh, mpi, &p);
     if (p.comm == MPI_COMM_NULL)
         return st;
+    mpi_mesh_drop_sub(mesh); /* no rows from the repair's sub-mesh here */
     tex t = {.p = &p, .o = o, .mpi = mpi, .r = r};
     st = check_texture(&t, mesh, surface, st);
     r->vertices = mesh->vertex_dist[p.size];

@@ -53,6 +53,66 @@ uint64_t mpi_sfc_hilbert(uint32_t x, uint32_t y, uint32_t z)
     return spread3(X[0] ^ t) << 2 | spread3(X[1] ^ t) << 1 | spread3(X[2] ^ t);
 }
 
+/* The transform Skilling's loop has applied to the bits below a level: axis
+   j of the transformed point is bit (perm j) of the input, inverted when
+   bit j of inv is set. A state of the key's state machine is that
+   transform and the parity of the Gray code's bits above (mpi_sfc.h). */
+static unsigned state_of(const int perm[3], unsigned inv, unsigned parity)
+{
+    return ((unsigned)(perm[0] * 9 + perm[1] * 3 + perm[2]) * 8 + inv) * 2 + parity;
+}
+
+void mpi_sfc_table_init(mpi_sfc_table *t)
+{
+    memset(t, 0, sizeof *t);
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            for (unsigned inv = 0; inv < 8; inv++)
+                for (unsigned parity = 0; parity < 2; parity++) {
+                    const int perm[3] = {a, b, 3 - a - b};
+                    if (a == b)
+                        continue;
+                    for (unsigned col = 0; col < 8; col++) { /* x << 2 | y << 1 | z */
+                        unsigned c[3], q[3] = {0, 0, 0};
+                        for (int j = 0; j < 3; j++)
+                            c[j] = (col >> (2 - perm[j]) & 1u) ^ (inv >> j & 1u);
+                        int np[3] = {perm[0], perm[1], perm[2]};
+                        unsigned ni = inv;
+                        for (int i = 0; i < 3; i++) { /* the level's own steps */
+                            if (c[i]) {
+                                ni ^= 1u; /* invert axis 0 below */
+                            } else if (i) { /* exchange axes 0 and i below */
+                                int tp = np[0];
+                                np[0] = np[i];
+                                np[i] = tp;
+                                unsigned b0 = ni & 1u, bi = ni >> i & 1u;
+                                ni = (ni & ~(1u | 1u << i)) | bi | b0 << i;
+                            }
+                        }
+                        q[0] = c[0]; /* Gray code, then the parity of the bits above */
+                        q[1] = c[1] ^ q[0];
+                        q[2] = c[2] ^ q[1];
+                        unsigned digit = (q[0] ^ parity) << 2 | (q[1] ^ parity) << 1 |
+                                         (q[2] ^ parity);
+                        t->next[state_of(perm, inv, parity) * 8 + col] =
+                            (uint16_t)(state_of(np, ni, parity ^ q[2]) << 3 | digit);
+                    }
+                }
+}
+
+uint64_t mpi_sfc_hilbert_table(const mpi_sfc_table *t, uint32_t x, uint32_t y, uint32_t z)
+{
+    static const int identity[3] = {0, 1, 2};
+    uint64_t m = spread3(x) << 2 | spread3(y) << 1 | spread3(z), key = 0;
+    unsigned state = state_of(identity, 0, 0);
+    for (int level = SFC_BITS - 1; level >= 0; level--) {
+        unsigned e = t->next[state * 8 + (unsigned)(m >> 3 * level & 7u)];
+        key = key << 3 | (e & 7u);
+        state = e >> 3;
+    }
+    return key;
+}
+
 typedef struct sfc_rec {
     uint64_t key;
     uint32_t at; /* index in the block: the global id is begin + at */
@@ -252,11 +312,13 @@ limn_status mpi_sfc_partition(mpi_part *p, const size_t *vtxdist, const double *
     if (!st) {
         double lo[3], scale;
         sfc_cube(p, positions, n, lo, &scale);
+        mpi_sfc_table table;
+        mpi_sfc_table_init(&table);
         for (size_t v = 0; v < n; v++) {
             const double *x = positions + 3 * v;
-            w.rec[v] = (sfc_rec){mpi_sfc_hilbert(sfc_cell(x[0], lo[0], scale),
-                                                 sfc_cell(x[1], lo[1], scale),
-                                                 sfc_cell(x[2], lo[2], scale)),
+            w.rec[v] = (sfc_rec){mpi_sfc_hilbert_table(&table, sfc_cell(x[0], lo[0], scale),
+                                                       sfc_cell(x[1], lo[1], scale),
+                                                       sfc_cell(x[2], lo[2], scale)),
                                  (uint32_t)v};
         }
         sfc_sort(w.rec, w.tmp, n, w.radix);

@@ -32,6 +32,21 @@ typedef struct mpi_sfc_stats {
    axis), 63 bits; consecutive keys are neighbouring cells. */
 uint64_t mpi_sfc_hilbert(uint32_t x, uint32_t y, uint32_t z);
 
+/* mpi_sfc_hilbert's keys by a state machine over the 21 levels, top first:
+   each level's 3 input bits and the state (the axis exchanges and
+   inversions Skilling's loop has made below that level, and the parity of
+   the Gray code above it) give the key's 3 bits and the next state, one
+   table lookup a level in place of the loop's dozens of operations. The
+   partition's keys; tests/test_mpi_sfc.c checks them against
+   mpi_sfc_hilbert. next[state * 8 + (x << 2 | y << 1 | z)] = next state
+   << 3 | the key's 3 bits (states of unused codes stay 0). */
+#define MPI_SFC_STATES 432 /* (27 axis codes, 6 of them permutations) x 8 inversions x 2 */
+typedef struct mpi_sfc_table {
+    uint16_t next[MPI_SFC_STATES * 8];
+} mpi_sfc_table;
+void mpi_sfc_table_init(mpi_sfc_table *t);
+uint64_t mpi_sfc_hilbert_table(const mpi_sfc_table *t, uint32_t x, uint32_t y, uint32_t z);
+
 /*
  * Collective over p->comm. vtxdist[size + 1] as mpi_dgraph_partition's;
  * positions: 3 doubles per vertex of this rank's block (non-finite ones are

@@ -1,0 +1,498 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Local rows, the sub-mesh (mpi_local.h): parts of the vertices the faces
+ * use, faces to every part among their vertices, owned vertices from their
+ * block owners, and the repaired sub-mesh of every face at an owned vertex
+ * (mpi_local_mesh), which mpi_local.c turns into rows and the repair's
+ * census reads (mpi_local_census.c).
+ */
+#include "mpi/mpi_local.h"
+#include "base/large_alloc.h"
+
+#include "base/context.h"
+#include "mesh/mesh.h"
+#include "topology/face_keys.h"
+
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The distinct vertices of this rank's faces, increasing (*ref, *nref), and
+   for each face corner the index of its vertex in that list (*corner_ref). */
+static limn_status referenced(mpi_part *p, size_t nf, const uint32_t *off, const uint32_t *idx,
+                              uint32_t **ref, size_t *nref, uint32_t **corner_ref)
+{
+    size_t nc = off[nf];
+    uint32_t *r = large_malloc((nc ? nc : 1) * sizeof *r);
+    uint32_t *cr = large_malloc((nc ? nc : 1) * sizeof *cr);
+    limn_status st = r && cr ? mpi_local_distinct(p->ctx, idx, nc, r, nref, cr)
+                             : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                                        "out of memory for %zu face corners", nc);
+    if (st) {
+        free(r);
+        free(cr);
+        return st;
+    }
+    *ref = r;
+    *corner_ref = cr;
+    return LIMN_OK;
+}
+
+/* Face record: face id (2 words), corner count d, d vertices, d parts. */
+static size_t record_words(uint32_t d) { return 3 + 2 * (size_t)d; }
+
+/* The distinct parts of a face's d corners (their parts cp) into parts. */
+static size_t face_parts(const uint32_t *cp, uint32_t d, uint32_t *parts)
+{
+    size_t np = 0;
+    for (uint32_t c = 0; c < d; c++) {
+        int seen = 0;
+        for (size_t k = 0; k < np; k++)
+            seen |= parts[k] == cp[c];
+        if (!seen)
+            parts[np++] = cp[c];
+    }
+    return np;
+}
+
+typedef struct faces_in {
+    size_t begin, count;
+    const uint32_t *off, *idx;
+} faces_in;
+
+/* Each face to every distinct part among its vertices (records above);
+   *recv, *nrecv: the records this rank receives. */
+static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *corner_part,
+                              uint32_t **recv, size_t *nrecv)
+{
+    size_t R = (size_t)p->size, maxd = 0;
+    for (size_t i = 0; i < f->count; i++)
+        maxd = f->off[i + 1] - f->off[i] > maxd ? f->off[i + 1] - f->off[i] : maxd;
+    int *cnt = calloc(2 * R, sizeof *cnt), *rcnt = cnt + R;
+    size_t *at = calloc(R + 1, sizeof *at);
+    uint32_t *parts = large_malloc((maxd ? maxd : 1) * sizeof *parts), *buf = NULL;
+    limn_status st = LIMN_OK;
+    if (!cnt || !at || !parts)
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory sending faces");
+    for (int pass = 0; !st && pass < 2; pass++) {
+        for (size_t i = 0; i < f->count; i++) {
+            const uint32_t *v = f->idx + f->off[i], *cp = corner_part + f->off[i];
+            uint32_t d = f->off[i + 1] - f->off[i];
+            size_t np = face_parts(cp, d, parts);
+            for (size_t k = 0; k < np; k++) {
+                if (pass == 0) {
+                    at[parts[k] + 1] += record_words(d);
+                    continue;
+                }
+                uint32_t *w = buf + at[parts[k]];
+                uint64_t id = f->begin + i;
+                w[0] = (uint32_t)id;
+                w[1] = (uint32_t)(id >> 32);
+                w[2] = d;
+                for (uint32_t c = 0; c < d; c++) {
+                    w[3 + c] = v[c];
+                    w[3 + d + c] = cp[c];
+                }
+                at[parts[k]] += record_words(d);
+            }
+        }
+        if (pass == 1)
+            break;
+        for (size_t r = 0; r < R; r++) {
+            cnt[r] = at[r + 1] > INT_MAX ? INT_MAX : (int)at[r + 1];
+            at[r + 1] += at[r];
+        }
+        if (!(buf = large_malloc((at[R] ? at[R] : 1) * sizeof *buf)))
+            st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory sending faces");
+    }
+    st = mpi_agree(p, st);
+    void *got = NULL;
+    if (!st)
+        st = mpi_local_alltoallv(p, buf, cnt, sizeof(uint32_t), &got, rcnt, nrecv);
+    *recv = got;
+    free(cnt);
+    free(at);
+    free(parts);
+    free(buf);
+    return st;
+}
+
+/* With repair off, limn_mesh_repair's refusal of the first face that uses a
+   vertex twice, in input numbering (the lowest failing rank's message is the
+   one every rank gets: with face ranges in rank order, the first face). */
+static limn_status refuse_repeats(mpi_part *p, const faces_in *f, size_t vertex_total)
+{
+    limn_mesh view = {.vertex_count = vertex_total,
+                      .face_count = f->count,
+                      .face_offsets = (uint32_t *)f->off,
+                      .face_indices = (uint32_t *)f->idx};
+    size_t first = SIZE_MAX;
+    uint32_t v = 0;
+    limn_status st = face_first_repeat(p->ctx, &view, &first, &v);
+    if (st || first == SIZE_MAX)
+        return st;
+    return ctx_fail(p->ctx, LIMN_ERR_TOPOLOGY,
+                    "face %zu uses vertex %u twice (a degenerate face) and repair is off: "
+                    "remove the face, or allow the repair (drop --no-repair)",
+                    f->begin + first, v);
+}
+
+/* The parts of the vertices this rank's faces use, from their block owners
+   (checked: each part is a rank), and the part of every face corner. */
+static limn_status ref_parts(mpi_part *p, local_sub *s, const size_t *vtxdist,
+                             const uint32_t *part_of, const faces_in *f, uint32_t **ref,
+                             const limn_repair_options *repair, size_t *nref,
+                             uint32_t **ref_part, uint32_t **corner_part)
+{
+    limn_status st = referenced(p, f->count, f->off, f->idx, ref, nref, corner_part);
+    size_t bad = SIZE_MAX, nb = vtxdist[p->rank + 1] - vtxdist[p->rank];
+    for (size_t i = 0; !st && i < nb && bad == SIZE_MAX; i++)
+        if (part_of[i] >= (uint32_t)p->size)
+            bad = i;
+    if (!st && bad != SIZE_MAX)
+        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                      "vertex %zu is given to part %u but there are %d ranks",
+                      vtxdist[p->rank] + bad, part_of[bad], p->size);
+    for (size_t i = 0; !st && i < f->count; i++) {
+        if (f->off[i + 1] < f->off[i] + 3) {
+            st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                          "face %zu has %ld vertices (at least 3 needed)", f->begin + i,
+                          (long)f->off[i + 1] - (long)f->off[i]);
+            break;
+        }
+        for (uint32_t c = f->off[i]; c < f->off[i + 1] && !st; c++)
+            if (f->idx[c] >= vtxdist[p->size])
+                st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                              "face %zu uses vertex %u but there are %zu vertices", f->begin + i,
+                              f->idx[c], vtxdist[p->size]);
+    }
+    if (!st && repair && !repair->repeated_vertices)
+        st = refuse_repeats(p, f, vtxdist[p->size]);
+    *ref_part = st ? NULL : large_malloc((*nref ? *nref : 1) * sizeof **ref_part);
+    if (!st && !*ref_part)
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", *nref);
+    mpi_local_note(s, *nref);
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_local_fetch(p, s, vtxdist, *ref, *nref, part_of, sizeof(uint32_t), *ref_part);
+    for (size_t c = 0; !st && c < f->off[f->count]; c++)
+        (*corner_part)[c] = (*ref_part)[(*corner_part)[c]];
+    return st;
+}
+
+/* The owned vertices (global ids, increasing) from the block owners. */
+static limn_status owned_ids(mpi_part *p, local_sub *s, const size_t *vtxdist,
+                             const uint32_t *part_of, uint32_t **owned, size_t *n_owned)
+{
+    size_t R = (size_t)p->size, nb = vtxdist[p->rank + 1] - vtxdist[p->rank];
+    int *cnt = calloc(2 * R, sizeof *cnt);
+    size_t *at = calloc(R + 1, sizeof *at);
+    uint32_t *buf = large_malloc((nb ? nb : 1) * sizeof *buf);
+    limn_status st = cnt && at && buf ? LIMN_OK
+                                      : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    for (size_t i = 0; !st && i < nb; i++)
+        at[part_of[i] + 1]++;
+    for (size_t r = 0; !st && r < R; r++) {
+        cnt[r] = (int)at[r + 1];
+        at[r + 1] += at[r];
+    }
+    for (size_t i = 0; !st && i < nb; i++)
+        buf[at[part_of[i]]++] = (uint32_t)(vtxdist[p->rank] + i);
+    st = mpi_agree(p, st);
+    void *got = NULL;
+    if (!st)
+        st = mpi_local_alltoallv(p, buf, cnt, sizeof(uint32_t), &got, cnt + R, n_owned);
+    mpi_local_note(s, *n_owned);
+    *owned = got;
+    free(cnt);
+    free(at);
+    free(buf);
+    return st;
+}
+
+typedef struct face_rec {
+    uint64_t id;
+    size_t at; /* word of its record */
+} face_rec;
+
+static int cmp_rec(const void *a, const void *b)
+{
+    uint64_t x = ((const face_rec *)a)->id, y = ((const face_rec *)b)->id;
+    return x < y ? -1 : x > y;
+}
+
+/* The received face records, in increasing face id (*recs, *nf). */
+static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_rec **recs,
+                                size_t *nf)
+{
+    size_t n = 0;
+    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+        n++;
+    face_rec *r = large_malloc((n ? n : 1) * sizeof *r);
+    if (!r)
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", n);
+    n = 0;
+    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+        r[n++] = (face_rec){(uint64_t)w[at] | (uint64_t)w[at + 1] << 32, at};
+    int sorted = 1; /* usually: senders' ranges follow each other */
+    for (size_t i = 1; i < n && sorted; i++)
+        sorted = r[i - 1].id < r[i].id;
+    if (!sorted)
+        qsort(r, n, sizeof *r, cmp_rec);
+    *recs = r;
+    *nf = n;
+    return LIMN_OK;
+}
+
+/* The sub-mesh's vertices: owned ones and those of the received faces,
+   increasing, each with its part (s->ids, s->part, s->owned). Each corner's
+   part word in w is then overwritten with its vertex's sub-mesh index. */
+static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, size_t n_own,
+                                uint32_t *w, size_t nw)
+{
+    size_t nc = 0, k = 0;
+    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+        nc += w[at + 2];
+    size_t cap = n_own + nc, n = n_own;
+    uint32_t *all = large_malloc((cap ? cap : 1) * sizeof *all);
+    uint32_t *index = large_malloc((cap ? cap : 1) * sizeof *index);
+    s->ids = large_malloc((cap ? cap : 1) * sizeof *s->ids);
+    s->part = large_malloc((cap ? cap : 1) * sizeof *s->part);
+    s->owned = large_malloc((n_own ? n_own : 1) * sizeof *s->owned);
+    limn_status st = all && index && s->ids && s->part && s->owned
+                         ? LIMN_OK
+                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
+    if (!st) { /* the owned ids, then every corner's */
+        memcpy(all, own, n_own * sizeof *all);
+        for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+            for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
+                all[n++] = w[at + 3 + c];
+        st = mpi_local_distinct(p->ctx, all, cap, s->ids, &k, index);
+    }
+    free(all);
+    n = n_own;
+    for (size_t at = 0; !st && at < nw; at += record_words(w[at + 2]))
+        for (uint32_t c = 0, d = w[at + 2]; c < d; c++, n++) {
+            s->part[index[n]] = w[at + 3 + d + c]; /* the same for every copy */
+            w[at + 3 + d + c] = index[n];
+        }
+    for (size_t i = 0; !st && i < n_own; i++)
+        s->part[index[i]] = (uint32_t)p->rank;
+    free(index);
+    if (st)
+        return st;
+    for (size_t i = 0, o = 0; i < k && o < n_own; i++)
+        if (s->part[i] == (uint32_t)p->rank)
+            s->owned[o++] = (uint32_t)i;
+    uint32_t *ids = realloc(s->ids, (k ? k : 1) * sizeof *ids);
+    uint32_t *part = realloc(s->part, (k ? k : 1) * sizeof *part);
+    s->ids = ids ? ids : s->ids; /* shrinking: the old block stays valid */
+    s->part = part ? part : s->part;
+    s->n = k;
+    s->n_owned = n_own;
+    mpi_local_note(s, k);
+    return LIMN_OK;
+}
+
+/* The received records' last reader is done: freed (per-rank peak). */
+static void free_records(uint32_t **words, face_rec **recs)
+{
+    free(*words);
+    free(*recs);
+    *words = NULL;
+    *recs = NULL;
+}
+
+/* The sub-mesh's repair. limn_mesh_repair changes faces only where one uses
+   a vertex twice or, when asked, where faces repeat; its duplicate search and
+   its census, with no report asked and its warnings dropped (sub_mesh), only
+   cost time, and the operator builds the topology the repair would have
+   cached. So a sub-mesh without a repeated corner (every sub-mesh of a mesh
+   limn_mpi_mesh_repair has seen) is left as it is unless duplicates are to
+   be removed: the same faces, the same operator. */
+static limn_status sub_repair(limn_context *ctx, limn_mesh *m, const limn_repair_options *repair)
+{
+    if (!repair || !repair->duplicate_faces) {
+        size_t first = SIZE_MAX;
+        uint32_t v = 0;
+        limn_status st = face_first_repeat(ctx, m, &first, &v);
+        if (st || first == SIZE_MAX)
+            return st;
+    }
+    return limn_mesh_repair(ctx, m, repair, NULL);
+}
+
+/* The sub-mesh (faces by increasing id, local vertex numbers), repaired; the
+   records (*words, *recs) are freed once the faces are out of them. */
+static limn_status sub_mesh(mpi_part *p, local_sub *s, uint32_t **words, face_rec **recs_in,
+                            size_t nf, const double *pos, const limn_repair_options *repair,
+                            limn_mesh **out, uint64_t **face_ids)
+{
+    const uint32_t *w = *words;
+    const face_rec *recs = *recs_in;
+    size_t nc = 0;
+    for (size_t i = 0; i < nf; i++)
+        nc += w[recs[i].at + 2];
+    uint32_t *off = large_malloc((nf + 1) * sizeof *off);
+    uint32_t *idx = large_malloc((nc ? nc : 1) * sizeof *idx);
+    uint64_t *ids = face_ids ? large_malloc((nf ? nf : 1) * sizeof *ids) : NULL;
+    limn_status st = off && idx && (ids || !face_ids)
+                         ? LIMN_OK
+                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for faces");
+    if (!st)
+        off[0] = 0;
+    for (size_t i = 0, k = 0; !st && i < nf; i++) {
+        const uint32_t *r = w + recs[i].at;
+        for (uint32_t c = 0; c < r[2]; c++)
+            idx[k++] = r[3 + r[2] + c]; /* sub_vertices left the local index there */
+        off[i + 1] = (uint32_t)k;
+        if (ids)
+            ids[i] = recs[i].id;
+    }
+    if (face_ids)
+        *face_ids = ids;
+    free_records(words, recs_in);
+    /* the caller's warnings are kept; the sub-mesh's repair warnings are
+       dropped: they number its own faces and see only its part of the mesh */
+    limn_context *ctx = p->ctx;
+    char *warnings = ctx->warnings;
+    size_t warnings_len = ctx->warnings_len;
+    ctx->warnings = NULL;
+    ctx->warnings_len = 0;
+    if (!st)
+        st = limn_mesh_create(ctx, s->n, pos, nf, off, idx, out);
+    free(off); /* the mesh holds its own copies */
+    free(idx);
+    if (!st)
+        st = sub_repair(ctx, *out, repair);
+    free(ctx->warnings);
+    ctx->warnings = warnings;
+    ctx->warnings_len = warnings_len;
+    return st;
+}
+
+typedef struct local_tmp {
+    uint32_t *ref, *ref_part, *corner_part, *own, *words;
+    face_rec *recs;
+    double *pos;
+    limn_mesh *mesh;
+    size_t nref, ncorner, nown, nw, nf; /* entries of the arrays above (held_bytes) */
+} local_tmp;
+
+static void tmp_free(local_tmp *t)
+{
+    free(t->ref);
+    free(t->ref_part);
+    free(t->corner_part);
+    free(t->own);
+    free(t->words);
+    free(t->recs);
+    free(t->pos);
+    limn_mesh_destroy(t->mesh);
+}
+
+/* The referenced vertices' lists, done with once the faces are sent. */
+static void free_lists(uint32_t **ref, uint32_t **ref_part, uint32_t **corner_part)
+{
+    free(*ref);
+    free(*ref_part);
+    free(*corner_part);
+    *ref = *ref_part = *corner_part = NULL;
+}
+
+/* Everything up to the sub-mesh's operator (s filled). */
+static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size_t *vtxdist,
+                             const double *positions, const uint32_t *part_of, const faces_in *f,
+                             const limn_repair_options *repair, uint64_t **face_ids)
+{
+    t->ncorner = f->off[f->count];
+    limn_status st = ref_parts(p, s, vtxdist, part_of, f, &t->ref, repair, &t->nref, &t->ref_part,
+                  &t->corner_part);
+    if (!st)
+        st = send_faces(p, f, t->corner_part, &t->words, &t->nw);
+    free_lists(&t->ref, &t->ref_part, &t->corner_part); /* their last reader */
+    if (!st)
+        st = owned_ids(p, s, vtxdist, part_of, &t->own, &t->nown);
+    if (!st)
+        st = sort_records(p, t->words, t->nw, &t->recs, &t->nf);
+    if (!st)
+        st = sub_vertices(p, s, t->own, t->nown, t->words, t->nw);
+    free(t->own);
+    t->own = NULL;
+    if (!st && !(t->pos = large_malloc((s->n ? 3 * s->n : 1) * sizeof *t->pos)))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu positions", s->n);
+    st = mpi_agree(p, st);
+    if (!st)
+        st = mpi_local_fetch(p, s, vtxdist, s->ids, s->n, positions, 3 * sizeof(double), t->pos);
+    if (!st)
+        st = sub_mesh(p, s, &t->words, &t->recs, t->nf, t->pos, repair, &t->mesh, face_ids);
+    st = mpi_agree(p, st);
+    if (s->stats) {
+        s->stats->faces_received = t->nf;
+        s->stats->sub_vertices = s->n;
+        s->stats->sub_faces = t->mesh ? t->mesh->face_count : 0;
+    }
+    return st;
+}
+
+/* vtxdist: from 0, never decreasing, global ids within 32 bits; the face
+   offsets from 0 (agreed over the ranks). */
+static limn_status check_blocks(mpi_part *p, const size_t *vtxdist, const uint32_t *off)
+{
+    limn_status st = LIMN_OK;
+    for (int r = 0; r < p->size && !st; r++)
+        if (vtxdist[r + 1] < vtxdist[r])
+            st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                          "vtxdist[%d] = %zu is below vtxdist[%d] = %zu: the vertex blocks "
+                          "must follow each other",
+                          r + 1, vtxdist[r + 1], r, vtxdist[r]);
+    if (!st && (vtxdist[0] != 0 || vtxdist[p->size] > (size_t)UINT32_MAX + 1))
+        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                      "vtxdist runs from %zu to %zu: it must start at 0 and hold at most 2^32 "
+                      "vertices",
+                      vtxdist[0], vtxdist[p->size]);
+    if (!st && off[0] != 0)
+        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                      "rank %d: face_offsets[0] is %u, must be 0", p->rank, off[0]);
+    return mpi_agree(p, st);
+}
+
+void mpi_local_mesh_free(mpi_local_mesh *lm)
+{
+    if (!lm)
+        return;
+    operator_free(&lm->s.op);
+    free(lm->s.ids);
+    free(lm->s.part);
+    free(lm->s.owned);
+    free(lm->pos);
+    free(lm->face_ids);
+    limn_mesh_destroy(lm->mesh);
+    memset(lm, 0, sizeof *lm);
+}
+
+limn_status mpi_local_mesh_build(mpi_part *p, const size_t *vtxdist, const double *positions,
+                                 const uint32_t *part_of, size_t face_begin, size_t face_count,
+                                 const uint32_t *face_offsets, const uint32_t *face_indices,
+                                 const limn_repair_options *repair, int face_ids,
+                                 mpi_local_mesh *lm, mpi_local_stats *stats)
+{
+    local_tmp t;
+    memset(&t, 0, sizeof t);
+    memset(lm, 0, sizeof *lm);
+    lm->s.stats = stats;
+    faces_in f = {face_begin, face_count, face_offsets, face_indices};
+    limn_status st = check_blocks(p, vtxdist, face_offsets);
+    if (!st)
+        st = build_sub(p, &lm->s, &t, vtxdist, positions, part_of, &f, repair,
+                       face_ids ? &lm->face_ids : NULL);
+    lm->mesh = t.mesh; /* the build's lists are freed: these two are what is left */
+    lm->pos = t.pos;
+    lm->faces_received = t.nf;
+    t.mesh = NULL;
+    t.pos = NULL;
+    tmp_free(&t);
+    if (st)
+        mpi_local_mesh_free(lm);
+    return st;
+}
