@@ -70,7 +70,8 @@ static size_t held_bytes(const mpi_local_mesh *lm)
 {
     const local_sub *s = &lm->s;
     size_t w = sizeof(uint32_t);
-    return (lm->pos ? 3 * s->n * sizeof *lm->pos : 0) + (s->ids ? s->n * w : 0) +
+    return 3 * s->n * sizeof(double) /* positions: the sub-mesh's, then lm->pos */ +
+           (s->ids ? s->n * w : 0) +
            (s->part ? s->n * w : 0) + (s->owned ? s->n_owned * w : 0) +
            (lm->face_ids ? lm->mesh->face_count * sizeof *lm->face_ids : 0);
 }
@@ -116,6 +117,8 @@ limn_status mpi_local_build_on(mpi_part *p, const size_t *vtxdist, const double 
     if (stats)
         stats->bytes_held_at_operator = held_bytes(lm);
     limn_status st = sub_operator(p, s, lm->mesh, scheme, alpha);
+    lm->pos = lm->mesh->positions; /* kept for owned_positions */
+    lm->mesh->positions = NULL;
     limn_mesh_destroy(lm->mesh); /* the rows are built: its last reader is done */
     lm->mesh = NULL;
     if (!st)

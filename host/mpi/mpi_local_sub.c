@@ -322,25 +322,23 @@ static limn_status sub_repair(limn_context *ctx, limn_mesh *m, const limn_repair
     return limn_mesh_repair(ctx, m, repair, NULL);
 }
 
-/* The sub-mesh (faces by increasing id, local vertex numbers), repaired; the
-   records (*words, *recs) are freed once the faces are out of them. */
-static limn_status sub_mesh(mpi_part *p, local_sub *s, uint32_t **words, face_rec **recs_in,
-                            size_t nf, const double *pos, const limn_repair_options *repair,
-                            limn_mesh **out, uint64_t **face_ids)
+/* The sub-mesh's faces (by increasing id, local vertex numbers) written
+   into m (allocated for them: no copy), then repaired; the records (*words,
+   *recs) are freed once the faces are out of them. Its indices are below
+   its vertex count by construction and its positions are the input's,
+   checked by the callers with global names (mpi_mesh_check): none of
+   limn_mesh_create's checks and copies. */
+static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in, size_t nf,
+                            const limn_repair_options *repair, limn_mesh *m, uint64_t **face_ids)
 {
     const uint32_t *w = *words;
     const face_rec *recs = *recs_in;
-    size_t nc = 0;
-    for (size_t i = 0; i < nf; i++)
-        nc += w[recs[i].at + 2];
-    uint32_t *off = large_malloc((nf + 1) * sizeof *off);
-    uint32_t *idx = large_malloc((nc ? nc : 1) * sizeof *idx);
+    uint32_t *off = m->face_offsets, *idx = m->face_indices;
     uint64_t *ids = face_ids ? large_malloc((nf ? nf : 1) * sizeof *ids) : NULL;
-    limn_status st = off && idx && (ids || !face_ids)
+    limn_status st = ids || !face_ids
                          ? LIMN_OK
-                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for faces");
-    if (!st)
-        off[0] = 0;
+                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", nf);
+    off[0] = 0;
     for (size_t i = 0, k = 0; !st && i < nf; i++) {
         const uint32_t *r = w + recs[i].at;
         for (uint32_t c = 0; c < r[2]; c++)
@@ -360,11 +358,7 @@ static limn_status sub_mesh(mpi_part *p, local_sub *s, uint32_t **words, face_re
     ctx->warnings = NULL;
     ctx->warnings_len = 0;
     if (!st)
-        st = limn_mesh_create(ctx, s->n, pos, nf, off, idx, out);
-    free(off); /* the mesh holds its own copies */
-    free(idx);
-    if (!st)
-        st = sub_repair(ctx, *out, repair);
+        st = sub_repair(ctx, m, repair);
     free(ctx->warnings);
     ctx->warnings = warnings;
     ctx->warnings_len = warnings_len;
@@ -374,7 +368,6 @@ static limn_status sub_mesh(mpi_part *p, local_sub *s, uint32_t **words, face_re
 typedef struct local_tmp {
     uint32_t *ref, *ref_part, *corner_part, *own, *words;
     face_rec *recs;
-    double *pos;
     limn_mesh *mesh;
     size_t nref, ncorner, nown, nw, nf; /* entries of the arrays above (held_bytes) */
 } local_tmp;
@@ -387,7 +380,6 @@ static void tmp_free(local_tmp *t)
     free(t->own);
     free(t->words);
     free(t->recs);
-    free(t->pos);
     limn_mesh_destroy(t->mesh);
 }
 
@@ -406,8 +398,8 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
                              const limn_repair_options *repair, uint64_t **face_ids)
 {
     t->ncorner = f->off[f->count];
-    limn_status st = ref_parts(p, s, vtxdist, part_of, f, &t->ref, repair, &t->nref, &t->ref_part,
-                  &t->corner_part);
+    limn_status st = ref_parts(p, s, vtxdist, part_of, f, &t->ref, repair, &t->nref,
+                               &t->ref_part, &t->corner_part);
     if (!st)
         st = send_faces(p, f, t->corner_part, &t->words, &t->nw);
     free_lists(&t->ref, &t->ref_part, &t->corner_part); /* their last reader */
@@ -419,13 +411,17 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
         st = sub_vertices(p, s, t->own, t->nown, t->words, t->nw);
     free(t->own);
     t->own = NULL;
-    if (!st && !(t->pos = large_malloc((s->n ? 3 * s->n : 1) * sizeof *t->pos)))
-        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu positions", s->n);
+    size_t nc = 0;
+    for (size_t i = 0; !st && i < t->nf; i++)
+        nc += t->words[t->recs[i].at + 2];
+    if (!st) /* the positions are fetched into it, the faces written into it */
+        st = mesh_alloc(p->ctx, s->n, t->nf, nc, &t->mesh);
     st = mpi_agree(p, st);
     if (!st)
-        st = mpi_local_fetch(p, s, vtxdist, s->ids, s->n, positions, 3 * sizeof(double), t->pos);
+        st = mpi_local_fetch(p, s, vtxdist, s->ids, s->n, positions, 3 * sizeof(double),
+                             t->mesh->positions);
     if (!st)
-        st = sub_mesh(p, s, &t->words, &t->recs, t->nf, t->pos, repair, &t->mesh, face_ids);
+        st = sub_mesh(p, &t->words, &t->recs, t->nf, repair, t->mesh, face_ids);
     st = mpi_agree(p, st);
     if (s->stats) {
         s->stats->faces_received = t->nf;
@@ -486,11 +482,9 @@ limn_status mpi_local_mesh_build(mpi_part *p, const size_t *vtxdist, const doubl
     if (!st)
         st = build_sub(p, &lm->s, &t, vtxdist, positions, part_of, &f, repair,
                        face_ids ? &lm->face_ids : NULL);
-    lm->mesh = t.mesh; /* the build's lists are freed: these two are what is left */
-    lm->pos = t.pos;
+    lm->mesh = t.mesh; /* the build's lists are freed: the sub-mesh is what is left */
     lm->faces_received = t.nf;
     t.mesh = NULL;
-    t.pos = NULL;
     tmp_free(&t);
     if (st)
         mpi_local_mesh_free(lm);
