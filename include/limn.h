@@ -384,6 +384,14 @@ typedef struct limn_repair_options {
     size_t size;              /* sizeof, set by limn_repair_options_default() */
     int repeated_vertices;    /* faces using a vertex twice: 1 repair (default), 0 refuse */
     int duplicate_faces;      /* faces with an earlier face's vertices: 0 keep (default), 1 remove */
+    int sub_meshes;           /* limn_mpi_mesh_repair only (limn_mesh_repair ignores it; added
+                                 after duplicate_faces): 1 (default) counts from every rank's
+                                 sub-mesh under the curve partition and leaves them on the mesh
+                                 for the next call that builds rows (interpolate, the series),
+                                 which skips its own partition and face exchange; 0 counts by
+                                 exchanges and leaves nothing: for calls that build no rows
+                                 (subdivide, texture, denoise_features), which would pay for
+                                 sub-meshes they drop */
 } limn_repair_options;
 
 LIMN_API void limn_repair_options_default(limn_repair_options *options);

@@ -221,11 +221,12 @@ LIMN_API const uint32_t *limn_mpi_mesh_face_indices(const limn_mpi_mesh *mesh);
    report (may be NULL) and warnings with global numbers. Duplicate faces are
    found (and removed with options->duplicate_faces) and what is kept is
    counted as the single process does (components and boundary_loops stay
-   0). Unless duplicates are removed or PT-Scotch is chosen, the counts come
-   from every rank's sub-mesh under the curve partition (the faces at its
-   vertices), which stays on the mesh for the next call that builds rows
-   (interpolate, the series): it skips its own partition and face exchange.
-   That call, limn_mpi_mesh_destroy or another repair frees it. */
+   0). With options->sub_meshes (the default), unless duplicates are removed
+   or PT-Scotch is chosen, the counts come from every rank's sub-mesh under
+   the curve partition (the faces at its vertices), which stays on the mesh
+   for the next call that builds rows (interpolate, the series): it skips
+   its own partition and face exchange. That call, a call that builds no
+   rows, limn_mpi_mesh_destroy or another repair frees it. */
 LIMN_API limn_status limn_mpi_mesh_repair(limn_context *ctx, limn_mpi_mesh *mesh,
                                           const limn_repair_options *options,
                                           limn_repair_report *report);

@@ -6,7 +6,8 @@
  * copied twice), faces that use a vertex twice, a non-manifold fin, two
  * fans meeting at a vertex, a face turned over (inconsistent edges),
  * isolated vertices, several components, n-gons. With and without
- * duplicate_faces: the repaired mesh written in parallel is the single
+ * duplicate_faces, and counted from the sub-meshes (the default) or by
+ * exchanges (sub_meshes = 0): the repaired mesh written in parallel is the single
  * process's bytes, the report's counts and first faces are its numbers,
  * and the warnings are its words, said alike on every rank.
  */
@@ -91,8 +92,12 @@ static int same_report(const limn_repair_report *a, const limn_repair_report *b)
            a->unreferenced_vertices == b->unreferenced_vertices;
 }
 
-static void repair_case(limn_context *ctx, const char *name, const limn_mesh *mesh, int drop)
+/* mode 0: duplicates kept, the counts from the sub-meshes (the default);
+   1: duplicates removed (by exchanges); 2: kept, counted by exchanges
+   (limn_repair_options.sub_meshes = 0). */
+static void repair_case(limn_context *ctx, const char *name, const limn_mesh *mesh, int mode)
 {
+    int drop = mode == 1;
     char in[320], ref[320], out[320];
     snprintf(in, sizeof in, "%s/in.obj", dir);
     snprintf(ref, sizeof ref, "%s/ref.ply", dir);
@@ -100,6 +105,7 @@ static void repair_case(limn_context *ctx, const char *name, const limn_mesh *me
     limn_repair_options o;
     limn_repair_options_default(&o);
     o.duplicate_faces = drop;
+    o.sub_meshes = mode != 2;
     limn_repair_report rs = {.size = sizeof rs}, rd = {.size = sizeof rd};
     char warned[4096] = "";
     int ok = 1;
@@ -124,27 +130,27 @@ static void repair_case(limn_context *ctx, const char *name, const limn_mesh *me
     CHECK(!ok || st == LIMN_OK, "%s: limn_mpi_mesh_repair: %s", name, limn_context_message(ctx));
     if (ok && !st) {
         CHECK(same_report(&rs, &rd),
-              "%s (drop %d, %d ranks): %zu duplicates (first %zu of %zu), %zu/%zu/%zu/%zu kept; "
+              "%s (mode %d, %d ranks): %zu duplicates (first %zu of %zu), %zu/%zu/%zu/%zu kept; "
               "one process %zu (first %zu of %zu), %zu/%zu/%zu/%zu",
-              name, drop, size, rd.duplicate_faces, rd.first_duplicate_face,
+              name, mode, size, rd.duplicate_faces, rd.first_duplicate_face,
               rd.first_duplicate_of, rd.nonmanifold_edges, rd.nonmanifold_vertices,
               rd.inconsistent_edges, rd.unreferenced_vertices, rs.duplicate_faces,
               rs.first_duplicate_face, rs.first_duplicate_of, rs.nonmanifold_edges,
               rs.nonmanifold_vertices, rs.inconsistent_edges, rs.unreferenced_vertices);
         CHECK(strcmp(limn_context_warnings(ctx), warned) == 0,
-              "%s (drop %d, %d ranks): warnings\n'%s'\none process\n'%s'", name, drop, size,
+              "%s (mode %d, %d ranks): warnings\n'%s'\none process\n'%s'", name, mode, size,
               limn_context_warnings(ctx), warned);
         if (rank == 0)
-            printf("  %-22s drop %d: %zu repeats, %zu duplicates (first %zu of %zu), "
+            printf("  %-22s mode %d: %zu repeats, %zu duplicates (first %zu of %zu), "
                    "%zu/%zu/%zu/%zu non-manifold edges/vertices, inconsistent, unused\n",
-                   name, drop, rd.repeat_faces, rd.duplicate_faces, rd.first_duplicate_face,
+                   name, mode, rd.repeat_faces, rd.duplicate_faces, rd.first_duplicate_face,
                    rd.first_duplicate_of, rd.nonmanifold_edges, rd.nonmanifold_vertices,
                    rd.inconsistent_edges, rd.unreferenced_vertices);
         st = limn_mpi_mesh_write(ctx, m, out, LIMN_FORMAT_AUTO, NULL, NULL);
         CHECK(st == LIMN_OK, "%s: writing: %s", name, limn_context_message(ctx));
         if (rank == 0 && !st)
-            CHECK(test_same_bytes(ref, out), "%s (drop %d, %d ranks): repaired mesh differs", name,
-                  drop, size);
+            CHECK(test_same_bytes(ref, out), "%s (mode %d, %d ranks): repaired mesh differs", name,
+                  mode, size);
     }
     limn_mpi_mesh_destroy(m);
     MPI_Barrier(MPI_COMM_WORLD);
@@ -165,9 +171,9 @@ int main(int argc, char **argv)
     limn_mesh *tri = mpi_test_composite(ctx, 1), *quad = mpi_test_composite(ctx, 0);
     limn_mesh *closed = mpi_test_closed(ctx, 0);
     limn_mesh *bad_tri = troubled(ctx, tri), *bad_quad = troubled(ctx, quad);
-    for (int drop = 0; drop <= 1; drop++) {
-        repair_case(ctx, "composite tri", bad_tri, drop);
-        repair_case(ctx, "composite quad", bad_quad, drop);
+    for (int mode = 0; mode <= 2; mode++) {
+        repair_case(ctx, "composite tri", bad_tri, mode);
+        repair_case(ctx, "composite quad", bad_quad, mode);
     }
     repair_case(ctx, "closed", closed, 0);
     repair_case(ctx, "composite tri, clean", tri, 1);

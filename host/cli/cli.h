@@ -249,6 +249,8 @@ typedef struct cli_sliced_job {
     const cli_repair *repair;
     limn_format in_format, out_format;
     const limn_write_options *write;
+    int rows; /* the command builds rows (interpolate, the series): the repair
+                 leaves its sub-meshes for them (limn_repair_options.sub_meshes) */
 } cli_sliced_job;
 /* interpolate on slices (limn_mpi.h's distributed meshes): every rank reads
    its slice, repairs it, builds its rows, solves and writes its share of the

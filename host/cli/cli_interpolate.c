@@ -308,8 +308,8 @@ static int interpolate_sliced(args *x)
     limn_write_options wo;
     limn_write_options_default(&wo);
     wo.precision = x->a.precision;
-    cli_sliced_job job = {"interpolate", x->a.inputs[0], x->a.output, &x->a.repair,
-                          x->a.in_format, x->a.out_format, &wo};
+    cli_sliced_job job = {"interpolate",   x->a.inputs[0], x->a.output, &x->a.repair,
+                          x->a.in_format, x->a.out_format, &wo,        1};
     double sec[3] = {0, 0, 0}, t0 = cli_now();
     limn_status st = cli_mpi_agree(ctx, cli_args_open(&x->a, ctx, x->sub.max_memory, 0, NULL));
     if (!st) {

@@ -36,6 +36,7 @@ static limn_status read_sliced(limn_context *ctx, const cli_sliced_job *job,
     limn_repair_options_default(&o);
     o.repeated_vertices = !repair->off;
     o.duplicate_faces = repair->drop_duplicates;
+    o.sub_meshes = job->rows;
     limn_repair_report rep = {.size = sizeof rep};
     st = limn_mpi_mesh_repair(ctx, *mesh, &o, &rep);
     cli_print_warnings(cmd, ctx);
@@ -67,6 +68,7 @@ static limn_status run_sliced(limn_context *ctx, const cli_sliced_job *job,
     if (!st && call->second) {
         cli_sliced_job second = *job;
         second.input = call->second;
+        second.rows = 0; /* the rows are the first input's */
         st = read_sliced(ctx, &second, &in[1]);
     }
     seconds[0] = MPI_Wtime() - t0;
@@ -274,7 +276,9 @@ limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
     series_job j = {o, call, r, NULL};
     sliced_call sc = {series_fn, &j, NULL, 0};
     limn_mpi_mesh *in[2] = {NULL, NULL};
-    limn_status st = run_sliced(ctx, job, &sc, in, seconds);
+    cli_sliced_job rows = *job; /* texture and --preserve-features build no rows from it */
+    rows.rows = call->kind != CLI_SERIES_TEXTURE && !call->features;
+    limn_status st = run_sliced(ctx, &rows, &sc, in, seconds);
     if (!st && call->kind != CLI_SERIES_TEXTURE) /* texture: another mesh, no displacement */
         *displacement = block_displacement(in[0], j.out, r->bbox_diagonal);
     if (!st && call->measures)

@@ -179,7 +179,7 @@ static int filter_sliced(series_cli *c, const series_filter *f)
     limn_write_options_default(&wo);
     wo.precision = c->a.precision;
     cli_sliced_job job = {c->a.cmd,      c->a.inputs[0],  c->a.output, &c->a.repair,
-                          c->a.in_format, c->a.out_format, &wo};
+                          c->a.in_format, c->a.out_format, &wo,         1};
     limn_series_report r = {.size = sizeof r};
     limn_write_report wr = {.size = sizeof wr};
     double sec[2] = {0, 0}, unused = 0.0;

@@ -156,7 +156,7 @@ static int run_sliced(cli_args *a, const limn_subdivide_options *o)
     limn_write_options_default(&wo);
     wo.precision = a->precision;
     cli_sliced_job job = {a->cmd,       a->inputs[0],  a->output, &a->repair,
-                          a->in_format, a->out_format, &wo};
+                          a->in_format, a->out_format, &wo,  0};
     limn_subdivide_report r = {.size = sizeof r};
     limn_write_report wr = {.size = sizeof wr};
     double io[2] = {0, 0};

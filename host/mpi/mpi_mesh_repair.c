@@ -218,7 +218,7 @@ static limn_status repair_sized(mpi_part *p, limn_mpi_mesh *mesh, const limn_rep
     mpi_mesh_counts k;
     /* the sub-meshes are the curve's: under PT-Scotch (LIMN_MPI_PARTITION)
        the rows will not come from them */
-    st = o->duplicate_faces || p->partition == LIMN_MPI_PARTITION_SCOTCH
+    st = o->duplicate_faces || !o->sub_meshes || p->partition == LIMN_MPI_PARTITION_SCOTCH
              ? census_by_exchange(p, mesh, o->duplicate_faces, &k, r)
              : census_by_sub(p, mesh, &k, r);
     if (st)
