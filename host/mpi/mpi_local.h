@@ -120,6 +120,15 @@ limn_status mpi_local_build(mpi_part *p, const size_t *vtxdist, const double *po
 limn_status mpi_local_alltoallv(mpi_part *p, const void *send, const int *cnt, size_t elem,
                                 void **recv, int *rcnt, size_t *total);
 
+/* Collective: mpi_local_alltoallv with the elements packed by the caller
+   once the counts are exchanged: pack(user, to) writes the cnt[r] elements
+   for rank r at to[r], which for this rank's own share is their place in
+   *recv (no send buffer for them, no copy by the MPI library: at 2 ranks
+   most of a rank's faces are its own), for the others a send buffer. */
+limn_status mpi_local_alltoallv_packed(mpi_part *p, const int *cnt, size_t elem,
+                                       void (*pack)(void *user, char *const *to), void *user,
+                                       void **recv, int *rcnt, size_t *total);
+
 /* Collective: for n increasing global ids, the block owners' values (elem
    bytes each, from `mine`, this rank's block of vtxdist) into out. Each
    block owner answers in the order asked, so answers land in id order. */

@@ -66,6 +66,62 @@ limn_status mpi_local_alltoallv(mpi_part *p, const void *send, const int *cnt, s
     return st;
 }
 
+limn_status mpi_local_alltoallv_packed(mpi_part *p, const int *cnt, size_t elem,
+                                       void (*pack)(void *user, char *const *to), void *user,
+                                       void **recv, int *rcnt, size_t *total)
+{
+    size_t R = (size_t)p->size, me = (size_t)p->rank;
+    int *sb = large_malloc(4 * R * sizeof *sb), *sd = sb + R, *rb = sb + 2 * R, *rd = sb + 3 * R;
+    char **to = large_malloc(R * sizeof *to), *send = NULL;
+    *recv = NULL;
+    *total = 0;
+    limn_status st = sb && to ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    st = mpi_agree(p, st);
+    if (st) {
+        free(sb);
+        free(to);
+        return st;
+    }
+    MPI_Alltoall(cnt, 1, MPI_INT, rcnt, 1, MPI_INT, p->comm);
+    size_t so = 0, ro = 0;
+    for (size_t r = 0; !st && r < R; r++) {
+        if ((so + (size_t)cnt[r]) * elem > INT_MAX || (ro + (size_t)rcnt[r]) * elem > INT_MAX)
+            st = ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                          "a rank would exchange more than %d bytes in one MPI call: use more "
+                          "ranks",
+                          INT_MAX);
+        if (st)
+            break;
+        /* this rank's own share stays out of the call: packed in place */
+        sb[r] = r == me ? 0 : (int)((size_t)cnt[r] * elem);
+        sd[r] = (int)(so * elem);
+        rb[r] = r == me ? 0 : (int)((size_t)rcnt[r] * elem);
+        rd[r] = (int)(ro * elem);
+        so += r == me ? 0 : (size_t)cnt[r];
+        ro += (size_t)rcnt[r];
+    }
+    if (!st && !(*recv = large_malloc(ro ? ro * elem : 1)))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu received entries", ro);
+    if (!st && !(send = large_malloc(so ? so * elem : 1)))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu entries to send", so);
+    st = mpi_agree(p, st);
+    if (!st) {
+        for (size_t r = 0; r < R; r++)
+            to[r] = r == me ? (char *)*recv + rd[r] : send + sd[r];
+        pack(user, to);
+        MPI_Alltoallv(send, sb, sd, MPI_BYTE, *recv, rb, rd, MPI_BYTE, p->comm);
+    }
+    if (st) {
+        free(*recv);
+        *recv = NULL;
+    }
+    *total = ro;
+    free(send);
+    free(sb);
+    free(to);
+    return st;
+}
+
 /* The rank whose block holds vertex v. */
 static int block_of(const mpi_part *p, const size_t *vtxdist, uint32_t v)
 {

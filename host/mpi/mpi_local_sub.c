@@ -60,6 +60,42 @@ typedef struct faces_in {
     const uint32_t *off, *idx;
 } faces_in;
 
+typedef struct faces_out {
+    const faces_in *f;
+    const uint32_t *corner_part;
+    uint32_t *parts; /* scratch: a face's distinct parts */
+    uint32_t **next; /* per part: where its next record goes */
+    size_t nparts;
+} faces_out;
+
+/* Every face's record at the next place of each distinct part among its
+   corners, from to[part] on (mpi_local_alltoallv_packed): in face order
+   within a part, as one send buffer in rank order had them. */
+static void pack_faces(void *user, char *const *to)
+{
+    const faces_out *o = user;
+    const faces_in *f = o->f;
+    for (size_t r = 0; r < o->nparts; r++)
+        o->next[r] = (uint32_t *)to[r];
+    for (size_t i = 0; i < f->count; i++) {
+        const uint32_t *v = f->idx + f->off[i], *cp = o->corner_part + f->off[i];
+        uint32_t d = f->off[i + 1] - f->off[i];
+        size_t np = face_parts(cp, d, o->parts);
+        uint64_t id = f->begin + i;
+        for (size_t k = 0; k < np; k++) {
+            uint32_t *w = o->next[o->parts[k]];
+            w[0] = (uint32_t)id;
+            w[1] = (uint32_t)(id >> 32);
+            w[2] = d;
+            for (uint32_t c = 0; c < d; c++) {
+                w[3 + c] = v[c];
+                w[3 + d + c] = cp[c];
+            }
+            o->next[o->parts[k]] = w + record_words(d);
+        }
+    }
+}
+
 /* Each face to every distinct part among its vertices (records above);
    *recv, *nrecv: the records this rank receives. */
 static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *corner_part,
@@ -69,51 +105,30 @@ static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *co
     for (size_t i = 0; i < f->count; i++)
         maxd = f->off[i + 1] - f->off[i] > maxd ? f->off[i + 1] - f->off[i] : maxd;
     int *cnt = calloc(2 * R, sizeof *cnt), *rcnt = cnt + R;
-    size_t *at = calloc(R + 1, sizeof *at);
-    uint32_t *parts = large_malloc((maxd ? maxd : 1) * sizeof *parts), *buf = NULL;
+    size_t *words = calloc(R, sizeof *words);
+    faces_out o = {f, corner_part, large_malloc((maxd ? maxd : 1) * sizeof(uint32_t)),
+                   large_malloc(R * sizeof(uint32_t *)), R};
     limn_status st = LIMN_OK;
-    if (!cnt || !at || !parts)
+    if (!cnt || !words || !o.parts || !o.next)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory sending faces");
-    for (int pass = 0; !st && pass < 2; pass++) {
-        for (size_t i = 0; i < f->count; i++) {
-            const uint32_t *v = f->idx + f->off[i], *cp = corner_part + f->off[i];
-            uint32_t d = f->off[i + 1] - f->off[i];
-            size_t np = face_parts(cp, d, parts);
-            for (size_t k = 0; k < np; k++) {
-                if (pass == 0) {
-                    at[parts[k] + 1] += record_words(d);
-                    continue;
-                }
-                uint32_t *w = buf + at[parts[k]];
-                uint64_t id = f->begin + i;
-                w[0] = (uint32_t)id;
-                w[1] = (uint32_t)(id >> 32);
-                w[2] = d;
-                for (uint32_t c = 0; c < d; c++) {
-                    w[3 + c] = v[c];
-                    w[3 + d + c] = cp[c];
-                }
-                at[parts[k]] += record_words(d);
-            }
-        }
-        if (pass == 1)
-            break;
-        for (size_t r = 0; r < R; r++) {
-            cnt[r] = at[r + 1] > INT_MAX ? INT_MAX : (int)at[r + 1];
-            at[r + 1] += at[r];
-        }
-        if (!(buf = large_malloc((at[R] ? at[R] : 1) * sizeof *buf)))
-            st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory sending faces");
+    for (size_t i = 0; !st && i < f->count; i++) {
+        uint32_t d = f->off[i + 1] - f->off[i];
+        size_t np = face_parts(corner_part + f->off[i], d, o.parts);
+        for (size_t k = 0; k < np; k++)
+            words[o.parts[k]] += record_words(d);
     }
+    for (size_t r = 0; !st && r < R; r++)
+        cnt[r] = words[r] > INT_MAX ? INT_MAX : (int)words[r];
     st = mpi_agree(p, st);
     void *got = NULL;
     if (!st)
-        st = mpi_local_alltoallv(p, buf, cnt, sizeof(uint32_t), &got, rcnt, nrecv);
+        st = mpi_local_alltoallv_packed(p, cnt, sizeof(uint32_t), pack_faces, &o, &got, rcnt,
+                                        nrecv);
     *recv = got;
     free(cnt);
-    free(at);
-    free(parts);
-    free(buf);
+    free(words);
+    free(o.parts);
+    free(o.next);
     return st;
 }
 
