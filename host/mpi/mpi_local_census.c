@@ -56,24 +56,15 @@ static limn_status local_duplicates(limn_context *ctx, const mpi_local_mesh *lm,
                                     unsigned long long d[3])
 {
     const limn_mesh *m = lm->mesh;
-    size_t nf = m->face_count;
     d[0] = 0;
     d[1] = d[2] = ULLONG_MAX;
-    if (nf < 2)
-        return LIMN_OK;
-    uint32_t maxd = 0;
-    for (size_t f = 0; f < nf; f++)
-        if (m->face_offsets[f + 1] - m->face_offsets[f] > maxd)
-            maxd = m->face_offsets[f + 1] - m->face_offsets[f];
-    uint8_t *dup = calloc(nf, 1);
-    if (!dup)
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
+    uint8_t *dup = NULL;
     face_duplicates found;
-    limn_status st = face_find_duplicates(ctx, m, maxd, dup, &found);
+    limn_status st = face_duplicates_marked(ctx, m, &dup, &found);
     if (!st && found.count) {
         d[1] = lm->face_ids[found.first];
         d[2] = lm->face_ids[found.first_of];
-        for (size_t f = 0; f < nf; f++)
+        for (size_t f = 0; f < m->face_count; f++)
             d[0] += dup[f] && lm->s.part[face_lowest(m, f)] == me;
     }
     free(dup);

@@ -22,6 +22,34 @@ void mpi_local_note(local_sub *s, size_t entries)
         s->stats->largest_vertex_array = entries;
 }
 
+/* The byte counts and displacements of an exchange of elem-byte elements
+   (cnt[r] to send to rank r, rcnt[r] to receive from it) in rank order;
+   without own, this rank's share is left out of the call (sent and received
+   as 0 bytes, its place in the receive buffer kept). *so, *ro: the elements
+   in the send and receive buffers. */
+static limn_status exchange_plan(mpi_part *p, const int *cnt, const int *rcnt, size_t elem,
+                                 int own, int *sb, int *sd, int *rb, int *rd, size_t *so,
+                                 size_t *ro)
+{
+    size_t R = (size_t)p->size, me = (size_t)p->rank;
+    *so = *ro = 0;
+    for (size_t r = 0; r < R; r++) {
+        int out = own || r != me;
+        if ((*so + (size_t)cnt[r]) * elem > INT_MAX || (*ro + (size_t)rcnt[r]) * elem > INT_MAX)
+            return ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                            "a rank would exchange more than %d bytes in one MPI call: use more "
+                            "ranks",
+                            INT_MAX);
+        sb[r] = out ? (int)((size_t)cnt[r] * elem) : 0;
+        sd[r] = (int)(*so * elem);
+        rb[r] = out ? (int)((size_t)rcnt[r] * elem) : 0;
+        rd[r] = (int)(*ro * elem);
+        *so += out ? (size_t)cnt[r] : 0;
+        *ro += (size_t)rcnt[r];
+    }
+    return LIMN_OK;
+}
+
 limn_status mpi_local_alltoallv(mpi_part *p, const void *send, const int *cnt, size_t elem,
                                 void **recv, int *rcnt, size_t *total)
 {
@@ -37,21 +65,7 @@ limn_status mpi_local_alltoallv(mpi_part *p, const void *send, const int *cnt, s
     }
     MPI_Alltoall(cnt, 1, MPI_INT, rcnt, 1, MPI_INT, p->comm);
     size_t so = 0, ro = 0;
-    for (size_t r = 0; !st && r < R; r++) {
-        if ((so + (size_t)cnt[r]) * elem > INT_MAX || (ro + (size_t)rcnt[r]) * elem > INT_MAX)
-            st = ctx_fail(p->ctx, LIMN_ERR_MEMORY,
-                          "a rank would exchange more than %d bytes in one MPI call: use more "
-                          "ranks",
-                          INT_MAX);
-        if (st)
-            break;
-        sb[r] = (int)((size_t)cnt[r] * elem);
-        sd[r] = (int)(so * elem);
-        rb[r] = (int)((size_t)rcnt[r] * elem);
-        rd[r] = (int)(ro * elem);
-        so += (size_t)cnt[r];
-        ro += (size_t)rcnt[r];
-    }
+    st = exchange_plan(p, cnt, rcnt, elem, 1, sb, sd, rb, rd, &so, &ro);
     if (!st && !(*recv = large_malloc(ro ? ro * elem : 1)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu received entries", ro);
     st = mpi_agree(p, st);
@@ -70,7 +84,7 @@ limn_status mpi_local_alltoallv_packed(mpi_part *p, const int *cnt, size_t elem,
                                        void (*pack)(void *user, char *const *to), void *user,
                                        void **recv, int *rcnt, size_t *total)
 {
-    size_t R = (size_t)p->size, me = (size_t)p->rank;
+    size_t R = (size_t)p->size;
     int *sb = large_malloc(4 * R * sizeof *sb), *sd = sb + R, *rb = sb + 2 * R, *rd = sb + 3 * R;
     char **to = large_malloc(R * sizeof *to), *send = NULL;
     *recv = NULL;
@@ -83,23 +97,8 @@ limn_status mpi_local_alltoallv_packed(mpi_part *p, const int *cnt, size_t elem,
         return st;
     }
     MPI_Alltoall(cnt, 1, MPI_INT, rcnt, 1, MPI_INT, p->comm);
-    size_t so = 0, ro = 0;
-    for (size_t r = 0; !st && r < R; r++) {
-        if ((so + (size_t)cnt[r]) * elem > INT_MAX || (ro + (size_t)rcnt[r]) * elem > INT_MAX)
-            st = ctx_fail(p->ctx, LIMN_ERR_MEMORY,
-                          "a rank would exchange more than %d bytes in one MPI call: use more "
-                          "ranks",
-                          INT_MAX);
-        if (st)
-            break;
-        /* this rank's own share stays out of the call: packed in place */
-        sb[r] = r == me ? 0 : (int)((size_t)cnt[r] * elem);
-        sd[r] = (int)(so * elem);
-        rb[r] = r == me ? 0 : (int)((size_t)rcnt[r] * elem);
-        rd[r] = (int)(ro * elem);
-        so += r == me ? 0 : (size_t)cnt[r];
-        ro += (size_t)rcnt[r];
-    }
+    size_t so = 0, ro = 0; /* this rank's own share stays out of the call: packed in place */
+    st = exchange_plan(p, cnt, rcnt, elem, 0, sb, sd, rb, rd, &so, &ro);
     if (!st && !(*recv = large_malloc(ro ? ro * elem : 1)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu received entries", ro);
     if (!st && !(send = large_malloc(so ? so * elem : 1)))
@@ -107,7 +106,7 @@ limn_status mpi_local_alltoallv_packed(mpi_part *p, const int *cnt, size_t elem,
     st = mpi_agree(p, st);
     if (!st) {
         for (size_t r = 0; r < R; r++)
-            to[r] = r == me ? (char *)*recv + rd[r] : send + sd[r];
+            to[r] = r == (size_t)p->rank ? (char *)*recv + rd[r] : send + sd[r];
         pack(user, to);
         MPI_Alltoallv(send, sb, sd, MPI_BYTE, *recv, rb, rd, MPI_BYTE, p->comm);
     }

@@ -327,3 +327,27 @@ limn_status face_find_duplicates(limn_context *ctx, const limn_mesh *m, uint32_t
     return failed ? ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces")
                   : LIMN_OK;
 }
+
+limn_status face_duplicates_marked(limn_context *ctx, const limn_mesh *m, uint8_t **dup,
+                                   face_duplicates *out)
+{
+    size_t nf = m->face_count;
+    *dup = NULL;
+    out->count = 0;
+    out->first = SIZE_MAX;
+    out->first_of = 0;
+    if (nf < 2)
+        return LIMN_OK;
+    uint32_t maxd = 0;
+    for (size_t f = 0; f < nf; f++)
+        if (m->face_offsets[f + 1] - m->face_offsets[f] > maxd)
+            maxd = m->face_offsets[f + 1] - m->face_offsets[f];
+    if (!(*dup = calloc(nf, 1)))
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
+    limn_status st = face_find_duplicates(ctx, m, maxd, *dup, out);
+    if (st) {
+        free(*dup);
+        *dup = NULL;
+    }
+    return st;
+}

@@ -33,4 +33,9 @@ limn_status face_first_repeat(limn_context *ctx, const limn_mesh *m, size_t *fac
 limn_status face_find_duplicates(limn_context *ctx, const limn_mesh *m, uint32_t maxd,
                                  uint8_t *dup, face_duplicates *out);
 
+/* face_find_duplicates with the marks allocated here (*dup: face_count
+   bytes, caller frees; NULL when there are fewer than 2 faces). */
+limn_status face_duplicates_marked(limn_context *ctx, const limn_mesh *m, uint8_t **dup,
+                                   face_duplicates *out);
+
 #endif

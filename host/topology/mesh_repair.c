@@ -162,18 +162,9 @@ static limn_status remove_marked(limn_context *ctx, limn_mesh *m, const uint8_t 
 static limn_status find_duplicates(limn_context *ctx, limn_mesh *m, int remove,
                                    limn_repair_report *r)
 {
-    size_t nf = m->face_count;
-    if (nf < 2)
-        return LIMN_OK;
-    uint32_t maxd = 0;
-    for (size_t f = 0; f < nf; f++)
-        if (m->face_offsets[f + 1] - m->face_offsets[f] > maxd)
-            maxd = m->face_offsets[f + 1] - m->face_offsets[f];
-    uint8_t *dup = calloc(nf, 1);
-    if (!dup)
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory looking for duplicate faces");
+    uint8_t *dup = NULL;
     face_duplicates found;
-    limn_status st = face_find_duplicates(ctx, m, maxd, dup, &found);
+    limn_status st = face_duplicates_marked(ctx, m, &dup, &found);
     if (!st && found.count) {
         r->duplicate_faces = found.count;
         r->first_duplicate_face = found.first;
