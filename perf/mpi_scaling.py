@@ -227,7 +227,7 @@ def pipeline_inputs(args):
 
 def interpolate(limn, ranks, path, tmp, env, tol, root=False, bound=False):
     """One `limn interpolate --precision double` (plain for 1 rank, else under
-    mpirun, oversubscribed; root: the input on standard input, which takes the
+    mpirun, a core a rank, oversubscribed beyond the cores; root: the input on standard input, which takes the
     root path, rank 0 reading and building everything; bound: 1 rank under
     `mpirun --bind-to core`, one core as each rank of the 2-rank run has: the
     strong-scaling baseline); returns (report, output path, wall seconds)."""
@@ -238,8 +238,10 @@ def interpolate(limn, ranks, path, tmp, env, tol, root=False, bound=False):
                                           "-q"]
     if tol:
         cmd += ["--tol", tol]
-    if ranks > 1:
-        cmd = ["mpirun", "-np", str(ranks), "--oversubscribe", "--bind-to", "none"] + cmd
+    if ranks > 1:  # one core a rank while the cores last, as the 1-core baseline has
+        bind = ["--bind-to", "core"] if ranks <= (os.cpu_count() or 1) else \
+            ["--oversubscribe", "--bind-to", "none"]
+        cmd = ["mpirun", "-np", str(ranks)] + bind + cmd
     elif bound:
         cmd = ["mpirun", "-np", "1", "--bind-to", "core"] + cmd
     t0 = time.time()
