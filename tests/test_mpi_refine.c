@@ -449,6 +449,38 @@ static void failures_case(limn_context *ctx, const limn_mesh *tri)
         limn_mpi_mesh_destroy(s);
     s = NULL;
     limn_context_destroy(bad);
+    /* the memory budget: a rank's share of the single process's estimate,
+       at least the share of limn_subdivide_estimate's (the edges from the
+       corners and boundary edges: above it where an edge is non-manifold);
+       just below it, every rank refuses with one message and no surface */
+    limn_subdivide_report r1 = {.size = sizeof r1};
+    o.levels = 3;
+    st = limn_mpi_mesh_subdivide(ctx, m, &o, &s, &r1, NULL, NULL);
+    CHECK(st == LIMN_OK && r1.estimated_bytes > 0, "3 levels: status %d (%s), estimate %zu",
+          (int)st, limn_context_message(ctx), r1.estimated_bytes);
+    limn_mpi_mesh_destroy(s);
+    s = NULL;
+    if (rank == 0) {
+        limn_mesh *w = NULL;
+        size_t nv = 0, nf = 0, whole = 0, runtime = (size_t)192 << 20;
+        limn_mesh_read(ctx, in, LIMN_FORMAT_AUTO, &w);
+        limn_mesh_repair(ctx, w, NULL, NULL);
+        CHECK(limn_subdivide_estimate(ctx, w, &o, &nv, &nf, &whole) == LIMN_OK,
+              "limn_subdivide_estimate: %s", limn_context_message(ctx));
+        double share = 1.0 / size + 0.2 < 1.0 ? 1.0 / size + 0.2 : 1.0;
+        size_t least = (size_t)((double)(whole - runtime) * share) + runtime;
+        CHECK(r1.estimated_bytes + 1 >= least,
+              "%d ranks: a rank's estimate %zu below the share of one process's %zu (%zu)", size,
+              r1.estimated_bytes, whole, least);
+        limn_mesh_destroy(w);
+    }
+    o.max_memory = r1.estimated_bytes - 1;
+    st = limn_mpi_mesh_subdivide(ctx, m, &o, &s, NULL, NULL, NULL);
+    same = agreed(ctx, st, msg, sizeof msg);
+    CHECK(st == LIMN_ERR_MEMORY && s == NULL && same && strstr(msg, "GiB a rank"),
+          "max_memory below a rank's estimate: status %d, surface %p, message '%s' (agreed %d)",
+          (int)st, (void *)s, msg, same);
+    o.max_memory = 0;
     CHECK(!test_file_exists(out), "%s was written", out);
     limn_mpi_mesh_destroy(m);
     MPI_Barrier(MPI_COMM_WORLD);

@@ -26,7 +26,8 @@ static const char *const help =
     "                         (as in interpolate)\n"
     "Under mpirun (several ranks) on a .ply/.obj/.off file every rank reads its\n"
     "slice, refines its share and writes its part of OUTPUT (the same bytes);\n"
-    "--max-memory and --fallback are not applied there.\n"
+    "--max-memory is then a rank's limit (default: 3/4 of RAM over the ranks on\n"
+    "the node) against a rank's share of the estimate; --fallback is not applied.\n"
     CLI_REPAIR_HELP
     CLI_HOST_THREADS_HELP
     CLI_PATHS_HELP;

@@ -12,6 +12,16 @@
 #include "mesh/io/mesh_slice.h"
 #include "mpi/mpi_part.h"
 
+/* The whole mesh's topology counts as topology.h has them
+   (mpi_mesh_census.c: each vertex's ring on its block owner). */
+typedef struct mpi_mesh_counts {
+    size_t boundary_edges;       /* one face */
+    size_t nonmanifold_edges;    /* more than two, or two in the same direction */
+    size_t inconsistent_edges;   /* two in the same direction */
+    size_t nonmanifold_vertices; /* on such an edge, or faces in several fans */
+    size_t referenced_vertices;  /* used by a face */
+} mpi_mesh_counts;
+
 struct limn_mpi_mesh {
     MPI_Comm comm;        /* the caller's, duplicated */
     int rank, size;
@@ -24,6 +34,10 @@ struct limn_mpi_mesh {
        next call that builds rows (mpi_mesh_build_rows takes it), as the
        single process's repair leaves the topology; NULL when none. */
     struct mpi_local_mesh *_Atomic sub;
+    /* The census limn_mpi_mesh_repair took (valid when has_counts): the
+       counts a call needs later (subdivide's estimate) without another. */
+    mpi_mesh_counts counts;
+    int has_counts;
 };
 
 /* The repair's sub-mesh out of the mesh (NULL when none): the caller's. */
@@ -79,15 +93,6 @@ limn_status mpi_mesh_control_of(mpi_part *p, const limn_mpi_mesh *mesh, double *
 limn_status mpi_mesh_duplicates(mpi_part *p, limn_mpi_mesh *mesh, int remove,
                                 limn_repair_report *r);
 
-/* The whole mesh's topology counts as topology.h has them
-   (mpi_mesh_census.c: each vertex's ring on its block owner). */
-typedef struct mpi_mesh_counts {
-    size_t boundary_edges;       /* one face */
-    size_t nonmanifold_edges;    /* more than two, or two in the same direction */
-    size_t inconsistent_edges;   /* two in the same direction */
-    size_t nonmanifold_vertices; /* on such an edge, or faces in several fans */
-    size_t referenced_vertices;  /* used by a face */
-} mpi_mesh_counts;
 /* Collective, agreed. */
 limn_status mpi_mesh_census(mpi_part *p, const limn_mpi_mesh *mesh, mpi_mesh_counts *out);
 /* limn_denoise's refusal of a mesh whose volume is not defined (its

@@ -195,6 +195,7 @@ static limn_status repair_sized(mpi_part *p, limn_mpi_mesh *mesh, const limn_rep
 {
     memset(r, 0, sizeof *r);
     mpi_mesh_drop_sub(mesh); /* made from faces this repair may change */
+    mesh->has_counts = 0;
     r->faces_before = mesh->slice.face_total;
     limn_status st = repair_block(p->ctx, &mesh->slice, o->repeated_vertices, r);
     st = mpi_agree(p, st);
@@ -228,6 +229,8 @@ static limn_status repair_sized(mpi_part *p, limn_mpi_mesh *mesh, const limn_rep
     if (r->first_duplicate_face == SIZE_MAX)
         r->first_duplicate_face = 0;
     report_kept(p, mesh, &k, r);
+    mesh->counts = k;
+    mesh->has_counts = 1;
     return LIMN_OK;
 }
 

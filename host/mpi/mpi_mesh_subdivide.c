@@ -11,6 +11,8 @@
 #include "mpi/mpi_refine.h"
 
 #include "base/context.h"
+#include "mpi/mpi_mesh.h"
+#include "refine/refine.h"
 #include "device/device.h"
 #include "device/choice/choice.h"
 #include "mesh/check.h"
@@ -33,6 +35,53 @@ static limn_status check_options(limn_context *ctx, const limn_subdivide_options
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: alpha is %g; it must lie in [0, 1]", fn,
                       o->alpha);
     return st;
+}
+
+/* The share of the single process's estimate one of P ranks holds:
+   test_mpi_refine bounds each rank's per-vertex arrays by 1/P + 0.15 of a
+   level's vertices; measured peaks (docs/mpi.md, "Refinement over ranks"):
+   0.61x of one process at 2 ranks, 0.34x at 4. */
+static double rank_share(int ranks)
+{
+    double s = 1.0 / ranks + 0.2; /* 0.05 of margin */
+    return s < 1.0 ? s : 1.0;
+}
+
+/* limn_subdivide's refusal of a run whose predicted peak exceeds the
+   budget, per rank: the single process's estimate from the global counts
+   (edges (corners + boundary edges) / 2, exact on manifold meshes, above
+   otherwise), its per-vertex part times rank_share, the runtime whole on
+   every rank; the budget options->max_memory a rank, else three quarters
+   of physical memory over the ranks sharing this node. r->estimated_bytes
+   gets a rank's estimate. Collective, agreed. */
+static limn_status check_budget(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
+                                const limn_subdivide_options *o, limn_subdivide_report *r)
+{
+    mpi_mesh_counts k = mesh->counts;
+    limn_status st = mesh->has_counts ? LIMN_OK : mpi_mesh_census(p, mesh, &k);
+    if (st)
+        return st;
+    unsigned long long corners = mesh->slice.face_offsets[mesh->slice.face_count], c = 0;
+    MPI_Allreduce(&corners, &c, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, p->comm);
+    double v = (double)mesh->vertex_dist[p->size], f = (double)mesh->face_dist[p->size];
+    double e = ((double)c + (double)k.boundary_edges) / 2.0;
+    size_t nv, nf, ni, whole;
+    refine_estimate_counts(v, f, (double)c, e, scheme, o->levels, o->limit, &nv, &nf, &ni,
+                           &whole);
+    size_t runtime = whole < REFINE_RUNTIME_BYTES ? whole : REFINE_RUNTIME_BYTES;
+    size_t est = (size_t)((double)(whole - runtime) * rank_share(p->size)) + runtime;
+    size_t on_node = p->local_size > 0 ? (size_t)p->local_size : 1;
+    size_t budget = o->max_memory ? o->max_memory : context_max_memory(NULL) / on_node;
+    r->estimated_bytes = est;
+    if (est > budget)
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                      "refining %zu vertices to level %d on %d ranks makes %zu vertices and %zu "
+                      "faces and needs about %.2f GiB a rank, over the limit of %.2f GiB a "
+                      "rank: lower --levels, use more ranks or raise --max-memory; nothing was "
+                      "written",
+                      mesh->vertex_dist[p->size], o->levels, p->size, nv, nf,
+                      (double)est / (1 << 30), (double)budget / (1 << 30));
+    return mpi_agree(p, st);
 }
 
 /* The levels and the limit from mesh; *out the finest, in even blocks. */
@@ -92,6 +141,8 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     limn_scheme scheme = LIMN_SCHEME_AUTO;
     if (!st)
         st = mpi_mesh_scheme(&p, mesh, o->scheme, &scheme);
+    if (!st)
+        st = check_budget(&p, mesh, scheme, o, r);
     r->input_vertices = mesh->vertex_dist[p.size];
     r->input_faces = mesh->face_dist[p.size];
     r->levels = o->levels;

@@ -321,7 +321,6 @@ void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, int 
                      size_t *vertices, size_t *faces, size_t *indices, size_t *peak_bytes)
 {
     /* Counts follow exactly from V, F, E and the corners of the base. */
-    double v = (double)base->vertex_count, f = (double)base->face_count;
     double c = (double)base->face_offsets[base->face_count];
     double e = c; /* an upper bound if the topology cannot be built */
     topology t;
@@ -329,7 +328,15 @@ void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, int 
         e = (double)t.edge_count;
         topology_free(&t);
     }
-    double idx = c;
+    refine_estimate_counts((double)base->vertex_count, (double)base->face_count, c, e, scheme,
+                           levels, limit, vertices, faces, indices, peak_bytes);
+}
+
+void refine_estimate_counts(double v, double f, double c, double e, limn_scheme scheme,
+                            int levels, int limit, size_t *vertices, size_t *faces,
+                            size_t *indices, size_t *peak_bytes)
+{
+    double v0 = v, idx = c;
     for (int k = 0; k < levels; k++) {
         double nv, nf, ne, ni;
         if (scheme == LIMN_SCHEME_LOOP) {
@@ -355,6 +362,5 @@ void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, int 
        bytes per input vertex at most (limn info's peak); about 20% margin on
        each, tests/test_robust.c checks the estimate against measured peaks. */
     double per_output = limit ? 400.0 : 140.0, per_input = 250.0;
-    *peak_bytes = (size_t)(per_output * v + per_input * (double)base->vertex_count) +
-                  ((size_t)192 << 20);
+    *peak_bytes = (size_t)(per_output * v + per_input * v0) + REFINE_RUNTIME_BYTES;
 }

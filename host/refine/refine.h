@@ -64,4 +64,14 @@ limn_status refine_surface(limn_context *ctx, const limn_mesh *base, limn_scheme
 void refine_estimate(const limn_mesh *base, limn_scheme scheme, int levels, int limit,
                      size_t *vertices, size_t *faces, size_t *indices, size_t *peak_bytes);
 
+/* The same from the base's counts: v vertices, f faces, c corners, e edges
+   (an upper bound gives an upper bound), as a distributed mesh knows them. */
+void refine_estimate_counts(double v, double f, double c, double e, limn_scheme scheme,
+                            int levels, int limit, size_t *vertices, size_t *faces,
+                            size_t *indices, size_t *peak_bytes);
+
+/* The part of the estimate that every process pays once (the OpenCL
+   runtime, the library): what does not shrink with the ranks. */
+#define REFINE_RUNTIME_BYTES ((size_t)192 << 20)
+
 #endif
