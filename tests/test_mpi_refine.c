@@ -360,6 +360,12 @@ static void texture_failures(limn_context *ctx, const limn_mesh *quads)
     same = agreed(ctx, st, msg, sizeof msg);
     CHECK(st == LIMN_ERR_ARGUMENT && !s && same && strstr(msg, "colours"),
           "NULL options: status %d, '%s' (agreed %d)", (int)st, msg, same);
+    limn_texture_options tight = texture_options(LIMN_SCHEME_CATMARK, 0.5, 1, 1, 4.0);
+    tight.max_memory = 1 << 20; /* below any run: a rank's share of the estimate */
+    st = limn_mpi_mesh_texture(ctx, m, &tight, &s, NULL, NULL, NULL);
+    same = agreed(ctx, st, msg, sizeof msg);
+    CHECK(st == LIMN_ERR_MEMORY && !s && same && strstr(msg, "GiB a rank"),
+          "max_memory 1 MiB: status %d, '%s' (agreed %d)", (int)st, msg, same);
     limn_context *bad = limn_context_create();
     if (rank == size - 1)
         limn_context_set_device(bad, "opencl:99.99");

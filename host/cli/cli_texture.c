@@ -29,7 +29,8 @@ static const char *const help =
     "  --tol T                tolerance of each level's interpolation, relative\n"
     "                         to the level's largest noise value         [1e-6]\n"
     "  --max-memory SIZE      refuse when the predicted peak is larger (512M, 4G)\n"
-    "                         [three quarters of physical memory]\n"
+    "                         [three quarters of physical memory]; under mpirun\n"
+    "                         a rank's limit (default: that over the node's ranks)\n"
     SERIES_HELP
     "  --input-format F / --overwrite-input / -q\n"
     SERIES_HELP_EXIT;

@@ -47,15 +47,8 @@ static double rank_share(int ranks)
     return s < 1.0 ? s : 1.0;
 }
 
-/* limn_subdivide's refusal of a run whose predicted peak exceeds the
-   budget, per rank: the single process's estimate from the global counts
-   (edges (corners + boundary edges) / 2, exact on manifold meshes, above
-   otherwise), its per-vertex part times rank_share, the runtime whole on
-   every rank; the budget options->max_memory a rank, else three quarters
-   of physical memory over the ranks sharing this node. r->estimated_bytes
-   gets a rank's estimate. Collective, agreed. */
-static limn_status check_budget(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
-                                const limn_subdivide_options *o, limn_subdivide_report *r)
+limn_status mpi_refine_budget(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
+                              int levels, int limit, size_t max_memory, size_t *estimate)
 {
     mpi_mesh_counts k = mesh->counts;
     limn_status st = mesh->has_counts ? LIMN_OK : mpi_mesh_census(p, mesh, &k);
@@ -66,20 +59,19 @@ static limn_status check_budget(mpi_part *p, const limn_mpi_mesh *mesh, limn_sch
     double v = (double)mesh->vertex_dist[p->size], f = (double)mesh->face_dist[p->size];
     double e = ((double)c + (double)k.boundary_edges) / 2.0;
     size_t nv, nf, ni, whole;
-    refine_estimate_counts(v, f, (double)c, e, scheme, o->levels, o->limit, &nv, &nf, &ni,
-                           &whole);
+    refine_estimate_counts(v, f, (double)c, e, scheme, levels, limit, &nv, &nf, &ni, &whole);
     size_t runtime = whole < REFINE_RUNTIME_BYTES ? whole : REFINE_RUNTIME_BYTES;
     size_t est = (size_t)((double)(whole - runtime) * rank_share(p->size)) + runtime;
     size_t on_node = p->local_size > 0 ? (size_t)p->local_size : 1;
-    size_t budget = o->max_memory ? o->max_memory : context_max_memory(NULL) / on_node;
-    r->estimated_bytes = est;
+    size_t budget = max_memory ? max_memory : context_max_memory(NULL) / on_node;
+    *estimate = est;
     if (est > budget)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                       "refining %zu vertices to level %d on %d ranks makes %zu vertices and %zu "
                       "faces and needs about %.2f GiB a rank, over the limit of %.2f GiB a "
                       "rank: lower --levels, use more ranks or raise --max-memory; nothing was "
                       "written",
-                      mesh->vertex_dist[p->size], o->levels, p->size, nv, nf,
+                      mesh->vertex_dist[p->size], levels, p->size, nv, nf,
                       (double)est / (1 << 30), (double)budget / (1 << 30));
     return mpi_agree(p, st);
 }
@@ -142,7 +134,8 @@ static limn_status subdivide_sized(limn_context *ctx, const limn_mpi_mesh *mesh,
     if (!st)
         st = mpi_mesh_scheme(&p, mesh, o->scheme, &scheme);
     if (!st)
-        st = check_budget(&p, mesh, scheme, o, r);
+        st = mpi_refine_budget(&p, mesh, scheme, o->levels, o->limit, o->max_memory,
+                               &r->estimated_bytes);
     r->input_vertices = mesh->vertex_dist[p.size];
     r->input_faces = mesh->face_dist[p.size];
     r->levels = o->levels;

@@ -370,6 +370,9 @@ static limn_status check_texture(tex *t, const limn_mpi_mesh *mesh, limn_mpi_mes
                       mesh->vertex_dist[p->size] ? "faces" : "vertices");
     if (!st)
         st = mpi_mesh_scheme(p, mesh, t->o->series.scheme, &t->scheme);
+    size_t estimate = 0; /* as limn_texture: subdivide's estimate with the limit */
+    if (!st)
+        st = mpi_refine_budget(p, mesh, t->scheme, t->o->levels, 1, t->o->max_memory, &estimate);
     return st;
 }
 

@@ -125,4 +125,15 @@ limn_status mpi_mesh_subdivide(limn_context *ctx, const limn_mpi_mesh *mesh,
                                limn_subdivide_report *report, const limn_mpi_options *mpi,
                                limn_mpi_result *result, mpi_refine_stats *stats);
 
+/* limn_subdivide's memory check per rank (mpi_mesh_subdivide.c): the single
+   process's estimate of refining mesh `levels` times (with the limit's
+   table when `limit`) from the global counts (edges (corners + boundary
+   edges) / 2: exact on manifold meshes, above otherwise), its per-vertex
+   part times a rank's share (1/P + 0.2, at most 1), the runtime whole;
+   refused (LIMN_ERR_MEMORY, the sizes named "a rank") above max_memory,
+   else three quarters of physical memory over the ranks on this node.
+   *estimate: a rank's estimate. Collective, agreed. */
+limn_status mpi_refine_budget(mpi_part *p, const limn_mpi_mesh *mesh, limn_scheme scheme,
+                              int levels, int limit, size_t max_memory, size_t *estimate);
+
 #endif
