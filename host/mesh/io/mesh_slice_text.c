@@ -167,7 +167,7 @@ static limn_status line_fail(const text_run *r, const char *what)
 }
 
 /* Lines the fast line parsers would read otherwise than the general reader. */
-static limn_status plain(const text_run *r, const char *s, const char *e, int terminated)
+static limn_status plain(const text_run *r, const char *s, const char *e)
 {
     size_t n = (size_t)(e - s);
     const char *cr = memchr(s, '\r', n);
@@ -179,7 +179,8 @@ static limn_status plain(const text_run *r, const char *s, const char *e, int te
         return line_fail(r, "a carriage return inside a line (old Mac line ends are not read "
                             "in slices)");
     const char *end = cr ? cr : e;
-    if (r->x->kind == SLICE_OBJ && terminated && end > s && end[-1] == '\\')
+    /* the last line too: the general reader reads a final "v\" as "v" (joined to nothing) */
+    if (r->x->kind == SLICE_OBJ && end > s && end[-1] == '\\')
         return line_fail(r, "a '\\' line continuation (not read in slices)");
     return LIMN_OK;
 }
@@ -255,7 +256,7 @@ static limn_status parse(text_run *r, size_t a, size_t b)
         /* after the last record: lines up to the first with content checked
            (the whole reader reads that far to warn of it), the rest ignored */
         int after = x->kind != SLICE_OBJ && r->record >= records;
-        if (!(st = plain(r, q, le, nl != NULL)) && line && after)
+        if (!(st = plain(r, q, le)) && line && after)
             break;
         if (!st && line) {
             st = content(r, s, le);
