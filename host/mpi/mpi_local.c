@@ -64,16 +64,16 @@ static limn_status sub_operator(mpi_part *p, local_sub *s, const limn_mesh *m, l
 }
 
 /* Bytes of the build's own arrays alive when the operator is built
-   (mpi_local_stats): every list of the sub-mesh's build is freed by then,
-   so what is left is lm's; the sub-mesh, the operator's input, aside. */
+   (mpi_local_stats): every list of the sub-mesh's build and the census's
+   face ids are freed by then, so what is left is lm's; the sub-mesh, the
+   operator's input, aside. */
 static size_t held_bytes(const mpi_local_mesh *lm)
 {
     const local_sub *s = &lm->s;
     size_t w = sizeof(uint32_t);
     return 3 * s->n * sizeof(double) /* positions: the sub-mesh's, then lm->pos */ +
-           (s->ids ? s->n * w : 0) +
-           (s->part ? s->n * w : 0) + (s->owned ? s->n_owned * w : 0) +
-           (lm->face_ids ? lm->mesh->face_count * sizeof *lm->face_ids : 0);
+           (s->ids ? s->n * w : 0) + (s->part ? s->n * w : 0) +
+           (s->owned ? s->n_owned * w : 0);
 }
 
 /* The positions of the owned rows, 4 doubles a row (w = 0), local order. */

@@ -59,7 +59,6 @@ typedef struct mpi_local_mesh {
     limn_mesh *mesh;       /* the sub-mesh: faces by increasing global id */
     double *pos;           /* 3 per sub-mesh vertex */
     uint64_t *face_ids;    /* global id of each sub-mesh face, when asked; else NULL */
-    size_t faces_received; /* input faces incident to an owned vertex */
 } mpi_local_mesh;
 
 /* Collective: the first half of mpi_local_build (arguments as there): the

@@ -384,7 +384,7 @@ typedef struct local_tmp {
     uint32_t *ref, *ref_part, *corner_part, *own, *words;
     face_rec *recs;
     limn_mesh *mesh;
-    size_t nref, ncorner, nown, nw, nf; /* entries of the arrays above (held_bytes) */
+    size_t nref, nown, nw, nf; /* entries of the arrays above */
 } local_tmp;
 
 static void tmp_free(local_tmp *t)
@@ -412,7 +412,6 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
                              const double *positions, const uint32_t *part_of, const faces_in *f,
                              const limn_repair_options *repair, uint64_t **face_ids)
 {
-    t->ncorner = f->off[f->count];
     limn_status st = ref_parts(p, s, vtxdist, part_of, f, &t->ref, repair, &t->nref,
                                &t->ref_part, &t->corner_part);
     if (!st)
@@ -498,7 +497,6 @@ limn_status mpi_local_mesh_build(mpi_part *p, const size_t *vtxdist, const doubl
         st = build_sub(p, &lm->s, &t, vtxdist, positions, part_of, &f, repair,
                        face_ids ? &lm->face_ids : NULL);
     lm->mesh = t.mesh; /* the build's lists are freed: the sub-mesh is what is left */
-    lm->faces_received = t.nf;
     t.mesh = NULL;
     tmp_free(&t);
     if (st)
