@@ -259,16 +259,14 @@ static int bits_for(size_t n)
     return b;
 }
 
+/* The set bits of x, branch-free (SWAR): __builtin_popcountll is a call
+   into libgcc on a build without -mpopcnt, and this runs once per corner. */
 static int ones(uint64_t x)
 {
-#if defined(__GNUC__)
-    return __builtin_popcountll(x);
-#else
-    int k = 0;
-    for (; x; x &= x - 1)
-        k++;
-    return k;
-#endif
+    x -= (x >> 1) & 0x5555555555555555u;
+    x = (x & 0x3333333333333333u) + ((x >> 2) & 0x3333333333333333u);
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;
+    return (int)((x * 0x0101010101010101u) >> 56);
 }
 
 static int lowest_bit(uint64_t x) /* x != 0 */
