@@ -10,6 +10,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 enum { T_NONE, T_I8, T_U8, T_I16, T_U16, T_I32, T_U32, T_F32, T_F64, T_COUNT };
 extern const unsigned char ply_type_size[T_COUNT];
@@ -71,6 +72,34 @@ void ply_close(ply *p);
    converts it. */
 long long ply_bin_int(const unsigned char *b, int t, int big);
 double ply_bin_double(const unsigned char *b, int t, int big);
+
+/* The same values, the types scanners write converted in line (a call and
+   a switch per value cost more than the conversion): uchar, 4-byte little
+   endian integers and little-endian float; others through ply_bin_*. */
+static inline uint32_t ply_rd32le(const unsigned char *b)
+{
+    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+static inline long long ply_bin_int_inline(const unsigned char *b, int t, int big)
+{
+    if (t == T_U8)
+        return *b;
+    if (!big && t == T_I32)
+        return (long long)(int32_t)ply_rd32le(b);
+    if (!big && t == T_U32)
+        return (long long)ply_rd32le(b);
+    return ply_bin_int(b, t, big);
+}
+static inline double ply_bin_double_inline(const unsigned char *b, int t, int big)
+{
+    if (!big && t == T_F32) {
+        uint32_t u = ply_rd32le(b);
+        float f;
+        memcpy(&f, &u, 4);
+        return f;
+    }
+    return ply_bin_double(b, t, big);
+}
 
 /* The binary record layouts the fast path and the slice reader
    (mesh_slice_ply.c) take (mesh_ply_fast.c). A vertex record: fixed-size

@@ -59,15 +59,10 @@ typedef struct fast_faces {
     uint32_t *off, *idx;
 } fast_faces;
 
-static uint32_t rd32le(const unsigned char *b)
-{
-    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-}
-
 static double coord_at(const fast_vertices *v, const unsigned char *rec, int c)
 {
     if (v->f32le) {
-        uint32_t u = rd32le(rec + v->off[c]);
+        uint32_t u = ply_rd32le(rec + v->off[c]);
         float f;
         memcpy(&f, &u, 4);
         return f;
@@ -151,7 +146,7 @@ static long long index_at(const fast_faces *ff, const unsigned char *b)
 {
     if (!ff->le32)
         return ply_bin_int(b, ff->itype, ff->big);
-    uint32_t u = rd32le(b);
+    uint32_t u = ply_rd32le(b);
     return ff->itype == T_I32 ? (long long)(int32_t)u : (long long)u;
 }
 

@@ -13,6 +13,7 @@
  * general reader converts them (ply_bin_*), so the slices are its mesh.
  */
 #include "base/context.h"
+#include "base/large_alloc.h"
 #include "mesh/io/mesh_slice_formats.h"
 
 #include <math.h>
@@ -100,7 +101,7 @@ static limn_status layout(const slice_file *sf, const ply *p, ply_layout *l)
 
 static long long count_at(const ply_layout *l, uint64_t at)
 {
-    return ply_bin_int(l->sf->map + at + l->f.before, l->f.ctype, l->big);
+    return ply_bin_int_inline(l->sf->map + at + l->f.before, l->f.ctype, l->big);
 }
 
 /* The fixed count k of the first face, when its records could all lie at a
@@ -190,7 +191,7 @@ static limn_status read_vertices(const ply_layout *l, uint64_t vstart, mesh_slic
     const unsigned char *rec = l->sf->map + vstart + s->vertex_begin * l->v.stride;
     for (size_t i = 0; i < s->vertex_count; i++, rec += l->v.stride)
         for (int c = 0; c < 3; c++) {
-            double x = ply_bin_double(rec + l->v.off[c], l->v.type[c], l->big);
+            double x = ply_bin_double_inline(rec + l->v.off[c], l->v.type[c], l->big);
             if (!isfinite(x))
                 return at_fail(l, LIMN_ERR_FORMAT, (uint64_t)(rec + l->v.off[c] - l->sf->map),
                                "vertex", s->vertex_begin + i, "a coordinate is not finite");
@@ -208,7 +209,7 @@ static limn_status read_faces(const ply_layout *l, uint64_t at, uint64_t limit, 
         uint32_t c = (uint32_t)count_at(l, at);
         const unsigned char *b = l->sf->map + at + l->f.lead;
         for (uint32_t j = 0; j < c; j++, b += l->f.isize) {
-            long long v = ply_bin_int(b, l->f.itype, l->big);
+            long long v = ply_bin_int_inline(b, l->f.itype, l->big);
             if (v < 0 || (uint64_t)v >= limit)
                 return at_fail(l, LIMN_ERR_FORMAT, (uint64_t)(b - l->sf->map), "face",
                                s->face_begin + f,
@@ -280,9 +281,9 @@ limn_status slice_ply_read(const slice_file *sf, const ply *p, unsigned part, un
                                         "slice (%llu bytes)", sf->path,
                                         context_max_memory(sf->ctx), (unsigned long long)need),
                                &s, out);
-    s.positions = malloc(s.vertex_count * 24 + 1);
-    s.face_offsets = malloc((s.face_count + 1) * 4);
-    s.face_indices = malloc(corners * 4 + 1);
+    s.positions = large_malloc(s.vertex_count * 24 + 1);
+    s.face_offsets = large_malloc((s.face_count + 1) * 4);
+    s.face_indices = large_malloc(corners * 4 + 1);
     if (!s.positions || !s.face_offsets || !s.face_indices)
         st = ctx_fail(sf->ctx, LIMN_ERR_MEMORY, "%s: out of memory for a slice of %zu vertices "
                       "and %zu faces", sf->path, s.vertex_count, s.face_count);

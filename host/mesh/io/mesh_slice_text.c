@@ -13,6 +13,7 @@
  */
 #include "base/c_locale.h"
 #include "base/context.h"
+#include "base/large_alloc.h"
 #include "mesh/io/mesh_slice_formats.h"
 #include "mesh/io/text_fast.h"
 #include "mesh/io/text_formats.h"
@@ -308,7 +309,7 @@ static limn_status make(text_run *r, mesh_slice *s)
     s->face_count = c->off.len / 4;
     s->positions = growbuf_take(&c->pos);
     s->face_indices = growbuf_take(&c->idx);
-    s->face_offsets = malloc(c->off.len + 4);
+    s->face_offsets = large_malloc(c->off.len + 4);
     if (!s->positions || !s->face_indices || !s->face_offsets)
         return ctx_fail(x->sf->ctx, LIMN_ERR_MEMORY, "%s: out of memory for a slice",
                         x->sf->path);
