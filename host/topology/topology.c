@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Topology construction (the passes: topology_build.h), the mesh's cached
-   topology, and the scratch and sorting the passes share. */
+   topology, and the scratch the passes share (their sorts: topology_sort.c). */
 #include "base/large_alloc.h"
 #include "mesh/check.h"
 #include "topology/topology_build.h"
@@ -10,45 +10,6 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-
-static int cmp_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-static int cmp_u32(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* Insertion sort for the short lists of rings and faces, qsort past that
-   (one body for both widths). */
-#define SORT_SHORT(type, a, n, cmp)                                                           \
-    do {                                                                                      \
-        if ((n) > 24) {                                                                       \
-            qsort((a), (n), sizeof *(a), cmp);                                                \
-            break;                                                                            \
-        }                                                                                     \
-        for (size_t i_ = 1; i_ < (n); i_++) {                                                 \
-            type x_ = (a)[i_];                                                                \
-            size_t j_ = i_;                                                                   \
-            for (; j_ > 0 && (a)[j_ - 1] > x_; j_--)                                          \
-                (a)[j_] = (a)[j_ - 1];                                                        \
-            (a)[j_] = x_;                                                                     \
-        }                                                                                     \
-    } while (0)
-
-void topo_sort_u64(uint64_t *a, size_t n)
-{
-    SORT_SHORT(uint64_t, a, n, cmp_u64);
-}
-
-void topo_sort_u32(uint32_t *a, size_t n)
-{
-    SORT_SHORT(uint32_t, a, n, cmp_u32);
-}
 
 /* Room for want items of size bytes at *p (doubling, at least least). */
 static int grow(void **p, size_t *cap, size_t want, size_t size, size_t least)
