@@ -130,7 +130,9 @@ limn_status mpi_local_alltoallv_packed(mpi_part *p, const int *cnt, size_t elem,
 
 /* Collective: for n increasing global ids, the block owners' values (elem
    bytes each, from `mine`, this rank's block of vtxdist) into out. Each
-   block owner answers in the order asked, so answers land in id order. */
+   block owner answers in the order asked, so answers land in id order,
+   straight into out; the ids in this rank's own block are answered here,
+   outside the exchange. */
 limn_status mpi_local_fetch(mpi_part *p, struct local_sub *s, const size_t *vtxdist,
                             const uint32_t *ids, size_t n, const void *mine, size_t elem,
                             void *out);

@@ -135,43 +135,93 @@ static int block_of(const mpi_part *p, const size_t *vtxdist, uint32_t v)
     return lo;
 }
 
+/* dst[i] = src[at[i] - base], elem bytes each: the sizes the callers use
+   copied as values (a memcpy call per element costs more than its bytes). */
+static void gather_elems(void *dst, const void *src, const uint32_t *at, size_t n, size_t base,
+                         size_t elem)
+{
+    if (elem == sizeof(uint32_t)) {
+        uint32_t *d = dst;
+        const uint32_t *v = src;
+        for (size_t i = 0; i < n; i++)
+            d[i] = v[at[i] - base];
+    } else if (elem == 3 * sizeof(double)) {
+        double *d = dst;
+        const double *v = src;
+        for (size_t i = 0; i < n; i++) {
+            const double *x = v + 3 * (at[i] - base);
+            d[3 * i] = x[0];
+            d[3 * i + 1] = x[1];
+            d[3 * i + 2] = x[2];
+        }
+    } else {
+        for (size_t i = 0; i < n; i++)
+            memcpy((char *)dst + i * elem, (const char *)src + (at[i] - base) * elem, elem);
+    }
+}
+
+/* The requests of an exchange and the answers back, this rank's own share
+   outside the MPI calls both ways (answered from mine straight into out,
+   most of a rank's sub-mesh in its own block), the others' answers received
+   straight into out: ids increase, so rank order is id order. */
+static limn_status fetch_exchange(mpi_part *p, local_sub *s, const size_t *vtxdist,
+                                  const uint32_t *ids, const void *mine, size_t elem, void *out,
+                                  int *cnt)
+{
+    size_t R = (size_t)p->size, me = (size_t)p->rank, base = vtxdist[me];
+    int *rcnt = cnt + R, *sb = large_malloc(8 * R * sizeof *sb);
+    int *sd = sb + R, *rb = sb + 2 * R, *rd = sb + 3 * R;
+    int *ab = sb + 4 * R, *ad = sb + 5 * R, *gb = sb + 6 * R, *gd = sb + 7 * R;
+    limn_status st = sb ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
+    st = mpi_agree(p, st);
+    if (st) {
+        free(sb);
+        return st;
+    }
+    MPI_Alltoall(cnt, 1, MPI_INT, rcnt, 1, MPI_INT, p->comm);
+    size_t so = 0, ro = 0, ao = 0, go = 0;
+    /* requests: ids holds this rank's own too (their place counted), sent
+       to no one; answers: packed without them, received around their place */
+    st = exchange_plan(p, cnt, rcnt, sizeof(uint32_t), 1, sb, sd, rb, rd, &so, &ro);
+    sb[me] = rb[me] = 0;
+    if (!st)
+        st = exchange_plan(p, rcnt, cnt, elem, 0, ab, ad, gb, gd, &ao, &go);
+    uint32_t *req = NULL;
+    char *ans = NULL;
+    if (!st && (!(req = large_malloc(ro ? ro * sizeof *req : 1)) ||
+                !(ans = large_malloc(ao ? ao * elem : 1))))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory answering %zu requests", ro);
+    mpi_local_note(s, ro);
+    st = mpi_agree(p, st);
+    if (!st) {
+        size_t own = (size_t)sd[me] / sizeof(uint32_t); /* this rank's ids start there */
+        MPI_Alltoallv(ids, sb, sd, MPI_BYTE, req, rb, rd, MPI_BYTE, p->comm);
+        gather_elems((char *)out + own * elem, mine, ids + own, (size_t)cnt[me], base, elem);
+        for (size_t r = 0; r < R; r++) /* the others' requests, answered in their order */
+            if (r != me)
+                gather_elems(ans + ad[r], mine, req + rd[r] / sizeof(uint32_t),
+                             (size_t)rcnt[r], base, elem);
+        MPI_Alltoallv(ans, ab, ad, MPI_BYTE, out, gb, gd, MPI_BYTE, p->comm);
+    }
+    free(req);
+    free(ans);
+    free(sb);
+    return st;
+}
+
 limn_status mpi_local_fetch(mpi_part *p, local_sub *s, const size_t *vtxdist,
-                               const uint32_t *ids, size_t n, const void *mine, size_t elem,
-                               void *out)
+                            const uint32_t *ids, size_t n, const void *mine, size_t elem,
+                            void *out)
 {
     size_t R = (size_t)p->size;
-    int *cnt = calloc(2 * R, sizeof *cnt), *rcnt = cnt + R;
+    int *cnt = calloc(2 * R, sizeof *cnt);
     limn_status st = cnt ? LIMN_OK : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     for (size_t i = 0; cnt && i < n; i++)
         cnt[block_of(p, vtxdist, ids[i])]++;
-    st = mpi_agree(p, st);
-    if (st) {
-        free(cnt);
-        return st;
-    }
-    void *req = NULL, *ans = NULL, *got = NULL;
-    size_t nreq = 0, nans = 0;
-    st = mpi_local_alltoallv(p, ids, cnt, sizeof(uint32_t), &req, rcnt, &nreq);
-    mpi_local_note(s, nreq);
-    if (!st && !(ans = large_malloc(nreq ? nreq * elem : 1)))
-        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory answering %zu requests", nreq);
-    for (size_t i = 0; !st && i < nreq; i++) {
-        size_t at = ((const uint32_t *)req)[i] - vtxdist[p->rank];
-        memcpy((char *)ans + i * elem, (const char *)mine + at * elem, elem);
-    }
-    st = mpi_agree(p, st);
-    int *back = large_malloc(R * sizeof *back);
-    if (!st && !back)
-        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
-    st = mpi_agree(p, st);
     if (!st)
-        st = mpi_local_alltoallv(p, ans, rcnt, elem, &got, back, &nans);
-    if (!st)
-        memcpy(out, got, n * elem);
-    free(back);
-    free(req);
-    free(ans);
-    free(got);
+        st = fetch_exchange(p, s, vtxdist, ids, mine, elem, out, cnt);
+    else
+        st = mpi_agree(p, st);
     free(cnt);
     return st;
 }
