@@ -156,6 +156,44 @@ void mpi_local_sort_uniform(uint64_t *a, size_t n);
 limn_status mpi_local_distinct(limn_context *ctx, const uint32_t *ids, size_t n,
                                uint32_t *distinct, size_t *nd, uint32_t *index);
 
+/* The ranks of ids among the distinct ones by a bitmap of [lo, lo + range)
+   and the count of set bits below each word, no sort: add every id, then
+   finish, then the rank of any added id (its place in the increasing list
+   of the distinct ones) in a few instructions. */
+typedef struct mpi_id_rank {
+    uint32_t lo;
+    size_t words;
+    uint64_t *bits;
+    size_t *below; /* after finish */
+} mpi_id_rank;
+/* Room for ids lo..hi; 0 when out of memory (nothing to free then). */
+int mpi_id_rank_init(mpi_id_rank *r, uint32_t lo, uint32_t hi);
+static inline void mpi_id_rank_add(mpi_id_rank *r, uint32_t id)
+{
+    uint32_t x = id - r->lo;
+    r->bits[x >> 6] |= (uint64_t)1 << (x & 63);
+}
+/* The counts below each word; the number of distinct ids added. */
+size_t mpi_id_rank_finish(mpi_id_rank *r);
+/* The distinct ids, increasing, into out (room for finish's count). */
+void mpi_id_rank_list(const mpi_id_rank *r, uint32_t *out);
+/* The set bits of x, branch-free (SWAR): __builtin_popcountll is a call
+   into libgcc on a build without -mpopcnt, and this runs once per corner. */
+static inline int mpi_ones64(uint64_t x)
+{
+    x -= (x >> 1) & 0x5555555555555555u;
+    x = (x & 0x3333333333333333u) + ((x >> 2) & 0x3333333333333333u);
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;
+    return (int)((x * 0x0101010101010101u) >> 56);
+}
+static inline uint32_t mpi_id_rank_of(const mpi_id_rank *r, uint32_t id)
+{
+    uint32_t x = id - r->lo;
+    uint64_t w = r->bits[x >> 6] & (((uint64_t)1 << (x & 63)) - 1);
+    return (uint32_t)(r->below[x >> 6] + (size_t)mpi_ones64(w));
+}
+void mpi_id_rank_free(mpi_id_rank *r);
+
 /* Notes a per-vertex array of `entries` in s->stats. */
 void mpi_local_note(struct local_sub *s, size_t entries);
 

@@ -309,16 +309,6 @@ static int bits_for(size_t n)
     return b;
 }
 
-/* The set bits of x, branch-free (SWAR): __builtin_popcountll is a call
-   into libgcc on a build without -mpopcnt, and this runs once per corner. */
-static int ones(uint64_t x)
-{
-    x -= (x >> 1) & 0x5555555555555555u;
-    x = (x & 0x3333333333333333u) + ((x >> 2) & 0x3333333333333333u);
-    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;
-    return (int)((x * 0x0101010101010101u) >> 56);
-}
-
 static int lowest_bit(uint64_t x) /* x != 0 */
 {
 #if defined(__GNUC__)
@@ -333,36 +323,59 @@ static int lowest_bit(uint64_t x) /* x != 0 */
 #endif
 }
 
-/* mpi_local_distinct by a bitmap of [lo, lo + range): one bit an id and a
-   count of the ids below each word; 0 when out of memory. */
-static int distinct_bitmap(const uint32_t *ids, size_t n, uint32_t lo, uint64_t range,
+int mpi_id_rank_init(mpi_id_rank *r, uint32_t lo, uint32_t hi)
+{
+    r->lo = lo;
+    r->words = (size_t)(((uint64_t)hi - lo + 1 + 63) / 64);
+    r->bits = calloc(r->words, sizeof *r->bits);
+    r->below = large_malloc(r->words * sizeof *r->below);
+    if (r->bits && r->below)
+        return 1;
+    mpi_id_rank_free(r);
+    return 0;
+}
+
+size_t mpi_id_rank_finish(mpi_id_rank *r)
+{
+    size_t k = 0;
+    for (size_t w = 0; w < r->words; w++) {
+        r->below[w] = k;
+        k += (size_t)mpi_ones64(r->bits[w]);
+    }
+    return k;
+}
+
+void mpi_id_rank_list(const mpi_id_rank *r, uint32_t *out)
+{
+    size_t k = 0;
+    for (size_t w = 0; w < r->words; w++)
+        for (uint64_t x = r->bits[w]; x; x &= x - 1)
+            out[k++] = r->lo + (uint32_t)(64 * w) + (uint32_t)lowest_bit(x);
+}
+
+void mpi_id_rank_free(mpi_id_rank *r)
+{
+    free(r->bits);
+    free(r->below);
+    r->bits = NULL;
+    r->below = NULL;
+}
+
+/* mpi_local_distinct by a bitmap of [lo, hi] (mpi_id_rank); 0 when out of
+   memory. */
+static int distinct_bitmap(const uint32_t *ids, size_t n, uint32_t lo, uint32_t hi,
                            uint32_t *distinct, size_t *nd, uint32_t *index)
 {
-    size_t nw = (size_t)((range + 63) / 64), k = 0;
-    uint64_t *bits = calloc(nw, sizeof *bits);
-    size_t *below = large_malloc(nw * sizeof *below);
-    if (!bits || !below) {
-        free(bits);
-        free(below);
+    mpi_id_rank r;
+    if (!mpi_id_rank_init(&r, lo, hi))
         return 0;
-    }
-    for (size_t i = 0; i < n; i++) {
-        uint32_t r = ids[i] - lo;
-        bits[r >> 6] |= (uint64_t)1 << (r & 63);
-    }
-    for (size_t w = 0; w < nw; w++) {
-        below[w] = k;
-        for (uint64_t x = bits[w]; x; x &= x - 1)
-            distinct[k++] = lo + (uint32_t)(64 * w) + (uint32_t)lowest_bit(x);
-    }
-    for (size_t i = 0; i < n; i++) {
-        uint32_t r = ids[i] - lo;
-        index[i] = (uint32_t)(below[r >> 6] + (size_t)ones(bits[r >> 6] &
-                                                            (((uint64_t)1 << (r & 63)) - 1)));
-    }
-    free(bits);
-    free(below);
-    *nd = k;
+    for (size_t i = 0; i < n; i++)
+        mpi_id_rank_add(&r, ids[i]);
+    *nd = mpi_id_rank_finish(&r);
+    mpi_id_rank_list(&r, distinct);
+    for (size_t i = 0; i < n; i++)
+        index[i] = mpi_id_rank_of(&r, ids[i]);
+    mpi_id_rank_free(&r);
     return 1;
 }
 
@@ -379,7 +392,7 @@ limn_status mpi_local_distinct(limn_context *ctx, const uint32_t *ids, size_t n,
     }
     uint64_t range = (uint64_t)hi - lo + 1;
     /* the bitmap and its counts (range / 4 bytes) below the sort's n keys */
-    if (range <= 32 * (uint64_t)n && distinct_bitmap(ids, n, lo, range, distinct, nd, index))
+    if (range <= 32 * (uint64_t)n && distinct_bitmap(ids, n, lo, hi, distinct, nd, index))
         return LIMN_OK;
     /* key: the id above the element, packed (id - lowest id, then cb bits of
        element), so the radix sort skips the digits no key uses */

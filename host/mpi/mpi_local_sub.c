@@ -259,15 +259,74 @@ static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_
     return LIMN_OK;
 }
 
+/* sub_vertices by the ids' ranks (mpi_id_rank: no list of every corner,
+   no sort); 0 when out of memory for the bitmap (nothing changed then). */
+static int sub_vertices_ranked(mpi_part *p, local_sub *s, const uint32_t *own, size_t n_own,
+                               uint32_t *w, size_t nw, uint32_t lo, uint32_t hi,
+                               limn_status *st)
+{
+    mpi_id_rank r;
+    if (!mpi_id_rank_init(&r, lo, hi))
+        return 0;
+    for (size_t i = 0; i < n_own; i++)
+        mpi_id_rank_add(&r, own[i]);
+    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+        for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
+            mpi_id_rank_add(&r, w[at + 3 + c]);
+    size_t k = mpi_id_rank_finish(&r);
+    s->ids = large_malloc((k ? k : 1) * sizeof *s->ids);
+    s->part = large_malloc((k ? k : 1) * sizeof *s->part);
+    s->owned = large_malloc((n_own ? n_own : 1) * sizeof *s->owned);
+    *st = s->ids && s->part && s->owned
+              ? LIMN_OK
+              : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
+    if (!*st) {
+        mpi_id_rank_list(&r, s->ids);
+        for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+            for (uint32_t c = 0, d = w[at + 2]; c < d; c++) {
+                uint32_t i = mpi_id_rank_of(&r, w[at + 3 + c]);
+                s->part[i] = w[at + 3 + d + c]; /* the same for every copy */
+                w[at + 3 + d + c] = i;
+            }
+        /* own increases: so do their places, the owned rows' order */
+        for (size_t i = 0; i < n_own; i++) {
+            s->owned[i] = mpi_id_rank_of(&r, own[i]);
+            s->part[s->owned[i]] = (uint32_t)p->rank;
+        }
+        s->n = k;
+        s->n_owned = n_own;
+        mpi_local_note(s, k);
+    }
+    mpi_id_rank_free(&r);
+    return 1;
+}
+
 /* The sub-mesh's vertices: owned ones and those of the received faces,
    increasing, each with its part (s->ids, s->part, s->owned). Each corner's
-   part word in w is then overwritten with its vertex's sub-mesh index. */
+   part word in w is then overwritten with its vertex's sub-mesh index. By
+   the ranks of a bitmap when the ids' range is at most 32 times their
+   count (mpi_local_distinct's rule), else through mpi_local_distinct. */
 static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, size_t n_own,
                                 uint32_t *w, size_t nw)
 {
     size_t nc = 0, k = 0;
-    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+    uint32_t lo = UINT32_MAX, hi = 0;
+    for (size_t i = 0; i < n_own; i++) {
+        lo = own[i] < lo ? own[i] : lo;
+        hi = own[i] > hi ? own[i] : hi;
+    }
+    for (size_t at = 0; at < nw; at += record_words(w[at + 2])) {
         nc += w[at + 2];
+        for (uint32_t c = 0, d = w[at + 2]; c < d; c++) {
+            uint32_t v = w[at + 3 + c];
+            lo = v < lo ? v : lo;
+            hi = v > hi ? v : hi;
+        }
+    }
+    limn_status ranked_st = LIMN_OK;
+    if (n_own + nc > 0 && (uint64_t)hi - lo + 1 <= 32 * (uint64_t)(n_own + nc) &&
+        sub_vertices_ranked(p, s, own, n_own, w, nw, lo, hi, &ranked_st))
+        return ranked_st;
     size_t cap = n_own + nc, n = n_own;
     uint32_t *all = large_malloc((cap ? cap : 1) * sizeof *all);
     uint32_t *index = large_malloc((cap ? cap : 1) * sizeof *index);
