@@ -62,6 +62,8 @@ static unsigned state_of(const int perm[3], unsigned inv, unsigned parity)
     return ((unsigned)(perm[0] * 9 + perm[1] * 3 + perm[2]) * 8 + inv) * 2 + parity;
 }
 
+static void pair_levels(mpi_sfc_table *t);
+
 void mpi_sfc_table_init(mpi_sfc_table *t)
 {
     memset(t, 0, sizeof *t);
@@ -98,17 +100,59 @@ void mpi_sfc_table_init(mpi_sfc_table *t)
                             (uint16_t)(state_of(np, ni, parity ^ q[2]) << 3 | digit);
                     }
                 }
+    pair_levels(t);
+}
+
+/* The top level's state (no transform, no parity). */
+static unsigned first_state(void)
+{
+    static const int identity[3] = {0, 1, 2};
+    return state_of(identity, 0, 0);
+}
+
+/* t->dense and t->pair from t->next: the states reachable from the first,
+   in the order a breadth-first walk meets them. */
+static void pair_levels(mpi_sfc_table *t)
+{
+    unsigned order[MPI_SFC_STATES], count = 0;
+    for (unsigned s = 0; s < MPI_SFC_STATES; s++)
+        t->dense[s] = UINT16_MAX;
+    t->dense[first_state()] = 0;
+    order[count++] = first_state();
+    for (unsigned i = 0; i < count; i++)
+        for (unsigned col = 0; col < 8; col++) {
+            unsigned ns = t->next[order[i] * 8 + col] >> 3;
+            if (t->dense[ns] == UINT16_MAX && count < MPI_SFC_REACHABLE) {
+                t->dense[ns] = (uint16_t)count;
+                order[count++] = ns;
+            }
+        }
+    for (unsigned i = 0; i < count; i++)
+        for (unsigned c1 = 0; c1 < 8; c1++) {
+            unsigned e1 = t->next[order[i] * 8 + c1];
+            for (unsigned c2 = 0; c2 < 8; c2++) {
+                unsigned e2 = t->next[(e1 >> 3) * 8 + c2];
+                t->pair[i * 64 + (c1 << 3 | c2)] =
+                    (uint16_t)(t->dense[e2 >> 3] << 6 | (e1 & 7u) << 3 | (e2 & 7u));
+            }
+        }
 }
 
 uint64_t mpi_sfc_hilbert_table(const mpi_sfc_table *t, uint32_t x, uint32_t y, uint32_t z)
 {
-    static const int identity[3] = {0, 1, 2};
     uint64_t m = spread3(x) << 2 | spread3(y) << 1 | spread3(z), key = 0;
-    unsigned state = state_of(identity, 0, 0);
-    for (int level = SFC_BITS - 1; level >= 0; level--) {
-        unsigned e = t->next[state * 8 + (unsigned)(m >> 3 * level & 7u)];
-        key = key << 3 | (e & 7u);
-        state = e >> 3;
+    unsigned state = t->dense[first_state()];
+    int level = SFC_BITS - 1;
+    if (SFC_BITS % 2) { /* an odd level count: the top one alone */
+        unsigned e = t->next[first_state() * 8 + (unsigned)(m >> 3 * level & 7u)];
+        key = e & 7u;
+        state = t->dense[e >> 3];
+        level--;
+    }
+    for (; level > 0; level -= 2) { /* levels level and level - 1 */
+        unsigned e = t->pair[state * 64 + (unsigned)(m >> 3 * (level - 1) & 63u)];
+        key = key << 6 | (e & 63u);
+        state = e >> 6;
     }
     return key;
 }
