@@ -40,235 +40,72 @@ static inline void cx_u64(uint64_t *a, int i, int j)
     a[j] = x < y ? y : x;
 }
 
-/* The networks, one per length and width (test_topo_sort: the 0-1 principle). */
+/* The networks (test_topo_sort: the 0-1 principle), one sequence of
+   comparators a length for both widths: cx is cx_u32 or cx_u64. */
+#define NET6(cx, a)                                                                       \
+    cx(a, 0, 5); cx(a, 1, 3); cx(a, 2, 4); cx(a, 1, 2); cx(a, 3, 4); cx(a, 0, 3);         \
+    cx(a, 2, 5); cx(a, 0, 1); cx(a, 2, 3); cx(a, 4, 5); cx(a, 1, 2); cx(a, 3, 4);
+
+#define NET8(cx, a)                                                                       \
+    cx(a, 0, 2); cx(a, 1, 3); cx(a, 4, 6); cx(a, 5, 7); cx(a, 0, 4); cx(a, 1, 5);         \
+    cx(a, 2, 6); cx(a, 3, 7); cx(a, 0, 1); cx(a, 2, 3); cx(a, 4, 5); cx(a, 6, 7);         \
+    cx(a, 2, 4); cx(a, 3, 5); cx(a, 1, 4); cx(a, 3, 6); cx(a, 1, 2); cx(a, 3, 4);         \
+    cx(a, 5, 6);
+
+#define NET10(cx, a)                                                                      \
+    cx(a, 0, 8); cx(a, 1, 9); cx(a, 2, 7); cx(a, 3, 5); cx(a, 4, 6); cx(a, 0, 2);         \
+    cx(a, 1, 4); cx(a, 5, 8); cx(a, 7, 9); cx(a, 0, 3); cx(a, 2, 4); cx(a, 5, 7);         \
+    cx(a, 6, 9); cx(a, 0, 1); cx(a, 3, 6); cx(a, 8, 9); cx(a, 1, 5); cx(a, 2, 3);         \
+    cx(a, 4, 8); cx(a, 6, 7); cx(a, 1, 2); cx(a, 3, 5); cx(a, 4, 6); cx(a, 7, 8);         \
+    cx(a, 2, 3); cx(a, 4, 5); cx(a, 6, 7); cx(a, 3, 4); cx(a, 5, 6);
+
+#define NET12(cx, a)                                                                      \
+    cx(a, 0, 8); cx(a, 1, 7); cx(a, 2, 6); cx(a, 3, 11); cx(a, 4, 10); cx(a, 5, 9);       \
+    cx(a, 0, 1); cx(a, 2, 5); cx(a, 3, 4); cx(a, 6, 9); cx(a, 7, 8); cx(a, 10, 11);       \
+    cx(a, 0, 2); cx(a, 1, 6); cx(a, 5, 10); cx(a, 9, 11); cx(a, 0, 3); cx(a, 1, 2);       \
+    cx(a, 4, 6); cx(a, 5, 7); cx(a, 8, 11); cx(a, 9, 10); cx(a, 1, 4); cx(a, 3, 5);       \
+    cx(a, 6, 8); cx(a, 7, 10); cx(a, 1, 3); cx(a, 2, 5); cx(a, 6, 9); cx(a, 8, 10);       \
+    cx(a, 2, 3); cx(a, 4, 5); cx(a, 6, 7); cx(a, 8, 9); cx(a, 4, 6); cx(a, 5, 7);         \
+    cx(a, 3, 4); cx(a, 5, 6); cx(a, 7, 8);
+
 static void net6_u32(uint32_t *a)
 {
-    cx_u32(a, 0, 5);
-    cx_u32(a, 1, 3);
-    cx_u32(a, 2, 4);
-    cx_u32(a, 1, 2);
-    cx_u32(a, 3, 4);
-    cx_u32(a, 0, 3);
-    cx_u32(a, 2, 5);
-    cx_u32(a, 0, 1);
-    cx_u32(a, 2, 3);
-    cx_u32(a, 4, 5);
-    cx_u32(a, 1, 2);
-    cx_u32(a, 3, 4);
+    NET6(cx_u32, a);
 }
 
 static void net8_u32(uint32_t *a)
 {
-    cx_u32(a, 0, 2);
-    cx_u32(a, 1, 3);
-    cx_u32(a, 4, 6);
-    cx_u32(a, 5, 7);
-    cx_u32(a, 0, 4);
-    cx_u32(a, 1, 5);
-    cx_u32(a, 2, 6);
-    cx_u32(a, 3, 7);
-    cx_u32(a, 0, 1);
-    cx_u32(a, 2, 3);
-    cx_u32(a, 4, 5);
-    cx_u32(a, 6, 7);
-    cx_u32(a, 2, 4);
-    cx_u32(a, 3, 5);
-    cx_u32(a, 1, 4);
-    cx_u32(a, 3, 6);
-    cx_u32(a, 1, 2);
-    cx_u32(a, 3, 4);
-    cx_u32(a, 5, 6);
+    NET8(cx_u32, a);
 }
 
 static void net10_u32(uint32_t *a)
 {
-    cx_u32(a, 0, 8);
-    cx_u32(a, 1, 9);
-    cx_u32(a, 2, 7);
-    cx_u32(a, 3, 5);
-    cx_u32(a, 4, 6);
-    cx_u32(a, 0, 2);
-    cx_u32(a, 1, 4);
-    cx_u32(a, 5, 8);
-    cx_u32(a, 7, 9);
-    cx_u32(a, 0, 3);
-    cx_u32(a, 2, 4);
-    cx_u32(a, 5, 7);
-    cx_u32(a, 6, 9);
-    cx_u32(a, 0, 1);
-    cx_u32(a, 3, 6);
-    cx_u32(a, 8, 9);
-    cx_u32(a, 1, 5);
-    cx_u32(a, 2, 3);
-    cx_u32(a, 4, 8);
-    cx_u32(a, 6, 7);
-    cx_u32(a, 1, 2);
-    cx_u32(a, 3, 5);
-    cx_u32(a, 4, 6);
-    cx_u32(a, 7, 8);
-    cx_u32(a, 2, 3);
-    cx_u32(a, 4, 5);
-    cx_u32(a, 6, 7);
-    cx_u32(a, 3, 4);
-    cx_u32(a, 5, 6);
+    NET10(cx_u32, a);
 }
 
 static void net12_u32(uint32_t *a)
 {
-    cx_u32(a, 0, 8);
-    cx_u32(a, 1, 7);
-    cx_u32(a, 2, 6);
-    cx_u32(a, 3, 11);
-    cx_u32(a, 4, 10);
-    cx_u32(a, 5, 9);
-    cx_u32(a, 0, 1);
-    cx_u32(a, 2, 5);
-    cx_u32(a, 3, 4);
-    cx_u32(a, 6, 9);
-    cx_u32(a, 7, 8);
-    cx_u32(a, 10, 11);
-    cx_u32(a, 0, 2);
-    cx_u32(a, 1, 6);
-    cx_u32(a, 5, 10);
-    cx_u32(a, 9, 11);
-    cx_u32(a, 0, 3);
-    cx_u32(a, 1, 2);
-    cx_u32(a, 4, 6);
-    cx_u32(a, 5, 7);
-    cx_u32(a, 8, 11);
-    cx_u32(a, 9, 10);
-    cx_u32(a, 1, 4);
-    cx_u32(a, 3, 5);
-    cx_u32(a, 6, 8);
-    cx_u32(a, 7, 10);
-    cx_u32(a, 1, 3);
-    cx_u32(a, 2, 5);
-    cx_u32(a, 6, 9);
-    cx_u32(a, 8, 10);
-    cx_u32(a, 2, 3);
-    cx_u32(a, 4, 5);
-    cx_u32(a, 6, 7);
-    cx_u32(a, 8, 9);
-    cx_u32(a, 4, 6);
-    cx_u32(a, 5, 7);
-    cx_u32(a, 3, 4);
-    cx_u32(a, 5, 6);
-    cx_u32(a, 7, 8);
+    NET12(cx_u32, a);
 }
 
 static void net6_u64(uint64_t *a)
 {
-    cx_u64(a, 0, 5);
-    cx_u64(a, 1, 3);
-    cx_u64(a, 2, 4);
-    cx_u64(a, 1, 2);
-    cx_u64(a, 3, 4);
-    cx_u64(a, 0, 3);
-    cx_u64(a, 2, 5);
-    cx_u64(a, 0, 1);
-    cx_u64(a, 2, 3);
-    cx_u64(a, 4, 5);
-    cx_u64(a, 1, 2);
-    cx_u64(a, 3, 4);
+    NET6(cx_u64, a);
 }
 
 static void net8_u64(uint64_t *a)
 {
-    cx_u64(a, 0, 2);
-    cx_u64(a, 1, 3);
-    cx_u64(a, 4, 6);
-    cx_u64(a, 5, 7);
-    cx_u64(a, 0, 4);
-    cx_u64(a, 1, 5);
-    cx_u64(a, 2, 6);
-    cx_u64(a, 3, 7);
-    cx_u64(a, 0, 1);
-    cx_u64(a, 2, 3);
-    cx_u64(a, 4, 5);
-    cx_u64(a, 6, 7);
-    cx_u64(a, 2, 4);
-    cx_u64(a, 3, 5);
-    cx_u64(a, 1, 4);
-    cx_u64(a, 3, 6);
-    cx_u64(a, 1, 2);
-    cx_u64(a, 3, 4);
-    cx_u64(a, 5, 6);
+    NET8(cx_u64, a);
 }
 
 static void net10_u64(uint64_t *a)
 {
-    cx_u64(a, 0, 8);
-    cx_u64(a, 1, 9);
-    cx_u64(a, 2, 7);
-    cx_u64(a, 3, 5);
-    cx_u64(a, 4, 6);
-    cx_u64(a, 0, 2);
-    cx_u64(a, 1, 4);
-    cx_u64(a, 5, 8);
-    cx_u64(a, 7, 9);
-    cx_u64(a, 0, 3);
-    cx_u64(a, 2, 4);
-    cx_u64(a, 5, 7);
-    cx_u64(a, 6, 9);
-    cx_u64(a, 0, 1);
-    cx_u64(a, 3, 6);
-    cx_u64(a, 8, 9);
-    cx_u64(a, 1, 5);
-    cx_u64(a, 2, 3);
-    cx_u64(a, 4, 8);
-    cx_u64(a, 6, 7);
-    cx_u64(a, 1, 2);
-    cx_u64(a, 3, 5);
-    cx_u64(a, 4, 6);
-    cx_u64(a, 7, 8);
-    cx_u64(a, 2, 3);
-    cx_u64(a, 4, 5);
-    cx_u64(a, 6, 7);
-    cx_u64(a, 3, 4);
-    cx_u64(a, 5, 6);
+    NET10(cx_u64, a);
 }
 
 static void net12_u64(uint64_t *a)
 {
-    cx_u64(a, 0, 8);
-    cx_u64(a, 1, 7);
-    cx_u64(a, 2, 6);
-    cx_u64(a, 3, 11);
-    cx_u64(a, 4, 10);
-    cx_u64(a, 5, 9);
-    cx_u64(a, 0, 1);
-    cx_u64(a, 2, 5);
-    cx_u64(a, 3, 4);
-    cx_u64(a, 6, 9);
-    cx_u64(a, 7, 8);
-    cx_u64(a, 10, 11);
-    cx_u64(a, 0, 2);
-    cx_u64(a, 1, 6);
-    cx_u64(a, 5, 10);
-    cx_u64(a, 9, 11);
-    cx_u64(a, 0, 3);
-    cx_u64(a, 1, 2);
-    cx_u64(a, 4, 6);
-    cx_u64(a, 5, 7);
-    cx_u64(a, 8, 11);
-    cx_u64(a, 9, 10);
-    cx_u64(a, 1, 4);
-    cx_u64(a, 3, 5);
-    cx_u64(a, 6, 8);
-    cx_u64(a, 7, 10);
-    cx_u64(a, 1, 3);
-    cx_u64(a, 2, 5);
-    cx_u64(a, 6, 9);
-    cx_u64(a, 8, 10);
-    cx_u64(a, 2, 3);
-    cx_u64(a, 4, 5);
-    cx_u64(a, 6, 7);
-    cx_u64(a, 8, 9);
-    cx_u64(a, 4, 6);
-    cx_u64(a, 5, 7);
-    cx_u64(a, 3, 4);
-    cx_u64(a, 5, 6);
-    cx_u64(a, 7, 8);
+    NET12(cx_u64, a);
 }
 
 /* Networks for 6, 8, 10 and 12 entries, insertion for other short lists,
