@@ -40,7 +40,7 @@ typedef struct fast_vertices {
     size_t stride;
     size_t off[6];            /* x y z, red green blue */
     unsigned char type[3];
-    int colors, f32le;        /* f32le: x y z all float, little endian */
+    int colors;
     int big;
     double *pos;
     uint8_t *col;
@@ -53,21 +53,16 @@ typedef struct fast_faces {
     size_t before, lead, fixed; /* bytes before the count, before the indices, not indices */
     unsigned char ctype, itype;
     size_t isize;
-    int big, le32;            /* le32: 4-byte little-endian indices */
+    int big;
     uint32_t k;               /* the count of every face, or 0 */
     uint32_t nv;
     uint32_t *off, *idx;
 } fast_faces;
 
+/* The values in line for the common types (mesh_ply.h), as the slice reader reads them. */
 static double coord_at(const fast_vertices *v, const unsigned char *rec, int c)
 {
-    if (v->f32le) {
-        uint32_t u = ply_rd32le(rec + v->off[c]);
-        float f;
-        memcpy(&f, &u, 4);
-        return f;
-    }
-    return ply_bin_double(rec + v->off[c], v->type[c], v->big);
+    return ply_bin_double_inline(rec + v->off[c], v->type[c], v->big);
 }
 
 static int vertex_range(void *arg, size_t begin, size_t end)
@@ -121,7 +116,6 @@ static int vertex_layout(const fast *f, const ply_elem *e, fast_vertices *v)
     memcpy(v->type, l.type, sizeof v->type);
     v->big = f->big;
     v->colors = f->p->colors;
-    v->f32le = !f->big && v->type[0] == T_F32 && v->type[1] == T_F32 && v->type[2] == T_F32;
     return 1;
 }
 
@@ -144,10 +138,7 @@ static int fast_vertex(fast *f, const ply_elem *e)
 
 static long long index_at(const fast_faces *ff, const unsigned char *b)
 {
-    if (!ff->le32)
-        return ply_bin_int(b, ff->itype, ff->big);
-    uint32_t u = ply_rd32le(b);
-    return ff->itype == T_I32 ? (long long)(int32_t)u : (long long)u;
+    return ply_bin_int_inline(b, ff->itype, ff->big);
 }
 
 static int face_range(void *arg, size_t begin, size_t end)
@@ -173,7 +164,7 @@ static int face_range(void *arg, size_t begin, size_t end)
 
 static long long count_at(const fast_faces *ff, const unsigned char *b)
 {
-    return ff->ctype == T_U8 ? (long long)*b : ply_bin_int(b, ff->ctype, ff->big);
+    return ply_bin_int_inline(b, ff->ctype, ff->big);
 }
 
 /* Whether every count in the range is ff->k (records at a fixed stride);
@@ -228,7 +219,6 @@ static int face_layout(const fast *f, const ply_elem *e, fast_faces *ff)
     ff->itype = l.itype;
     ff->isize = l.isize;
     ff->big = f->big;
-    ff->le32 = !f->big && ff->isize == 4;
     ff->nv = (uint32_t)f->p->nv;
     ff->base = f->map + f->at;
     return 1;
