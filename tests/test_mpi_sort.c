@@ -10,6 +10,7 @@
  * Not cmocka: the MPI tests' checks (mpi_check.h).
  */
 #include "mpi_check.h"
+#include "sort_check.h"
 
 #include "mpi/mpi_local.h"
 
@@ -19,26 +20,6 @@
 
 MPI_CHECK_STATE;
 
-static int cmp_u32(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-static int cmp_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-static uint64_t next_random(uint64_t *x) /* splitmix64 */
-{
-    uint64_t z = (*x += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
-
 /* mpi_local_distinct against qsort and a walk: ids in a range narrower
    than 32 n (the bitmap) and wider (the radix sort), the same answer. */
 static void distinct_case(limn_context *ctx, const char *name, size_t n, uint32_t spread)
@@ -47,8 +28,8 @@ static void distinct_case(limn_context *ctx, const char *name, size_t n, uint32_
     uint32_t *got = malloc(n * sizeof *got), *index = malloc(n * sizeof *index);
     uint64_t x = 14;
     for (size_t i = 0; i < n; i++)
-        ref[i] = ids[i] = 1000 + (uint32_t)(next_random(&x) % spread);
-    qsort(ref, n, sizeof *ref, cmp_u32);
+        ref[i] = ids[i] = 1000 + (uint32_t)(sort_check_random(&x) % spread);
+    qsort(ref, n, sizeof *ref, sort_check_cmp_u32);
     size_t nref = 0, nd = 0;
     for (size_t i = 0; i < n; i++)
         if (nref == 0 || ref[nref - 1] != ref[i])
@@ -72,9 +53,9 @@ static void uniform_case(const char *name, size_t n, uint64_t mask)
 {
     uint64_t *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b), x = 7;
     for (size_t i = 0; i < n; i++)
-        a[i] = b[i] = next_random(&x) & mask;
+        a[i] = b[i] = sort_check_random(&x) & mask;
     mpi_local_sort_uniform(a, n);
-    qsort(b, n, sizeof *b, cmp_u64);
+    qsort(b, n, sizeof *b, sort_check_cmp_u64);
     CHECK(memcmp(a, b, n * sizeof *a) == 0, "%s: the sort differs from qsort", name);
     free(a);
     free(b);

@@ -8,6 +8,7 @@
  * both widths.
  */
 #include "topology/topology_build.h"
+#include "sort_check.h"
 
 #include <setjmp.h>
 #include <stdarg.h>
@@ -17,26 +18,6 @@
 #include <string.h>
 
 #include <cmocka.h>
-
-static int cmp_u32(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-static int cmp_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-static uint64_t next_random(uint64_t *x) /* splitmix64 */
-{
-    uint64_t z = (*x += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
 
 /* Every 0/1 input of the networks' lengths, both widths: sorted. */
 static void zero_one_inputs(void **state)
@@ -76,12 +57,12 @@ static void random_lists(void **state)
             /* half the rounds from a few values (a vertex's neighbours come in pairs) */
             uint64_t range = round % 2 ? 5 : UINT64_MAX;
             for (size_t i = 0; i < n; i++) {
-                uint64_t r = next_random(&seed);
+                uint64_t r = sort_check_random(&seed);
                 ea[i] = a[i] = (uint32_t)(range == UINT64_MAX ? r : r % range);
                 eb[i] = b[i] = range == UINT64_MAX ? r : (r % range) << 33 | (r >> 60);
             }
-            qsort(ea, n, sizeof *ea, cmp_u32);
-            qsort(eb, n, sizeof *eb, cmp_u64);
+            qsort(ea, n, sizeof *ea, sort_check_cmp_u32);
+            qsort(eb, n, sizeof *eb, sort_check_cmp_u64);
             topo_sort_u32(a, n);
             topo_sort_u64(b, n);
             for (size_t i = 0; i < n; i++) {
