@@ -200,18 +200,23 @@ void mpi_part_drop_rows(mpi_part *p)
     stencil_free(&p->host);
 }
 
-int mpi_part_rows_alloc(mpi_part *p, size_t no, size_t ng, size_t nnz)
+int mpi_part_ids_alloc(mpi_part *p, size_t no, size_t ng)
 {
     p->owned_ids = large_malloc((no ? no : 1) * sizeof *p->owned_ids);
     p->owned_rule = large_malloc(no ? no : 1);
     p->owned_scale = large_malloc((no ? no : 1) * sizeof *p->owned_scale);
     p->ghost_ids = large_malloc((ng ? ng : 1) * sizeof *p->ghost_ids);
     p->ghost_rule = large_malloc(ng ? ng : 1);
+    return p->owned_ids && p->owned_rule && p->owned_scale && p->ghost_ids && p->ghost_rule;
+}
+
+int mpi_part_rows_alloc(mpi_part *p, size_t no, size_t ng, size_t nnz)
+{
+    int ids = mpi_part_ids_alloc(p, no, ng);
     p->host.row_offsets = large_malloc((no + 1) * sizeof *p->host.row_offsets);
     p->host.columns = large_malloc((nnz ? nnz : 1) * sizeof *p->host.columns);
     p->host.weights = large_malloc((nnz ? nnz : 1) * sizeof *p->host.weights);
-    return p->owned_ids && p->owned_rule && p->owned_scale && p->ghost_ids && p->ghost_rule &&
-           p->host.row_offsets && p->host.columns && p->host.weights;
+    return ids && p->host.row_offsets && p->host.columns && p->host.weights;
 }
 
 void mpi_part_end(mpi_part *p)

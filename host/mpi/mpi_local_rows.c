@@ -195,10 +195,16 @@ static limn_status exchange_answers(mpi_part *p, local_sub *s, rows_tmp *t)
     return st;
 }
 
-/* Rows, ids, rules and scales into p (arrays allocated here). */
+/* Rows, ids, rules and scales into p. The sub-mesh operator's table becomes
+   p's: the owned rows move down into local order in place, their columns
+   renumbered on the way, so a rank never holds its rows twice. Class 0 (no
+   ghost column, read by no other rank: nearly every row) comes first in
+   increasing id, as the sub-mesh's rows are, so each of its rows lands at or
+   before where it was; the other classes are set aside first. */
 static limn_status fill_rows(mpi_part *p, local_sub *s, rows_tmp *t)
 {
-    size_t no = s->n_owned, ng = t->ng, nnz = 0;
+    stencil_csr *a = &s->op.host;
+    size_t no = s->n_owned, ng = t->ng, nnz = 0, aside = 0, first = p->send_begin;
     for (size_t i = 0; i < no; i++) {
         uint32_t len;
         row_begin(s, s->owned[i], &len);
@@ -209,12 +215,14 @@ static limn_status fill_rows(mpi_part *p, local_sub *s, rows_tmp *t)
                         "rank %d would hold %zu rows and %zu entries: too many for one MPI "
                         "message; use more ranks",
                         p->rank, no, nnz);
-    int rows = mpi_part_rows_alloc(p, no, ng, nnz);
+    int ids = mpi_part_ids_alloc(p, no, ng);
     t->loc = large_malloc((s->n ? s->n : 1) * sizeof *t->loc);
     uint32_t *order = large_malloc((no ? no : 1) * sizeof *order);
+    uint32_t *offsets = large_malloc((no + 1) * sizeof *offsets);
     mpi_local_note(s, s->n);
-    if (!rows || !t->loc || !order) {
+    if (!ids || !t->loc || !order || !offsets) {
         free(order);
+        free(offsets);
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the rows of rank %d",
                         p->rank);
     }
@@ -230,23 +238,63 @@ static limn_status fill_rows(mpi_part *p, local_sub *s, rows_tmp *t)
         p->ghost_rule[k] = (uint8_t)t->g[k].rule;
         t->loc[t->g[k].sub] = (uint32_t)(no + k);
     }
-    const stencil_csr *a = &s->op.host;
-    size_t e2 = 0;
-    p->host.rows = no;
-    p->host.cols = no + ng;
-    p->host.row_offsets[0] = 0;
+    for (size_t l = first; l < no; l++) {
+        uint32_t len;
+        row_begin(s, s->owned[order[l]], &len);
+        aside += len;
+    }
+    uint32_t *cols_aside = large_malloc((aside ? aside : 1) * sizeof *cols_aside);
+    double *w_aside = large_malloc((aside ? aside : 1) * sizeof *w_aside);
+    if (!cols_aside || !w_aside) {
+        free(order);
+        free(offsets);
+        free(cols_aside);
+        free(w_aside);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the rows of rank %d",
+                        p->rank);
+    }
+    uint32_t *cols = a->columns;
+    double *w = a->weights;
+    for (size_t l = first, k = 0; l < no; l++) {
+        uint32_t o = s->owned[order[l]];
+        for (uint32_t e = a->row_offsets[o]; e < a->row_offsets[o + 1]; e++, k++) {
+            cols_aside[k] = t->loc[cols[e]];
+            w_aside[k] = w[e];
+        }
+    }
+    size_t e2 = 0; /* never past e: the rows before are class 0 ones, a subset */
+    offsets[0] = 0;
     for (size_t l = 0; l < no; l++) {
         uint32_t o = s->owned[order[l]];
         p->owned_ids[l] = s->ids[o];
         p->owned_rule[l] = s->op.topo.vertex_rule[o];
         p->owned_scale[l] = scheme_limit_row_scale(&s->op.topo, p->scheme, o);
-        for (uint32_t e = a->row_offsets[o]; e < a->row_offsets[o + 1]; e++, e2++) {
-            p->host.columns[e2] = t->loc[a->columns[e]];
-            p->host.weights[e2] = a->weights[e];
+        if (l < first) {
+            for (uint32_t e = a->row_offsets[o]; e < a->row_offsets[o + 1]; e++, e2++) {
+                cols[e2] = t->loc[cols[e]];
+                w[e2] = w[e];
+            }
+        } else {
+            uint32_t len = a->row_offsets[o + 1] - a->row_offsets[o];
+            memcpy(cols + e2, cols_aside + (e2 - offsets[first]), len * sizeof *cols);
+            memcpy(w + e2, w_aside + (e2 - offsets[first]), len * sizeof *w);
+            e2 += len;
         }
-        p->host.row_offsets[l + 1] = (uint32_t)e2;
+        offsets[l + 1] = (uint32_t)e2;
     }
+    free(cols_aside);
+    free(w_aside);
     free(order);
+    /* the table is p's now; shrunk to its rows (the old block kept if not) */
+    uint32_t *c = realloc(cols, (e2 ? e2 : 1) * sizeof *c);
+    double *wr = realloc(w, (e2 ? e2 : 1) * sizeof *wr);
+    p->host.columns = c ? c : cols;
+    p->host.weights = wr ? wr : w;
+    a->columns = NULL;
+    a->weights = NULL;
+    p->host.row_offsets = offsets;
+    p->host.rows = no;
+    p->host.cols = no + ng;
     return LIMN_OK;
 }
 

@@ -92,6 +92,9 @@ void mpi_part_drop_rows(mpi_part *p);
    for no owned rows, ng ghosts and nnz entries (none of length 0); 1 when
    all are there (mpi_part_end frees them either way). */
 int mpi_part_rows_alloc(mpi_part *p, size_t no, size_t ng, size_t nnz);
+/* The owned and ghost arrays alone (the local rows take their table from the
+   sub-mesh's operator); 1 when all are there. */
+int mpi_part_ids_alloc(mpi_part *p, size_t no, size_t ng);
 
 /*
  * Agreement before a collective phase: every rank passes its own status;
