@@ -3,12 +3,9 @@
 #include "scheme/scheme.h"
 #include "scheme/scheme_refine.h"
 
-#include <math.h>
-
 double scheme_loop_limit_beta(uint32_t n)
 {
-    const double pi = 3.14159265358979323846;
-    double c = 0.375 + 0.25 * cos(2.0 * pi / (double)n);
+    double c = scheme_loop_cos_term(n);
     return 3.0 / (11.0 - 8.0 * (0.375 + c * c));
 }
 

@@ -13,6 +13,10 @@
 
 #include "topology/topology.h"
 
+/* Loop's 3/8 + cos(2 pi/n)/4, which both betas square: from a table of the
+   formula's values for n <= 16, else the formula (scheme_loop_cos_term_formula). */
+double scheme_loop_cos_term(uint32_t valence);
+double scheme_loop_cos_term_formula(uint32_t valence);
 /* Loop's vertex weight beta_n = (5/8 - (3/8 + cos(2 pi/n)/4)^2) / n. */
 double scheme_loop_refine_beta(uint32_t valence);
 
