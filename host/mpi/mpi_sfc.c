@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * Space-filling-curve partition (mpi_sfc.h): Hilbert keys of the block's
- * positions, a stable radix sort of them on each rank, the cut points found
- * digit by digit over all ranks, each vertex's part from where its key falls.
+ * positions, the cut points selected over all ranks (a histogram of the
+ * keys' top bits, then digit by digit in the few buckets that hold a cut,
+ * sorted), each vertex's part from where its key falls among the cuts.
  */
 #include "mpi/mpi_sfc.h"
 #include "base/large_alloc.h"
@@ -221,6 +222,21 @@ static void sfc_sort(sfc_rec *r, sfc_rec *tmp, size_t n, size_t *count)
         memcpy(r, src, n * sizeof *r);
 }
 
+/*
+ * The cut points by selection, not by sorting the block. Cut q is the
+ * element of rank T_q = total (q + 1) / parts (from 0) of all vertices in
+ * (key, id) order: the largest (key, id) with at most T_q vertices below
+ * it, so a vertex's part is the number of cuts at or below it and the parts
+ * are the sorted order's shares. A histogram of the keys' top SFC_TOP_BITS
+ * over all ranks names the bucket holding each cut and its rank there; only
+ * those buckets' vertices are gathered and sorted, and the rest of the cut
+ * is settled digit by digit over all ranks, counting below each candidate
+ * in the sorted buckets (one Allreduce a digit for all cuts).
+ */
+#define SFC_TOP_BITS 16
+#define SFC_TOP_SHIFT (3 * SFC_BITS - SFC_TOP_BITS) /* keys have 3 SFC_BITS bits */
+#define SFC_BUCKETS ((size_t)1 << SFC_TOP_BITS)
+
 /* (key, id) of r below the cut point c = {key, id}. */
 static int sfc_below(const sfc_rec *r, size_t begin, const uint64_t *c)
 {
@@ -240,56 +256,126 @@ static uint64_t sfc_count_below(const sfc_rec *r, size_t n, size_t begin, const 
     return lo;
 }
 
-/* The digits the cut search settles, one Allreduce each, from the top:
-   the key's 63 bits in 7-bit digits, then the id's 32 in 8-bit ones. */
+/* The digits the search settles below the bucket, one Allreduce each: the
+   key's low 47 bits, then the id's 32 in 8-bit digits. */
 static const struct sfc_digit {
     int word, shift, width;
-} sfc_digits[] = {{0, 56, 7}, {0, 49, 7}, {0, 42, 7}, {0, 35, 7}, {0, 28, 7}, {0, 21, 7},
-                  {0, 14, 7}, {0, 7, 7},  {0, 0, 7},  {1, 24, 8}, {1, 16, 8}, {1, 8, 8},
-                  {1, 0, 8}};
+} sfc_digits[] = {{0, 40, 7}, {0, 32, 8}, {0, 24, 8}, {0, 16, 8}, {0, 8, 8},
+                  {0, 0, 8},  {1, 24, 8}, {1, 16, 8}, {1, 8, 8},  {1, 0, 8}};
 #define SFC_CANDIDATES 255 /* nonzero values of the widest digit */
 
-/* cut[2q], cut[2q+1]: the largest (key, id) with exactly total * (q + 1) /
-   parts vertices of the whole mesh below it, q < parts - 1; settled digit
-   by digit from the top: for each candidate value of the digit, the count
-   below it over all ranks (count: (parts - 1) * SFC_CANDIDATES). */
-static void sfc_cuts(mpi_part *p, const sfc_rec *r, size_t n, size_t begin, size_t total,
-                     int parts, uint64_t *cut, uint64_t *count)
+typedef struct sfc_work {
+    uint64_t *key;      /* per block vertex */
+    uint64_t *hist;     /* SFC_BUCKETS: the block's, then the sum over ranks */
+    int32_t *slot;      /* SFC_BUCKETS: the gathered list of a bucket, or -1 */
+    sfc_rec *rec, *tmp; /* the gathered buckets, one after another */
+    size_t *list;       /* parts: where each gathered bucket's list starts (+ 1) */
+    size_t *radix;
+    uint64_t *cut, *count, *below, *rank_in;
+    size_t *bucket_of;  /* per cut: its slot */
+} sfc_work;
+
+/* Which bucket holds each cut and its rank there (bucket_of: the bucket's
+   list; rank_in; below: the bucket's prefix), over all ranks; the sizes of
+   the lists of the block's vertices in those buckets (list[s + 1]);
+   returns the number of lists. */
+static size_t sfc_buckets(mpi_part *p, sfc_work *w, size_t n, size_t total, int parts)
 {
-    size_t m = (size_t)parts - 1;
-    if (m == 0)
-        return;
-    memset(cut, 0, 2 * m * sizeof *cut);
+    size_t m = (size_t)parts - 1, k = 0;
+    memset(w->hist, 0, SFC_BUCKETS * sizeof *w->hist);
+    for (size_t v = 0; v < n; v++)
+        w->hist[w->key[v] >> SFC_TOP_SHIFT]++;
+    MPI_Allreduce(MPI_IN_PLACE, w->hist, (int)SFC_BUCKETS, MPI_UINT64_T, MPI_SUM, p->comm);
+    for (size_t b = 0; b < SFC_BUCKETS; b++)
+        w->slot[b] = -1;
+    uint64_t before = 0; /* vertices in the buckets below b */
+    for (size_t b = 0, q = 0; b < SFC_BUCKETS && q < m; b++) {
+        for (; q < m; q++) {
+            uint64_t target = (uint64_t)total * (q + 1) / (uint64_t)parts;
+            if (target >= before + w->hist[b])
+                break;
+            if (w->slot[b] < 0)
+                w->slot[b] = (int32_t)k++;
+            w->bucket_of[q] = (size_t)w->slot[b];
+            w->rank_in[q] = target - before;
+            w->below[q] = (uint64_t)b << SFC_TOP_SHIFT;
+        }
+        before += w->hist[b];
+    }
+    memset(w->list, 0, (k + 1) * sizeof *w->list);
+    for (size_t v = 0; v < n; v++) {
+        int32_t s = w->slot[w->key[v] >> SFC_TOP_SHIFT];
+        if (s >= 0)
+            w->list[s + 1]++;
+    }
+    for (size_t s = 0; s < k; s++)
+        w->list[s + 1] += w->list[s];
+    return k;
+}
+
+/* The block's vertices of those buckets, each bucket's sorted by (key, id)
+   (gathered in block order: the stable sort keeps ids increasing). */
+static void sfc_gather(sfc_work *w, size_t n, size_t k)
+{
+    size_t *at = w->radix + 257; /* a cursor a list */
+    for (size_t s = 0; s < k; s++)
+        at[s] = w->list[s];
+    for (size_t v = 0; v < n; v++) {
+        int32_t s = w->slot[w->key[v] >> SFC_TOP_SHIFT];
+        if (s >= 0)
+            w->rec[at[s]++] = (sfc_rec){w->key[v], (uint32_t)v};
+    }
+    for (size_t s = 0; s < k; s++)
+        sfc_sort(w->rec + w->list[s], w->tmp, w->list[s + 1] - w->list[s], w->radix);
+}
+
+/* cut[2q], cut[2q+1]: the element of rank rank_in[q] in its bucket, settled
+   digit by digit below the bucket's prefix: for each candidate value of the
+   digit, the count below it in the bucket over all ranks. */
+static void sfc_cuts(mpi_part *p, sfc_work *w, size_t begin, size_t m)
+{
+    for (size_t q = 0; q < m; q++) {
+        w->cut[2 * q] = w->below[q];
+        w->cut[2 * q + 1] = 0;
+    }
     for (size_t k = 0; k < sizeof sfc_digits / sizeof *sfc_digits; k++) {
         const struct sfc_digit *g = sfc_digits + k;
         uint64_t values = ((uint64_t)1 << g->width) - 1;
-        for (size_t q = 0; q < m; q++)
+        for (size_t q = 0; q < m; q++) {
+            const sfc_rec *r = w->rec + w->list[w->bucket_of[q]];
+            size_t n = w->list[w->bucket_of[q] + 1] - w->list[w->bucket_of[q]];
             for (uint64_t d = 1; d <= values; d++) {
-                uint64_t c[2] = {cut[2 * q], cut[2 * q + 1]};
+                uint64_t c[2] = {w->cut[2 * q], w->cut[2 * q + 1]};
                 c[g->word] |= d << g->shift;
-                count[q * SFC_CANDIDATES + d - 1] = sfc_count_below(r, n, begin, c);
+                w->count[q * SFC_CANDIDATES + d - 1] = sfc_count_below(r, n, begin, c);
             }
-        MPI_Allreduce(MPI_IN_PLACE, count, (int)(m * SFC_CANDIDATES), MPI_UINT64_T, MPI_SUM,
+        }
+        MPI_Allreduce(MPI_IN_PLACE, w->count, (int)(m * SFC_CANDIDATES), MPI_UINT64_T, MPI_SUM,
                       p->comm);
         for (size_t q = 0; q < m; q++) {
-            uint64_t target = (uint64_t)total * (q + 1) / (uint64_t)parts, best = 0;
+            uint64_t best = 0;
             for (uint64_t d = 1; d <= values; d++) /* the counts grow with d */
-                if (count[q * SFC_CANDIDATES + d - 1] <= target)
+                if (w->count[q * SFC_CANDIDATES + d - 1] <= w->rank_in[q])
                     best = d;
-            cut[2 * q + g->word] |= best << g->shift;
+            w->cut[2 * q + g->word] |= best << g->shift;
         }
     }
 }
 
 /* Each vertex's part: the number of cut points at or below its (key, id). */
-static void sfc_assign(const sfc_rec *r, size_t n, size_t begin, const uint64_t *cut, int parts,
-                       uint32_t *part_of)
+static void sfc_assign(const sfc_work *w, size_t n, size_t begin, size_t m, uint32_t *part_of)
 {
-    size_t s = 0, m = (size_t)parts - 1;
-    for (size_t i = 0; i < n; i++) {
-        while (s < m && !sfc_below(r + i, begin, cut + 2 * s))
-            s++;
-        part_of[r[i].at] = (uint32_t)s;
+    for (size_t v = 0; v < n; v++) {
+        sfc_rec r = {w->key[v], (uint32_t)v};
+        size_t lo = 0, hi = m; /* the cuts increase with q */
+        while (lo < hi) {
+            size_t mid = lo + (hi - lo) / 2;
+            if (sfc_below(&r, begin, w->cut + 2 * mid))
+                hi = mid;
+            else
+                lo = mid + 1;
+        }
+        part_of[v] = (uint32_t)lo;
     }
 }
 
@@ -310,20 +396,33 @@ static void sfc_stats(mpi_part *p, const uint32_t *part_of, size_t n, size_t tot
     s->imbalance = total ? (double)s->part_max * parts / (double)total : 1.0;
 }
 
-typedef struct sfc_work {
-    sfc_rec *rec, *tmp;
-    size_t *radix;
-    uint64_t *cut, *count;
-} sfc_work;
-
 static limn_status sfc_alloc(mpi_part *p, size_t n, int parts, sfc_work *w)
+{
+    size_t m = (size_t)parts;
+    w->key = large_malloc((n ? n : 1) * sizeof *w->key);
+    w->hist = large_malloc(SFC_BUCKETS * sizeof *w->hist);
+    w->slot = large_malloc(SFC_BUCKETS * sizeof *w->slot);
+    w->list = large_malloc((m + 1) * sizeof *w->list);
+    w->radix = large_malloc((257 + m) * sizeof *w->radix);
+    w->cut = large_malloc(2 * m * sizeof *w->cut);
+    w->count = large_malloc(m * SFC_CANDIDATES * sizeof *w->count);
+    w->below = large_malloc(m * sizeof *w->below);
+    w->rank_in = large_malloc(m * sizeof *w->rank_in);
+    w->bucket_of = large_malloc(m * sizeof *w->bucket_of);
+    if (w->key && w->hist && w->slot && w->list && w->radix && w->cut && w->count &&
+        w->below && w->rank_in && w->bucket_of)
+        return LIMN_OK;
+    return ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                    "space-filling-curve partition: out of memory for %zu vertices on rank %d",
+                    n, p->rank);
+}
+
+/* The gathered buckets' records (their sizes known after the histogram). */
+static limn_status sfc_alloc_lists(mpi_part *p, sfc_work *w, size_t n)
 {
     w->rec = large_malloc((n ? n : 1) * sizeof *w->rec);
     w->tmp = large_malloc((n ? n : 1) * sizeof *w->tmp);
-    w->radix = large_malloc(257 * sizeof *w->radix);
-    w->cut = large_malloc(2 * (size_t)parts * sizeof *w->cut);
-    w->count = large_malloc((size_t)parts * SFC_CANDIDATES * sizeof *w->count);
-    if (w->rec && w->tmp && w->radix && w->cut && w->count)
+    if (w->rec && w->tmp)
         return LIMN_OK;
     return ctx_fail(p->ctx, LIMN_ERR_MEMORY,
                     "space-filling-curve partition: out of memory for %zu vertices on rank %d",
@@ -332,11 +431,18 @@ static limn_status sfc_alloc(mpi_part *p, size_t n, int parts, sfc_work *w)
 
 static void sfc_free(sfc_work *w)
 {
+    free(w->key);
+    free(w->hist);
+    free(w->slot);
     free(w->rec);
     free(w->tmp);
+    free(w->list);
     free(w->radix);
     free(w->cut);
     free(w->count);
+    free(w->below);
+    free(w->rank_in);
+    free(w->bucket_of);
 }
 
 limn_status mpi_sfc_partition(mpi_part *p, const size_t *vtxdist, const double *positions,
@@ -362,17 +468,23 @@ limn_status mpi_sfc_partition(mpi_part *p, const size_t *vtxdist, const double *
         mpi_sfc_table_init(&table);
         for (size_t v = 0; v < n; v++) {
             const double *x = positions + 3 * v;
-            w.rec[v] = (sfc_rec){mpi_sfc_hilbert_table(&table, sfc_cell(x[0], lo[0], scale),
-                                                       sfc_cell(x[1], lo[1], scale),
-                                                       sfc_cell(x[2], lo[2], scale)),
-                                 (uint32_t)v};
+            w.key[v] = mpi_sfc_hilbert_table(&table, sfc_cell(x[0], lo[0], scale),
+                                             sfc_cell(x[1], lo[1], scale),
+                                             sfc_cell(x[2], lo[2], scale));
         }
-        sfc_sort(w.rec, w.tmp, n, w.radix);
-        sfc_cuts(p, w.rec, n, begin, total, parts, w.cut, w.count);
-        sfc_assign(w.rec, n, begin, w.cut, parts, *part_of);
-        if (stats)
-            sfc_stats(p, *part_of, n, total, parts, w.count, stats);
-    } else {
+        size_t m = (size_t)parts - 1, lists = m && total ? sfc_buckets(p, &w, n, total, parts) : 0;
+        st = mpi_agree(p, sfc_alloc_lists(p, &w, lists ? w.list[lists] : 0));
+        if (!st) {
+            if (lists) {
+                sfc_gather(&w, n, lists);
+                sfc_cuts(p, &w, begin, m);
+            }
+            sfc_assign(&w, n, begin, lists ? m : 0, *part_of);
+            if (stats)
+                sfc_stats(p, *part_of, n, total, parts, w.count, stats);
+        }
+    }
+    if (st) {
         free(*part_of);
         *part_of = NULL;
     }

@@ -6,11 +6,14 @@
  * Every vertex gets the 3-D Hilbert key of its position (21 bits an axis in
  * the bounding cube of the whole mesh, 63 bits), ties broken by its global
  * id; the vertices are cut along that order into parts of exactly
- * n * (q + 1) / parts - n * q / parts vertices. The cut points are found
- * digit by digit over the 95-bit (key, id) values (13 digits of 7 or 8
- * bits), one Allreduce of (parts - 1) x 255 counts a digit, each count a
- * binary search in this rank's sorted keys: O(n / P) work per rank (one
- * radix sort), no edge exchange, no rank holding more than its block. The
+ * n * (q + 1) / parts - n * q / parts vertices. Cut q is the vertex of
+ * rank n (q + 1) / parts in that order: an Allreduce of a histogram of the
+ * keys' top 16 bits names its bucket and its rank there; the vertices of
+ * the buckets holding a cut are sorted on each rank, and the rest of the
+ * 95-bit (key, id) value is found digit by digit (10 digits of 7 or 8 bits),
+ * one Allreduce of (parts - 1) x 255 counts a digit, each count a binary
+ * search in a sorted bucket: O(n / P) work per rank (no sort of the block),
+ * no edge exchange, no rank holding more than its block. The
  * parts depend on the positions, the ids and the part count only: not on
  * how the vertices are split into blocks, nor on the faces.
  */
