@@ -101,7 +101,7 @@ def main():
     ap.add_argument("--ranks-per-node", type=int, default=8)
     ap.add_argument("--partition-model", default="sfc", choices=["sfc", "scotch"],
                     help="pipeline model: the partition's growth with P (the curve's default "
-                         "O(n/P) + 13 Allreduces, or PT-Scotch's assumed log2 P)")
+                         "O(n/P) + 11 Allreduces, or PT-Scotch's assumed log2 P)")
     ap.add_argument("--neighbours", type=int, default=8,
                     help="model: neighbour ranks at least (2D partitions: about 6)")
     args = ap.parse_args()
@@ -430,9 +430,12 @@ def model_row(c, p, n, args):
     ghosts = c["ghost_coefficient"] * math.sqrt(v)
     if args.partition_model == "scotch":  # PT-Scotch's per-vertex cost grows as log2 P (assumed)
         part = v * c["partition_per_vertex"] * math.log2(p)
-    else:  # the curve: O(v), and 13 digits of (P - 1) x 255 binary searches and an Allreduce each
-        part = (v * c["partition_per_vertex"] + 13 * (p - 1) * 255 * math.log2(v) * 5e-9 +
-                13 * (math.log2(p) * lat + (p - 1) * 255 * 8 / bw))
+    else:  # the curve: O(v), the top-bit histogram's Allreduce (2^16 counts), then 10
+        # digits of (P - 1) x 255 binary searches (in a bucket: log2 v at most) and an
+        # Allreduce each
+        part = (v * c["partition_per_vertex"] + 10 * (p - 1) * 255 * math.log2(v) * 5e-9 +
+                math.log2(p) * lat + 65536 * 8 / bw +
+                10 * (math.log2(p) * lat + (p - 1) * 255 * 8 / bw))
     setup = v * (c["load_per_vertex"] + c["rows_per_vertex"]) + part
     values = 2 * ghosts
     halo = (c["halo_per_value"] * values + c["neighbours"] * 2 * lat +
