@@ -236,27 +236,47 @@ static int cmp_rec(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* The received face records, in increasing face id (*recs, *nf). */
+static uint64_t record_id(const uint32_t *w, size_t at)
+{
+    return (uint64_t)w[at] | (uint64_t)w[at + 1] << 32;
+}
+
+/* The received face records, in increasing face id (*recs, *nf); *recs
+   NULL when they came in that order (usually: the senders' face ranges
+   follow each other), which the readers walk as they are (record_next). */
 static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_rec **recs,
                                 size_t *nf)
 {
     size_t n = 0;
-    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+    int sorted = 1;
+    for (size_t at = 0, last = 0; at < nw; last = at, at += record_words(w[at + 2])) {
+        sorted &= n == 0 || record_id(w, last) < record_id(w, at);
         n++;
+    }
+    *nf = n;
+    *recs = NULL;
+    if (sorted)
+        return LIMN_OK;
     face_rec *r = large_malloc((n ? n : 1) * sizeof *r);
     if (!r)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", n);
     n = 0;
     for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
-        r[n++] = (face_rec){(uint64_t)w[at] | (uint64_t)w[at + 1] << 32, at};
-    int sorted = 1; /* usually: senders' ranges follow each other */
-    for (size_t i = 1; i < n && sorted; i++)
-        sorted = r[i - 1].id < r[i].id;
-    if (!sorted)
-        qsort(r, n, sizeof *r, cmp_rec);
+        r[n++] = (face_rec){record_id(w, at), at};
+    qsort(r, n, sizeof *r, cmp_rec);
     *recs = r;
-    *nf = n;
     return LIMN_OK;
+}
+
+/* The word of record i in increasing face id: from recs, or (recs NULL,
+   the records in order) the next one after *at. */
+static size_t record_next(const uint32_t *w, const face_rec *recs, size_t i, size_t *at)
+{
+    if (recs)
+        return recs[i].at;
+    size_t here = *at;
+    *at += record_words(w[here + 2]);
+    return here;
 }
 
 /* sub_vertices by the ids' ranks (mpi_id_rank: no list of every corner,
@@ -413,13 +433,14 @@ static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in, s
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", nf);
     off[0] = 0;
-    for (size_t i = 0, k = 0; !st && i < nf; i++) {
-        const uint32_t *r = w + recs[i].at;
+    for (size_t i = 0, k = 0, at = 0; !st && i < nf; i++) {
+        size_t here = record_next(w, recs, i, &at);
+        const uint32_t *r = w + here;
         for (uint32_t c = 0; c < r[2]; c++)
             idx[k++] = r[3 + r[2] + c]; /* sub_vertices left the local index there */
         off[i + 1] = (uint32_t)k;
         if (ids)
-            ids[i] = recs[i].id;
+            ids[i] = record_id(w, here);
     }
     if (face_ids)
         *face_ids = ids;
@@ -485,8 +506,8 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
     free(t->own);
     t->own = NULL;
     size_t nc = 0;
-    for (size_t i = 0; !st && i < t->nf; i++)
-        nc += t->words[t->recs[i].at + 2];
+    for (size_t i = 0, at = 0; !st && i < t->nf; i++)
+        nc += t->words[record_next(t->words, t->recs, i, &at) + 2];
     if (!st) /* the positions are fetched into it, the faces written into it */
         st = mesh_alloc(p->ctx, s->n, t->nf, nc, &t->mesh);
     st = mpi_agree(p, st);
