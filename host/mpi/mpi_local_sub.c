@@ -17,27 +17,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The distinct vertices of this rank's faces, increasing (*ref, *nref), and
-   for each face corner the index of its vertex in that list (*corner_ref). */
-static limn_status referenced(mpi_part *p, size_t nf, const uint32_t *off, const uint32_t *idx,
-                              uint32_t **ref, size_t *nref, uint32_t **corner_ref)
-{
-    size_t nc = off[nf];
-    uint32_t *r = large_malloc((nc ? nc : 1) * sizeof *r);
-    uint32_t *cr = large_malloc((nc ? nc : 1) * sizeof *cr);
-    limn_status st = r && cr ? mpi_local_distinct(p->ctx, idx, nc, r, nref, cr)
-                             : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
-                                        "out of memory for %zu face corners", nc);
-    if (st) {
-        free(r);
-        free(cr);
-        return st;
-    }
-    *ref = r;
-    *corner_ref = cr;
-    return LIMN_OK;
-}
-
 /* Face record: face id (2 words), corner count d, d vertices, d parts. */
 static size_t record_words(uint32_t d) { return 3 + 2 * (size_t)d; }
 
@@ -152,46 +131,98 @@ static limn_status refuse_repeats(mpi_part *p, const faces_in *f, size_t vertex_
                     f->begin + first, v);
 }
 
-/* The parts of the vertices this rank's faces use, from their block owners
-   (checked: each part is a rank), and the part of every face corner. */
-static limn_status ref_parts(mpi_part *p, local_sub *s, const size_t *vtxdist,
-                             const uint32_t *part_of, const faces_in *f, uint32_t **ref,
-                             const limn_repair_options *repair, size_t *nref,
-                             uint32_t **ref_part, uint32_t **corner_part)
+/* The corners' ids outside this rank's vertex block [lo, lo + nb), in
+   corner order (*far, *nfar; NULL when none), after the checks of every
+   face's size and ids (a message naming the face). */
+static limn_status far_corners(mpi_part *p, const faces_in *f, size_t lo, size_t nb,
+                               size_t vertex_total, uint32_t **far, size_t *nfar)
 {
-    limn_status st = referenced(p, f->count, f->off, f->idx, ref, nref, corner_part);
-    size_t bad = SIZE_MAX, nb = vtxdist[p->rank + 1] - vtxdist[p->rank];
-    for (size_t i = 0; !st && i < nb && bad == SIZE_MAX; i++)
+    size_t nc = f->off[f->count], n = 0;
+    uint32_t *x = large_malloc((nc ? nc : 1) * sizeof *x); /* pages past n never touched */
+    *far = NULL;
+    *nfar = 0;
+    if (!x)
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu face corners", nc);
+    for (size_t i = 0; i < f->count; i++) {
+        uint32_t b = f->off[i], e = f->off[i + 1];
+        if (e < b + 3) {
+            free(x);
+            return ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                            "face %zu has %ld vertices (at least 3 needed)", f->begin + i,
+                            (long)e - (long)b);
+        }
+        uint32_t worst = 0;
+        for (uint32_t c = b; c < e; c++) {
+            uint32_t v = f->idx[c];
+            worst = v > worst ? v : worst;
+            x[n] = v;
+            n += v - lo >= nb; /* unsigned: below lo wraps above nb */
+        }
+        if (worst >= vertex_total) {
+            uint32_t c = b;
+            while (f->idx[c] < vertex_total)
+                c++;
+            free(x);
+            return ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                            "face %zu uses vertex %u but there are %zu vertices", f->begin + i,
+                            f->idx[c], vertex_total);
+        }
+    }
+    *far = x;
+    *nfar = n;
+    return LIMN_OK;
+}
+
+/* The part of every face corner (*corner_part): part_of for a vertex of this
+   rank's block, the block owner's answer for the distinct others (fetched
+   once each); checked first: each part is a rank, each face has 3 or more
+   vertices below the total, and, with repair off, none repeats a vertex. */
+static limn_status corner_parts(mpi_part *p, local_sub *s, const size_t *vtxdist,
+                                const uint32_t *part_of, const faces_in *f,
+                                const limn_repair_options *repair, uint32_t **corner_part)
+{
+    size_t lo = vtxdist[p->rank], nb = vtxdist[p->rank + 1] - lo, nc = f->off[f->count];
+    size_t bad = SIZE_MAX, nfar = 0, nref = 0;
+    for (size_t i = 0; i < nb && bad == SIZE_MAX; i++)
         if (part_of[i] >= (uint32_t)p->size)
             bad = i;
-    if (!st && bad != SIZE_MAX)
-        st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
-                      "vertex %zu is given to part %u but there are %d ranks",
-                      vtxdist[p->rank] + bad, part_of[bad], p->size);
-    for (size_t i = 0; !st && i < f->count; i++) {
-        if (f->off[i + 1] < f->off[i] + 3) {
-            st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
-                          "face %zu has %ld vertices (at least 3 needed)", f->begin + i,
-                          (long)f->off[i + 1] - (long)f->off[i]);
-            break;
-        }
-        for (uint32_t c = f->off[i]; c < f->off[i + 1] && !st; c++)
-            if (f->idx[c] >= vtxdist[p->size])
-                st = ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
-                              "face %zu uses vertex %u but there are %zu vertices", f->begin + i,
-                              f->idx[c], vtxdist[p->size]);
-    }
+    limn_status st = bad == SIZE_MAX
+                         ? LIMN_OK
+                         : ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
+                                    "vertex %zu is given to part %u but there are %d ranks",
+                                    lo + bad, part_of[bad], p->size);
+    uint32_t *far = NULL, *index = NULL, *ref = NULL, *ref_part = NULL, *cp = NULL;
+    if (!st)
+        st = far_corners(p, f, lo, nb, vtxdist[p->size], &far, &nfar);
     if (!st && repair && !repair->repeated_vertices)
         st = refuse_repeats(p, f, vtxdist[p->size]);
-    *ref_part = st ? NULL : large_malloc((*nref ? *nref : 1) * sizeof **ref_part);
-    if (!st && !*ref_part)
-        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", *nref);
-    mpi_local_note(s, *nref);
+    if (!st) {
+        index = large_malloc((nfar ? nfar : 1) * sizeof *index);
+        ref = large_malloc((nfar ? nfar : 1) * sizeof *ref);
+        cp = large_malloc((nc ? nc : 1) * sizeof *cp);
+        st = index && ref && cp ? mpi_local_distinct(p->ctx, far, nfar, ref, &nref, index)
+                                : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                                           "out of memory for %zu face corners", nc);
+    }
+    free(far);
+    if (!st && !(ref_part = large_malloc((nref ? nref : 1) * sizeof *ref_part)))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nref);
+    mpi_local_note(s, nref);
     st = mpi_agree(p, st);
     if (!st)
-        st = mpi_local_fetch(p, s, vtxdist, *ref, *nref, part_of, sizeof(uint32_t), *ref_part);
-    for (size_t c = 0; !st && c < f->off[f->count]; c++)
-        (*corner_part)[c] = (*ref_part)[(*corner_part)[c]];
+        st = mpi_local_fetch(p, s, vtxdist, ref, nref, part_of, sizeof(uint32_t), ref_part);
+    for (size_t c = 0, j = 0; !st && c < nc; c++) {
+        size_t v = f->idx[c] - lo; /* wraps above nb below the block */
+        cp[c] = v < nb ? part_of[v] : ref_part[index[j++]];
+    }
+    free(index);
+    free(ref);
+    free(ref_part);
+    if (st) {
+        free(cp);
+        cp = NULL;
+    }
+    *corner_part = cp;
     return st;
 }
 
@@ -461,16 +492,14 @@ static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in, s
 }
 
 typedef struct local_tmp {
-    uint32_t *ref, *ref_part, *corner_part, *own, *words;
+    uint32_t *corner_part, *own, *words;
     face_rec *recs;
     limn_mesh *mesh;
-    size_t nref, nown, nw, nf; /* entries of the arrays above */
+    size_t nown, nw, nf; /* entries of the arrays above */
 } local_tmp;
 
 static void tmp_free(local_tmp *t)
 {
-    free(t->ref);
-    free(t->ref_part);
     free(t->corner_part);
     free(t->own);
     free(t->words);
@@ -478,25 +507,16 @@ static void tmp_free(local_tmp *t)
     limn_mesh_destroy(t->mesh);
 }
 
-/* The referenced vertices' lists, done with once the faces are sent. */
-static void free_lists(uint32_t **ref, uint32_t **ref_part, uint32_t **corner_part)
-{
-    free(*ref);
-    free(*ref_part);
-    free(*corner_part);
-    *ref = *ref_part = *corner_part = NULL;
-}
-
 /* Everything up to the sub-mesh's operator (s filled). */
 static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size_t *vtxdist,
                              const double *positions, const uint32_t *part_of, const faces_in *f,
                              const limn_repair_options *repair, uint64_t **face_ids)
 {
-    limn_status st = ref_parts(p, s, vtxdist, part_of, f, &t->ref, repair, &t->nref,
-                               &t->ref_part, &t->corner_part);
+    limn_status st = corner_parts(p, s, vtxdist, part_of, f, repair, &t->corner_part);
     if (!st)
         st = send_faces(p, f, t->corner_part, &t->words, &t->nw);
-    free_lists(&t->ref, &t->ref_part, &t->corner_part); /* their last reader */
+    free(t->corner_part); /* its last reader */
+    t->corner_part = NULL;
     if (!st)
         st = owned_ids(p, s, vtxdist, part_of, &t->own, &t->nown);
     if (!st)
