@@ -78,6 +78,26 @@ limn_status mpi_local_build_on(mpi_part *p, const size_t *vtxdist, const double 
 
 void mpi_local_mesh_free(mpi_local_mesh *lm);
 
+/* ---------------------------------------------------- mpi_local_faces.c */
+
+/* A face record as mpi_local_send_faces sends it: the face's global id (2
+   words, low first), its corner count d, d global vertex ids, d parts. */
+static inline size_t mpi_face_record_words(uint32_t d) { return 3 + 2 * (size_t)d; }
+
+/* Collective: every face of this rank's range (face_count faces from global
+   face face_begin; CSR from 0, global vertex ids) to each distinct part
+   among its vertices (part_of: this rank's block's; the others' from their
+   block owners), checked first with global names: every part a rank, every
+   face 3 or more vertices below vtxdist[size] and, with repair's
+   repeated_vertices off, none twice in a face. *recv (caller frees): the
+   records this rank gets, each sender's in its face order, senders in rank
+   order; *nrecv their words. Every rank gets the same status. */
+limn_status mpi_local_send_faces(mpi_part *p, local_sub *s, const size_t *vtxdist,
+                                 const uint32_t *part_of, size_t face_begin, size_t face_count,
+                                 const uint32_t *face_offsets, const uint32_t *face_indices,
+                                 const limn_repair_options *repair, uint32_t **recv,
+                                 size_t *nrecv);
+
 /* Collective (mpi_local_census.c): limn_mpi_mesh_repair's census and
    duplicate search read from the sub-meshes (lm->face_ids needed), in
    place of their exchanges: every face at an owned vertex is in its

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Local rows, the sub-mesh (mpi_local.h): parts of the vertices the faces
- * use, faces to every part among their vertices, owned vertices from their
- * block owners, and the repaired sub-mesh of every face at an owned vertex
+ * Local rows, the sub-mesh (mpi_local.h): the faces sent to every part
+ * among their vertices (mpi_local_faces.c), owned vertices from their block
+ * owners, and the repaired sub-mesh of every face at an owned vertex
  * (mpi_local_mesh), which mpi_local.c turns into rows and the repair's
  * census reads (mpi_local_census.c).
  */
@@ -13,218 +13,8 @@
 #include "mesh/mesh.h"
 #include "topology/face_keys.h"
 
-#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* Face record: face id (2 words), corner count d, d vertices, d parts. */
-static size_t record_words(uint32_t d) { return 3 + 2 * (size_t)d; }
-
-/* The distinct parts of a face's d corners (their parts cp) into parts. */
-static size_t face_parts(const uint32_t *cp, uint32_t d, uint32_t *parts)
-{
-    size_t np = 0;
-    for (uint32_t c = 0; c < d; c++) {
-        int seen = 0;
-        for (size_t k = 0; k < np; k++)
-            seen |= parts[k] == cp[c];
-        if (!seen)
-            parts[np++] = cp[c];
-    }
-    return np;
-}
-
-typedef struct faces_in {
-    size_t begin, count;
-    const uint32_t *off, *idx;
-} faces_in;
-
-typedef struct faces_out {
-    const faces_in *f;
-    const uint32_t *corner_part;
-    uint32_t *parts; /* scratch: a face's distinct parts */
-    uint32_t **next; /* per part: where its next record goes */
-    size_t nparts;
-} faces_out;
-
-/* Every face's record at the next place of each distinct part among its
-   corners, from to[part] on (mpi_local_alltoallv_packed): in face order
-   within a part, as one send buffer in rank order had them. */
-static void pack_faces(void *user, char *const *to)
-{
-    const faces_out *o = user;
-    const faces_in *f = o->f;
-    for (size_t r = 0; r < o->nparts; r++)
-        o->next[r] = (uint32_t *)to[r];
-    for (size_t i = 0; i < f->count; i++) {
-        const uint32_t *v = f->idx + f->off[i], *cp = o->corner_part + f->off[i];
-        uint32_t d = f->off[i + 1] - f->off[i];
-        size_t np = face_parts(cp, d, o->parts);
-        uint64_t id = f->begin + i;
-        for (size_t k = 0; k < np; k++) {
-            uint32_t *w = o->next[o->parts[k]];
-            w[0] = (uint32_t)id;
-            w[1] = (uint32_t)(id >> 32);
-            w[2] = d;
-            for (uint32_t c = 0; c < d; c++) {
-                w[3 + c] = v[c];
-                w[3 + d + c] = cp[c];
-            }
-            o->next[o->parts[k]] = w + record_words(d);
-        }
-    }
-}
-
-/* Each face to every distinct part among its vertices (records above);
-   *recv, *nrecv: the records this rank receives. */
-static limn_status send_faces(mpi_part *p, const faces_in *f, const uint32_t *corner_part,
-                              uint32_t **recv, size_t *nrecv)
-{
-    size_t R = (size_t)p->size, maxd = 0;
-    for (size_t i = 0; i < f->count; i++)
-        maxd = f->off[i + 1] - f->off[i] > maxd ? f->off[i + 1] - f->off[i] : maxd;
-    int *cnt = calloc(2 * R, sizeof *cnt), *rcnt = cnt + R;
-    size_t *words = calloc(R, sizeof *words);
-    faces_out o = {f, corner_part, large_malloc((maxd ? maxd : 1) * sizeof(uint32_t)),
-                   large_malloc(R * sizeof(uint32_t *)), R};
-    limn_status st = LIMN_OK;
-    if (!cnt || !words || !o.parts || !o.next)
-        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory sending faces");
-    for (size_t i = 0; !st && i < f->count; i++) {
-        uint32_t d = f->off[i + 1] - f->off[i];
-        size_t np = face_parts(corner_part + f->off[i], d, o.parts);
-        for (size_t k = 0; k < np; k++)
-            words[o.parts[k]] += record_words(d);
-    }
-    for (size_t r = 0; !st && r < R; r++)
-        cnt[r] = words[r] > INT_MAX ? INT_MAX : (int)words[r];
-    st = mpi_agree(p, st);
-    void *got = NULL;
-    if (!st)
-        st = mpi_local_alltoallv_packed(p, cnt, sizeof(uint32_t), pack_faces, &o, &got, rcnt,
-                                        nrecv);
-    *recv = got;
-    free(cnt);
-    free(words);
-    free(o.parts);
-    free(o.next);
-    return st;
-}
-
-/* With repair off, limn_mesh_repair's refusal of the first face that uses a
-   vertex twice, in input numbering (the lowest failing rank's message is the
-   one every rank gets: with face ranges in rank order, the first face). */
-static limn_status refuse_repeats(mpi_part *p, const faces_in *f, size_t vertex_total)
-{
-    limn_mesh view = {.vertex_count = vertex_total,
-                      .face_count = f->count,
-                      .face_offsets = (uint32_t *)f->off,
-                      .face_indices = (uint32_t *)f->idx};
-    size_t first = SIZE_MAX;
-    uint32_t v = 0;
-    limn_status st = face_first_repeat(p->ctx, &view, &first, &v);
-    if (st || first == SIZE_MAX)
-        return st;
-    return ctx_fail(p->ctx, LIMN_ERR_TOPOLOGY,
-                    "face %zu uses vertex %u twice (a degenerate face) and repair is off: "
-                    "remove the face, or allow the repair (drop --no-repair)",
-                    f->begin + first, v);
-}
-
-/* The corners' ids outside this rank's vertex block [lo, lo + nb), in
-   corner order (*far, *nfar; NULL when none), after the checks of every
-   face's size and ids (a message naming the face). */
-static limn_status far_corners(mpi_part *p, const faces_in *f, size_t lo, size_t nb,
-                               size_t vertex_total, uint32_t **far, size_t *nfar)
-{
-    size_t nc = f->off[f->count], n = 0;
-    uint32_t *x = large_malloc((nc ? nc : 1) * sizeof *x); /* pages past n never touched */
-    *far = NULL;
-    *nfar = 0;
-    if (!x)
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu face corners", nc);
-    for (size_t i = 0; i < f->count; i++) {
-        uint32_t b = f->off[i], e = f->off[i + 1];
-        if (e < b + 3) {
-            free(x);
-            return ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
-                            "face %zu has %ld vertices (at least 3 needed)", f->begin + i,
-                            (long)e - (long)b);
-        }
-        uint32_t worst = 0;
-        for (uint32_t c = b; c < e; c++) {
-            uint32_t v = f->idx[c];
-            worst = v > worst ? v : worst;
-            x[n] = v;
-            n += v - lo >= nb; /* unsigned: below lo wraps above nb */
-        }
-        if (worst >= vertex_total) {
-            uint32_t c = b;
-            while (f->idx[c] < vertex_total)
-                c++;
-            free(x);
-            return ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
-                            "face %zu uses vertex %u but there are %zu vertices", f->begin + i,
-                            f->idx[c], vertex_total);
-        }
-    }
-    *far = x;
-    *nfar = n;
-    return LIMN_OK;
-}
-
-/* The part of every face corner (*corner_part): part_of for a vertex of this
-   rank's block, the block owner's answer for the distinct others (fetched
-   once each); checked first: each part is a rank, each face has 3 or more
-   vertices below the total, and, with repair off, none repeats a vertex. */
-static limn_status corner_parts(mpi_part *p, local_sub *s, const size_t *vtxdist,
-                                const uint32_t *part_of, const faces_in *f,
-                                const limn_repair_options *repair, uint32_t **corner_part)
-{
-    size_t lo = vtxdist[p->rank], nb = vtxdist[p->rank + 1] - lo, nc = f->off[f->count];
-    size_t bad = SIZE_MAX, nfar = 0, nref = 0;
-    for (size_t i = 0; i < nb && bad == SIZE_MAX; i++)
-        if (part_of[i] >= (uint32_t)p->size)
-            bad = i;
-    limn_status st = bad == SIZE_MAX
-                         ? LIMN_OK
-                         : ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
-                                    "vertex %zu is given to part %u but there are %d ranks",
-                                    lo + bad, part_of[bad], p->size);
-    uint32_t *far = NULL, *index = NULL, *ref = NULL, *ref_part = NULL, *cp = NULL;
-    if (!st)
-        st = far_corners(p, f, lo, nb, vtxdist[p->size], &far, &nfar);
-    if (!st && repair && !repair->repeated_vertices)
-        st = refuse_repeats(p, f, vtxdist[p->size]);
-    if (!st) {
-        index = large_malloc((nfar ? nfar : 1) * sizeof *index);
-        ref = large_malloc((nfar ? nfar : 1) * sizeof *ref);
-        cp = large_malloc((nc ? nc : 1) * sizeof *cp);
-        st = index && ref && cp ? mpi_local_distinct(p->ctx, far, nfar, ref, &nref, index)
-                                : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
-                                           "out of memory for %zu face corners", nc);
-    }
-    free(far);
-    if (!st && !(ref_part = large_malloc((nref ? nref : 1) * sizeof *ref_part)))
-        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nref);
-    mpi_local_note(s, nref);
-    st = mpi_agree(p, st);
-    if (!st)
-        st = mpi_local_fetch(p, s, vtxdist, ref, nref, part_of, sizeof(uint32_t), ref_part);
-    for (size_t c = 0, j = 0; !st && c < nc; c++) {
-        size_t v = f->idx[c] - lo; /* wraps above nb below the block */
-        cp[c] = v < nb ? part_of[v] : ref_part[index[j++]];
-    }
-    free(index);
-    free(ref);
-    free(ref_part);
-    if (st) {
-        free(cp);
-        cp = NULL;
-    }
-    *corner_part = cp;
-    return st;
-}
 
 /* The owned vertices (global ids, increasing) from the block owners. */
 static limn_status owned_ids(mpi_part *p, local_sub *s, const size_t *vtxdist,
@@ -272,19 +62,33 @@ static uint64_t record_id(const uint32_t *w, size_t at)
     return (uint64_t)w[at] | (uint64_t)w[at + 1] << 32;
 }
 
-/* The received face records, in increasing face id (*recs, *nf); *recs
+/* What one walk over the received records tells: their faces, corners and
+   the range of their vertex ids (lo > hi when there are none). */
+typedef struct records_span {
+    size_t nf, nc;
+    uint32_t lo, hi;
+} records_span;
+
+/* The received face records, in increasing face id (*recs, span); *recs
    NULL when they came in that order (usually: the senders' face ranges
    follow each other), which the readers walk as they are (record_next). */
 static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_rec **recs,
-                                size_t *nf)
+                                records_span *span)
 {
-    size_t n = 0;
+    size_t n = 0, nc = 0;
+    uint32_t lo = UINT32_MAX, hi = 0;
     int sorted = 1;
-    for (size_t at = 0, last = 0; at < nw; last = at, at += record_words(w[at + 2])) {
+    for (size_t at = 0, last = 0; at < nw; last = at, at += mpi_face_record_words(w[at + 2])) {
         sorted &= n == 0 || record_id(w, last) < record_id(w, at);
         n++;
+        nc += w[at + 2];
+        for (uint32_t c = 0, d = w[at + 2]; c < d; c++) {
+            uint32_t v = w[at + 3 + c];
+            lo = v < lo ? v : lo;
+            hi = v > hi ? v : hi;
+        }
     }
-    *nf = n;
+    *span = (records_span){n, nc, lo, hi};
     *recs = NULL;
     if (sorted)
         return LIMN_OK;
@@ -292,7 +96,7 @@ static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_
     if (!r)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", n);
     n = 0;
-    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+    for (size_t at = 0; at < nw; at += mpi_face_record_words(w[at + 2]))
         r[n++] = (face_rec){record_id(w, at), at};
     qsort(r, n, sizeof *r, cmp_rec);
     *recs = r;
@@ -306,14 +110,14 @@ static size_t record_next(const uint32_t *w, const face_rec *recs, size_t i, siz
     if (recs)
         return recs[i].at;
     size_t here = *at;
-    *at += record_words(w[here + 2]);
+    *at += mpi_face_record_words(w[here + 2]);
     return here;
 }
 
 /* sub_vertices by the ids' ranks (mpi_id_rank: no list of every corner,
    no sort); 0 when out of memory for the bitmap (nothing changed then). */
 static int sub_vertices_ranked(mpi_part *p, local_sub *s, const uint32_t *own, size_t n_own,
-                               uint32_t *w, size_t nw, uint32_t lo, uint32_t hi,
+                               uint32_t *w, size_t nw, uint32_t lo, uint32_t hi, uint32_t *out,
                                limn_status *st)
 {
     mpi_id_rank r;
@@ -321,7 +125,7 @@ static int sub_vertices_ranked(mpi_part *p, local_sub *s, const uint32_t *own, s
         return 0;
     for (size_t i = 0; i < n_own; i++)
         mpi_id_rank_add(&r, own[i]);
-    for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+    for (size_t at = 0; at < nw; at += mpi_face_record_words(w[at + 2]))
         for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
             mpi_id_rank_add(&r, w[at + 3 + c]);
     size_t k = mpi_id_rank_finish(&r);
@@ -333,11 +137,14 @@ static int sub_vertices_ranked(mpi_part *p, local_sub *s, const uint32_t *own, s
               : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
     if (!*st) {
         mpi_id_rank_list(&r, s->ids);
-        for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
-            for (uint32_t c = 0, d = w[at + 2]; c < d; c++) {
+        for (size_t at = 0, n = 0; at < nw; at += mpi_face_record_words(w[at + 2]))
+            for (uint32_t c = 0, d = w[at + 2]; c < d; c++, n++) {
                 uint32_t i = mpi_id_rank_of(&r, w[at + 3 + c]);
                 s->part[i] = w[at + 3 + d + c]; /* the same for every copy */
-                w[at + 3 + d + c] = i;
+                if (out)
+                    out[n] = i;
+                else
+                    w[at + 3 + d + c] = i;
             }
         /* own increases: so do their places, the owned rows' order */
         for (size_t i = 0; i < n_own; i++) {
@@ -352,31 +159,25 @@ static int sub_vertices_ranked(mpi_part *p, local_sub *s, const uint32_t *own, s
     return 1;
 }
 
-/* The sub-mesh's vertices: owned ones and those of the received faces,
-   increasing, each with its part (s->ids, s->part, s->owned). Each corner's
-   part word in w is then overwritten with its vertex's sub-mesh index. By
-   the ranks of a bitmap when the ids' range is at most 32 times their
-   count (mpi_local_distinct's rule), else through mpi_local_distinct. */
+/* The sub-mesh's vertices: owned ones (own, increasing) and those of the
+   received faces (span: sort_records'), increasing, each with its part
+   (s->ids, s->part, s->owned). Each corner's vertex's sub-mesh index then
+   goes to out (in the records' order), or without out over the corner's
+   part word in w. By the ranks of a bitmap when the ids' range is at most
+   32 times their count (mpi_local_distinct's rule), else through
+   mpi_local_distinct. */
 static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, size_t n_own,
-                                uint32_t *w, size_t nw)
+                                uint32_t *w, size_t nw, const records_span *span, uint32_t *out)
 {
-    size_t nc = 0, k = 0;
-    uint32_t lo = UINT32_MAX, hi = 0;
-    for (size_t i = 0; i < n_own; i++) {
-        lo = own[i] < lo ? own[i] : lo;
-        hi = own[i] > hi ? own[i] : hi;
-    }
-    for (size_t at = 0; at < nw; at += record_words(w[at + 2])) {
-        nc += w[at + 2];
-        for (uint32_t c = 0, d = w[at + 2]; c < d; c++) {
-            uint32_t v = w[at + 3 + c];
-            lo = v < lo ? v : lo;
-            hi = v > hi ? v : hi;
-        }
+    size_t nc = span->nc, k = 0;
+    uint32_t lo = span->lo, hi = span->hi;
+    if (n_own) { /* own increases */
+        lo = own[0] < lo ? own[0] : lo;
+        hi = own[n_own - 1] > hi ? own[n_own - 1] : hi;
     }
     limn_status ranked_st = LIMN_OK;
     if (n_own + nc > 0 && (uint64_t)hi - lo + 1 <= 32 * (uint64_t)(n_own + nc) &&
-        sub_vertices_ranked(p, s, own, n_own, w, nw, lo, hi, &ranked_st))
+        sub_vertices_ranked(p, s, own, n_own, w, nw, lo, hi, out, &ranked_st))
         return ranked_st;
     size_t cap = n_own + nc, n = n_own;
     uint32_t *all = large_malloc((cap ? cap : 1) * sizeof *all);
@@ -389,17 +190,20 @@ static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, 
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
     if (!st) { /* the owned ids, then every corner's */
         memcpy(all, own, n_own * sizeof *all);
-        for (size_t at = 0; at < nw; at += record_words(w[at + 2]))
+        for (size_t at = 0; at < nw; at += mpi_face_record_words(w[at + 2]))
             for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
                 all[n++] = w[at + 3 + c];
         st = mpi_local_distinct(p->ctx, all, cap, s->ids, &k, index);
     }
     free(all);
     n = n_own;
-    for (size_t at = 0; !st && at < nw; at += record_words(w[at + 2]))
+    for (size_t at = 0; !st && at < nw; at += mpi_face_record_words(w[at + 2]))
         for (uint32_t c = 0, d = w[at + 2]; c < d; c++, n++) {
             s->part[index[n]] = w[at + 3 + d + c]; /* the same for every copy */
-            w[at + 3 + d + c] = index[n];
+            if (out)
+                out[n - n_own] = index[n];
+            else
+                w[at + 3 + d + c] = index[n];
         }
     for (size_t i = 0; !st && i < n_own; i++)
         s->part[index[i]] = (uint32_t)p->rank;
@@ -416,6 +220,18 @@ static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, 
     s->n = k;
     s->n_owned = n_own;
     mpi_local_note(s, k);
+    return LIMN_OK;
+}
+
+/* The sub-mesh's positions (n vertices) in m, allocated with none. */
+static limn_status sub_positions(limn_context *ctx, limn_mesh *m, size_t n)
+{
+    double *x = large_malloc((n ? n : 1) * 3 * sizeof *x);
+    if (!x)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
+    free(m->positions);
+    m->positions = x;
+    m->vertex_count = n;
     return LIMN_OK;
 }
 
@@ -448,13 +264,15 @@ static limn_status sub_repair(limn_context *ctx, limn_mesh *m, const limn_repair
 }
 
 /* The sub-mesh's faces (by increasing id, local vertex numbers) written
-   into m (allocated for them: no copy), then repaired; the records (*words,
-   *recs) are freed once the faces are out of them. Its indices are below
-   its vertex count by construction and its positions are the input's,
-   checked by the callers with global names (mpi_mesh_check): none of
-   limn_mesh_create's checks and copies. */
+   into m (allocated for them: no copy; its indices there already when
+   indexed, sub_vertices having written them), then repaired; the records
+   (*words, *recs) are freed once the faces are out of them. Its indices are
+   below its vertex count by construction and its positions are the
+   input's, checked by the callers with global names (mpi_mesh_check): none
+   of limn_mesh_create's checks and copies. */
 static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in, size_t nf,
-                            const limn_repair_options *repair, limn_mesh *m, uint64_t **face_ids)
+                            int indexed, const limn_repair_options *repair, limn_mesh *m,
+                            uint64_t **face_ids)
 {
     const uint32_t *w = *words;
     const face_rec *recs = *recs_in;
@@ -467,8 +285,9 @@ static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in, s
     for (size_t i = 0, k = 0, at = 0; !st && i < nf; i++) {
         size_t here = record_next(w, recs, i, &at);
         const uint32_t *r = w + here;
-        for (uint32_t c = 0; c < r[2]; c++)
-            idx[k++] = r[3 + r[2] + c]; /* sub_vertices left the local index there */
+        for (uint32_t c = 0; c < r[2] && !indexed; c++)
+            idx[k + c] = r[3 + r[2] + c]; /* sub_vertices left the local index there */
+        k += r[2];
         off[i + 1] = (uint32_t)k;
         if (ids)
             ids[i] = record_id(w, here);
@@ -492,15 +311,15 @@ static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in, s
 }
 
 typedef struct local_tmp {
-    uint32_t *corner_part, *own, *words;
+    uint32_t *own, *words;
     face_rec *recs;
     limn_mesh *mesh;
-    size_t nown, nw, nf; /* entries of the arrays above */
+    size_t nown, nw; /* entries of the arrays above */
+    records_span span;
 } local_tmp;
 
 static void tmp_free(local_tmp *t)
 {
-    free(t->corner_part);
     free(t->own);
     free(t->words);
     free(t->recs);
@@ -509,36 +328,41 @@ static void tmp_free(local_tmp *t)
 
 /* Everything up to the sub-mesh's operator (s filled). */
 static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size_t *vtxdist,
-                             const double *positions, const uint32_t *part_of, const faces_in *f,
-                             const limn_repair_options *repair, uint64_t **face_ids)
+                             const double *positions, const uint32_t *part_of, size_t face_begin,
+                             size_t face_count, const uint32_t *face_offsets,
+                             const uint32_t *face_indices, const limn_repair_options *repair,
+                             uint64_t **face_ids)
 {
-    limn_status st = corner_parts(p, s, vtxdist, part_of, f, repair, &t->corner_part);
-    if (!st)
-        st = send_faces(p, f, t->corner_part, &t->words, &t->nw);
-    free(t->corner_part); /* its last reader */
-    t->corner_part = NULL;
+    limn_status st = mpi_local_send_faces(p, s, vtxdist, part_of, face_begin, face_count,
+                                          face_offsets, face_indices, repair, &t->words, &t->nw);
     if (!st)
         st = owned_ids(p, s, vtxdist, part_of, &t->own, &t->nown);
     if (!st)
-        st = sort_records(p, t->words, t->nw, &t->recs, &t->nf);
+        st = sort_records(p, t->words, t->nw, &t->recs, &t->span);
+    /* records in face order (the usual case): each corner's sub-mesh index
+       goes straight to the mesh's faces, allocated first, the positions once
+       the vertices are counted; else through the records (sub_mesh) */
+    int indexed = !st && !t->recs;
+    if (indexed)
+        st = mesh_alloc(p->ctx, 0, t->span.nf, t->span.nc, &t->mesh);
     if (!st)
-        st = sub_vertices(p, s, t->own, t->nown, t->words, t->nw);
+        st = sub_vertices(p, s, t->own, t->nown, t->words, t->nw, &t->span,
+                          indexed ? t->mesh->face_indices : NULL);
     free(t->own);
     t->own = NULL;
-    size_t nc = 0;
-    for (size_t i = 0, at = 0; !st && i < t->nf; i++)
-        nc += t->words[record_next(t->words, t->recs, i, &at) + 2];
-    if (!st) /* the positions are fetched into it, the faces written into it */
-        st = mesh_alloc(p->ctx, s->n, t->nf, nc, &t->mesh);
+    if (!st && indexed)
+        st = sub_positions(p->ctx, t->mesh, s->n);
+    else if (!st) /* the positions are fetched into it, the faces written into it */
+        st = mesh_alloc(p->ctx, s->n, t->span.nf, t->span.nc, &t->mesh);
     st = mpi_agree(p, st);
     if (!st)
         st = mpi_local_fetch(p, s, vtxdist, s->ids, s->n, positions, 3 * sizeof(double),
                              t->mesh->positions);
     if (!st)
-        st = sub_mesh(p, &t->words, &t->recs, t->nf, repair, t->mesh, face_ids);
+        st = sub_mesh(p, &t->words, &t->recs, t->span.nf, indexed, repair, t->mesh, face_ids);
     st = mpi_agree(p, st);
     if (s->stats) {
-        s->stats->faces_received = t->nf;
+        s->stats->faces_received = t->span.nf;
         s->stats->sub_vertices = s->n;
         s->stats->sub_faces = t->mesh ? t->mesh->face_count : 0;
     }
@@ -591,11 +415,10 @@ limn_status mpi_local_mesh_build(mpi_part *p, const size_t *vtxdist, const doubl
     memset(&t, 0, sizeof t);
     memset(lm, 0, sizeof *lm);
     lm->s.stats = stats;
-    faces_in f = {face_begin, face_count, face_offsets, face_indices};
     limn_status st = check_blocks(p, vtxdist, face_offsets);
     if (!st)
-        st = build_sub(p, &lm->s, &t, vtxdist, positions, part_of, &f, repair,
-                       face_ids ? &lm->face_ids : NULL);
+        st = build_sub(p, &lm->s, &t, vtxdist, positions, part_of, face_begin, face_count,
+                       face_offsets, face_indices, repair, face_ids ? &lm->face_ids : NULL);
     lm->mesh = t.mesh; /* the build's lists are freed: the sub-mesh is what is left */
     t.mesh = NULL;
     tmp_free(&t);
