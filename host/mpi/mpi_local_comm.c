@@ -438,26 +438,20 @@ double mpi_local_diagonal(mpi_part *p, const double *pos, size_t nb)
 
 /* ------------------------------------------------------ the global counts */
 
-/* Lowest part among face f's vertices (the rank that counts it). */
-static uint32_t face_counter(const local_sub *s, const limn_mesh *m, size_t f)
+/* This rank's share of the edge cut from the faces whose vertices are in
+   more than one part (mixed, nm of them; no other face has a cut edge):
+   distinct edges between parts whose lower part is this rank (each counted
+   on one rank). */
+static limn_status local_cut(mpi_part *p, const local_sub *s, const limn_mesh *m,
+                             const uint32_t *mixed, size_t nm, size_t corners, size_t *cut)
 {
-    uint32_t low = UINT32_MAX;
-    for (uint32_t c = m->face_offsets[f]; c < m->face_offsets[f + 1]; c++)
-        low = s->part[m->face_indices[c]] < low ? s->part[m->face_indices[c]] : low;
-    return low;
-}
-
-/* This rank's share of the edge cut: distinct edges between parts whose
-   lower part is this rank (each counted on one rank). */
-static limn_status local_cut(mpi_part *p, const local_sub *s, const limn_mesh *m, size_t *cut)
-{
-    size_t nc = m->face_offsets[m->face_count], n = 0;
-    uint64_t *e = large_malloc((nc ? nc : 1) * sizeof *e);
+    size_t n = 0;
+    uint64_t *e = large_malloc((corners ? corners : 1) * sizeof *e);
     *cut = 0;
     if (!e)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the edge cut");
-    for (size_t f = 0; f < m->face_count; f++) {
-        uint32_t b = m->face_offsets[f], end = m->face_offsets[f + 1];
+    for (size_t i = 0; i < nm; i++) {
+        uint32_t b = m->face_offsets[mixed[i]], end = m->face_offsets[mixed[i] + 1];
         for (uint32_t c = b; c < end; c++) {
             uint32_t u = m->face_indices[c], v = m->face_indices[c + 1 < end ? c + 1 : b];
             uint32_t pu = s->part[u], pv = s->part[v];
@@ -482,11 +476,29 @@ static void sum_counts(mpi_part *p, uint64_t *v, int n)
 
 limn_status mpi_local_counts(mpi_part *p, const local_sub *s, const limn_mesh *m)
 {
-    size_t cut = 0;
+    size_t cut = 0, nm = 0, corners = 0;
     uint64_t counts[2] = {0, 0};
-    limn_status st = local_cut(p, s, m, &cut);
-    for (size_t f = 0; f < m->face_count; f++)
-        counts[0] += face_counter(s, m, f) == (uint32_t)p->rank;
+    /* pages past the mixed faces' entries (few: those across the cut) are
+       never touched */
+    uint32_t *mixed = large_malloc((m->face_count ? m->face_count : 1) * sizeof *mixed);
+    limn_status st = mixed ? LIMN_OK
+                           : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the edge cut");
+    for (size_t f = 0; !st && f < m->face_count; f++) {
+        uint32_t b = m->face_offsets[f], end = m->face_offsets[f + 1];
+        uint32_t low = s->part[m->face_indices[b]], high = low;
+        for (uint32_t c = b + 1; c < end; c++) {
+            uint32_t q = s->part[m->face_indices[c]];
+            low = q < low ? q : low;
+            high = q > high ? q : high;
+        }
+        counts[0] += low == (uint32_t)p->rank; /* the lowest part counts the face */
+        mixed[nm] = (uint32_t)f;
+        nm += low != high;
+        corners += low != high ? end - b : 0;
+    }
+    if (!st)
+        st = local_cut(p, s, m, mixed, nm, corners, &cut);
+    free(mixed);
     counts[1] = cut;
     st = mpi_agree(p, st);
     if (st)

@@ -62,11 +62,14 @@ static uint64_t record_id(const uint32_t *w, size_t at)
     return (uint64_t)w[at] | (uint64_t)w[at + 1] << 32;
 }
 
-/* What one walk over the received records tells: their faces, corners and
-   the range of their vertex ids (lo > hi when there are none). */
+/* What one walk over the received records tells: their faces, corners,
+   the range of their vertex ids (lo > hi when there are none) and whether
+   a face may use a vertex twice (0: none does; faces of more than 16
+   corners are left to face_first_repeat). */
 typedef struct records_span {
     size_t nf, nc;
     uint32_t lo, hi;
+    int may_repeat;
 } records_span;
 
 /* The received face records, in increasing face id (*recs, span); *recs
@@ -77,18 +80,22 @@ static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_
 {
     size_t n = 0, nc = 0;
     uint32_t lo = UINT32_MAX, hi = 0;
-    int sorted = 1;
+    int sorted = 1, repeat = 0;
     for (size_t at = 0, last = 0; at < nw; last = at, at += mpi_face_record_words(w[at + 2])) {
         sorted &= n == 0 || record_id(w, last) < record_id(w, at);
         n++;
-        nc += w[at + 2];
-        for (uint32_t c = 0, d = w[at + 2]; c < d; c++) {
-            uint32_t v = w[at + 3 + c];
-            lo = v < lo ? v : lo;
-            hi = v > hi ? v : hi;
+        uint32_t d = w[at + 2];
+        const uint32_t *v = w + at + 3;
+        nc += d;
+        repeat |= d > 16;
+        for (uint32_t c = 0; c < d; c++) {
+            lo = v[c] < lo ? v[c] : lo;
+            hi = v[c] > hi ? v[c] : hi;
+            for (uint32_t c2 = c + 1; c2 < d && d <= 16; c2++)
+                repeat |= v[c] == v[c2];
         }
     }
-    *span = (records_span){n, nc, lo, hi};
+    *span = (records_span){n, nc, lo, hi, repeat};
     *recs = NULL;
     if (sorted)
         return LIMN_OK;
@@ -249,11 +256,15 @@ static void free_records(uint32_t **words, face_rec **recs)
    its census, with no report asked and its warnings dropped (sub_mesh), only
    cost time, and the operator builds the topology the repair would have
    cached. So a sub-mesh without a repeated corner (every sub-mesh of a mesh
-   limn_mpi_mesh_repair has seen) is left as it is unless duplicates are to
-   be removed: the same faces, the same operator. */
-static limn_status sub_repair(limn_context *ctx, limn_mesh *m, const limn_repair_options *repair)
+   limn_mpi_mesh_repair has seen; may_repeat 0: sort_records found none) is
+   left as it is unless duplicates are to be removed: the same faces, the
+   same operator. */
+static limn_status sub_repair(limn_context *ctx, limn_mesh *m, const limn_repair_options *repair,
+                              int may_repeat)
 {
     if (!repair || !repair->duplicate_faces) {
+        if (!may_repeat) /* sort_records saw every face */
+            return LIMN_OK;
         size_t first = SIZE_MAX;
         uint32_t v = 0;
         limn_status st = face_first_repeat(ctx, m, &first, &v);
@@ -270,10 +281,11 @@ static limn_status sub_repair(limn_context *ctx, limn_mesh *m, const limn_repair
    below its vertex count by construction and its positions are the
    input's, checked by the callers with global names (mpi_mesh_check): none
    of limn_mesh_create's checks and copies. */
-static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in, size_t nf,
-                            int indexed, const limn_repair_options *repair, limn_mesh *m,
-                            uint64_t **face_ids)
+static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in,
+                            const records_span *span, int indexed,
+                            const limn_repair_options *repair, limn_mesh *m, uint64_t **face_ids)
 {
+    size_t nf = span->nf;
     const uint32_t *w = *words;
     const face_rec *recs = *recs_in;
     uint32_t *off = m->face_offsets, *idx = m->face_indices;
@@ -303,7 +315,7 @@ static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in, s
     ctx->warnings = NULL;
     ctx->warnings_len = 0;
     if (!st)
-        st = sub_repair(ctx, m, repair);
+        st = sub_repair(ctx, m, repair, span->may_repeat);
     free(ctx->warnings);
     ctx->warnings = warnings;
     ctx->warnings_len = warnings_len;
@@ -359,7 +371,7 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
         st = mpi_local_fetch(p, s, vtxdist, s->ids, s->n, positions, 3 * sizeof(double),
                              t->mesh->positions);
     if (!st)
-        st = sub_mesh(p, &t->words, &t->recs, t->span.nf, indexed, repair, t->mesh, face_ids);
+        st = sub_mesh(p, &t->words, &t->recs, &t->span, indexed, repair, t->mesh, face_ids);
     st = mpi_agree(p, st);
     if (s->stats) {
         s->stats->faces_received = t->span.nf;
