@@ -87,13 +87,18 @@ static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_
         uint32_t d = w[at + 2];
         const uint32_t *v = w + at + 3;
         nc += d;
-        repeat |= d > 16;
         for (uint32_t c = 0; c < d; c++) {
             lo = v[c] < lo ? v[c] : lo;
             hi = v[c] > hi ? v[c] : hi;
-            for (uint32_t c2 = c + 1; c2 < d && d <= 16; c2++)
-                repeat |= v[c] == v[c2];
         }
+        if (d == 3) /* the usual face, without a loop */
+            repeat |= (v[0] == v[1]) | (v[1] == v[2]) | (v[0] == v[2]);
+        else if (d > 16)
+            repeat = 1;
+        else
+            for (uint32_t c = 0; c < d; c++)
+                for (uint32_t c2 = c + 1; c2 < d; c2++)
+                    repeat |= v[c] == v[c2];
     }
     *span = (records_span){n, nc, lo, hi, repeat};
     *recs = NULL;
