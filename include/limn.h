@@ -703,9 +703,14 @@ LIMN_API limn_status limn_denoise(limn_context *ctx, const limn_mesh *mesh,
  * the unknown clean mesh for Gaussian noise of deviation sigma on every
  * coordinate; sigma is estimated from the mesh (the smallest over k of
  * |(E - A)^k M|^2 / (3 tr (E - A)^{2k}), the energy noise alone would leave)
- * and returned in *sigma (may be NULL). F keeps constants
- * (p(1) = 1). keep_volume as for limn_denoise. Holds `products` copies of the
- * positions on the host.
+ * and returned in *sigma (may be NULL). Then, from the same vectors (no
+ * further products), the split: each vector's part along the vertex normals
+ * of F M and its part across them get their own polynomial, fitted the same
+ * way with their own noise estimates, so noise along the normals (a range
+ * scanner's) leaves the vertices where they are along the surface
+ * (docs/series.md). Both keep constants (p(1) = 1). keep_volume as for
+ * limn_denoise. Holds `products` copies of the positions on the host, and
+ * one more third of that while the split is fitted.
  */
 LIMN_API limn_status limn_denoise_sure(limn_context *ctx, const limn_mesh *mesh,
                                        const limn_series_options *options, int products,

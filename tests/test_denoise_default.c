@@ -5,7 +5,11 @@
  * powers on regular tori (where the lattice is exact), the least squares
  * against the normal equations by Gaussian elimination, the constrained fit
  * (the gain kept in [0, 1]) against brute force over degree-2 gains, the
- * noise estimate against the noise put in — and the properties: with seeded noise it beats
+ * noise estimate against the noise put in, the split (sure_split) against its
+ * definition computed vertex by vertex, its frame against host products of A,
+ * the vertex normals against a search of each vertex's faces — and the
+ * properties: the split finds noise along the normals and keeps a scan's
+ * sampling where one polynomial evens it out; with seeded noise it beats
  * Taubin lambda|mu (perf/taubin.c, independent) at the same number of
  * operator products by >= 10% in distance and normal error on shared meshes
  * where the oracle bound says that is reachable, volume kept; a clean mesh is
@@ -132,17 +136,38 @@ static void traces_exact_on_regular_tori(void **s)
     limn_context_destroy(ctx);
 }
 
+/* The next uniform in [-0.5, 0.5) of a 64-bit LCG. */
+static double lcg(uint64_t *x)
+{
+    *x = *x * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(*x >> 11) / 9007199254740992.0 - 0.5;
+}
+
+/* Gauss-Jordan on the k x k normal equations g d = rhs (g: k rows of k + 1,
+   the last column rhs), the solution into d. */
+static void gauss_jordan(int k, double g[][9], double *d)
+{
+    for (int c = 0; c < k; c++)
+        for (int i = 0; i < k; i++) {
+            if (i == c)
+                continue;
+            double f = g[i][c] / g[c][c];
+            for (int j = c; j <= k; j++)
+                g[i][j] -= f * g[c][j];
+        }
+    for (int i = 0; i < k; i++)
+        d[i] = g[i][k] / g[i][i];
+}
+
 static void least_squares_solves_normal_equations(void **s)
 {
     (void)s;
     limn_context *ctx = ctx_for("reference");
     enum { K = 5, N = 300 };
-    double r[K * N], g[K][K + 1], rhs[K], d[K];
+    double r[K * N], g[K][9], rhs[K], d[K], want[K];
     uint64_t x = 12345;
-    for (int i = 0; i < K * N; i++) {
-        x = x * 6364136223846793005ULL + 1442695040888963407ULL;
-        r[i] = (double)(x >> 11) / 9007199254740992.0 - 0.5;
-    }
+    for (int i = 0; i < K * N; i++)
+        r[i] = lcg(&x);
     for (int i = 0; i < K; i++) {
         rhs[i] = 0.3 * i - 1.0;
         for (int j = 0; j < K; j++) {
@@ -153,16 +178,9 @@ static void least_squares_solves_normal_equations(void **s)
         g[i][K] = rhs[i];
     }
     CHECK_OK(ctx, sure_least_squares(ctx, r, N, K, rhs, NULL, 0.0, d));
-    for (int c = 0; c < K; c++) /* Gauss-Jordan on the normal equations */
-        for (int i = 0; i < K; i++) {
-            if (i == c)
-                continue;
-            double f = g[i][c] / g[c][c];
-            for (int j = c; j <= K; j++)
-                g[i][j] -= f * g[c][j];
-        }
+    gauss_jordan(K, g, want);
     for (int i = 0; i < K; i++)
-        assert_true(fabs(d[i] - g[i][K] / g[i][i]) <= 1e-10 * (1.0 + fabs(d[i])));
+        assert_true(fabs(d[i] - want[i]) <= 1e-10 * (1.0 + fabs(d[i])));
     limn_context_destroy(ctx);
 }
 
@@ -238,6 +256,276 @@ static void sigma_estimate_finds_the_noise(void **s)
     limn_context_destroy(ctx);
 }
 
+/* sure_split against its definition, computed here a vertex at a time:
+   random vectors, positions and unit normals (a few 0), positive traces,
+   no constraint (mu_max 0): each part's estimate is the smallest
+   |part_i|^2 / (dims t_{2i+1}), its coefficients solve the part's normal
+   equations with right-hand side -dims sigma^2 t, and the result is y plus
+   both combinations. */
+static void split_solves_each_parts_normal_equations(void **s)
+{
+    (void)s;
+    limn_context *ctx = ctx_for("reference");
+    enum { K = 4, V = 250, N3 = 3 * V };
+    static double r[K * N3], rt[K * N3], sn[K * V], y[N3], nrm[N3], out[N3];
+    double t[2 * K], sigma[2], g[K][9], dn[K], dt[K];
+    uint64_t x = 99;
+    for (int i = 0; i < K * N3; i++)
+        r[i] = lcg(&x);
+    for (int i = 0; i < N3; i++)
+        y[i] = lcg(&x);
+    for (int v = 0; v < V; v++) {
+        double *n = nrm + 3 * v, len = 0.0;
+        for (int c = 0; c < 3; c++)
+            n[c] = lcg(&x), len += n[c] * n[c];
+        for (int c = 0; c < 3; c++)
+            n[c] = v % 50 == 7 ? 0.0 : n[c] / sqrt(len); /* a few vertices without a normal */
+    }
+    for (int i = 0; i < 2 * K; i++)
+        t[i] = 40.0 * pow(0.7, i);
+    for (int i = 0; i < K; i++) /* the parts, vertex by vertex */
+        for (int v = 0; v < V; v++) {
+            const double *a = r + i * N3 + 3 * v, *n = nrm + 3 * v;
+            double dot = a[0] * n[0] + a[1] * n[1] + a[2] * n[2];
+            sn[i * V + v] = dot;
+            for (int c = 0; c < 3; c++)
+                rt[i * N3 + 3 * v + c] = a[c] - dot * n[c];
+        }
+    double want[2] = {INFINITY, INFINITY};
+    for (int i = 0; i < K; i++) {
+        double en = 0.0, et = 0.0;
+        for (int v = 0; v < V; v++)
+            en += sn[i * V + v] * sn[i * V + v];
+        for (int k = 0; k < N3; k++)
+            et += rt[i * N3 + k] * rt[i * N3 + k];
+        want[0] = fmin(want[0], en / t[2 * i + 1]);
+        want[1] = fmin(want[1], et / (2.0 * t[2 * i + 1]));
+    }
+    for (int part = 0; part < 2; part++) {
+        const double *a = part ? rt : sn;
+        int len = part ? N3 : V;
+        for (int i = 0; i < K; i++) {
+            for (int j = 0; j < K; j++) {
+                g[i][j] = 0.0;
+                for (int k = 0; k < len; k++)
+                    g[i][j] += a[i * len + k] * a[j * len + k];
+            }
+            g[i][K] = -(part ? 2.0 : 1.0) * want[part] * t[i];
+        }
+        gauss_jordan(K, g, part ? dt : dn);
+    }
+    CHECK_OK(ctx, sure_split(ctx, y, r, N3, K, t, NULL, 0.0, nrm, sigma, out));
+    assert_true(fabs(sigma[0] - sqrt(want[0])) <= 1e-12 * sqrt(want[0]));
+    assert_true(fabs(sigma[1] - sqrt(want[1])) <= 1e-12 * sqrt(want[1]));
+    double worst = 0.0;
+    for (int v = 0; v < V; v++)
+        for (int c = 0; c < 3; c++) {
+            double e = y[3 * v + c];
+            for (int i = 0; i < K; i++)
+                e += dn[i] * sn[i * V + v] * nrm[3 * v + c] + dt[i] * rt[i * N3 + 3 * v + c];
+            worst = fmax(worst, fabs(out[3 * v + c] - e));
+        }
+    printf("  sigma (normal, tangential) %.6f %.6f, result within %.2g of the definition\n",
+           sigma[0], sigma[1], worst);
+    assert_true(worst <= 1e-10);
+    limn_context_destroy(ctx);
+}
+
+/* sure_vertex_normals against the sum, for each vertex, over the faces that
+   hold it (a search of every face, not the face walk's scatter). */
+static void vertex_normals_against_each_vertex_faces(void **s)
+{
+    (void)s;
+    limn_context *ctx = ctx_for("reference");
+    limn_mesh *m = torus(ctx, 12, 1), *grid = test_mesh_grid(ctx, 5, 4, 0);
+    limn_mesh *meshes[2] = {m, grid};
+    for (int k = 0; k < 2; k++) {
+        const limn_mesh *mm = meshes[k];
+        size_t n = limn_mesh_vertex_count(mm), nf = limn_mesh_face_count(mm);
+        const uint32_t *off = limn_mesh_face_offsets(mm), *idx = limn_mesh_face_indices(mm);
+        const double *p = limn_mesh_positions(mm);
+        double *got = malloc(3 * n * sizeof *got);
+        sure_vertex_normals(mm, p, got);
+        for (size_t v = 0; v < n; v++) {
+            double sum[3] = {0, 0, 0};
+            for (size_t f = 0; f < nf; f++) {
+                int holds = 0;
+                for (uint32_t c = off[f]; c < off[f + 1]; c++)
+                    holds |= idx[c] == v;
+                if (!holds)
+                    continue;
+                for (uint32_t c = off[f]; c < off[f + 1]; c++) { /* the shoelace, per plane */
+                    const double *a = p + 3 * idx[c], *b = p + 3 * idx[c + 1 < off[f + 1] ? c + 1 : off[f]];
+                    sum[0] += a[1] * b[2] - a[2] * b[1];
+                    sum[1] += a[2] * b[0] - a[0] * b[2];
+                    sum[2] += a[0] * b[1] - a[1] * b[0];
+                }
+            }
+            double len = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+            for (int c = 0; c < 3; c++)
+                assert_true(fabs(got[3 * v + c] - sum[c] / len) <= 1e-12);
+        }
+        free(got);
+    }
+    limn_mesh_destroy(m), limn_mesh_destroy(grid);
+    limn_context_destroy(ctx);
+}
+
+/* r + i*3n = B^{i+1} y, B = E - A (host products on the CSR). */
+static void krylov(const stencil_csr *a, const double *y, int degree, double *r)
+{
+    size_t n = a->rows;
+    const double *x = y;
+    for (int i = 0; i < degree; i++) {
+        double *b = r + (size_t)i * 3 * n;
+        for (size_t v = 0; v < n; v++)
+            for (int c = 0; c < 3; c++) {
+                double ax = 0.0;
+                for (uint32_t j = a->row_offsets[v]; j < a->row_offsets[v + 1]; j++)
+                    ax += a->weights[j] * x[3 * a->columns[j] + c];
+                b[3 * v + c] = x[3 * v + c] - ax;
+            }
+        x = b;
+    }
+}
+
+/* sure_frame_positions (A^k y from the vectors B^i y by binomial
+   coefficients) against k products of A on the host, k = min(N, 12). */
+static void frame_is_a_power_of_a(void **s)
+{
+    (void)s;
+    limn_context *ctx = ctx_for("reference");
+    limn_mesh *m = torus(ctx, 20, 0);
+    test_gaussian_noise(m, 0.3 * test_mean_edge(m), 3);
+    topology tp;
+    stencil_csr a;
+    CHECK_OK(ctx, topology_build(ctx, m, &tp));
+    CHECK_OK(ctx, stencil_limit_build(ctx, &tp, LIMN_SCHEME_CATMARK, 0.0, &a));
+    size_t n = limn_mesh_vertex_count(m), n3 = 3 * n;
+    const double *y = limn_mesh_positions(m);
+    double *r = malloc(16 * n3 * sizeof *r), *got = malloc(n3 * sizeof *got);
+    double *x = malloc(n3 * sizeof *x), *ax = malloc(n3 * sizeof *ax);
+    krylov(&a, y, 16, r);
+    for (int degree = 3; degree <= 16; degree += 13) {
+        sure_frame_positions(y, r, n3, degree, got);
+        memcpy(x, y, n3 * sizeof *x);
+        for (int k = 0; k < (degree < 12 ? degree : 12); k++) {
+            for (size_t v = 0; v < n; v++)
+                for (int c = 0; c < 3; c++) {
+                    ax[3 * v + c] = 0.0;
+                    for (uint32_t j = a.row_offsets[v]; j < a.row_offsets[v + 1]; j++)
+                        ax[3 * v + c] += a.weights[j] * x[3 * a.columns[j] + c];
+                }
+            memcpy(x, ax, n3 * sizeof *x);
+        }
+        double worst = 0.0;
+        for (size_t k = 0; k < n3; k++)
+            worst = fmax(worst, fabs(got[k] - x[k]));
+        printf("  degree %d: A^%d y within %.2g of %d host products\n", degree,
+               degree < 12 ? degree : 12, worst, degree < 12 ? degree : 12);
+        /* binomials up to C(12, 6) = 924 times rounding of coordinates ~4 */
+        assert_true(worst <= 1e-11);
+    }
+    free(r), free(got), free(x), free(ax);
+    stencil_free(&a);
+    topology_free(&tp);
+    limn_mesh_destroy(m);
+    limn_context_destroy(ctx);
+}
+
+/* The one polynomial (sure_fit) and the split (sure_split in the frame of
+   sure_frame_positions' vertex normals, as the default runs it) on the
+   noisy m, 12 products: the split's estimates into sp, each result's mean
+   vertex distance to clean. */
+static void one_and_split(limn_context *ctx, const limn_mesh *clean, const limn_mesh *m,
+                          limn_scheme scheme, double sp[2], double *e_one, double *e_split)
+{
+    enum { K = 12 };
+    topology tp;
+    stencil_csr a;
+    CHECK_OK(ctx, topology_build(ctx, m, &tp));
+    CHECK_OK(ctx, stencil_limit_build(ctx, &tp, scheme, 0.0, &a));
+    size_t n = limn_mesh_vertex_count(m), n3 = 3 * n;
+    const double *y = limn_mesh_positions(m), *c = limn_mesh_positions(clean);
+    double *r = malloc(K * n3 * sizeof *r), *one = malloc(n3 * sizeof *one);
+    double *nrm = malloc(n3 * sizeof *nrm), *split = malloc(n3 * sizeof *split);
+    double t[2 * K], d[K], sg = 0.0, mu = sure_spectrum_bound(&a);
+    krylov(&a, y, K, r);
+    sure_traces(&a, scheme, 2 * K, t);
+    CHECK_OK(ctx, sure_fit(ctx, r, n3, K, t, NULL, mu, &sg, d));
+    sure_combine(y, r, n3, K, d, one);
+    sure_frame_positions(y, r, n3, K, split);
+    sure_vertex_normals(m, split, nrm);
+    CHECK_OK(ctx, sure_split(ctx, y, r, n3, K, t, NULL, mu, nrm, sp, split));
+    *e_one = *e_split = 0.0;
+    for (size_t v = 0; v < n; v++) {
+        double a1 = 0.0, a2 = 0.0;
+        for (int k = 0; k < 3; k++) {
+            a1 += (one[3 * v + k] - c[3 * v + k]) * (one[3 * v + k] - c[3 * v + k]);
+            a2 += (split[3 * v + k] - c[3 * v + k]) * (split[3 * v + k] - c[3 * v + k]);
+        }
+        *e_one += sqrt(a1) / (double)n, *e_split += sqrt(a2) / (double)n;
+    }
+    free(r), free(one), free(nrm), free(split);
+    stencil_free(&a);
+    topology_free(&tp);
+}
+
+/* The split's estimates on a noisy torus: with noise on every coordinate
+   both parts find it; with noise along the normals only (a range
+   scanner's) the tangential part finds little. Either way the result is no
+   further from the clean torus than the one polynomial's. */
+static void split_finds_scanner_noise(void **s)
+{
+    (void)s;
+    limn_context *ctx = ctx_for("reference");
+    for (int along = 0; along <= 1; along++) {
+        limn_mesh *clean = torus(ctx, 48, 1), *m = NULL;
+        CHECK_OK(ctx, limn_mesh_copy(ctx, clean, &m));
+        double edge = test_mean_edge(clean), sigma = 0.3 * edge, sp[2], e_one, e_split;
+        if (along)
+            test_normal_noise(m, sigma, 31);
+        else
+            test_gaussian_noise(m, sigma, 31);
+        one_and_split(ctx, clean, m, LIMN_SCHEME_LOOP, sp, &e_one, &e_split);
+        printf("  torus, noise %s 0.3 edge: sigma normal %.3f, tangential %.3f edge; mean "
+               "distance one polynomial %.4f, split %.4f edge\n",
+               along ? "along the normals" : "on every coordinate", sp[0] / edge, sp[1] / edge,
+               e_one / edge, e_split / edge);
+        assert_true(fabs(sp[0] / sigma - 1.0) <= 0.1);
+        if (along)
+            assert_true(sp[1] <= 0.2 * sigma);
+        else
+            assert_true(fabs(sp[1] / sigma - 1.0) <= 0.1);
+        assert_true(e_split <= 1.02 * e_one);
+        limn_mesh_destroy(clean), limn_mesh_destroy(m);
+    }
+    limn_context_destroy(ctx);
+}
+
+/* On a scan's irregular triangulation (bunny) with noise along the normals,
+   the one polynomial also moves vertices along the surface (A's rows
+   differ from vertex to vertex, so it evens the sampling out); the split
+   leaves them there: its result is >= 10% closer to the clean mesh. */
+static void split_keeps_a_scans_sampling(void **s)
+{
+    (void)s;
+    if (!test_shared_meshes())
+        skip();
+    limn_context *ctx = ctx_for("reference");
+    limn_mesh *clean = test_read_shared(ctx, "medium/bunny_closed.off"), *m = NULL;
+    CHECK_OK(ctx, limn_mesh_copy(ctx, clean, &m));
+    double edge = test_mean_edge(clean), sp[2], e_one, e_split;
+    test_normal_noise(m, 0.3 * edge, 8);
+    one_and_split(ctx, clean, m, LIMN_SCHEME_LOOP, sp, &e_one, &e_split);
+    printf("  bunny, noise along the normals 0.3 edge: sigma normal %.3f, tangential %.3f edge; "
+           "mean distance one polynomial %.4f, split %.4f edge\n",
+           sp[0] / edge, sp[1] / edge, e_one / edge, e_split / edge);
+    assert_true(e_split <= 0.9 * e_one);
+    limn_mesh_destroy(clean), limn_mesh_destroy(m);
+    limn_context_destroy(ctx);
+}
+
 typedef struct measured {
     double distance, normal, volume_change;
 } measured;
@@ -266,7 +554,8 @@ static void beats_taubin_at_equal_products(void **s)
         int along_normals;
     } cases[] = {{"medium/bunny_closed.off", 0.5, 0}, {"medium/bob_quad.obj", 0.3, 0},
                  {"small/spot_quadrangulated.obj", 0.2, 0}, {"medium/horse.ply", 0.5, 0},
-                 {"medium/blub_quadrangulated.obj", 0.5, 1}};
+                 {"medium/blub_quadrangulated.obj", 0.5, 1}, {"medium/bunny_closed.off", 0.3, 1},
+                 {"medium/horse.ply", 0.5, 1}};
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         limn_mesh *clean = test_read_shared(ctx, cases[i].file), *noisy = NULL, *ours = NULL,
                   *taubin = NULL;
@@ -391,6 +680,11 @@ int main(void)
         cmocka_unit_test(least_squares_solves_normal_equations),
         cmocka_unit_test(constrained_fit_against_brute_force),
         cmocka_unit_test(sigma_estimate_finds_the_noise),
+        cmocka_unit_test(split_solves_each_parts_normal_equations),
+        cmocka_unit_test(vertex_normals_against_each_vertex_faces),
+        cmocka_unit_test(frame_is_a_power_of_a),
+        cmocka_unit_test(split_finds_scanner_noise),
+        cmocka_unit_test(split_keeps_a_scans_sampling),
         cmocka_unit_test(beats_taubin_at_equal_products),
         cmocka_unit_test(clean_mesh_nearly_unchanged),
         cmocka_unit_test(translation_moves_the_result),

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* limn denoise: by default the SURE-fitted polynomial in A (limn_denoise_sure),
+/* limn denoise: by default the SURE-fitted polynomials in A (limn_denoise_sure),
    or seed 000 eq. 8 (--m, --steps), or with --preserve-features
    limn_denoise_features (docs/series.md); the volume change reported. */
 #include "cli_series.h"
@@ -11,18 +11,18 @@
 static const char *const help =
     "usage: limn denoise INPUT -o OUTPUT [--products N | --m M --steps K] [options]\n"
     "\n"
-    "Default: the polynomial E + sum_{i=1..N} d_i (E - A)^i of degree N in the\n"
+    "Default: polynomials E + sum_{i=1..N} d_i (E - A)^i of degree N in the\n"
     "limit operator A (N stencil products) whose coefficients minimise Stein's\n"
     "unbiased estimate of the squared distance to the unknown clean mesh, for\n"
     "noise whose deviation is estimated from the mesh (from the energy left in\n"
     "(E - A)^k M; reported), with the gain kept in [0, 1] on A's spectrum (no\n"
-    "band amplified). Chosen by measurement: with the same 12 products as\n"
-    "Taubin lambda|mu (0.5, -0.53) it has >= 10% less distance and normal error\n"
-    "(up to 58% and 81%) in 23 of 40 cases (quad meshes at noise 0.2-0.5 x the\n"
-    "mean edge, most triangle meshes at 0.3-0.5); in 16 of the other 17 no\n"
-    "degree-12 polynomial in A can (the oracle bound; build/perf/denoise_default,\n"
-    "docs/series.md). A clean mesh is left nearly as it is (the estimate finds\n"
-    "little noise).\n"
+    "band amplified): one for the part along the vertex normals of the\n"
+    "smoothed mesh and one for the part across them, each with its own noise\n"
+    "estimate (a scanner's noise along the normals goes without moving vertices\n"
+    "along the surface). With the same 12 products as Taubin lambda|mu it has\n"
+    ">= 10% less distance and normal error in 30 of 40 cases (8 shared meshes,\n"
+    "noise 0.2-0.5 x the mean edge; not low-noise triangle meshes or CAD-like\n"
+    "fandisk: docs/series.md). A clean mesh is left nearly as it is.\n"
     "\n"
     "--m or --steps: eq. 8 of Lai & Cheng (2011), 'Fast Mesh Interpolation and\n"
     "Mesh Decomposition with Applications': T_0 = INPUT,\n"
@@ -114,7 +114,8 @@ static void print_extra(void *user)
         fprintf(stderr, "  features kept: %d x (%d normal products, %d vertex sweeps), sigma_r %g",
                 e->fo.outer_steps, e->fo.normal_steps, e->fo.vertex_steps, e->fo.sigma_r);
     else if (e->products)
-        fprintf(stderr, "  SURE-fitted polynomial of degree %d, noise sigma estimated %.3g",
+        fprintf(stderr, "  SURE-fitted polynomials of degree %d (along and across the normals), "
+                        "noise sigma estimated %.3g",
                 e->products, e->sigma);
     else
         fprintf(stderr, "  m %d, %d steps", e->m, e->steps);

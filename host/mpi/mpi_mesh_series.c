@@ -18,11 +18,13 @@
  */
 #include "mpi/mpi_mesh.h"
 #include "base/large_alloc.h"
+#include "mpi/mpi_features.h"
 #include "mpi/mpi_series.h"
 
 #include "base/context.h"
 #include "device/reference/device_ref.h"
 #include "mesh/check.h"
+#include "mesh/mesh.h"
 #include "series/series.h"
 #include "series/sure.h"
 
@@ -255,16 +257,47 @@ static double spectrum_bound(const mpi_part *p)
     return all;
 }
 
+/* The unit normals of the block's vertices at the block's positions x (3
+   a vertex) into nrm, as sure_vertex_normals gives them on the whole mesh:
+   on this rank's patch (every face around a block vertex, in increasing
+   id: each vertex's faces added in the single process's order), its ghost
+   vertices' positions from their block owners. */
+static limn_status block_normals(mpi_part *p, const limn_mpi_mesh *mesh, const double *x,
+                                 double *nrm)
+{
+    size_t nb = mesh->slice.vertex_count;
+    mpi_feature_patch fp;
+    limn_status st = mpi_feature_patch_build(p, mesh, &fp);
+    if (st)
+        return st;
+    double *pos = fp.mesh->positions;
+    memcpy(pos + 3 * fp.vertex_base, x, 3 * nb * sizeof *pos);
+    st = mpi_feature_sync_vertices(p, mesh, &fp, pos);
+    double *pn = st ? NULL : large_malloc((3 * fp.mesh->vertex_count + 1) * sizeof *pn);
+    if (!st && !pn)
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu normals",
+                      fp.mesh->vertex_count);
+    st = mpi_agree(p, st);
+    if (!st) {
+        sure_vertex_normals(fp.mesh, pos, pn);
+        memcpy(nrm, pn + 3 * fp.vertex_base, 3 * nb * sizeof *nrm);
+    }
+    free(pn);
+    mpi_feature_patch_free(&fp);
+    return st;
+}
+
 /* The SURE filter on the blocks: tr(E - A), the spectrum bound and the
-   degree vectors B^i y (distributed products) in block order, then sure_fit
-   with chained_dot and the combination, every rank on its block. */
+   degree vectors B^i y (distributed products) in block order, then the noise
+   estimate (sure_sigma with chained_dot), the block's normals of
+   sure_frame_positions and sure_split, every rank on its block. */
 static limn_status sure_blocks(series_mpi *s, const series_engine *e, int degree, double *r,
                                double *q, double *sigma)
 {
     mpi_part *p = &s->p;
     const limn_mpi_mesh *mesh = s->mesh;
     size_t n3 = 3 * mesh->slice.vertex_count;
-    double t[3 * LIMN_MAX_SURE_PRODUCTS], *d = t + 2 * degree, tr[3], mu_max = 0.0;
+    double t[2 * LIMN_MAX_SURE_PRODUCTS], tr[3], mu_max = 0.0;
     limn_status st = rows_to_block(s, NULL, q); /* the diagonal first: p->host goes later */
     if (!st) {
         mu_max = spectrum_bound(p);
@@ -284,9 +317,19 @@ static limn_status sure_blocks(series_mpi *s, const series_engine *e, int degree
     }
     sure_sum sum = {chained_dot, p};
     if (!st)
-        st = mpi_agree(p, sure_fit(p->ctx, r, n3, degree, t, &sum, mu_max, sigma, d));
+        *sigma = sure_sigma(r, n3, degree, t, &sum);
+    double *nrm = st ? NULL : large_malloc((n3 + 1) * sizeof *nrm), split_sigma[2];
+    if (!st && !nrm)
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu normals", n3 / 3);
+    st = mpi_agree(p, st);
+    if (!st) {
+        sure_frame_positions(mesh->slice.positions, r, n3, degree, q);
+        st = block_normals(p, mesh, q, nrm);
+    }
     if (!st)
-        sure_combine(mesh->slice.positions, r, n3, degree, d, q);
+        st = mpi_agree(p, sure_split(p->ctx, mesh->slice.positions, r, n3, degree, t, &sum,
+                                     mu_max, nrm, split_sigma, q));
+    free(nrm);
     return st ? st : check_finite_blocks(p, mesh, q);
 }
 

@@ -14,11 +14,17 @@
  * over. Unconstrained, the 12 free coefficients fit the risk estimate's noise
  * with gains far outside [0, 1] where A has little energy (-2e5 at the top of
  * bunny's interval); the constraint removes that freedom at no cost in bias.
+ * The default fits twice (sure_split): the vectors' parts along the vertex
+ * normals of A^k y (one coordinate a vertex: the trace term once) and across
+ * them (two: twice), each with its own noise estimate: a scanner's noise
+ * lies along the normals, and one polynomial in A also moves vertices along
+ * the surface where a scan's sampling is irregular.
  */
 #include "series/sure.h"
 
 #include "base/context.h"
 #include "mesh/mesh.h"
+#include "topology/measure.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -351,6 +357,106 @@ void sure_combine(const double *y, const double *r, size_t n3, int degree, const
     }
 }
 
+void sure_frame_positions(const double *y, const double *r, size_t n3, int degree, double *out)
+{
+    int k = degree < SURE_FRAME_POWER ? degree : SURE_FRAME_POWER;
+    double c[SURE_FRAME_POWER], binom = 1.0;
+    for (int i = 0; i < k; i++) { /* (E - B)^k: (-1)^j C(k, j) B^j, r_i = B^{i+1} y */
+        binom = binom * (k - i) / (i + 1);
+        c[i] = i % 2 ? binom : -binom;
+    }
+    sure_combine(y, r, n3, k, c, out);
+}
+
+void sure_vertex_normals(const limn_mesh *mesh, const double *x, double *nrm)
+{
+    memset(nrm, 0, 3 * mesh->vertex_count * sizeof *nrm);
+    for (size_t f = 0; f < mesh->face_count; f++) {
+        double n[3];
+        measure_face_normal(x, mesh->face_offsets, mesh->face_indices, f, n);
+        for (uint32_t c = mesh->face_offsets[f]; c < mesh->face_offsets[f + 1]; c++) {
+            double *v = nrm + 3 * (size_t)mesh->face_indices[c];
+            v[0] += n[0], v[1] += n[1], v[2] += n[2];
+        }
+    }
+    for (size_t v = 0; v < mesh->vertex_count; v++) {
+        double *n = nrm + 3 * v, len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int a = 0; a < 3; a++)
+            n[a] = len > 0.0 ? n[a] / len : 0.0;
+    }
+}
+
+/* The normal part of r's vertex v (3 doubles at r + 3v) along n (3 doubles). */
+static double along(const double *r, const double *n)
+{
+    return r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
+}
+
+/* The smallest over i of |x_i|^2 / (dims tr B^{2(i+1)}) (x_i = x + i*len),
+   its square root; 0 when no trace is positive (sure_sigma's rule for a
+   part of dims coordinates a vertex). */
+static double part_sigma(const double *x, size_t len, int degree, const double *t, double dims,
+                         const sure_sum *sum)
+{
+    double s2 = INFINITY;
+    for (int i = 0; i < degree; i++) {
+        const double *xi = x + (size_t)i * len;
+        if (t[2 * i + 1] > 0.0)
+            s2 = fmin(s2, dot_of(sum, xi, xi, len) / (dims * t[2 * i + 1]));
+    }
+    return isinf(s2) ? 0.0 : sqrt(s2);
+}
+
+limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3, int degree,
+                       const double *t, const sure_sum *sum, double mu_max, const double *nrm,
+                       double sigma[2], double *out)
+{
+    size_t n = n3 / 3;
+    double rhs[LIMN_MAX_SURE_PRODUCTS], dn[LIMN_MAX_SURE_PRODUCTS], dt[LIMN_MAX_SURE_PRODUCTS];
+    /* calloc: GCC cannot tell every entry is written; a block this size is fresh, cleared
+       by the kernel anyway */
+    double *s = calloc((size_t)degree * (n ? n : 1), sizeof *s);
+    if (!s)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu vertices",
+                        degree, n);
+    for (int i = 0; i < degree; i++)
+        for (size_t v = 0; v < n; v++)
+            s[(size_t)i * n + v] = along(r + (size_t)i * n3 + 3 * v, nrm + 3 * v);
+    /* the normal parts: one coordinate a vertex, SURE's trace term once */
+    sigma[0] = part_sigma(s, n, degree, t, 1.0, sum);
+    for (int i = 0; i < degree; i++)
+        rhs[i] = -sigma[0] * sigma[0] * t[i];
+    limn_status st = sure_least_squares(ctx, s, n, degree, rhs, sum, mu_max, dn);
+    for (size_t v = 0; !st && v < n; v++) {
+        double a = 0.0;
+        for (int i = 0; i < degree; i++)
+            a += dn[i] * s[(size_t)i * n + v];
+        for (int c = 0; c < 3; c++)
+            out[3 * v + c] = y[3 * v + c] + a * nrm[3 * v + c];
+    }
+    free(s);
+    if (st)
+        return st;
+    /* the tangential parts, in place of r: two coordinates a vertex */
+    for (int i = 0; i < degree; i++)
+        for (size_t v = 0; v < n; v++) {
+            double *x = r + (size_t)i * n3 + 3 * v, a = along(x, nrm + 3 * v);
+            for (int c = 0; c < 3; c++)
+                x[c] -= a * nrm[3 * v + c];
+        }
+    sigma[1] = part_sigma(r, n3, degree, t, 2.0, sum);
+    for (int i = 0; i < degree; i++)
+        rhs[i] = -2.0 * sigma[1] * sigma[1] * t[i];
+    st = sure_least_squares(ctx, r, n3, degree, rhs, sum, mu_max, dt);
+    for (size_t k = 0; !st && k < n3; k++) {
+        double a = 0.0;
+        for (int i = 0; i < degree; i++)
+            a += dt[i] * r[(size_t)i * n3 + k];
+        out[k] += a;
+    }
+    return st;
+}
+
 /* r + i*3n = B^{i+1} y, i < degree, on the host (degree products). */
 static limn_status sure_vectors(series_run *s, const limn_mesh *mesh, int degree, double *r,
                                 long long *products)
@@ -375,7 +481,7 @@ limn_status sure_denoise_run(limn_context *ctx, series_run *s, const limn_mesh *
 {
     size_t n3 = 3 * s->n;
     double *r = malloc((size_t)degree * n3 * sizeof *r);
-    double *t = malloc((size_t)degree * 3 * sizeof *t), *d = t + 2 * degree;
+    double *t = malloc((size_t)degree * 2 * sizeof *t);
     if (!r || !t) {
         free(r), free(t);
         return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu vertices",
@@ -385,13 +491,21 @@ limn_status sure_denoise_run(limn_context *ctx, series_run *s, const limn_mesh *
     double sg = 0.0;
     if (!st) {
         sure_traces(&s->op.host, s->op.scheme, 2 * degree, t);
-        st = sure_fit(ctx, r, n3, degree, t, NULL, sure_spectrum_bound(&s->op.host), &sg, d);
+        sg = sure_sigma(r, n3, degree, t, NULL);
     }
     limn_mesh *m = NULL;
+    double *nrm = NULL, split_sigma[2];
     if (!st)
         st = limn_mesh_copy(ctx, mesh, &m);
-    if (!st)
-        sure_combine(mesh->positions, r, n3, degree, d, m->positions);
+    if (!st && !(nrm = malloc(n3 * sizeof *nrm)))
+        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu normals", s->n);
+    if (!st) {
+        sure_frame_positions(mesh->positions, r, n3, degree, m->positions);
+        sure_vertex_normals(mesh, m->positions, nrm);
+        st = sure_split(ctx, mesh->positions, r, n3, degree, t, NULL,
+                        sure_spectrum_bound(&s->op.host), nrm, split_sigma, m->positions);
+    }
+    free(nrm);
     if (!st)
         st = series_check_finite(ctx, m->positions, s->n, "denoising");
     if (sigma)

@@ -3,7 +3,10 @@
  * limn denoise's default: the polynomial p(A) = E + sum_{i=1..N} d_i (E - A)^i
  * of degree N (N stencil products) whose coefficients minimise Stein's
  * unbiased estimate of the squared error to the unknown clean mesh (SURE,
- * Stein 1981), with the noise's deviation estimated from the mesh itself.
+ * Stein 1981), with the noise's deviation estimated from the mesh itself:
+ * one such polynomial for the part of each vector along the vertex normals
+ * of A^k y (sure_split, sure_frame_positions) and one for the part across
+ * them, from the same N products.
  */
 #ifndef LIMN_SERIES_SURE_H
 #define LIMN_SERIES_SURE_H
@@ -62,13 +65,43 @@ limn_status sure_coefficients(limn_context *ctx, const double *r, size_t n3, int
                               double sigma, const double *t, const sure_sum *sum, double mu_max,
                               double *d);
 
-/* sure_sigma into *sigma, then sure_coefficients with it into d. */
+/* sure_sigma into *sigma, then sure_coefficients with it into d: the one
+   polynomial (the default before sure_split; test_denoise_default measures
+   the split against it). */
 limn_status sure_fit(limn_context *ctx, const double *r, size_t n3, int degree, const double *t,
                      const sure_sum *sum, double mu_max, double *sigma, double *d);
 
 /* out = y + sum_i d_i r_i (r_i = r + i*n3): the filter's result. */
 void sure_combine(const double *y, const double *r, size_t n3, int degree, const double *d,
                   double *out);
+
+/* The split's frame comes from A^k y, k = min(degree, SURE_FRAME_POWER): the
+   smoothest vector the products give, combined from them with binomial
+   coefficients (C(12, 6) = 924: rounding ~1e-13 of y, nothing for normals). */
+enum { SURE_FRAME_POWER = 12 };
+
+/* out = A^k y = (E - B)^k y from y and r_i = B^{i+1} y (r + i*n3), k as above. */
+void sure_frame_positions(const double *y, const double *r, size_t n3, int degree, double *out);
+
+/* Unit normals of mesh's vertices at positions x (3 per vertex) into nrm:
+   the sum of their faces' Newell normals (area-weighted), added in face
+   order; 0 for a vertex where that sum is 0. */
+void sure_vertex_normals(const limn_mesh *mesh, const double *x, double *nrm);
+
+/* The split fit, limn denoise's default: the vectors r_i = B^{i+1} y
+   (r + i*n3, i < degree) written in the frame of the vertex normals nrm (3
+   per vertex, unit or 0; the default takes those of sure_frame_positions): their normal parts s_i = n . r_i and their
+   tangential parts r_i - s_i n, each fitted by SURE alone with its own
+   noise estimate (sigma[0] from the s_i as one coordinate, sigma[1] from
+   the tangential parts as two; sure_sigma's rule), both gains kept in
+   [0, 1] up to mu_max. out = y + sum_i dn_i s_i n + sum_i dt_i (r_i - s_i n).
+   Noise along the normals (a range scanner's) finds sigma[1] near 0 and
+   leaves the vertices where they are along the surface; isotropic noise
+   gets the fit each part's own signal asks for. r is overwritten with its
+   tangential parts. LIMN_ERR_MEMORY on allocation failure. */
+limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3, int degree,
+                       const double *t, const sure_sum *sum, double mu_max, const double *nrm,
+                       double sigma[2], double *out);
 
 /* The filter on an open run (4 work vectors): N products, the vectors read
    back, the coefficients fitted, the result on the host; *sigma (may be NULL)
