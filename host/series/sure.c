@@ -100,16 +100,17 @@ double sure_sigma(const double *r, size_t n3, int degree, const double *t, const
     return isinf(s2) ? 0.0 : sqrt(s2);
 }
 
-/* Modified Gram-Schmidt, twice, of the columns r_i into q: u (degree^2,
-   upper triangular) with r = q u; keep[i] = 0 where r_i lies (to 1e-10 of its
-   length) in the span of the earlier ones. */
+/* Modified Gram-Schmidt, twice, of the columns r_i into q (q == r: in
+   place): u (degree^2, upper triangular) with r = q u; keep[i] = 0 where r_i
+   lies (to 1e-10 of its length) in the span of the earlier ones. */
 static void orthogonalise(const double *r, size_t n3, int degree, const sure_sum *sum, double *q,
                           double *u, int *keep)
 {
     memset(u, 0, (size_t)degree * degree * sizeof *u);
     for (int i = 0; i < degree; i++) {
         double *qi = q + (size_t)i * n3;
-        memcpy(qi, r + (size_t)i * n3, n3 * sizeof *qi);
+        if (q != r)
+            memcpy(qi, r + (size_t)i * n3, n3 * sizeof *qi);
         double len = sqrt(dot_of(sum, qi, qi, n3));
         for (int pass = 0; pass < 2; pass++)
             for (int j = 0; j < i; j++) {
@@ -293,24 +294,44 @@ static void fit(const double *u, const int *keep, int degree, const double *rhs,
     solve_upper(u, keep, degree, z, d);
 }
 
-limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
-                               const double *rhs, const sure_sum *sum, double mu_max, double *d)
+/* The least squares with the columns orthogonalised into q (q == r: in
+   place); w (may be NULL) gets U d, 0 where a column was dropped, so that
+   sum_i d_i r_i = sum_j w_j q_j. */
+static limn_status least_squares_into(limn_context *ctx, const double *r, double *q, size_t n3,
+                                      int degree, const double *rhs, const sure_sum *sum,
+                                      double mu_max, double *d, double *w)
 {
     size_t rows = (size_t)degree + 1, cols = 2 * SURE_GRID;
     size_t nwork = 2 * (size_t)degree + (size_t)SURE_GRID * (degree + 1) + rows * cols + cols +
                    2 * cols + rows * rows + rows * cols;
-    double *q = malloc((size_t)degree * (n3 ? n3 : 1) * sizeof *q); /* n3 = 0: an empty rank */
     double *u = malloc(((size_t)degree * degree + nwork) * sizeof *u);
     int *keep = calloc((size_t)degree, sizeof *keep);
-    if (!q || !u || !keep) {
-        free(q), free(u), free(keep);
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu doubles",
-                        degree, n3);
+    if (!u || !keep) {
+        free(u), free(keep);
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a fit of degree %d", degree);
     }
     orthogonalise(r, n3, degree, sum, q, u, keep);
     fit(u, keep, degree, rhs, mu_max, u + (size_t)degree * degree, d);
-    free(q), free(u), free(keep);
+    for (int j = 0; w && j < degree; j++) {
+        double x = 0.0;
+        for (int i = j; i < degree && keep[j]; i++)
+            x += u[j * degree + i] * d[i];
+        w[j] = x;
+    }
+    free(u), free(keep);
     return LIMN_OK;
+}
+
+limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, int degree,
+                               const double *rhs, const sure_sum *sum, double mu_max, double *d)
+{
+    double *q = malloc((size_t)degree * (n3 ? n3 : 1) * sizeof *q); /* n3 = 0: an empty rank */
+    if (!q)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu doubles",
+                        degree, n3);
+    limn_status st = least_squares_into(ctx, r, q, n3, degree, rhs, sum, mu_max, d, NULL);
+    free(q);
+    return st;
 }
 
 double sure_spectrum_bound(const stencil_csr *a)
@@ -413,6 +434,7 @@ limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3,
 {
     size_t n = n3 / 3;
     double rhs[LIMN_MAX_SURE_PRODUCTS], dn[LIMN_MAX_SURE_PRODUCTS], dt[LIMN_MAX_SURE_PRODUCTS];
+    double w[LIMN_MAX_SURE_PRODUCTS];
     /* calloc: GCC cannot tell every entry is written; a block this size is fresh, cleared
        by the kernel anyway */
     double *s = calloc((size_t)degree * (n ? n : 1), sizeof *s);
@@ -426,11 +448,12 @@ limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3,
     sigma[0] = part_sigma(s, n, degree, t, 1.0, sum);
     for (int i = 0; i < degree; i++)
         rhs[i] = -sigma[0] * sigma[0] * t[i];
-    limn_status st = sure_least_squares(ctx, s, n, degree, rhs, sum, mu_max, dn);
+    /* in place: s becomes the orthonormal q, its combination by w = U d */
+    limn_status st = least_squares_into(ctx, s, s, n, degree, rhs, sum, mu_max, dn, w);
     for (size_t v = 0; !st && v < n; v++) {
         double a = 0.0;
         for (int i = 0; i < degree; i++)
-            a += dn[i] * s[(size_t)i * n + v];
+            a += w[i] * s[(size_t)i * n + v];
         for (int c = 0; c < 3; c++)
             out[3 * v + c] = y[3 * v + c] + a * nrm[3 * v + c];
     }
@@ -447,11 +470,11 @@ limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3,
     sigma[1] = part_sigma(r, n3, degree, t, 2.0, sum);
     for (int i = 0; i < degree; i++)
         rhs[i] = -2.0 * sigma[1] * sigma[1] * t[i];
-    st = sure_least_squares(ctx, r, n3, degree, rhs, sum, mu_max, dt);
+    st = least_squares_into(ctx, r, r, n3, degree, rhs, sum, mu_max, dt, w);
     for (size_t k = 0; !st && k < n3; k++) {
         double a = 0.0;
         for (int i = 0; i < degree; i++)
-            a += dt[i] * r[(size_t)i * n3 + k];
+            a += w[i] * r[(size_t)i * n3 + k];
         out[k] += a;
     }
     return st;

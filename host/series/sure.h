@@ -97,8 +97,10 @@ void sure_vertex_normals(const limn_mesh *mesh, const double *x, double *nrm);
    [0, 1] up to mu_max. out = y + sum_i dn_i s_i n + sum_i dt_i (r_i - s_i n).
    Noise along the normals (a range scanner's) finds sigma[1] near 0 and
    leaves the vertices where they are along the surface; isotropic noise
-   gets the fit each part's own signal asks for. r is overwritten with its
-   tangential parts. LIMN_ERR_MEMORY on allocation failure. */
+   gets the fit each part's own signal asks for. Each part is fitted in
+   place (its vectors become the QR's orthonormal ones, the combination taken
+   through U d): r is overwritten, and the only copy made is the normal
+   parts (N / 3 of r). LIMN_ERR_MEMORY on allocation failure. */
 limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3, int degree,
                        const double *t, const sure_sum *sum, double mu_max, const double *nrm,
                        double sigma[2], double *out);
