@@ -269,22 +269,12 @@ static limn_status sure_root(series_mpi *s, const limn_mesh *mesh, int degree, d
                              int keep_volume, limn_mesh **out, double *sigma)
 {
     limn_context *ctx = s->p.ctx;
-    size_t n3 = 3 * s->p.n_global;
     double t[2 * LIMN_MAX_SURE_PRODUCTS];
     sure_traces(&s->p.global.host, s->p.scheme, 2 * degree, t);
     double mu_max = sure_spectrum_bound(&s->p.global.host);
-    *sigma = sure_sigma(r, n3, degree, t, NULL);
-    double *nrm = NULL, split_sigma[2];
     limn_status st = limn_mesh_copy(ctx, mesh, out);
-    if (!st && !(nrm = malloc((n3 + 1) * sizeof *nrm)))
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu normals", n3 / 3);
-    if (!st) { /* sure_denoise_run's steps: the frame, the split */
-        sure_frame_positions(mesh->positions, r, n3, degree, (*out)->positions);
-        sure_vertex_normals(mesh, (*out)->positions, nrm);
-        st = sure_split(ctx, mesh->positions, r, n3, degree, t, NULL, mu_max, nrm,
-                        split_sigma, (*out)->positions);
-    }
-    free(nrm);
+    if (!st) /* sure_denoise_run's filter */
+        st = sure_filter(ctx, mesh, r, degree, t, mu_max, sigma, (*out)->positions);
     if (!st)
         st = series_check_finite(ctx, (*out)->positions, s->p.n_global, "denoising");
     if (!st && keep_volume)

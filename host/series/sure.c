@@ -480,6 +480,23 @@ limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3,
     return st;
 }
 
+limn_status sure_filter(limn_context *ctx, const limn_mesh *mesh, double *r, int degree,
+                        const double *t, double mu_max, double *sigma, double *out)
+{
+    size_t n3 = 3 * mesh->vertex_count;
+    double *nrm = malloc((n3 ? n3 : 1) * sizeof *nrm), split_sigma[2];
+    *sigma = sure_sigma(r, n3, degree, t, NULL);
+    if (!nrm)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu normals",
+                        mesh->vertex_count);
+    sure_frame_positions(mesh->positions, r, n3, degree, out);
+    sure_vertex_normals(mesh, out, nrm);
+    limn_status st = sure_split(ctx, mesh->positions, r, n3, degree, t, NULL, mu_max, nrm,
+                                split_sigma, out);
+    free(nrm);
+    return st;
+}
+
 /* r + i*3n = B^{i+1} y, i < degree, on the host (degree products). */
 static limn_status sure_vectors(series_run *s, const limn_mesh *mesh, int degree, double *r,
                                 long long *products)
@@ -512,23 +529,14 @@ limn_status sure_denoise_run(limn_context *ctx, series_run *s, const limn_mesh *
     }
     limn_status st = sure_vectors(s, mesh, degree, r, products);
     double sg = 0.0;
+    limn_mesh *m = NULL;
     if (!st) {
         sure_traces(&s->op.host, s->op.scheme, 2 * degree, t);
-        sg = sure_sigma(r, n3, degree, t, NULL);
-    }
-    limn_mesh *m = NULL;
-    double *nrm = NULL, split_sigma[2];
-    if (!st)
         st = limn_mesh_copy(ctx, mesh, &m);
-    if (!st && !(nrm = malloc(n3 * sizeof *nrm)))
-        st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %zu normals", s->n);
-    if (!st) {
-        sure_frame_positions(mesh->positions, r, n3, degree, m->positions);
-        sure_vertex_normals(mesh, m->positions, nrm);
-        st = sure_split(ctx, mesh->positions, r, n3, degree, t, NULL,
-                        sure_spectrum_bound(&s->op.host), nrm, split_sigma, m->positions);
     }
-    free(nrm);
+    if (!st)
+        st = sure_filter(ctx, mesh, r, degree, t, sure_spectrum_bound(&s->op.host), &sg,
+                         m->positions);
     if (!st)
         st = series_check_finite(ctx, m->positions, s->n, "denoising");
     if (sigma)

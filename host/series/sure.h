@@ -105,6 +105,13 @@ limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3,
                        const double *t, const sure_sum *sum, double mu_max, const double *nrm,
                        double sigma[2], double *out);
 
+/* The default filter on one process's whole vectors r (sure_vectors' or
+   gathered; overwritten) of mesh, traces t (up to 2 degree): *sigma the
+   isotropic noise estimate (sure_sigma), out (3 per vertex) the split's
+   result in the frame of sure_frame_positions' normals. */
+limn_status sure_filter(limn_context *ctx, const limn_mesh *mesh, double *r, int degree,
+                        const double *t, double mu_max, double *sigma, double *out);
+
 /* The filter on an open run (4 work vectors): N products, the vectors read
    back, the coefficients fitted, the result on the host; *sigma (may be NULL)
    gets the estimate, *products counts the products. */
