@@ -371,20 +371,28 @@ static void vertex_normals_against_each_vertex_faces(void **s)
     limn_context_destroy(ctx);
 }
 
+/* ax = A x (3 per vertex; a host product on the CSR). */
+static void apply_a(const stencil_csr *a, const double *x, double *ax)
+{
+    for (size_t v = 0; v < a->rows; v++)
+        for (int c = 0; c < 3; c++) {
+            double s = 0.0;
+            for (uint32_t j = a->row_offsets[v]; j < a->row_offsets[v + 1]; j++)
+                s += a->weights[j] * x[3 * a->columns[j] + c];
+            ax[3 * v + c] = s;
+        }
+}
+
 /* r + i*3n = B^{i+1} y, B = E - A (host products on the CSR). */
 static void krylov(const stencil_csr *a, const double *y, int degree, double *r)
 {
-    size_t n = a->rows;
+    size_t n3 = 3 * a->rows;
     const double *x = y;
     for (int i = 0; i < degree; i++) {
-        double *b = r + (size_t)i * 3 * n;
-        for (size_t v = 0; v < n; v++)
-            for (int c = 0; c < 3; c++) {
-                double ax = 0.0;
-                for (uint32_t j = a->row_offsets[v]; j < a->row_offsets[v + 1]; j++)
-                    ax += a->weights[j] * x[3 * a->columns[j] + c];
-                b[3 * v + c] = x[3 * v + c] - ax;
-            }
+        double *b = r + (size_t)i * n3;
+        apply_a(a, x, b);
+        for (size_t k = 0; k < n3; k++)
+            b[k] = x[k] - b[k];
         x = b;
     }
 }
@@ -410,12 +418,7 @@ static void frame_is_a_power_of_a(void **s)
         sure_frame_positions(y, r, n3, degree, got);
         memcpy(x, y, n3 * sizeof *x);
         for (int k = 0; k < (degree < 12 ? degree : 12); k++) {
-            for (size_t v = 0; v < n; v++)
-                for (int c = 0; c < 3; c++) {
-                    ax[3 * v + c] = 0.0;
-                    for (uint32_t j = a.row_offsets[v]; j < a.row_offsets[v + 1]; j++)
-                        ax[3 * v + c] += a.weights[j] * x[3 * a.columns[j] + c];
-                }
+            apply_a(&a, x, ax);
             memcpy(x, ax, n3 * sizeof *x);
         }
         double worst = 0.0;

@@ -89,15 +89,24 @@ static double dot_of(const sure_sum *sum, const double *x, const double *y, size
     return sum ? sum->dot(sum->user, x, y, n) : sure_dot_from(0.0, x, y, n);
 }
 
-double sure_sigma(const double *r, size_t n3, int degree, const double *t, const sure_sum *sum)
+/* The smallest over i of |x_i|^2 / (dims tr B^{2(i+1)}) (x_i = x + i*len),
+   its square root; 0 when no trace is positive (sure_sigma's rule for a
+   part of dims coordinates a vertex). */
+static double part_sigma(const double *x, size_t len, int degree, const double *t, double dims,
+                         const sure_sum *sum)
 {
     double s2 = INFINITY;
     for (int i = 0; i < degree; i++) {
-        const double *ri = r + (size_t)i * n3;
+        const double *xi = x + (size_t)i * len;
         if (t[2 * i + 1] > 0.0)
-            s2 = fmin(s2, dot_of(sum, ri, ri, n3) / (3.0 * t[2 * i + 1]));
+            s2 = fmin(s2, dot_of(sum, xi, xi, len) / (dims * t[2 * i + 1]));
     }
     return isinf(s2) ? 0.0 : sqrt(s2);
+}
+
+double sure_sigma(const double *r, size_t n3, int degree, const double *t, const sure_sum *sum)
+{
+    return part_sigma(r, n3, degree, t, 3.0, sum);
 }
 
 /* Modified Gram-Schmidt, twice, of the columns r_i into q (q == r: in
@@ -413,28 +422,12 @@ static double along(const double *r, const double *n)
     return r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
 }
 
-/* The smallest over i of |x_i|^2 / (dims tr B^{2(i+1)}) (x_i = x + i*len),
-   its square root; 0 when no trace is positive (sure_sigma's rule for a
-   part of dims coordinates a vertex). */
-static double part_sigma(const double *x, size_t len, int degree, const double *t, double dims,
-                         const sure_sum *sum)
-{
-    double s2 = INFINITY;
-    for (int i = 0; i < degree; i++) {
-        const double *xi = x + (size_t)i * len;
-        if (t[2 * i + 1] > 0.0)
-            s2 = fmin(s2, dot_of(sum, xi, xi, len) / (dims * t[2 * i + 1]));
-    }
-    return isinf(s2) ? 0.0 : sqrt(s2);
-}
-
 limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3, int degree,
                        const double *t, const sure_sum *sum, double mu_max, const double *nrm,
                        double sigma[2], double *out)
 {
     size_t n = n3 / 3;
-    double rhs[LIMN_MAX_SURE_PRODUCTS], dn[LIMN_MAX_SURE_PRODUCTS], dt[LIMN_MAX_SURE_PRODUCTS];
-    double w[LIMN_MAX_SURE_PRODUCTS];
+    double rhs[LIMN_MAX_SURE_PRODUCTS], d[LIMN_MAX_SURE_PRODUCTS], w[LIMN_MAX_SURE_PRODUCTS];
     /* calloc: GCC cannot tell every entry is written; a block this size is fresh, cleared
        by the kernel anyway */
     double *s = calloc((size_t)degree * (n ? n : 1), sizeof *s);
@@ -449,7 +442,7 @@ limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3,
     for (int i = 0; i < degree; i++)
         rhs[i] = -sigma[0] * sigma[0] * t[i];
     /* in place: s becomes the orthonormal q, its combination by w = U d */
-    limn_status st = least_squares_into(ctx, s, s, n, degree, rhs, sum, mu_max, dn, w);
+    limn_status st = least_squares_into(ctx, s, s, n, degree, rhs, sum, mu_max, d, w);
     for (size_t v = 0; !st && v < n; v++) {
         double a = 0.0;
         for (int i = 0; i < degree; i++)
@@ -470,7 +463,7 @@ limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3,
     sigma[1] = part_sigma(r, n3, degree, t, 2.0, sum);
     for (int i = 0; i < degree; i++)
         rhs[i] = -2.0 * sigma[1] * sigma[1] * t[i];
-    st = least_squares_into(ctx, r, r, n3, degree, rhs, sum, mu_max, dt, w);
+    st = least_squares_into(ctx, r, r, n3, degree, rhs, sum, mu_max, d, w);
     for (size_t k = 0; !st && k < n3; k++) {
         double a = 0.0;
         for (int i = 0; i < degree; i++)
