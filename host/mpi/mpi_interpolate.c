@@ -108,12 +108,17 @@ static limn_status mixed_add(void *user, device_buffer *d)
 }
 
 /* solve_mixed over the ranks on P in x (M in m); *done as its *converged. */
+static limn_status mixed_agree(void *user, limn_status st)
+{
+    return mpi_agree(((mpi_mixed *)user)->p, st);
+}
+
 static limn_status mixed(mpi_part *p, device_buffer *m, device_buffer *x,
                          const limn_interpolate_options *o, limn_method method, int *done,
                          limn_report *r)
 {
     mpi_mixed mm = {.p = p, .m = m, .x = x};
-    const mixed_ops ops = {&mm, mixed_residual, mixed_step, mixed_add};
+    const mixed_ops ops = {&mm, mixed_residual, mixed_step, mixed_add, mixed_agree};
     limn_status st = mpi_agree(p, device_csr_add_float(p->dev, &p->all));
     if (!st)
         st = solve_mixed_run(p->ctx, p->dev, &ops, p->n_owned + p->n_ghost, p->n_global,

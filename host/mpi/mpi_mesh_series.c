@@ -212,6 +212,12 @@ static double chained_dot(void *user, const double *x, const double *y, size_t n
     return s;
 }
 
+/* sure_sum's agreement: mpi_agree. */
+static limn_status agree_blocks(void *user, limn_status st)
+{
+    return mpi_agree(user, st);
+}
+
 /* The owned rows of b (or, b NULL, each owned row's 1 - a_vv in its first
    slot) into the vertex blocks, 3 per block vertex, at dst. */
 static limn_status rows_to_block(series_mpi *s, device_buffer *b, double *dst)
@@ -315,7 +321,7 @@ static limn_status sure_blocks(series_mpi *s, const series_engine *e, int degree
             st = rows_to_block(s, next, r + (size_t)i * n3);
         cur = next;
     }
-    sure_sum sum = {chained_dot, p};
+    sure_sum sum = {chained_dot, agree_blocks, p};
     if (!st)
         *sigma = sure_sigma(r, n3, degree, t, &sum);
     double *nrm = st ? NULL : large_malloc((n3 + 1) * sizeof *nrm), split_sigma[2];

@@ -84,8 +84,13 @@ static limn_status check_shared(mpi_writer *w)
     const mpi_write_part *in = w->in;
     size_t n = (size_t)w->size + 1;
     size_t *root = large_malloc(n * sizeof *root);
-    if (!root)
-        return mpi_writer_agree(w, ctx_fail(w->ctx, LIMN_ERR_MEMORY, "out of memory"));
+    /* agreed before the broadcast, which a rank out of memory would not enter */
+    limn_status st = mpi_writer_agree(
+        w, root ? LIMN_OK : ctx_fail(w->ctx, LIMN_ERR_MEMORY, "out of memory"));
+    if (st) {
+        free(root);
+        return st;
+    }
     memcpy(root, in->vtxdist, n * sizeof *root);
     MPI_Bcast(root, (int)n, MPI_UINT64_T, 0, w->comm);
     int same_dist = memcmp(root, in->vtxdist, n * sizeof *root) == 0;
@@ -94,7 +99,6 @@ static limn_status check_shared(mpi_writer *w)
     MPI_Exscan(&count, &before, 1, MPI_UINT64_T, MPI_SUM, w->comm);
     if (w->rank == 0)
         before = 0;
-    limn_status st = LIMN_OK;
     if (!same_dist)
         st = bad(w, "vtxdist differs from rank 0's");
     else if (before != in->face_begin)

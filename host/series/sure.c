@@ -89,6 +89,12 @@ static double dot_of(const sure_sum *sum, const double *x, const double *y, size
     return sum ? sum->dot(sum->user, x, y, n) : sure_dot_from(0.0, x, y, n);
 }
 
+/* st agreed by every process (sum's), or this process's own. */
+static limn_status agree_of(const sure_sum *sum, limn_status st)
+{
+    return sum ? sum->agree(sum->user, st) : st;
+}
+
 /* The smallest over i of |x_i|^2 / (dims tr B^{2(i+1)}) (x_i = x + i*len),
    its square root; 0 when no trace is positive (sure_sigma's rule for a
    part of dims coordinates a vertex). */
@@ -315,9 +321,12 @@ static limn_status least_squares_into(limn_context *ctx, const double *r, double
                    2 * cols + rows * rows + rows * cols;
     double *u = malloc(((size_t)degree * degree + nwork) * sizeof *u);
     int *keep = calloc((size_t)degree, sizeof *keep);
-    if (!u || !keep) {
+    limn_status st = u && keep ? LIMN_OK
+                               : ctx_fail(ctx, LIMN_ERR_MEMORY,
+                                          "out of memory for a fit of degree %d", degree);
+    if ((st = agree_of(sum, st))) {
         free(u), free(keep);
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a fit of degree %d", degree);
+        return st;
     }
     orthogonalise(r, n3, degree, sum, q, u, keep);
     fit(u, keep, degree, rhs, mu_max, u + (size_t)degree * degree, d);
@@ -335,10 +344,14 @@ limn_status sure_least_squares(limn_context *ctx, const double *r, size_t n3, in
                                const double *rhs, const sure_sum *sum, double mu_max, double *d)
 {
     double *q = malloc((size_t)degree * (n3 ? n3 : 1) * sizeof *q); /* n3 = 0: an empty rank */
-    if (!q)
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu doubles",
-                        degree, n3);
-    limn_status st = least_squares_into(ctx, r, q, n3, degree, rhs, sum, mu_max, d, NULL);
+    limn_status st = q ? LIMN_OK
+                       : ctx_fail(ctx, LIMN_ERR_MEMORY,
+                                  "out of memory for %d vectors of %zu doubles", degree, n3);
+    if ((st = agree_of(sum, st))) {
+        free(q);
+        return st;
+    }
+    st = least_squares_into(ctx, r, q, n3, degree, rhs, sum, mu_max, d, NULL);
     free(q);
     return st;
 }
@@ -431,9 +444,13 @@ limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3,
     /* calloc: GCC cannot tell every entry is written; a block this size is fresh, cleared
        by the kernel anyway */
     double *s = calloc((size_t)degree * (n ? n : 1), sizeof *s);
-    if (!s)
-        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for %d vectors of %zu vertices",
-                        degree, n);
+    limn_status st = s ? LIMN_OK
+                       : ctx_fail(ctx, LIMN_ERR_MEMORY,
+                                  "out of memory for %d vectors of %zu vertices", degree, n);
+    if ((st = agree_of(sum, st))) {
+        free(s);
+        return st;
+    }
     for (int i = 0; i < degree; i++)
         for (size_t v = 0; v < n; v++)
             s[(size_t)i * n + v] = along(r + (size_t)i * n3 + 3 * v, nrm + 3 * v);
@@ -442,7 +459,7 @@ limn_status sure_split(limn_context *ctx, const double *y, double *r, size_t n3,
     for (int i = 0; i < degree; i++)
         rhs[i] = -sigma[0] * sigma[0] * t[i];
     /* in place: s becomes the orthonormal q, its combination by w = U d */
-    limn_status st = least_squares_into(ctx, s, s, n, degree, rhs, sum, mu_max, d, w);
+    st = least_squares_into(ctx, s, s, n, degree, rhs, sum, mu_max, d, w);
     for (size_t v = 0; !st && v < n; v++) {
         double a = 0.0;
         for (int i = 0; i < degree; i++)

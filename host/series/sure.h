@@ -18,6 +18,10 @@
    MPI twins pass it rank to rank). NULL where one process holds the whole. */
 typedef struct sure_sum {
     double (*dot)(void *user, const double *x, const double *y, size_t n);
+    /* every process's status (the first failure's) after an allocation that
+       precedes a dot: one that failed on one process alone would leave the
+       others waiting in the dot */
+    limn_status (*agree)(void *user, limn_status st);
     void *user;
 } sure_sum;
 

@@ -219,6 +219,8 @@ limn_status solve_mixed_run(limn_context *ctx, struct device *dev, const mixed_o
     limn_status st = dev->ops->buffer_scratch(dev, 4 * nb * sizeof(float), &s.r);
     for (int i = 0; i < 2 && !st; i++)
         st = dev->ops->buffer_scratch(dev, 4 * nb * sizeof(float), &s.d[i]);
+    if (ops->agree)
+        st = ops->agree(ops->user, st);
     double t_loop = clock_seconds(), compiles = dev->setup.kernels; /* first launches */
     if (!st)
         st = outer_loop(ctx, &s, o, diag, vertices, converged, r);
@@ -269,7 +271,7 @@ limn_status solve_mixed(limn_context *ctx, stencil_operator *op, device_buffer *
     if (st)
         return st;
     local_mixed l = {op, m, p};
-    const mixed_ops ops = {&l, local_residual, local_step, local_add};
+    const mixed_ops ops = {&l, local_residual, local_step, local_add, NULL};
     return solve_mixed_run(ctx, op->dev, &ops, op->vertex_count, op->vertex_count, op->scheme,
                            op->alpha, o, diag, method, converged, r);
 }

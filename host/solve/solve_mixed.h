@@ -49,6 +49,10 @@ typedef struct mixed_ops {
                         device_buffer *next, float c1, float c2, device_norms *norms);
     /* P += d (add_f). */
     limn_status (*add)(void *user, device_buffer *d);
+    /* Every process's status after the work vectors' allocation (NULL: one
+       process): one that failed alone would leave the others waiting in
+       the residual's exchanges. */
+    limn_status (*agree)(void *user, limn_status st);
 } mixed_ops;
 
 /* solve_mixed's loop on ops: dev holds the float work vectors, `rows` rows
