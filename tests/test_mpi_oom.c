@@ -3,10 +3,9 @@
  * Memory running out on one rank reaches every rank, with one message, and
  * no rank waits for ever in a collective the failing one never enters
  * (issue 14: "a failure on any rank reaches every rank"). The library's
- * allocations are wrapped at link time (-Wl,--wrap=malloc, calloc, realloc,
- * aligned_alloc: limn is a static library, so its own calls go through the
- * wrappers below; PoCL's and MPI's do not): while armed, the k-th
- * allocation of one rank fails. Each distributed call below (read and
+ * allocations are wrapped at link time (alloc_fail.h: limn is a static
+ * library, so its own calls go through the wrappers; PoCL's and MPI's do
+ * not): the k-th allocation of one rank fails. Each distributed call below (read and
  * repair, interpolate with the default, sgs and float solves, smooth,
  * bands, the default denoise, the feature-preserving one, subdivide with
  * the limit, texture, the MPI-IO write) runs once with nothing failing,
@@ -20,6 +19,7 @@
  * ctest's timeout. `test_mpi_oom NAME` sweeps only the calls whose name
  * contains NAME (LIMN_OOM_TRACE=1: each run said on stderr).
  */
+#include "alloc_fail.h"
 #include "mpi_check.h"
 #include "mpi_meshes.h"
 #include "noise.h"
@@ -37,46 +37,6 @@
 
 MPI_CHECK_STATE;
 static char dir[256];
-
-/* The injection: armed on this rank, the fail_at-th allocation from now on
-   returns NULL (count: allocations seen since armed). */
-static int armed;
-static long count, fail_at;
-
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t k, size_t n);
-void *__real_realloc(void *p, size_t n);
-void *__real_aligned_alloc(size_t a, size_t n);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t k, size_t n);
-void *__wrap_realloc(void *p, size_t n);
-void *__wrap_aligned_alloc(size_t a, size_t n);
-
-/* 1 when this allocation is the one to fail. */
-static int fails_now(void)
-{
-    return armed && ++count == fail_at;
-}
-
-void *__wrap_malloc(size_t n)
-{
-    return fails_now() ? NULL : __real_malloc(n);
-}
-
-void *__wrap_calloc(size_t k, size_t n)
-{
-    return fails_now() ? NULL : __real_calloc(k, n);
-}
-
-void *__wrap_realloc(void *p, size_t n)
-{
-    return fails_now() ? NULL : __real_realloc(p, n);
-}
-
-void *__wrap_aligned_alloc(size_t a, size_t n)
-{
-    return fails_now() ? NULL : __real_aligned_alloc(a, n);
-}
 
 /* What a call works on: the slices of the input (read and repaired), the
    input's path, the output path of the write. */
@@ -250,15 +210,12 @@ static int run_once(limn_context *ctx, const char *name, call_fn call, const wor
 {
     limn_mpi_mesh *f = NULL;
     double value = NAN;
-    count = 0;
-    fail_at = rank == victim ? k : 0;
     if (getenv("LIMN_OOM_TRACE"))
         fprintf(stderr, "rank %d: %s, allocation %ld of rank %d failing\n", rank, name, k,
                 victim);
-    armed = 1;
+    alloc_fail_arm(rank == victim ? k : 0);
     limn_status st = call(ctx, w, &f, &value);
-    armed = 0;
-    long seen = count;
+    long seen = alloc_fail_disarm();
     int mine = st == LIMN_OK, all_ok = 0, any_ok = 0;
     MPI_Allreduce(&mine, &all_ok, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
     MPI_Allreduce(&mine, &any_ok, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
