@@ -14,7 +14,8 @@
  * OBJ and OFF, repair, info, measure, interpolate (default, cg, sgs,
  * float), subdivide with the limit, smooth, the paper's denoise, the
  * default one, the feature-preserving one, sharpen, bands, morph, texture,
- * the writes (PLY, OBJ) and an output set of two files.
+ * the writes (PLY, OBJ) and an output set of two files; then reading,
+ * info and interpolate on a mesh large enough for two host threads.
  * `test_oom NAME` sweeps only the calls whose name contains NAME.
  */
 #include "alloc_fail.h"
@@ -419,7 +420,7 @@ static void sweep(limn_context *ctx, const char *name, call_fn call, const work 
         refused += !run_once(ctx, name, call, w, k, &ref);
     CHECK(!ok || run_once(ctx, name, call, w, -1, &ref), "%s: the call after the sweep failed",
           name);
-    printf("  %-18s %4ld allocations failing in turn: %4ld refused, %ld worked around\n", name,
+    printf("  %-20s %5ld allocations failing in turn: %4ld refused, %ld worked around\n", name,
            ref.allocations, refused, ref.allocations - refused);
     free(ref.pos);
 }
@@ -473,6 +474,25 @@ int main(int argc, char **argv)
     for (size_t c = 0; ok && c < sizeof calls / sizeof *calls; c++)
         if (argc < 2 || strstr(calls[c].name, argv[1]))
             sweep(ctx, calls[c].name, calls[c].call, &w);
+    /* a mesh large enough for the host threads (parallel_threads: 4 MiB of
+       work a thread), two of them: an allocation failing inside a range */
+    limn_mesh *large = NULL;
+    so.levels = 5;
+    ok = ok && !limn_context_set_host_threads(ctx, 2) &&
+         !limn_subdivide(ctx, fine, &so, &large, NULL) &&
+         !limn_mesh_write(ctx, large, w.ply, LIMN_FORMAT_AUTO) &&
+         !limn_mesh_write(ctx, large, w.obj, LIMN_FORMAT_AUTO);
+    CHECK(ok, "making the large inputs: %s", limn_context_message(ctx));
+    static const struct {
+        const char *name;
+        call_fn call;
+    } threaded[] = {{"read PLY, large", call_read_ply}, {"read OBJ, large", call_read_obj},
+                    {"info, large", call_info}, {"interpolate, large", call_interpolate}};
+    w.mesh = large;
+    for (size_t c = 0; ok && c < sizeof threaded / sizeof *threaded; c++)
+        if (argc < 2 || strstr(threaded[c].name, argv[1]))
+            sweep(ctx, threaded[c].name, threaded[c].call, &w);
+    limn_mesh_destroy(large);
     free(w.bands);
     limn_mesh_destroy(mesh);
     limn_mesh_destroy(fine);
