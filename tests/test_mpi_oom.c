@@ -5,19 +5,20 @@
  * (issue 14: "a failure on any rank reaches every rank"). The library's
  * allocations are wrapped at link time (alloc_fail.h: limn is a static
  * library, so its own calls go through the wrappers; PoCL's and MPI's do
- * not): the k-th allocation of one rank fails. Each distributed call below (read and
- * repair, interpolate with the default, sgs and float solves, smooth,
- * bands, the default denoise, the feature-preserving one, subdivide with
- * the limit, texture, the MPI-IO write) runs once with nothing failing,
+ * not): the k-th allocation of one rank fails. Each distributed call below
+ * (read and repair, interpolate with the default, sgs and float solves,
+ * measure, smooth, sharpen, bands, the default denoise, the
+ * feature-preserving one, subdivide with the limit, texture, morph, the
+ * MPI-IO write, the split write and read) runs once with nothing failing,
  * counting the allocations of the failing rank (on 2 ranks the last, then
- * rank 0; on more a middle one),
- * then once for every k up to that count. Each run must end alike on every
- * rank: LIMN_ERR_MEMORY with the failing rank's message and no mesh (a
- * write: no file), or, where the library works around the failure (a
- * bitmap's fallback to a sort), the bits of the run with nothing failing;
- * and a last run must work as the first. A rank left waiting shows as
- * ctest's timeout. `test_mpi_oom NAME` sweeps only the calls whose name
- * contains NAME (LIMN_OOM_TRACE=1: each run said on stderr).
+ * rank 0; on more a middle one), then once for every k up to that count.
+ * Each run must end alike on every rank: LIMN_ERR_MEMORY with the failing
+ * rank's message and no mesh (a write: no file; a split write: no part on
+ * any rank), or, where the library works around the failure (a bitmap's
+ * fallback to a sort), the bits of the run with nothing failing; and a
+ * last run must work as the first. A rank left waiting shows as ctest's
+ * timeout. `test_mpi_oom NAME` sweeps only the calls whose name contains
+ * NAME (LIMN_OOM_TRACE=1: each run said on stderr).
  */
 #include "alloc_fail.h"
 #include "mpi_check.h"
@@ -39,10 +40,10 @@ MPI_CHECK_STATE;
 static char dir[256];
 
 /* What a call works on: the slices of the input (read and repaired), the
-   input's path, the output path of the write. */
+   input's path, the output path of the write, the split files' name. */
 typedef struct work {
     const limn_mpi_mesh *mesh;
-    const char *in, *out;
+    const char *in, *out, *split;
 } work;
 
 /* A call under test: its status, *out the distributed mesh it makes (NULL
@@ -121,6 +122,77 @@ static limn_status call_bands(limn_context *ctx, const work *w, limn_mpi_mesh **
     *out = b[0];
     limn_mpi_mesh_destroy(b[1]);
     limn_mpi_mesh_destroy(b[2]);
+    return st;
+}
+
+static limn_status call_sharpen(limn_context *ctx, const work *w, limn_mpi_mesh **out,
+                                double *value)
+{
+    limn_series_options o;
+    limn_series_options_default(&o);
+    o.scheme = LIMN_SCHEME_LOOP;
+    *value = NAN;
+    return limn_mpi_mesh_sharpen(ctx, w->mesh, &o, 1, 2, 2, out, NULL, NULL, NULL);
+}
+
+static limn_status call_measure(limn_context *ctx, const work *w, limn_mpi_mesh **out,
+                                double *value)
+{
+    limn_mesh_measures m;
+    memset(&m, 0, sizeof m);
+    m.size = sizeof m;
+    *out = NULL;
+    limn_status st = limn_mpi_mesh_measure(ctx, w->mesh, &m);
+    *value = st ? NAN : m.volume;
+    return st;
+}
+
+/* The frames' volumes, summed (the last frame's distance added). */
+static limn_status sum_frames(void *user, const limn_mpi_mesh *frame,
+                              const limn_morph_frame *measures)
+{
+    (void)frame;
+    *(double *)user += measures->volume + measures->mean_distance_to_target;
+    return LIMN_OK;
+}
+
+/* From the mesh to its smoothing (made in the call: its allocations are
+   swept too). */
+static limn_status call_morph(limn_context *ctx, const work *w, limn_mpi_mesh **out,
+                              double *value)
+{
+    limn_series_options so;
+    limn_series_options_default(&so);
+    so.scheme = LIMN_SCHEME_LOOP;
+    limn_morph_options o;
+    limn_morph_options_default(&o);
+    o.series.scheme = LIMN_SCHEME_LOOP;
+    o.frames = 3;
+    limn_mpi_mesh *to = NULL;
+    *out = NULL;
+    *value = 0.0;
+    limn_status st = limn_mpi_mesh_smooth(ctx, w->mesh, &so, 2, &to, NULL, NULL, NULL);
+    if (!st)
+        st = limn_mpi_mesh_morph(ctx, w->mesh, to, &o, sum_frames, value, NULL, NULL, NULL);
+    limn_mpi_mesh_destroy(to);
+    return st;
+}
+
+/* The split files written (refused: none left), then read back (their
+   positions compared). */
+static limn_status call_split(limn_context *ctx, const work *w, limn_mpi_mesh **out,
+                              double *value)
+{
+    *value = NAN;
+    limn_status st = limn_mpi_mesh_write_split(ctx, w->mesh, w->split);
+    char mine[340];
+    snprintf(mine, sizeof mine, "%s.r%d.ply", w->split, rank);
+    struct stat sb;
+    CHECK(!st || stat(mine, &sb) != 0, "a refused split write left %s", mine);
+    if (!st)
+        st = limn_mpi_mesh_read_split(ctx, MPI_COMM_WORLD, w->split, out);
+    MPI_Barrier(MPI_COMM_WORLD);
+    unlink(mine);
     return st;
 }
 
@@ -297,7 +369,9 @@ int main(int argc, char **argv)
     CHECK(!ok || st == LIMN_OK, "reading slices: %s", limn_context_message(ctx));
     char out[320];
     snprintf(out, sizeof out, "%s/out.ply", dir);
-    work w = {m, in, out};
+    char split[320];
+    snprintf(split, sizeof split, "%s/split", dir);
+    work w = {m, in, out, split};
     static const struct {
         const char *name;
         call_fn call;
@@ -305,12 +379,16 @@ int main(int argc, char **argv)
                  {"interpolate", call_interpolate},
                  {"interpolate sgs", call_sgs},
                  {"interpolate float", call_float},
+                 {"measure", call_measure},
                  {"smooth", call_smooth},
+                 {"sharpen", call_sharpen},
                  {"bands", call_bands},
                  {"denoise (default)", call_denoise_sure},
                  {"denoise features", call_features},
                  {"subdivide --limit", call_subdivide},
                  {"texture", call_texture},
+                 {"morph", call_morph},
+                 {"split write + read", call_split},
                  {"write", call_write}};
     for (size_t c = 0; !st && c < sizeof calls / sizeof *calls; c++) {
         if (argc > 1 && !strstr(calls[c].name, argv[1]))

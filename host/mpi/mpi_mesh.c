@@ -16,6 +16,7 @@
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
+#include <unistd.h>
 #include <string.h>
 
 limn_status mpi_mesh_part(limn_context *ctx, const limn_mpi_mesh *mesh,
@@ -183,9 +184,22 @@ limn_status limn_mpi_mesh_write_split(limn_context *ctx, const limn_mpi_mesh *me
     if (!st && !name)
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_mpi_mesh_write_split: name is NULL");
     st = mpi_agree(&p, st);
+    /* every part staged before any appears: a rank that fails leaves no part anywhere */
+    atomic_file af;
+    memset(&af, 0, sizeof af);
     if (!st)
-        st = mpi_agree(&p, mesh_slice_write_split(ctx, name, (unsigned)p.rank, (unsigned)p.size,
-                                                  &mesh->slice));
+        st = mpi_agree(&p, mesh_slice_stage_split(ctx, name, (unsigned)p.rank,
+                                                  (unsigned)p.size, &mesh->slice, &af));
+    if (!st) {
+        limn_status mine = atomic_file_commit(ctx, &af);
+        char path[4096];
+        /* a rename that failed on another rank: no set of parts from two writes */
+        if ((st = mpi_agree(&p, mine)) && !mine &&
+            mesh_slice_split_name(name, (unsigned)p.rank, path, sizeof path))
+            unlink(path);
+    } else {
+        atomic_file_abort(&af);
+    }
     mpi_part_end(&p);
     return st;
 }

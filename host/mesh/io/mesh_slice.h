@@ -41,6 +41,7 @@
 #define LIMN_MESH_IO_MESH_SLICE_H
 
 #include "limn.h"
+#include "base/atomic_file.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -106,6 +107,11 @@ int mesh_slice_split_name(const char *name, unsigned part, char *buf, size_t siz
 /* Writes s as part `part` of `parts` (atomic: whole or not at all). */
 limn_status mesh_slice_write_split(limn_context *ctx, const char *name, unsigned part,
                                    unsigned parts, const mesh_slice *s);
+/* The same staged: *af holds the part complete and synced under its
+   temporary name, for atomic_file_commit (or atomic_file_abort) once every
+   part is staged; on failure nothing is left and *af is empty. */
+limn_status mesh_slice_stage_split(limn_context *ctx, const char *name, unsigned part,
+                                   unsigned parts, const mesh_slice *s, atomic_file *af);
 /* Reads part `part`'s file, checking it against its own header and the
    neighbouring parts' headers (part p-1 ends where p begins, the same totals;
    the last part ends at the totals and no file NAME.r<parts>.ply exists), so

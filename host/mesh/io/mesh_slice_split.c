@@ -3,7 +3,8 @@
  * Split input (mesh_slice.h): one binary PLY a part, NAME.r<p>.ply, whose
  * faces hold global vertex indices and whose header comment
  *   comment limn-slice part p parts P vertex_begin B vertex_total N face_begin F face_total M
- * places the part in the whole. The writer writes one part (atomically);
+ * places the part in the whole. The writer writes one part (atomically; or
+ * stages it, complete and synced, for the caller to commit with the others);
  * the reader reads one part with the binary PLY slice reader
  * (mesh_slice_ply.c, indices checked against N) and checks its header
  * against its predecessor's, so that parts that all succeed agree.
@@ -59,20 +60,20 @@ static int write_records(FILE *f, const mesh_slice *s, int wide)
     return 1;
 }
 
-limn_status mesh_slice_write_split(limn_context *ctx, const char *name, unsigned part,
-                                   unsigned parts, const mesh_slice *s)
+limn_status mesh_slice_stage_split(limn_context *ctx, const char *name, unsigned part,
+                                   unsigned parts, const mesh_slice *s, atomic_file *af)
 {
     char path[4096];
+    memset(af, 0, sizeof *af);
     if (!mesh_slice_split_name(name, part, path, sizeof path))
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: the name is too long", name);
     int wide = 0;
     for (size_t k = 0; k < s->face_count; k++)
         wide |= s->face_offsets[k + 1] - s->face_offsets[k] > 255;
-    atomic_file af;
-    limn_status st = atomic_file_open(ctx, path, &af);
+    limn_status st = atomic_file_open(ctx, path, af);
     if (st)
         return st;
-    int ok = fprintf(af.f,
+    int ok = fprintf(af->f,
                      "ply\nformat binary_little_endian 1.0\ncomment limn-slice part %u parts %u "
                      "vertex_begin %zu vertex_total %zu face_begin %zu face_total %zu\n"
                      "element vertex %zu\nproperty double x\nproperty double y\n"
@@ -81,13 +82,21 @@ limn_status mesh_slice_write_split(limn_context *ctx, const char *name, unsigned
                      part, parts, s->vertex_begin, s->vertex_total, s->face_begin,
                      s->face_total, s->vertex_count, s->face_count,
                      wide ? "uint" : "uchar") > 0 &&
-             write_records(af.f, s, wide);
+             write_records(af->f, s, wide);
     if (!ok) {
         st = ctx_fail(ctx, LIMN_ERR_IO, "cannot write %s", path);
-        atomic_file_abort(&af);
+        atomic_file_abort(af);
         return st;
     }
-    return atomic_file_commit(ctx, &af);
+    return atomic_file_finish(ctx, af);
+}
+
+limn_status mesh_slice_write_split(limn_context *ctx, const char *name, unsigned part,
+                                   unsigned parts, const mesh_slice *s)
+{
+    atomic_file af;
+    limn_status st = mesh_slice_stage_split(ctx, name, part, parts, s, &af);
+    return st ? st : atomic_file_commit(ctx, &af);
 }
 
 /* ------------------------------------------------------------------- read */
