@@ -195,49 +195,15 @@ static limn_status exchange_answers(mpi_part *p, local_sub *s, rows_tmp *t)
     return st;
 }
 
-/* Rows, ids, rules and scales into p. The sub-mesh operator's table becomes
-   p's: the owned rows move down into local order in place, their columns
-   renumbered on the way, so a rank never holds its rows twice. Class 0 (no
-   ghost column, read by no other rank: nearly every row) comes first in
-   increasing id, as the sub-mesh's rows are, so each of its rows lands at or
-   before where it was; the other classes are set aside first. */
-static limn_status fill_rows(mpi_part *p, local_sub *s, rows_tmp *t)
+/* fill_rows' second half: the rows of classes 1-3 (from p->send_begin in
+   local order) set aside, then every owned row moved down into local order
+   (order: local index -> owned index) with its columns renumbered by t->loc;
+   offsets (no + 1) filled; the table becomes p->host. */
+static limn_status move_rows(mpi_part *p, local_sub *s, const rows_tmp *t,
+                             const uint32_t *order, uint32_t *offsets)
 {
     stencil_csr *a = &s->op.host;
-    size_t no = s->n_owned, ng = t->ng, nnz = 0, aside = 0, first = p->send_begin;
-    for (size_t i = 0; i < no; i++) {
-        uint32_t len;
-        row_begin(s, s->owned[i], &len);
-        nnz += len;
-    }
-    if (nnz > INT_MAX || 3 * no > INT_MAX || 3 * ng > INT_MAX)
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY,
-                        "rank %d would hold %zu rows and %zu entries: too many for one MPI "
-                        "message; use more ranks",
-                        p->rank, no, nnz);
-    int ids = mpi_part_ids_alloc(p, no, ng);
-    t->loc = large_malloc((s->n ? s->n : 1) * sizeof *t->loc);
-    uint32_t *order = large_malloc((no ? no : 1) * sizeof *order);
-    uint32_t *offsets = large_malloc((no + 1) * sizeof *offsets);
-    mpi_local_note(s, s->n);
-    if (!ids || !t->loc || !order || !offsets) {
-        free(order);
-        free(offsets);
-        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the rows of rank %d",
-                        p->rank);
-    }
-    p->n_owned = no;
-    p->n_ghost = ng;
-    for (size_t i = 0; i < no; i++) {
-        uint32_t o = s->owned[i];
-        order[t->lidx[i]] = (uint32_t)i;
-        t->loc[o] = t->lidx[i];
-    }
-    for (size_t k = 0; k < ng; k++) {
-        p->ghost_ids[k] = s->ids[t->g[k].sub];
-        p->ghost_rule[k] = (uint8_t)t->g[k].rule;
-        t->loc[t->g[k].sub] = (uint32_t)(no + k);
-    }
+    size_t no = s->n_owned, aside = 0, first = p->send_begin;
     for (size_t l = first; l < no; l++) {
         uint32_t len;
         row_begin(s, s->owned[order[l]], &len);
@@ -246,8 +212,6 @@ static limn_status fill_rows(mpi_part *p, local_sub *s, rows_tmp *t)
     uint32_t *cols_aside = large_malloc((aside ? aside : 1) * sizeof *cols_aside);
     double *w_aside = large_malloc((aside ? aside : 1) * sizeof *w_aside);
     if (!cols_aside || !w_aside) {
-        free(order);
-        free(offsets);
         free(cols_aside);
         free(w_aside);
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the rows of rank %d",
@@ -284,7 +248,6 @@ static limn_status fill_rows(mpi_part *p, local_sub *s, rows_tmp *t)
     }
     free(cols_aside);
     free(w_aside);
-    free(order);
     /* the table is p's now; shrunk to its rows (the old block kept if not) */
     uint32_t *c = realloc(cols, (e2 ? e2 : 1) * sizeof *c);
     double *wr = realloc(w, (e2 ? e2 : 1) * sizeof *wr);
@@ -294,8 +257,57 @@ static limn_status fill_rows(mpi_part *p, local_sub *s, rows_tmp *t)
     a->weights = NULL;
     p->host.row_offsets = offsets;
     p->host.rows = no;
-    p->host.cols = no + ng;
+    p->host.cols = no + t->ng;
     return LIMN_OK;
+}
+
+/* Rows, ids, rules and scales into p. The sub-mesh operator's table becomes
+   p's: the owned rows move down into local order in place, their columns
+   renumbered on the way, so a rank never holds its rows twice. Class 0 (no
+   ghost column, read by no other rank: nearly every row) comes first in
+   increasing id, as the sub-mesh's rows are, so each of its rows lands at or
+   before where it was; the other classes are set aside first. */
+static limn_status fill_rows(mpi_part *p, local_sub *s, rows_tmp *t)
+{
+    size_t no = s->n_owned, ng = t->ng, nnz = 0;
+    for (size_t i = 0; i < no; i++) {
+        uint32_t len;
+        row_begin(s, s->owned[i], &len);
+        nnz += len;
+    }
+    if (nnz > INT_MAX || 3 * no > INT_MAX || 3 * ng > INT_MAX)
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                        "rank %d would hold %zu rows and %zu entries: too many for one MPI "
+                        "message; use more ranks",
+                        p->rank, no, nnz);
+    int ids = mpi_part_ids_alloc(p, no, ng);
+    t->loc = large_malloc((s->n ? s->n : 1) * sizeof *t->loc);
+    uint32_t *order = large_malloc((no ? no : 1) * sizeof *order);
+    uint32_t *offsets = large_malloc((no + 1) * sizeof *offsets);
+    mpi_local_note(s, s->n);
+    if (!ids || !t->loc || !order || !offsets) {
+        free(order);
+        free(offsets);
+        return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the rows of rank %d",
+                        p->rank);
+    }
+    p->n_owned = no;
+    p->n_ghost = ng;
+    for (size_t i = 0; i < no; i++) {
+        uint32_t o = s->owned[i];
+        order[t->lidx[i]] = (uint32_t)i;
+        t->loc[o] = t->lidx[i];
+    }
+    for (size_t k = 0; k < ng; k++) {
+        p->ghost_ids[k] = s->ids[t->g[k].sub];
+        p->ghost_rule[k] = (uint8_t)t->g[k].rule;
+        t->loc[t->g[k].sub] = (uint32_t)(no + k);
+    }
+    limn_status st = move_rows(p, s, t, order, offsets);
+    free(order);
+    if (st)
+        free(offsets);
+    return st;
 }
 
 static int cmp_u32(const void *a, const void *b)
