@@ -4,7 +4,8 @@
  * on millions of values; every format's bytes against the writers as they
  * were (oracle/write_oracle.c) for 1, 2 and 4 host threads; float32 PLY
  * (read back as (float)x, the reported error from the file read back, the
- * option refused where it does not apply); a failing write leaves nothing.
+ * option refused where it does not apply); a failing write leaves nothing,
+ * at every file size limit (64 KiB apart, and at the last byte).
  */
 #include <math.h>
 #include <setjmp.h>
@@ -14,6 +15,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -21,6 +25,7 @@
 #include "limn.h"
 #include "mesh/io/number_format.h"
 #include "shell.h"
+#include "support.h"
 #include "write_oracle.h"
 
 static limn_context *ctx;
@@ -275,6 +280,78 @@ static void failing_write(void **s)
     limn_mesh_destroy(m);
 }
 
+/* The number of entries in dir besides . and .. */
+static int dir_entries(const char *d)
+{
+    DIR *h = opendir(d);
+    int n = 0;
+    for (struct dirent *e; h && (e = readdir(h));)
+        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
+    if (h)
+        closedir(h);
+    return n;
+}
+
+static size_t next_limit(size_t limit, size_t full)
+{
+    size_t next = limit == 0 ? 1 : limit == 1 ? 65536 : limit + 65536;
+    return limit >= full - 1 ? limit + 1 : next < full - 1 ? next : full - 1;
+}
+
+/* The file size limit (RLIMIT_FSIZE, SIGXFSZ ignored: the write fails with
+   EFBIG) at every 64 KiB, and at 0, 1 and one byte short, of each format's
+   file (with colours, 2 host threads): every write below the size refused
+   (LIMN_ERR_IO naming the file), the old file's bytes kept, nothing left
+   beside it; at the size itself the write works. */
+static void size_limit_sweep(void **s)
+{
+    (void)s;
+    limn_mesh *m = test_mesh(30000, 1);
+    char path[300];
+    path_of(path, sizeof path, "limited");
+    static const char old[] = "old bytes a refused write keeps\n";
+    assert_int_equal(limn_context_set_host_threads(ctx, 2), LIMN_OK);
+    void (*prev)(int) = signal(SIGXFSZ, SIG_IGN);
+    struct rlimit was;
+    assert_int_equal(getrlimit(RLIMIT_FSIZE, &was), 0);
+    long refused = 0;
+    for (size_t k = 0; k < sizeof every_format / sizeof every_format[0]; k++) {
+        assert_int_equal(limn_mesh_write(ctx, m, path, every_format[k]), LIMN_OK);
+        size_t full = 0;
+        free(test_slurp(path, &full));
+        /* 0, 1, 64 KiB, 128 KiB, ... below full - 1, then full - 1 and full */
+        for (size_t limit = 0; limit <= full; limit = next_limit(limit, full)) {
+            assert_int_equal(test_write_text(path, old), 0);
+            int before = dir_entries(dir);
+            struct rlimit small = was;
+            small.rlim_cur = limit;
+            assert_int_equal(setrlimit(RLIMIT_FSIZE, &small), 0);
+            limn_status st = limn_mesh_write(ctx, m, path, every_format[k]);
+            assert_int_equal(setrlimit(RLIMIT_FSIZE, &was), 0);
+            size_t n = 0;
+            char *now = test_slurp(path, &n);
+            if (limit < full) {
+                if (st != LIMN_ERR_IO || !strstr(limn_context_message(ctx), "limited"))
+                    fail_msg("format %zu, limit %zu of %zu: status %d '%s'", k, limit, full,
+                             (int)st, limn_context_message(ctx));
+                assert_int_equal(n, strlen(old));
+                assert_memory_equal(now, old, n);
+                assert_int_equal(dir_entries(dir), before);
+                refused++;
+            } else {
+                assert_int_equal(st, LIMN_OK);
+                assert_int_equal(n, full);
+            }
+            free(now);
+        }
+    }
+    signal(SIGXFSZ, prev);
+    limn_context_set_host_threads(ctx, 0);
+    unlink(path);
+    print_message("  %ld writes over the size limit refused, the old file kept\n", refused);
+    limn_mesh_destroy(m);
+}
+
 static int setup(void **s)
 {
     (void)s;
@@ -297,6 +374,7 @@ int main(void)
         cmocka_unit_test(float_ply),
         cmocka_unit_test(float_refused),
         cmocka_unit_test(failing_write),
+        cmocka_unit_test(size_limit_sweep),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
