@@ -2,6 +2,8 @@
 /* Allocation failures on demand (alloc_fail.h): the link-time wrappers. */
 #include "alloc_fail.h"
 
+#include <errno.h>
+#include <pthread.h>
 #include <stddef.h>
 
 /* atomic: limn's host threads allocate too (which one the k-th is then
@@ -17,6 +19,20 @@ void *__wrap_malloc(size_t n);
 void *__wrap_calloc(size_t k, size_t n);
 void *__wrap_realloc(void *p, size_t n);
 void *__wrap_aligned_alloc(size_t a, size_t n);
+int __real_pthread_create(pthread_t *t, const pthread_attr_t *a, void *(*fn)(void *), void *arg);
+int __wrap_pthread_create(pthread_t *t, const pthread_attr_t *a, void *(*fn)(void *), void *arg);
+
+static _Atomic int threads_fail;
+
+void alloc_fail_threads(int on)
+{
+    threads_fail = on;
+}
+
+int __wrap_pthread_create(pthread_t *t, const pthread_attr_t *a, void *(*fn)(void *), void *arg)
+{
+    return threads_fail ? EAGAIN : __real_pthread_create(t, a, fn, arg);
+}
 
 void alloc_fail_arm(long k)
 {

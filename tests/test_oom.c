@@ -15,7 +15,9 @@
  * float), subdivide with the limit, smooth, the paper's denoise, the
  * default one, the feature-preserving one, sharpen, bands, morph, texture,
  * the writes (PLY, OBJ) and an output set of two files; then reading,
- * info and interpolate on a mesh large enough for two host threads.
+ * info and interpolate on a mesh large enough for two host threads, and
+ * the same with no host thread able to start (pthread_create failing: each
+ * range runs on the caller), the same bits.
  * `test_oom NAME` sweeps only the calls whose name contains NAME.
  */
 #include "alloc_fail.h"
@@ -425,6 +427,20 @@ static void sweep(limn_context *ctx, const char *name, call_fn call, const work 
     free(ref.pos);
 }
 
+/* call with every host thread failing to start (parallel_run then runs
+   each range on the calling thread): the bits of a run where they start. */
+static void no_threads(limn_context *ctx, const char *name, call_fn call, const work *w)
+{
+    reference ref = {0};
+    int ok = run_once(ctx, name, call, w, 0, &ref);
+    alloc_fail_threads(1);
+    CHECK(ok && run_once(ctx, name, call, w, -1, &ref), "%s without threads: %s", name,
+          limn_context_message(ctx));
+    alloc_fail_threads(0);
+    printf("  %-20s no host thread starting: the same bits\n", name);
+    free(ref.pos);
+}
+
 int main(int argc, char **argv)
 {
     work w;
@@ -492,6 +508,10 @@ int main(int argc, char **argv)
     for (size_t c = 0; ok && c < sizeof threaded / sizeof *threaded; c++)
         if (argc < 2 || strstr(threaded[c].name, argv[1]))
             sweep(ctx, threaded[c].name, threaded[c].call, &w);
+    /* no host thread starts: every range runs on the caller, the same bits */
+    for (size_t c = 0; ok && c < sizeof threaded / sizeof *threaded; c++)
+        if (argc < 2 || strstr(threaded[c].name, argv[1]))
+            no_threads(ctx, threaded[c].name, threaded[c].call, &w);
     limn_mesh_destroy(large);
     free(w.bands);
     limn_mesh_destroy(mesh);
