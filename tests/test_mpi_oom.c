@@ -16,11 +16,13 @@
  * rank's message and no mesh (a write: no file; a split write: no part on
  * any rank), or, where the library works around the failure (a bitmap's
  * fallback to a sort), the bits of the run with nothing failing; and a
- * last run must work as the first. A rank left waiting shows as ctest's
+ * last run must work as the first. Then all again with the victim's
+ * OpenCL calls failing in turn (cl_fail.h; LIMN_ERR_DEVICE, or _MEMORY). A rank left waiting shows as ctest's
  * timeout. `test_mpi_oom NAME` sweeps only the calls whose name contains
  * NAME (LIMN_OOM_TRACE=1: each run said on stderr).
  */
 #include "alloc_fail.h"
+#include "cl_fail.h"
 #include "mpi_check.h"
 #include "mpi_meshes.h"
 #include "noise.h"
@@ -273,6 +275,9 @@ static int same_as(const reference *ref, const limn_mpi_mesh *out, double value)
            (!n || memcmp(limn_mpi_mesh_positions(out), ref->pos, n * sizeof *ref->pos) == 0);
 }
 
+/* What fails: an allocation, or an OpenCL call (cl_fail.h). */
+static int failing_cl;
+
 /* One run of call with the k-th allocation of rank `victim` failing (k <= 0:
    none): the same outcome on every rank, a refusal with the victim's
    message and no mesh, or (a failure the library worked around) the
@@ -285,9 +290,12 @@ static int run_once(limn_context *ctx, const char *name, call_fn call, const wor
     if (getenv("LIMN_OOM_TRACE"))
         fprintf(stderr, "rank %d: %s, allocation %ld of rank %d failing\n", rank, name, k,
                 victim);
-    alloc_fail_arm(rank == victim ? k : 0);
+    if (failing_cl)
+        cl_fail_arm(rank == victim ? k : 0);
+    else
+        alloc_fail_arm(rank == victim ? k : 0);
     limn_status st = call(ctx, w, &f, &value);
-    long seen = alloc_fail_disarm();
+    long seen = failing_cl ? cl_fail_disarm() : alloc_fail_disarm();
     int mine = st == LIMN_OK, all_ok = 0, any_ok = 0;
     MPI_Allreduce(&mine, &all_ok, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
     MPI_Allreduce(&mine, &any_ok, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
@@ -313,7 +321,9 @@ static int run_once(limn_context *ctx, const char *name, call_fn call, const wor
         snprintf(msg, sizeof msg, "%s", limn_context_message(ctx));
         memcpy(theirs, msg, sizeof msg);
         MPI_Bcast(theirs, (int)sizeof theirs, MPI_CHAR, victim, MPI_COMM_WORLD);
-        CHECK(st == LIMN_ERR_MEMORY && strcmp(msg, theirs) == 0,
+        int expected = failing_cl ? st == LIMN_ERR_DEVICE || st == LIMN_ERR_MEMORY
+                                  : st == LIMN_ERR_MEMORY;
+        CHECK(expected && strcmp(msg, theirs) == 0,
               "%s, allocation %ld failing on rank %d: rank %d got %d '%s', rank %d '%s'", name,
               k, victim, rank, (int)st, msg, victim, theirs);
     }
@@ -333,10 +343,11 @@ static void sweep(limn_context *ctx, const char *name, call_fn call, const work 
     /* and nothing was left in a state that spoils the next call */
     CHECK(!ok || run_once(ctx, name, call, w, victim, -1, &ref),
           "%s: the call after the sweep failed", name);
-    if (rank == 0)
-        printf("  %-21s rank %d's %4ld allocations failing in turn: %4ld refused alike on every "
+    if (rank == 0 && ref.allocations)
+        printf("  %-21s rank %d's %4ld %s failing in turn: %4ld refused alike on every "
                "rank, %ld worked around\n",
-               name, victim, ref.allocations, refused, ref.allocations - refused);
+               name, victim, ref.allocations, failing_cl ? "OpenCL calls" : "allocations",
+               refused, ref.allocations - refused);
     free(ref.pos);
 }
 
@@ -390,14 +401,16 @@ int main(int argc, char **argv)
                  {"morph", call_morph},
                  {"split write + read", call_split},
                  {"write", call_write}};
-    for (size_t c = 0; !st && c < sizeof calls / sizeof *calls; c++) {
-        if (argc > 1 && !strstr(calls[c].name, argv[1]))
-            continue; /* one call by name, when debugging */
-        /* 2 ranks: the last, then the first; more: a middle one (both neighbours) */
-        sweep(ctx, calls[c].name, calls[c].call, &w, size == 2 ? 1 : size / 2);
-        if (size == 2)
-            sweep(ctx, calls[c].name, calls[c].call, &w, 0);
-    }
+    /* allocations, then OpenCL calls */
+    for (failing_cl = 0; failing_cl < 2; failing_cl++)
+        for (size_t c = 0; !st && c < sizeof calls / sizeof *calls; c++) {
+            if (argc > 1 && !strstr(calls[c].name, argv[1]))
+                continue; /* one call by name, when debugging */
+            /* 2 ranks: the last, then the first; more: a middle one (both neighbours) */
+            sweep(ctx, calls[c].name, calls[c].call, &w, size == 2 ? 1 : size / 2);
+            if (size == 2)
+                sweep(ctx, calls[c].name, calls[c].call, &w, 0);
+        }
     limn_mpi_mesh_destroy(m);
     if (rank == 0)
         unlink(in);

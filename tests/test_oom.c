@@ -17,10 +17,13 @@
  * the writes (PLY, OBJ) and an output set of two files; then reading,
  * info and interpolate on a mesh large enough for two host threads, and
  * the same with no host thread able to start (pthread_create failing: each
- * range runs on the caller), the same bits.
+ * range runs on the caller), the same bits. The sweep is run twice: with
+ * allocations failing, then with limn's OpenCL calls failing (cl_fail.h:
+ * LIMN_ERR_DEVICE, or LIMN_ERR_MEMORY, with a message expected).
  * `test_oom NAME` sweeps only the calls whose name contains NAME.
  */
 #include "alloc_fail.h"
+#include "cl_fail.h"
 #include "noise.h"
 #include "support.h"
 
@@ -381,15 +384,22 @@ static int same_as(limn_context *ctx, const reference *ref, const limn_mesh *out
     return same;
 }
 
-/* One run with the k-th allocation failing (k <= 0: none); 1 when it worked. */
+/* What fails: an allocation, or an OpenCL call (cl_fail.h). */
+static int failing_cl;
+
+/* One run with the k-th allocation (or OpenCL call) failing (k <= 0:
+   none); 1 when it worked. */
 static int run_once(limn_context *ctx, const char *name, call_fn call, const work *w, long k,
                     reference *ref)
 {
     limn_mesh *f = NULL;
     double value = NAN;
-    alloc_fail_arm(k);
+    if (failing_cl)
+        cl_fail_arm(k);
+    else
+        alloc_fail_arm(k);
     limn_status st = call(ctx, w, &f, &value);
-    long seen = alloc_fail_disarm();
+    long seen = failing_cl ? cl_fail_disarm() : alloc_fail_disarm();
     if (!st && k == 0) {
         ref->value = value;
         ref->allocations = seen;
@@ -403,10 +413,12 @@ static int run_once(limn_context *ctx, const char *name, call_fn call, const wor
     } else {
         const char *msg = limn_context_message(ctx);
         CHECK(f == NULL, "%s, allocation %ld failing: a refused call made a mesh", name, k);
-        CHECK(st == LIMN_ERR_MEMORY && msg && *msg,
-              "%s, allocation %ld failing: status %d '%s' (LIMN_ERR_MEMORY and a message "
-              "expected)",
-              name, k, (int)st, msg ? msg : "(null)");
+        int expected = failing_cl ? st == LIMN_ERR_DEVICE || st == LIMN_ERR_MEMORY
+                                  : st == LIMN_ERR_MEMORY;
+        CHECK(expected && msg && *msg,
+              "%s, %s %ld failing: status %d '%s' (LIMN_ERR_%s and a message expected)", name,
+              failing_cl ? "OpenCL call" : "allocation", k, (int)st, msg ? msg : "(null)",
+              failing_cl ? "DEVICE or _MEMORY" : "MEMORY");
     }
     limn_mesh_destroy(f);
     return st == LIMN_OK;
@@ -422,8 +434,10 @@ static void sweep(limn_context *ctx, const char *name, call_fn call, const work 
         refused += !run_once(ctx, name, call, w, k, &ref);
     CHECK(!ok || run_once(ctx, name, call, w, -1, &ref), "%s: the call after the sweep failed",
           name);
-    printf("  %-20s %5ld allocations failing in turn: %4ld refused, %ld worked around\n", name,
-           ref.allocations, refused, ref.allocations - refused);
+    if (ref.allocations)
+        printf("  %-20s %5ld %s failing in turn: %4ld refused, %ld worked around\n", name,
+               ref.allocations, failing_cl ? "OpenCL calls" : "allocations", refused,
+               ref.allocations - refused);
     free(ref.pos);
 }
 
@@ -487,9 +501,11 @@ int main(int argc, char **argv)
                  {"bands", call_bands},           {"morph", call_morph},
                  {"texture", call_texture},       {"write PLY", call_write_ply},
                  {"write OBJ", call_write_obj},   {"output set", call_output_set}};
-    for (size_t c = 0; ok && c < sizeof calls / sizeof *calls; c++)
-        if (argc < 2 || strstr(calls[c].name, argv[1]))
-            sweep(ctx, calls[c].name, calls[c].call, &w);
+    for (failing_cl = 0; failing_cl < 2; failing_cl++)
+        for (size_t c = 0; ok && c < sizeof calls / sizeof *calls; c++)
+            if (argc < 2 || strstr(calls[c].name, argv[1]))
+                sweep(ctx, calls[c].name, calls[c].call, &w);
+    failing_cl = 0;
     /* a mesh large enough for the host threads (parallel_threads: 4 MiB of
        work a thread), two of them: an allocation failing inside a range */
     limn_mesh *large = NULL;
@@ -505,9 +521,11 @@ int main(int argc, char **argv)
     } threaded[] = {{"read PLY, large", call_read_ply}, {"read OBJ, large", call_read_obj},
                     {"info, large", call_info}, {"interpolate, large", call_interpolate}};
     w.mesh = large;
-    for (size_t c = 0; ok && c < sizeof threaded / sizeof *threaded; c++)
-        if (argc < 2 || strstr(threaded[c].name, argv[1]))
-            sweep(ctx, threaded[c].name, threaded[c].call, &w);
+    for (failing_cl = 0; failing_cl < 2; failing_cl++)
+        for (size_t c = 0; ok && c < sizeof threaded / sizeof *threaded; c++)
+            if (argc < 2 || strstr(threaded[c].name, argv[1]))
+                sweep(ctx, threaded[c].name, threaded[c].call, &w);
+    failing_cl = 0;
     /* no host thread starts: every range runs on the caller, the same bits */
     for (size_t c = 0; ok && c < sizeof threaded / sizeof *threaded; c++)
         if (argc < 2 || strstr(threaded[c].name, argv[1]))
