@@ -66,32 +66,81 @@ static void weighted_fit(limn_context *ctx, const double *r, const double *e0, c
         fail(ctx, "least squares");
 }
 
-void denoise_bound(limn_context *ctx, const limn_mesh *noisy, const limn_mesh *clean,
-                   const limn_series_options *o, int degree, limn_mesh **l2, limn_mesh **dist)
+/* The columns of the split form into r (2 degree of them): r_i's parts
+   along the default's frame normals (those of sure_frame_positions), then
+   its parts across them. */
+static double *split_columns(const limn_mesh *noisy, double *r, size_t n3, int degree)
 {
-    size_t n = limn_mesh_vertex_count(noisy), n3 = 3 * n;
-    double *r = krylov(ctx, noisy, o, degree, n3);
+    size_t n = n3 / 3;
+    double *c = malloc(2 * (size_t)degree * n3 * sizeof *c), *q = malloc(n3 * sizeof *q);
+    double *nrm = malloc(n3 * sizeof *nrm);
+    if (!c || !q || !nrm) {
+        fprintf(stderr, "denoise_bound: out of memory\n");
+        exit(1);
+    }
+    sure_frame_positions(limn_mesh_positions(noisy), r, n3, degree, q);
+    sure_vertex_normals(noisy, q, nrm); /* the noisy mesh's faces at q */
+    for (int i = 0; i < degree; i++)
+        for (size_t v = 0; v < n; v++) {
+            const double *x = r + (size_t)i * n3 + 3 * v, *nv = nrm + 3 * v;
+            double a = x[0] * nv[0] + x[1] * nv[1] + x[2] * nv[2];
+            for (int k = 0; k < 3; k++) {
+                c[(size_t)i * n3 + 3 * v + k] = a * nv[k];
+                c[(size_t)(degree + i) * n3 + 3 * v + k] = x[k] - a * nv[k];
+            }
+        }
+    free(q), free(nrm), free(r);
+    return c;
+}
+
+/* The fits (least squares, then mean distance by reweighting) of y + sum
+   d_i r_i (cols columns r) to x. */
+static void fits(limn_context *ctx, const limn_mesh *noisy, const double *x, const double *r,
+                 size_t n3, int cols, limn_mesh **l2, limn_mesh **dist)
+{
+    size_t n = n3 / 3;
+    const double *y = limn_mesh_positions(noisy);
     double *e0 = malloc(n3 * sizeof *e0), *w = malloc(n * sizeof *w);
-    double *scratch = malloc((size_t)degree * n3 * sizeof *scratch), d[LIMN_MAX_SURE_PRODUCTS];
-    const double *y = limn_mesh_positions(noisy), *x = limn_mesh_positions(clean);
+    double *scratch = malloc((size_t)cols * n3 * sizeof *scratch), d[LIMN_MAX_SURE_PRODUCTS];
+    if (!e0 || !w || !scratch || cols > LIMN_MAX_SURE_PRODUCTS)
+        fail(ctx, "the fit's arrays");
     for (size_t k = 0; k < n3; k++)
         e0[k] = y[k] - x[k]; /* the error of the identity filter */
-    weighted_fit(ctx, r, e0, NULL, n3, degree, scratch, d);
-    *l2 = combine(ctx, noisy, r, n3, degree, d);
+    weighted_fit(ctx, r, e0, NULL, n3, cols, scratch, d);
+    *l2 = combine(ctx, noisy, r, n3, cols, d);
     for (int round = 0; round < 40; round++) {
         /* w_v = 1 / |error_v|: the weighted squares' minimum is the mean distance's */
         for (size_t v = 0; v < n; v++) {
             double s = 0.0;
             for (int c = 0; c < 3; c++) {
                 double e = e0[3 * v + c];
-                for (int i = 0; i < degree; i++)
+                for (int i = 0; i < cols; i++)
                     e += d[i] * r[(size_t)i * n3 + 3 * v + c];
                 s += e * e;
             }
             w[v] = 1.0 / fmax(sqrt(s), 1e-12);
         }
-        weighted_fit(ctx, r, e0, w, n3, degree, scratch, d);
+        weighted_fit(ctx, r, e0, w, n3, cols, scratch, d);
     }
-    *dist = combine(ctx, noisy, r, n3, degree, d);
-    free(r), free(e0), free(w), free(scratch);
+    *dist = combine(ctx, noisy, r, n3, cols, d);
+    free(e0), free(w), free(scratch);
+}
+
+void denoise_bound_split(limn_context *ctx, const limn_mesh *noisy, const limn_mesh *clean,
+                         const limn_series_options *o, int degree, limn_mesh **l2,
+                         limn_mesh **dist)
+{
+    size_t n3 = 3 * limn_mesh_vertex_count(noisy);
+    double *c = split_columns(noisy, krylov(ctx, noisy, o, degree, n3), n3, degree);
+    fits(ctx, noisy, limn_mesh_positions(clean), c, n3, 2 * degree, l2, dist);
+    free(c);
+}
+
+void denoise_bound(limn_context *ctx, const limn_mesh *noisy, const limn_mesh *clean,
+                   const limn_series_options *o, int degree, limn_mesh **l2, limn_mesh **dist)
+{
+    size_t n3 = 3 * limn_mesh_vertex_count(noisy);
+    double *r = krylov(ctx, noisy, o, degree, n3);
+    fits(ctx, noisy, limn_mesh_positions(clean), r, n3, degree, l2, dist);
+    free(r);
 }

@@ -15,5 +15,12 @@
    noisy, x = clean, same topology. Exits on failure (a benchmark). */
 void denoise_bound(limn_context *ctx, const limn_mesh *noisy, const limn_mesh *clean,
                    const limn_series_options *o, int degree, limn_mesh **l2, limn_mesh **dist);
+/* The same for the default's form (sure_split): y + sum_i a_i (n . r_i) n +
+   sum_i b_i (r_i - (n . r_i) n), n the unit normals of the default's frame
+   (sure_frame_positions, sure_vertex_normals), 2 degree coefficients fitted
+   knowing the clean mesh: what no filter of the split's form can beat. */
+void denoise_bound_split(limn_context *ctx, const limn_mesh *noisy, const limn_mesh *clean,
+                         const limn_series_options *o, int degree, limn_mesh **l2,
+                         limn_mesh **dist);
 
 #endif
