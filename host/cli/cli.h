@@ -86,6 +86,8 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
    the reference backend, prints the warning, sets *st to LIMN_OK and returns
    1 (run the operation again); else returns 0. */
 int cli_fall_back(const char *cmd, limn_context *ctx, limn_status *st);
+/* limn_context_create, or NULL after "limn CMD: error: out of memory". */
+limn_context *cli_context(const char *cmd);
 /* Fails before any work (exit status 1, message printed) when the output
    cannot be written (limn_output_check): a missing or unwritable directory,
    a directory, a name too long, a rename the directory would not allow.

@@ -257,9 +257,17 @@ int cli_check_output(const char *cmd, const char *input, const char *output, lim
     return 0;
 }
 
-int cli_check_writable(const char *cmd, const char *output)
+limn_context *cli_context(const char *cmd)
 {
     limn_context *ctx = limn_context_create();
+    if (!ctx)
+        fprintf(stderr, "limn %s: error: out of memory\n", cmd);
+    return ctx;
+}
+
+int cli_check_writable(const char *cmd, const char *output)
+{
+    limn_context *ctx = cli_context(cmd);
     if (!ctx)
         return EXIT_FAILURE_RUN;
     limn_status st = limn_output_check(ctx, output, NULL);

@@ -24,7 +24,7 @@ int cli_devices(int argc, char **argv)
     }
     if (argc > 1)
         return cli_usage_error("devices", "unexpected argument '%s'", argv[1]);
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = cli_context("devices");
     if (!ctx)
         return EXIT_FAILURE_RUN;
     size_t size = 1 << 16;

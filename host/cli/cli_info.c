@@ -125,7 +125,7 @@ int cli_info(int argc, char **argv)
     }
     if (!input)
         return cli_usage_error("info", "no INPUT mesh given");
-    limn_context *ctx = limn_context_create();
+    limn_context *ctx = cli_context("info");
     if (!ctx)
         return EXIT_FAILURE_RUN;
     limn_context_set_max_memory(ctx, max_memory);

@@ -43,16 +43,15 @@ typedef struct pattern {
     int zero, width;
 } pattern;
 
-/* Accepts exactly one conversion %d / %Nd / %0Nd (and %% for a percent sign). */
+/* Accepts exactly one conversion %d / %Nd / %0Nd (and %% for a percent
+   sign): 1, or 0 with why, or -1 when out of memory. */
 static int parse_pattern(const char *text, pattern *p, char *why, size_t why_size)
 {
     size_t len = strlen(text);
     p->prefix = calloc(len + 1, 1);
     p->suffix = calloc(len + 1, 1);
-    if (!p->prefix || !p->suffix) {
-        snprintf(why, why_size, "out of memory");
-        return 0;
-    }
+    if (!p->prefix || !p->suffix)
+        return -1;
     int conversions = 0;
     char *dst = p->prefix;
     for (size_t i = 0; i < len; i++) {
@@ -265,9 +264,12 @@ static int check_frames(series_cli *c, morph_state *ms)
 {
     frame_name(&ms->pat, 0, ms->name, ms->name_size);
     char *second = malloc(ms->name_size);
-    if (second)
-        frame_name(&ms->pat, 1, second, ms->name_size);
-    int same = second && strcmp(second, ms->name) == 0;
+    if (!second) {
+        fprintf(stderr, "limn morph: error: out of memory\n");
+        return EXIT_FAILURE_RUN;
+    }
+    frame_name(&ms->pat, 1, second, ms->name_size);
+    int same = strcmp(second, ms->name) == 0;
     free(second);
     if (same)
         return cli_usage_error(c->a.cmd, "-o '%s' gives every frame the same name", c->a.output);
@@ -290,7 +292,12 @@ static int check_frames(series_cli *c, morph_state *ms)
 static int check(series_cli *c, morph_state *ms)
 {
     char why[512];
-    if (!parse_pattern(c->a.output, &ms->pat, why, sizeof why))
+    int parsed = parse_pattern(c->a.output, &ms->pat, why, sizeof why);
+    if (parsed < 0) {
+        fprintf(stderr, "limn morph: error: out of memory\n");
+        return EXIT_FAILURE_RUN;
+    }
+    if (!parsed)
         return cli_usage_error(c->a.cmd, "-o %s", why);
     int rc = allocate(ms, c->a.output, ms->frames);
     if (!rc)

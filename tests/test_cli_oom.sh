@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# The command line with memory running out anywhere (limn's and the CLI's
+# own allocations, one at a time): BIN is the CLI built with the
+# allocation-failure wrappers (limn_cli_faults, tests/alloc_fail_env.c).
+# For each command, a run with nothing failing counts the allocations and
+# keeps its outputs; then for every k the k-th fails: the run must exit 1
+# with a message on standard error and leave no file in its output
+# directory (the outputs appear together or not at all), or exit 0 with
+# the same files as the run with nothing failing, the same bytes but in the
+# reports (where limn falls back).
+# Never another exit status (a crash is 134 or 139).
+#   test_cli_oom.sh BIN MESH
+set -uo pipefail
+shopt -s nullglob
+bin=$1
+mesh=$2
+work=$(mktemp -d "${TMPDIR:-/tmp}/limn_cli_oom.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+failures=0
+runs=0
+
+# The same files in ref and out, the same bytes but in reports (.json: their
+# paths, seconds and memory differ from run to run)
+same_outputs() {
+    [ "$(ls "$work/ref")" = "$(ls "$work/out")" ] || return 1
+    local f
+    for f in "$work/ref"/*; do
+        case $f in
+        *.json) ;;
+        *) cmp -s "$f" "$work/out/${f##*/}" || return 1 ;;
+        esac
+    done
+}
+
+# sweep NAME ARGS...: ARGS with @OUT@ for the output directory
+sweep() {
+    local name=$1
+    shift
+    mkdir -p "$work/ref" "$work/out"
+    local args=("${@//@OUT@/$work/ref}")
+    if ! LIMN_TEST_ALLOC_FAIL=0 LIMN_TEST_ALLOC_COUNT="$work/count" "$bin" "${args[@]}" \
+        >/dev/null 2>"$work/err"; then
+        echo "FAIL: $name with nothing failing: $(cat "$work/err")"
+        failures=$((failures + 1))
+        return
+    fi
+    local n refused=0
+    n=$(cat "$work/count")
+    for ((k = 1; k <= n; k++)); do
+        rm -rf "$work/out" && mkdir "$work/out"
+        args=("${@//@OUT@/$work/out}")
+        LIMN_TEST_ALLOC_FAIL=$k "$bin" "${args[@]}" >/dev/null 2>"$work/err"
+        local rc=$? left
+        runs=$((runs + 1))
+        left=$(ls -A "$work/out" | wc -l)
+        if [ $rc -eq 1 ]; then
+            refused=$((refused + 1))
+            if [ ! -s "$work/err" ] || [ "$left" -ne 0 ]; then
+                echo "FAIL: $name, allocation $k failing: exit 1 with ${left} file(s) left," \
+                     "message '$(head -c 300 "$work/err")'"
+                failures=$((failures + 1))
+            fi
+        elif [ $rc -eq 0 ]; then
+            if ! same_outputs; then
+                echo "FAIL: $name, allocation $k failing: exit 0 with other outputs"
+                failures=$((failures + 1))
+            fi
+        else
+            echo "FAIL: $name, allocation $k failing: exit status $rc: $(head -c 300 "$work/err")"
+            failures=$((failures + 1))
+        fi
+    done
+    rm -rf "$work/ref" "$work/out"
+    printf '  %-22s %4d allocations failing in turn: %4d refused, %d worked around\n' \
+        "$name" "$n" "$refused" $((n - refused))
+}
+
+export LIMN_FALLBACK=  # a device failure is not what this sweeps
+sweep "interpolate --report" interpolate "$mesh" -o @OUT@/control.ply --report @OUT@/r.json -q
+sweep "denoise" denoise "$mesh" -o @OUT@/d.ply -q
+sweep "subdivide --limit" subdivide "$mesh" -o @OUT@/s.obj --levels 1 --limit -q
+sweep "bands" bands "$mesh" --count 2 -o @OUT@/b -q
+sweep "info" info "$mesh"
+sweep "morph --frames 3" morph "$mesh" "$mesh" -o '@OUT@/f%02d.ply' --frames 3 -q
+sweep "texture --levels 1" texture "$mesh" -o @OUT@/t.ply --colors '#ff0000,#0000ff' --levels 1 -q
+echo "test_cli_oom: $runs runs, $failures failures"
+[ $failures -eq 0 ]
