@@ -88,6 +88,10 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
 int cli_fall_back(const char *cmd, limn_context *ctx, limn_status *st);
 /* limn_context_create, or NULL after "limn CMD: error: out of memory". */
 limn_context *cli_context(const char *cmd);
+/* The same under mpirun on slices, collective: a context on every rank, or
+   NULL on every rank after rank 0 said that one ran out of memory (a rank
+   that returned alone would leave the others waiting). */
+limn_context *cli_sliced_context(const char *cmd);
 /* Fails before any work (exit status 1, message printed) when the output
    cannot be written (limn_output_check): a missing or unwritable directory,
    a directory, a name too long, a rename the directory would not allow.
@@ -207,7 +211,8 @@ int cli_mpi_ranks(void);      /* 1 without MPI */
 int cli_mpi_rank(void);       /* 0 without MPI */
 /* Every rank gets the lowest failing rank's status and message (collective). */
 limn_status cli_mpi_agree(limn_context *ctx, limn_status st);
-/* Rank 0's exit status on every rank (after parsing: usage errors are its). */
+/* Rank 0's exit status on every rank (after parsing: usage errors are its),
+   or 1 when another rank failed (ran out of memory) where rank 0 did not. */
 int cli_mpi_root_rc(int rc);
 /* --per-rank-output: each rank writes its piece to cli_mpi_rank_path(OUTPUT). */
 void cli_mpi_set_per_rank(int on);

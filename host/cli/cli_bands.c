@@ -195,15 +195,12 @@ static limn_status write_energy(series_cli *c, limn_context *ctx, const extra *e
 static int run_sliced(series_cli *c, extra *e)
 {
     series_seconds s = {.t0 = cli_now()};
-    limn_context *ctx = limn_context_create();
-    e->energy = calloc((size_t)e->count + 1, sizeof *e->energy);
-    if (!ctx || !e->energy) {
-        fprintf(stderr, "limn bands: error: out of memory\n");
-        limn_context_destroy(ctx);
-        free(e->energy);
+    limn_context *ctx = cli_sliced_context("bands");
+    if (!ctx)
         return EXIT_FAILURE_RUN;
-    }
-    limn_status st = cli_set_host_threads(ctx, c->a.host_threads);
+    e->energy = calloc((size_t)e->count + 1, sizeof *e->energy);
+    limn_status st = e->energy ? cli_set_host_threads(ctx, c->a.host_threads)
+                               : cli_error(LIMN_ERR_MEMORY, "out of memory");
     if (!st)
         st = limn_context_set_device(ctx, c->a.device);
     c->a.quiet |= cli_mpi_rank() != 0; /* under mpirun rank 0 prints */

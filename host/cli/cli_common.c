@@ -265,13 +265,27 @@ limn_context *cli_context(const char *cmd)
     return ctx;
 }
 
+limn_context *cli_sliced_context(const char *cmd)
+{
+    limn_context *ctx = limn_context_create();
+    limn_status st = cli_mpi_agree(ctx, ctx ? LIMN_OK : cli_error(LIMN_ERR_MEMORY, "out of memory"));
+    if (!st)
+        return ctx;
+    cli_fail(cmd, ctx, st);
+    limn_context_destroy(ctx);
+    return NULL;
+}
+
 int cli_check_writable(const char *cmd, const char *output)
 {
     limn_context *ctx = cli_context(cmd);
     if (!ctx)
         return EXIT_FAILURE_RUN;
     limn_status st = limn_output_check(ctx, output, NULL);
-    /* every refusal here is the run's failure (1), a usage error or not */
+    /* every refusal here is the run's failure (1), a usage error or not; one
+       for want of memory is this rank's alone (under mpirun): said here */
+    if (st == LIMN_ERR_MEMORY && cli_mpi_rank() != 0)
+        fprintf(stderr, "limn %s: error: %s\n", cmd, cli_message(ctx));
     int rc = st ? (cli_fail(cmd, ctx, st), EXIT_FAILURE_RUN) : 0;
     limn_context_destroy(ctx);
     return rc;

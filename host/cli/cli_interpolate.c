@@ -297,11 +297,9 @@ static limn_status solve(args *x, limn_context *ctx, const limn_mesh *mesh, limn
    report after the mesh (rank 0). */
 static int interpolate_sliced(args *x)
 {
-    limn_context *ctx = limn_context_create();
-    if (!ctx) {
-        fprintf(stderr, "limn interpolate: error: out of memory\n");
+    limn_context *ctx = cli_sliced_context("interpolate");
+    if (!ctx)
         return EXIT_FAILURE_RUN;
-    }
     int root = cli_mpi_rank() == 0, rc = 0;
     limn_report r = {.size = sizeof r};
     limn_write_report wr = {.size = sizeof wr};
@@ -334,6 +332,10 @@ static int interpolate_sliced(args *x)
         cli_args_print_written(&x->a);
         cli_mpi_print();
     }
+    /* the mesh was every rank's parallel write, before the report and the
+       output set: a run that failed after it takes it back (as bands does) */
+    if (st && root && x->a.wrote)
+        remove(x->a.output);
     limn_context_destroy(ctx);
     return rc;
 }

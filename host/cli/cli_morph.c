@@ -330,11 +330,9 @@ static int run_sliced(series_cli *c, limn_morph_options *mo, morph_state *ms)
 {
     series_seconds s = {.t0 = cli_now()};
     limn_series_report r = {.size = sizeof r};
-    ms->ctx = limn_context_create();
-    if (!ms->ctx) {
-        fprintf(stderr, "limn morph: error: out of memory\n");
+    ms->ctx = cli_sliced_context("morph");
+    if (!ms->ctx)
         return EXIT_FAILURE_RUN;
-    }
     limn_status st = cli_set_host_threads(ms->ctx, c->a.host_threads);
     if (!st)
         st = limn_context_set_device(ms->ctx, c->a.device);

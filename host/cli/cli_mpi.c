@@ -65,8 +65,15 @@ limn_status cli_mpi_agree(limn_context *ctx, limn_status st)
 
 int cli_mpi_root_rc(int rc)
 {
-    if (g.size > 1)
+    if (g.size > 1) {
+        /* the parse is the same on every rank but for memory: a rank that
+           ran out (its message said) stops them all */
+        int failed = rc > 0, any = 0;
         MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
+        MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+        if (rc == 0 && any)
+            rc = EXIT_FAILURE_RUN;
+    }
     return rc;
 }
 
@@ -79,6 +86,12 @@ void cli_mpi_collect(const limn_mpi_result *res)
     g.all = NULL;
     if (g.rank == 0)
         g.all = calloc((size_t)g.size, sizeof *g.all);
+    /* rank 0 out of memory: no gather (the others' sends would not fit), and
+       the report and summary go without the per-rank figures */
+    int room = g.rank != 0 || g.all;
+    MPI_Bcast(&room, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!room)
+        return;
     limn_mpi_stats mine = res->stats;
     /* homogeneous ranks: the struct travels as bytes */
     MPI_Gather(&mine, (int)sizeof mine, MPI_BYTE, g.all, g.all ? (int)sizeof mine : 0, MPI_BYTE,

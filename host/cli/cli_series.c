@@ -165,11 +165,9 @@ limn_status series_mean_displacement(limn_context *ctx, const limn_mesh *in, con
 static int filter_sliced(series_cli *c, const series_filter *f)
 {
     series_seconds s = {.t0 = cli_now()};
-    limn_context *ctx = limn_context_create();
-    if (!ctx) {
-        fprintf(stderr, "limn %s: error: out of memory\n", c->a.cmd);
+    limn_context *ctx = cli_sliced_context(c->a.cmd);
+    if (!ctx)
         return EXIT_FAILURE_RUN;
-    }
     limn_status st = cli_set_host_threads(ctx, c->a.host_threads);
     if (!st)
         st = limn_context_set_device(ctx, c->a.device);

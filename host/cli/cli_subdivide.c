@@ -144,7 +144,7 @@ static int finish(limn_context *ctx, cli_args *a, limn_status st, const limn_mes
    writes its part of the surface (limn_mpi_mesh_subdivide); rank 0 reports. */
 static int run_sliced(cli_args *a, const limn_subdivide_options *o)
 {
-    limn_context *ctx = cli_context(a->cmd);
+    limn_context *ctx = cli_sliced_context(a->cmd);
     if (!ctx)
         return EXIT_FAILURE_RUN;
     double sec[3] = {0, 0, 0}, t0 = cli_now();
