@@ -216,6 +216,17 @@ int test_file_exists(const char *path)
     return stat(path, &st) == 0;
 }
 
+int test_dir_entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    int n = 0;
+    for (struct dirent *e; d && (e = readdir(d));)
+        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
+    if (d)
+        closedir(d);
+    return n;
+}
+
 limn_mesh *test_mesh_fan(limn_context *ctx, int n, int triangles)
 {
     /* centre 0, inner ring 1..n, outer ring n+1..2n (quads only) */

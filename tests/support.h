@@ -48,5 +48,7 @@ void test_assert_same_mesh(const limn_mesh *a, const limn_mesh *b);
 /* Writes a file with the given text; returns 0 on success. */
 int test_write_text(const char *path, const char *text);
 int test_file_exists(const char *path);
+/* The entries of directory dir besides . and .. (0 when it cannot be read). */
+int test_dir_entries(const char *dir);
 
 #endif

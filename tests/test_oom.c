@@ -34,7 +34,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <dirent.h>
 #include <unistd.h>
 
 static int checks, failures;
@@ -290,18 +289,6 @@ static char *slurp_file(const char *path, long *len)
     return b;
 }
 
-/* The number of entries in dir besides . and .. */
-static int entries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    int n = 0;
-    for (struct dirent *e; d && (e = readdir(d));)
-        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
-    if (d)
-        closedir(d);
-    return n;
-}
-
 /* A write over an existing file: refused, the old bytes stay and nothing is
    left beside them; written, its size is the value. */
 static limn_status write_over(limn_context *ctx, const work *w, const char *ext,
@@ -312,7 +299,7 @@ static limn_status write_over(limn_context *ctx, const work *w, const char *ext,
     static const char old[] = "the file a refused write must leave as it was\n";
     *out = NULL;
     *value = NAN;
-    int before = entries(w->dir);
+    int before = test_dir_entries(w->dir);
     if (test_write_text(path, old) != 0)
         return LIMN_ERR_IO;
     limn_status st = limn_mesh_write(ctx, w->mesh, path, LIMN_FORMAT_AUTO);
@@ -320,7 +307,7 @@ static limn_status write_over(limn_context *ctx, const work *w, const char *ext,
     char *now = slurp_file(path, &len);
     if (st)
         CHECK(now && len == (long)strlen(old) && memcmp(now, old, (size_t)len) == 0 &&
-                  entries(w->dir) == before + 1,
+                  test_dir_entries(w->dir) == before + 1,
               "a refused write of %s changed it or left a file beside it", path);
     else
         *value = (double)len;
@@ -345,7 +332,7 @@ static limn_status call_output_set(limn_context *ctx, const work *w, limn_mesh *
 {
     *out = NULL;
     *value = NAN;
-    int before = entries(w->dir);
+    int before = test_dir_entries(w->dir);
     limn_output_set *set = NULL;
     limn_status st = limn_output_set_create(ctx, &set);
     if (!st)
@@ -355,7 +342,7 @@ static limn_status call_output_set(limn_context *ctx, const work *w, limn_mesh *
     if (!st)
         st = limn_output_set_commit(ctx, set);
     limn_output_set_destroy(set);
-    int there = entries(w->dir) - before;
+    int there = test_dir_entries(w->dir) - before;
     CHECK(st ? there == 0 : there == 2, "an output set %s left %d new files",
           st ? "refused" : "committed", there);
     if (!st)

@@ -15,7 +15,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <dirent.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -280,18 +279,6 @@ static void failing_write(void **s)
     limn_mesh_destroy(m);
 }
 
-/* The number of entries in dir besides . and .. */
-static int dir_entries(const char *d)
-{
-    DIR *h = opendir(d);
-    int n = 0;
-    for (struct dirent *e; h && (e = readdir(h));)
-        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
-    if (h)
-        closedir(h);
-    return n;
-}
-
 static size_t next_limit(size_t limit, size_t full)
 {
     size_t next = limit == 0 ? 1 : limit == 1 ? 65536 : limit + 65536;
@@ -322,7 +309,7 @@ static void size_limit_sweep(void **s)
         /* 0, 1, 64 KiB, 128 KiB, ... below full - 1, then full - 1 and full */
         for (size_t limit = 0; limit <= full; limit = next_limit(limit, full)) {
             assert_int_equal(test_write_text(path, old), 0);
-            int before = dir_entries(dir);
+            int before = test_dir_entries(dir);
             struct rlimit small = was;
             small.rlim_cur = limit;
             assert_int_equal(setrlimit(RLIMIT_FSIZE, &small), 0);
@@ -336,7 +323,7 @@ static void size_limit_sweep(void **s)
                              (int)st, limn_context_message(ctx));
                 assert_int_equal(n, strlen(old));
                 assert_memory_equal(now, old, n);
-                assert_int_equal(dir_entries(dir), before);
+                assert_int_equal(test_dir_entries(dir), before);
                 refused++;
             } else {
                 assert_int_equal(st, LIMN_OK);
