@@ -268,7 +268,8 @@ limn_context *cli_context(const char *cmd)
 limn_context *cli_sliced_context(const char *cmd)
 {
     limn_context *ctx = limn_context_create();
-    limn_status st = cli_mpi_agree(ctx, ctx ? LIMN_OK : cli_error(LIMN_ERR_MEMORY, "out of memory"));
+    limn_status st =
+        cli_mpi_agree(ctx, ctx ? LIMN_OK : cli_error(LIMN_ERR_MEMORY, "out of memory"));
     if (!st)
         return ctx;
     cli_fail(cmd, ctx, st);
