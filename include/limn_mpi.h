@@ -250,6 +250,18 @@ LIMN_API limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh 
                                          const char *path, limn_format format,
                                          const limn_write_options *options,
                                          limn_write_report *report);
+/* limn_mpi_mesh_write staged in an output set (limn.h) instead of appearing:
+   the file is complete and synced under its temporary name, held by rank
+   0's set, and appears at that set's limn_output_set_commit on rank 0, with
+   the set's other outputs (a report, say); limn_output_set_destroy without
+   a commit removes it and leaves an existing target as it was. set: rank
+   0's must not be NULL and must have room; the other ranks' is not used
+   (may be NULL). Collective; refusals as limn_mpi_mesh_write's. */
+LIMN_API limn_status limn_mpi_output_set_add_mesh(limn_context *ctx, limn_output_set *set,
+                                                  const limn_mpi_mesh *mesh, const char *path,
+                                                  limn_format format,
+                                                  const limn_write_options *options,
+                                                  limn_write_report *report);
 
 /* limn_interpolate on a distributed mesh: the vertices partitioned over the
    ranks in parallel (PT-Scotch), each rank building its own rows from the

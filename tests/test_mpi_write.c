@@ -218,7 +218,8 @@ static void same_bytes(limn_context *ctx, const char *name, const limn_mesh *m)
         if (rank == 0)
             one = limn_mesh_write_with(ctx, m, ref, fc->format, &o, NULL);
         MPI_Bcast(&one, 1, MPI_INT, 0, MPI_COMM_WORLD);
-        limn_status st = mpi_write_mesh_part(ctx, MPI_COMM_WORLD, out, fc->format, &o, &d.part);
+        limn_status st =
+            mpi_write_mesh_part(ctx, MPI_COMM_WORLD, out, fc->format, &o, &d.part, NULL);
         check_agreed(ctx, st, name);
         CHECK(st == one, "%s, format %d single %d: status %d, single process %d (%s)", name,
               (int)fc->format, fc->single, (int)st, (int)one, limn_context_message(ctx));
@@ -338,7 +339,7 @@ static void parent_is_file(limn_context *ctx, const limn_mesh *m)
     part_data d;
     make_part(m, &d, 0);
     limn_status st = mpi_write_mesh_part(ctx, MPI_COMM_WORLD, path, LIMN_FORMAT_AUTO, NULL,
-                                         &d.part);
+                                         &d.part, NULL);
     CHECK(one != LIMN_OK && st == one && strcmp(limn_context_message(ctx), one_msg) == 0,
           "parent is a file: status %d '%s', the single process %d '%s'", (int)st,
           limn_context_message(ctx), (int)one, one_msg);
@@ -357,7 +358,7 @@ static void owned_twice(limn_context *ctx, const limn_mesh *m)
     part_data d;
     make_part(m, &d, 1);
     limn_status st = mpi_write_mesh_part(ctx, MPI_COMM_WORLD, path, LIMN_FORMAT_AUTO, NULL,
-                                         &d.part);
+                                         &d.part, NULL);
     check_agreed(ctx, st, "owned twice");
     CHECK(st == LIMN_ERR_ARGUMENT &&
               strstr(limn_context_message(ctx), "vertex 0 is owned by more than one rank"),
@@ -397,7 +398,7 @@ static void file_size_limit(limn_context *ctx, const limn_mesh *m)
     part_data d;
     make_part(m, &d, 0);
     limn_status st = mpi_write_mesh_part(ctx, MPI_COMM_WORLD, path, LIMN_FORMAT_PLY_ASCII, NULL,
-                                         &d.part);
+                                         &d.part, NULL);
     if (limited)
         setrlimit(RLIMIT_FSIZE, &saved);
     check_agreed(ctx, st, "file size limit");
@@ -425,7 +426,7 @@ static void special_targets(limn_context *ctx, const limn_mesh *m)
     part_data d;
     make_part(m, &d, 0);
     limn_status st = mpi_write_mesh_part(ctx, MPI_COMM_WORLD, "/dev/null", LIMN_FORMAT_PLY,
-                                         NULL, &d.part);
+                                         NULL, &d.part, NULL);
     struct stat sb;
     CHECK(st == LIMN_OK && stat("/dev/null", &sb) == 0 && S_ISCHR(sb.st_mode),
           "/dev/null: status %d '%s'", (int)st, limn_context_message(ctx));
@@ -439,7 +440,7 @@ static void special_targets(limn_context *ctx, const limn_mesh *m)
         CHECK(limn_mesh_write(ctx, m, ref, LIMN_FORMAT_AUTO) == LIMN_OK, "reference");
     }
     MPI_Barrier(MPI_COMM_WORLD);
-    st = mpi_write_mesh_part(ctx, MPI_COMM_WORLD, link, LIMN_FORMAT_AUTO, NULL, &d.part);
+    st = mpi_write_mesh_part(ctx, MPI_COMM_WORLD, link, LIMN_FORMAT_AUTO, NULL, &d.part, NULL);
     CHECK(st == LIMN_OK, "symlink: status %d '%s'", (int)st, limn_context_message(ctx));
     if (rank == 0) {
         size_t na = 0, nb = 0;
@@ -493,7 +494,7 @@ static void fifo_target(limn_context *ctx, const limn_mesh *m)
     part_data d;
     make_part(m, &d, 0);
     limn_status st = mpi_write_mesh_part(ctx, MPI_COMM_WORLD, fifo, LIMN_FORMAT_AUTO, NULL,
-                                         &d.part);
+                                         &d.part, NULL);
     CHECK(st == LIMN_OK, "FIFO: status %d '%s'", (int)st, limn_context_message(ctx));
     if (rank == 0) {
         if (st) { /* nothing was written: let the reader go */

@@ -258,6 +258,8 @@ typedef struct cli_sliced_job {
     const limn_write_options *write;
     int rows; /* the command builds rows (interpolate, the series): the repair
                  leaves its sub-meshes for them (limn_repair_options.sub_meshes) */
+    limn_output_set *stage; /* takes the output (limn_mpi_output_set_add_mesh), to appear
+                               with the report; NULL: it appears at once */
 } cli_sliced_job;
 /* interpolate on slices (limn_mpi.h's distributed meshes): every rank reads
    its slice, repairs it, builds its rows, solves and writes its share of the

@@ -164,7 +164,7 @@ int cli_args_parse(cli_args *a, const struct option *longopts, int argc, char **
         if (rc == CLI_OWN_UNKNOWN)
             rc = cli_usage_error(a->cmd, "unknown option '%s'", argv[i]);
     }
-    return rc;
+    return cli_mpi_root_rc(rc);
 }
 
 int cli_args_own(cli_args *a, int argc, char **argv, int *i, const cli_own_option *t, size_t n)

@@ -24,6 +24,8 @@ typedef struct cli_args {
     limn_output_precision precision; /* --output-precision (interpolate, subdivide) */
     limn_write_report written;       /* the error of the output as staged, when wrote */
     int wrote;
+    limn_output_set *staged; /* a sliced run's set holding its output (the command's
+                                finish commits it with the report), or NULL */
 } cli_args;
 
 /* The long options cli_args_parse takes itself (cli_options tables); each
@@ -51,7 +53,8 @@ typedef int (*cli_own_fn)(cli_args *a, void *user, int argc, char **argv, int *i
    --fallback, --report, --format, --input-format, --overwrite-input,
    --per-rank-output, -q, --host-threads, the repair policy), up to inputs_wanted positional
    INPUTs, and the command's own through own (may be NULL). Returns 0, -1
-   (help printed on rank 0: exit status 0) or an exit status. */
+   (help printed on rank 0: exit status 0) or an exit status; under mpirun
+   the same on every rank (cli_mpi_root_rc: a rank out of memory stops all). */
 int cli_args_parse(cli_args *a, const struct option *longopts, int argc, char **argv,
                    cli_own_fn own, void *user);
 

@@ -209,7 +209,7 @@ static int run_sliced(series_cli *c, extra *e)
     limn_write_options_default(&wo);
     wo.precision = c->a.precision;
     cli_sliced_job job = {c->a.cmd,      c->a.inputs[0],  NULL, &c->a.repair,
-                          c->a.in_format, c->a.out_format, &wo,  1};
+                          c->a.in_format, c->a.out_format, &wo,  1, NULL};
     limn_series_report r = {.size = sizeof r};
     cli_bands_out out = {e->names, e->energy, 0.0, 0.0};
     double sec[2] = {0, 0};

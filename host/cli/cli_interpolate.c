@@ -306,10 +306,14 @@ static int interpolate_sliced(args *x)
     limn_write_options wo;
     limn_write_options_default(&wo);
     wo.precision = x->a.precision;
-    cli_sliced_job job = {"interpolate",   x->a.inputs[0], x->a.output, &x->a.repair,
-                          x->a.in_format, x->a.out_format, &wo,        1};
+    /* the mesh is staged in the set with the report: it appears only if both could be made */
+    limn_output_set *set = NULL;
     double sec[3] = {0, 0, 0}, t0 = cli_now();
     limn_status st = cli_mpi_agree(ctx, cli_args_open(&x->a, ctx, x->sub.max_memory, 0, NULL));
+    if (!st)
+        st = cli_mpi_agree(ctx, limn_output_set_create(ctx, &set));
+    cli_sliced_job job = {"interpolate",   x->a.inputs[0], x->a.output, &x->a.repair,
+                          x->a.in_format, x->a.out_format, &wo,        1, set};
     if (!st) {
         cli_progress_enable(ctx, x->a.quiet);
         st = cli_mpi_interpolate_sliced(ctx, &job, &x->opt, &r, &wr, sec);
@@ -319,9 +323,6 @@ static int interpolate_sliced(args *x)
     cli_mpi_note_memory();
     x->a.written = wr;
     x->a.wrote = !st;
-    limn_output_set *set = NULL;
-    if (!st)
-        st = limn_output_set_create(ctx, &set);
     if (!st && root && x->a.report)
         st = write_report(ctx, x, &r, NULL, sec, set);
     st = cli_commit_outputs(ctx, st, set);
@@ -332,10 +333,6 @@ static int interpolate_sliced(args *x)
         cli_args_print_written(&x->a);
         cli_mpi_print();
     }
-    /* the mesh was every rank's parallel write, before the report and the
-       output set: a run that failed after it takes it back (as bands does) */
-    if (st && root && x->a.wrote)
-        remove(x->a.output);
     limn_context_destroy(ctx);
     return rc;
 }

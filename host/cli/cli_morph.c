@@ -341,7 +341,7 @@ static int run_sliced(series_cli *c, limn_morph_options *mo, morph_state *ms)
     mo->series = c->opt;
     /* frames written with the defaults, as limn_mesh_write writes them */
     cli_sliced_job job = {c->a.cmd,       c->a.inputs[0],   c->a.output, &c->a.repair,
-                          c->a.in_format, c->a.out_format, NULL,        1};
+                          c->a.in_format, c->a.out_format, NULL,        1, NULL};
     cli_morph_sink sink = {name_of, record, ms, 0, 0.0};
     double sec[2] = {0, 0};
     if (!st) {

@@ -88,14 +88,17 @@ static limn_status run_sliced(limn_context *ctx, const cli_sliced_job *job,
     return st;
 }
 
-/* mesh written to job->output in parallel (when st is LIMN_OK); seconds[1]
-   the time it took. */
+/* mesh written to job->output in parallel (when st is LIMN_OK), staged in
+   job->stage when there is one; seconds[1] the time it took. */
 static limn_status write_sliced(limn_context *ctx, const cli_sliced_job *job, limn_status st,
                                 const limn_mpi_mesh *mesh, limn_write_report *written,
                                 double seconds[2])
 {
     double t1 = MPI_Wtime();
-    if (!st)
+    if (!st && job->stage)
+        st = limn_mpi_output_set_add_mesh(ctx, job->stage, mesh, job->output, job->out_format,
+                                          job->write, written);
+    else if (!st)
         st = limn_mpi_mesh_write(ctx, mesh, job->output, job->out_format, job->write, written);
     seconds[1] = MPI_Wtime() - t1;
     return st;

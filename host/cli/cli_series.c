@@ -117,8 +117,9 @@ int series_cli_finish(series_cli *c, limn_context *ctx, limn_status st, const li
 {
     /* the mesh and the report are both complete (staged) before either appears:
        a failure writes nothing and leaves an existing output as it was */
-    limn_output_set *set = NULL;
-    if (!st)
+    limn_output_set *set = c->a.staged; /* on slices: it holds the mesh already */
+    c->a.staged = NULL;
+    if (!st && !set)
         st = limn_output_set_create(ctx, &set);
     double t = cli_now();
     if (!st && !c->sliced) /* with --per-rank-output every rank: its piece */
@@ -173,11 +174,14 @@ static int filter_sliced(series_cli *c, const series_filter *f)
         st = limn_context_set_device(ctx, c->a.device);
     c->a.quiet |= cli_mpi_rank() != 0; /* under mpirun rank 0 prints */
     st = cli_mpi_agree(ctx, st);
+    if (!st) /* the mesh staged there, to appear with the report (series_cli_finish) */
+        st = cli_mpi_agree(ctx, limn_output_set_create(ctx, &c->a.staged));
     limn_write_options wo;
     limn_write_options_default(&wo);
     wo.precision = c->a.precision;
-    cli_sliced_job job = {c->a.cmd,      c->a.inputs[0],  c->a.output, &c->a.repair,
-                          c->a.in_format, c->a.out_format, &wo,         1};
+    cli_sliced_job job = {c->a.cmd,       c->a.inputs[0],  c->a.output, &c->a.repair,
+                          c->a.in_format, c->a.out_format, &wo,         1,
+                          c->a.staged};
     limn_series_report r = {.size = sizeof r};
     limn_write_report wr = {.size = sizeof wr};
     double sec[2] = {0, 0}, unused = 0.0;

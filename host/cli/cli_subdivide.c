@@ -118,8 +118,9 @@ static limn_status refine(limn_context *ctx, const cli_args *a, const limn_mesh 
 static int finish(limn_context *ctx, cli_args *a, limn_status st, const limn_mesh *surface,
                   const limn_subdivide_report *r, double sec[3], double t0)
 {
-    limn_output_set *set = NULL;
-    if (!st)
+    limn_output_set *set = a->staged; /* on slices: it holds the surface already */
+    a->staged = NULL;
+    if (!st && !set)
         st = limn_output_set_create(ctx, &set);
     if (!st && surface) {
         double t1 = cli_now();
@@ -153,11 +154,14 @@ static int run_sliced(cli_args *a, const limn_subdivide_options *o)
         st = limn_context_set_device(ctx, a->device);
     a->quiet |= cli_mpi_rank() != 0; /* under mpirun rank 0 prints */
     st = cli_mpi_agree(ctx, st);
+    if (!st) /* the surface staged there, to appear with the report (finish) */
+        st = cli_mpi_agree(ctx, limn_output_set_create(ctx, &a->staged));
     limn_write_options wo;
     limn_write_options_default(&wo);
     wo.precision = a->precision;
     cli_sliced_job job = {a->cmd,       a->inputs[0],  a->output, &a->repair,
-                          a->in_format, a->out_format, &wo,  0};
+                          a->in_format, a->out_format, &wo,       0,
+                          a->staged};
     limn_subdivide_report r = {.size = sizeof r};
     limn_write_report wr = {.size = sizeof wr};
     double io[2] = {0, 0};

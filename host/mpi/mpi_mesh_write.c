@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
-/* limn_mpi_mesh_write: a distributed mesh's blocks written in parallel
-   (mpi_write.c), the vertex block being what this rank owns. */
+/* limn_mpi_mesh_write and limn_mpi_output_set_add_mesh: a distributed mesh's
+   blocks written in parallel (mpi_write.c), the vertex block being what this
+   rank owns. */
 #include "mpi/mpi_mesh.h"
 #include "base/large_alloc.h"
 
 #include "base/abi.h"
 #include "base/context.h"
+#include "mesh/io/output_set.h"
 #include "mpi/mpi_write.h"
 
 #include <math.h>
@@ -36,7 +38,8 @@ static void float_error(mpi_part *p, const limn_mpi_mesh *mesh, const limn_write
 /* limn_mpi_mesh_write on structs of this library's layout (never NULL). */
 static limn_status write_sized(limn_context *ctx, mpi_part *p, const limn_mpi_mesh *mesh,
                                const char *path, limn_format format,
-                               const limn_write_options *o, limn_write_report *r)
+                               const limn_write_options *o, limn_write_report *r,
+                               limn_output_set *stage)
 {
     const mesh_slice *s = &mesh->slice;
     uint32_t *ids = large_malloc((s->vertex_count ? s->vertex_count : 1) * sizeof *ids);
@@ -60,14 +63,16 @@ static limn_status write_sized(limn_context *ctx, mpi_part *p, const limn_mpi_me
                            .face_count = s->face_count,
                            .face_offsets = s->face_offsets,
                            .face_indices = s->face_indices};
-    st = mpi_write_mesh_part(ctx, mesh->comm, path, format, o, &part);
+    st = mpi_write_mesh_part(ctx, mesh->comm, path, format, o, &part, stage);
     free(ids);
     return st;
 }
 
-limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh *mesh, const char *path,
-                                limn_format format, const limn_write_options *options,
-                                limn_write_report *report)
+/* limn_mpi_mesh_write (stage NULL) and limn_mpi_output_set_add_mesh. */
+static limn_status write_called(limn_context *ctx, const char *fn, const limn_mpi_mesh *mesh,
+                                const char *path, limn_format format,
+                                const limn_write_options *options, limn_write_report *report,
+                                limn_output_set *stage, int staged)
 {
     mpi_part p;
     limn_status st = mpi_mesh_part(ctx, mesh, NULL, &p);
@@ -75,14 +80,34 @@ limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh *mesh, co
         return st;
     abi_call c;
     if (!st)
-        st = abi_enter(&c, ctx, "limn_mpi_mesh_write", &abi_write_options, options,
-                       &abi_write_report, report, NULL);
+        st = abi_enter(&c, ctx, fn, &abi_write_options, options, &abi_write_report, report,
+                       NULL);
     int entered = !st;
+    if (!st && staged && p.rank == 0)
+        st = output_set_room(ctx, fn, stage, path);
     st = mpi_agree(&p, st);
     if (!st)
-        st = write_sized(ctx, &p, mesh, path, format, c.options, c.report);
+        st = write_sized(ctx, &p, mesh, path, format, c.options, c.report,
+                         p.rank == 0 ? stage : NULL);
     if (entered)
         st = abi_leave(&c, st);
     mpi_part_end(&p);
     return st;
+}
+
+limn_status limn_mpi_mesh_write(limn_context *ctx, const limn_mpi_mesh *mesh, const char *path,
+                                limn_format format, const limn_write_options *options,
+                                limn_write_report *report)
+{
+    return write_called(ctx, "limn_mpi_mesh_write", mesh, path, format, options, report, NULL,
+                        0);
+}
+
+limn_status limn_mpi_output_set_add_mesh(limn_context *ctx, limn_output_set *set,
+                                         const limn_mpi_mesh *mesh, const char *path,
+                                         limn_format format, const limn_write_options *options,
+                                         limn_write_report *report)
+{
+    return write_called(ctx, "limn_mpi_output_set_add_mesh", mesh, path, format, options, report,
+                        set, 1);
 }

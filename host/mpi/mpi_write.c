@@ -407,7 +407,7 @@ static limn_status run(mpi_writer *w, limn_format format, const limn_write_optio
 
 limn_status mpi_write_mesh_part(limn_context *ctx, MPI_Comm comm, const char *path,
                                 limn_format format, const limn_write_options *options,
-                                const mpi_write_part *part)
+                                const mpi_write_part *part, limn_output_set *stage)
 {
     ctx_clear(ctx);
     mpi_writer w;
@@ -415,6 +415,7 @@ limn_status mpi_write_mesh_part(limn_context *ctx, MPI_Comm comm, const char *pa
     w.ctx = ctx;
     w.path = path;
     w.in = part;
+    w.stage = stage;
     w.fh = MPI_FILE_NULL;
     w.file_comm = MPI_COMM_NULL;
     MPI_Comm_dup(comm, &w.comm);
@@ -439,5 +440,5 @@ limn_status mpi_write_mesh(limn_context *ctx, MPI_Comm comm, const char *path,
 {
     mpi_write_part part = {vtxdist, n_owned, owned_ids, pos, NULL,
                            face_begin, face_count, face_offsets, face_indices};
-    return mpi_write_mesh_part(ctx, comm, path, LIMN_FORMAT_AUTO, options, &part);
+    return mpi_write_mesh_part(ctx, comm, path, LIMN_FORMAT_AUTO, options, &part, NULL);
 }

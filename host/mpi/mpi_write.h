@@ -46,10 +46,13 @@ typedef struct mpi_write_part {
 } mpi_write_part;
 
 /* Writes path in format (LIMN_FORMAT_AUTO: from its extension) with options
-   (NULL: the defaults); the same format and options on every rank. */
+   (NULL: the defaults); the same format and options on every rank. stage:
+   NULL, the file appears at once; else (rank 0's; the other ranks' is not
+   used) the finished temporary file goes to that set instead (it must have
+   room: output_set_room), to appear at its commit. */
 limn_status mpi_write_mesh_part(limn_context *ctx, MPI_Comm comm, const char *path,
                                 limn_format format, const limn_write_options *options,
-                                const mpi_write_part *part);
+                                const mpi_write_part *part, limn_output_set *stage);
 
 /* mpi_write_mesh_part without colours, the format from path's extension. */
 limn_status mpi_write_mesh(limn_context *ctx, MPI_Comm comm, const char *path,

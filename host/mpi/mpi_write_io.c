@@ -2,12 +2,13 @@
 /* The file of a parallel write (mpi_write_io.h): rank 0 makes the temporary
    file beside the target as atomic_file does for one process, every rank
    writes its bytes into it at its offset (MPI_File_write_at_all), rank 0
-   renames it once every rank has succeeded. A target that cannot be replaced
-   by a rename (standard output, a FIFO, a character device) gets the bytes
-   through rank 0, rank by rank, into atomic_file's buffer, written at the
-   commit as the single process does. */
+   renames it once every rank has succeeded (or hands it to an output set).
+   A target that cannot be replaced by a rename (standard output, a FIFO, a
+   character device) gets the bytes through rank 0, rank by rank, into
+   atomic_file's buffer, written at the commit as the single process does. */
 #include "mpi/mpi_write_io.h"
 #include "base/large_alloc.h"
+#include "mesh/io/output_set.h"
 
 #include "base/context.h"
 
@@ -213,7 +214,9 @@ limn_status mpi_writer_output(mpi_writer *w)
         MPI_File_close(&w->fh);
     if (w->file_comm != MPI_COMM_NULL)
         MPI_Comm_free(&w->file_comm);
-    if (!st && w->rank == 0)
+    if (!st && w->rank == 0 && w->stage)
+        output_set_adopt(w->stage, &w->af); /* to appear with the set's other outputs */
+    else if (!st && w->rank == 0)
         st = atomic_file_commit(w->ctx, &w->af); /* the rename, or the bytes written through */
     st = mpi_writer_agree(w, st);
     if (w->rank == 0)

@@ -26,6 +26,7 @@ typedef struct mpi_writer {
     growbuf vbytes, fbytes; /* the formatted vertex block (rank 0: header first), faces */
     atomic_file af;         /* rank 0: the temporary file or the straight-through buffer */
     int streamed;           /* the target is no regular file: bytes through rank 0 */
+    limn_output_set *stage; /* rank 0: the set that takes the finished file, or NULL */
     MPI_File fh;
     MPI_Comm file_comm; /* the file's (a duplicate of comm) */
 } mpi_writer;
@@ -35,7 +36,8 @@ limn_status mpi_writer_agree(mpi_writer *w, limn_status st);
 
 /* Rank 0 opens the output (atomic_file_open), every rank the temporary file
    by MPI-IO; then the formatted bytes are written at their offsets (or sent
-   to rank 0 for a straight-through output) and rank 0 commits. Agreed at
+   to rank 0 for a straight-through output) and rank 0 commits (or hands the
+   finished file to w->stage). Agreed at
    each step; on failure nothing is left. */
 limn_status mpi_writer_output(mpi_writer *w);
 

@@ -5,6 +5,7 @@
 #include "base/atomic_file.h"
 #include "base/context.h"
 #include "mesh/io/dispatch.h"
+#include "mesh/io/output_set.h"
 #include "base/output_path.h"
 
 #include <errno.h>
@@ -53,9 +54,8 @@ limn_status limn_output_set_create(limn_context *ctx, limn_output_set **out)
     return LIMN_OK;
 }
 
-/* The next free slot, or a refusal naming the caller. */
-static limn_status next_slot(limn_context *ctx, const char *fn, const limn_output_set *set,
-                             const char *path)
+limn_status output_set_room(limn_context *ctx, const char *fn, const limn_output_set *set,
+                            const char *path)
 {
     if (!set)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: set is NULL", fn);
@@ -84,7 +84,7 @@ limn_status limn_output_set_add_mesh_with(limn_context *ctx, limn_output_set *se
     limn_status st = abi_enter(&c, ctx, fn, &abi_write_options, options, &abi_write_report,
                                report, NULL);
     if (!st)
-        st = next_slot(ctx, fn, set, path);
+        st = output_set_room(ctx, fn, set, path);
     if (!st)
         st = mesh_write_staged(ctx, mesh, path, format, c.options, c.report, &set->staged[set->n]);
     if (!st)
@@ -96,7 +96,7 @@ limn_status limn_output_set_add_bytes(limn_context *ctx, limn_output_set *set,
                                       const char *path, const void *data, size_t size)
 {
     ctx_clear(ctx);
-    limn_status st = next_slot(ctx, "limn_output_set_add_bytes", set, path);
+    limn_status st = output_set_room(ctx, "limn_output_set_add_bytes", set, path);
     if (st)
         return st;
     if (!data && size)
@@ -116,6 +116,12 @@ limn_status limn_output_set_add_bytes(limn_context *ctx, limn_output_set *set,
     if (!st)
         set->n++;
     return st;
+}
+
+void output_set_adopt(limn_output_set *set, atomic_file *af)
+{
+    set->staged[set->n++] = *af;
+    memset(af, 0, sizeof *af);
 }
 
 int limn_output_set_count(const limn_output_set *set) { return set ? set->n : 0; }
