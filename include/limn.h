@@ -936,7 +936,10 @@ LIMN_API limn_status limn_output_check(limn_context *ctx, const char *path, cons
  *
  * Ownership: the set belongs to the caller (limn_output_set_destroy, also
  * after a commit); the data of an add is read during the call only. A set
- * holds at most 16 outputs. A set is used with one context at a time.
+ * holds up to 2^24 outputs (a few hundred bytes of memory each while
+ * staged; a straight-through one also holds an open file); the lock is
+ * taken on their first 16 distinct directories. A set is used with one
+ * context at a time.
  */
 typedef struct limn_output_set limn_output_set;
 
@@ -955,6 +958,10 @@ LIMN_API limn_status limn_output_set_add_mesh_with(limn_context *ctx, limn_outpu
 LIMN_API limn_status limn_output_set_add_bytes(limn_context *ctx, limn_output_set *set,
                                                const char *path, const void *data,
                                                size_t size);
+/* Stages the picture as limn_png_write would write it (limn_render's rgb). */
+LIMN_API limn_status limn_output_set_add_png(limn_context *ctx, limn_output_set *set,
+                                             const char *path, int width, int height,
+                                             const uint8_t *rgb);
 /* Number of outputs staged and not yet committed. */
 LIMN_API int limn_output_set_count(const limn_output_set *set);
 /* Makes every staged output appear; returns the first failure (the outputs

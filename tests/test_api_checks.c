@@ -8,6 +8,7 @@
  * carries a message. Caps, formats and overflow: test_api_limits.c.
  */
 #include "api_expect.h"
+#include "shell.h"
 
 #include <limits.h>
 #include <math.h>
@@ -263,6 +264,20 @@ static void zero_length_and_null_buffers(void **s)
     REFUSED(ctx, limn_png_write(ctx, api_scratch("x.png"), 1, 1, NULL), "rgb is NULL");
     REFUSED(ctx, limn_png_write(ctx, "", 1, 1, rgb), "no file name");
     assert_false(test_file_exists(api_scratch("x.png")));
+    /* staged: the same refusals, then nothing until the commit, which gives
+       limn_png_write's bytes */
+    limn_output_set *set = NULL;
+    OK(ctx, limn_output_set_create(ctx, &set));
+    REFUSED(ctx, limn_output_set_add_png(ctx, NULL, api_scratch("x.png"), 1, 1, rgb),
+            "set is NULL");
+    REFUSED(ctx, limn_output_set_add_png(ctx, set, api_scratch("x.png"), 0, 1, rgb),
+            "limn_output_set_add_png", "picture size 0x1");
+    OK(ctx, limn_output_set_add_png(ctx, set, api_scratch("x.png"), 2, 2, rgb));
+    assert_false(test_file_exists(api_scratch("x.png")));
+    OK(ctx, limn_output_set_commit(ctx, set));
+    limn_output_set_destroy(set);
+    OK(ctx, limn_png_write(ctx, api_scratch("y.png"), 2, 2, rgb));
+    assert_true(test_same_bytes(api_scratch("x.png"), api_scratch("y.png")));
     limn_mesh_destroy(m);
 }
 

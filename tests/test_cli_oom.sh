@@ -4,11 +4,13 @@
 # own allocations, one at a time): BIN is the CLI built with the
 # allocation-failure wrappers (limn_cli_faults, tests/alloc_fail_env.c).
 # For each command, a run with nothing failing counts the allocations and
-# keeps its outputs; then for every k the k-th fails: the run must exit 1
-# with a message on standard error and leave no file in its output
-# directory (the outputs appear together or not at all), or exit 0 with
-# the same files as the run with nothing failing, the same bytes but in the
-# reports (where limn falls back).
+# keeps its outputs; then for every k the k-th fails, each run finding old
+# bytes of its own in every file the run with nothing failing wrote: it must
+# exit 1 with a message on standard error ("error: " and words) and leave
+# every old file as it was and nothing beside them (the outputs appear
+# together or not at all, and an existing one is never lost), or exit 0
+# with the same files as the run with nothing failing, the same bytes but
+# in the reports (where limn falls back).
 # Never another exit status (a crash is 134 or 139).
 #   test_cli_oom.sh BIN MESH
 set -uo pipefail
@@ -33,6 +35,23 @@ same_outputs() {
     done
 }
 
+# Every file of ref in out with old bytes of its own
+old_files() {
+    local f
+    for f in "$work/ref"/*; do
+        printf 'an old %s\n' "${f##*/}" >"$work/out/${f##*/}"
+    done
+}
+
+# out holds ref's names, each with its old bytes, nothing else
+old_kept() {
+    [ "$(ls -A "$work/ref")" = "$(ls -A "$work/out")" ] || return 1
+    local f
+    for f in "$work/ref"/*; do
+        [ "$(cat "$work/out/${f##*/}")" = "an old ${f##*/}" ] || return 1
+    done
+}
+
 # sweep NAME ARGS...: ARGS with @OUT@ for the output directory
 sweep() {
     local name=$1
@@ -49,16 +68,17 @@ sweep() {
     n=$(cat "$work/count")
     for ((k = 1; k <= n; k++)); do
         rm -rf "$work/out" && mkdir "$work/out"
+        old_files
         args=("${@//@OUT@/$work/out}")
         LIMN_TEST_ALLOC_FAIL=$k "$bin" "${args[@]}" >/dev/null 2>"$work/err"
-        local rc=$? left
+        local rc=$?
         runs=$((runs + 1))
-        left=$(ls -A "$work/out" | wc -l)
         if [ $rc -eq 1 ]; then
             refused=$((refused + 1))
-            if [ ! -s "$work/err" ] || [ "$left" -ne 0 ]; then
-                echo "FAIL: $name, allocation $k failing: exit 1 with ${left} file(s) left," \
-                     "message '$(head -c 300 "$work/err")'"
+            if ! grep -q 'error: [^ ]' "$work/err" || ! old_kept; then
+                echo "FAIL: $name, allocation $k failing: exit 1, the old files not as they" \
+                     "were ($(ls -A "$work/out" | tr '\n' ' ')), message" \
+                     "'$(head -c 300 "$work/err")'"
                 failures=$((failures + 1))
             fi
         elif [ $rc -eq 0 ]; then
@@ -83,6 +103,7 @@ sweep "subdivide --limit" subdivide "$mesh" -o @OUT@/s.obj --levels 1 --limit -q
 sweep "bands" bands "$mesh" --count 2 -o @OUT@/b -q
 sweep "info" info "$mesh"
 sweep "morph --frames 3" morph "$mesh" "$mesh" -o '@OUT@/f%02d.ply' --frames 3 -q
+sweep "render --report" render "$mesh" -o @OUT@/p.png --report @OUT@/r.json --size 64x48 -q
 sweep "texture --levels 1" texture "$mesh" -o @OUT@/t.ply --colors '#ff0000,#0000ff' --levels 1 -q
 echo "test_cli_oom: $runs runs, $failures failures"
 [ $failures -eq 0 ]

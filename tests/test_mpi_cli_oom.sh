@@ -66,7 +66,7 @@ for job in ${LIMN_TEST_JOBS:-interpolate:1 interpolate:0 denoise:0}; do
                 echo "FAIL: $cmd, rank $victim's allocation $k failing: exit 0 with other bytes"
                 failures=$((failures + 1))
             }
-        elif [ $rc -eq 1 ] && [ -s "$work/err" ] && kept "$work/out"; then
+        elif [ $rc -eq 1 ] && grep -q 'error: [^ ]' "$work/err" && kept "$work/out"; then
             refused=$((refused + 1))
         else
             echo "FAIL: $cmd, rank $victim's allocation $k failing: exit $rc," \

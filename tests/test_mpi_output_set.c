@@ -5,9 +5,10 @@
  * report staged over old files leave the old bytes until rank 0 commits,
  * then both are there, the mesh the same bytes as limn_mpi_mesh_write's; a
  * set destroyed without a commit leaves the old files as they were and
- * nothing beside them; rank 0's set NULL or full is refused on every rank
- * with one message and nothing written; a character device (/dev/null)
- * target is staged and written through at the commit.
+ * nothing beside them; rank 0's set NULL is refused on every rank with one
+ * message and nothing written; a set of 40 outputs (grown) takes the mesh
+ * and commits all 41; a character device (/dev/null) target is staged and
+ * written through at the commit.
  *
  * Not cmocka: a failed assertion on one rank would leave the others in a
  * collective; checks count failures and the ranks agree at the end.
@@ -90,8 +91,10 @@ static void stage_and_commit(limn_context *ctx, const limn_mpi_mesh *m, const ch
     }
 }
 
-/* Rank 0's set NULL, then full: refused everywhere alike, nothing written. */
-static void refusals(limn_context *ctx, const limn_mpi_mesh *m)
+/* Rank 0's set NULL: refused everywhere alike, nothing written. Then a set
+   already holding 40 outputs (past its first growth) takes the mesh too, and
+   all 41 appear at the commit. */
+static void refusal_and_many(limn_context *ctx, const limn_mpi_mesh *m, const char *ref)
 {
     char mesh[320], report[320];
     snprintf(mesh, sizeof mesh, "%s/out.ply", dir);
@@ -104,20 +107,31 @@ static void refusals(limn_context *ctx, const limn_mpi_mesh *m)
                                                   LIMN_FORMAT_AUTO, NULL, NULL);
     CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), "set is NULL"),
           "rank 0's set NULL: status %d '%s'", (int)st, limn_context_message(ctx));
+    if (rank == 0)
+        CHECK(holds(mesh, old_mesh) && test_dir_entries(dir) == 3,
+              "after the refusal: the old mesh changed, or %d entries", test_dir_entries(dir));
     char name[320];
     int filled = 1;
-    for (int i = 0; rank == 0 && i < 16 && filled; i++) {
+    for (int i = 0; rank == 0 && i < 40 && filled; i++) {
         snprintf(name, sizeof name, "%s/filler%d.txt", dir, i);
         filled = limn_output_set_add_bytes(ctx, set, name, "x", 1) == LIMN_OK;
     }
-    CHECK(filled, "filling the set: %s", limn_context_message(ctx));
+    CHECK(filled, "40 outputs in a set: %s", limn_context_message(ctx));
     st = limn_mpi_output_set_add_mesh(ctx, set, m, mesh, LIMN_FORMAT_AUTO, NULL, NULL);
-    CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), "at most"),
-          "rank 0's set full: status %d '%s'", (int)st, limn_context_message(ctx));
+    CHECK(st == LIMN_OK, "the mesh after 40 outputs: %s", limn_context_message(ctx));
+    if (rank == 0 && !st) {
+        st = limn_output_set_commit(ctx, set);
+        snprintf(name, sizeof name, "%s/filler39.txt", dir);
+        CHECK(st == LIMN_OK && holds(name, "x") && test_same_bytes(mesh, ref) &&
+                  test_dir_entries(dir) == 3 + 40,
+              "41 outputs committed: %s, %d entries", limn_context_message(ctx),
+              test_dir_entries(dir));
+        for (int i = 0; i < 40; i++) {
+            snprintf(name, sizeof name, "%s/filler%d.txt", dir, i);
+            remove(name);
+        }
+    }
     limn_output_set_destroy(set);
-    if (rank == 0)
-        CHECK(holds(mesh, old_mesh) && test_dir_entries(dir) == 3,
-              "after the refusals: the old mesh changed, or %d entries", test_dir_entries(dir));
     MPI_Barrier(MPI_COMM_WORLD);
 }
 
@@ -162,7 +176,7 @@ int main(int argc, char **argv)
             remove(in); /* the directory holds ref.ply and the outputs under test */
         MPI_Barrier(MPI_COMM_WORLD);
         stage_and_commit(ctx, m, ref);
-        refusals(ctx, m);
+        refusal_and_many(ctx, m, ref);
         device_target(ctx, m);
     }
     limn_mpi_mesh_destroy(m);

@@ -256,14 +256,24 @@ static void test_pause(void)
     }
 }
 
+/* The directories of the set's renames, each named once (a set of many
+   files in one directory locks it once), at most OUTPUT_LOCK_MAX of them
+   (more: best effort, the first ones locked). */
 static void lock_set(atomic_file *af, int n, int *fds, int *nfds)
 {
     const char *dirs[OUTPUT_LOCK_MAX];
-    int k = 0;
-    for (int i = 0; i < n && k < OUTPUT_LOCK_MAX; i++)
-        if (af[i].out.kind == OUTPUT_FILE && af[i].tmp_path)
+    int k = 0, renames = 0;
+    for (int i = 0; i < n; i++) {
+        if (af[i].out.kind != OUTPUT_FILE || !af[i].tmp_path)
+            continue;
+        renames++;
+        int seen = 0;
+        for (int j = 0; j < k && !seen; j++)
+            seen = strcmp(dirs[j], af[i].out.dir) == 0;
+        if (!seen && k < OUTPUT_LOCK_MAX)
             dirs[k++] = af[i].out.dir;
-    *nfds = k > 1 ? k : 0; /* one rename is atomic by itself */
+    }
+    *nfds = renames > 1 ? k : 0; /* one rename is atomic by itself */
     if (*nfds)
         output_lock_dirs(dirs, k, fds);
 }

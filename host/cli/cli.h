@@ -258,8 +258,9 @@ typedef struct cli_sliced_job {
     const limn_write_options *write;
     int rows; /* the command builds rows (interpolate, the series): the repair
                  leaves its sub-meshes for them (limn_repair_options.sub_meshes) */
-    limn_output_set *stage; /* takes the output (limn_mpi_output_set_add_mesh), to appear
-                               with the report; NULL: it appears at once */
+    limn_output_set *stage; /* takes the outputs (limn_mpi_output_set_add_mesh), to appear
+                               with the report; NULL (interpolate, the series,
+                               subdivide only): the mesh appears at once */
 } cli_sliced_job;
 /* interpolate on slices (limn_mpi.h's distributed meshes): every rank reads
    its slice, repairs it, builds its rows, solves and writes its share of the
@@ -301,8 +302,8 @@ limn_status cli_mpi_series_sliced(limn_context *ctx, const cli_sliced_job *job,
                                   limn_series_report *r, limn_write_report *written,
                                   double *displacement, double seconds[2]);
 /* bands on slices (limn_mpi_mesh_bands): band i written in parallel to
-   paths[i] (count + 1 of them, the remainder last; what was written is
-   removed again on failure), energy (count + 1), the input's energy and
+   paths[i] (count + 1 of them, the remainder last), staged in job->stage
+   (not NULL), energy (count + 1), the input's energy and
    the largest |sum of the bands - input| (absolute) as the single process
    computes them (the sums passed from rank to rank, the maximum exact). */
 typedef struct cli_bands_out {
@@ -314,14 +315,14 @@ limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
                                  limn_series_report *r, double seconds[2]);
 /* morph on slices (limn_mpi_mesh_morph): FROM is job->input, TO to_path,
    both read and repaired as job says; every frame written in parallel to
-   sink->name(user, k) (job->write: NULL, the single process's defaults),
-   then sink->record(user, measures) on every rank; sink->written and
-   write_seconds counted. seconds[0]: the load. */
+   sink->name(user, k) and staged in job->stage (not NULL; job->write: NULL,
+   the single process's defaults),
+   then sink->record(user, measures) on every rank; sink->write_seconds
+   counted. seconds[0]: the load. */
 typedef struct cli_morph_sink {
     const char *(*name)(void *user, int index);
     void (*record)(void *user, const limn_morph_frame *f);
     void *user;
-    int written;
     double write_seconds;
 } cli_morph_sink;
 limn_status cli_mpi_morph_sliced(limn_context *ctx, const cli_sliced_job *job,

@@ -151,42 +151,35 @@ static limn_status compute(series_cli *c, limn_context *ctx, const limn_mesh *in
     return LIMN_OK;
 }
 
-/* Each band as in's faces with the band's vectors as positions, then the
-   energy file; *written counts the files that appeared. */
-static limn_status write_energy(series_cli *c, limn_context *ctx, const extra *e,
-                                const limn_series_report *r, int *written);
+/* The energy file staged in set (rank 0). */
+static limn_status stage_energy(series_cli *c, limn_context *ctx, const extra *e,
+                                const limn_series_report *r, limn_output_set *set)
+{
+    json_out *j = json_begin();
+    if (!j)
+        return cli_error(LIMN_ERR_MEMORY, "out of memory for %s", e->energy_path);
+    json_string(j, "input", c->a.inputs[0]);
+    json_string(j, "scheme", limn_scheme_name(r->scheme));
+    json_number(j, "alpha", r->alpha);
+    json_energy(j, e);
+    return json_stage(ctx, j, e->energy_path, set);
+}
 
-static limn_status write_bands(series_cli *c, limn_context *ctx, const limn_mesh *in,
+/* Each band as in's faces with the band's vectors as positions, then the
+   energy file, staged in set: they appear with the report, or none does. */
+static limn_status stage_bands(series_cli *c, limn_context *ctx, const limn_mesh *in,
                                const double *bands, const extra *e, const limn_series_report *r,
-                               int *written)
+                               limn_output_set *set)
 {
     size_t n3 = 3 * limn_mesh_vertex_count(in);
     limn_mesh *band = NULL;
     limn_status st = limn_mesh_copy(ctx, in, &band);
     for (int i = 0; !st && i <= e->count; i++) {
         memcpy(limn_mesh_positions_mutable(band), bands + (size_t)i * n3, n3 * sizeof *bands);
-        st = limn_mesh_write(ctx, band, e->names[i], c->a.out_format);
-        *written += !st;
+        st = limn_output_set_add_mesh(ctx, set, band, e->names[i], c->a.out_format);
     }
     limn_mesh_destroy(band);
-    return st ? st : write_energy(c, ctx, e, r, written);
-}
-
-/* The energy file (*written counts it when it appeared). */
-static limn_status write_energy(series_cli *c, limn_context *ctx, const extra *e,
-                                const limn_series_report *r, int *written)
-{
-    limn_status st;
-    json_out *j = json_begin();
-    if (!j)
-        return LIMN_ERR_MEMORY;
-    json_string(j, "input", c->a.inputs[0]);
-    json_string(j, "scheme", limn_scheme_name(r->scheme));
-    json_number(j, "alpha", r->alpha);
-    json_energy(j, e);
-    st = json_commit(ctx, j, e->energy_path);
-    *written += !st;
-    return st;
+    return st ? st : stage_energy(c, ctx, e, r, set);
 }
 
 /* Under several ranks on a file input (cli_mpi_sliced): every rank reads its
@@ -208,8 +201,11 @@ static int run_sliced(series_cli *c, extra *e)
     limn_write_options wo;
     limn_write_options_default(&wo);
     wo.precision = c->a.precision;
-    cli_sliced_job job = {c->a.cmd,      c->a.inputs[0],  NULL, &c->a.repair,
-                          c->a.in_format, c->a.out_format, &wo,  1, NULL};
+    if (!st) /* every band staged there, to appear with the energy file and the report */
+        st = cli_mpi_agree(ctx, limn_output_set_create(ctx, &c->a.staged));
+    cli_sliced_job job = {c->a.cmd,       c->a.inputs[0],  NULL, &c->a.repair,
+                          c->a.in_format, c->a.out_format, &wo,  1,
+                          c->a.staged};
     limn_series_report r = {.size = sizeof r};
     cli_bands_out out = {e->names, e->energy, 0.0, 0.0};
     double sec[2] = {0, 0};
@@ -220,25 +216,21 @@ static int run_sliced(series_cli *c, extra *e)
     }
     e->input_energy = out.input_energy;
     e->max_sum_error = out.max_sum_error / (r.bbox_diagonal > 0 ? r.bbox_diagonal : 1.0);
-    int written = st ? 0 : e->count + 1;
     if (!st && cli_mpi_rank() == 0)
-        st = write_energy(c, ctx, e, &r, &written);
+        st = stage_energy(c, ctx, e, &r, c->a.staged);
     st = cli_mpi_agree(ctx, st);
     s.load = sec[0];
     s.write = sec[1];
     c->sliced = 1;
     series_extra x = {json_extra, print_extra, e};
     int rc = series_cli_finish(c, ctx, st, NULL, &r, &s, &x);
-    if (rc && cli_mpi_rank() == 0) /* nothing written: take back what this run wrote */
-        for (int i = 0; i < written; i++)
-            remove(e->names[i]);
     free(e->energy);
     limn_context_destroy(ctx);
     return rc;
 }
 
-/* Loads, computes and writes; the exit status (what was written is taken
-   back on failure). */
+/* Loads, computes and writes (every file staged, appearing together at the
+   finish); the exit status. */
 static int run(series_cli *c, extra *e)
 {
     if (cli_mpi_ranks() > 1 && cli_mpi_sliced(c->a.inputs[0], c->a.in_format, c->a.output, 0))
@@ -248,7 +240,6 @@ static int run(series_cli *c, extra *e)
     limn_mesh *in[2] = {NULL, NULL};
     limn_series_report r = {.size = sizeof r};
     double *bands = NULL;
-    int written = 0;
     limn_status st = series_cli_load(c, &ctx, in);
     s.load = cli_now() - s.t0;
     size_t n3 = in[0] ? 3 * limn_mesh_vertex_count(in[0]) : 0; /* under mpirun: the root's */
@@ -262,14 +253,13 @@ static int run(series_cli *c, extra *e)
     if (!st)
         st = compute(c, ctx, in[0], bands, e, &r);
     double t = cli_now();
+    if (!st && in[0]) /* rank 0 writes */
+        st = limn_output_set_create(ctx, &c->a.staged);
     if (!st && in[0])
-        st = write_bands(c, ctx, in[0], bands, e, &r, &written);
+        st = stage_bands(c, ctx, in[0], bands, e, &r, c->a.staged);
     s.write = cli_now() - t;
     series_extra x = {json_extra, print_extra, e};
     int rc = series_cli_finish(c, ctx, st, NULL, &r, &s, &x);
-    if (rc) /* nothing written: take back what this run wrote */
-        for (int i = 0; i < written; i++)
-            remove(e->names[i]);
     free(bands);
     free(e->energy);
     series_cli_unload(ctx, in);

@@ -200,7 +200,8 @@ static void make_input(const bench_args *b, const char *in, made *m)
     double t0 = cli_now();
     progress(b, "building the mesh");
     limn_context *gen = limn_context_create();
-    limn_status st = gen ? limn_context_set_device(gen, "reference") : LIMN_ERR_MEMORY;
+    limn_status st = gen ? limn_context_set_device(gen, "reference")
+                         : cli_error(LIMN_ERR_MEMORY, "out of memory");
     if (!st)
         st = limn_context_set_host_threads(gen, b->host_threads);
     if (!st)

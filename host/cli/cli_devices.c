@@ -29,7 +29,8 @@ int cli_devices(int argc, char **argv)
         return EXIT_FAILURE_RUN;
     size_t size = 1 << 16;
     char *buf = malloc(size);
-    limn_status st = buf ? limn_list_devices(ctx, buf, size) : LIMN_ERR_MEMORY;
+    limn_status st = buf ? limn_list_devices(ctx, buf, size)
+                         : cli_error(LIMN_ERR_MEMORY, "out of memory");
     int rc = 0;
     if (st) {
         rc = cli_fail("devices", ctx, st);

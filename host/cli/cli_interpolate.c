@@ -192,7 +192,7 @@ static limn_status write_report(limn_context *ctx, const args *x, const limn_rep
 {
     json_out *j = cli_args_report(&x->a, r->vertices, r->faces);
     if (!j)
-        return LIMN_ERR_MEMORY;
+        return cli_error(LIMN_ERR_MEMORY, "out of memory for the report");
     json_string(j, "scheme", limn_scheme_name(r->scheme));
     json_number(j, "alpha", r->alpha);
     json_string(j, "method", r->method);

@@ -32,8 +32,9 @@ static const char *const help =
     SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
     "\n"
-    "Every frame is written whole or not at all; on failure the frames written\n"
-    "are removed. Under 'mpirun -np N' on two files every rank reads its slices\n"
+    "Every frame is staged whole and all appear together with the report at the\n"
+    "end, or none does (an existing file keeps its bytes). Under 'mpirun -np N'\n"
+    "on two files every rank reads its slices\n"
     "of FROM and TO and writes its share of every frame (no rank holds a mesh);\n"
     "else the products are distributed and rank 0 writes the frames.\n"
     "Exit status: 0 success, 1 failure, 2 bad usage.\n";
@@ -113,7 +114,7 @@ typedef struct morph_state {
     size_t name_size;
     char *name;
     limn_mesh *frame;
-    int frames, written, m, linear;
+    int frames, m, linear;
     double p, write_seconds;
     double *volume, *area, *distance;
     size_t *flipped;
@@ -136,8 +137,8 @@ static limn_status write_frame(void *user, const limn_morph_frame *f)
     memcpy(limn_mesh_positions_mutable(s->frame), f->positions,
            3 * limn_mesh_vertex_count(s->frame) * sizeof(double));
     frame_name(&s->pat, f->index, s->name, s->name_size);
-    limn_status st = limn_mesh_write(s->ctx, s->frame, s->name, s->c->a.out_format);
-    s->written += !st;
+    limn_status st = limn_output_set_add_mesh(s->ctx, s->c->a.staged, s->frame, s->name,
+                                              s->c->a.out_format);
     record(s, f);
     s->write_seconds += cli_now() - t;
     return st;
@@ -307,21 +308,15 @@ static int check(series_cli *c, morph_state *ms)
     return rc;
 }
 
-/* The end of both paths: the report and summary, the frames taken back
-   on failure (by rank 0: one file system); the exit status. */
+/* The end of both paths: the report staged with the frames, all committed
+   together (series_cli_finish), and the summary; the exit status. */
 static int finish(series_cli *c, limn_status st, limn_series_report *r, series_seconds *s,
                   morph_state *ms)
 {
     r->seconds_compute -= ms->write_seconds;
     s->write = ms->write_seconds;
     series_extra x = {json_extra, print_extra, ms};
-    int rc = series_cli_finish(c, ms->ctx, st, NULL, r, s, &x);
-    if (rc && cli_mpi_rank() == 0) /* nothing written: take back the frames this run wrote */
-        for (int k = 0; k < ms->written; k++) {
-            frame_name(&ms->pat, k, ms->name, ms->name_size);
-            remove(ms->name);
-        }
-    return rc;
+    return series_cli_finish(c, ms->ctx, st, NULL, r, s, &x);
 }
 
 /* Under mpirun on two input files: every rank reads its slices of FROM and
@@ -338,18 +333,20 @@ static int run_sliced(series_cli *c, limn_morph_options *mo, morph_state *ms)
         st = limn_context_set_device(ms->ctx, c->a.device);
     c->a.quiet |= cli_mpi_rank() != 0; /* under mpirun rank 0 prints */
     st = cli_mpi_agree(ms->ctx, st);
+    if (!st) /* every frame staged there, to appear with the report */
+        st = cli_mpi_agree(ms->ctx, limn_output_set_create(ms->ctx, &c->a.staged));
     mo->series = c->opt;
     /* frames written with the defaults, as limn_mesh_write writes them */
-    cli_sliced_job job = {c->a.cmd,       c->a.inputs[0],   c->a.output, &c->a.repair,
-                          c->a.in_format, c->a.out_format, NULL,        1, NULL};
-    cli_morph_sink sink = {name_of, record, ms, 0, 0.0};
+    cli_sliced_job job = {c->a.cmd,       c->a.inputs[0],  c->a.output, &c->a.repair,
+                          c->a.in_format, c->a.out_format, NULL,        1,
+                          c->a.staged};
+    cli_morph_sink sink = {name_of, record, ms, 0.0};
     double sec[2] = {0, 0};
     if (!st) {
         cli_progress_enable(ms->ctx, c->a.quiet);
         st = cli_mpi_morph_sliced(ms->ctx, &job, c->a.inputs[1], mo, &sink, &r, sec);
         cli_progress_done();
     }
-    ms->written = sink.written;
     ms->write_seconds = sink.write_seconds;
     s.load = sec[0];
     c->sliced = 1;
@@ -358,8 +355,8 @@ static int run_sliced(series_cli *c, limn_morph_options *mo, morph_state *ms)
     return rc;
 }
 
-/* Loads FROM and TO, writes the frames as they come, the report and the
-   summary; the exit status (the frames written are taken back on failure). */
+/* Loads FROM and TO, stages the frames as they come, then the report, and
+   commits them together; the summary; the exit status. */
 static int run(series_cli *c, limn_morph_options *mo, morph_state *ms)
 {
     if (cli_mpi_ranks() > 1 &&
@@ -374,6 +371,8 @@ static int run(series_cli *c, limn_morph_options *mo, morph_state *ms)
     mo->series = c->opt;
     if (!st && in[0]) /* rank 0 writes the frames */
         st = limn_mesh_copy(ms->ctx, in[0], &ms->frame);
+    if (!st && in[0])
+        st = limn_output_set_create(ms->ctx, &c->a.staged);
     if (!st) {
         cli_progress_enable(ms->ctx, c->a.quiet);
         st = cli_mpi_ranks() > 1

@@ -80,22 +80,29 @@ int cli_mpi_root_rc(int rc)
 void cli_mpi_set_per_rank(int on) { g.per_rank = on; }
 int cli_mpi_per_rank(void) { return g.per_rank; }
 
+/* Every rank's bytes of mine gathered into a new array on rank 0 (NULL on
+   the others). Rank 0 out of memory: no gather (the others' sends would not
+   fit), NULL, and the summary and report go without these figures (said). */
+static void *gather_to_root(const void *mine, size_t bytes)
+{
+    void *all = g.rank == 0 ? calloc((size_t)g.size, bytes) : NULL;
+    int room = g.rank != 0 || all;
+    MPI_Bcast(&room, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!room) {
+        fprintf(stderr, "limn: warning: out of memory for the ranks' figures: the summary and "
+                        "the report leave them out\n");
+        return NULL;
+    }
+    /* homogeneous ranks: the figures travel as bytes */
+    MPI_Gather(mine, (int)bytes, MPI_BYTE, all, all ? (int)bytes : 0, MPI_BYTE, 0,
+               MPI_COMM_WORLD);
+    return all;
+}
+
 void cli_mpi_collect(const limn_mpi_result *res)
 {
     free(g.all);
-    g.all = NULL;
-    if (g.rank == 0)
-        g.all = calloc((size_t)g.size, sizeof *g.all);
-    /* rank 0 out of memory: no gather (the others' sends would not fit), and
-       the report and summary go without the per-rank figures */
-    int room = g.rank != 0 || g.all;
-    MPI_Bcast(&room, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    if (!room)
-        return;
-    limn_mpi_stats mine = res->stats;
-    /* homogeneous ranks: the struct travels as bytes */
-    MPI_Gather(&mine, (int)sizeof mine, MPI_BYTE, g.all, g.all ? (int)sizeof mine : 0, MPI_BYTE,
-               0, MPI_COMM_WORLD);
+    g.all = gather_to_root(&res->stats, sizeof res->stats);
 }
 
 void cli_mpi_mark_sliced(void) { g.sliced = 1; }
@@ -103,8 +110,7 @@ void cli_mpi_mark_sliced(void) { g.sliced = 1; }
 void cli_mpi_gather_load(double seconds)
 {
     free(g.load);
-    g.load = g.rank == 0 ? calloc((size_t)g.size, sizeof *g.load) : NULL;
-    MPI_Gather(&seconds, 1, MPI_DOUBLE, g.load, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    g.load = gather_to_root(&seconds, sizeof seconds);
 }
 
 static limn_mpi_options options(void)
@@ -220,9 +226,8 @@ void cli_mpi_note_memory(void)
     if (g.size == 1)
         return;
     free(g.rss);
-    g.rss = g.rank == 0 ? calloc((size_t)g.size, sizeof *g.rss) : NULL;
     long long mine = (long long)cli_peak_rss();
-    MPI_Gather(&mine, 1, MPI_LONG_LONG, g.rss, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+    g.rss = gather_to_root(&mine, sizeof mine);
 }
 
 void cli_mpi_json(json_out *j)

@@ -334,18 +334,14 @@ static limn_status bands_fn(limn_context *ctx, limn_mpi_mesh *const in[2], void 
     return limn_mpi_mesh_bands(ctx, in[0], j->o, j->count, j->bands, j->energy, j->r, mo, res);
 }
 
-/* Every band written in parallel to its path; on a failure the bands
-   before the failed one are removed again. */
+/* Every band written in parallel to its path, staged in job->stage. */
 static limn_status write_bands(limn_context *ctx, const cli_sliced_job *job,
                                limn_mpi_mesh *const *bands, int count, char *const *paths)
 {
     limn_status st = LIMN_OK;
-    int written = 0;
-    for (; !st && written <= count; written++)
-        st = limn_mpi_mesh_write(ctx, bands[written], paths[written], job->out_format,
-                                 job->write, NULL);
-    for (int i = 0; st && cli_mpi_rank() == 0 && i < written - 1; i++)
-        remove(paths[i]);
+    for (int i = 0; !st && i <= count; i++)
+        st = limn_mpi_output_set_add_mesh(ctx, job->stage, bands[i], paths[i], job->out_format,
+                                          job->write, NULL);
     return st;
 }
 
@@ -393,9 +389,8 @@ static limn_status sliced_frame(void *user, const limn_mpi_mesh *frame, const li
     morph_job *m = user;
     double t = MPI_Wtime();
     const char *name = m->sink->name(m->sink->user, f->index);
-    limn_status st = limn_mpi_mesh_write(m->ctx, frame, name, m->job->out_format, m->job->write,
-                                         NULL);
-    m->sink->written += !st;
+    limn_status st = limn_mpi_output_set_add_mesh(m->ctx, m->job->stage, frame, name,
+                                                  m->job->out_format, m->job->write, NULL);
     m->sink->record(m->sink->user, f);
     m->sink->write_seconds += MPI_Wtime() - t;
     return st;

@@ -123,12 +123,13 @@ typedef struct render_seconds {
     double load, draw, write, t0;
 } render_seconds;
 
-static limn_status write_report(limn_context *ctx, const cli_args *a, const limn_mesh *mesh,
-                                const limn_render_options *o, const render_seconds *sec)
+static limn_status stage_report(limn_context *ctx, const cli_args *a, const limn_mesh *mesh,
+                                const limn_render_options *o, const render_seconds *sec,
+                                limn_output_set *set)
 {
     json_out *j = cli_args_report(a, limn_mesh_vertex_count(mesh), limn_mesh_face_count(mesh));
     if (!j)
-        return LIMN_ERR_MEMORY;
+        return cli_error(LIMN_ERR_MEMORY, "out of memory for the report");
     json_integer(j, "width", o->width);
     json_integer(j, "height", o->height);
     json_number(j, "azimuth", o->azimuth);
@@ -142,11 +143,11 @@ static limn_status write_report(limn_context *ctx, const cli_args *a, const limn
     json_number(j, "write", sec->write);
     json_number(j, "total", cli_now() - sec->t0);
     json_object_end(j);
-    return json_commit(ctx, j, a->report);
+    return json_stage(ctx, j, a->report, set);
 }
 
-/* Draws the mesh and writes the picture (and the report: when that fails,
-   the picture is taken back). */
+/* Draws the mesh and writes the picture and the report, staged and made to
+   appear together (a failure leaves an existing picture as it was). */
 static limn_status draw(limn_context *ctx, const cli_args *a, const limn_mesh *mesh,
                         const limn_render_options *o, uint8_t *rgb, render_seconds *sec)
 {
@@ -156,11 +157,14 @@ static limn_status draw(limn_context *ctx, const cli_args *a, const limn_mesh *m
     if (st)
         return st;
     t = cli_now();
-    st = limn_png_write(ctx, a->output, o->width, o->height, rgb);
+    limn_output_set *set = NULL;
+    st = limn_output_set_create(ctx, &set);
+    if (!st)
+        st = limn_output_set_add_png(ctx, set, a->output, o->width, o->height, rgb);
     sec->write = cli_now() - t;
-    if (!st && a->report && (st = write_report(ctx, a, mesh, o, sec)) != LIMN_OK)
-        remove(a->output);
-    return st;
+    if (!st && a->report)
+        st = stage_report(ctx, a, mesh, o, sec, set);
+    return cli_commit_outputs(ctx, st, set);
 }
 
 static int run(series_cli *c, const limn_render_options *o)

@@ -132,7 +132,7 @@ int series_cli_finish(series_cli *c, limn_context *ctx, limn_status st, const li
     if (!st && c->a.report && cli_mpi_rank() == 0) {
         json_out *j = series_json_begin(c, r);
         if (!j) {
-            st = LIMN_ERR_MEMORY;
+            st = cli_error(LIMN_ERR_MEMORY, "out of memory for the report");
         } else {
             if (x && x->json)
                 x->json(j, x->user);

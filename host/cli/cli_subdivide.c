@@ -59,7 +59,7 @@ static limn_status write_report(limn_context *ctx, const cli_args *a,
 {
     json_out *j = cli_args_report(a, r->input_vertices, r->input_faces);
     if (!j)
-        return LIMN_ERR_MEMORY;
+        return cli_error(LIMN_ERR_MEMORY, "out of memory for the report");
     json_integer(j, "output_vertices", (long long)r->vertices);
     json_integer(j, "output_faces", (long long)r->faces);
     json_string(j, "scheme", limn_scheme_name(r->scheme));

@@ -509,18 +509,20 @@ static limn_status write_whole(limn_context *ctx, const char *path, const bytes 
     return atomic_file_commit(ctx, &af);
 }
 
-limn_status limn_png_write(limn_context *ctx, const char *path, int width, int height,
-                           const uint8_t *rgb)
+/* limn_png_write and limn_output_set_add_png (set not NULL): the picture
+   encoded, then written whole or staged in set. */
+static limn_status png_out(limn_context *ctx, const char *fn, limn_output_set *set,
+                           const char *path, int width, int height, const uint8_t *rgb)
 {
     if (!ctx)
         return LIMN_ERR_ARGUMENT;
     ctx_clear(ctx);
     if (!path || !*path || !rgb)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_png_write: %s",
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: %s", fn,
                          !rgb ? "rgb is NULL" : "no file name");
     if (width < 1 || height < 1 || width > 65535 || height > 65535)
-        return ctx_fail(ctx, LIMN_ERR_ARGUMENT,
-                         "limn_png_write: picture size %dx%d is outside 1..65535", width, height);
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: picture size %dx%d is outside 1..65535",
+                         fn, width, height);
     size_t stride = 3 * (size_t)width, raw_len = (stride + 1) * (size_t)height;
     uint8_t *raw = malloc(raw_len), *trial = malloc(5 * stride);
     bytes z = {0}, png = {0};
@@ -535,11 +537,27 @@ limn_status limn_png_write(limn_context *ctx, const char *path, int width, int h
         png_file(&png, width, height, &z);
     if (!st && (png.failed || z.failed))
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory writing the picture");
-    if (!st)
+    if (!st && set)
+        st = limn_output_set_add_bytes(ctx, set, path, png.data, png.len);
+    else if (!st)
         st = write_whole(ctx, path, &png);
     free(raw);
     free(trial);
     free(z.data);
     free(png.data);
     return st;
+}
+
+limn_status limn_png_write(limn_context *ctx, const char *path, int width, int height,
+                           const uint8_t *rgb)
+{
+    return png_out(ctx, "limn_png_write", NULL, path, width, height, rgb);
+}
+
+limn_status limn_output_set_add_png(limn_context *ctx, limn_output_set *set, const char *path,
+                                    int width, int height, const uint8_t *rgb)
+{
+    if (ctx && !set)
+        return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "limn_output_set_add_png: set is NULL");
+    return png_out(ctx, "limn_output_set_add_png", set, path, width, height, rgb);
 }

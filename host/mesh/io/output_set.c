@@ -13,11 +13,12 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#define OUTPUT_SET_MAX OUTPUT_LOCK_MAX
+/* int counts; a bands run of 10,001 files or a morph of 10^6 frames fits */
+#define OUTPUT_SET_MAX (1 << 24)
 
 struct limn_output_set {
-    atomic_file staged[OUTPUT_SET_MAX];
-    int n;
+    atomic_file *staged; /* grown by doubling */
+    int n, cap;
 };
 
 int limn_output_is_stdout(const char *path) { return output_is_stdout(path); }
@@ -54,7 +55,7 @@ limn_status limn_output_set_create(limn_context *ctx, limn_output_set **out)
     return LIMN_OK;
 }
 
-limn_status output_set_room(limn_context *ctx, const char *fn, const limn_output_set *set,
+limn_status output_set_room(limn_context *ctx, const char *fn, limn_output_set *set,
                             const char *path)
 {
     if (!set)
@@ -64,6 +65,16 @@ limn_status output_set_room(limn_context *ctx, const char *fn, const limn_output
     if (set->n >= OUTPUT_SET_MAX)
         return ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: a set holds at most %d outputs", fn,
                          OUTPUT_SET_MAX);
+    if (set->n < set->cap)
+        return LIMN_OK;
+    int cap = set->cap ? 2 * set->cap : 16;
+    atomic_file *grown = realloc(set->staged, (size_t)cap * sizeof *grown);
+    if (!grown)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for an output set of %d outputs",
+                         set->n + 1);
+    memset(grown + set->cap, 0, (size_t)(cap - set->cap) * sizeof *grown);
+    set->staged = grown;
+    set->cap = cap;
     return LIMN_OK;
 }
 
@@ -142,5 +153,6 @@ void limn_output_set_destroy(limn_output_set *set)
         return;
     for (int i = 0; i < set->n; i++)
         atomic_file_abort(&set->staged[i]);
+    free(set->staged);
     free(set);
 }

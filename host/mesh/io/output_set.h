@@ -8,9 +8,10 @@
 #include "limn.h"
 #include "base/atomic_file.h"
 
-/* Refuses (naming fn) a NULL set, an empty path or a full set: checked
-   before the work of staging an output. */
-limn_status output_set_room(limn_context *ctx, const char *fn, const limn_output_set *set,
+/* Room in set for one more output (grown when needed), before the work of
+   staging it; refuses (naming fn) a NULL set, an empty path, a set at its
+   limit or no memory to grow it. */
+limn_status output_set_room(limn_context *ctx, const char *fn, limn_output_set *set,
                             const char *path);
 /* Takes af over (a finished, staged output: atomic_file_finish done, not
    committed); af is left empty. The set must have room (output_set_room). */
