@@ -176,6 +176,8 @@ limn_status atomic_file_finish(limn_context *ctx, atomic_file *af)
     af->f = NULL;
     if (fclose(closing) != 0 && !st)
         st = write_failed(ctx, af->path, errno);
+    free(af->iobuf); /* a staged file waits for its commit without its 1 MiB buffer */
+    af->iobuf = NULL;
     if (st)
         atomic_file_abort(af);
     return st;

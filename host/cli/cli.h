@@ -316,9 +316,8 @@ limn_status cli_mpi_bands_sliced(limn_context *ctx, const cli_sliced_job *job,
 /* morph on slices (limn_mpi_mesh_morph): FROM is job->input, TO to_path,
    both read and repaired as job says; every frame written in parallel to
    sink->name(user, k) and staged in job->stage (not NULL; job->write: NULL,
-   the single process's defaults),
-   then sink->record(user, measures) on every rank; sink->write_seconds
-   counted. seconds[0]: the load. */
+   the single process's defaults), then sink->record(user, measures) on
+   every rank; sink->write_seconds counted. seconds[0]: the load. */
 typedef struct cli_morph_sink {
     const char *(*name)(void *user, int index);
     void (*record)(void *user, const limn_morph_frame *f);

@@ -24,8 +24,9 @@ typedef struct cli_args {
     limn_output_precision precision; /* --output-precision (interpolate, subdivide) */
     limn_write_report written;       /* the error of the output as staged, when wrote */
     int wrote;
-    limn_output_set *staged; /* a sliced run's set holding its output (the command's
-                                finish commits it with the report), or NULL */
+    limn_output_set *staged; /* outputs staged before the command's finish (a sliced
+                                run's mesh, bands, morph frames): it commits them
+                                with the report; or NULL */
 } cli_args;
 
 /* The long options cli_args_parse takes itself (cli_options tables); each

@@ -117,7 +117,7 @@ int series_cli_finish(series_cli *c, limn_context *ctx, limn_status st, const li
 {
     /* the mesh and the report are both complete (staged) before either appears:
        a failure writes nothing and leaves an existing output as it was */
-    limn_output_set *set = c->a.staged; /* on slices: it holds the mesh already */
+    limn_output_set *set = c->a.staged; /* the outputs staged so far (a sliced mesh, bands) */
     c->a.staged = NULL;
     if (!st && !set)
         st = limn_output_set_create(ctx, &set);
