@@ -32,36 +32,8 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/limn_cli_oom.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 failures=0
 runs=0
-
-# The same files in ref and out, the same bytes but in reports (.json: their
-# paths, seconds and memory differ from run to run)
-same_outputs() {
-    [ "$(ls "$work/ref")" = "$(ls "$work/out")" ] || return 1
-    local f
-    for f in "$work/ref"/*; do
-        case $f in
-        *.json) ;;
-        *) cmp -s "$f" "$work/out/${f##*/}" || return 1 ;;
-        esac
-    done
-}
-
-# Every file of ref in out with old bytes of its own
-old_files() {
-    local f
-    for f in "$work/ref"/*; do
-        printf 'an old %s\n' "${f##*/}" >"$work/out/${f##*/}"
-    done
-}
-
-# out holds ref's names, each with its old bytes, nothing else
-old_kept() {
-    [ "$(ls -A "$work/ref")" = "$(ls -A "$work/out")" ] || return 1
-    local f
-    for f in "$work/ref"/*; do
-        [ "$(cat "$work/out/${f##*/}")" = "an old ${f##*/}" ] || return 1
-    done
-}
+# shellcheck source=tests/oom_outputs.sh
+source "$(dirname "$0")/oom_outputs.sh"
 
 # sweep NAME ARGS...: ARGS with @OUT@ for the output directory
 sweep() {

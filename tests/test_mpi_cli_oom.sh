@@ -28,6 +28,8 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/limn_mpi_cli_oom.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 failures=0
 runs=0
+# shellcheck source=tests/oom_outputs.sh
+source "$(dirname "$0")/oom_outputs.sh"
 
 # args NAME OUTDIR: the command line of job NAME writing into OUTDIR
 args() {
@@ -47,35 +49,6 @@ run() {
     # shellcheck disable=SC2046 # the paths hold no blanks (mktemp)
     env "$@" timeout 60 "$mpiexec" -np 2 "${flags[@]}" "$bin" $(args "$name" "$out") -q \
         >/dev/null 2>"$work/err"
-}
-
-# Every file of ref in out with old bytes of its own
-old_files() {
-    local f
-    for f in "$work/ref"/*; do
-        printf 'an old %s\n' "${f##*/}" >"$work/out/${f##*/}"
-    done
-}
-
-# out holds ref's names, each with its old bytes, nothing else
-old_kept() {
-    [ "$(ls -A "$work/ref")" = "$(ls -A "$work/out")" ] || return 1
-    local f
-    for f in "$work/ref"/*; do
-        [ "$(cat "$work/out/${f##*/}")" = "an old ${f##*/}" ] || return 1
-    done
-}
-
-# The same files in ref and out, the same bytes but in reports
-same_outputs() {
-    [ "$(ls -A "$work/ref")" = "$(ls -A "$work/out")" ] || return 1
-    local f
-    for f in "$work/ref"/*; do
-        case $f in
-        *.json) ;;
-        *) cmp -s "$f" "$work/out/${f##*/}" || return 1 ;;
-        esac
-    done
 }
 
 for job in ${LIMN_TEST_JOBS:-interpolate:1 interpolate:0 denoise:0:30 bands:0:40 morph:0:40}; do
