@@ -392,6 +392,13 @@ typedef struct limn_repair_options {
                                  exchanges and leaves nothing: for calls that build no rows
                                  (subdivide, texture, denoise_features), which would pay for
                                  sub-meshes they drop */
+    int keep_topology;        /* limn_mesh_repair only (added after sub_meshes): 1 (default)
+                                 counts from the mesh's topology and leaves it on the mesh for
+                                 the next call that reads it (an operator, the series,
+                                 limn_mesh_info_compute, measure, refinement): one topology
+                                 a run; 0 counts by a census (the same counts, about a third
+                                 of the memory, no edge arrays) and leaves only the counts:
+                                 for a run that reads nothing else (`limn info`) */
 } limn_repair_options;
 
 LIMN_API void limn_repair_options_default(limn_repair_options *options);
@@ -444,6 +451,9 @@ typedef struct limn_mesh_info {
     double bbox_diagonal;
 } limn_mesh_info;
 
+/* The mesh's counts: from the topology limn_mesh_repair left on it, else
+   from its census (the counts alone, kept on the mesh until its faces
+   change; no topology is built). */
 LIMN_API limn_status limn_mesh_info_compute(limn_context *ctx, const limn_mesh *mesh,
                                             limn_mesh_info *info);
 

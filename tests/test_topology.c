@@ -233,8 +233,34 @@ static void assert_same_topology(const topology *a, const topology *b, const cha
     SAME_ARRAY(crease_neighbors, 2 * nv);
 }
 
+/* The census's counts equal to the statistics of b (the previous build). */
+static void assert_counts_of(const topology_counts *k, const topology *b, const char *what)
+{
+    topology_counts want;
+    topology_counts_of(b, &want);
+#define SAME_CENSUS(field)                                                                     \
+    if (k->field != want.field)                                                                \
+        fail_msg("%s: the census's %s is %zu, the previous build says %zu", what, #field,      \
+                 k->field, want.field);
+    SAME_CENSUS(edges);
+    SAME_CENSUS(boundary_edges);
+    SAME_CENSUS(nonmanifold_edges);
+    SAME_CENSUS(inconsistent_edges);
+    SAME_CENSUS(nonmanifold_vertices);
+    SAME_CENSUS(referenced_vertices);
+    SAME_CENSUS(components);
+    SAME_CENSUS(boundary_loops);
+    SAME_CENSUS(max_face_size);
+    SAME_CENSUS(max_valence);
+    SAME_CENSUS(triangles);
+    SAME_CENSUS(quads);
+    SAME_CENSUS(other_faces);
+#undef SAME_CENSUS
+}
+
 /* topology_build equal to the previous build for 1, 2 and 4 host threads,
-   or refused with the same message; returns 1 when built. */
+   or refused with the same message, and the census's counts its statistics;
+   returns 1 when built. */
 static int check_against_previous(limn_context *ctx, const limn_mesh *m, const char *what)
 {
     topology old;
@@ -244,6 +270,15 @@ static int check_against_previous(limn_context *ctx, const limn_mesh *m, const c
     static const int threads[] = {1, 2, 4};
     for (int i = 0; i < 3; i++) {
         assert_int_equal(limn_context_set_host_threads(ctx, threads[i]), LIMN_OK);
+        topology_counts k;
+        limn_status counted = topology_census(ctx, m, &k);
+        if (counted != want)
+            fail_msg("%s (%d threads): census status %d, the previous build %d (%s)", what,
+                     threads[i], counted, want, limn_context_message(ctx));
+        if (counted)
+            assert_string_equal(limn_context_message(ctx), message);
+        else
+            assert_counts_of(&k, &old, what);
         topology t;
         limn_status got = topology_build(ctx, m, &t);
         if (got != want)
@@ -428,6 +463,33 @@ static void one_topology_per_run(void **state)
     assert_ptr_equal(m->topology, cached); /* given back */
     assert_non_null(cached->corner_edge);
     topology_previous_free(&fresh);
+    limn_mesh_destroy(control);
+    limn_mesh_destroy(m);
+
+    /* keep_topology = 0 (limn info): counts by a census, no topology built;
+       info reads the counts kept; a later operator builds its own */
+    m = test_mesh_icosahedron(ctx);
+    limn_repair_options census = {.size = sizeof census};
+    limn_repair_options_default(&census);
+    assert_int_equal(census.keep_topology, 1);
+    census.keep_topology = 0;
+    before = topology_build_count();
+    limn_repair_report counted = {.size = sizeof counted};
+    assert_int_equal(limn_mesh_repair(ctx, m, &census, &counted), LIMN_OK);
+    assert_null(m->topology);
+    assert_non_null(m->counts);
+    limn_mesh_info from_census = {.size = sizeof from_census};
+    assert_int_equal(limn_mesh_info_compute(ctx, m, &from_census), LIMN_OK);
+    assert_int_equal(topology_build_count() - before, 0);
+    /* the full repair's report */
+    assert_int_equal(counted.nonmanifold_edges, rep.nonmanifold_edges);
+    assert_int_equal(counted.nonmanifold_vertices, rep.nonmanifold_vertices);
+    assert_int_equal(counted.unreferenced_vertices, rep.unreferenced_vertices);
+    assert_int_equal(counted.components, rep.components);
+    assert_int_equal(counted.boundary_loops, rep.boundary_loops);
+    assert_memory_equal(&from_census, &in, sizeof in);
+    assert_int_equal(limn_interpolate(ctx, m, NULL, &control, NULL), LIMN_OK);
+    assert_int_equal(topology_build_count() - before, 1);
     limn_mesh_destroy(control);
     limn_mesh_destroy(m);
 

@@ -59,7 +59,8 @@ static const limn_subdivide_options subdivide_defaults = {
     .size = sizeof(limn_subdivide_options), .scheme = LIMN_SCHEME_AUTO, .levels = 1};
 static const limn_repair_options repair_defaults = {.size = sizeof(limn_repair_options),
                                                     .repeated_vertices = 1,
-                                                    .sub_meshes = 1};
+                                                    .sub_meshes = 1,
+                                                    .keep_topology = 1};
 static const limn_write_options write_defaults = {.size = sizeof(limn_write_options),
                                                   .precision = LIMN_OUTPUT_DOUBLE};
 static const limn_render_options render_defaults = {.size = sizeof(limn_render_options),

@@ -42,6 +42,7 @@ int cli_check_output(const char *cmd, const char *input, const char *output, lim
 typedef struct cli_repair {
     int off;
     int drop_duplicates;
+    int counts_only; /* not an option: the command reads only the counts (info) */
 } cli_repair;
 #define CLI_REPAIR_HELP                                                                        \
     "  --no-repair            refuse faces that use a vertex twice (default:\n"                \

@@ -373,6 +373,7 @@ limn_status cli_load_mesh(const char *cmd, limn_context *ctx, const char *path,
     if (r) {
         o.repeated_vertices = !r->off;
         o.duplicate_faces = r->drop_duplicates;
+        o.keep_topology = !r->counts_only;
     }
     limn_repair_report rep = {.size = sizeof rep};
     st = limn_mesh_repair(ctx, *out, &o, &rep);

@@ -85,7 +85,7 @@ int cli_info(int argc, char **argv)
     const char *input = NULL;
     int json = 0;
     limn_format fmt = LIMN_FORMAT_AUTO;
-    cli_repair repair = {0, 0};
+    cli_repair repair = {.counts_only = 1}; /* the counts alone: no topology */
     size_t max_memory = 0;
     int host_threads = 0;
     static const struct option longopts[] = {

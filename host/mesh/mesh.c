@@ -231,6 +231,7 @@ void limn_mesh_destroy(limn_mesh *mesh)
         return;
     if (mesh->topology)
         mesh->topology_drop(mesh->topology);
+    free(mesh->counts);
     free(mesh->positions);
     faces_release(mesh);
     free(mesh->colors);

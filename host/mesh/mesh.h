@@ -6,6 +6,7 @@
 #include "limn.h"
 
 struct topology;
+struct topology_counts;
 
 struct limn_mesh {
     size_t vertex_count;
@@ -23,6 +24,10 @@ struct limn_mesh {
        topology layer sits above this one). */
     struct topology *_Atomic topology;
     void (*topology_drop)(struct topology *);
+    /* The topology's counts without it (topology_counts_get; a plain struct,
+       freed with free()): set once, read by any thread, dropped with the
+       topology when the faces change. */
+    struct topology_counts *_Atomic counts;
     /* Faces never change once a mesh is made, except through
        mesh_faces_own / mesh_faces_replace, so copies share them:
        face_shares is NULL while this mesh alone holds face_offsets and

@@ -16,6 +16,7 @@
 #include "mpi/mpi_mesh.h"
 
 #include "base/context.h"
+#include "topology/topology.h"
 #include "topology/topology_fan.h"
 
 #include <limits.h>
@@ -63,7 +64,6 @@ static limn_status corners_out(mpi_part *p, const limn_mpi_mesh *mesh, uint32_t 
 typedef struct ring {
     uint64_t *key;          /* 2 n: w << 32 | k << 1 | (1: back) */
     ring_edge *edge;        /* per edge: the other vertex, uses, the corner going v -> w */
-    uint32_t *at_v;         /* per edge: corners going v -> w */
     uint32_t *back;         /* per corner: its edge to the previous vertex */
     uint32_t *next_edge;    /* per corner: its edge to the next vertex */
 } ring;
@@ -76,35 +76,15 @@ static void classify(ring *g, uint32_t v, const uint32_t *const *t, uint32_t n, 
         g->key[2 * i + 1] = (uint64_t)t[i][1] << 32 | (uint64_t)i << 1 | 1;
     }
     mpi_local_sort(g->key, 2 * (size_t)n);
-    uint32_t ne = 0, nm = 0;
-    for (uint32_t i = 0; i < 2 * n;) {
-        uint32_t w = (uint32_t)(g->key[i] >> 32), j = i;
-        ring_edge *re = &g->edge[ne];
-        re->forward = UINT32_MAX;
-        re->flags = 0; /* not needed here: the counts below */
-        g->at_v[ne] = 0;
-        for (; j < 2 * n && (uint32_t)(g->key[j] >> 32) == w; j++) {
-            uint32_t c = (uint32_t)g->key[j] >> 1;
-            if (g->key[j] & 1) {
-                g->back[c] = ne;
-            } else {
-                g->at_v[ne]++;
-                re->forward = c;
-                g->next_edge[c] = ne;
-            }
+    uint32_t ne = topology_ring_edges(g->key, n, g->edge, g->next_edge, g->back), nm = 0;
+    for (uint32_t i = 0; i < ne; i++) {
+        const ring_edge *re = &g->edge[i];
+        nm += (re->flags & EDGE_NONMANIFOLD) != 0;
+        if (re->w > v) { /* each edge counted once, at its lower vertex */
+            k[0] += (re->flags & EDGE_BOUNDARY) != 0;
+            k[1] += (re->flags & EDGE_NONMANIFOLD) != 0;
+            k[2] += (re->flags & EDGE_INCONSISTENT) != 0;
         }
-        re->w = w;
-        re->total = j - i;
-        int bnd = re->total == 1, inc = re->total == 2 && g->at_v[ne] != 1;
-        int nonman = re->total > 2 || inc;
-        nm += nonman;
-        if (w > v) { /* each edge counted once, at its lower vertex */
-            k[0] += bnd;
-            k[1] += nonman;
-            k[2] += inc;
-        }
-        ne++;
-        i = j;
     }
     k[3] += nm || !topology_fan_walk(g->edge, g->next_edge, g->back, n, NULL, NULL);
     k[4]++; /* referenced */
@@ -154,14 +134,13 @@ static limn_status classify_all(mpi_part *p, const limn_mpi_mesh *mesh, const ui
     size_t e = 2 * longest + 1;
     g.key = large_malloc(e * sizeof *g.key);
     g.edge = large_malloc(e * sizeof *g.edge);
-    uint32_t *words = large_malloc(3 * e * sizeof *words);
+    uint32_t *words = large_malloc(2 * e * sizeof *words);
     limn_status st = g.key && g.edge && words
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory");
     if (!st) {
-        g.at_v = words;
-        g.back = words + e;
-        g.next_edge = words + 2 * e;
+        g.back = words;
+        g.next_edge = words + e;
     }
     for (size_t i = 0, j; !st && i < nc; i = j) {
         for (j = i; j < nc && order[j] >> 32 == order[i] >> 32; j++)

@@ -14,30 +14,31 @@ static limn_status info_sized(limn_context *ctx, const limn_mesh *mesh, limn_mes
     limn_status begun = abi_begin(ctx, "limn_mesh_info_compute", "info", info);
     if (begun)
         return begun;
-    topology t;
-    limn_status st = topology_get_checked(ctx, "limn_mesh_info_compute", mesh, &t);
+    limn_status st = check_mesh(ctx, "limn_mesh_info_compute", NULL, mesh);
+    topology_counts k;
+    if (!st)
+        st = topology_counts_get(ctx, mesh, &k);
     if (st)
         return st;
     memset(info, 0, sizeof *info);
     info->vertices = mesh->vertex_count;
     info->faces = mesh->face_count;
-    info->edges = t.edge_count;
-    info->referenced_vertices = t.referenced_vertices;
-    info->boundary_edges = t.boundary_edges;
-    info->boundary_loops = t.boundary_loops;
-    info->nonmanifold_edges = t.nonmanifold_edges;
-    info->nonmanifold_vertices = t.nonmanifold_vertices;
-    info->inconsistent_edges = t.inconsistent_edges;
-    info->components = t.components;
-    info->triangles = t.triangles;
-    info->quads = t.quads;
-    info->other_faces = t.other_faces;
-    info->max_face_size = t.max_face_size;
-    info->max_valence = t.max_valence;
+    info->edges = k.edges;
+    info->referenced_vertices = k.referenced_vertices;
+    info->boundary_edges = k.boundary_edges;
+    info->boundary_loops = k.boundary_loops;
+    info->nonmanifold_edges = k.nonmanifold_edges;
+    info->nonmanifold_vertices = k.nonmanifold_vertices;
+    info->inconsistent_edges = k.inconsistent_edges;
+    info->components = k.components;
+    info->triangles = k.triangles;
+    info->quads = k.quads;
+    info->other_faces = k.other_faces;
+    info->max_face_size = k.max_face_size;
+    info->max_valence = k.max_valence;
     info->euler_characteristic =
-        (long)t.referenced_vertices - (long)t.edge_count + (long)mesh->face_count;
+        (long)k.referenced_vertices - (long)k.edges + (long)mesh->face_count;
     info->bbox_diagonal = mesh_bbox_diagonal(mesh, info->bbox_min, info->bbox_max);
-    topology_free(&t);
     return LIMN_OK;
 }
 

@@ -281,23 +281,33 @@ static limn_status repair_duplicates(limn_context *ctx, limn_mesh *mesh, int rem
     return LIMN_OK;
 }
 
-/* What stays as it is: counted into r, each with a warning. The topology
-   stays on the mesh for the calls after the repair (topology_get). */
-static limn_status report_kept(limn_context *ctx, limn_mesh *mesh, limn_repair_report *r)
+/* What stays as it is: counted into r, each with a warning. With
+   keep_topology the counts come from the topology, which stays on the mesh
+   for the calls after the repair (topology_get); else from a census. */
+static limn_status report_kept(limn_context *ctx, limn_mesh *mesh, int keep_topology,
+                               limn_repair_report *r)
 {
     size_t nv = mesh->vertex_count;
-    topology t;
-    limn_status st = topology_cache(ctx, mesh, &t);
+    topology_counts k;
+    limn_status st;
+    if (keep_topology) {
+        topology t;
+        st = topology_cache(ctx, mesh, &t);
+        if (!st) {
+            topology_counts_of(&t, &k);
+            topology_free(&t);
+        }
+    } else {
+        st = topology_counts_get(ctx, mesh, &k);
+    }
     if (st)
         return st;
-    size_t nm_edges = t.nonmanifold_edges - t.inconsistent_edges;
-    r->nonmanifold_edges = nm_edges;
-    r->nonmanifold_vertices = t.nonmanifold_vertices;
-    r->inconsistent_edges = t.inconsistent_edges;
-    r->unreferenced_vertices = nv - t.referenced_vertices;
-    r->components = t.components;
-    r->boundary_loops = t.boundary_loops;
-    topology_free(&t);
+    r->nonmanifold_edges = k.nonmanifold_edges - k.inconsistent_edges;
+    r->nonmanifold_vertices = k.nonmanifold_vertices;
+    r->inconsistent_edges = k.inconsistent_edges;
+    r->unreferenced_vertices = nv - k.referenced_vertices;
+    r->components = k.components;
+    r->boundary_loops = k.boundary_loops;
     repair_warn_kept(ctx, r);
     return LIMN_OK;
 }
@@ -329,7 +339,7 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
     r->faces_after = mesh->face_count;
     if (r->first_duplicate_face == SIZE_MAX)
         r->first_duplicate_face = 0;
-    return report_kept(ctx, mesh, r);
+    return report_kept(ctx, mesh, o->keep_topology, r);
 }
 
 limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repair_options *options,

@@ -4,6 +4,7 @@
 #include "base/large_alloc.h"
 #include "mesh/check.h"
 #include "topology/topology_build.h"
+#include "topology/topology_sets.h"
 #include "base/context.h"
 #include "mesh/mesh.h"
 
@@ -85,46 +86,6 @@ void topology_free(topology *t)
     memset(t, 0, sizeof *t);
 }
 
-/* A union-find that ranges of edges update at once, lock-free. Every link
-   points to a smaller index: a union links the larger root under the smaller
-   by compare-and-swap (retried when another thread linked either first), and
-   path halving stores a grandparent, an ancestor in the same set, with a
-   plain store (a concurrent halving may store a nearer ancestor over it:
-   still the same set, still a smaller index). So no cycle can form and the
-   sets are those of the sequential union-find (which root stands for a set
-   may differ; only the counts are used). */
-static uint32_t find_shared(_Atomic uint32_t *parent, uint32_t x)
-{
-    for (;;) {
-        uint32_t p = atomic_load_explicit(&parent[x], memory_order_relaxed);
-        if (p == x)
-            return x;
-        uint32_t g = atomic_load_explicit(&parent[p], memory_order_relaxed);
-        if (g != p)
-            atomic_store_explicit(&parent[x], g, memory_order_relaxed);
-        x = g;
-    }
-}
-
-static void unite_shared(_Atomic uint32_t *parent, uint32_t a, uint32_t b)
-{
-    for (;;) {
-        a = find_shared(parent, a);
-        b = find_shared(parent, b);
-        if (a == b)
-            return;
-        if (a > b) {
-            uint32_t t = a;
-            a = b;
-            b = t;
-        }
-        uint32_t expected = b; /* b still a root: it now points at a */
-        if (atomic_compare_exchange_strong_explicit(&parent[b], &expected, a,
-                                                    memory_order_relaxed, memory_order_relaxed))
-            return;
-    }
-}
-
 typedef struct components_job {
     const topology *t;
     _Atomic uint32_t *parent;
@@ -147,7 +108,7 @@ static int components_unite(void *arg, size_t begin, size_t end)
     const topology *t = j->t;
     for (size_t e = begin; e < end; e++)
         if (!j->boundary || (t->edge_flags[e] & EDGE_BOUNDARY))
-            unite_shared(j->parent, t->edge_vertices[2 * e], t->edge_vertices[2 * e + 1]);
+            topo_unite(j->parent, t->edge_vertices[2 * e], t->edge_vertices[2 * e + 1]);
     return 0;
 }
 
@@ -197,8 +158,7 @@ static limn_status count_components(limn_context *ctx, topology *t, unsigned par
     return LIMN_OK;
 }
 
-/* Sums what the ranges counted into t; LIMN_OK, or the first range's failure. */
-static limn_status gather(limn_context *ctx, topo_build *b)
+limn_status topo_gather(limn_context *ctx, topo_build *b)
 {
     topology *t = b->t;
     for (unsigned i = 0; i < PARALLEL_MAX; i++) {
@@ -270,14 +230,13 @@ static int cursor_starts(void *arg, size_t begin, size_t end)
     return 0;
 }
 
-/* Passes 1-3: face checks, vertex buckets, and the counts that place edges. */
-static limn_status place(limn_context *ctx, topo_build *b)
+limn_status topo_place_corners(limn_context *ctx, topo_build *b)
 {
     topology *t = b->t;
     size_t nv = t->vertex_count;
     parallel_run(nv, b->parts, cursor_clear, b);
     topo_faces(b);
-    limn_status st = gather(ctx, b);
+    limn_status st = topo_gather(ctx, b);
     if (st)
         return st;
     topo_corner_counts(b);
@@ -287,8 +246,19 @@ static limn_status place(limn_context *ctx, topo_build *b)
     parallel_run(nv, b->parts, cursor_starts, b);
     topo_scatter(b);
     ctx_progress(ctx, "topology", 0.3);
+    return LIMN_OK;
+}
+
+/* Passes 1-3: face checks, vertex buckets, and the counts that place edges. */
+static limn_status place(limn_context *ctx, topo_build *b)
+{
+    topology *t = b->t;
+    size_t nv = t->vertex_count;
+    limn_status st = topo_place_corners(ctx, b);
+    if (st)
+        return st;
     topo_count(b);
-    st = gather(ctx, b);
+    st = topo_gather(ctx, b);
     if (st)
         return st;
     parallel_prefix_u32(t->vertex_edge_offsets, nv, b->parts);
@@ -332,7 +302,7 @@ static limn_status connect(limn_context *ctx, topo_build *b)
     if (!t->edge_vertices || !t->edge_corner_offsets || !t->edge_flags || !t->edge_corners)
         return no_memory(ctx, t);
     topo_edges(b);
-    limn_status st = gather(ctx, b);
+    limn_status st = topo_gather(ctx, b);
     if (st)
         return st;
     t->edge_corner_offsets[ne] = (uint32_t)nc;
@@ -480,4 +450,50 @@ void topology_uncache(limn_mesh *mesh)
     topology *t = slot_take(mesh);
     if (t)
         topology_destroy(t);
+    free(atomic_exchange(&mesh->counts, NULL));
+}
+
+void topology_counts_of(const topology *t, topology_counts *out)
+{
+    *out = (topology_counts){.edges = t->edge_count,
+                             .boundary_edges = t->boundary_edges,
+                             .nonmanifold_edges = t->nonmanifold_edges,
+                             .inconsistent_edges = t->inconsistent_edges,
+                             .nonmanifold_vertices = t->nonmanifold_vertices,
+                             .referenced_vertices = t->referenced_vertices,
+                             .components = t->components,
+                             .boundary_loops = t->boundary_loops,
+                             .max_face_size = t->max_face_size,
+                             .max_valence = t->max_valence,
+                             .triangles = t->triangles,
+                             .quads = t->quads,
+                             .other_faces = t->other_faces};
+}
+
+limn_status topology_counts_get(limn_context *ctx, const limn_mesh *mesh, topology_counts *out)
+{
+    limn_mesh *m = (limn_mesh *)mesh; /* the slots change, the mesh does not */
+    const topology_counts *kept = atomic_load(&m->counts);
+    if (kept) {
+        *out = *kept;
+        return LIMN_OK;
+    }
+    topology *t = slot_take(mesh);
+    if (t) {
+        topology_counts_of(t, out);
+        topology lent = {.lent_by = mesh, .lent = t};
+        topology_free(&lent); /* back into its slot */
+        return LIMN_OK;
+    }
+    limn_status st = topology_census(ctx, mesh, out);
+    if (st)
+        return st;
+    topology_counts *keep = malloc(sizeof *keep);
+    topology_counts *expected = NULL;
+    if (keep) { /* else counted again next time */
+        *keep = *out;
+        if (!atomic_compare_exchange_strong(&m->counts, &expected, keep))
+            free(keep); /* another thread kept its own */
+    }
+    return LIMN_OK;
 }

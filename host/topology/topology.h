@@ -91,7 +91,7 @@ limn_status topology_take(limn_context *ctx, const limn_mesh *mesh, topology *ou
 void topology_slim(topology *t);
 /* topology_get after building the cache when it is missing (limn_mesh_repair). */
 limn_status topology_cache(limn_context *ctx, limn_mesh *mesh, topology *out);
-/* Drops the cached topology: before anything changes the faces. */
+/* Drops the cached topology and counts: before anything changes the faces. */
 void topology_uncache(limn_mesh *mesh);
 /* Fills t->corner_edge (the inverse of edge_corners) when it is NULL, over
    the context's host threads; a lent topology's owner keeps it. Refinement
@@ -100,6 +100,27 @@ limn_status topology_corner_edges(limn_context *ctx, topology *t);
 void topology_free(topology *topo);
 /* How many times topology_build ran in this process (tests: one per run). */
 size_t topology_build_count(void);
+
+/* The topology's counts (limn info, the repair's report). */
+typedef struct topology_counts {
+    size_t edges, boundary_edges, nonmanifold_edges, inconsistent_edges, nonmanifold_vertices;
+    size_t referenced_vertices, components, boundary_loops;
+    size_t max_face_size, max_valence, triangles, quads, other_faces;
+} topology_counts;
+
+/* The statistics of a built topology as counts. */
+void topology_counts_of(const topology *t, topology_counts *out);
+/*
+ * The counts topology_build's statistics give, without building it: every
+ * vertex's bucket of next and previous vertices, its edges and fan from
+ * them, the sets by a union-find as the corners go (topology_census.c;
+ * about a third of the build's memory). The same counts for any thread
+ * count; refuses a face that uses one vertex twice as the build does.
+ */
+limn_status topology_census(limn_context *ctx, const limn_mesh *mesh, topology_counts *out);
+/* The mesh's counts: from its topology when it has one, else the census
+   it keeps (made here the first time, then kept until the faces change). */
+limn_status topology_counts_get(limn_context *ctx, const limn_mesh *mesh, topology_counts *out);
 
 static inline uint32_t topology_face_size(const topology *t, uint32_t f)
 {

@@ -43,7 +43,8 @@ typedef struct topo_build {
     _Atomic uint32_t *cursor;   /* vertex_count: counts, then fill cursors */
     uint32_t *next, *prev;      /* per vertex_corners slot: the corner's next and previous vertex */
     uint8_t *wrap;              /* per slot: the previous corner is c - 1 (0), c + wrap (1..254),
-                                   or the face's last (255: looked up); saves two cache misses */
+                                   or the face's last (255: looked up); saves two cache misses.
+                                   The census has neither it nor t->vertex_corners */
     uint32_t *edge_base;        /* vertex_count + 1: the first edge v owns */
     uint32_t *entry_base;       /* vertex_count + 1: v's first edge_corners entry */
     topo_counts counts[PARALLEL_MAX];
@@ -63,6 +64,14 @@ int topo_scratch_reserve(topo_scratch *s, size_t keys, size_t words);
 void topo_scratch_free(topo_scratch *s);
 void topo_sort_u64(uint64_t *a, size_t n);
 void topo_sort_u32(uint32_t *a, size_t n);
+
+/* LIMN_OK, or the ranges' first failure (out of memory, a face using a
+   vertex twice: the first such face), said in ctx. */
+limn_status topo_gather(limn_context *ctx, topo_build *b);
+/* Passes 1 and 2: the face checks and kinds into the counts, every vertex's
+   bucket (vertex_corner_offsets; next, prev and, where allocated,
+   vertex_corners and wrap). The cursors hold each bucket's end after. */
+limn_status topo_place_corners(limn_context *ctx, topo_build *b);
 
 /* Passes 1, 2 (topology_faces.c), 3, 4 (topology_rings.c) and 5
    (topology_vertex_edges.c); each returns nonzero on a range's failure

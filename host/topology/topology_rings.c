@@ -97,22 +97,10 @@ static void write_edge(topo_build *b, uint32_t v, const ring_edge *re, const uin
     k->inconsistent_edges += (re->flags & EDGE_INCONSISTENT) != 0;
 }
 
-/* v's edges, sorted by neighbour, into e (keys: scratch of 2 n), and for
-   each slot the index in e of its forward (fwd) and backward (back) edge;
-   writes the owned ones; returns the count. */
-static uint32_t ring_edges(topo_build *b, uint32_t v, uint64_t *keys, ring_edge *e,
-                           uint32_t *fwd, uint32_t *back, topo_counts *k)
+uint32_t topology_ring_edges(const uint64_t *keys, uint32_t n, ring_edge *e, uint32_t *fwd,
+                             uint32_t *back)
 {
-    topology *t = b->t;
-    uint32_t s = t->vertex_corner_offsets[v], n = t->vertex_corner_offsets[v + 1] - s;
-    /* slot << 1 fits: a vertex is in at most one corner of a face of >= 3,
-       so n <= UINT32_MAX / 3 */
-    for (uint32_t i = 0; i < n; i++) {
-        keys[2 * i] = (uint64_t)b->next[s + i] << 32 | (uint64_t)i << 1;
-        keys[2 * i + 1] = (uint64_t)b->prev[s + i] << 32 | (uint64_t)i << 1 | 1;
-    }
-    topo_sort_u64(keys, 2 * (size_t)n);
-    uint32_t count = 0, id = b->edge_base[v], at = b->entry_base[v];
+    uint32_t count = 0;
     for (uint32_t i = 0; i < 2 * n;) {
         uint32_t w = (uint32_t)(keys[i] >> 32), j = i, at_v = 0;
         ring_edge *re = &e[count++];
@@ -134,9 +122,32 @@ static uint32_t ring_edges(topo_build *b, uint32_t v, uint64_t *keys, ring_edge 
                     /* both corners start at the same vertex: same direction */
                     : at_v != 1 ? EDGE_NONMANIFOLD | EDGE_INCONSISTENT
                                 : 0;
-        if (w > v)
-            write_edge(b, v, re, keys + i, id++, &at, k);
         i = j;
+    }
+    return count;
+}
+
+/* v's edges, sorted by neighbour, into e (keys: scratch of 2 n), and for
+   each slot the index in e of its forward (fwd) and backward (back) edge;
+   writes the owned ones; returns the count. */
+static uint32_t ring_edges(topo_build *b, uint32_t v, uint64_t *keys, ring_edge *e,
+                           uint32_t *fwd, uint32_t *back, topo_counts *k)
+{
+    topology *t = b->t;
+    uint32_t s = t->vertex_corner_offsets[v], n = t->vertex_corner_offsets[v + 1] - s;
+    /* slot << 1 fits: a vertex is in at most one corner of a face of >= 3,
+       so n <= UINT32_MAX / 3 */
+    for (uint32_t i = 0; i < n; i++) {
+        keys[2 * i] = (uint64_t)b->next[s + i] << 32 | (uint64_t)i << 1;
+        keys[2 * i + 1] = (uint64_t)b->prev[s + i] << 32 | (uint64_t)i << 1 | 1;
+    }
+    topo_sort_u64(keys, 2 * (size_t)n);
+    uint32_t count = topology_ring_edges(keys, n, e, fwd, back);
+    uint32_t id = b->edge_base[v], at = b->entry_base[v], i = 0;
+    for (uint32_t c = 0; c < count; c++) {
+        if (e[c].w > v)
+            write_edge(b, v, &e[c], keys + i, id++, &at, k);
+        i += e[c].total;
     }
     return count;
 }
@@ -226,7 +237,9 @@ static int edges_range(void *arg, size_t begin, size_t end)
 {
     topo_build *b = arg;
     topology *t = b->t;
-    topo_counts *k = &b->counts[topo_range(b, t->vertex_count, begin)];
+    /* counted here, stored at the end: the ranges' slots share cache lines */
+    topo_counts *slot = &b->counts[topo_range(b, t->vertex_count, begin)], local = *slot;
+    topo_counts *k = &local;
     topo_scratch sc = {0};
     for (size_t v = begin; v < end; v++) {
         uint32_t n = t->vertex_corner_offsets[v + 1] - t->vertex_corner_offsets[v];
@@ -242,6 +255,7 @@ static int edges_range(void *arg, size_t begin, size_t end)
         classify(b, (uint32_t)v, e, ne, ring, fwd, back, k);
     }
     topo_scratch_free(&sc);
+    *slot = local;
     return k->no_memory;
 }
 
