@@ -37,6 +37,39 @@ static int sets_init(void *arg, size_t begin, size_t end)
     return 0;
 }
 
+/* Whether v's n corners make one closed fan whose every edge two corners use,
+   one each way (nearly every vertex of a closed mesh): each corner's next
+   vertex is the previous vertex of exactly one corner (the one across that
+   edge), and walking across from corner 0 visits all n. Then v has n
+   neighbours, each edge flagged 0, and one fan: what the sort would find. */
+static int closed_fan(const uint32_t *next, const uint32_t *prev, uint32_t n)
+{
+    if (n < 2 || n > 16)
+        return 0;
+    uint8_t across[16];
+    uint32_t hit = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t found = 0, at = 0;
+        for (uint32_t j = 0; j < n; j++) {
+            uint32_t same = prev[j] == next[i];
+            found += same;
+            at = same ? j : at;
+        }
+        if (found != 1)
+            return 0;
+        across[i] = (uint8_t)at;
+        hit |= 1u << at;
+    }
+    if (hit != (1u << n) - 1)
+        return 0; /* two corners lead to one: a neighbour used more than twice */
+    uint32_t i = 0, steps = 0;
+    do {
+        i = across[i];
+        steps++;
+    } while (i != 0 && steps < n);
+    return i == 0 && steps == n;
+}
+
 /* Vertex v's edges (e, fwd, back: room for 2n, n, n; keys 2n) into k and
    the sets; returns its valence. */
 static uint32_t census_vertex(census *c, uint32_t v, uint64_t *keys, ring_edge *e, uint32_t *fwd,
@@ -44,6 +77,16 @@ static uint32_t census_vertex(census *c, uint32_t v, uint64_t *keys, ring_edge *
 {
     const topo_build *b = &c->b;
     uint32_t s = b->t->vertex_corner_offsets[v], n = b->t->vertex_corner_offsets[v + 1] - s;
+    if (closed_fan(b->next + s, b->prev + s, n)) {
+        for (uint32_t i = 0; i < n; i++)
+            if (b->next[s + i] > v) {
+                (*edges)++;
+                topo_unite(c->sets, v, b->next[s + i]);
+            }
+        c->on_boundary[v] = 0;
+        k->referenced_vertices++;
+        return n;
+    }
     for (uint32_t i = 0; i < n; i++) {
         keys[2 * i] = (uint64_t)b->next[s + i] << 32 | (uint64_t)i << 1;
         keys[2 * i + 1] = (uint64_t)b->prev[s + i] << 32 | (uint64_t)i << 1 | 1;
