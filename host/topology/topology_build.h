@@ -42,9 +42,10 @@ typedef struct topo_build {
     unsigned parts;             /* ranges of every pass */
     _Atomic uint32_t *cursor;   /* vertex_count: counts, then fill cursors */
     uint32_t *next, *prev;      /* per vertex_corners slot: the corner's next and previous vertex */
+    uint64_t *ring;             /* the census's instead: next << 32 | previous, one store a corner */
     uint8_t *wrap;              /* per slot: the previous corner is c - 1 (0), c + wrap (1..254),
                                    or the face's last (255: looked up); saves two cache misses.
-                                   The census has neither it nor t->vertex_corners */
+                                   The census has neither it, next, prev nor t->vertex_corners */
     uint32_t *edge_base;        /* vertex_count + 1: the first edge v owns */
     uint32_t *entry_base;       /* vertex_count + 1: v's first edge_corners entry */
     topo_counts counts[PARALLEL_MAX];

@@ -42,7 +42,7 @@ static int sets_init(void *arg, size_t begin, size_t end)
    vertex is the previous vertex of exactly one corner (the one across that
    edge), and walking across from corner 0 visits all n. Then v has n
    neighbours, each edge flagged 0, and one fan: what the sort would find. */
-static int closed_fan(const uint32_t *next, const uint32_t *prev, uint32_t n)
+static int closed_fan(const uint64_t *ring, uint32_t n)
 {
     if (n < 2 || n > 16)
         return 0;
@@ -51,7 +51,7 @@ static int closed_fan(const uint32_t *next, const uint32_t *prev, uint32_t n)
     for (uint32_t i = 0; i < n; i++) {
         uint32_t found = 0, at = 0;
         for (uint32_t j = 0; j < n; j++) {
-            uint32_t same = prev[j] == next[i];
+            uint32_t same = (uint32_t)ring[j] == ring[i] >> 32;
             found += same;
             at = same ? j : at;
         }
@@ -77,19 +77,20 @@ static uint32_t census_vertex(census *c, uint32_t v, uint64_t *keys, ring_edge *
 {
     const topo_build *b = &c->b;
     uint32_t s = b->t->vertex_corner_offsets[v], n = b->t->vertex_corner_offsets[v + 1] - s;
-    if (closed_fan(b->next + s, b->prev + s, n)) {
+    const uint64_t *ring = b->ring + s;
+    if (closed_fan(ring, n)) {
         for (uint32_t i = 0; i < n; i++)
-            if (b->next[s + i] > v) {
+            if (ring[i] >> 32 > v) {
                 (*edges)++;
-                topo_unite(c->sets, v, b->next[s + i]);
+                topo_unite(c->sets, v, (uint32_t)(ring[i] >> 32));
             }
         c->on_boundary[v] = 0;
         k->referenced_vertices++;
         return n;
     }
     for (uint32_t i = 0; i < n; i++) {
-        keys[2 * i] = (uint64_t)b->next[s + i] << 32 | (uint64_t)i << 1;
-        keys[2 * i + 1] = (uint64_t)b->prev[s + i] << 32 | (uint64_t)i << 1 | 1;
+        keys[2 * i] = (ring[i] >> 32) << 32 | (uint64_t)i << 1;
+        keys[2 * i + 1] = ring[i] << 32 | (uint64_t)i << 1 | 1;
     }
     topo_sort_u64(keys, 2 * (size_t)n);
     uint32_t ne = topology_ring_edges(keys, n, e, fwd, back), nonmanifold = 0, boundary = 0;
@@ -227,12 +228,11 @@ limn_status topology_census(limn_context *ctx, const limn_mesh *mesh, topology_c
         c->b.counts[i].bad_face = SIZE_MAX;
     t.vertex_corner_offsets = large_malloc((nv + 1) * sizeof *t.vertex_corner_offsets);
     c->b.cursor = large_malloc((nv ? nv : 1) * sizeof *c->b.cursor);
-    c->b.next = large_malloc((nc ? nc : 1) * sizeof *c->b.next);
-    c->b.prev = large_malloc((nc ? nc : 1) * sizeof *c->b.prev);
+    c->b.ring = large_malloc((nc ? nc : 1) * sizeof *c->b.ring);
     c->loops = large_malloc((nv ? nv : 1) * sizeof *c->loops);
     c->on_boundary = large_malloc(nv ? nv : 1);
     limn_status st = LIMN_OK;
-    if (!t.vertex_corner_offsets || !c->b.cursor || !c->b.next || !c->b.prev || !c->loops ||
+    if (!t.vertex_corner_offsets || !c->b.cursor || !c->b.ring || !c->loops ||
         !c->on_boundary)
         st = ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for the topology of %zu vertices",
                       nv);
@@ -240,8 +240,7 @@ limn_status topology_census(limn_context *ctx, const limn_mesh *mesh, topology_c
         st = census_run(ctx, c, out);
     free(t.vertex_corner_offsets);
     free((void *)c->b.cursor);
-    free(c->b.next);
-    free(c->b.prev);
+    free(c->b.ring);
     free((void *)c->loops);
     free(c->on_boundary);
     free(c);

@@ -100,7 +100,7 @@ static int scatter_range(void *arg, size_t lo, size_t hi)
     topo_build *b = arg;
     topology *t = b->t;
     uint32_t first = (uint32_t)lo, span = (uint32_t)(hi - lo);
-    const int census = !t->vertex_corners; /* next and prev only */
+    const int census = b->ring != NULL; /* the census: next and previous vertex, one word */
     for (size_t f = 0; f < t->face_count; f++) {
         uint32_t fb = t->face_offsets[f], fe = t->face_offsets[f + 1];
         for (uint32_t c = fb; c < fe; c++) {
@@ -108,9 +108,13 @@ static int scatter_range(void *arg, size_t lo, size_t hi)
             if (v - first >= span)
                 continue;
             uint32_t slot = bump(&b->cursor[v]);
-            b->next[slot] = t->face_indices[c + 1 < fe ? c + 1 : fb];
-            b->prev[slot] = t->face_indices[c > fb ? c - 1 : fe - 1];
-            if (!census) {
+            uint32_t next = t->face_indices[c + 1 < fe ? c + 1 : fb];
+            uint32_t prev = t->face_indices[c > fb ? c - 1 : fe - 1];
+            if (census) {
+                b->ring[slot] = (uint64_t)next << 32 | prev;
+            } else {
+                b->next[slot] = next;
+                b->prev[slot] = prev;
                 t->vertex_corners[slot] = c;
                 b->wrap[slot] = c > fb ? 0 : fe - 1 - c < 255 ? (uint8_t)(fe - 1 - c) : 255;
             }
