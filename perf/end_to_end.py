@@ -79,7 +79,7 @@ def floor_read(path):
 
 def floor_write(directory, nbytes):
     """Seconds to write nbytes to a new file in directory and fsync it, best of
-    two: limn makes every output durable before its rename (docs/robustness.md),
+    two: limn syncs every output before its rename (docs/cli.md, the Outputs bullet),
     so no write of that file can take less on this disk."""
     block = os.urandom(1 << 24)
     path, best = os.path.join(directory, "floor_write.bin"), 1e300
