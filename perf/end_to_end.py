@@ -22,6 +22,7 @@ target below its floor cannot be met here without touching less fresh
 memory or writing less (docs/performance.md "The whole job, end to end").
 
   python3 perf/end_to_end.py [--python VENV/bin/python] [--json out.json] [--only 2.1M]
+                             [--repeat 3]
 
 Needs a build with -DLIMN_BUILD_PERF=ON for the OpenSubdiv rows (left out
 with a note otherwise); --python: an interpreter with trimesh and numpy
@@ -29,6 +30,7 @@ with a note otherwise); --python: an interpreter with trimesh and numpy
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -169,7 +171,10 @@ def limn_rows(a, path, tmp):
            "method": j["method"], "products": j["products"],
            "products_float": j.get("products_float", 0), "stencil_nonzeros": j["stencil_nonzeros"],
            "output_file_bytes": out_bytes}
-    row["info_wall"], _ = wall([limn, "info", path])
+    # the two sides of the info target, limn info and trimesh.load, as the
+    # median of --repeat runs each: this VM's fresh memory makes one run vary
+    row["info_walls"] = [wall([limn, "info", path])[0] for _ in range(a.repeat)]
+    row["info_wall"] = statistics.median(row["info_walls"])
     row["subdivide1_wall"], _ = wall([limn, "subdivide", path, "-o", out, "--levels", "1", "-q"])
     row["subdivide1_counts"] = ply_counts(out)
     row["subdivide1_file_bytes"] = os.path.getsize(out)
@@ -179,8 +184,13 @@ def limn_rows(a, path, tmp):
 
 def anchors(a, path, row):
     if a.python:
-        r = subprocess.run([a.python, "-c", TRIMESH, path], stdout=subprocess.PIPE, text=True)
-        row["trimesh_load"] = float(r.stdout.split()[0]) if r.returncode == 0 else None
+        loads = []
+        for _ in range(a.repeat):
+            r = subprocess.run([a.python, "-c", TRIMESH, path], stdout=subprocess.PIPE, text=True)
+            if r.returncode == 0:
+                loads.append(float(r.stdout.split()[0]))
+        row["trimesh_loads"] = loads
+        row["trimesh_load"] = statistics.median(loads) if loads else None
     perf = os.path.join(a.build, "perf")
     for key, cmd in (("osd_refiner", [os.path.join(perf, "osd_refine"), path, "0", "loop"]),
                      ("osd_stencils", [os.path.join(perf, "osd_iteration"), path, "loop"])):
@@ -240,6 +250,9 @@ def print_targets(rows):
         for label, figure, bound, floor in target_rows(r):
             print("| %s | %s | %s | %s | %s |" % (label, fmt(figure), fmt(bound), fmt(floor),
                                                   verdict(figure, bound, floor)))
+        print("limn info runs: %s s; trimesh.load runs: %s s (the medians above)"
+              % (", ".join("%.2f" % x for x in r["info_walls"]),
+                 ", ".join("%.2f" % x for x in r.get("trimesh_loads", [])) or "–"))
         t = r.get("rates")
         if t:
             print("first touch %.2f GB/s (4 KiB pages %.2f, huge pages %.2f), touched %.2f "
@@ -258,6 +271,8 @@ def main():
     ap.add_argument("--json", help="also write every figure here")
     ap.add_argument("--only", nargs="*", help="2.1M and/or 8.6M (default both)")
     ap.add_argument("--osd-timeout", type=float, default=300)
+    ap.add_argument("--repeat", type=int, default=3,
+                    help="runs of limn info and of trimesh.load, the median kept (default 3)")
     a = ap.parse_args()
     rows = {}
     with tempfile.TemporaryDirectory(prefix="limn_e2e_") as tmp:
