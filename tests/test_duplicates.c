@@ -6,10 +6,13 @@
  * The count, the first copy and the face it copies, and the faces left
  * after --drop-duplicate-faces, for 1, 2 and 4 host threads, on a generated
  * mesh full of copies (rotated, reversed, shuffled, faces of 3 to 40
- * corners) and on every shared mesh.
+ * corners) and on every shared mesh; the search skipped only where the
+ * topology's counts rule copies out (closed triangle and quad meshes), never
+ * where a copy hides (every order of a face added to a closed mesh, pillows).
  */
 #include "support.h"
 #include "mesh/mesh.h"
+#include "topology/topology.h"
 
 #include <setjmp.h>
 #include <stdarg.h>
@@ -187,6 +190,85 @@ static void generated_copies(void **state)
     limn_mesh_destroy(m);
 }
 
+/* m with one more face: face 0's vertices in the order `order` gives
+   (indices into face 0, -1 ending it). */
+static limn_mesh *with_copy(limn_context *ctx, limn_mesh *m, const int *order)
+{
+    size_t nf = m->face_count, nc = m->face_offsets[nf], d = 0;
+    while (order[d] >= 0)
+        d++;
+    uint32_t *off = malloc((nf + 2) * sizeof *off), *idx = malloc((nc + d) * sizeof *idx);
+    assert_non_null(off);
+    assert_non_null(idx);
+    memcpy(off, m->face_offsets, (nf + 1) * sizeof *off);
+    memcpy(idx, m->face_indices, nc * sizeof *idx);
+    for (size_t i = 0; i < d; i++)
+        idx[nc + i] = m->face_indices[m->face_offsets[0] + (size_t)order[i]];
+    off[nf + 1] = (uint32_t)(nc + d);
+    limn_mesh *c = NULL;
+    assert_int_equal(limn_mesh_create(ctx, m->vertex_count, m->positions, nf + 1, off, idx, &c),
+                     LIMN_OK);
+    free(off);
+    free(idx);
+    limn_mesh_destroy(m);
+    return c;
+}
+
+/* Whether the counts let the repair skip the search (topology.h says why). */
+static int skips_search(limn_context *ctx, const limn_mesh *m)
+{
+    topology_counts k;
+    assert_int_equal(topology_census(ctx, m, &k), LIMN_OK);
+    return topology_counts_no_duplicates(&k);
+}
+
+/* The repair skips the duplicate search where the counts rule copies out:
+   on closed triangle and quad meshes it must; a copy of a face in any order,
+   on its own (a pillow) or added to a closed mesh, must stop the skip, and
+   the search then finds it (brute force agrees). */
+static void skipped_search(void **state)
+{
+    limn_context *ctx = *state;
+    limn_mesh *closed[] = {test_mesh_icosahedron(ctx), test_mesh_cube(ctx)};
+    for (int i = 0; i < 2; i++) {
+        assert_true(skips_search(ctx, closed[i]));
+        assert_int_equal(check_mesh(ctx, closed[i], "closed"), 0);
+        limn_mesh_destroy(closed[i]);
+    }
+    static const int tri[][4] = {{0, 1, 2, -1}, {1, 2, 0, -1}, {0, 2, 1, -1}, {2, 1, 0, -1}};
+    static const int quad[][5] = {{0, 1, 2, 3, -1}, {3, 2, 1, 0, -1}, {0, 1, 3, 2, -1},
+                                  {0, 2, 1, 3, -1}, {0, 2, 3, 1, -1}, {0, 3, 1, 2, -1},
+                                  {1, 2, 3, 0, -1}, {2, 0, 3, 1, -1}};
+    char what[64];
+    for (size_t i = 0; i < sizeof tri / sizeof *tri; i++) {
+        limn_mesh *m = with_copy(ctx, test_mesh_icosahedron(ctx), tri[i]);
+        assert_false(skips_search(ctx, m));
+        snprintf(what, sizeof what, "icosahedron + copy %zu", i);
+        assert_int_equal(check_mesh(ctx, m, what), 1);
+        limn_mesh_destroy(m);
+    }
+    for (size_t i = 0; i < sizeof quad / sizeof *quad; i++) {
+        limn_mesh *m = with_copy(ctx, test_mesh_cube(ctx), quad[i]);
+        assert_false(skips_search(ctx, m));
+        snprintf(what, sizeof what, "cube + copy %zu", i);
+        assert_int_equal(check_mesh(ctx, m, what), 1);
+        limn_mesh_destroy(m);
+    }
+    /* pillows: a triangle and a quad with their reversed copies, alone */
+    static const double pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+    static const uint32_t off3[] = {0, 3, 6}, idx3[] = {0, 1, 2, 2, 1, 0};
+    static const uint32_t off4[] = {0, 4, 8}, idx4[] = {0, 1, 3, 2, 2, 3, 1, 0};
+    limn_mesh *p3 = NULL, *p4 = NULL;
+    assert_int_equal(limn_mesh_create(ctx, 3, pos, 2, off3, idx3, &p3), LIMN_OK);
+    assert_int_equal(limn_mesh_create(ctx, 4, pos, 2, off4, idx4, &p4), LIMN_OK);
+    assert_false(skips_search(ctx, p3));
+    assert_false(skips_search(ctx, p4));
+    assert_int_equal(check_mesh(ctx, p3, "triangle pillow"), 1);
+    assert_int_equal(check_mesh(ctx, p4, "quad pillow"), 1);
+    limn_mesh_destroy(p3);
+    limn_mesh_destroy(p4);
+}
+
 static void shared_meshes(void **state)
 {
     limn_context *ctx = *state;
@@ -214,4 +296,5 @@ static void shared_meshes(void **state)
     assert_true(checked >= 30);
 }
 
-TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated_copies), CONTEXT_TEST(shared_meshes))
+TEST_MAIN(NULL, NULL, CONTEXT_TEST(generated_copies), CONTEXT_TEST(skipped_search),
+          CONTEXT_TEST(shared_meshes))

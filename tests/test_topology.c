@@ -233,11 +233,22 @@ static void assert_same_topology(const topology *a, const topology *b, const cha
     SAME_ARRAY(crease_neighbors, 2 * nv);
 }
 
+/* Referenced vertices of fewer than 3 neighbours, from t's arrays. */
+static size_t thin_vertices(const topology *t)
+{
+    size_t n = 0;
+    for (size_t v = 0; v < t->vertex_count; v++)
+        n += t->vertex_corner_offsets[v + 1] > t->vertex_corner_offsets[v] &&
+             t->vertex_edge_offsets[v + 1] - t->vertex_edge_offsets[v] < 3;
+    return n;
+}
+
 /* The census's counts equal to the statistics of b (the previous build). */
 static void assert_counts_of(const topology_counts *k, const topology *b, const char *what)
 {
     topology_counts want;
     topology_counts_of(b, &want);
+    want.thin_vertices = thin_vertices(b); /* the previous build did not count them */
 #define SAME_CENSUS(field)                                                                     \
     if (k->field != want.field)                                                                \
         fail_msg("%s: the census's %s is %zu, the previous build says %zu", what, #field,      \
@@ -292,6 +303,9 @@ static int check_against_previous(limn_context *ctx, const limn_mesh *m, const c
         assert_null(t.corner_edge);
         assert_int_equal(topology_corner_edges(ctx, &t), LIMN_OK);
         assert_same_topology(&t, &old, what);
+        if (t.thin_vertices != thin_vertices(&old))
+            fail_msg("%s: %zu thin vertices, the previous build's arrays say %zu", what,
+                     t.thin_vertices, thin_vertices(&old));
         topology_free(&t);
     }
     assert_int_equal(limn_context_set_host_threads(ctx, 0), LIMN_OK);

@@ -281,35 +281,49 @@ static limn_status repair_duplicates(limn_context *ctx, limn_mesh *mesh, int rem
     return LIMN_OK;
 }
 
-/* What stays as it is: counted into r, each with a warning. With
-   keep_topology the counts come from the topology, which stays on the mesh
-   for the calls after the repair (topology_get); else from a census. */
-static limn_status report_kept(limn_context *ctx, limn_mesh *mesh, int keep_topology,
-                               limn_repair_report *r)
+/* The mesh's counts: from its topology, built and left on the mesh for the
+   calls after the repair (topology_get) with keep_topology; else from a
+   census. */
+static limn_status count_mesh(limn_context *ctx, limn_mesh *mesh, int keep_topology,
+                              topology_counts *k)
 {
-    size_t nv = mesh->vertex_count;
-    topology_counts k;
-    limn_status st;
-    if (keep_topology) {
-        topology t;
-        st = topology_cache(ctx, mesh, &t);
-        if (!st) {
-            topology_counts_of(&t, &k);
-            topology_free(&t);
-        }
-    } else {
-        st = topology_counts_get(ctx, mesh, &k);
+    if (!keep_topology)
+        return topology_counts_get(ctx, mesh, k);
+    topology t;
+    limn_status st = topology_cache(ctx, mesh, &t);
+    if (!st) {
+        topology_counts_of(&t, k);
+        topology_free(&t);
     }
-    if (st)
-        return st;
-    r->nonmanifold_edges = k.nonmanifold_edges - k.inconsistent_edges;
-    r->nonmanifold_vertices = k.nonmanifold_vertices;
-    r->inconsistent_edges = k.inconsistent_edges;
-    r->unreferenced_vertices = nv - k.referenced_vertices;
-    r->components = k.components;
-    r->boundary_loops = k.boundary_loops;
+    return st;
+}
+
+/* What stays as it is: counted into r, each with a warning. */
+static void report_kept(limn_context *ctx, const limn_mesh *mesh, const topology_counts *k,
+                        limn_repair_report *r)
+{
+    r->nonmanifold_edges = k->nonmanifold_edges - k->inconsistent_edges;
+    r->nonmanifold_vertices = k->nonmanifold_vertices;
+    r->inconsistent_edges = k->inconsistent_edges;
+    r->unreferenced_vertices = mesh->vertex_count - k->referenced_vertices;
+    r->components = k->components;
+    r->boundary_loops = k->boundary_loops;
     repair_warn_kept(ctx, r);
-    return LIMN_OK;
+}
+
+/* Duplicate faces searched for unless the counts k rule them out (the
+   search hashes every face; most closed scans need none), removed when
+   asked (and k counted again). */
+static limn_status repair_duplicates_counted(limn_context *ctx, limn_mesh *mesh,
+                                             const limn_repair_options *o, topology_counts *k,
+                                             limn_repair_report *r)
+{
+    if (topology_counts_no_duplicates(k))
+        return LIMN_OK;
+    limn_status st = repair_duplicates(ctx, mesh, o->duplicate_faces, r);
+    if (!st && r->duplicates_removed)
+        st = count_mesh(ctx, mesh, o->keep_topology, k); /* the faces changed */
+    return st;
 }
 
 /* limn_mesh_repair on options and report of this library's layout, both never NULL. */
@@ -331,15 +345,19 @@ static limn_status repair_sized(limn_context *ctx, limn_mesh *mesh,
         return st;
     st = repair_repeats(ctx, mesh, o, r);
     ctx_progress(ctx, "repair", 0.2);
+    topology_counts k;
     if (!st)
-        st = repair_duplicates(ctx, mesh, o->duplicate_faces, r);
+        st = count_mesh(ctx, mesh, o->keep_topology, &k);
+    if (!st)
+        st = repair_duplicates_counted(ctx, mesh, o, &k, r);
     if (st)
         return st;
     ctx_progress(ctx, "repair", 1.0);
     r->faces_after = mesh->face_count;
     if (r->first_duplicate_face == SIZE_MAX)
         r->first_duplicate_face = 0;
-    return report_kept(ctx, mesh, o->keep_topology, r);
+    report_kept(ctx, mesh, &k, r);
+    return LIMN_OK;
 }
 
 limn_status limn_mesh_repair(limn_context *ctx, limn_mesh *mesh, const limn_repair_options *options,

@@ -189,6 +189,7 @@ static void sum_counts(topo_build *b)
         t->triangles += k->triangles;
         t->quads += k->quads;
         t->other_faces += k->other_faces;
+        t->thin_vertices += k->thin_vertices;
         if (k->max_valence > t->max_valence)
             t->max_valence = k->max_valence;
         if (k->max_face_size > t->max_face_size)
@@ -465,6 +466,7 @@ void topology_counts_of(const topology *t, topology_counts *out)
                              .boundary_loops = t->boundary_loops,
                              .max_face_size = t->max_face_size,
                              .max_valence = t->max_valence,
+                             .thin_vertices = t->thin_vertices,
                              .triangles = t->triangles,
                              .quads = t->quads,
                              .other_faces = t->other_faces};

@@ -57,6 +57,7 @@ typedef struct topology {
     size_t boundary_edges, nonmanifold_edges, inconsistent_edges, nonmanifold_vertices;
     size_t referenced_vertices, components, boundary_loops;
     size_t max_face_size, max_valence;
+    size_t thin_vertices;           /* referenced, with fewer than 3 neighbours */
     size_t triangles, quads, other_faces;
     /* lent by a mesh (topology_get): topology_free puts it back there */
     const struct limn_mesh *lent_by;
@@ -106,7 +107,25 @@ typedef struct topology_counts {
     size_t edges, boundary_edges, nonmanifold_edges, inconsistent_edges, nonmanifold_vertices;
     size_t referenced_vertices, components, boundary_loops;
     size_t max_face_size, max_valence, triangles, quads, other_faces;
+    size_t thin_vertices; /* referenced, with fewer than 3 neighbours */
 } topology_counts;
+
+/*
+ * Whether the counts prove that no two faces have the same vertex set, so
+ * that the repair's duplicate search can be skipped: every face a triangle or
+ * a quad, every edge used at most twice and then both ways, every vertex one
+ * fan with at least 3 neighbours. Why: two faces on one vertex set S (3 or 4
+ * vertices, none repeated) are either the same cycle (every edge used twice
+ * the same way: inconsistent), or one reversed (at each vertex of S their two
+ * corners close a fan of 2 corners over edges no other face may use, so the
+ * vertex has only those: 2 neighbours), or, for quads, one of the four other
+ * orders, each of which uses an edge of the first in its direction.
+ */
+static inline int topology_counts_no_duplicates(const topology_counts *k)
+{
+    return k->other_faces == 0 && k->nonmanifold_edges == 0 && k->nonmanifold_vertices == 0 &&
+           k->thin_vertices == 0;
+}
 
 /* The statistics of a built topology as counts. */
 void topology_counts_of(const topology *t, topology_counts *out);

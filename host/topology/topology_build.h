@@ -30,7 +30,7 @@
 /* What one range counted; summed (or maxed) after each pass. */
 typedef struct topo_counts {
     size_t boundary_edges, nonmanifold_edges, inconsistent_edges, nonmanifold_vertices;
-    size_t referenced_vertices, max_valence;
+    size_t referenced_vertices, max_valence, thin_vertices;
     size_t max_face_size, triangles, quads, other_faces;
     size_t bad_face;          /* first face using a vertex twice, or SIZE_MAX */
     uint32_t bad_vertex;

@@ -86,6 +86,7 @@ static uint32_t census_vertex(census *c, uint32_t v, uint64_t *keys, ring_edge *
             }
         c->on_boundary[v] = 0;
         k->referenced_vertices++;
+        k->thin_vertices += n < 3;
         return n;
     }
     for (uint32_t i = 0; i < n; i++) {
@@ -111,6 +112,7 @@ static uint32_t census_vertex(census *c, uint32_t v, uint64_t *keys, ring_edge *
     c->on_boundary[v] = boundary != 0;
     k->nonmanifold_vertices += nonmanifold || !topology_fan_walk(e, fwd, back, n, NULL, NULL);
     k->referenced_vertices++;
+    k->thin_vertices += ne < 3;
     return ne;
 }
 
@@ -179,6 +181,7 @@ static void census_sum(const census *c, topology_counts *out)
         out->inconsistent_edges += k->inconsistent_edges;
         out->nonmanifold_vertices += k->nonmanifold_vertices;
         out->referenced_vertices += k->referenced_vertices;
+        out->thin_vertices += k->thin_vertices;
         out->triangles += k->triangles;
         out->quads += k->quads;
         out->other_faces += k->other_faces;

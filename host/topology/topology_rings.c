@@ -210,6 +210,7 @@ static void classify(topo_build *b, uint32_t v, const ring_edge *e, uint32_t ne,
     }
     if (ne > k->max_valence)
         k->max_valence = ne;
+    k->thin_vertices += nf > 0 && ne < 3;
     uint8_t flags = boundary ? VERTEX_BOUNDARY : 0;
     if (nonmanifold || !order_fan(b, v, e, fwd, back, ring))
         flags |= VERTEX_NONMANIFOLD;
