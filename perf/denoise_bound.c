@@ -5,6 +5,7 @@
  * polynomial of degree N in A with p(1) = 1 is y + sum_{i=1..N} d_i r_i.
  */
 #include "denoise_bound.h"
+#include "normal_fit.h"
 #include "series/sure.h"
 
 #include <math.h>
@@ -96,7 +97,7 @@ static double *split_columns(const limn_mesh *noisy, double *r, size_t n3, int d
 /* The fits (least squares, then mean distance by reweighting) of y + sum
    d_i r_i (cols columns r) to x. */
 static void fits(limn_context *ctx, const limn_mesh *noisy, const double *x, const double *r,
-                 size_t n3, int cols, limn_mesh **l2, limn_mesh **dist)
+                 size_t n3, int cols, limn_mesh **l2, limn_mesh **dist, double *coefficients)
 {
     size_t n = n3 / 3;
     const double *y = limn_mesh_positions(noisy);
@@ -108,6 +109,8 @@ static void fits(limn_context *ctx, const limn_mesh *noisy, const double *x, con
         e0[k] = y[k] - x[k]; /* the error of the identity filter */
     weighted_fit(ctx, r, e0, NULL, n3, cols, scratch, d);
     *l2 = combine(ctx, noisy, r, n3, cols, d);
+    if (coefficients)
+        memcpy(coefficients, d, (size_t)cols * sizeof *d);
     for (int round = 0; round < 40; round++) {
         /* w_v = 1 / |error_v|: the weighted squares' minimum is the mean distance's */
         for (size_t v = 0; v < n; v++) {
@@ -123,24 +126,44 @@ static void fits(limn_context *ctx, const limn_mesh *noisy, const double *x, con
         weighted_fit(ctx, r, e0, w, n3, cols, scratch, d);
     }
     *dist = combine(ctx, noisy, r, n3, cols, d);
+    if (coefficients)
+        memcpy(coefficients + cols, d, (size_t)cols * sizeof *d);
     free(e0), free(w), free(scratch);
+}
+
+/* The fits of columns c (cols of them), and with normals the normal-error
+   oracle from both fits' coefficients and from the identity (d = 0). */
+static void fits_and_normals(limn_context *ctx, const limn_mesh *noisy, const limn_mesh *clean,
+                             const double *c, size_t n3, int cols, limn_mesh **l2,
+                             limn_mesh **dist, limn_mesh **normals)
+{
+    double starts[3 * LIMN_MAX_SURE_PRODUCTS * 2] = {0}, d[2 * LIMN_MAX_SURE_PRODUCTS];
+    if (cols > 2 * LIMN_MAX_SURE_PRODUCTS)
+        fail(ctx, "too many columns");
+    fits(ctx, noisy, limn_mesh_positions(clean), c, n3, cols, l2, dist, starts);
+    if (!normals)
+        return;
+    const char *env = getenv("LIMN_BENCH_NORMAL_RESTARTS");
+    normal_fit(clean, limn_mesh_positions(noisy), c, n3, cols, starts, 3, env ? atoi(env) : 0, d);
+    *normals = combine(ctx, noisy, c, n3, cols, d);
 }
 
 void denoise_bound_split(limn_context *ctx, const limn_mesh *noisy, const limn_mesh *clean,
                          const limn_series_options *o, int degree, limn_mesh **l2,
-                         limn_mesh **dist)
+                         limn_mesh **dist, limn_mesh **normals)
 {
     size_t n3 = 3 * limn_mesh_vertex_count(noisy);
     double *c = split_columns(noisy, krylov(ctx, noisy, o, degree, n3), n3, degree);
-    fits(ctx, noisy, limn_mesh_positions(clean), c, n3, 2 * degree, l2, dist);
+    fits_and_normals(ctx, noisy, clean, c, n3, 2 * degree, l2, dist, normals);
     free(c);
 }
 
 void denoise_bound(limn_context *ctx, const limn_mesh *noisy, const limn_mesh *clean,
-                   const limn_series_options *o, int degree, limn_mesh **l2, limn_mesh **dist)
+                   const limn_series_options *o, int degree, limn_mesh **l2, limn_mesh **dist,
+                   limn_mesh **normals)
 {
     size_t n3 = 3 * limn_mesh_vertex_count(noisy);
     double *r = krylov(ctx, noisy, o, degree, n3);
-    fits(ctx, noisy, limn_mesh_positions(clean), r, n3, degree, l2, dist);
+    fits_and_normals(ctx, noisy, clean, r, n3, degree, l2, dist, normals);
     free(r);
 }

@@ -293,6 +293,20 @@ def ranks_row(rep, wall, root=False):
     return row
 
 
+def thp_faults():
+    """Transparent huge pages faulted in so far, machine-wide (/proc/vmstat's
+    thp_fault_alloc; None where absent): each a fresh 2 MiB page cleared, which
+    on this VM the host backs first (docs/mpi.md, "Fresh memory per rank")."""
+    try:
+        with open("/proc/vmstat") as f:
+            for line in f:
+                if line.startswith("thp_fault_alloc "):
+                    return int(line.split()[1])
+    except OSError:
+        pass
+    return None
+
+
 def same_bytes(a, b):
     return subprocess.run(["cmp", "-s", a, b]).returncode == 0
 
@@ -323,11 +337,16 @@ def run_pipeline(args, limn, env):
                 # the same one (the first round starts with the single process,
                 # the reference of the bytes and peaks)
                 for ranks, root, bound in counts[k % len(counts):] + counts[:k % len(counts)]:
+                    thp0 = thp_faults()
                     rep, out, wall = interpolate(limn, ranks, files[name], tmp, env,
                                                  args.tol_pipe, root, bound)
+                    thp1 = thp_faults()
                     row = (single_row(rep, wall, bound) if ranks == 1
                            else ranks_row(rep, wall, root))
                     row["mesh"], row["file"] = name, files[name]
+                    # the whole run's, every process's (the machine is otherwise quiet)
+                    row["fresh_huge_mib"] = 2 * (thp1 - thp0) if thp0 is not None and \
+                        thp1 is not None else None
                     row["load_average"] = os.getloadavg()[0]
                     row["output_bytes"] = os.path.getsize(out)
                     row["input_bytes"] = os.path.getsize(files[name])
@@ -340,12 +359,15 @@ def run_pipeline(args, limn, env):
                           f"{wall:.1f} s wall, set-up {max(row['setup']):.2f} s, load average "
                           f"{row['load_average']:.1f}, worst peak "
                           f"{max(row['peak_bytes']) / 2**20:,.0f} MiB "
-                          f"({row['peak_ratio']:.2f}x), same bytes: {row['same_bytes']}",
+                          f"({row['peak_ratio']:.2f}x), fresh huge pages "
+                          f"{row['fresh_huge_mib'] if row['fresh_huge_mib'] is not None else '?'}"
+                          f" MiB, same bytes: {row['same_bytes']}",
                           flush=True)
             for c in counts:
                 got = sorted(runs[c], key=lambda r: max(r["setup"]))
                 row = got[len(got) // 2]
                 row["setup_rounds"] = [max(r["setup"]) for r in runs[c]]
+                row["fresh_huge_mib_rounds"] = [r["fresh_huge_mib"] for r in runs[c]]
                 row["setup_best_stages"] = best_stages(runs[c])
                 row["rounds_setup_parts"] = [r["setup_parts"] for r in runs[c]]
                 row["same_bytes"] = all(r["same_bytes"] for r in runs[c])
@@ -369,9 +391,9 @@ def print_measured(rows):
     print("| mesh | ranks | path | same bytes | peak MiB per rank | worst / 1 process | "
           "set-up s per "
           "rank (load + partition + local rows), the median round | worst rank's set-up, "
-          "every round | owned per rank | ghosts per rank | halo B "
-          "sent per exchange | solve s | iterations |")
-    print("|---|---:|---|---|---|---:|---|---|---|---|---|---:|---:|")
+          "every round | fresh huge-page MiB, all ranks, every round | owned per rank | "
+          "ghosts per rank | halo B sent per exchange | solve s | iterations |")
+    print("|---|---:|---|---|---|---:|---|---|---|---|---|---|---:|---:|")
     for r in rows:
         mib = " / ".join(f"{b / 2**20:,.0f}" for b in r["peak_bytes"])
         if r["ranks"] == 1:
@@ -386,7 +408,9 @@ def print_measured(rows):
         same = "yes" if r["same_bytes"] else "NO"
         print(f"| {r['mesh']} | {r['ranks']} | {r['path']} | {same} | {mib} | "
               f"{r['peak_ratio']:.2f} | {setup} | "
-              f"{', '.join(f'{v:.2f}' for v in r['setup_rounds'])} | {j('owned')} | {j('ghosts')} | "
+              f"{', '.join(f'{v:.2f}' for v in r['setup_rounds'])} | "
+              f"{', '.join('?' if v is None else f'{v:,}' for v in r['fresh_huge_mib_rounds'])} | "
+              f"{j('owned')} | {j('ghosts')} | "
               f"{j('halo_bytes_sent')} | {max(r['solve']):.2f} | {r['iterations']} |")
 
 

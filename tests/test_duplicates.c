@@ -14,6 +14,7 @@
 #include "mesh/mesh.h"
 #include "topology/topology.h"
 
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -263,6 +264,35 @@ static void skipped_search(void **state)
     assert_int_equal(check_mesh(ctx, p4, "quad pillow"), 1);
     limn_mesh_destroy(p3);
     limn_mesh_destroy(p4);
+    /* a ring of six quads one quad wide (each vertex 3 neighbours), quad 0
+       copied in each order: its edges on the ring's two boundary loops are used
+       by the copy alone or in its own direction, so no edge has three faces;
+       only the orientation (fans ended at an edge used twice the same way)
+       stops the skip */
+    double ring_pos[36];
+    uint32_t ring_off[7], ring_idx[24];
+    for (uint32_t k = 0; k < 6; k++) {
+        double a = k * 3.14159265358979323846 / 3.0;
+        for (uint32_t up = 0; up < 2; up++) {
+            ring_pos[3 * (k + 6 * up)] = cos(a);
+            ring_pos[3 * (k + 6 * up) + 1] = sin(a);
+            ring_pos[3 * (k + 6 * up) + 2] = up;
+        }
+        uint32_t q[4] = {k, (k + 1) % 6, 6 + (k + 1) % 6, 6 + k};
+        memcpy(ring_idx + 4 * k, q, sizeof q);
+        ring_off[k] = 4 * k;
+    }
+    ring_off[6] = 24;
+    for (size_t i = 4; i < sizeof orders / sizeof *orders; i++) {
+        limn_mesh *m = NULL;
+        assert_int_equal(limn_mesh_create(ctx, 12, ring_pos, 6, ring_off, ring_idx, &m), LIMN_OK);
+        assert_true(skips_search(ctx, m));
+        m = with_copy(ctx, m, orders[i]);
+        assert_false(skips_search(ctx, m));
+        snprintf(what, sizeof what, "ring + copy %zu", i);
+        assert_int_equal(check_mesh(ctx, m, what), 1);
+        limn_mesh_destroy(m);
+    }
 }
 
 static void shared_meshes(void **state)

@@ -119,7 +119,11 @@ typedef struct topology_counts {
  * the same way: inconsistent), or one reversed (at each vertex of S their two
  * corners close a fan of 2 corners over edges no other face may use, so the
  * vertex has only those: 2 neighbours), or, for quads, one of the four other
- * orders, each of which uses an edge of the first in its direction.
+ * orders, each of which uses an edge of the first in its direction. The
+ * inconsistent edges need no count of their own: fans follow the corners'
+ * orientation, so an edge used twice the same way ends two fans at each of
+ * its vertices, which are then non-manifold (a strip's quad copied in
+ * another order, both copies on boundary edges only: tests/test_duplicates.c).
  */
 static inline int topology_counts_no_duplicates(const topology_counts *k)
 {
