@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The normal-error oracle (normal_fit.h). Each face's Newell normal is
+ * The normal-error oracle (normal_fit.h). Each face's Newell normal (as
+ * measure_face_normal computes it for limn_mesh_compare) is
  * N = sum_k p_k x p_k+1, so moving its corner k by e changes N by
  * e x (p_k+1 - p_k-1); the angle t = atan2(|u x m|, u . m) (u = N / |N|, m
  * the clean unit normal) has gradient -(m - (u . m) u) / (|N| sin t) in N.
@@ -9,6 +10,7 @@
  * first steps sensible whatever the columns' norms.
  */
 #include "normal_fit.h"
+#include "topology/measure.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -27,19 +29,6 @@ typedef struct problem {
     double *p, *gp;
 } problem;
 
-static void newell(const double *pos, const uint32_t *off, const uint32_t *idx, size_t f,
-                   double n[3])
-{
-    n[0] = n[1] = n[2] = 0.0;
-    for (uint32_t k = off[f]; k < off[f + 1]; k++) {
-        const double *a = pos + 3 * (size_t)idx[k];
-        const double *b = pos + 3 * (size_t)idx[k + 1 < off[f + 1] ? k + 1 : off[f]];
-        n[0] += a[1] * b[2] - a[2] * b[1];
-        n[1] += a[2] * b[0] - a[0] * b[2];
-        n[2] += a[0] * b[1] - a[1] * b[0];
-    }
-}
-
 /* The mean angle (radians) at scaled coefficients e; its gradient in g. */
 static double value(problem *pr, const double *e, double *g)
 {
@@ -57,7 +46,7 @@ static double value(problem *pr, const double *e, double *g)
     for (size_t f = 0; f < pr->faces; f++) {
         const double *m = pr->m + 3 * f;
         double nv[3];
-        newell(pr->p, pr->off, pr->idx, f, nv);
+        measure_face_normal(pr->p, pr->off, pr->idx, f, nv);
         double l = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
         if (l == 0.0 || (m[0] == 0.0 && m[1] == 0.0 && m[2] == 0.0))
             continue;
@@ -169,7 +158,7 @@ double normal_fit(const limn_mesh *clean, const double *y, const double *c, size
     double edges = 0.0;
     size_t count = 0;
     for (size_t f = 0; f < faces; f++) {
-        newell(x, pr.off, pr.idx, f, m + 3 * f);
+        measure_face_normal(x, pr.off, pr.idx, f, m + 3 * f);
         double l = sqrt(m[3 * f] * m[3 * f] + m[3 * f + 1] * m[3 * f + 1] +
                         m[3 * f + 2] * m[3 * f + 2]);
         for (int k = 0; k < 3; k++)

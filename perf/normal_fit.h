@@ -12,7 +12,7 @@
 
 #include "limn.h"
 
-/* d (cols values) from the best of nstarts starts (starts: nstarts x cols)
+/* d (cols values) from the best of nstarts (at least 1) starts (starts: nstarts x cols)
    and then restarts more, each from the best so far moved at random (seeded:
    the same run gives the same d); returns the mean angle in degrees at d. */
 double normal_fit(const limn_mesh *clean, const double *y, const double *c, size_t n3, int cols,

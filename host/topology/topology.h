@@ -122,8 +122,9 @@ typedef struct topology_counts {
  * orders, each of which uses an edge of the first in its direction. The
  * inconsistent edges need no count of their own: fans follow the corners'
  * orientation, so an edge used twice the same way ends two fans at each of
- * its vertices, which are then non-manifold (a strip's quad copied in
- * another order, both copies on boundary edges only: tests/test_duplicates.c).
+ * its vertices, which are then non-manifold (a quad of a one-quad-wide ring
+ * copied in another order, the copies sharing boundary edges only:
+ * tests/test_duplicates.c).
  */
 static inline int topology_counts_no_duplicates(const topology_counts *k)
 {
