@@ -17,7 +17,9 @@
 #include "support.h"
 
 #include "limn_mpi.h"
+#include "topology/face_keys.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -73,6 +75,42 @@ static limn_mesh *troubled(limn_context *ctx, const limn_mesh *m)
     return t;
 }
 
+/* mesh and, beside it, a ring of six quads one quad wide with quad 0 copied
+   in another order (0, 1, 3, 2): the copies share only the ring's boundary
+   edges, so only the orientation at two vertices shows the copy (the
+   distributed repair must not skip its search: mpi_local_census.c). */
+static limn_mesh *with_ring_copy(limn_context *ctx, const limn_mesh *m)
+{
+    size_t nv = limn_mesh_vertex_count(m), nf = limn_mesh_face_count(m);
+    const uint32_t *off = limn_mesh_face_offsets(m);
+    size_t ni = off[nf];
+    double *pos = malloc(3 * (nv + 12) * sizeof *pos);
+    uint32_t *o = malloc((nf + 8) * sizeof *o), *x = malloc((ni + 28) * sizeof *x);
+    memcpy(pos, limn_mesh_positions(m), 3 * nv * sizeof *pos);
+    memcpy(o, off, (nf + 1) * sizeof *o);
+    memcpy(x, limn_mesh_face_indices(m), ni * sizeof *x);
+    uint32_t b = (uint32_t)nv;
+    for (uint32_t k = 0; k < 6; k++) {
+        double a = k * 3.14159265358979323846 / 3.0;
+        for (uint32_t up = 0; up < 2; up++) {
+            double *q = pos + 3 * (nv + k + 6 * up);
+            q[0] = 40.0 + cos(a), q[1] = sin(a), q[2] = up;
+        }
+        uint32_t quad[4] = {b + k, b + (k + 1) % 6, b + 6 + (k + 1) % 6, b + 6 + k};
+        memcpy(x + ni + 4 * k, quad, sizeof quad);
+        o[nf + k + 1] = (uint32_t)(ni + 4 * k + 4);
+    }
+    uint32_t copy[4] = {b, b + 1, b + 6, b + 7}; /* quad 0 = (b, b+1, b+7, b+6) */
+    memcpy(x + ni + 24, copy, sizeof copy);
+    o[nf + 7] = (uint32_t)(ni + 28);
+    limn_mesh *t = NULL;
+    limn_mesh_create(ctx, nv + 12, pos, nf + 7, o, x, &t);
+    free(pos);
+    free(o);
+    free(x);
+    return t;
+}
+
 /* The counts and numbers both routes report (components and boundary loops
    are not counted over the ranks). */
 static int same_report(const limn_repair_report *a, const limn_repair_report *b)
@@ -94,8 +132,11 @@ static int same_report(const limn_repair_report *a, const limn_repair_report *b)
 
 /* mode 0: duplicates kept, the counts from the sub-meshes (the default);
    1: duplicates removed (by exchanges); 2: kept, counted by exchanges
-   (limn_repair_options.sub_meshes = 0). */
-static void repair_case(limn_context *ctx, const char *name, const limn_mesh *mesh, int mode)
+   (limn_repair_options.sub_meshes = 0). search: 0 or 1, whether some rank
+   must have searched for duplicates (the counts rule copies out, or not);
+   -1 either. */
+static void repair_case(limn_context *ctx, const char *name, const limn_mesh *mesh, int mode,
+                        int search)
 {
     int drop = mode == 1;
     char in[320], ref[320], out[320];
@@ -125,8 +166,13 @@ static void repair_case(limn_context *ctx, const char *name, const limn_mesh *me
     limn_mpi_mesh *m = NULL;
     limn_status st =
         ok ? limn_mpi_mesh_read(ctx, MPI_COMM_WORLD, in, LIMN_FORMAT_AUTO, &m) : LIMN_ERR_IO;
+    size_t searches = face_duplicate_search_count();
     if (!st)
         st = limn_mpi_mesh_repair(ctx, m, &o, &rd);
+    int searched = face_duplicate_search_count() != searches;
+    MPI_Allreduce(MPI_IN_PLACE, &searched, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    CHECK(search < 0 || searched == search, "%s (mode %d, %d ranks): duplicates %s", name, mode,
+          size, searched ? "searched where the counts rule copies out" : "not searched");
     CHECK(!ok || st == LIMN_OK, "%s: limn_mpi_mesh_repair: %s", name, limn_context_message(ctx));
     if (ok && !st) {
         CHECK(same_report(&rs, &rd),
@@ -171,12 +217,17 @@ int main(int argc, char **argv)
     limn_mesh *tri = mpi_test_composite(ctx, 1), *quad = mpi_test_composite(ctx, 0);
     limn_mesh *closed = mpi_test_closed(ctx, 0);
     limn_mesh *bad_tri = troubled(ctx, tri), *bad_quad = troubled(ctx, quad);
+    limn_mesh *closed_tri = mpi_test_closed(ctx, 1), *ring = with_ring_copy(ctx, closed_tri);
     for (int mode = 0; mode <= 2; mode++) {
-        repair_case(ctx, "composite tri", bad_tri, mode);
-        repair_case(ctx, "composite quad", bad_quad, mode);
+        repair_case(ctx, "composite tri", bad_tri, mode, mode == 0 ? 1 : -1);
+        repair_case(ctx, "composite quad", bad_quad, mode, mode == 0 ? 1 : -1);
     }
-    repair_case(ctx, "closed", closed, 0);
-    repair_case(ctx, "composite tri, clean", tri, 1);
+    repair_case(ctx, "closed", closed, 0, 1); /* its prism's caps are n-gons: no skip */
+    repair_case(ctx, "closed triangles", closed_tri, 0, 0);
+    repair_case(ctx, "closed triangles + ring copy", ring, 0, 1);
+    repair_case(ctx, "composite tri, clean", tri, 1, -1);
+    limn_mesh_destroy(ring);
+    limn_mesh_destroy(closed_tri);
     limn_mesh_destroy(tri);
     limn_mesh_destroy(quad);
     limn_mesh_destroy(closed);

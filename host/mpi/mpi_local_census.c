@@ -40,6 +40,31 @@ static void count_owned(const topology *t, const local_sub *s, uint32_t me, uint
     }
 }
 
+/* Whether this rank's part rules copies of faces out, as
+   topology_counts_no_duplicates does for a whole mesh (topology.h has the
+   proof), checked where the sub-mesh holds every face: every face a triangle
+   or a quad, every owned vertex one fan with 3 neighbours or more (or
+   unused), no edge at one used more than twice. Two faces on one vertex set
+   have a vertex some rank owns, and the proof's conditions fail at it (a
+   vertex on no non-manifold edge: both faces' corners there close fans of
+   their own, or it has 2 neighbours, or an edge used twice the same way ends
+   two fans), so when every rank says yes there are none. */
+static int owned_rule_out_copies(const topology *t, const local_sub *s)
+{
+    if (t->other_faces)
+        return 0;
+    for (size_t i = 0; i < s->n_owned; i++) {
+        uint32_t v = s->owned[i], b = t->vertex_edge_offsets[v], e = t->vertex_edge_offsets[v + 1];
+        if (t->vertex_flags[v] & VERTEX_NONMANIFOLD ||
+            (e - b < 3 && t->vertex_corner_offsets[v + 1] > t->vertex_corner_offsets[v]))
+            return 0;
+        for (uint32_t k = b; k < e; k++)
+            if (t->edge_flags[t->vertex_edges[k]] & EDGE_NONMANIFOLD)
+                return 0;
+    }
+    return 1;
+}
+
 /* The lowest (local) vertex of face f. */
 static uint32_t face_lowest(const limn_mesh *m, size_t f)
 {
@@ -80,15 +105,23 @@ limn_status mpi_local_census(mpi_part *p, mpi_local_mesh *lm, mpi_mesh_counts *o
     limn_status st = lm->face_ids ? LIMN_OK
                                   : ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
                                              "mpi_local_census: the sub-mesh lacks face ids");
+    int no_copies = 1; /* a rank owning nothing rules nothing in */
     if (!st && lm->s.n) {
         topology t;
         st = topology_cache(p->ctx, lm->mesh, &t);
         if (!st) {
             count_owned(&t, &lm->s, (uint32_t)p->rank, k);
+            no_copies = owned_rule_out_copies(&t, &lm->s);
             topology_free(&t); /* back to the sub-mesh, for the operator */
         }
     }
-    if (!st && lm->s.n)
+    st = mpi_agree(p, st);
+    if (st)
+        return st;
+    /* the search only where some rank's counts leave room for a copy (as the
+       single process's repair skips it: mesh_repair.c) */
+    MPI_Allreduce(MPI_IN_PLACE, &no_copies, 1, MPI_INT, MPI_MIN, p->comm);
+    if (!no_copies && lm->s.n)
         st = local_duplicates(p->ctx, lm, (uint32_t)p->rank, d);
     st = mpi_agree(p, st);
     if (st)

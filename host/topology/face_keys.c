@@ -6,6 +6,7 @@
 #include "base/parallel.h"
 #include "mesh/mesh.h"
 
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -311,9 +312,17 @@ static int dup_passes(limn_context *ctx, dup_job *j)
     return parallel_run(BUCKETS, j->parts, table_range, j);
 }
 
+static atomic_size_t searches;
+
+size_t face_duplicate_search_count(void)
+{
+    return atomic_load(&searches);
+}
+
 limn_status face_find_duplicates(limn_context *ctx, const limn_mesh *m, uint32_t maxd,
                                  uint8_t *dup, face_duplicates *out)
 {
+    atomic_fetch_add(&searches, 1);
     size_t nf = m->face_count;
     out->count = 0;
     out->first = SIZE_MAX;

@@ -33,6 +33,10 @@ limn_status face_first_repeat(limn_context *ctx, const limn_mesh *m, size_t *fac
 limn_status face_find_duplicates(limn_context *ctx, const limn_mesh *m, uint32_t maxd,
                                  uint8_t *dup, face_duplicates *out);
 
+/* How many searches face_find_duplicates has run in this process (for
+   tests: whether a repair skipped its search). */
+size_t face_duplicate_search_count(void);
+
 /* face_find_duplicates with the marks allocated here (*dup: face_count
    bytes, caller frees; NULL when there are fewer than 2 faces). */
 limn_status face_duplicates_marked(limn_context *ctx, const limn_mesh *m, uint8_t **dup,
