@@ -296,7 +296,8 @@ def ranks_row(rep, wall, root=False):
 def thp_faults():
     """Transparent huge pages faulted in so far, machine-wide (/proc/vmstat's
     thp_fault_alloc; None where absent): each a fresh 2 MiB page cleared, which
-    on this VM the host backs first (docs/mpi.md, "Fresh memory per rank")."""
+    on this VM the host backs first (docs/mpi.md, "Set-up, 2026-12-05
+    (session 20)")."""
     try:
         with open("/proc/vmstat") as f:
             for line in f:
