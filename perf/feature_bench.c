@@ -18,7 +18,7 @@
  * vertex iterations) and with the best of a small grid (sigma_r in {0.2,
  * 0.25, 0.35, 0.5} x outer rounds in {1, 3}: tuned on each mesh's normal
  * error, so as favourable to BNF as we could make it). --write puts the
- * noisy and filtered meshes in DIR for pictures (docs/series.md).
+ * clean, noisy and filtered meshes in DIR for pictures (docs/series.md).
  */
 #include "bilateral_normal.h"
 #include "cad_shapes.h"
@@ -171,6 +171,13 @@ static void run_mesh(bench *b, const limn_mesh *clean, const char *name, double 
     b->noisy = noisy;
     b->diag = bbox_diag(clean);
     report(b, "noisy input", "noisy", noisy, 0);
+    if (b->write_dir) { /* the reference too, for other tools' metrics */
+        char path[4096];
+        snprintf(path, sizeof path, "%s/%.*s_clean.ply", b->write_dir,
+                 (int)(strchr(name, '.') ? strchr(name, '.') - name : 64), name);
+        if (limn_mesh_write(b->ctx, clean, path, LIMN_FORMAT_PLY))
+            die(b->ctx, path);
+    }
     run_limn(b);
     limn_mesh *m = copy_noisy(b);
     double t0 = now();
