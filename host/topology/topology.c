@@ -270,23 +270,25 @@ static limn_status place(limn_context *ctx, topo_build *b)
 }
 
 /* The buckets' vertices are done with: their pages, already faulted in,
-   become corner_face (the same size) and vertex_edges (2 edges a corner,
-   shrunk or grown to it: a large block's realloc moves its mapping, not its
-   bytes, and a mesh with a boundary needs a few more) instead of fresh ones,
-   which would fault and clear every page again; both are written whole. */
+   become corner_face (the same size) and vertex_edges where 2 edges a
+   corner fit (any closed triangle mesh), instead of fresh ones; both are
+   written whole. Where they do not fit (a boundary), a fresh array: a grown
+   realloc would copy the buckets into unadvised 4 KiB pages, since the
+   huge-page advice splits a large block's mapping (large_advise) and the
+   kernel then refuses glibc's mremap of the whole block. */
 static void reuse_buckets(topo_build *b)
 {
     topology *t = b->t;
     size_t ve = t->edge_count ? 2 * t->edge_count : 1, nc = t->corner_count ? t->corner_count : 1;
     free(b->wrap);
     t->corner_face = b->prev;
-    uint32_t *resized = realloc(b->next, ve * sizeof *resized);
-    if (resized)
-        t->vertex_edges = resized;
-    else if (ve <= nc)
-        t->vertex_edges = b->next;
-    else
+    if (ve <= nc) {
+        uint32_t *shrunk = realloc(b->next, ve * sizeof *shrunk);
+        t->vertex_edges = shrunk ? shrunk : b->next;
+    } else {
         free(b->next);
+        t->vertex_edges = large_malloc(ve * sizeof *t->vertex_edges);
+    }
     b->next = b->prev = NULL;
     b->wrap = NULL;
 }
