@@ -29,7 +29,14 @@ void large_advise(void *p, size_t bytes)
 
 void *large_malloc(size_t bytes)
 {
-    void *p = malloc(bytes ? bytes : 1);
+    if (bytes < LARGE_ALLOC_HUGE)
+        return malloc(bytes ? bytes : 1);
+    /* from a huge-page boundary, so the advice holds from the first byte (an
+       unaligned block's head, up to 2 MiB, faults 4 KiB pages: measured,
+       ~40% of a rank's faults); the size rounded up as C11's aligned_alloc
+       asks, the rounding never touched and not advised (no memory taken) */
+    size_t rounded = (bytes + HUGE_PAGE - 1) & ~(size_t)(HUGE_PAGE - 1);
+    void *p = rounded >= bytes ? aligned_alloc(HUGE_PAGE, rounded) : NULL;
     large_advise(p, bytes);
     return p;
 }

@@ -2,8 +2,9 @@
 /*
  * Allocations for the large arrays of a mesh (positions, faces, topology,
  * stencil tables, the solve's blocks): malloc, with blocks of
- * LARGE_ALLOC_HUGE bytes or more advised to the kernel for transparent huge
- * pages (Linux MADV_HUGEPAGE, on the whole 2 MiB pages inside the block).
+ * LARGE_ALLOC_HUGE bytes or more aligned to 2 MiB (large_malloc) and
+ * advised to the kernel for transparent huge pages (Linux MADV_HUGEPAGE, on
+ * the whole 2 MiB pages inside the block: all but the tail when aligned).
  * Their first touch then takes one fault per 2 MiB instead of 512 and the
  * kernel clears the page in one go: docs/performance.md "First touch".
  * Where THP is off ("never"), or on other systems, they are plain malloc.
