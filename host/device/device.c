@@ -207,7 +207,7 @@ void *device_host_alloc(size_t bytes)
     size_t rounded = bytes ? (bytes + page - 1) / page * page : page;
     if (rounded < bytes)
         return NULL;
-    void *p = aligned_alloc(page, rounded);
-    large_advise(p, rounded);
-    return p;
+    if (rounded >= LARGE_ALLOC_HUGE) /* 2 MiB aligned, advised from its first byte */
+        return large_malloc(rounded);
+    return aligned_alloc(page, rounded);
 }

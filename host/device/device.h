@@ -262,8 +262,9 @@ limn_status device_csr_upload(struct device *dev, const stencil_csr *host, devic
 limn_status device_csr_add_float(struct device *dev, device_csr *csr);
 void device_csr_release(struct device *dev, device_csr *csr);
 /* Host memory for vectors a device buffer may use in place (buffer_share):
-   page aligned, so above any device's base address alignment; contents
-   undefined; free() it. NULL when out of memory. */
+   page aligned, so above any device's base address alignment (from
+   LARGE_ALLOC_HUGE bytes up 2 MiB aligned and advised for huge pages:
+   large_malloc); contents undefined; free() it. NULL when out of memory. */
 void *device_host_alloc(size_t bytes);
 
 /* device_csr_upload through buffer_share: `host` outlives the device table
