@@ -142,7 +142,7 @@ static void release(mpi_solve *s)
    (solver.c iterate_buffer): where the device shares host memory, memory of
    device_host_alloc used in place, its huge pages first touched here, not
    the runtime's own 4 KiB pages filled by a copy and a fill (measured at
-   2.1M on 2 ranks: ~10,500 page faults a rank gone); else a device buffer. */
+   2.1M on 2 ranks: ~15,000 page faults a rank gone); else a device buffer. */
 static limn_status iterate_buffer(mpi_solve *s, int i, size_t bytes, const double *init)
 {
     struct device *dev = s->p->dev;
