@@ -4,6 +4,7 @@
 #include "device/device.h"
 #include "base/large_alloc.h"
 #include "base/context.h"
+#include "base/parallel.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -210,4 +211,25 @@ void *device_host_alloc(size_t bytes)
     if (rounded >= LARGE_ALLOC_HUGE) /* 2 MiB aligned, advised from its first byte */
         return large_malloc(rounded);
     return aligned_alloc(page, rounded);
+}
+
+limn_status device_vector_create(struct device *dev, limn_context *ctx, size_t bytes,
+                                 const void *init, void **host, device_buffer **out)
+{
+    *host = NULL;
+    if (!dev->host_shared)
+        return dev->ops->buffer_create(dev, bytes, init, out);
+    void *h = device_host_alloc(bytes);
+    if (!h)
+        return ctx_fail(ctx, LIMN_ERR_MEMORY, "out of memory for a vector of %zu bytes", bytes);
+    if (init)
+        parallel_copy(ctx, h, init, bytes);
+    else
+        parallel_zero(ctx, h, bytes);
+    limn_status st = dev->ops->buffer_share(dev, bytes, h, out);
+    if (st)
+        free(h);
+    else
+        *host = h;
+    return st;
 }

@@ -267,6 +267,14 @@ void device_csr_release(struct device *dev, device_csr *csr);
    large_malloc); contents undefined; free() it. NULL when out of memory. */
 void *device_host_alloc(size_t bytes);
 
+/* A vector the kernels compute in (an iterate), its bytes init's or zeros:
+   where the device shares host memory, a block of device_host_alloc used in
+   place, filled over ctx's threads, so its huge pages are first touched
+   there and not the runtime's own 4 KiB pages by a copy (*host: free() it
+   after releasing *out); else a device buffer (*host NULL). */
+limn_status device_vector_create(struct device *dev, limn_context *ctx, size_t bytes,
+                                 const void *init, void **host, device_buffer **out);
+
 /* device_csr_upload through buffer_share: `host` outlives the device table
    and is not changed while it lives (the operator's own table). */
 limn_status device_csr_share(struct device *dev, const stencil_csr *host, device_csr *out);

@@ -138,24 +138,17 @@ static void release(mpi_solve *s)
         free(s->x_host[i]); /* after their buffers: the device may still use them */
 }
 
-/* Iterate i (init's rows, or zeros), as the single process's
-   (solver.c iterate_buffer): where the device shares host memory, memory of
-   device_host_alloc used in place, its huge pages first touched here, not
-   the runtime's own 4 KiB pages filled by a copy and a fill (measured at
-   2.1M on 2 ranks: ~15,000 page faults a rank gone); else a device buffer. */
+/* Iterate i (init's rows, or zeros): host memory used in place where the
+   device shares it (device_vector_create), the single process's way: its
+   huge pages first touched here, not the runtime's own 4 KiB pages filled
+   by a copy and a fill (measured at 2.1M on 2 ranks: ~15,000 page faults a
+   rank gone); else a device buffer. */
 static limn_status iterate_buffer(mpi_solve *s, int i, size_t bytes, const double *init)
 {
-    struct device *dev = s->p->dev;
-    if (!dev->host_shared)
-        return dev->ops->buffer_create(dev, bytes, init, &s->x[i]);
-    if (!(s->x_host[i] = device_host_alloc(bytes ? bytes : 4 * sizeof(double))))
-        return ctx_fail(s->p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu rows",
-                        bytes / (4 * sizeof(double)));
-    if (init)
-        memcpy(s->x_host[i], init, bytes);
-    else
-        memset(s->x_host[i], 0, bytes);
-    return dev->ops->buffer_share(dev, bytes, s->x_host[i], &s->x[i]);
+    void *host = NULL;
+    limn_status st = device_vector_create(s->p->dev, s->p->ctx, bytes, init, &host, &s->x[i]);
+    s->x_host[i] = host;
+    return st;
 }
 
 /* The seeds' iteration (or the weighted one, or Chebyshev) from the start

@@ -57,28 +57,23 @@ void solver_destroy(solver *s)
 }
 
 /* Iterate i: a copy of init (from_m: init is M's rows, which the device
-   holds), or zeros. Where the device shares host memory, host memory it uses
-   in place (no device copy, no read-back); on a discrete device, device
-   memory alone, a copy of M made there (1 M + 0 M: the same values), so no
-   host block is written before the result is read back. */
+   holds), or zeros, in host memory used in place where the device shares it
+   (device_vector_create); on a discrete device, device memory alone, a copy
+   of M made there (1 M + 0 M: the same values), so no host block is written
+   before the result is read back. */
 static limn_status iterate_buffer(solver *s, int i, size_t n, const double *init, int from_m)
 {
+    if (n >= SIZE_MAX / 32)
+        return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
     size_t bytes = 4 * n * sizeof(double);
-    if (!s->dev->host_shared) {
-        if (!from_m)
-            return s->dev->ops->buffer_create(s->dev, bytes, init, &s->p[i]);
+    if (!s->dev->host_shared && from_m) {
         limn_status st = s->dev->ops->buffer_scratch(s->dev, bytes, &s->p[i]);
         return st ? st : s->dev->ops->axpby(s->dev, n, 1.0, s->m, 0.0, s->m, s->p[i]);
     }
-    s->p_host[i] = n < SIZE_MAX / 32 ? device_host_alloc(bytes) : NULL;
-    if (!s->p_host[i])
-        return ctx_fail(s->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", n);
-    /* over the host threads: the first touches of the fresh block too */
-    if (init)
-        parallel_copy(s->ctx, s->p_host[i], init, bytes);
-    else
-        parallel_zero(s->ctx, s->p_host[i], bytes);
-    return s->dev->ops->buffer_share(s->dev, bytes, s->p_host[i], &s->p[i]);
+    void *host = NULL;
+    limn_status st = device_vector_create(s->dev, s->ctx, bytes, init, &host, &s->p[i]);
+    s->p_host[i] = host;
+    return st;
 }
 
 /* Drops iterate i: its buffer, then its host memory. */
