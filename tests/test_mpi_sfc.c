@@ -108,7 +108,9 @@ static void hilbert_curve(void)
 /* The partition's table-driven keys (mpi_sfc_hilbert_table) against
    Skilling's transform (mpi_sfc_hilbert) on every cell of a small cube at
    the origin and at the top corner, and on 2e6 random cells (xorshift,
-   fixed seed), a quarter of them with small x (long runs of zero bits). */
+   fixed seed), a quarter of them with small x (long runs of zero bits);
+   the four-wide keys (mpi_sfc_hilbert_table4) against the single ones on
+   4 cells around each random one. */
 static void hilbert_table(void)
 {
     mpi_sfc_table t;
@@ -140,6 +142,22 @@ static void hilbert_table(void)
             mpi_sfc_hilbert(q[0], q[1], q[2]) != mpi_sfc_hilbert_table(&t, q[0], q[1], q[2]);
         if (differ && !bad++)
             memcpy(first, q, sizeof q);
+        /* the four-wide keys: this cell in lane i % 4, the others its
+           neighbours along x (wrapping within the grid) */
+        uint32_t cell[12];
+        uint64_t key[4];
+        for (int j = 0; j < 4; j++) {
+            cell[3 * j] = (q[0] + (uint32_t)j * 977u) & top;
+            cell[3 * j + 1] = q[1];
+            cell[3 * j + 2] = q[2];
+        }
+        mpi_sfc_hilbert_table4(&t, cell, key);
+        for (int j = 0; j < 4; j++) {
+            const uint32_t *c = cell + 3 * j;
+            differ = key[j] != mpi_sfc_hilbert_table(&t, c[0], c[1], c[2]);
+            if (differ && !bad++)
+                memcpy(first, c, sizeof first);
+        }
     }
     CHECK(bad == 0,
           "Hilbert table: %zu of %zu keys differ from mpi_sfc_hilbert (first at %u %u %u)", bad,

@@ -158,6 +158,41 @@ uint64_t mpi_sfc_hilbert_table(const mpi_sfc_table *t, uint32_t x, uint32_t y, u
     return key;
 }
 
+void mpi_sfc_hilbert_table4(const mpi_sfc_table *t, const uint32_t cell[12], uint64_t key[4])
+{
+    /* four independent chains of lookups side by side, in locals the
+       compiler keeps in registers: one key's chain is latency bound (each
+       lookup waits for the last), four overlap */
+    uint64_t m0 = spread3(cell[0]) << 2 | spread3(cell[1]) << 1 | spread3(cell[2]);
+    uint64_t m1 = spread3(cell[3]) << 2 | spread3(cell[4]) << 1 | spread3(cell[5]);
+    uint64_t m2 = spread3(cell[6]) << 2 | spread3(cell[7]) << 1 | spread3(cell[8]);
+    uint64_t m3 = spread3(cell[9]) << 2 | spread3(cell[10]) << 1 | spread3(cell[11]);
+    uint64_t k0 = 0, k1 = 0, k2 = 0, k3 = 0;
+    unsigned s0 = t->dense[first_state()], s1 = s0, s2 = s0, s3 = s0;
+    int level = SFC_BITS - 1;
+    if (SFC_BITS % 2) { /* an odd level count: the top one alone */
+        const uint16_t *top = t->next + first_state() * 8;
+        unsigned sh = 3u * (unsigned)level, e0 = top[m0 >> sh & 7u], e1 = top[m1 >> sh & 7u],
+                 e2 = top[m2 >> sh & 7u], e3 = top[m3 >> sh & 7u];
+        k0 = e0 & 7u, k1 = e1 & 7u, k2 = e2 & 7u, k3 = e3 & 7u;
+        s0 = t->dense[e0 >> 3], s1 = t->dense[e1 >> 3], s2 = t->dense[e2 >> 3];
+        s3 = t->dense[e3 >> 3];
+        level--;
+    }
+    for (; level > 0; level -= 2) { /* levels level and level - 1 */
+        unsigned sh = 3u * (unsigned)(level - 1);
+        unsigned e0 = t->pair[s0 * 64 + (unsigned)(m0 >> sh & 63u)];
+        unsigned e1 = t->pair[s1 * 64 + (unsigned)(m1 >> sh & 63u)];
+        unsigned e2 = t->pair[s2 * 64 + (unsigned)(m2 >> sh & 63u)];
+        unsigned e3 = t->pair[s3 * 64 + (unsigned)(m3 >> sh & 63u)];
+        k0 = k0 << 6 | (e0 & 63u), s0 = e0 >> 6;
+        k1 = k1 << 6 | (e1 & 63u), s1 = e1 >> 6;
+        k2 = k2 << 6 | (e2 & 63u), s2 = e2 >> 6;
+        k3 = k3 << 6 | (e3 & 63u), s3 = e3 >> 6;
+    }
+    key[0] = k0, key[1] = k1, key[2] = k2, key[3] = k3;
+}
+
 typedef struct sfc_rec {
     uint64_t key;
     uint32_t at; /* index in the block: the global id is begin + at */
@@ -466,7 +501,15 @@ limn_status mpi_sfc_partition(mpi_part *p, const size_t *vtxdist, const double *
         sfc_cube(p, positions, n, lo, &scale);
         mpi_sfc_table table;
         mpi_sfc_table_init(&table);
-        for (size_t v = 0; v < n; v++) {
+        size_t v = 0;
+        for (; v + 4 <= n; v += 4) {
+            uint32_t cell[12];
+            for (int j = 0; j < 4; j++)
+                for (int c = 0; c < 3; c++)
+                    cell[3 * j + c] = sfc_cell(positions[3 * (v + j) + c], lo[c], scale);
+            mpi_sfc_hilbert_table4(&table, cell, w.key + v);
+        }
+        for (; v < n; v++) {
             const double *x = positions + 3 * v;
             w.key[v] = mpi_sfc_hilbert_table(&table, sfc_cell(x[0], lo[0], scale),
                                              sfc_cell(x[1], lo[1], scale),

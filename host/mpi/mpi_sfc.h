@@ -57,6 +57,9 @@ typedef struct mpi_sfc_table {
 } mpi_sfc_table;
 void mpi_sfc_table_init(mpi_sfc_table *t);
 uint64_t mpi_sfc_hilbert_table(const mpi_sfc_table *t, uint32_t x, uint32_t y, uint32_t z);
+/* Four keys at once (cell[3 j ..] = x, y, z of key j): the same keys, the four
+   lookup chains overlapped. */
+void mpi_sfc_hilbert_table4(const mpi_sfc_table *t, const uint32_t cell[12], uint64_t key[4]);
 
 /*
  * Collective over p->comm. vtxdist[size + 1] as mpi_dgraph_partition's;
