@@ -521,6 +521,10 @@ def pipeline(args, limn, env):
         print(f"set-up, each stage at its best round (fast fresh memory): 1 rank on one core "
               f"{core[0]['setup_best_stages']:.2f} s, 2 ranks {two['setup_best_stages']:.2f} s "
               f"(worst rank): {two['setup_best_stages'] / core[0]['setup_best_stages']:.2f}x")
+        # the configurations take turns within a round: round k of each is a pair
+        pairs = list(zip(core[0]["setup_rounds"], two["setup_rounds"]))
+        print(f"set-up, round by round: 2 ranks below 1 rank on one core in "
+              f"{sum(b < a for a, b in pairs)} of {len(pairs)} rounds")
     costs = fitted_costs(rows, args)
     print("unit costs: " + ", ".join(f"{k} {v:.4g}" for k, v in costs.items()))
     model = print_model(costs, args)
