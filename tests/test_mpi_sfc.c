@@ -142,8 +142,8 @@ static void hilbert_table(void)
             mpi_sfc_hilbert(q[0], q[1], q[2]) != mpi_sfc_hilbert_table(&t, q[0], q[1], q[2]);
         if (differ && !bad++)
             memcpy(first, q, sizeof q);
-        /* the four-wide keys: this cell in lane i % 4, the others its
-           neighbours along x (wrapping within the grid) */
+        /* the four-wide keys: this cell in lane 0, lanes 1-3 cells 977 apart
+           along x from it (wrapping within the grid) */
         uint32_t cell[12];
         uint64_t key[4];
         for (int j = 0; j < 4; j++) {

@@ -8,7 +8,6 @@
 #include "solve/solver.h"
 #include "base/large_alloc.h"
 #include "base/clock.h"
-#include "base/parallel.h"
 #include "base/context.h"
 #include "solve/solve_mixed.h"
 #include "device/device.h"
