@@ -45,7 +45,7 @@ from plyfile import PlyData, PlyElement
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from normal_choice_oracle import (angles, by_size, face_normals, face_rings,  # noqa: E402
-                                  fit_to_normals)
+                                  fit_to_normals, read_ply)
 
 FEATURES = ["--preserve-features"]
 
@@ -53,10 +53,7 @@ FEATURES = ["--preserve-features"]
 def read_mesh(path):
     """Positions and faces of a .ply, .obj or .off (polygons only)."""
     if path.endswith(".ply"):
-        data = PlyData.read(path)
-        v = data["vertex"]
-        faces = [np.asarray(f, dtype=np.int64) for f in data["face"].data["vertex_indices"]]
-        return np.stack([v["x"], v["y"], v["z"]], 1).astype(float), faces
+        return read_ply(path)
     positions, faces = [], []
     if path.endswith(".obj"):
         for line in open(path):
