@@ -21,7 +21,7 @@ The distributed pipeline instead (docs/mpi.md, "Distributed meshes"), side by
 side in one run: `limn interpolate --precision double --report` on the 2.1M
 float32 PLY (/tmp/limn_read_bench/scanner_l2_f32.ply) as one process and on
 2 and 4 ranks, and on the 8.6M one (/tmp/limn_e2e/scanner_l3_f32.ply) as one
-process and on 8 ranks (made as perf/end_to_end.py makes them when missing),
+process and on 2 and 8 ranks (made as perf/end_to_end.py makes them when missing),
 and each as 1 rank bound to one core (`mpirun -np 1 --bind-to core`: the core
 each rank of the 2-rank run has, the strong-scaling baseline), each mesh after
 one untimed run (this VM returns freed memory to its host: a first run after
@@ -317,7 +317,7 @@ def run_pipeline(args, limn, env):
     # (ranks, root path, bound to one core): the root path at 2 ranks is the set-up
     # issue 14 replaces; 1 rank bound to one core is the strong-scaling baseline
     plan = [("2.1M", [(1, 0, 0), (1, 0, 1), (2, 0, 0), (4, 0, 0), (2, 1, 0)]),
-            ("8.6M", [(1, 0, 0), (1, 0, 1), (8, 0, 0)])]
+            ("8.6M", [(1, 0, 0), (1, 0, 1), (2, 0, 0), (8, 0, 0)])]
     files = pipeline_inputs(args)
     for name, counts in plan:
         if name not in files:
@@ -502,29 +502,39 @@ def print_model(c, args):
     return out
 
 
+def print_setup_scaling(mesh, rows):
+    """Issue 14's set-up target, 1 -> 2 ranks, on one mesh's rows."""
+    two = [r for r in rows if r["ranks"] == 2 and r["path"] == "distributed"]
+    one = [r for r in rows if r["ranks"] == 1 and r["path"] == "single"]
+    if not two or not one:
+        return
+    two, one = two[0], one[0]
+    core = [r for r in rows if r["path"] == "1 core"]
+    root = [r for r in rows if r["path"] == "root"]
+    print(f"{mesh}: set-up (medians), 1 -> 2 ranks: {one['setup'][0]:.2f} s -> "
+          f"{max(two['setup']):.2f} s (worst rank)" +
+          (f"; 1 rank on one core: {core[0]['setup'][0]:.2f} s: 2 ranks "
+           f"{max(two['setup']) / core[0]['setup'][0]:.2f}x" if core else "") +
+          (f"; the root path at 2 ranks: {max(root[0]['setup']):.2f} s" if root else ""))
+    if core:  # the comparison without this VM's slow fresh memory (best_stages)
+        print(f"{mesh}: set-up, each stage at its best round (fast fresh memory): 1 rank on "
+              f"one core {core[0]['setup_best_stages']:.2f} s, 2 ranks "
+              f"{two['setup_best_stages']:.2f} s (worst rank): "
+              f"{two['setup_best_stages'] / core[0]['setup_best_stages']:.2f}x")
+        # the configurations take turns within a round: round k of each is a pair
+        pairs = list(zip(core[0]["setup_rounds"], two["setup_rounds"]))
+        print(f"{mesh}: set-up, round by round: 2 ranks below 1 rank on one core in "
+              f"{sum(b < a for a, b in pairs)} of {len(pairs)} rounds")
+
+
 def pipeline(args, limn, env):
     print(f"distributed pipeline, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
           f"{os.cpu_count()} cores (ranks beyond them oversubscribed: memory is exact, times "
           f"are shared cores')", flush=True)
     rows = run_pipeline(args, limn, env)
     print_measured(rows)
-    two = [r for r in rows if r["ranks"] == 2 and r["path"] == "distributed"][0]
-    one = [r for r in rows if r["ranks"] == 1][0]
-    core = [r for r in rows if r["path"] == "1 core"]
-    root = [r for r in rows if r["path"] == "root"]
-    print(f"set-up (medians), 1 -> 2 ranks: {one['setup'][0]:.2f} s -> "
-          f"{max(two['setup']):.2f} s (worst rank)" +
-          (f"; 1 rank on one core: {core[0]['setup'][0]:.2f} s: 2 ranks "
-           f"{max(two['setup']) / core[0]['setup'][0]:.2f}x" if core else "") +
-          (f"; the root path at 2 ranks: {max(root[0]['setup']):.2f} s" if root else ""))
-    if core:  # the comparison without this VM's slow fresh memory (best_stages)
-        print(f"set-up, each stage at its best round (fast fresh memory): 1 rank on one core "
-              f"{core[0]['setup_best_stages']:.2f} s, 2 ranks {two['setup_best_stages']:.2f} s "
-              f"(worst rank): {two['setup_best_stages'] / core[0]['setup_best_stages']:.2f}x")
-        # the configurations take turns within a round: round k of each is a pair
-        pairs = list(zip(core[0]["setup_rounds"], two["setup_rounds"]))
-        print(f"set-up, round by round: 2 ranks below 1 rank on one core in "
-              f"{sum(b < a for a, b in pairs)} of {len(pairs)} rounds")
+    for mesh in dict.fromkeys(r["mesh"] for r in rows):  # 1 -> 2 ranks, each mesh
+        print_setup_scaling(mesh, [r for r in rows if r["mesh"] == mesh])
     costs = fitted_costs(rows, args)
     print("unit costs: " + ", ".join(f"{k} {v:.4g}" for k, v in costs.items()))
     model = print_model(costs, args)
