@@ -568,8 +568,9 @@ LIMN_API limn_status limn_interpolate(limn_context *ctx, const limn_mesh *mesh,
 
 /*
  * Predicts the peak memory of limn_interpolate on mesh (bytes, host and
- * device together: measured per vertex and per face corner, plus the OpenCL
- * runtime) and refuses with LIMN_ERR_MEMORY, naming the sizes, when it exceeds
+ * device together: measured per vertex and per stencil entry, the entries
+ * counted from the faces, plus the OpenCL runtime; docs/robustness.md
+ * "Memory") and refuses with LIMN_ERR_MEMORY, naming the sizes, when it exceeds
  * max_memory (0 = three quarters of physical memory). peak_bytes may be NULL.
  */
 LIMN_API limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,

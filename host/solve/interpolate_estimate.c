@@ -4,17 +4,20 @@
  * before anything is allocated, so that a batch job refuses a mesh it cannot
  * hold instead of being killed half way.
  *
- * Model, from the peak RSS of `limn interpolate` measured 2026-11-23 on both
- * backends (README "Memory"): per vertex and per face corner, plus 96 MiB for
- * the OpenCL runtime (measured 78-80 MiB):
- *   cg: 1000 B/vertex + 8 B/corner; measured 2.15M-vertex Loop
- *     mesh (igea, 2 levels) 1.95 GiB (OpenCL), 1.37M-vertex Catmull-Clark
- *     (bob_quad, 4 levels) 1.32 GiB; the model says 2.19 and 1.40 GiB;
- *   paper (auto), weighted: 600 B/vertex + 16 B/corner; measured 1.27 and 0.81 GiB;
- *     the model says 1.50 and 0.94 GiB.
- *   precision float (and auto from SOLVE_FLOAT_MIN_VERTICES): + 80 B/vertex for its
- *     float right-hand side, two float corrections and float weights; measured
- *     +60 MB at both sizes (1.36 -> 1.42 and 0.87 -> 0.93 GiB).
+ * Model: bytes per vertex + bytes per stencil entry + 96 MiB (the OpenCL
+ * runtime, measured 78-80 MiB), the entries counted from the faces before any
+ * table exists: a limit row holds its vertex and the other corners of its
+ * faces, an edge's far end shared by two faces, V + sum over faces of
+ * d (d - 2) on a closed mesh (Loop and Catmull-Clark alike: 7 a vertex on a
+ * regular triangle mesh, 9 on a quad mesh; fewer at a boundary). Refitted
+ * 2026-12-06 (docs/robustness.md "Memory") from the peak RSS of `limn
+ * interpolate` on both backends, seven meshes of 1.4-8.6M vertices (Loop and
+ * Catmull-Clark, closed and with holes, binary and text input), each method
+ * and precision: the least coefficients above every measured peak (entries at
+ * 12 B or more: a column and a double weight), plus 10% for meshes not
+ * measured. The memory work of sessions 11-20 halved the peaks the first
+ * model (2026-11-23: 600 B a vertex + 16 a corner) was fitted to, so it
+ * refused meshes that fitted: 34M vertices predicted at 22 GiB.
  * A solver that keeps more vectors must update these figures.
  */
 #include "base/abi.h"
@@ -53,20 +56,33 @@ limn_status limn_interpolate_estimate(limn_context *ctx, const limn_mesh *mesh,
     checked = options ? solve_check_options(ctx, options) : LIMN_OK;
     if (checked)
         return checked;
-    /* paper, weighted, chebyshev (and so auto) hold the same buffers; cg more;
-       sgs most (its colour-ordered table copy and eight vectors: measured
-       1,171-1,230 B a vertex at 0.5-2.1M, README "Solvers") */
     limn_method method = options ? options->method : LIMN_METHOD_AUTO;
-    int cg = method == LIMN_METHOD_CG || method == LIMN_METHOD_SGS;
-    double per_vertex = method == LIMN_METHOD_SGS ? 1350.0 : cg ? 1000.0 : 600.0;
-    double per_corner = cg ? 8.0 : 16.0;
     limn_precision precision = options ? options->precision : LIMN_PRECISION_AUTO;
-    if (!cg && (precision == LIMN_PRECISION_FLOAT ||
-                (precision == LIMN_PRECISION_AUTO &&
-                 mesh->vertex_count >= SOLVE_FLOAT_MIN_VERTICES)))
-        per_vertex += 80.0;
-    size_t corners = mesh->face_offsets[mesh->face_count];
-    double peak = (double)mesh->vertex_count * per_vertex + (double)corners * per_corner +
+    int krylov = method == LIMN_METHOD_CG || method == LIMN_METHOD_SGS;
+    int single = !krylov && (precision == LIMN_PRECISION_FLOAT ||
+                             (precision == LIMN_PRECISION_AUTO &&
+                              mesh->vertex_count >= SOLVE_FLOAT_MIN_VERTICES));
+    int reordered = (!options || options->reorder) &&
+                    (method == LIMN_METHOD_PAPER || method == LIMN_METHOD_WEIGHTED);
+    /* {B a vertex, B an entry} as fitted; cg's and sgs's from a mesh with
+       holes, whose unsymmetric boundary rows cost them the most (bunny,
+       refined: 1.5x a closed mesh's) */
+    static const double fitted[6][2] = {
+        {202.0, 12.0}, /* chebyshev (auto), double */
+        {213.0, 12.0}, /* chebyshev, float corrections */
+        {10.0, 40.0},  /* paper, weighted in RCM order, double */
+        {134.0, 22.0}, /* the same, float */
+        {583.0, 12.0}, /* cg */
+        {878.0, 12.0}, /* sgs */
+    };
+    int k = method == LIMN_METHOD_SGS ? 5 : method == LIMN_METHOD_CG ? 4
+                                                                     : 2 * reordered + single;
+    double entries = (double)mesh->vertex_count;
+    for (size_t f = 0; f < mesh->face_count; f++) {
+        double d = (double)(mesh->face_offsets[f + 1] - mesh->face_offsets[f]);
+        entries += d > 2.0 ? d * (d - 2.0) : 0.0;
+    }
+    double peak = 1.1 * ((double)mesh->vertex_count * fitted[k][0] + entries * fitted[k][1]) +
                   (double)RUNTIME_BYTES;
     size_t bytes = peak >= (double)SIZE_MAX ? SIZE_MAX : (size_t)peak;
     if (peak_bytes)
