@@ -1101,31 +1101,9 @@ static void max_memory(void **s)
 #define LIMN_TEST_ASAN 1
 #endif
 #ifndef LIMN_TEST_ASAN
-    if (test_shared_meshes()) {
-        char report[300];
-        snprintf(report, sizeof report, "%s/r.json", dir);
-        assert_int_equal(limn("interpolate '%s' -o '%s' --report '%s' -q",
-                              test_shared_path("medium/horse.ply"), out_path, report),
-                         0);
-        size_t n;
-        char *json = test_slurp(report, &n);
-        const char *p = strstr(json, "\"peak_rss_bytes\": ");
-        assert_non_null(p);
-        double rss = strtod(p + 18, NULL);
-        free(json);
-        ctx = limn_context_create();
-        assert_int_equal(limn_mesh_read(ctx, test_shared_path("medium/horse.ply"),
-                                        LIMN_FORMAT_AUTO, &m),
-                         LIMN_OK);
-        assert_int_equal(limn_interpolate_estimate(ctx, m, NULL, 0, &peak), LIMN_OK);
-        print_message("  horse.ply: estimated %.1f MiB, measured peak %.1f MiB\n",
-                      (double)peak / (1 << 20), rss / (1 << 20));
-        assert_true((double)peak >= rss);
-        limn_mesh_destroy(m);
-        limn_context_destroy(ctx);
-        unlink(report);
-        unlink(out_path);
-    }
+    if (test_shared_meshes())
+        interpolate_estimate_fits(test_shared_path("medium/horse.ply"), "auto",
+                                  LIMN_METHOD_AUTO, "auto", LIMN_PRECISION_AUTO);
     /* subdivide's estimate (its report has both figures) against its peak:
        Loop and Catmull-Clark, with and without --limit; 2.6M output vertices
        (0.4 and 0.9 GiB) for the per-vertex terms, not just the constant */

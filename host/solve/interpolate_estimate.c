@@ -15,9 +15,9 @@
  * Catmull-Clark, closed and with holes, binary and text input), each method
  * and precision: the least coefficients above every measured peak (entries at
  * 12 B or more: a column and a double weight), plus 10% for meshes not
- * measured. The memory work of sessions 11-20 halved the peaks the first
- * model (2026-11-23: 600 B a vertex + 16 a corner) was fitted to, so it
- * refused meshes that fitted: 34M vertices predicted at 22 GiB.
+ * measured. The memory work since halved the peaks the first model
+ * (2026-11-23: 600 B a vertex + 16 a corner) was fitted to, so it refused
+ * meshes that fitted: 34M vertices predicted at 22 GiB.
  * A solver that keeps more vectors must update these figures.
  */
 #include "base/abi.h"
