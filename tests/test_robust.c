@@ -1049,6 +1049,7 @@ static void interpolate_estimate_fits(const char *mesh, const char *method, limn
     size_t n, peak = 0;
     char *json = test_slurp(report, &n);
     double rss = json_figure(json, "peak_rss_bytes");
+    double reported = json_figure(json, "estimated_bytes");
     free(json);
     limn_context *ctx = limn_context_create();
     limn_mesh *mm = NULL;
@@ -1064,6 +1065,7 @@ static void interpolate_estimate_fits(const char *mesh, const char *method, limn
                   rss / (1 << 20), (double)peak / rss);
     assert_true((double)peak >= rss);
     assert_true((double)peak <= 2.0 * rss);
+    assert_true(reported == (double)peak); /* the report's is the library's */
     limn_mesh_destroy(mm);
     limn_context_destroy(ctx);
     unlink(report);

@@ -65,6 +65,7 @@ typedef struct args {
     limn_interpolate_options opt;
     limn_subdivide_options sub;
     int levels_given;
+    size_t estimated_bytes; /* limn_interpolate_estimate's, for the report */
 } args;
 
 /* --method M / --precision P. */
@@ -233,6 +234,7 @@ static limn_status write_report(limn_context *ctx, const args *x, const limn_rep
         json_integer(j, "levels", sr->levels);
         json_bool(j, "limit", sr->limit);
     }
+    json_integer(j, "estimated_bytes", (long long)x->estimated_bytes);
     json_integer(j, "peak_rss_bytes", (long long)cli_peak_rss());
     cli_mpi_json(j);
     json_object_begin(j, "seconds");
@@ -361,7 +363,8 @@ int cli_interpolate(int argc, char **argv)
     limn_status st = cli_args_open(&x.a, ctx, x.sub.max_memory, root, &mesh);
     sec[0] = cli_now() - t0;
     if (!st && root)
-        st = limn_interpolate_estimate(ctx, mesh, &x.opt, x.sub.max_memory, NULL);
+        st = limn_interpolate_estimate(ctx, mesh, &x.opt, x.sub.max_memory,
+                                       &x.estimated_bytes);
     if (!st && root && x.surface) {
         /* refuse an oversize surface before solving */
         size_t v, f, bytes;
