@@ -15,7 +15,8 @@
  * METIS on rank 0; PT-Scotch and the curve: the whole collective call,
  * slowest rank) and the CPU seconds of the process (the distributed ones:
  * the busiest rank's), which a shared machine inflates less than the wall
- * time. The curve's cut is counted on rank 0 from the gathered parts.
+ * time. The curve's cut is counted on rank 0 from the gathered parts. Also
+ * the face-slice partition's cut and imbalance (slices_run; no timing).
  */
 #include "limn.h"
 
@@ -137,6 +138,31 @@ static int sfc_run(limn_context *ctx, const limn_mesh *m, int rank, int size, sf
     return s == LIMN_OK;
 }
 
+/* The partition that moves no face (not built: docs/mpi.md "Set-up,
+   2026-12-06 (session 26)"): the faces in even contiguous blocks of the
+   file's order, as the ranks read them, and each vertex to the lowest block
+   among its faces (a vertex in no face to the last); its cut and imbalance,
+   on rank 0. Good only where the file's face order is spatial. */
+static int slices_run(limn_context *ctx, const limn_mesh *m, int parts, size_t *cut, double *imb)
+{
+    size_t n = limn_mesh_vertex_count(m), nf = limn_mesh_face_count(m);
+    const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
+    uint32_t *part = malloc((n + 1) * sizeof *part);
+    if (!part)
+        return 0;
+    for (size_t v = 0; v < n; v++)
+        part[v] = (uint32_t)parts - 1;
+    for (size_t f = 0; f < nf; f++) {
+        uint32_t block = (uint32_t)(f * (size_t)parts / nf);
+        for (uint32_t c = off[f]; c < off[f + 1]; c++)
+            part[idx[c]] = block < part[idx[c]] ? block : part[idx[c]];
+    }
+    int ok = mpi_edge_cut(ctx, m, parts, part, cut) == LIMN_OK;
+    *imb = imbalance_of(part, n, parts);
+    free(part);
+    return ok;
+}
+
 static int one_mesh(limn_context *ctx, const char *path, int rank, int size,
                     mpi_dgraph_strategy strategy)
 {
@@ -151,8 +177,11 @@ static int one_mesh(limn_context *ctx, const char *path, int rank, int size,
     }
     size_t mcut = 0;
     double mimb = 0, msec[2] = {0, 0}, scpu = 0;
+    size_t slices_cut = 0;
+    double slices_imb = 0;
     if (rank == 0)
-        ok = metis_run(ctx, m, size, &mcut, &mimb, msec);
+        ok = metis_run(ctx, m, size, &mcut, &mimb, msec) &&
+             slices_run(ctx, m, size, &slices_cut, &slices_imb);
     mpi_dgraph_stats st;
     MPI_Barrier(MPI_COMM_WORLD);
     ok = scotch_run(ctx, m, rank, size, strategy, &st, &scpu) && ok;
@@ -165,10 +194,11 @@ static int one_mesh(limn_context *ctx, const char *path, int rank, int size,
                "\"metis_seconds\": %.4f, \"metis_cpu\": %.4f, \"scotch_cut\": %zu, "
                "\"scotch_imbalance\": %.4f, \"scotch_seconds\": %.4f, \"scotch_cpu\": %.4f, "
                "\"graph_seconds\": %.4f, \"sfc_cut\": %zu, \"sfc_imbalance\": %.4f, "
-               "\"sfc_seconds\": %.4f, \"sfc_cpu\": %.4f}\n",
+               "\"sfc_seconds\": %.4f, \"sfc_cpu\": %.4f, \"slices_cut\": %zu, "
+               "\"slices_imbalance\": %.4f}\n",
                path, size, (int)strategy, st.vertices, st.edges, mcut, mimb, msec[0], msec[1],
                st.edge_cut, st.imbalance, st.seconds, scpu, st.seconds_graph, sf.cut,
-               sf.imbalance, sf.seconds, sf.cpu);
+               sf.imbalance, sf.seconds, sf.cpu, slices_cut, slices_imb);
     fflush(stdout);
     limn_mesh_destroy(m);
     return ok;

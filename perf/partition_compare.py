@@ -16,7 +16,10 @@ busiest rank's; Open MPI's waiting in collectives counts as CPU too), and the
 wall seconds of PT-Scotch's call spent on the edge exchange and adjacency.
 --strategy picks PT-Scotch's (quality, the library's choice; default; speed).
 The curve (mpi_sfc.c, the distributed pipeline's default): its cut, imbalance
-and seconds (wall and CPU, the slowest and busiest rank's) beside them.
+and seconds (wall and CPU, the slowest and busiest rank's) beside them. Last,
+the partition that would move no face (each rank's file slice of the faces,
+each vertex to the lowest slice among its faces; not built): its cut against
+METIS's and its imbalance, which say how spatial the file's face order is.
 """
 import json
 import os
@@ -55,8 +58,9 @@ def main():
     print(f"PT-Scotch strategy: {a.strategy}\n")
     print("| mesh | vertices | parts | METIS cut | PT-Scotch cut | curve cut | Scotch / METIS "
           "| curve / METIS | METIS imbalance | PT-Scotch imbalance | curve imbalance "
-          "| METIS s (CPU) | PT-Scotch s (CPU) | curve s (CPU) |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+          "| METIS s (CPU) | PT-Scotch s (CPU) | curve s (CPU) | face slices cut / METIS "
+          "(imbalance) |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for r in rows:
         mc = r["metis_cut"]
         ratio = r["scotch_cut"] / mc if mc else float("nan")
@@ -69,7 +73,9 @@ def main():
               f"| {r['sfc_imbalance']:.3f} "
               f"| {r['metis_seconds']:.3f} ({r['metis_cpu']:.3f}) "
               f"| {r['scotch_seconds']:.3f} ({r['scotch_cpu']:.3f}) "
-              f"| {r['sfc_seconds']:.3f} ({r['sfc_cpu']:.3f}) |")
+              f"| {r['sfc_seconds']:.3f} ({r['sfc_cpu']:.3f}) "
+              f"| {r['slices_cut'] / mc if mc else float('nan'):.2f} "
+              f"({r['slices_imbalance']:.3f}) |")
 
 if __name__ == "__main__":
     main()
