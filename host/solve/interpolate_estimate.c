@@ -18,7 +18,8 @@
  * measured. The memory work since halved the peaks the first model
  * (2026-11-23: 600 B a vertex + 16 a corner) was fitted to, so it refused
  * meshes that fitted: 34M vertices predicted at 22 GiB.
- * A solver that keeps more vectors must update these figures.
+ * A solver that keeps more vectors must update these figures: perf/memory_fit.py
+ * remeasures the peaks and prints the coefficients they give.
  */
 #include "base/abi.h"
 #include "mesh/check.h"
