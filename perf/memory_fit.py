@@ -100,8 +100,8 @@ def run(limn, mesh, work, method, precision, device):
     subprocess.run(cmd, check=True)
     with open(report) as f:
         r = json.load(f)
-    per_vertex_faces = 3 if r["scheme"] == "loop" else 8  # d (d - 2)
-    entries = r["vertices"] + per_vertex_faces * r["faces"]
+    per_face = 3 if r["scheme"] == "loop" else 8  # d (d - 2): triangles or quads
+    entries = r["vertices"] + per_face * r["faces"]
     return r, entries
 
 
