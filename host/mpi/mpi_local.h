@@ -86,17 +86,20 @@ static inline size_t mpi_face_record_words(uint32_t d) { return 3 + 2 * (size_t)
 
 /* Collective: every face of this rank's range (face_count faces from global
    face face_begin; CSR from 0, global vertex ids) to each distinct part
-   among its vertices (part_of: this rank's block's; the others' from their
-   block owners), checked first with global names: every part a rank, every
-   face 3 or more vertices below vtxdist[size] and, with repair's
-   repeated_vertices off, none twice in a face. *recv (caller frees): the
-   records this rank gets, each sender's in its face order, senders in rank
-   order; *nrecv their words. Every rank gets the same status. */
+   among its vertices other than this rank (part_of: this rank's block's;
+   the others' from their block owners), checked first with global names:
+   every part a rank, every face 3 or more vertices below vtxdist[size] and,
+   with repair's repeated_vertices off, none twice in a face. *corner_part
+   (caller frees): the part of each corner of the range, which tells the
+   range's faces this rank keeps, read where they are. *recv (caller frees):
+   the records this rank gets from the others, each sender's in its face
+   order, senders in rank order; *nrecv their words, *nlow those from lower
+   ranks. Every rank gets the same status. */
 limn_status mpi_local_send_faces(mpi_part *p, local_sub *s, const size_t *vtxdist,
                                  const uint32_t *part_of, size_t face_begin, size_t face_count,
                                  const uint32_t *face_offsets, const uint32_t *face_indices,
-                                 const limn_repair_options *repair, uint32_t **recv,
-                                 size_t *nrecv);
+                                 const limn_repair_options *repair, uint32_t **corner_part,
+                                 uint32_t **recv, size_t *nrecv, size_t *nlow);
 
 /* Collective (mpi_local_census.c): limn_mpi_mesh_repair's census and
    duplicate search read from the sub-meshes (lm->face_ids needed), in

@@ -2,8 +2,9 @@
 /*
  * Local rows, the faces (mpi_local.h): the part of every corner of this
  * rank's face range, from part_of in its own vertex block and from the
- * block owners for the others, then each face to every distinct part among
- * its vertices (mpi_local_sub.c builds the sub-mesh of what arrives).
+ * block owners for the others, then each face to every other distinct part
+ * among its vertices (mpi_local_sub.c builds the sub-mesh of what arrives
+ * and of the range's own faces, read where they are).
  */
 #include "mpi/mpi_local.h"
 #include "base/large_alloc.h"
@@ -40,10 +41,20 @@ typedef struct faces_out {
     uint32_t *parts; /* scratch: a face's distinct parts */
     uint32_t **next; /* per part: where its next record goes */
     size_t nparts;
+    uint32_t me;     /* this rank: its own faces are read in place, not sent */
 } faces_out;
 
-/* Every face's record at the next place of each distinct part among its
-   corners, from to[part] on (mpi_local_alltoallv_packed): in face order
+/* Whether all d corners' parts cp are me: the usual face, sent nowhere. */
+static int face_only_mine(const uint32_t *cp, uint32_t d, uint32_t me)
+{
+    uint32_t other = 0;
+    for (uint32_t c = 0; c < d; c++)
+        other |= cp[c] ^ me;
+    return other == 0;
+}
+
+/* Every face's record at the next place of each other distinct part among
+   its corners, from to[part] on (mpi_local_alltoallv_packed): in face order
    within a part, as one send buffer in rank order had them. */
 static void pack_faces(void *user, char *const *to)
 {
@@ -54,9 +65,13 @@ static void pack_faces(void *user, char *const *to)
     for (size_t i = 0; i < f->count; i++) {
         const uint32_t *v = f->idx + f->off[i], *cp = o->corner_part + f->off[i];
         uint32_t d = f->off[i + 1] - f->off[i];
+        if (face_only_mine(cp, d, o->me))
+            continue;
         size_t np = face_parts(cp, d, o->parts);
         uint64_t id = f->begin + i;
         for (size_t k = 0; k < np; k++) {
+            if (o->parts[k] == o->me)
+                continue;
             uint32_t *w = o->next[o->parts[k]];
             w[0] = (uint32_t)id;
             w[1] = (uint32_t)(id >> 32);
@@ -70,34 +85,43 @@ static void pack_faces(void *user, char *const *to)
     }
 }
 
-/* Each face to every distinct part among its vertices (records above);
-   *recv, *nrecv: the records this rank receives. */
+/* Each face to every other distinct part among its vertices (records
+   above); *recv, *nrecv: the records this rank receives, *nlow the words of
+   them from lower ranks. */
 static limn_status send_to_parts(mpi_part *p, const faces_in *f, const uint32_t *corner_part,
-                              uint32_t **recv, size_t *nrecv)
+                                 uint32_t **recv, size_t *nrecv, size_t *nlow)
 {
     size_t R = (size_t)p->size, maxd = 0;
+    uint32_t me = (uint32_t)p->rank;
     for (size_t i = 0; i < f->count; i++)
         maxd = f->off[i + 1] - f->off[i] > maxd ? f->off[i + 1] - f->off[i] : maxd;
     int *cnt = calloc(2 * R, sizeof *cnt), *rcnt = cnt + R;
     size_t *words = calloc(R, sizeof *words);
     faces_out o = {f, corner_part, large_malloc((maxd ? maxd : 1) * sizeof(uint32_t)),
-                   large_malloc(R * sizeof(uint32_t *)), R};
+                   large_malloc(R * sizeof(uint32_t *)), R, me};
     limn_status st = LIMN_OK;
     if (!cnt || !words || !o.parts || !o.next)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory sending faces");
     for (size_t i = 0; !st && i < f->count; i++) {
         uint32_t d = f->off[i + 1] - f->off[i];
+        if (face_only_mine(corner_part + f->off[i], d, me))
+            continue;
         size_t np = face_parts(corner_part + f->off[i], d, o.parts);
         for (size_t k = 0; k < np; k++)
             words[o.parts[k]] += mpi_face_record_words(d);
     }
-    for (size_t r = 0; !st && r < R; r++)
+    if (!st)
+        words[me] = 0; /* read in place (mpi_local_sub.c) */
+    for (size_t r = 0; !st && r < R; r++) /* too many: the exchange's plan refuses */
         cnt[r] = words[r] > INT_MAX ? INT_MAX : (int)words[r];
     st = mpi_agree(p, st);
     void *got = NULL;
     if (!st)
         st = mpi_local_alltoallv_packed(p, cnt, sizeof(uint32_t), pack_faces, &o, &got, rcnt,
                                         nrecv);
+    *nlow = 0;
+    for (size_t r = 0; !st && r < me; r++)
+        *nlow += (size_t)rcnt[r];
     *recv = got;
     free(cnt);
     free(words);
@@ -224,16 +248,19 @@ static limn_status corner_parts(mpi_part *p, local_sub *s, const size_t *vtxdist
 limn_status mpi_local_send_faces(mpi_part *p, local_sub *s, const size_t *vtxdist,
                                  const uint32_t *part_of, size_t face_begin, size_t face_count,
                                  const uint32_t *face_offsets, const uint32_t *face_indices,
-                                 const limn_repair_options *repair, uint32_t **recv,
-                                 size_t *nrecv)
+                                 const limn_repair_options *repair, uint32_t **corner_part,
+                                 uint32_t **recv, size_t *nrecv, size_t *nlow)
 {
     faces_in f = {face_begin, face_count, face_offsets, face_indices};
-    uint32_t *corner_part = NULL;
     *recv = NULL;
-    *nrecv = 0;
-    limn_status st = corner_parts(p, s, vtxdist, part_of, &f, repair, &corner_part);
+    *nrecv = *nlow = 0;
+    *corner_part = NULL;
+    limn_status st = corner_parts(p, s, vtxdist, part_of, &f, repair, corner_part);
     if (!st)
-        st = send_to_parts(p, &f, corner_part, recv, nrecv);
-    free(corner_part);
+        st = send_to_parts(p, &f, *corner_part, recv, nrecv, nlow);
+    if (st) {
+        free(*corner_part);
+        *corner_part = NULL;
+    }
     return st;
 }

@@ -1,12 +1,14 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Local rows, the sub-mesh (mpi_local.h): the faces sent to every part
- * among their vertices (mpi_local_faces.c), owned vertices from their block
+ * Local rows, the sub-mesh (mpi_local.h): the faces sent to every other
+ * part among their vertices (mpi_local_faces.c) and this rank's own faces
+ * read in place (mpi_face_source.h), owned vertices from their block
  * owners, and the repaired sub-mesh of every face at an owned vertex
  * (mpi_local_mesh), which mpi_local.c turns into rows and the repair's
  * census reads (mpi_local_census.c).
  */
 #include "mpi/mpi_local.h"
+#include "mpi/mpi_face_source.h"
 #include "base/large_alloc.h"
 
 #include "base/context.h"
@@ -48,7 +50,7 @@ static limn_status owned_ids(mpi_part *p, local_sub *s, const size_t *vtxdist,
 
 typedef struct face_rec {
     uint64_t id;
-    size_t at; /* word of its record */
+    size_t tag; /* face_source's */
 } face_rec;
 
 static int cmp_rec(const void *a, const void *b)
@@ -57,48 +59,46 @@ static int cmp_rec(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-static uint64_t record_id(const uint32_t *w, size_t at)
-{
-    return (uint64_t)w[at] | (uint64_t)w[at + 1] << 32;
-}
-
-/* What one walk over the received records tells: their faces, corners,
-   the range of their vertex ids (lo > hi when there are none) and whether
-   a face may use a vertex twice (0: none does; faces of more than 16
-   corners are left to face_first_repeat). */
+/* What one walk over the faces tells: their number, corners, the range of
+   their vertex ids (lo > hi when there are none) and whether a face may use
+   a vertex twice (0: none does; faces of more than 16 corners are left to
+   face_first_repeat). */
 typedef struct records_span {
     size_t nf, nc;
     uint32_t lo, hi;
     int may_repeat;
 } records_span;
 
-/* The received face records, in increasing face id (*recs, span); *recs
-   NULL when they came in that order (usually: the senders' face ranges
-   follow each other), which the readers walk as they are (record_next). */
-static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_rec **recs,
-                                records_span *span)
+/* The sub-mesh's faces in increasing face id (*recs, span); *recs NULL when
+   the walk order is that order (usually: the ranks' face ranges follow each
+   other), which the readers walk as it is (face_next). */
+static limn_status sort_faces(mpi_part *p, const face_source *src, face_rec **recs,
+                              records_span *span)
 {
-    size_t n = 0, nc = 0;
+    size_t n = 0, nc = 0, tag;
+    uint64_t last = 0;
     uint32_t lo = UINT32_MAX, hi = 0;
     int sorted = 1, repeat = 0;
-    for (size_t at = 0, last = 0; at < nw; last = at, at += mpi_face_record_words(w[at + 2])) {
-        sorted &= n == 0 || record_id(w, last) < record_id(w, at);
+    face_view f;
+    for (face_cursor c = FACE_CURSOR_START; face_next(src, &c, &f, &tag);) {
+        sorted &= n == 0 || last < f.id;
+        last = f.id;
         n++;
-        uint32_t d = w[at + 2];
-        const uint32_t *v = w + at + 3;
+        uint32_t d = f.d;
+        const uint32_t *v = f.v;
         nc += d;
-        for (uint32_t c = 0; c < d; c++) {
-            lo = v[c] < lo ? v[c] : lo;
-            hi = v[c] > hi ? v[c] : hi;
+        for (uint32_t k = 0; k < d; k++) {
+            lo = v[k] < lo ? v[k] : lo;
+            hi = v[k] > hi ? v[k] : hi;
         }
         if (d == 3) /* the usual face, without a loop */
             repeat |= (v[0] == v[1]) | (v[1] == v[2]) | (v[0] == v[2]);
         else if (d > 16)
             repeat = 1;
         else
-            for (uint32_t c = 0; c < d; c++)
-                for (uint32_t c2 = c + 1; c2 < d; c2++)
-                    repeat |= v[c] == v[c2];
+            for (uint32_t k = 0; k < d; k++)
+                for (uint32_t k2 = k + 1; k2 < d; k2++)
+                    repeat |= v[k] == v[k2];
     }
     *span = (records_span){n, nc, lo, hi, repeat};
     *recs = NULL;
@@ -108,38 +108,44 @@ static limn_status sort_records(mpi_part *p, const uint32_t *w, size_t nw, face_
     if (!r)
         return ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", n);
     n = 0;
-    for (size_t at = 0; at < nw; at += mpi_face_record_words(w[at + 2]))
-        r[n++] = (face_rec){record_id(w, at), at};
+    for (face_cursor c = FACE_CURSOR_START; face_next(src, &c, &f, &tag);)
+        r[n++] = (face_rec){f.id, tag};
     qsort(r, n, sizeof *r, cmp_rec);
     *recs = r;
     return LIMN_OK;
 }
 
-/* The word of record i in increasing face id: from recs, or (recs NULL,
-   the records in order) the next one after *at. */
-static size_t record_next(const uint32_t *w, const face_rec *recs, size_t i, size_t *at)
+/* The sub-mesh's faces as the walk writes them when it is in face id
+   order: corners' sub-mesh indices, offsets (from 0) and, when asked, ids. */
+typedef struct sub_faces {
+    uint32_t *idx, *off;
+    uint64_t *ids;
+} sub_faces;
+
+/* Face fi of the walk ends at corner n: its offset and id (out's). */
+static void sub_face_end(const sub_faces *out, size_t fi, size_t n, uint64_t id)
 {
-    if (recs)
-        return recs[i].at;
-    size_t here = *at;
-    *at += mpi_face_record_words(w[here + 2]);
-    return here;
+    out->off[fi + 1] = (uint32_t)n;
+    if (out->ids)
+        out->ids[fi] = id;
 }
 
 /* sub_vertices by the ids' ranks (mpi_id_rank: no list of every corner,
    no sort); 0 when out of memory for the bitmap (nothing changed then). */
 static int sub_vertices_ranked(mpi_part *p, local_sub *s, const uint32_t *own, size_t n_own,
-                               uint32_t *w, size_t nw, uint32_t lo, uint32_t hi, uint32_t *out,
-                               limn_status *st)
+                               const face_source *src, uint32_t lo, uint32_t hi,
+                               const sub_faces *out, limn_status *st)
 {
     mpi_id_rank r;
     if (!mpi_id_rank_init(&r, lo, hi))
         return 0;
     for (size_t i = 0; i < n_own; i++)
         mpi_id_rank_add(&r, own[i]);
-    for (size_t at = 0; at < nw; at += mpi_face_record_words(w[at + 2]))
-        for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
-            mpi_id_rank_add(&r, w[at + 3 + c]);
+    face_view f;
+    size_t tag;
+    for (face_cursor c = FACE_CURSOR_START; face_next(src, &c, &f, &tag);)
+        for (uint32_t k = 0; k < f.d; k++)
+            mpi_id_rank_add(&r, f.v[k]);
     size_t k = mpi_id_rank_finish(&r);
     s->ids = large_malloc((k ? k : 1) * sizeof *s->ids);
     s->part = large_malloc((k ? k : 1) * sizeof *s->part);
@@ -149,15 +155,19 @@ static int sub_vertices_ranked(mpi_part *p, local_sub *s, const uint32_t *own, s
               : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
     if (!*st) {
         mpi_id_rank_list(&r, s->ids);
-        for (size_t at = 0, n = 0; at < nw; at += mpi_face_record_words(w[at + 2]))
-            for (uint32_t c = 0, d = w[at + 2]; c < d; c++, n++) {
-                uint32_t i = mpi_id_rank_of(&r, w[at + 3 + c]);
-                s->part[i] = w[at + 3 + d + c]; /* the same for every copy */
+        size_t n = 0, fi = 0;
+        for (face_cursor c = FACE_CURSOR_START; face_next(src, &c, &f, &tag); fi++) {
+            for (uint32_t j = 0; j < f.d; j++, n++) {
+                uint32_t i = mpi_id_rank_of(&r, f.v[j]);
+                s->part[i] = f.part[j]; /* the same for every copy */
                 if (out)
-                    out[n] = i;
+                    out->idx[n] = i;
                 else
-                    w[at + 3 + d + c] = i;
+                    f.part[j] = i;
             }
+            if (out)
+                sub_face_end(out, fi, n, f.id);
+        }
         /* own increases: so do their places, the owned rows' order */
         for (size_t i = 0; i < n_own; i++) {
             s->owned[i] = mpi_id_rank_of(&r, own[i]);
@@ -171,17 +181,18 @@ static int sub_vertices_ranked(mpi_part *p, local_sub *s, const uint32_t *own, s
     return 1;
 }
 
-/* The sub-mesh's vertices: owned ones (own, increasing) and those of the
-   received faces (span: sort_records'), increasing, each with its part
-   (s->ids, s->part, s->owned). Each corner's vertex's sub-mesh index then
-   goes to out (in the records' order), or without out over the corner's
-   part word in w. By the ranks of a bitmap when the ids' range is at most
-   32 times their count (mpi_local_distinct's rule), else through
-   mpi_local_distinct. */
+/* The sub-mesh's vertices: owned ones (own, increasing) and those of its
+   faces (span: sort_faces'), increasing, each with its part (s->ids,
+   s->part, s->owned). Each corner's vertex's sub-mesh index then goes to
+   out with the faces' offsets and ids (the walk in face id order), or
+   without out over the corner's part. By the
+   ranks of a bitmap when the ids' range is at most 32 times their count
+   (mpi_local_distinct's rule), else through mpi_local_distinct. */
 static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, size_t n_own,
-                                uint32_t *w, size_t nw, const records_span *span, uint32_t *out)
+                                const face_source *src, const records_span *span,
+                                const sub_faces *out)
 {
-    size_t nc = span->nc, k = 0;
+    size_t nc = span->nc, k = 0, tag;
     uint32_t lo = span->lo, hi = span->hi;
     if (n_own) { /* own increases */
         lo = own[0] < lo ? own[0] : lo;
@@ -189,7 +200,7 @@ static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, 
     }
     limn_status ranked_st = LIMN_OK;
     if (n_own + nc > 0 && (uint64_t)hi - lo + 1 <= 32 * (uint64_t)(n_own + nc) &&
-        sub_vertices_ranked(p, s, own, n_own, w, nw, lo, hi, out, &ranked_st))
+        sub_vertices_ranked(p, s, own, n_own, src, lo, hi, out, &ranked_st))
         return ranked_st;
     size_t cap = n_own + nc, n = n_own;
     uint32_t *all = large_malloc((cap ? cap : 1) * sizeof *all);
@@ -200,23 +211,28 @@ static limn_status sub_vertices(mpi_part *p, local_sub *s, const uint32_t *own, 
     limn_status st = all && index && s->ids && s->part && s->owned
                          ? LIMN_OK
                          : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
+    face_view f;
     if (!st) { /* the owned ids, then every corner's */
         memcpy(all, own, n_own * sizeof *all);
-        for (size_t at = 0; at < nw; at += mpi_face_record_words(w[at + 2]))
-            for (uint32_t c = 0, d = w[at + 2]; c < d; c++)
-                all[n++] = w[at + 3 + c];
+        for (face_cursor c = FACE_CURSOR_START; face_next(src, &c, &f, &tag);)
+            for (uint32_t j = 0; j < f.d; j++)
+                all[n++] = f.v[j];
         st = mpi_local_distinct(p->ctx, all, cap, s->ids, &k, index);
     }
     free(all);
     n = n_own;
-    for (size_t at = 0; !st && at < nw; at += mpi_face_record_words(w[at + 2]))
-        for (uint32_t c = 0, d = w[at + 2]; c < d; c++, n++) {
-            s->part[index[n]] = w[at + 3 + d + c]; /* the same for every copy */
+    size_t fi = 0;
+    for (face_cursor c = FACE_CURSOR_START; !st && face_next(src, &c, &f, &tag); fi++) {
+        for (uint32_t j = 0; j < f.d; j++, n++) {
+            s->part[index[n]] = f.part[j]; /* the same for every copy */
             if (out)
-                out[n - n_own] = index[n];
+                out->idx[n - n_own] = index[n];
             else
-                w[at + 3 + d + c] = index[n];
+                f.part[j] = index[n];
         }
+        if (out)
+            sub_face_end(out, fi, n - n_own, f.id);
+    }
     for (size_t i = 0; !st && i < n_own; i++)
         s->part[index[i]] = (uint32_t)p->rank;
     free(index);
@@ -247,12 +263,15 @@ static limn_status sub_positions(limn_context *ctx, limn_mesh *m, size_t n)
     return LIMN_OK;
 }
 
-/* The received records' last reader is done: freed (per-rank peak). */
-static void free_records(uint32_t **words, face_rec **recs)
+/* The faces' last reader is done: the received records, the own corners'
+   parts and the sorted order freed (per-rank peak). */
+static void free_faces(face_source *src, face_rec **recs)
 {
-    free(*words);
+    free(src->w);
+    free(src->cp);
     free(*recs);
-    *words = NULL;
+    src->w = src->cp = NULL;
+    src->nw = src->nlow = src->count = 0;
     *recs = NULL;
 }
 
@@ -261,14 +280,14 @@ static void free_records(uint32_t **words, face_rec **recs)
    its census, with no report asked and its warnings dropped (sub_mesh), only
    cost time, and the operator builds the topology the repair would have
    cached. So a sub-mesh without a repeated corner (every sub-mesh of a mesh
-   limn_mpi_mesh_repair has seen; may_repeat 0: sort_records found none) is
+   limn_mpi_mesh_repair has seen; may_repeat 0: sort_faces found none) is
    left as it is unless duplicates are to be removed: the same faces, the
    same operator. */
 static limn_status sub_repair(limn_context *ctx, limn_mesh *m, const limn_repair_options *repair,
                               int may_repeat)
 {
     if (!repair || !repair->duplicate_faces) {
-        if (!may_repeat) /* sort_records saw every face */
+        if (!may_repeat) /* sort_faces saw every face */
             return LIMN_OK;
         size_t first = SIZE_MAX;
         uint32_t v = 0;
@@ -280,38 +299,30 @@ static limn_status sub_repair(limn_context *ctx, limn_mesh *m, const limn_repair
 }
 
 /* The sub-mesh's faces (by increasing id, local vertex numbers) written
-   into m (allocated for them: no copy; its indices there already when
-   indexed, sub_vertices having written them), then repaired; the records
-   (*words, *recs) are freed once the faces are out of them. Its indices are
-   below its vertex count by construction and its positions are the
-   input's, checked by the callers with global names (mpi_mesh_check): none
-   of limn_mesh_create's checks and copies. */
-static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in,
+   into m (allocated for them: no copy; already there when indexed,
+   sub_vertices having written them) with their ids (ids, when asked), then
+   repaired; the faces' sources (src, *recs) are freed once the faces are
+   out of them. Its indices are below its vertex count by construction and
+   its positions are the input's, checked by the callers with global names
+   (mpi_mesh_check): none of limn_mesh_create's checks and copies. */
+static limn_status sub_mesh(mpi_part *p, face_source *src, face_rec **recs_in,
                             const records_span *span, int indexed,
-                            const limn_repair_options *repair, limn_mesh *m, uint64_t **face_ids)
+                            const limn_repair_options *repair, limn_mesh *m, uint64_t *ids)
 {
-    size_t nf = span->nf;
-    const uint32_t *w = *words;
     const face_rec *recs = *recs_in;
     uint32_t *off = m->face_offsets, *idx = m->face_indices;
-    uint64_t *ids = face_ids ? large_malloc((nf ? nf : 1) * sizeof *ids) : NULL;
-    limn_status st = ids || !face_ids
-                         ? LIMN_OK
-                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", nf);
+    face_view f;
     off[0] = 0;
-    for (size_t i = 0, k = 0, at = 0; !st && i < nf; i++) {
-        size_t here = record_next(w, recs, i, &at);
-        const uint32_t *r = w + here;
-        for (uint32_t c = 0; c < r[2] && !indexed; c++)
-            idx[k + c] = r[3 + r[2] + c]; /* sub_vertices left the local index there */
-        k += r[2];
+    for (size_t i = 0, k = 0; !indexed && i < span->nf; i++) {
+        face_view_at(src, recs[i].tag, &f);
+        for (uint32_t j = 0; j < f.d; j++)
+            idx[k + j] = f.part[j]; /* sub_vertices left the local index there */
+        k += f.d;
         off[i + 1] = (uint32_t)k;
         if (ids)
-            ids[i] = record_id(w, here);
+            ids[i] = f.id;
     }
-    if (face_ids)
-        *face_ids = ids;
-    free_records(words, recs_in);
+    free_faces(src, recs_in);
     /* the caller's warnings are kept; the sub-mesh's repair warnings are
        dropped: they number its own faces and see only its part of the mesh */
     limn_context *ctx = p->ctx;
@@ -319,8 +330,7 @@ static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in,
     size_t warnings_len = ctx->warnings_len;
     ctx->warnings = NULL;
     ctx->warnings_len = 0;
-    if (!st)
-        st = sub_repair(ctx, m, repair, span->may_repeat);
+    limn_status st = sub_repair(ctx, m, repair, span->may_repeat);
     free(ctx->warnings);
     ctx->warnings = warnings;
     ctx->warnings_len = warnings_len;
@@ -328,18 +338,18 @@ static limn_status sub_mesh(mpi_part *p, uint32_t **words, face_rec **recs_in,
 }
 
 typedef struct local_tmp {
-    uint32_t *own, *words;
+    uint32_t *own;
+    face_source src;
     face_rec *recs;
     limn_mesh *mesh;
-    size_t nown, nw; /* entries of the arrays above */
+    size_t nown; /* entries of own */
     records_span span;
 } local_tmp;
 
 static void tmp_free(local_tmp *t)
 {
     free(t->own);
-    free(t->words);
-    free(t->recs);
+    free_faces(&t->src, &t->recs);
     limn_mesh_destroy(t->mesh);
 }
 
@@ -350,21 +360,29 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
                              const uint32_t *face_indices, const limn_repair_options *repair,
                              uint64_t **face_ids)
 {
-    limn_status st = mpi_local_send_faces(p, s, vtxdist, part_of, face_begin, face_count,
-                                          face_offsets, face_indices, repair, &t->words, &t->nw);
+    face_source *src = &t->src;
+    *src = (face_source){.begin = face_begin, .count = face_count, .off = face_offsets,
+                         .idx = face_indices, .me = (uint32_t)p->rank};
+    limn_status st =
+        mpi_local_send_faces(p, s, vtxdist, part_of, face_begin, face_count, face_offsets,
+                             face_indices, repair, &src->cp, &src->w, &src->nw, &src->nlow);
     if (!st)
         st = owned_ids(p, s, vtxdist, part_of, &t->own, &t->nown);
     if (!st)
-        st = sort_records(p, t->words, t->nw, &t->recs, &t->span);
-    /* records in face order (the usual case): each corner's sub-mesh index
-       goes straight to the mesh's faces, allocated first, the positions once
-       the vertices are counted; else through the records (sub_mesh) */
+        st = sort_faces(p, src, &t->recs, &t->span);
+    /* faces in id order (the usual case): each corner's sub-mesh index goes
+       straight to the mesh's faces, allocated first, the positions once the
+       vertices are counted; else over the corners' parts (sub_mesh) */
     int indexed = !st && !t->recs;
-    if (indexed)
-        st = mesh_alloc(p->ctx, 0, t->span.nf, t->span.nc, &t->mesh);
+    size_t nf = t->span.nf;
+    if (!st && face_ids && !(*face_ids = large_malloc((nf ? nf : 1) * sizeof **face_ids)))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", nf);
+    if (!st && indexed)
+        st = mesh_alloc(p->ctx, 0, nf, t->span.nc, &t->mesh);
+    sub_faces out = {indexed ? t->mesh->face_indices : NULL,
+                     indexed ? t->mesh->face_offsets : NULL, face_ids ? *face_ids : NULL};
     if (!st)
-        st = sub_vertices(p, s, t->own, t->nown, t->words, t->nw, &t->span,
-                          indexed ? t->mesh->face_indices : NULL);
+        st = sub_vertices(p, s, t->own, t->nown, src, &t->span, indexed ? &out : NULL);
     free(t->own);
     t->own = NULL;
     if (!st && indexed)
@@ -376,7 +394,8 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
         st = mpi_local_fetch(p, s, vtxdist, s->ids, s->n, positions, 3 * sizeof(double),
                              t->mesh->positions);
     if (!st)
-        st = sub_mesh(p, &t->words, &t->recs, &t->span, indexed, repair, t->mesh, face_ids);
+        st = sub_mesh(p, src, &t->recs, &t->span, indexed, repair, t->mesh,
+                      face_ids ? *face_ids : NULL);
     st = mpi_agree(p, st);
     if (s->stats) {
         s->stats->faces_received = t->span.nf;
