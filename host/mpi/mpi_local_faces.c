@@ -42,6 +42,8 @@ typedef struct faces_out {
     uint32_t **next; /* per part: where its next record goes */
     size_t nparts;
     uint32_t me;     /* this rank: its own faces are read in place, not sent */
+    const uint32_t *cross; /* the faces with another part among their corners */
+    size_t ncross;
 } faces_out;
 
 /* Whether all d corners' parts cp are me: the usual face, sent nowhere. */
@@ -53,20 +55,19 @@ static int face_only_mine(const uint32_t *cp, uint32_t d, uint32_t me)
     return other == 0;
 }
 
-/* Every face's record at the next place of each other distinct part among
-   its corners, from to[part] on (mpi_local_alltoallv_packed): in face order
-   within a part, as one send buffer in rank order had them. */
+/* Every crossing face's record at the next place of each other distinct
+   part among its corners, from to[part] on (mpi_local_alltoallv_packed): in
+   face order within a part, as one send buffer in rank order had them. */
 static void pack_faces(void *user, char *const *to)
 {
     const faces_out *o = user;
     const faces_in *f = o->f;
     for (size_t r = 0; r < o->nparts; r++)
         o->next[r] = (uint32_t *)to[r];
-    for (size_t i = 0; i < f->count; i++) {
+    for (size_t j = 0; j < o->ncross; j++) {
+        size_t i = o->cross[j];
         const uint32_t *v = f->idx + f->off[i], *cp = o->corner_part + f->off[i];
         uint32_t d = f->off[i + 1] - f->off[i];
-        if (face_only_mine(cp, d, o->me))
-            continue;
         size_t np = face_parts(cp, d, o->parts);
         uint64_t id = f->begin + i;
         for (size_t k = 0; k < np; k++) {
@@ -97,15 +98,18 @@ static limn_status send_to_parts(mpi_part *p, const faces_in *f, const uint32_t 
         maxd = f->off[i + 1] - f->off[i] > maxd ? f->off[i + 1] - f->off[i] : maxd;
     int *cnt = calloc(2 * R, sizeof *cnt), *rcnt = cnt + R;
     size_t *words = calloc(R, sizeof *words);
+    /* pages past the crossing faces' count never touched */
+    uint32_t *cross = large_malloc((f->count ? f->count : 1) * sizeof *cross);
     faces_out o = {f, corner_part, large_malloc((maxd ? maxd : 1) * sizeof(uint32_t)),
-                   large_malloc(R * sizeof(uint32_t *)), R, me};
+                   large_malloc(R * sizeof(uint32_t *)), R, me, cross, 0};
     limn_status st = LIMN_OK;
-    if (!cnt || !words || !o.parts || !o.next)
+    if (!cnt || !words || !o.parts || !o.next || !cross)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory sending faces");
     for (size_t i = 0; !st && i < f->count; i++) {
         uint32_t d = f->off[i + 1] - f->off[i];
         if (face_only_mine(corner_part + f->off[i], d, me))
             continue;
+        cross[o.ncross++] = (uint32_t)i;
         size_t np = face_parts(corner_part + f->off[i], d, o.parts);
         for (size_t k = 0; k < np; k++)
             words[o.parts[k]] += mpi_face_record_words(d);
@@ -123,6 +127,7 @@ static limn_status send_to_parts(mpi_part *p, const faces_in *f, const uint32_t 
     for (size_t r = 0; !st && r < me; r++)
         *nlow += (size_t)rcnt[r];
     *recv = got;
+    free(cross);
     free(cnt);
     free(words);
     free(o.parts);
