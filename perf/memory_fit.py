@@ -144,9 +144,19 @@ def main():
     if not os.path.exists(os.path.join(a.build, "perf", "read_bench")):
         sys.exit("perf/read_bench is missing: bash scripts/build.sh -DLIMN_BUILD_PERF=ON")
     cases = QUICK if a.quick else CASES
-    if a.cases:
+    if a.cases is not None:
         every = {**CASES, **QUICK}
-        cases = {n: every[n] for n in a.cases.split(",")}
+        names = [n for n in a.cases.split(",") if n]
+        unknown = [n for n in names if n not in every]
+        if unknown or not names:
+            sys.exit(f"--cases {a.cases!r}: " + (f"no case named {', '.join(unknown)}; "
+                                                 if unknown else "no case given; ")
+                     + f"the cases are {', '.join(every)}")
+        cases = {n: every[n] for n in names}
+    devices = [d for d in a.devices.split(",") if d]
+    if not devices or any(d != "reference" and d.split(":")[0] != "opencl" for d in devices):
+        sys.exit(f"--devices {a.devices!r}: give limn's --device specs (reference, opencl, "
+                 "opencl:P.D, opencl:NAME), comma-separated")
     work = a.work or tempfile.mkdtemp(prefix="limn_memory_fit_")
     os.makedirs(work, exist_ok=True)
     rows = []
@@ -155,7 +165,7 @@ def main():
     print("|---|---:|---:|---|---|---|---|---:|---:|---:|")
     for name, case in cases.items():
         mesh = make_mesh(a, limn, work, name, case)
-        for device in a.devices.split(","):
+        for device in devices:
             for method, precision in CONFIGS:
                 r, entries = run(limn, mesh, work, method, precision, device)
                 k = estimate_class(method, precision, r["vertices"])
