@@ -379,8 +379,10 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu faces", nf);
     if (!st && indexed)
         st = mesh_alloc(p->ctx, 0, nf, t->span.nc, &t->mesh);
-    sub_faces out = {indexed ? t->mesh->face_indices : NULL,
-                     indexed ? t->mesh->face_offsets : NULL, face_ids ? *face_ids : NULL};
+    sub_faces out = {NULL, NULL, NULL};
+    if (!st && indexed) /* t->mesh allocated */
+        out = (sub_faces){t->mesh->face_indices, t->mesh->face_offsets,
+                          face_ids ? *face_ids : NULL};
     if (!st)
         st = sub_vertices(p, s, t->own, t->nown, src, &t->span, indexed ? &out : NULL);
     free(t->own);
