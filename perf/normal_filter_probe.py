@@ -1,0 +1,155 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Issue 16's fandisk 0.2 miss, session 28's probes (docs/series.md, "A data
+term in the normal filter, the range width per product, and one global
+fit"): a re-implementation of `limn denoise --preserve-features` (bilateral
+face-normal products, adaptive later rounds, Sun's sweeps with the
+tangential pull) with (1) a data term, n <- normalise((1 - b) W n + b n0),
+(2) the range width set before every product from the current normals, and
+(3) the error of the filtered normals themselves and of one global
+least-squares fit to them. On the meshes `feature_bench --write` leaves:
+
+    build/perf/feature_bench --meshes ../shared/meshes --sigma 0.2 --write /tmp/fb/0.2
+    python3 perf/normal_filter_probe.py /tmp/fb/0.2 fandisk_quads
+
+Prints the mean face-normal error (degrees, against the clean mesh) of each
+setting. Needs numpy, scipy, plyfile.
+"""
+import argparse
+import os
+import sys
+
+import numpy as np
+import scipy.sparse as sp
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from normal_choice_oracle import angles, by_size, face_rings, fit_to_normals, read_ply  # noqa: E402
+
+
+class Mesh:
+    def __init__(self, path):
+        self.noisy, faces = read_ply(path)
+        self.nv, self.nf = len(self.noisy), len(faces)
+        self.groups = by_size(faces)
+        ring = face_rings(self.groups, self.nv, self.nf).tocoo()
+        self.ri, self.rj = ring.row, ring.col
+        self.vi = np.concatenate([idx.ravel() for _, idx in self.groups.values()])
+        self.fi = np.concatenate([np.repeat(ids, idx.shape[1]) for ids, idx in self.groups.values()])
+        self.degree = np.bincount(self.vi, minlength=self.nv).astype(float)
+
+    def faces(self, x):
+        """Unit Newell normals, centroids and areas."""
+        n, c, a = np.zeros((self.nf, 3)), np.zeros((self.nf, 3)), np.zeros(self.nf)
+        for ids, idx in self.groups.values():
+            p = x[idx]
+            q = np.roll(p, -1, axis=1)
+            m = np.stack([((p[..., 1] - q[..., 1]) * (p[..., 2] + q[..., 2])).sum(1),
+                          ((p[..., 2] - q[..., 2]) * (p[..., 0] + q[..., 0])).sum(1),
+                          ((p[..., 0] - q[..., 0]) * (p[..., 1] + q[..., 1])).sum(1)], 1)
+            length = np.linalg.norm(m, axis=1)
+            a[ids] = 0.5 * length
+            n[ids] = m / np.maximum(length, 1e-300)[:, None]
+            c[ids] = p.mean(1)
+        return n, c, a
+
+    def spacing(self, c):
+        d = np.sqrt(((c[self.ri] - c[self.rj]) ** 2).sum(1))
+        return d[self.ri != self.rj].mean()
+
+    def median_difference(self, n):
+        d = np.sqrt(((n[self.ri] - n[self.rj]) ** 2).sum(1))
+        return np.median(d[self.ri != self.rj])
+
+    def product(self, n, c, a, sigma_r, sigma_s):
+        """W n renormalised: the feature mode's bilateral rows."""
+        d2 = ((c[self.ri] - c[self.rj]) ** 2).sum(1)
+        r2 = ((n[self.ri] - n[self.rj]) ** 2).sum(1)
+        w = a[self.rj] * np.exp(-d2 / (2 * sigma_s ** 2) - r2 / (2 * sigma_r ** 2))
+        W = sp.csr_matrix((w, (self.ri, self.rj)), shape=(self.nf, self.nf))
+        return W @ n / np.asarray(W.sum(1))
+
+    def sweeps(self, n, x, steps, tangential):
+        """Sun et al.'s Jacobi sweeps plus the feature mode's tangential pull."""
+        for _ in range(steps):
+            _, c, a = self.faces(x)
+            h = (n[self.fi] * (c[self.fi] - x[self.vi])).sum(1)
+            d, m, t = np.zeros_like(x), np.zeros_like(x), np.zeros_like(x)
+            np.add.at(d, self.vi, h[:, None] * n[self.fi])
+            np.add.at(m, self.vi, a[self.fi][:, None] * n[self.fi])
+            np.add.at(t, self.vi, c[self.fi] - x[self.vi])
+            m /= np.maximum(np.linalg.norm(m, axis=1, keepdims=True), 1e-300)
+            t -= (t * m).sum(1, keepdims=True) * m
+            x = x + (d + tangential * t) / self.degree[:, None]
+        return x
+
+
+def unit(v):
+    return v / np.linalg.norm(v, axis=1, keepdims=True)
+
+
+def feature_mode(mesh, outer=3, products=10, sweeps=10, sigma_r=0.35, tangential=0.1,
+                 beta=0.0, beta_later=None, per_product_gain=None):
+    """The feature mode's rounds; beta the data term's weight (beta_later in
+    rounds 2.. when given); per_product_gain: the range width before every
+    product, gain x the median difference (at most sigma_r, at least 0.05)."""
+    x = mesh.noisy.copy()
+    sigma_s = mesh.spacing(mesh.faces(x)[1])
+    for k in range(outer):
+        n, c, a = mesh.faces(x)
+        start = n.copy()
+        count = products if k == 0 else (products + 1) // 2
+        width = sigma_r if k == 0 else max(1.5 * mesh.median_difference(n), 0.05)
+        b = beta if k == 0 or beta_later is None else beta_later
+        for _ in range(count):
+            if per_product_gain:
+                width = min(sigma_r, max(per_product_gain * mesh.median_difference(n), 0.05))
+            m = mesh.product(n, c, a, width, sigma_s)
+            n = unit((1 - b) * m + b * start)
+        x = mesh.sweeps(n, x, sweeps, tangential)
+    return x
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("dir", help="a folder feature_bench --write filled")
+    ap.add_argument("mesh", nargs="?", default="fandisk_quads")
+    args = ap.parse_args()
+    mesh = Mesh(os.path.join(args.dir, f"{args.mesh}_noisy.ply"))
+    clean_normals = mesh.faces(read_ply(os.path.join(args.dir, f"{args.mesh}_clean.ply"))[0])[0]
+
+    def error(x):
+        return angles(clean_normals, mesh.faces(x)[0]).mean()
+
+    print(f"noisy {error(mesh.noisy):.2f}, feature mode (re-implemented) {error(feature_mode(mesh)):.2f}")
+    print("(1) data term: beta, first-round products, later rounds' beta -> error")
+    for beta in (0.05, 0.1, 0.2, 0.3):
+        for products in (10, 20, 40):
+            for later in (None, 0.0):
+                x = feature_mode(mesh, products=products, beta=beta, beta_later=later)
+                print(f"  {beta} {products} {'same' if later is None else 'none'}: {error(x):.2f}")
+    print("(2) range width per product: gain, products, rounds -> error")
+    for gain in (1.0, 1.5, 2.0, 3.0):
+        for products in (5, 10, 20):
+            for outer in (1, 2, 3):
+                x = feature_mode(mesh, outer=outer, products=products, per_product_gain=gain)
+                print(f"  {gain} {products} {outer}: {error(x):.2f}")
+    print("(3) one round: the filtered normals, 10 sweeps, one global fit (lambda), 3 sweeps after")
+    _, c, _ = mesh.faces(mesh.noisy)
+    sigma_s = mesh.spacing(c)
+    for products in (5, 10):
+        n, c, a = mesh.faces(mesh.noisy)
+        for _ in range(products):
+            n = unit(mesh.product(n, c, a, 0.35, sigma_s))
+        print(f"  {products} products: normals {angles(n, clean_normals).mean():.2f}, "
+              f"10 sweeps {error(mesh.sweeps(n, mesh.noisy, 10, 0.1)):.2f}")
+        for lam in (0.001, 0.01, 0.03, 0.1, 0.3):
+            x = fit_to_normals(mesh.noisy, mesh.groups, n, lam)
+            print(f"    lambda {lam}: fit {error(x):.2f}, then 3 sweeps "
+                  f"{error(mesh.sweeps(n, x, 3, 0.1)):.2f}")
+    for steps in (10, 30, 100):
+        print(f"  clean normals, {steps} sweeps: {error(mesh.sweeps(clean_normals, mesh.noisy, steps, 0.0)):.2f}"
+              f" (pull 0.1: {error(mesh.sweeps(clean_normals, mesh.noisy, steps, 0.1)):.2f})")
+
+
+if __name__ == "__main__":
+    main()
