@@ -30,7 +30,10 @@ turns, each round starting one configuration later (a run's fresh memory here
 depends on the run before it), each configuration's median set-up kept (every
 round's printed), and the set-up with each stage at its best round (the
 comparison where fresh memory is fast, as on bare metal: `setup_best_stages`
-and every round's stages, `rounds_setup_parts`, in the JSON). It
+and every round's stages, `rounds_setup_parts`, in the JSON), and the rounds
+2 ranks are the faster in with a sign test's p and the median of the rounds'
+ratios with a 90% bootstrap interval (whether a difference is more than the
+VM's spread). It
 checks every output is the single process's bytes (cmp) and prints per rank:
 peak resident bytes and the worst rank's ratio to the single process's,
 set-up seconds (load + partition + local rows; one process: load + topology +
@@ -45,6 +48,8 @@ import argparse
 import json
 import math
 import os
+import random
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -523,8 +528,30 @@ def print_setup_scaling(mesh, rows):
               f"{two['setup_best_stages'] / core[0]['setup_best_stages']:.2f}x")
         # the configurations take turns within a round: round k of each is a pair
         pairs = list(zip(core[0]["setup_rounds"], two["setup_rounds"]))
+        below = sum(b < a for a, b in pairs)
+        ratio, low, high = ratio_interval(pairs)
         print(f"{mesh}: set-up, round by round: 2 ranks below 1 rank on one core in "
-              f"{sum(b < a for a, b in pairs)} of {len(pairs)} rounds")
+              f"{below} of {len(pairs)} rounds (one-sided sign test p = "
+              f"{sign_test(below, len(pairs)):.3f}); the rounds' ratios 2 ranks / 1 core: "
+              f"median {ratio:.2f}x, 90% bootstrap interval {low:.2f}-{high:.2f}x")
+
+
+def sign_test(below, n):
+    """P(at least `below` of n rounds lower) if either configuration were as
+    likely to be the faster in a round: how surprising the count is by chance."""
+    return sum(math.comb(n, k) for k in range(below, n + 1)) / 2 ** n
+
+
+def ratio_interval(pairs, draws=4000):
+    """The median of the rounds' ratios (second / first: a round's pair ran
+    back to back, so the VM's drift between rounds cancels) and a 90% interval
+    of it by resampling the rounds (seeded: the same rounds print the same)."""
+    ratios = [b / a for a, b in pairs]
+    rng = random.Random(14)
+    medians = sorted(statistics.median(rng.choices(ratios, k=len(ratios)))
+                     for _ in range(draws))
+    return (statistics.median(ratios), medians[int(0.05 * draws)],
+            medians[int(0.95 * draws) - 1])
 
 
 def pipeline(args, limn, env):
