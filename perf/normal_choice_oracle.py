@@ -44,8 +44,8 @@ def by_size(faces):
     return {k: (np.array(ids), np.array([faces[i] for i in ids])) for k, ids in groups.items()}
 
 
-def face_normals(positions, groups, nfaces):
-    """Unit Newell normals."""
+def newell(positions, groups, nfaces):
+    """Newell vectors: twice each face's vector area."""
     normals = np.zeros((nfaces, 3))
     for ids, idx in groups.values():
         p = positions[idx]
@@ -53,6 +53,12 @@ def face_normals(positions, groups, nfaces):
         normals[ids] = np.stack([((p[..., 1] - q[..., 1]) * (p[..., 2] + q[..., 2])).sum(1),
                                  ((p[..., 2] - q[..., 2]) * (p[..., 0] + q[..., 0])).sum(1),
                                  ((p[..., 0] - q[..., 0]) * (p[..., 1] + q[..., 1])).sum(1)], 1)
+    return normals
+
+
+def face_normals(positions, groups, nfaces):
+    """Unit Newell normals."""
+    normals = newell(positions, groups, nfaces)
     return normals / np.linalg.norm(normals, axis=1, keepdims=True)
 
 

@@ -23,7 +23,8 @@ import numpy as np
 import scipy.sparse as sp
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from normal_choice_oracle import angles, by_size, face_rings, fit_to_normals, read_ply  # noqa: E402
+from normal_choice_oracle import (angles, by_size, face_rings, fit_to_normals,  # noqa: E402
+                                  newell, read_ply)
 
 
 class Mesh:
@@ -39,18 +40,12 @@ class Mesh:
 
     def faces(self, x):
         """Unit Newell normals, centroids and areas."""
-        n, c, a = np.zeros((self.nf, 3)), np.zeros((self.nf, 3)), np.zeros(self.nf)
+        m = newell(x, self.groups, self.nf)
+        length = np.linalg.norm(m, axis=1)
+        c = np.zeros((self.nf, 3))
         for ids, idx in self.groups.values():
-            p = x[idx]
-            q = np.roll(p, -1, axis=1)
-            m = np.stack([((p[..., 1] - q[..., 1]) * (p[..., 2] + q[..., 2])).sum(1),
-                          ((p[..., 2] - q[..., 2]) * (p[..., 0] + q[..., 0])).sum(1),
-                          ((p[..., 0] - q[..., 0]) * (p[..., 1] + q[..., 1])).sum(1)], 1)
-            length = np.linalg.norm(m, axis=1)
-            a[ids] = 0.5 * length
-            n[ids] = m / np.maximum(length, 1e-300)[:, None]
-            c[ids] = p.mean(1)
-        return n, c, a
+            c[ids] = x[idx].mean(1)
+        return m / np.maximum(length, 1e-300)[:, None], c, 0.5 * length
 
     def spacing(self, c):
         d = np.sqrt(((c[self.ri] - c[self.rj]) ** 2).sum(1))

@@ -98,6 +98,13 @@ typedef struct sfc_figures {
     double imbalance, seconds, cpu, travel;
 } sfc_figures;
 
+/* The rank that reads face f of nf: even blocks in the file's order, as the
+   slice reader splits them. */
+static uint32_t file_block(size_t f, size_t nf, int parts)
+{
+    return (uint32_t)(f * (size_t)parts / nf);
+}
+
 /* The share of the faces that leave the rank reading them: each rank reads
    an even block of the faces in the file's order (as the slice reader does)
    and sends a face on when a corner's part is not the rank's. */
@@ -106,7 +113,7 @@ static double faces_travelling(const limn_mesh *m, const uint32_t *part, int par
     size_t nf = limn_mesh_face_count(m), moved = 0;
     const uint32_t *off = limn_mesh_face_offsets(m), *idx = limn_mesh_face_indices(m);
     for (size_t f = 0; f < nf; f++) {
-        uint32_t block = (uint32_t)(f * (size_t)parts / nf);
+        uint32_t block = file_block(f, nf, parts);
         int leaves = 0;
         for (uint32_t c = off[f]; c < off[f + 1]; c++)
             leaves |= part[idx[c]] != block;
@@ -172,7 +179,7 @@ static int slices_run(limn_context *ctx, const limn_mesh *m, int parts, size_t *
     for (size_t v = 0; v < n; v++)
         part[v] = (uint32_t)parts - 1;
     for (size_t f = 0; f < nf; f++) {
-        uint32_t block = (uint32_t)(f * (size_t)parts / nf);
+        uint32_t block = file_block(f, nf, parts);
         for (uint32_t c = off[f]; c < off[f + 1]; c++)
             part[idx[c]] = block < part[idx[c]] ? block : part[idx[c]];
     }
