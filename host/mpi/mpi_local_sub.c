@@ -130,6 +130,27 @@ static void sub_face_end(const sub_faces *out, size_t fi, size_t n, uint64_t id)
         out->ids[fi] = id;
 }
 
+/* Every corner's vertex's sub-mesh index (its rank in r) to out, or over
+   the corner's part without out, and the vertex's part to s->part. */
+MPI_POPCNT_CLONES static void rank_corners(const mpi_id_rank *r, local_sub *s,
+                                           const face_source *src, const sub_faces *out)
+{
+    face_view f;
+    size_t n = 0, fi = 0, tag;
+    for (face_cursor c = FACE_CURSOR_START; face_next(src, &c, &f, &tag); fi++) {
+        for (uint32_t j = 0; j < f.d; j++, n++) {
+            uint32_t i = mpi_id_rank_of(r, f.v[j]);
+            s->part[i] = f.part[j]; /* the same for every copy */
+            if (out)
+                out->idx[n] = i;
+            else
+                f.part[j] = i;
+        }
+        if (out)
+            sub_face_end(out, fi, n, f.id);
+    }
+}
+
 /* sub_vertices by the ids' ranks (mpi_id_rank: no list of every corner,
    no sort); 0 when out of memory for the bitmap (nothing changed then). */
 static int sub_vertices_ranked(mpi_part *p, local_sub *s, const uint32_t *own, size_t n_own,
@@ -155,19 +176,7 @@ static int sub_vertices_ranked(mpi_part *p, local_sub *s, const uint32_t *own, s
               : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
     if (!*st) {
         mpi_id_rank_list(&r, s->ids);
-        size_t n = 0, fi = 0;
-        for (face_cursor c = FACE_CURSOR_START; face_next(src, &c, &f, &tag); fi++) {
-            for (uint32_t j = 0; j < f.d; j++, n++) {
-                uint32_t i = mpi_id_rank_of(&r, f.v[j]);
-                s->part[i] = f.part[j]; /* the same for every copy */
-                if (out)
-                    out->idx[n] = i;
-                else
-                    f.part[j] = i;
-            }
-            if (out)
-                sub_face_end(out, fi, n, f.id);
-        }
+        rank_corners(&r, s, src, out);
         /* own increases: so do their places, the owned rows' order */
         for (size_t i = 0; i < n_own; i++) {
             s->owned[i] = mpi_id_rank_of(&r, own[i]);
