@@ -7,7 +7,10 @@ face-normal products, adaptive later rounds, Sun's sweeps with the
 tangential pull) with (1) a data term, n <- normalise((1 - b) W n + b n0),
 (2) the range width set before every product from the current normals, and
 (3) the error of the filtered normals themselves and of one global
-least-squares fit to them. On the meshes `feature_bench --write` leaves:
+least-squares fit to them; and session 29's (4) the guide of Zhang et al.'s
+guided normal filtering (2015): each face's guide the mean normal of the
+most consistent patch containing it (vertex-ring or edge-ring patches), the
+range kernel on the guides. On the meshes `feature_bench --write` leaves:
 
     build/perf/feature_bench --meshes ../shared/meshes --sigma 0.2 --write /tmp/fb/0.2
     python3 perf/normal_filter_probe.py /tmp/fb/0.2 fandisk_quads
@@ -55,10 +58,12 @@ class Mesh:
         d = np.sqrt(((n[self.ri] - n[self.rj]) ** 2).sum(1))
         return np.median(d[self.ri != self.rj])
 
-    def product(self, n, c, a, sigma_r, sigma_s):
-        """W n renormalised: the feature mode's bilateral rows."""
+    def product(self, n, c, a, sigma_r, sigma_s, guide=None):
+        """W n renormalised: the feature mode's bilateral rows (the range
+        kernel on guide's normals when given)."""
+        g = n if guide is None else guide
         d2 = ((c[self.ri] - c[self.rj]) ** 2).sum(1)
-        r2 = ((n[self.ri] - n[self.rj]) ** 2).sum(1)
+        r2 = ((g[self.ri] - g[self.rj]) ** 2).sum(1)
         w = a[self.rj] * np.exp(-d2 / (2 * sigma_s ** 2) - r2 / (2 * sigma_r ** 2))
         W = sp.csr_matrix((w, (self.ri, self.rj)), shape=(self.nf, self.nf))
         return W @ n / np.asarray(W.sum(1))
@@ -104,6 +109,57 @@ def feature_mode(mesh, outer=3, products=10, sweeps=10, sigma_r=0.35, tangential
     return x
 
 
+def patch_guides(n, a, patches, pairs):
+    """Each face's guide: the area-weighted mean normal of the patch with the
+    least D x R among the patches around the faces of its own patch (D the
+    largest normal difference in the patch, R the largest edge's share of the
+    patch's summed edge differences; Zhang et al. 2015)."""
+    nf = len(n)
+    members = [set(P.tolist()) for P in patches]
+    score, mean = np.empty(nf), np.empty((nf, 3))
+    for g, P in enumerate(patches):
+        inside = [(i, j) for i, j in pairs if i in members[g] and j in members[g]]
+        phi = np.array([np.linalg.norm(n[i] - n[j]) for i, j in inside] or [0.0])
+        spread = np.sqrt(((n[P][:, None] - n[P][None]) ** 2).sum(2)).max()
+        score[g] = spread * phi.max() / (1e-9 + phi.sum())
+        mean[g] = unit((a[P][:, None] * n[P]).sum(0)[None])[0]
+    return np.array([mean[P[np.argmin(score[P])]] for P in patches])
+
+
+def guided_probe(mesh, clean_normals, error):
+    """(4): the guides' own error, and guided products then 10 sweeps."""
+    vertex_ring = [[] for _ in range(mesh.nf)]
+    for i, j in zip(mesh.ri, mesh.rj):
+        vertex_ring[i].append(j)
+    edge_faces = {}
+    for ids, idx in mesh.groups.values():
+        for f, vs in zip(ids, idx):
+            for k in range(len(vs)):
+                key = tuple(sorted((vs[k], vs[(k + 1) % len(vs)])))
+                edge_faces.setdefault(key, []).append(f)
+    pairs = [tuple(fs) for fs in edge_faces.values() if len(fs) == 2]
+    edge_ring = [[f] for f in range(mesh.nf)]
+    for i, j in pairs:
+        edge_ring[i].append(j)
+        edge_ring[j].append(i)
+    n0, c, a = mesh.faces(mesh.noisy)
+    sigma_s = mesh.spacing(c)
+    for label, ring in (("vertex-ring", vertex_ring), ("edge-ring", edge_ring)):
+        patches = [np.array(sorted(set(r))) for r in ring]
+        print(f"  {label} patches: the guide's error from the clean normals "
+              f"{angles(clean_normals, patch_guides(clean_normals, a, patches, pairs)).mean():.2f}, "
+              f"from the noisy ones {angles(clean_normals, patch_guides(n0, a, patches, pairs)).mean():.2f}")
+        for sigma_r in (0.2, 0.35):
+            for products in (3, 5, 10):
+                n = n0
+                for _ in range(products):
+                    g = patch_guides(n, a, patches, pairs)
+                    n = unit(mesh.product(n, c, a, sigma_r, sigma_s, guide=g))
+                print(f"    sigma_r {sigma_r}, {products} products: normals "
+                      f"{angles(clean_normals, n).mean():.2f}, 10 sweeps "
+                      f"{error(mesh.sweeps(n, mesh.noisy, 10, 0.1)):.2f}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dir", help="a folder feature_bench --write filled")
@@ -141,6 +197,8 @@ def main():
             x = fit_to_normals(mesh.noisy, mesh.groups, n, lam)
             print(f"    lambda {lam}: fit {error(x):.2f}, then 3 sweeps "
                   f"{error(mesh.sweeps(n, x, 3, 0.1)):.2f}")
+    print("(4) guided normal filtering's patch guides")
+    guided_probe(mesh, clean_normals, error)
     for steps in (10, 30, 100):
         print(f"  clean normals, {steps} sweeps: {error(mesh.sweeps(clean_normals, mesh.noisy, steps, 0.0)):.2f}"
               f" (pull 0.1: {error(mesh.sweeps(clean_normals, mesh.noisy, steps, 0.1)):.2f})")
