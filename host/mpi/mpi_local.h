@@ -209,7 +209,7 @@ static inline int mpi_ones64(uint64_t x)
     x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;
     return (int)((x * 0x0101010101010101u) >> 56);
 }
-/* On a function whose loop calls mpi_id_rank_of once per corner: a second
+/* On a function whose loop calls mpi_id_rank_of once per corner or id: a second
    copy for CPUs with POPCNT, picked at load time (GCC folds mpi_ones64 into
    the instruction there), the SWAR one elsewhere; nothing off x86-64 GCC. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)

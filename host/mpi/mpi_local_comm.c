@@ -361,6 +361,14 @@ void mpi_id_rank_free(mpi_id_rank *r)
     r->below = NULL;
 }
 
+/* index[i]: the rank of ids[i] (each added to r) for i < n. */
+MPI_POPCNT_CLONES static void rank_all(const mpi_id_rank *r, const uint32_t *ids, size_t n,
+                                       uint32_t *index)
+{
+    for (size_t i = 0; i < n; i++)
+        index[i] = mpi_id_rank_of(r, ids[i]);
+}
+
 /* mpi_local_distinct by a bitmap of [lo, hi] (mpi_id_rank); 0 when out of
    memory. */
 static int distinct_bitmap(const uint32_t *ids, size_t n, uint32_t lo, uint32_t hi,
@@ -373,8 +381,7 @@ static int distinct_bitmap(const uint32_t *ids, size_t n, uint32_t lo, uint32_t 
         mpi_id_rank_add(&r, ids[i]);
     *nd = mpi_id_rank_finish(&r);
     mpi_id_rank_list(&r, distinct);
-    for (size_t i = 0; i < n; i++)
-        index[i] = mpi_id_rank_of(&r, ids[i]);
+    rank_all(&r, ids, n, index);
     mpi_id_rank_free(&r);
     return 1;
 }
