@@ -115,10 +115,14 @@ def patch_guides(n, a, patches, pairs):
     largest normal difference in the patch, R the largest edge's share of the
     patch's summed edge differences; Zhang et al. 2015)."""
     nf = len(n)
-    members = [set(P.tolist()) for P in patches]
+    touching = [[] for _ in range(nf)]  # each face's edge pairs
+    for i, j in pairs:
+        touching[i].append((i, j))
+        touching[j].append((i, j))
     score, mean = np.empty(nf), np.empty((nf, 3))
     for g, P in enumerate(patches):
-        inside = [(i, j) for i, j in pairs if i in members[g] and j in members[g]]
+        members = set(P.tolist())
+        inside = {e for f in P for e in touching[f] if e[0] in members and e[1] in members}
         phi = np.array([np.linalg.norm(n[i] - n[j]) for i, j in inside] or [0.0])
         spread = np.sqrt(((n[P][:, None] - n[P][None]) ** 2).sum(2)).max()
         score[g] = spread * phi.max() / (1e-9 + phi.sum())

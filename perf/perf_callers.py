@@ -21,7 +21,7 @@ stack, "(other)" when none, and a sample in a page fault counts under
 "(page faults)" whatever its stage, so CPU work and fresh memory are apart.
 docs/mpi.md "Set-up CPU by stage (session 29)":
 
-    python3 perf/perf_callers.py --hz 8000 r1.data r2.data --stages \
+    python3 perf/perf_callers.py --hz 8000 r1.data r2.data --stages \\
         topology_build,stencil_build,ply_read,slice_ply_read,mpi_sfc_partition
 """
 import argparse
