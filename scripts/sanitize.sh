@@ -5,6 +5,7 @@
 # memory error, leak (PoCL's and LLVM's own are suppressed, tests/lsan.supp)
 # or undefined behaviour fails the test that hit it.
 #   LIMN_SANITIZE_DIR: build directory (default build-sanitize)
+#   LIMN_CTEST_JOBS: tests at once (default the cores, as scripts/test.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=${LIMN_SANITIZE_DIR:-build-sanitize}
@@ -18,4 +19,4 @@ cmake --build "$dir" -j "$(nproc)" >/dev/null
 export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0:use_tls=0"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
-ctest --test-dir "$dir" --output-on-failure
+ctest --test-dir "$dir" --output-on-failure -j "${LIMN_CTEST_JOBS:-$(nproc)}"

@@ -12,9 +12,14 @@
 #      LIMN_PYTHON_TESTS=0 skips).
 # Build directories: LIMN_BUILD_DIR (build), LIMN_FUZZ_DIR (build-fuzz),
 # LIMN_SANITIZE_DIR (build-sanitize).
+# ctest runs LIMN_CTEST_JOBS tests at a time (default: the cores); an MPI test
+# asks for as many as its ranks (PROCESSORS), so it runs alone on 2 cores:
+# ranks waiting in a collective spin, and beside other tests they slowed
+# 2-4x (one timed out at 4 tests at once on 2 cores).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/deps.sh --test
+export LIMN_CTEST_JOBS=${LIMN_CTEST_JOBS:-$(nproc)}
 start=$SECONDS
 bash scripts/build.sh -DLIMN_BUILD_TESTS=ON
 if [[ "${LIMN_FUZZ_SECONDS:-60}" != 0 ]]; then
@@ -33,7 +38,7 @@ if [[ "${LIMN_SANITIZE_RUN:-1}" != 0 ]]; then
     rm -f "$log"
 fi
 echo "== limn: the whole test suite ($((SECONDS - start)) s so far)"
-ctest --test-dir "${LIMN_BUILD_DIR:-build}" --output-on-failure
+ctest --test-dir "${LIMN_BUILD_DIR:-build}" --output-on-failure -j "$LIMN_CTEST_JOBS"
 if [[ "${LIMN_PYTHON_TESTS:-1}" != 0 ]]; then
     echo "== limn: the Python package (scripts/test_python.sh, $((SECONDS - start)) s so far)"
     bash scripts/test_python.sh
