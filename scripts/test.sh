@@ -12,10 +12,10 @@
 #      LIMN_PYTHON_TESTS=0 skips).
 # Build directories: LIMN_BUILD_DIR (build), LIMN_FUZZ_DIR (build-fuzz),
 # LIMN_SANITIZE_DIR (build-sanitize).
-# ctest runs LIMN_CTEST_JOBS tests at a time (default: the cores); an MPI test
-# asks for as many as its ranks (PROCESSORS), so it runs alone on 2 cores:
-# ranks waiting in a collective spin, and beside other tests they slowed
-# 2-4x (one timed out at 4 tests at once on 2 cores).
+# ctest runs LIMN_CTEST_JOBS tests at a time (default: the cores); each test
+# that launches ranks asks for 2 or 3 (PROCESSORS), so on 2 cores it runs alone:
+# ranks waiting in a collective spin, and beside other tests they slowed 2-4x (one
+# timed out at 4 tests at once on 2 cores).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/deps.sh --test
