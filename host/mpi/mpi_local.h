@@ -47,6 +47,9 @@ typedef struct local_sub {
     uint32_t *part;         /* owning rank of each */
     size_t n_owned;
     uint32_t *owned;        /* sub-mesh index of each owned vertex, increasing */
+    uint64_t *near;         /* a bit per sub-mesh vertex: owned, on a face with a vertex
+                               of another part (mpi_local_counts; the rows that may
+                               have ghost columns) */
     stencil_operator op;    /* the sub-mesh's operator (host only, input order) */
     mpi_local_stats *stats;
 } local_sub;
@@ -90,8 +93,10 @@ static inline size_t mpi_face_record_words(uint32_t d) { return 3 + 2 * (size_t)
    the others' from their block owners), checked first with global names:
    every part a rank, every face 3 or more vertices below vtxdist[size] and,
    with repair's repeated_vertices off, none twice in a face. *corner_part
-   (caller frees): the part of each corner of the range, which tells the
-   range's faces this rank keeps, read where they are. *recv (caller frees):
+   (caller frees): the part of each corner of the range; *mine (caller
+   frees): a bit per face of the range, set for those with this rank among
+   their corners' parts, the range's faces this rank keeps, read where they
+   are. *recv (caller frees):
    the records this rank gets from the others, each sender's in its face
    order, senders in rank order; *nrecv their words, *nlow those from lower
    ranks. Every rank gets the same status. */
@@ -99,7 +104,7 @@ limn_status mpi_local_send_faces(mpi_part *p, local_sub *s, const size_t *vtxdis
                                  const uint32_t *part_of, size_t face_begin, size_t face_count,
                                  const uint32_t *face_offsets, const uint32_t *face_indices,
                                  const limn_repair_options *repair, uint32_t **corner_part,
-                                 uint32_t **recv, size_t *nrecv, size_t *nlow);
+                                 uint64_t **mine, uint32_t **recv, size_t *nrecv, size_t *nlow);
 
 /* Collective (mpi_local_census.c): limn_mpi_mesh_repair's census and
    duplicate search read from the sub-meshes (lm->face_ids needed), in
@@ -237,7 +242,10 @@ limn_status mpi_local_rows(mpi_part *p, local_sub *s);
 
 /* Collective (mpi_local_comm.c): p->faces_global (each face counted by the
    lowest part among its vertices) and p->edge_cut (distinct edges between
-   parts, counted by the lower one) from the repaired sub-mesh m of s. */
-limn_status mpi_local_counts(mpi_part *p, const local_sub *s, const limn_mesh *m);
+   parts, counted by the lower one) from the repaired sub-mesh m of s, and
+   s->near (freed by mpi_local_rows): a row's columns are vertices of its
+   vertex's faces (the operator's stencils), so only a near row can have a
+   ghost column. */
+limn_status mpi_local_counts(mpi_part *p, local_sub *s, const limn_mesh *m);
 
 #endif

@@ -481,15 +481,30 @@ static void sum_counts(mpi_part *p, uint64_t *v, int n)
     MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_UINT64_T, MPI_SUM, p->comm);
 }
 
-limn_status mpi_local_counts(mpi_part *p, const local_sub *s, const limn_mesh *m)
+/* The owned vertices of the mixed faces (s->near, a bit each). */
+static void mark_near(local_sub *s, const limn_mesh *m, const uint32_t *mixed, size_t nm,
+                      uint32_t me)
+{
+    for (size_t i = 0; i < nm; i++)
+        for (uint32_t c = m->face_offsets[mixed[i]]; c < m->face_offsets[mixed[i] + 1]; c++) {
+            uint32_t v = m->face_indices[c];
+            if (s->part[v] == me)
+                s->near[v >> 6] |= (uint64_t)1 << (v & 63);
+        }
+}
+
+limn_status mpi_local_counts(mpi_part *p, local_sub *s, const limn_mesh *m)
 {
     size_t cut = 0, nm = 0, corners = 0;
     uint64_t counts[2] = {0, 0};
     /* pages past the mixed faces' entries (few: those across the cut) are
        never touched */
     uint32_t *mixed = large_malloc((m->face_count ? m->face_count : 1) * sizeof *mixed);
-    limn_status st = mixed ? LIMN_OK
-                           : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the edge cut");
+    free(s->near);
+    s->near = calloc((s->n + 63) / 64 + 1, sizeof *s->near);
+    limn_status st = mixed && s->near
+                         ? LIMN_OK
+                         : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the edge cut");
     for (size_t f = 0; !st && f < m->face_count; f++) {
         uint32_t b = m->face_offsets[f], end = m->face_offsets[f + 1];
         uint32_t low = s->part[m->face_indices[b]], high = low;
@@ -503,8 +518,10 @@ limn_status mpi_local_counts(mpi_part *p, const local_sub *s, const limn_mesh *m
         nm += low != high;
         corners += low != high ? end - b : 0;
     }
-    if (!st)
+    if (!st) {
+        mark_near(s, m, mixed, nm, (uint32_t)p->rank);
         st = local_cut(p, s, m, mixed, nm, corners, &cut);
+    }
     free(mixed);
     counts[1] = cut;
     st = mpi_agree(p, st);

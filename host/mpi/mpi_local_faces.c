@@ -46,15 +46,6 @@ typedef struct faces_out {
     size_t ncross;
 } faces_out;
 
-/* Whether all d corners' parts cp are me: the usual face, sent nowhere. */
-static int face_only_mine(const uint32_t *cp, uint32_t d, uint32_t me)
-{
-    uint32_t other = 0;
-    for (uint32_t c = 0; c < d; c++)
-        other |= cp[c] ^ me;
-    return other == 0;
-}
-
 /* Every crossing face's record at the next place of each other distinct
    part among its corners, from to[part] on (mpi_local_alltoallv_packed): in
    face order within a part, as one send buffer in rank order had them. */
@@ -86,33 +77,64 @@ static void pack_faces(void *user, char *const *to)
     }
 }
 
-/* Each face to every other distinct part among its vertices (records
+/* Where each corner's part comes from (corner_parts): part_of for an id of
+   this rank's block [lo, lo + nb), else its block owner's answer,
+   ref_part[index[j]] for the j-th such corner in corner order. */
+typedef struct part_source {
+    size_t lo, nb;
+    const uint32_t *part_of;
+    uint32_t *ref_part, *index;
+} part_source;
+
+/* Every corner's part into cp, in the one walk over the range's faces: *mine
+   (bits over the range: the faces with this rank among their corners'
+   parts, which the sub-mesh's walks take without reading cp again) and
+   each face to every other distinct part among its vertices (records
    above); *recv, *nrecv: the records this rank receives, *nlow the words of
    them from lower ranks. */
-static limn_status send_to_parts(mpi_part *p, const faces_in *f, const uint32_t *corner_part,
-                                 uint32_t **recv, size_t *nrecv, size_t *nlow)
+static limn_status send_to_parts(mpi_part *p, const faces_in *f, const part_source *ps,
+                                 uint32_t *cp, uint64_t **mine, uint32_t **recv, size_t *nrecv,
+                                 size_t *nlow)
 {
     size_t R = (size_t)p->size, maxd = 0;
     uint32_t me = (uint32_t)p->rank;
     for (size_t i = 0; i < f->count; i++)
         maxd = f->off[i + 1] - f->off[i] > maxd ? f->off[i + 1] - f->off[i] : maxd;
     int *cnt = calloc(2 * R, sizeof *cnt), *rcnt = cnt + R;
-    size_t *words = calloc(R, sizeof *words);
+    size_t *words = calloc(R, sizeof *words), nwords = (f->count + 63) / 64;
     /* pages past the crossing faces' count never touched */
     uint32_t *cross = large_malloc((f->count ? f->count : 1) * sizeof *cross);
-    faces_out o = {f, corner_part, large_malloc((maxd ? maxd : 1) * sizeof(uint32_t)),
+    uint64_t *bits = large_malloc((nwords ? nwords : 1) * sizeof *bits);
+    faces_out o = {f, cp, large_malloc((maxd ? maxd : 1) * sizeof(uint32_t)),
                    large_malloc(R * sizeof(uint32_t *)), R, me, cross, 0};
     limn_status st = LIMN_OK;
-    if (!cnt || !words || !o.parts || !o.next || !cross)
+    if (!cnt || !words || !o.parts || !o.next || !cross || !bits)
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory sending faces");
-    for (size_t i = 0; !st && i < f->count; i++) {
-        uint32_t d = f->off[i + 1] - f->off[i];
-        if (face_only_mine(corner_part + f->off[i], d, me))
-            continue;
-        cross[o.ncross++] = (uint32_t)i;
-        size_t np = face_parts(corner_part + f->off[i], d, o.parts);
-        for (size_t k = 0; k < np; k++)
-            words[o.parts[k]] += mpi_face_record_words(d);
+    /* a word's 64 faces at a time: their corners' parts in a loop of their
+       own (independent loads, many in flight), then the faces, cp in cache */
+    for (size_t w = 0, j = 0; !st && w < nwords; w++) {
+        size_t first = 64 * w, last = first + 64 < f->count ? first + 64 : f->count;
+        for (uint32_t c = f->off[first]; c < f->off[last]; c++) {
+            size_t v = f->idx[c] - ps->lo; /* wraps above nb below the block */
+            cp[c] = v < ps->nb ? ps->part_of[v] : ps->ref_part[ps->index[j++]];
+        }
+        uint64_t word = 0;
+        for (size_t i = first; i < last; i++) {
+            uint32_t b = f->off[i], e = f->off[i + 1], other = 0;
+            for (uint32_t c = b; c < e; c++)
+                other |= cp[c] ^ me;
+            int keep = other == 0; /* the usual face: all corners here, sent nowhere */
+            if (!keep) {
+                cross[o.ncross++] = (uint32_t)i;
+                size_t np = face_parts(cp + b, e - b, o.parts);
+                for (size_t k = 0; k < np; k++) {
+                    words[o.parts[k]] += mpi_face_record_words(e - b);
+                    keep |= o.parts[k] == me;
+                }
+            }
+            word |= (uint64_t)keep << (i - first);
+        }
+        bits[w] = word;
     }
     if (!st)
         words[me] = 0; /* read in place (mpi_local_sub.c) */
@@ -127,6 +149,11 @@ static limn_status send_to_parts(mpi_part *p, const faces_in *f, const uint32_t 
     for (size_t r = 0; !st && r < me; r++)
         *nlow += (size_t)rcnt[r];
     *recv = got;
+    if (st) {
+        free(bits);
+        bits = NULL;
+    }
+    *mine = bits;
     free(cross);
     free(cnt);
     free(words);
@@ -197,16 +224,18 @@ static limn_status far_corners(mpi_part *p, const faces_in *f, size_t lo, size_t
     return LIMN_OK;
 }
 
-/* The part of every face corner (*corner_part): part_of for a vertex of this
+/* Where the part of every face corner comes from (*ps, its arrays the
+   caller's to free with part_source_free): part_of for a vertex of this
    rank's block, the block owner's answer for the distinct others (fetched
    once each); checked first: each part is a rank, each face has 3 or more
    vertices below the total, and, with repair off, none repeats a vertex. */
 static limn_status corner_parts(mpi_part *p, local_sub *s, const size_t *vtxdist,
                                 const uint32_t *part_of, const faces_in *f,
-                                const limn_repair_options *repair, uint32_t **corner_part)
+                                const limn_repair_options *repair, part_source *ps)
 {
-    size_t lo = vtxdist[p->rank], nb = vtxdist[p->rank + 1] - lo, nc = f->off[f->count];
+    size_t lo = vtxdist[p->rank], nb = vtxdist[p->rank + 1] - lo;
     size_t bad = SIZE_MAX, nfar = 0, nref = 0;
+    *ps = (part_source){lo, nb, part_of, NULL, NULL};
     for (size_t i = 0; i < nb && bad == SIZE_MAX; i++)
         if (part_of[i] >= (uint32_t)p->size)
             bad = i;
@@ -215,57 +244,61 @@ static limn_status corner_parts(mpi_part *p, local_sub *s, const size_t *vtxdist
                          : ctx_fail(p->ctx, LIMN_ERR_ARGUMENT,
                                     "vertex %zu is given to part %u but there are %d ranks",
                                     lo + bad, part_of[bad], p->size);
-    uint32_t *far = NULL, *index = NULL, *ref = NULL, *ref_part = NULL, *cp = NULL;
+    uint32_t *far = NULL, *ref = NULL;
     if (!st)
         st = far_corners(p, f, lo, nb, vtxdist[p->size], &far, &nfar);
     if (!st && repair && !repair->repeated_vertices)
         st = refuse_repeats(p, f, vtxdist[p->size]);
     if (!st) {
-        index = large_malloc((nfar ? nfar : 1) * sizeof *index);
+        ps->index = large_malloc((nfar ? nfar : 1) * sizeof *ps->index);
         ref = large_malloc((nfar ? nfar : 1) * sizeof *ref);
-        cp = large_malloc((nc ? nc : 1) * sizeof *cp);
-        st = index && ref && cp ? mpi_local_distinct(p->ctx, far, nfar, ref, &nref, index)
-                                : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
-                                           "out of memory for %zu face corners", nc);
+        st = ps->index && ref ? mpi_local_distinct(p->ctx, far, nfar, ref, &nref, ps->index)
+                              : ctx_fail(p->ctx, LIMN_ERR_MEMORY,
+                                         "out of memory for %zu face corners", nfar);
     }
     free(far);
-    if (!st && !(ref_part = large_malloc((nref ? nref : 1) * sizeof *ref_part)))
+    if (!st && !(ps->ref_part = large_malloc((nref ? nref : 1) * sizeof *ps->ref_part)))
         st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu vertices", nref);
     mpi_local_note(s, nref);
     st = mpi_agree(p, st);
     if (!st)
-        st = mpi_local_fetch(p, s, vtxdist, ref, nref, part_of, sizeof(uint32_t), ref_part);
-    for (size_t c = 0, j = 0; !st && c < nc; c++) {
-        size_t v = f->idx[c] - lo; /* wraps above nb below the block */
-        cp[c] = v < nb ? part_of[v] : ref_part[index[j++]];
-    }
-    free(index);
+        st = mpi_local_fetch(p, s, vtxdist, ref, nref, part_of, sizeof(uint32_t), ps->ref_part);
     free(ref);
-    free(ref_part);
-    if (st) {
-        free(cp);
-        cp = NULL;
-    }
-    *corner_part = cp;
     return st;
+}
+
+static void part_source_free(part_source *ps)
+{
+    free(ps->index);
+    free(ps->ref_part);
+    ps->index = ps->ref_part = NULL;
 }
 
 limn_status mpi_local_send_faces(mpi_part *p, local_sub *s, const size_t *vtxdist,
                                  const uint32_t *part_of, size_t face_begin, size_t face_count,
                                  const uint32_t *face_offsets, const uint32_t *face_indices,
                                  const limn_repair_options *repair, uint32_t **corner_part,
-                                 uint32_t **recv, size_t *nrecv, size_t *nlow)
+                                 uint64_t **mine, uint32_t **recv, size_t *nrecv, size_t *nlow)
 {
     faces_in f = {face_begin, face_count, face_offsets, face_indices};
+    size_t nc = face_offsets[face_count];
+    part_source ps;
     *recv = NULL;
     *nrecv = *nlow = 0;
+    *mine = NULL;
     *corner_part = NULL;
-    limn_status st = corner_parts(p, s, vtxdist, part_of, &f, repair, corner_part);
+    limn_status st = corner_parts(p, s, vtxdist, part_of, &f, repair, &ps);
+    uint32_t *cp = NULL;
+    if (!st && !(cp = large_malloc((nc ? nc : 1) * sizeof *cp)))
+        st = ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for %zu face corners", nc);
+    st = mpi_agree(p, st);
     if (!st)
-        st = send_to_parts(p, &f, *corner_part, recv, nrecv, nlow);
+        st = send_to_parts(p, &f, &ps, cp, mine, recv, nrecv, nlow);
+    part_source_free(&ps);
     if (st) {
-        free(*corner_part);
-        *corner_part = NULL;
+        free(cp);
+        cp = NULL;
     }
+    *corner_part = cp;
     return st;
 }

@@ -62,7 +62,9 @@ static const uint32_t *row_begin(const local_sub *s, uint32_t o, uint32_t *len)
     return a->columns + a->row_offsets[o];
 }
 
-/* Ghost columns of the owned rows (flag bit 0), listed by (owner, id). */
+/* Ghost columns of the owned rows (flag bit 0), listed by (owner, id): only
+   the near rows' are read when s->near is there (mpi_local_counts), the
+   rest have none. */
 static limn_status find_ghosts(mpi_part *p, local_sub *s, rows_tmp *t)
 {
     size_t n = s->n, no = s->n_owned, R = (size_t)p->size;
@@ -81,8 +83,10 @@ static limn_status find_ghosts(mpi_part *p, local_sub *s, rows_tmp *t)
     for (size_t i = 0; i < no; i++)
         t->own_of[s->owned[i]] = (uint32_t)i;
     for (size_t i = 0; i < no; i++) {
-        uint32_t len;
-        const uint32_t *c = row_begin(s, s->owned[i], &len);
+        uint32_t len, o = s->owned[i];
+        if (s->near && !(s->near[o >> 6] >> (o & 63) & 1))
+            continue;
+        const uint32_t *c = row_begin(s, o, &len);
         for (uint32_t e = 0; e < len; e++)
             if (s->part[c[e]] != (uint32_t)p->rank) {
                 t->flag[i] |= 1;
@@ -368,6 +372,8 @@ limn_status mpi_local_rows(mpi_part *p, local_sub *s)
     rows_tmp t;
     memset(&t, 0, sizeof t);
     limn_status st = find_ghosts(p, s, &t);
+    free(s->near);
+    s->near = NULL;
     st = mpi_agree(p, st);
     if (!st)
         st = exchange_requests(p, s, &t);

@@ -278,8 +278,10 @@ static void free_faces(face_source *src, face_rec **recs)
 {
     free(src->w);
     free(src->cp);
+    free(src->mine);
     free(*recs);
     src->w = src->cp = NULL;
+    src->mine = NULL;
     src->nw = src->nlow = src->count = 0;
     *recs = NULL;
 }
@@ -374,7 +376,8 @@ static limn_status build_sub(mpi_part *p, local_sub *s, local_tmp *t, const size
                          .idx = face_indices, .me = (uint32_t)p->rank};
     limn_status st =
         mpi_local_send_faces(p, s, vtxdist, part_of, face_begin, face_count, face_offsets,
-                             face_indices, repair, &src->cp, &src->w, &src->nw, &src->nlow);
+                             face_indices, repair, &src->cp, &src->mine, &src->w, &src->nw,
+                             &src->nlow);
     if (!st)
         st = owned_ids(p, s, vtxdist, part_of, &t->own, &t->nown);
     if (!st)
@@ -446,6 +449,7 @@ void mpi_local_mesh_free(mpi_local_mesh *lm)
     free(lm->s.ids);
     free(lm->s.part);
     free(lm->s.owned);
+    free(lm->s.near);
     free(lm->pos);
     free(lm->face_ids);
     limn_mesh_destroy(lm->mesh);
