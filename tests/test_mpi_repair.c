@@ -17,7 +17,9 @@
 #include "support.h"
 
 #include "limn_mpi.h"
+#include "mpi/mpi_mesh.h"
 #include "topology/face_keys.h"
+#include "topology/topology.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -148,6 +150,8 @@ static void repair_case(limn_context *ctx, const char *name, const limn_mesh *me
     o.duplicate_faces = drop;
     o.sub_meshes = mode != 2;
     limn_repair_report rs = {.size = sizeof rs}, rd = {.size = sizeof rd};
+    mpi_mesh_counts counts; /* the single process's topology of its repaired mesh */
+    memset(&counts, 0, sizeof counts);
     char warned[4096] = "";
     int ok = 1;
     if (rank == 0) {
@@ -157,9 +161,16 @@ static void repair_case(limn_context *ctx, const char *name, const limn_mesh *me
              limn_mesh_repair(ctx, m, &o, &rs) == LIMN_OK;
         snprintf(warned, sizeof warned, "%s", limn_context_warnings(ctx));
         ok = ok && limn_mesh_write(ctx, m, ref, LIMN_FORMAT_AUTO) == LIMN_OK;
+        topology_counts tc;
+        ok = ok && topology_counts_get(ctx, m, &tc) == LIMN_OK;
+        if (ok)
+            counts = (mpi_mesh_counts){tc.boundary_edges, tc.nonmanifold_edges,
+                                       tc.inconsistent_edges, tc.nonmanifold_vertices,
+                                       tc.referenced_vertices};
         CHECK(ok, "%s: single process: %s", name, limn_context_message(ctx));
         limn_mesh_destroy(m);
     }
+    MPI_Bcast(&counts, (int)sizeof counts, MPI_BYTE, 0, MPI_COMM_WORLD);
     MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
     MPI_Bcast(&rs, (int)sizeof rs, MPI_BYTE, 0, MPI_COMM_WORLD);
     MPI_Bcast(warned, sizeof warned, MPI_CHAR, 0, MPI_COMM_WORLD);
@@ -183,6 +194,21 @@ static void repair_case(limn_context *ctx, const char *name, const limn_mesh *me
               rd.inconsistent_edges, rd.unreferenced_vertices, rs.duplicate_faces,
               rs.first_duplicate_face, rs.first_duplicate_of, rs.nonmanifold_edges,
               rs.nonmanifold_vertices, rs.inconsistent_edges, rs.unreferenced_vertices);
+        /* the census the repair keeps for later calls (subdivide's estimate):
+           boundary edges and used vertices too, which the report leaves out */
+        const mpi_mesh_counts *k = &m->counts;
+        CHECK(m->has_counts && k->boundary_edges == counts.boundary_edges &&
+                  k->nonmanifold_edges == counts.nonmanifold_edges &&
+                  k->inconsistent_edges == counts.inconsistent_edges &&
+                  k->nonmanifold_vertices == counts.nonmanifold_vertices &&
+                  k->referenced_vertices == counts.referenced_vertices,
+              "%s (mode %d, %d ranks): counts %zu/%zu/%zu/%zu/%zu (boundary, non-manifold and "
+              "inconsistent edges, non-manifold and used vertices), one process "
+              "%zu/%zu/%zu/%zu/%zu",
+              name, mode, size, k->boundary_edges, k->nonmanifold_edges, k->inconsistent_edges,
+              k->nonmanifold_vertices, k->referenced_vertices, counts.boundary_edges,
+              counts.nonmanifold_edges, counts.inconsistent_edges, counts.nonmanifold_vertices,
+              counts.referenced_vertices);
         CHECK(strcmp(limn_context_warnings(ctx), warned) == 0,
               "%s (mode %d, %d ranks): warnings\n'%s'\none process\n'%s'", name, mode, size,
               limn_context_warnings(ctx), warned);

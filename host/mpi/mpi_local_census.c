@@ -22,21 +22,30 @@
 #include <string.h>
 
 /* The topology's counts restricted to what this rank owns: owned vertices,
-   and edges whose lower vertex is owned. k: as mpi_mesh_census's. */
-static void count_owned(const topology *t, const local_sub *s, uint32_t me, uint64_t k[5])
+   and edges whose lower vertex is owned. k: as mpi_mesh_census's. An edge
+   with a flag counted here (boundary; non-manifold; inconsistent, always
+   non-manifold too) flags both its vertices, VERTEX_BOUNDARY or
+   VERTEX_NONMANIFOLD (topology_rings.c: each end's ring sees the edge's
+   faces alike), so only the edges of flagged owned vertices are read, not
+   every edge of the sub-mesh. */
+static void count_owned(const topology *t, const local_sub *s, uint64_t k[5])
 {
     for (size_t i = 0; i < s->n_owned; i++) {
         uint32_t v = s->owned[i];
-        k[3] += (t->vertex_flags[v] & VERTEX_NONMANIFOLD) != 0;
+        uint8_t flags = t->vertex_flags[v];
+        k[3] += (flags & VERTEX_NONMANIFOLD) != 0;
         k[4] += t->vertex_corner_offsets[v + 1] > t->vertex_corner_offsets[v];
-    }
-    for (size_t e = 0; e < t->edge_count; e++) {
-        if (s->part[t->edge_vertices[2 * e]] != me)
+        if (!(flags & (VERTEX_BOUNDARY | VERTEX_NONMANIFOLD)))
             continue;
-        uint8_t f = t->edge_flags[e];
-        k[0] += (f & EDGE_BOUNDARY) != 0;
-        k[1] += (f & EDGE_NONMANIFOLD) != 0;
-        k[2] += (f & EDGE_INCONSISTENT) != 0;
+        for (uint32_t j = t->vertex_edge_offsets[v]; j < t->vertex_edge_offsets[v + 1]; j++) {
+            uint32_t e = t->vertex_edges[j];
+            if (t->edge_vertices[2 * (size_t)e] != v)
+                continue; /* its lower vertex counts it */
+            uint8_t f = t->edge_flags[e];
+            k[0] += (f & EDGE_BOUNDARY) != 0;
+            k[1] += (f & EDGE_NONMANIFOLD) != 0;
+            k[2] += (f & EDGE_INCONSISTENT) != 0;
+        }
     }
 }
 
@@ -53,14 +62,13 @@ static int owned_rule_out_copies(const topology *t, const local_sub *s)
 {
     if (t->other_faces)
         return 0;
+    /* a vertex on a non-manifold edge is itself VERTEX_NONMANIFOLD (as in
+       count_owned): its flag says it, no walk over its edges */
     for (size_t i = 0; i < s->n_owned; i++) {
         uint32_t v = s->owned[i], b = t->vertex_edge_offsets[v], e = t->vertex_edge_offsets[v + 1];
         if (t->vertex_flags[v] & VERTEX_NONMANIFOLD ||
             (e - b < 3 && t->vertex_corner_offsets[v + 1] > t->vertex_corner_offsets[v]))
             return 0;
-        for (uint32_t k = b; k < e; k++)
-            if (t->edge_flags[t->vertex_edges[k]] & EDGE_NONMANIFOLD)
-                return 0;
     }
     return 1;
 }
@@ -110,7 +118,7 @@ limn_status mpi_local_census(mpi_part *p, mpi_local_mesh *lm, mpi_mesh_counts *o
         topology t;
         st = topology_cache(p->ctx, lm->mesh, &t);
         if (!st) {
-            count_owned(&t, &lm->s, (uint32_t)p->rank, k);
+            count_owned(&t, &lm->s, k);
             no_copies = owned_rule_out_copies(&t, &lm->s);
             topology_free(&t); /* back to the sub-mesh, for the operator */
         }
