@@ -10,10 +10,15 @@ tangential pull) with (1) a data term, n <- normalise((1 - b) W n + b n0),
 least-squares fit to them; and session 29's (4) the guide of Zhang et al.'s
 guided normal filtering (2015): each face's guide the mean normal of the
 most consistent patch containing it (vertex-ring or edge-ring patches), the
-range kernel on the guides. On the meshes `feature_bench --write` leaves:
+range kernel on the guides; and session 31's (5) L0 smoothing of the face
+normals (Xu et al.'s image L0 gradient minimisation, 2011, on the faces'
+edge graph, in the spirit of He and Schaefer's mesh L0 denoising, 2013):
+min sum_f a_f |n_f - n0_f|^2 + lam sum_e l_e [n_f != n_g] by half-quadratic
+splitting, then Sun's sweeps or one global fit. On the meshes
+`feature_bench --write` leaves:
 
     build/perf/feature_bench --meshes ../shared/meshes --sigma 0.2 --write /tmp/fb/0.2
-    python3 perf/normal_filter_probe.py /tmp/fb/0.2 fandisk_quads
+    python3 perf/normal_filter_probe.py /tmp/fb/0.2 fandisk_quads [--only 5]
 
 Prints the mean face-normal error (degrees, against the clean mesh) of each
 setting. Needs numpy, scipy, plyfile.
@@ -24,6 +29,7 @@ import sys
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spl
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from normal_choice_oracle import (angles, by_size, face_rings, fit_to_normals,  # noqa: E402
@@ -164,10 +170,55 @@ def guided_probe(mesh, clean_normals, error):
                       f"{error(mesh.sweeps(n, mesh.noisy, 10, 0.1)):.2f}")
 
 
+def edge_pairs(mesh):
+    """The faces sharing each manifold edge (f, g) and the edge's two vertices."""
+    owner = {}
+    for ids, idx in mesh.groups.values():
+        k = idx.shape[1]
+        for c in range(k):
+            for f, u, v in zip(ids, idx[:, c], idx[:, (c + 1) % k]):
+                owner.setdefault((min(u, v), max(u, v)), []).append(f)
+    pairs = [(fs[0], fs[1], u, v) for (u, v), fs in owner.items() if len(fs) == 2]
+    a = np.array(pairs, dtype=np.int64).reshape(-1, 4)
+    return a[:, 0], a[:, 1], a[:, 2:]
+
+
+def l0_normals(n0, area, fi, gi, weight, lam, beta_max=1e4, kappa=2.0):
+    """Half-quadratic L0 on the edge differences of the face normals: delta
+    = the difference where |d|^2 beta > lam, else 0; then the normals from a
+    sparse solve; beta from 2 lam doubling to beta_max."""
+    nf, ne = len(n0), len(fi)
+    rows = np.r_[np.arange(ne), np.arange(ne)]
+    D = sp.csr_matrix((np.r_[np.ones(ne), -np.ones(ne)], (rows, np.r_[fi, gi])), shape=(ne, nf))
+    W, A = sp.diags(weight), sp.diags(area)
+    n, beta = n0.copy(), 2.0 * lam
+    while beta < beta_max:
+        d = D @ n
+        delta = d * (((d ** 2).sum(1) * beta > lam)[:, None])
+        M = (A + beta * (D.T @ W @ D)).tocsc()
+        n = spl.splu(M).solve(A @ n0 + beta * (D.T @ (W @ delta)))
+        beta *= kappa
+    return unit(n)
+
+
+def l0_probe(mesh, clean_normals, error):
+    fi, gi, ends = edge_pairs(mesh)
+    n0, _, a = mesh.faces(mesh.noisy)
+    length = np.linalg.norm(mesh.noisy[ends[:, 0]] - mesh.noisy[ends[:, 1]], axis=1)
+    for lam in (0.03, 0.1, 0.3, 0.5, 1.0, 4.0, 16.0):
+        n = l0_normals(n0, a / a.mean(), fi, gi, length / length.mean(), lam)
+        print(f"  lambda {lam}: normals {angles(n, clean_normals).mean():.2f}, "
+              f"10 sweeps {error(mesh.sweeps(n, mesh.noisy, 10, 0.1)):.2f}, "
+              f"30 sweeps {error(mesh.sweeps(n, mesh.noisy, 30, 0.1)):.2f}, "
+              f"fit 0.1 {error(fit_to_normals(mesh.noisy, mesh.groups, n, 0.1)):.2f}", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dir", help="a folder feature_bench --write filled")
     ap.add_argument("mesh", nargs="?", default="fandisk_quads")
+    ap.add_argument("--only", type=int, choices=range(1, 6),
+                    help="run only this section")
     args = ap.parse_args()
     mesh = Mesh(os.path.join(args.dir, f"{args.mesh}_noisy.ply"))
     clean_normals = mesh.faces(read_ply(os.path.join(args.dir, f"{args.mesh}_clean.ply"))[0])[0]
@@ -175,37 +226,48 @@ def main():
     def error(x):
         return angles(clean_normals, mesh.faces(x)[0]).mean()
 
+
+    def want(section):
+        return args.only in (None, section)
+
     print(f"noisy {error(mesh.noisy):.2f}, feature mode (re-implemented) {error(feature_mode(mesh)):.2f}")
-    print("(1) data term: beta, first-round products, later rounds' beta -> error")
-    for beta in (0.05, 0.1, 0.2, 0.3):
-        for products in (10, 20, 40):
-            for later in (None, 0.0):
-                x = feature_mode(mesh, products=products, beta=beta, beta_later=later)
-                print(f"  {beta} {products} {'same' if later is None else 'none'}: {error(x):.2f}")
-    print("(2) range width per product: gain, products, rounds -> error")
-    for gain in (1.0, 1.5, 2.0, 3.0):
-        for products in (5, 10, 20):
-            for outer in (1, 2, 3):
-                x = feature_mode(mesh, outer=outer, products=products, per_product_gain=gain)
-                print(f"  {gain} {products} {outer}: {error(x):.2f}")
-    print("(3) one round: the filtered normals, 10 sweeps, one global fit (lambda), 3 sweeps after")
-    _, c, _ = mesh.faces(mesh.noisy)
-    sigma_s = mesh.spacing(c)
-    for products in (5, 10):
-        n, c, a = mesh.faces(mesh.noisy)
-        for _ in range(products):
-            n = unit(mesh.product(n, c, a, 0.35, sigma_s))
-        print(f"  {products} products: normals {angles(n, clean_normals).mean():.2f}, "
-              f"10 sweeps {error(mesh.sweeps(n, mesh.noisy, 10, 0.1)):.2f}")
-        for lam in (0.001, 0.01, 0.03, 0.1, 0.3):
-            x = fit_to_normals(mesh.noisy, mesh.groups, n, lam)
-            print(f"    lambda {lam}: fit {error(x):.2f}, then 3 sweeps "
-                  f"{error(mesh.sweeps(n, x, 3, 0.1)):.2f}")
-    print("(4) guided normal filtering's patch guides")
-    guided_probe(mesh, clean_normals, error)
-    for steps in (10, 30, 100):
-        print(f"  clean normals, {steps} sweeps: {error(mesh.sweeps(clean_normals, mesh.noisy, steps, 0.0)):.2f}"
-              f" (pull 0.1: {error(mesh.sweeps(clean_normals, mesh.noisy, steps, 0.1)):.2f})")
+    if want(1):
+        print("(1) data term: beta, first-round products, later rounds' beta -> error")
+        for beta in (0.05, 0.1, 0.2, 0.3):
+            for products in (10, 20, 40):
+                for later in (None, 0.0):
+                    x = feature_mode(mesh, products=products, beta=beta, beta_later=later)
+                    print(f"  {beta} {products} {'same' if later is None else 'none'}: {error(x):.2f}")
+    if want(2):
+        print("(2) range width per product: gain, products, rounds -> error")
+        for gain in (1.0, 1.5, 2.0, 3.0):
+            for products in (5, 10, 20):
+                for outer in (1, 2, 3):
+                    x = feature_mode(mesh, outer=outer, products=products, per_product_gain=gain)
+                    print(f"  {gain} {products} {outer}: {error(x):.2f}")
+    if want(3):
+        print("(3) one round: the filtered normals, 10 sweeps, one global fit (lambda), 3 sweeps after")
+        _, c, _ = mesh.faces(mesh.noisy)
+        sigma_s = mesh.spacing(c)
+        for products in (5, 10):
+            n, c, a = mesh.faces(mesh.noisy)
+            for _ in range(products):
+                n = unit(mesh.product(n, c, a, 0.35, sigma_s))
+            print(f"  {products} products: normals {angles(n, clean_normals).mean():.2f}, "
+                  f"10 sweeps {error(mesh.sweeps(n, mesh.noisy, 10, 0.1)):.2f}")
+            for lam in (0.001, 0.01, 0.03, 0.1, 0.3):
+                x = fit_to_normals(mesh.noisy, mesh.groups, n, lam)
+                print(f"    lambda {lam}: fit {error(x):.2f}, then 3 sweeps "
+                      f"{error(mesh.sweeps(n, x, 3, 0.1)):.2f}")
+    if want(4):
+        print("(4) guided normal filtering's patch guides")
+        guided_probe(mesh, clean_normals, error)
+        for steps in (10, 30, 100):
+            print(f"  clean normals, {steps} sweeps: {error(mesh.sweeps(clean_normals, mesh.noisy, steps, 0.0)):.2f}"
+                  f" (pull 0.1: {error(mesh.sweeps(clean_normals, mesh.noisy, steps, 0.1)):.2f})")
+    if want(5):
+        print("(5) L0 smoothing of the face normals: lambda -> normals, sweeps, one global fit")
+        l0_probe(mesh, clean_normals, error)
 
 
 if __name__ == "__main__":
