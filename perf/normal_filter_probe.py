@@ -141,13 +141,8 @@ def guided_probe(mesh, clean_normals, error):
     vertex_ring = [[] for _ in range(mesh.nf)]
     for i, j in zip(mesh.ri, mesh.rj):
         vertex_ring[i].append(j)
-    edge_faces = {}
-    for ids, idx in mesh.groups.values():
-        for f, vs in zip(ids, idx):
-            for k in range(len(vs)):
-                key = tuple(sorted((vs[k], vs[(k + 1) % len(vs)])))
-                edge_faces.setdefault(key, []).append(f)
-    pairs = [tuple(fs) for fs in edge_faces.values() if len(fs) == 2]
+    fi, gi, _ = edge_pairs(mesh)
+    pairs = list(zip(fi.tolist(), gi.tolist()))
     edge_ring = [[f] for f in range(mesh.nf)]
     for i, j in pairs:
         edge_ring[i].append(j)
