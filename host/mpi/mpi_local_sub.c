@@ -131,8 +131,10 @@ static void sub_face_end(const sub_faces *out, size_t fi, size_t n, uint64_t id)
 }
 
 /* Every corner's vertex's sub-mesh index (its rank in r) to out, or over
-   the corner's part without out, and the vertex's part to s->part. */
-MPI_POPCNT_CLONES static void rank_corners(const mpi_id_rank *r, local_sub *s,
+   the corner's part without out, and the part of each vertex not owned
+   (part other than me) to s->part: the owned ones' the caller sets, and a
+   store per corner, at a scattered place, cost more than the ranking. */
+MPI_POPCNT_CLONES static void rank_corners(const mpi_id_rank *r, local_sub *s, uint32_t me,
                                            const face_source *src, const sub_faces *out)
 {
     face_view f;
@@ -140,7 +142,8 @@ MPI_POPCNT_CLONES static void rank_corners(const mpi_id_rank *r, local_sub *s,
     for (face_cursor c = FACE_CURSOR_START; face_next(src, &c, &f, &tag); fi++) {
         for (uint32_t j = 0; j < f.d; j++, n++) {
             uint32_t i = mpi_id_rank_of(r, f.v[j]);
-            s->part[i] = f.part[j]; /* the same for every copy */
+            if (f.part[j] != me) /* the same for every copy */
+                s->part[i] = f.part[j];
             if (out)
                 out->idx[n] = i;
             else
@@ -176,7 +179,7 @@ static int sub_vertices_ranked(mpi_part *p, local_sub *s, const uint32_t *own, s
               : ctx_fail(p->ctx, LIMN_ERR_MEMORY, "out of memory for the sub-mesh");
     if (!*st) {
         mpi_id_rank_list(&r, s->ids);
-        rank_corners(&r, s, src, out);
+        rank_corners(&r, s, (uint32_t)p->rank, src, out);
         /* own increases: so do their places, the owned rows' order */
         for (size_t i = 0; i < n_own; i++) {
             s->owned[i] = mpi_id_rank_of(&r, own[i]);
