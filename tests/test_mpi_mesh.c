@@ -271,6 +271,25 @@ static void split_and_create(limn_context *ctx, const limn_mesh *mesh)
     }
 }
 
+/* limn_mpi_mesh_create with a face index past every rank's vertices on the
+   last rank's last face: every rank fails with that face's message. */
+static void created_index_error(limn_context *ctx)
+{
+    const double pos[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+    uint32_t b = 4 * (uint32_t)rank, total = 4 * (uint32_t)size;
+    uint32_t off[3] = {0, 3, 6};
+    uint32_t idx[6] = {b, b + 1, b + 2, b + 1, b + 3, rank == size - 1 ? total + 5 : b + 2};
+    limn_mpi_mesh *m = NULL;
+    limn_status st = limn_mpi_mesh_create(ctx, MPI_COMM_WORLD, 4, pos, 2, off, idx, &m);
+    char want[160];
+    snprintf(want, sizeof want, "face %u uses vertex %u but the mesh has %u vertices",
+             2 * (unsigned)size - 1, (unsigned)total + 5, (unsigned)total);
+    CHECK(st == LIMN_ERR_ARGUMENT && m == NULL && strstr(limn_context_message(ctx), want),
+          "created mesh, bad index: status %d, '%s' (want '%s')", (int)st,
+          limn_context_message(ctx), want);
+    limn_mpi_mesh_destroy(m);
+}
+
 /* A face index past the vertices in the last rank's slice, and a missing
    file: every rank fails with the same message, and nothing is written. */
 static void errors(limn_context *ctx)
@@ -307,6 +326,7 @@ static void errors(limn_context *ctx)
     MPI_Barrier(MPI_COMM_WORLD);
     if (rank == 0)
         unlink(in);
+    created_index_error(ctx);
 }
 
 /* The series filters of the distributed path (limn_mpi_mesh_smooth etc.). */
