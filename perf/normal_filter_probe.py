@@ -14,11 +14,14 @@ range kernel on the guides; and session 31's (5) L0 smoothing of the face
 normals (Xu et al.'s image L0 gradient minimisation, 2011, on the faces'
 edge graph, in the spirit of He and Schaefer's mesh L0 denoising, 2013):
 min sum_f a_f |n_f - n0_f|^2 + lam sum_e l_e [n_f != n_g] by half-quadratic
-splitting, then Sun's sweeps or one global fit. On the meshes
+splitting, then Sun's sweeps or one global fit; and session 32's (6) each
+face's normal from a weighted plane fit to the vertices of its guided ring
+(the bilateral weights, the range kernel on a guide: the noisy normals, BNF
+products, the feature mode's result). On the meshes
 `feature_bench --write` leaves:
 
     build/perf/feature_bench --meshes ../shared/meshes --sigma 0.2 --write /tmp/fb/0.2
-    python3 perf/normal_filter_probe.py /tmp/fb/0.2 fandisk_quads [--only 5]
+    python3 perf/normal_filter_probe.py /tmp/fb/0.2 fandisk_quads [--only 6]
 
 Prints the mean face-normal error (degrees, against the clean mesh) of each
 setting. Needs numpy, scipy, plyfile.
@@ -208,15 +211,110 @@ def l0_probe(mesh, clean_normals, error):
               f"fit 0.1 {error(fit_to_normals(mesh.noisy, mesh.groups, n, 0.1)):.2f}", flush=True)
 
 
+def ring_lists(mesh):
+    """Each face's ring (the faces sharing a vertex with it, itself included)
+    and each face's vertices."""
+    order = np.argsort(mesh.ri, kind="stable")
+    rj = mesh.rj[order]
+    starts = np.searchsorted(mesh.ri[order], np.arange(mesh.nf + 1))
+    rings = [rj[starts[f]:starts[f + 1]] for f in range(mesh.nf)]
+    verts = [None] * mesh.nf
+    for ids, idx in mesh.groups.values():
+        for f, row in zip(ids, idx):
+            verts[f] = row
+    return rings, verts
+
+
+def plane_normals(mesh, x, guide, rings, verts, sigma_r, sigma_s, two_rings=False, robust=0.0):
+    """Each face's normal from a weighted plane fit (least eigenvector of the
+    weighted covariance) to the vertices of its ring's faces, each face j
+    weighted as the bilateral filter weighs it (area, centroid distance, the
+    range kernel on the guide); robust > 0: three reweightings of the points
+    by exp(-r^2 / 2 (robust h)^2), r the distance to the last plane, h the
+    mean edge length."""
+    _, c, a = mesh.faces(x)
+    out = np.empty((mesh.nf, 3))
+    h = mesh.edge if robust else 0.0
+    for f in range(mesh.nf):
+        js = rings[f]
+        if two_rings:
+            js = np.unique(np.concatenate([rings[j] for j in js]))
+        w = a[js] * np.exp(-((c[js] - c[f]) ** 2).sum(1) / (2 * sigma_s ** 2)
+                           - ((guide[js] - guide[f]) ** 2).sum(1) / (2 * sigma_r ** 2))
+        pts = np.concatenate([x[verts[j]] for j in js])
+        pw = np.concatenate([np.full(len(verts[j]), wj / len(verts[j])) for j, wj in zip(js, w)])
+        normal = guide[f]
+        for it in range(1 + (3 if robust else 0)):
+            q = pw
+            if it:
+                r = (pts - mu) @ normal
+                q = pw * np.exp(-r * r / (2 * (robust * h) ** 2))
+            mu = (q[:, None] * pts).sum(0) / q.sum()
+            d = pts - mu
+            _, vecs = np.linalg.eigh((d * q[:, None]).T @ d)
+            normal = vecs[:, 0] if vecs[:, 0] @ guide[f] >= 0 else -vecs[:, 0]
+        out[f] = normal
+    return out
+
+
+def plane_probe(mesh, clean, clean_normals, error):
+    rings, verts = ring_lists(mesh)
+    ends = edge_pairs(mesh)[2]
+    mesh.edge = np.linalg.norm(mesh.noisy[ends[:, 0]] - mesh.noisy[ends[:, 1]], axis=1).mean()
+    n0, c0, a0 = mesh.faces(mesh.noisy)
+    sigma_s = mesh.spacing(c0)
+    print("  the clean normals as the guide (an oracle): plane fit on the noisy mesh, on the "
+          "clean one (its bias), 10 bilateral products with that guide; then 10 sweeps of each")
+    for sigma_r in (0.1, 0.2, 0.35):
+        for two in (False, True):
+            n = plane_normals(mesh, mesh.noisy, clean_normals, rings, verts, sigma_r, sigma_s, two)
+            b = plane_normals(mesh, clean, clean_normals, rings, verts, sigma_r, sigma_s, two)
+            m = n0
+            for _ in range(10):
+                m = unit(mesh.product(m, c0, a0, sigma_r, sigma_s, guide=clean_normals))
+            print(f"    sigma_r {sigma_r} {'2' if two else '1'}-ring: "
+                  f"{angles(n, clean_normals).mean():.2f}, {angles(b, clean_normals).mean():.2f}, "
+                  f"{angles(m, clean_normals).mean():.2f}; sweeps "
+                  f"{error(mesh.sweeps(n, mesh.noisy, 10, 0.1)):.2f}, "
+                  f"{error(mesh.sweeps(m, mesh.noisy, 10, 0.1)):.2f}", flush=True)
+    guides = {"noisy": n0}
+    n = n0
+    for _ in range(5):
+        n = unit(mesh.product(n, c0, a0, 0.35, sigma_s))
+    guides["bnf5"] = n
+    for _ in range(5):
+        n = unit(mesh.product(n, c0, a0, 0.35, sigma_s))
+    guides["bnf10"] = n
+    fm = feature_mode(mesh)
+    guides["feature"] = mesh.faces(fm)[0]
+    for name, g in guides.items():
+        print(f"  guide {name}: {angles(g, clean_normals).mean():.2f}")
+        for sigma_r in (0.2, 0.35):
+            for two in (False, True):
+                for robust in (0.0, 0.3):
+                    n = plane_normals(mesh, mesh.noisy, g, rings, verts, sigma_r, sigma_s,
+                                      two, robust)
+                    m = n
+                    for _ in range(2):  # rolling: the fit's normals as the next guide
+                        m = plane_normals(mesh, mesh.noisy, m, rings, verts, sigma_r, sigma_s,
+                                          two, robust)
+                    print(f"    sigma_r {sigma_r} {'2' if two else '1'}-ring robust {robust}: "
+                          f"normals {angles(n, clean_normals).mean():.2f}, 10 sweeps "
+                          f"{error(mesh.sweeps(n, mesh.noisy, 10, 0.1)):.2f}; rolled twice "
+                          f"{angles(m, clean_normals).mean():.2f}, 10 sweeps "
+                          f"{error(mesh.sweeps(m, mesh.noisy, 10, 0.1)):.2f}", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dir", help="a folder feature_bench --write filled")
     ap.add_argument("mesh", nargs="?", default="fandisk_quads")
-    ap.add_argument("--only", type=int, choices=range(1, 6),
+    ap.add_argument("--only", type=int, choices=range(1, 7),
                     help="run only this section")
     args = ap.parse_args()
     mesh = Mesh(os.path.join(args.dir, f"{args.mesh}_noisy.ply"))
-    clean_normals = mesh.faces(read_ply(os.path.join(args.dir, f"{args.mesh}_clean.ply"))[0])[0]
+    clean = read_ply(os.path.join(args.dir, f"{args.mesh}_clean.ply"))[0]
+    clean_normals = mesh.faces(clean)[0]
 
     def error(x):
         return angles(clean_normals, mesh.faces(x)[0]).mean()
@@ -263,6 +361,9 @@ def main():
     if want(5):
         print("(5) L0 smoothing of the face normals: lambda -> normals, sweeps, one global fit")
         l0_probe(mesh, clean_normals, error)
+    if want(6):
+        print("(6) plane fits to the vertices of each face's guided ring")
+        plane_probe(mesh, clean, clean_normals, error)
 
 
 if __name__ == "__main__":
