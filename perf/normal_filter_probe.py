@@ -141,9 +141,7 @@ def patch_guides(n, a, patches, pairs):
 
 def guided_probe(mesh, clean_normals, error):
     """(4): the guides' own error, and guided products then 10 sweeps."""
-    vertex_ring = [[] for _ in range(mesh.nf)]
-    for i, j in zip(mesh.ri, mesh.rj):
-        vertex_ring[i].append(j)
+    vertex_ring = ring_lists(mesh)[0]
     fi, gi, _ = edge_pairs(mesh)
     pairs = list(zip(fi.tolist(), gi.tolist()))
     edge_ring = [[f] for f in range(mesh.nf)]
@@ -199,10 +197,15 @@ def l0_normals(n0, area, fi, gi, weight, lam, beta_max=1e4, kappa=2.0):
     return unit(n)
 
 
+def edge_lengths(mesh, ends):
+    """The noisy mesh's length of each edge (edge_pairs' ends)."""
+    return np.linalg.norm(mesh.noisy[ends[:, 0]] - mesh.noisy[ends[:, 1]], axis=1)
+
+
 def l0_probe(mesh, clean_normals, error):
     fi, gi, ends = edge_pairs(mesh)
     n0, _, a = mesh.faces(mesh.noisy)
-    length = np.linalg.norm(mesh.noisy[ends[:, 0]] - mesh.noisy[ends[:, 1]], axis=1)
+    length = edge_lengths(mesh, ends)
     for lam in (0.03, 0.1, 0.3, 0.5, 1.0, 4.0, 16.0):
         n = l0_normals(n0, a / a.mean(), fi, gi, length / length.mean(), lam)
         print(f"  lambda {lam}: normals {angles(n, clean_normals).mean():.2f}, "
@@ -225,7 +228,8 @@ def ring_lists(mesh):
     return rings, verts
 
 
-def plane_normals(mesh, x, guide, rings, verts, sigma_r, sigma_s, two_rings=False, robust=0.0):
+def plane_normals(mesh, x, guide, rings, verts, sigma_r, sigma_s, two_rings=False, robust=0.0,
+                  h=0.0):
     """Each face's normal from a weighted plane fit (least eigenvector of the
     weighted covariance) to the vertices of its ring's faces, each face j
     weighted as the bilateral filter weighs it (area, centroid distance, the
@@ -234,7 +238,6 @@ def plane_normals(mesh, x, guide, rings, verts, sigma_r, sigma_s, two_rings=Fals
     mean edge length."""
     _, c, a = mesh.faces(x)
     out = np.empty((mesh.nf, 3))
-    h = mesh.edge if robust else 0.0
     for f in range(mesh.nf):
         js = rings[f]
         if two_rings:
@@ -259,8 +262,7 @@ def plane_normals(mesh, x, guide, rings, verts, sigma_r, sigma_s, two_rings=Fals
 
 def plane_probe(mesh, clean, clean_normals, error):
     rings, verts = ring_lists(mesh)
-    ends = edge_pairs(mesh)[2]
-    mesh.edge = np.linalg.norm(mesh.noisy[ends[:, 0]] - mesh.noisy[ends[:, 1]], axis=1).mean()
+    h = edge_lengths(mesh, edge_pairs(mesh)[2]).mean()
     n0, c0, a0 = mesh.faces(mesh.noisy)
     sigma_s = mesh.spacing(c0)
     print("  the clean normals as the guide (an oracle): plane fit on the noisy mesh, on the "
@@ -293,11 +295,11 @@ def plane_probe(mesh, clean, clean_normals, error):
             for two in (False, True):
                 for robust in (0.0, 0.3):
                     n = plane_normals(mesh, mesh.noisy, g, rings, verts, sigma_r, sigma_s,
-                                      two, robust)
+                                      two, robust, h)
                     m = n
                     for _ in range(2):  # rolling: the fit's normals as the next guide
                         m = plane_normals(mesh, mesh.noisy, m, rings, verts, sigma_r, sigma_s,
-                                          two, robust)
+                                          two, robust, h)
                     print(f"    sigma_r {sigma_r} {'2' if two else '1'}-ring robust {robust}: "
                           f"normals {angles(n, clean_normals).mean():.2f}, 10 sweeps "
                           f"{error(mesh.sweeps(n, mesh.noisy, 10, 0.1)):.2f}; rolled twice "
