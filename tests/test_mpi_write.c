@@ -367,6 +367,38 @@ static void owned_twice(limn_context *ctx, const limn_mesh *m)
     free_part(&d);
 }
 
+/* A corner past every rank's vertices in the middle of the last rank's face
+   block: every rank names that face (its number in the whole mesh), nothing
+   written. */
+static void index_past_end(limn_context *ctx, const limn_mesh *m)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/index.obj", dir);
+    old_file(path);
+    part_data d;
+    make_part(m, &d, 0);
+    size_t fc = d.part.face_count, corners = fc ? d.off[fc] : 0;
+    uint32_t *idx = malloc((corners + 1) * sizeof *idx);
+    memcpy(idx, d.part.face_indices, corners * sizeof *idx);
+    size_t last = d.fdist[size] - d.fdist[size - 1]; /* the last rank's face count */
+    size_t total = d.vtxdist[size], face = d.fdist[size - 1] + last / 2;
+    if (rank == size - 1 && fc)
+        idx[d.off[fc / 2] + 1] = (uint32_t)total + 5;
+    d.part.face_indices = idx;
+    limn_status st = mpi_write_mesh_part(ctx, MPI_COMM_WORLD, path, LIMN_FORMAT_AUTO, NULL,
+                                         &d.part, NULL);
+    check_agreed(ctx, st, "index past the end");
+    char want[128];
+    snprintf(want, sizeof want, "face %zu uses vertex %zu, past the mesh's %zu vertices", face,
+             total + 5, total);
+    CHECK(st == LIMN_ERR_ARGUMENT && strstr(limn_context_message(ctx), want),
+          "index past the end: status %d '%s', wanted '%s'", (int)st, limn_context_message(ctx),
+          want);
+    check_old(path, "index past the end");
+    free(idx);
+    free_part(&d);
+}
+
 /* A full disk for some ranks: their processes may write files of at most 64
    bytes (RLIMIT_FSIZE; write() fails with EFBIG). Which ranks write in a
    collective write is the MPI-IO library's choice (Open MPI's two-phase
@@ -583,6 +615,7 @@ int main(int argc, char **argv)
     bad_value(ctx, grid, "ply", NAN, "non-finite position on the last rank");
     bad_value(ctx, grid, "stl", 1e300, "STL float overflow on the last rank");
     owned_twice(ctx, grid);
+    index_past_end(ctx, grid);
     file_size_limit(ctx, grid);
     special_targets(ctx, grid);
     fifo_target(ctx, grid);

@@ -41,6 +41,20 @@ static limn_status bad(mpi_writer *w, const char *what)
     return ctx_fail(w->ctx, LIMN_ERR_ARGUMENT, "mpi_write_mesh: rank %d: %s", w->rank, what);
 }
 
+/* The face of off[0 .. count] (increasing) whose corners hold corner k < off[count]. */
+static size_t face_holding(const uint32_t *off, size_t count, size_t k)
+{
+    size_t lo = 0, hi = count;
+    while (hi - lo > 1) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (off[mid] <= k)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
 /* This rank's arguments, on their own. */
 static limn_status check_local(mpi_writer *w)
 {
@@ -74,7 +88,9 @@ static limn_status check_local(mpi_writer *w)
         if (in->face_indices[k] >= total)
             return ctx_fail(w->ctx, LIMN_ERR_ARGUMENT,
                             "mpi_write_mesh: rank %d: face %zu uses vertex %u, past the mesh's "
-                            "%zu vertices", w->rank, in->face_begin, in->face_indices[k], total);
+                            "%zu vertices", w->rank,
+                            in->face_begin + face_holding(off, in->face_count, k),
+                            in->face_indices[k], total);
     return LIMN_OK;
 }
 
