@@ -17,11 +17,14 @@ min sum_f a_f |n_f - n0_f|^2 + lam sum_e l_e [n_f != n_g] by half-quadratic
 splitting, then Sun's sweeps or one global fit; and session 32's (6) each
 face's normal from a weighted plane fit to the vertices of its guided ring
 (the bilateral weights, the range kernel on a guide: the noisy normals, BNF
-products, the feature mode's result). On the meshes
+products, the feature mode's result); and session 33's (7) the face operator
+cut at creases: no weight between two faces of a ring unless they meet
+around a shared vertex without crossing an edge marked crease (the clean
+mesh's dihedrals, an oracle, or the feature mode's result's). On the meshes
 `feature_bench --write` leaves:
 
     build/perf/feature_bench --meshes ../shared/meshes --sigma 0.2 --write /tmp/fb/0.2
-    python3 perf/normal_filter_probe.py /tmp/fb/0.2 fandisk_quads [--only 6]
+    python3 perf/normal_filter_probe.py /tmp/fb/0.2 fandisk_quads [--only 7]
 
 Prints the mean face-normal error (degrees, against the clean mesh) of each
 setting. Needs numpy, scipy, plyfile.
@@ -33,6 +36,7 @@ import sys
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
+from scipy.sparse.csgraph import connected_components
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from normal_choice_oracle import (angles, by_size, face_rings, fit_to_normals,  # noqa: E402
@@ -67,13 +71,16 @@ class Mesh:
         d = np.sqrt(((n[self.ri] - n[self.rj]) ** 2).sum(1))
         return np.median(d[self.ri != self.rj])
 
-    def product(self, n, c, a, sigma_r, sigma_s, guide=None):
+    def product(self, n, c, a, sigma_r, sigma_s, guide=None, keep=None):
         """W n renormalised: the feature mode's bilateral rows (the range
-        kernel on guide's normals when given)."""
+        kernel on guide's normals when given; keep: 0 / 1 for each ring pair
+        (ri, rj), the pairs a crease cuts set to 0)."""
         g = n if guide is None else guide
         d2 = ((c[self.ri] - c[self.rj]) ** 2).sum(1)
         r2 = ((g[self.ri] - g[self.rj]) ** 2).sum(1)
         w = a[self.rj] * np.exp(-d2 / (2 * sigma_s ** 2) - r2 / (2 * sigma_r ** 2))
+        if keep is not None:
+            w = w * keep
         W = sp.csr_matrix((w, (self.ri, self.rj)), shape=(self.nf, self.nf))
         return W @ n / np.asarray(W.sum(1))
 
@@ -97,22 +104,24 @@ def unit(v):
 
 
 def feature_mode(mesh, outer=3, products=10, sweeps=10, sigma_r=0.35, tangential=0.1,
-                 beta=0.0, beta_later=None, per_product_gain=None):
+                 beta=0.0, beta_later=None, per_product_gain=None, keep=None, later=None):
     """The feature mode's rounds; beta the data term's weight (beta_later in
     rounds 2.. when given); per_product_gain: the range width before every
-    product, gain x the median difference (at most sigma_r, at least 0.05)."""
+    product, gain x the median difference (at most sigma_r, at least 0.05);
+    keep: the ring pairs' 0 / 1 (crease_keep); later: rounds 2..'s products
+    (ceil(products / 2) when None)."""
     x = mesh.noisy.copy()
     sigma_s = mesh.spacing(mesh.faces(x)[1])
     for k in range(outer):
         n, c, a = mesh.faces(x)
         start = n.copy()
-        count = products if k == 0 else (products + 1) // 2
+        count = products if k == 0 else later or (products + 1) // 2
         width = sigma_r if k == 0 else max(1.5 * mesh.median_difference(n), 0.05)
         b = beta if k == 0 or beta_later is None else beta_later
         for _ in range(count):
             if per_product_gain:
                 width = min(sigma_r, max(per_product_gain * mesh.median_difference(n), 0.05))
-            m = mesh.product(n, c, a, width, sigma_s)
+            m = mesh.product(n, c, a, width, sigma_s, keep=keep)
             n = unit((1 - b) * m + b * start)
         x = mesh.sweeps(n, x, sweeps, tangential)
     return x
@@ -307,11 +316,79 @@ def plane_probe(mesh, clean, clean_normals, error):
                           f"{error(mesh.sweeps(m, mesh.noisy, 10, 0.1)):.2f}", flush=True)
 
 
+def crease_keep(mesh, fi, gi, ends, crease):
+    """1 for the ring pairs (f, j) that meet around a shared vertex without
+    crossing an edge marked crease (edge_pairs' order), 0 for the rest: the
+    corners (v, f) of faces joined across each uncut edge at both its ends,
+    and f, j kept when some vertex has both their corners in one component."""
+    key = mesh.vi.astype(np.int64) * mesh.nf + mesh.fi
+    order = np.argsort(key)
+
+    def corner(v, f):
+        return order[np.searchsorted(key[order], v.astype(np.int64) * mesh.nf + f)]
+
+    uncut = ~crease
+    f, g, e = fi[uncut], gi[uncut], ends[uncut]
+    rows = np.r_[corner(e[:, 0], f), corner(e[:, 1], f)]
+    cols = np.r_[corner(e[:, 0], g), corner(e[:, 1], g)]
+    nc = len(key)
+    graph = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(nc, nc))
+    _, label = connected_components(graph, directed=False)
+    K = sp.csr_matrix((np.ones(nc), (mesh.fi, label)), shape=(mesh.nf, label.max() + 1))
+    return (np.asarray((K @ K.T).tocsr()[mesh.ri, mesh.rj]).ravel() > 0).astype(float)
+
+
+def dihedrals(n, fi, gi):
+    """The angle in degrees between the normals of the faces across each edge."""
+    return np.degrees(np.arccos(np.clip((n[fi] * n[gi]).sum(1), -1.0, 1.0)))
+
+
+def cut_products(mesh, n, c, a, keep, sigma_r, sigma_s, count):
+    for _ in range(count):
+        n = unit(mesh.product(n, c, a, sigma_r, sigma_s, keep=keep))
+    return n
+
+
+def crease_probe(mesh, clean_normals, error):
+    fi, gi, ends = edge_pairs(mesh)
+    n0, c0, a0 = mesh.faces(mesh.noisy)
+    sigma_s = mesh.spacing(c0)
+    xf = feature_mode(mesh)
+    nf_, cf, af = mesh.faces(xf)
+    maps = {"clean": dihedrals(clean_normals, fi, gi), "feature": dihedrals(nf_, fi, gi)}
+    print("  one round from the noisy normals, the operator cut at the edges whose dihedral (on "
+          "the clean mesh: an oracle; on the feature mode's result) exceeds t; "
+          "sigma_r/products: normals, 10 sweeps")
+    for name, angle in maps.items():
+        for t in (15, 20, 25, 30, 45):
+            keep = crease_keep(mesh, fi, gi, ends, angle > t)
+            row = []
+            for sigma_r in (0.35, 0.7, 10.0):
+                for count in (3, 5, 10, 20):
+                    n = cut_products(mesh, n0, c0, a0, keep, sigma_r, sigma_s, count)
+                    row.append(f"{sigma_r}/{count} {angles(clean_normals, n).mean():.2f} "
+                               f"{error(mesh.sweeps(n, mesh.noisy, 10, 0.1)):.2f}")
+            print(f"    {name} > {t} ({(angle > t).sum()} of {len(angle)} edges, "
+                  f"{keep.mean():.2f} of the pairs kept): " + ", ".join(row), flush=True)
+    print("  the feature mode's creases: (B) one cut round from the noisy normals (sigma_r 0.7, "
+          "5 products, t 20, 25); (G) the feature mode again from the noisy mesh with the cut in "
+          "every round (first-round products / sigma_r, 2 adaptive rounds of 3 or 5 products)")
+    for t in (20, 25):
+        keep = crease_keep(mesh, fi, gi, ends, maps["feature"] > t)
+        xb = mesh.sweeps(cut_products(mesh, n0, c0, a0, keep, 0.7, sigma_s, 5), mesh.noisy, 10, 0.1)
+        print(f"    (B) t {t}: {error(xb):.2f}", flush=True)
+    for t, products, sigma_r, later in ((25, 5, 0.7, 3), (30, 3, 1.0, 5)):
+        keep = crease_keep(mesh, fi, gi, ends, maps["feature"] > t)
+        x = feature_mode(mesh, products=products, sigma_r=sigma_r, keep=keep, later=later)
+        print(f"    (G) t {t}, {products} products at {sigma_r}, later rounds {later}: "
+              f"{error(x):.2f}", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dir", help="a folder feature_bench --write filled")
     ap.add_argument("mesh", nargs="?", default="fandisk_quads")
-    ap.add_argument("--only", type=int, choices=range(1, 7),
+    ap.add_argument("--only", type=int, choices=range(1, 8),
                     help="run only this section")
     args = ap.parse_args()
     mesh = Mesh(os.path.join(args.dir, f"{args.mesh}_noisy.ply"))
@@ -366,6 +443,9 @@ def main():
     if want(6):
         print("(6) plane fits to the vertices of each face's guided ring")
         plane_probe(mesh, clean, clean_normals, error)
+    if want(7):
+        print("(7) the face operator cut at creases (no pair weighted across a marked edge)")
+        crease_probe(mesh, clean_normals, error)
 
 
 if __name__ == "__main__":
