@@ -283,7 +283,8 @@ int main(int argc, char **argv)
             snprintf(path, sizeof path, "%s/%s", meshes, organic[k]);
             if (limn_mesh_read(b.ctx, path, LIMN_FORMAT_AUTO, &m))
                 die(b.ctx, path);
-            run_mesh(&b, m, strchr(organic[k], '/') + 1, sigmas[s], 1700 + 7 * k + s + 1000 * draw);
+            run_mesh(&b, m, strchr(organic[k], '/') + 1, sigmas[s],
+                     1700 + 7 * k + s + 1000 * draw);
             limn_mesh_destroy(m);
         }
     }
