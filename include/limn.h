@@ -743,8 +743,13 @@ LIMN_API limn_status limn_denoise_sure(limn_context *ctx, const limn_mesh *mesh,
  * their range width from the noise left: sigma_r = 1.5 x the median of
  * |n_f - n_j| over the ring (at least 0.05), with normal_steps / 2 (rounded
  * up) products each, so a smooth second pass does not erode the creases the
- * first kept. W's products run on the context's device; "products" in the
- * report counts them. Same input and options: the same bytes on either
+ * first kept. With crease_angle > 0 a crease pass follows: the edges of the
+ * result whose faces' normals differ by more than crease_angle are creases,
+ * W's pair (f, j) is cut unless f and j meet around a shared vertex without
+ * crossing one, and the rounds run again from the input on the cut W, the
+ * first with 3 products (at most normal_steps) at sigma_r 1.0: no product
+ * averages across a crease. W's products run on the context's device;
+ * "products" in the report counts them (both passes). Same input and options: the same bytes on either
  * backend.
  */
 typedef struct limn_feature_options {
@@ -764,6 +769,8 @@ typedef struct limn_feature_options {
     int adaptive;             /* 1 (default): later rounds' sigma_r from the noise left and
                                  half the products (above); 0: sigma_r and normal_steps in
                                  every round */
+    double crease_angle;      /* degrees in [0, 180); > 0 (default 30): the crease pass
+                                 (above); 0: none */
 } limn_feature_options;
 
 LIMN_API void limn_feature_options_default(limn_feature_options *options);

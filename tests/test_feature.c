@@ -5,12 +5,14 @@
  *    vertex update, so it matches perf/bilateral_normal.c (written from the
  *    papers, without limn's code) to rounding;
  *  - the rebuilt face operator W: weights >= 0, rows summing to 1, each
- *    weight the closed form of features.h recomputed here;
+ *    weight the closed form of features.h recomputed here; cut at a clean
+ *    cube's edges, it keeps exactly the pairs on one side (brute force);
  *  - a noisy cube's dihedral angles at its 12 edges stay near 90 degrees,
  *    where limn denoise's default (a linear low-pass) rounds them;
  *  - the OpenCL and reference backends give the same bytes;
  *  - keep_volume gives the input's volume back, refused on an open mesh;
- *  - bad options and meshes are refused with messages naming them.
+ *  - bad options and meshes are refused with messages naming them (the
+ *    crease angle outside [0, 180) too).
  */
 #include "bilateral_normal.h"
 #include "cad_shapes.h"
@@ -184,6 +186,49 @@ static void test_operator_rows(void **state)
     limn_context_destroy(ctx);
 }
 
+/* The cut at creases on a clean cube (4 x 4 quads a side; its edges 90
+   degrees, everything else flat): with a 30 degree crease angle two faces
+   of a ring keep their pair iff they lie on the same side (brute force: the
+   angle of their normals), at every cube edge and corner; with no crease
+   (cos_limit -2) every pair is kept. The cut W's rows still sum to 1 with
+   weights >= 0, and the cut pairs weigh 0. */
+static void test_crease_cut(void **state)
+{
+    (void)state;
+    limn_context *ctx = ctx_for("reference");
+    limn_mesh *cube = cad_shape_mesh(ctx, CAD_CUBE, 4, 0);
+    assert_non_null(cube);
+    feature_mesh fm;
+    CHECK_OK(ctx, feature_mesh_build(ctx, cube, &fm));
+    feature_faces_update(&fm, limn_mesh_positions(cube));
+    fm.sigma_s = feature_mean_spacing(&fm);
+    const stencil_csr *w = &fm.ring;
+    CHECK_OK(ctx, feature_cut_creases(ctx, &fm, fm.normal, -2.0));
+    for (uint32_t k = 0; k < w->row_offsets[w->rows]; k++)
+        assert_int_equal(fm.keep[k], 1);
+    CHECK_OK(ctx, feature_cut_creases(ctx, &fm, fm.normal, cos(30.0 * PI / 180.0)));
+    feature_weights(&fm, fm.normal, 0.35);
+    size_t cut = 0;
+    for (size_t i = 0; i < w->rows; i++) {
+        double sum = 0;
+        for (uint32_t k = w->row_offsets[i]; k < w->row_offsets[i + 1]; k++) {
+            double ni[3], nj[3];
+            newell(cube, i, ni);
+            newell(cube, w->columns[k], nj);
+            int same = angle_deg(ni, nj) < 1.0;
+            assert_int_equal(fm.keep[k], same);
+            assert_true(w->weights[k] >= 0.0 && (same || w->weights[k] == 0.0));
+            cut += !same;
+            sum += w->weights[k];
+        }
+        assert_true(fabs(sum - 1.0) <= 1e-14 * (w->row_offsets[i + 1] - w->row_offsets[i]));
+    }
+    assert_true(cut > 0); /* the pairs across the cube's edges */
+    feature_mesh_free(&fm);
+    limn_mesh_destroy(cube);
+    limn_context_destroy(ctx);
+}
+
 /* With no tangential pull, limn's feature mode is BNF + Sun et al.: the
    independent implementation gives the same positions to rounding (1e-9 of
    the bbox diagonal: the products sum in another order, 2 x (20 + 10) steps). */
@@ -197,7 +242,8 @@ static void test_matches_independent_bnf(void **state)
     limn_feature_options o;
     limn_feature_options_default(&o);
     o.tangential = 0.0;
-    o.adaptive = 0; /* BNF's sigma_r and products in every round */
+    o.adaptive = 0;       /* BNF's sigma_r and products in every round */
+    o.crease_angle = 0.0; /* and no crease pass */
     o.sigma_s = 0.1;
     o.outer_steps = 2;
     o.normal_steps = 20;
@@ -311,7 +357,8 @@ static void test_bad_options(void **state)
     struct { int field; double value; const char *word; } bad[] = {
         {0, 0, "outer_steps"}, {1, 0, "normal_steps"}, {2, -1, "vertex_steps"},
         {3, 0, "sigma_r"},     {3, NAN, "sigma_r"},    {4, -1, "sigma_s"},
-        {5, 1.5, "tangential"}, {5, -0.1, "tangential"}, {0, LIMN_MAX_STEPS + 1, "outer_steps"}};
+        {5, 1.5, "tangential"}, {5, -0.1, "tangential"}, {0, LIMN_MAX_STEPS + 1, "outer_steps"},
+        {6, -1, "crease_angle"}, {6, 180, "crease_angle"}, {6, NAN, "crease_angle"}};
     for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
         limn_feature_options_default(&o);
         switch (bad[k].field) {
@@ -320,7 +367,8 @@ static void test_bad_options(void **state)
         case 2: o.vertex_steps = (int)bad[k].value; break;
         case 3: o.sigma_r = bad[k].value; break;
         case 4: o.sigma_s = bad[k].value; break;
-        default: o.tangential = bad[k].value; break;
+        case 5: o.tangential = bad[k].value; break;
+        default: o.crease_angle = bad[k].value; break;
         }
         expect_refused(ctx, cube, &o, bad[k].word);
     }
@@ -376,6 +424,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cube_edges_kept),
         cmocka_unit_test(test_operator_rows),
+        cmocka_unit_test(test_crease_cut),
         cmocka_unit_test(test_matches_independent_bnf),
         cmocka_unit_test(test_noise_median),
         cmocka_unit_test(test_backends_same_bytes),

@@ -53,11 +53,14 @@ static void single(limn_context *ctx, const char *in, const limn_feature_options
 
 /* Every rank: read in slices, repair, denoise, write; the status against s. */
 /* W's products of the options: normal_steps in the first round, half of
-   them (rounded up) in each later one with adaptive (limn.h). */
+   them (rounded up) in each later one with adaptive; with a crease angle
+   the rounds again, the first with at most 3 (limn.h). */
 static long long products_of(const limn_feature_options *o)
 {
     int later = o->adaptive ? (o->normal_steps + 1) / 2 : o->normal_steps;
-    return o->normal_steps + (long long)(o->outer_steps - 1) * later;
+    long long pass = (long long)(o->outer_steps - 1) * later;
+    int again = o->normal_steps < 3 ? o->normal_steps : 3;
+    return o->normal_steps + pass + (o->crease_angle > 0.0 ? again + pass : 0);
 }
 
 static void distributed(limn_context *ctx, const char *name, const char *in,

@@ -98,6 +98,8 @@ static void bad_usage(void **s)
         {"denoise '%s' -o out.ply --preserve-features --sigma-r 0", "must be positive", 2},
         {"denoise '%s' -o out.ply --preserve-features --normal-steps 0", "must be at least 1", 2},
         {"denoise '%s' -o out.ply --preserve-features --tangential 2", "must lie in [0, 1]", 2},
+        {"denoise '%s' -o out.ply --preserve-features --crease-angle 180", "[0, 180)", 2},
+        {"denoise '%s' -o out.ply --crease-angle 20", "need --preserve-features", 2},
         {"sharpen '%s' -o out.ply --to 3", "--from M and --to N are required", 2},
         {"sharpen '%s' -o out.ply --from 3 --to 1", "--to 1 is below --from 3", 2},
         {"morph '%s' -o 'f%%04d.ply'", "two meshes are needed", 2},
@@ -254,19 +256,27 @@ static void good_runs(void **s)
     assert_true(change > -1e-9 && change < 1e-9);
     assert_non_null(strstr(slurp("dn.json"), "\"form\": \"paper\""));
     /* denoise --preserve-features: its options in the report, W's products counted (adaptive
-     * rounds: the first takes --normal-steps 4, the second half of it, 4 + 2) */
+     * rounds: the first takes --normal-steps 4, the second half of it, 4 + 2; then the
+     * crease pass, 3 + 2; without it 6) */
     assert_int_equal(limn("denoise '%s' -o df.ply --preserve-features --normal-steps 4 "
                           "--outer-steps 2 --keep-volume -q --report df.json",
                           spot),
                      0);
     rep = slurp("df.json");
     static const char *const fkeys[] = {"\"preserve_features\": true", "\"normal_steps\": 4",
-                                        "\"outer_steps\": 2", "\"products\": 6",
-                                        "\"adaptive\": true",
+                                        "\"outer_steps\": 2", "\"products\": 11",
+                                        "\"adaptive\": true", "\"crease_angle\": 30",
                                         "\"volume_change\": "};
     has_keys(rep, fkeys, sizeof fkeys / sizeof *fkeys);
     change = strtod(strstr(rep, "\"volume_change\": ") + 17, NULL);
     assert_true(change > -1e-9 && change < 1e-9);
+    assert_int_equal(limn("denoise '%s' -o df.ply --preserve-features --normal-steps 4 "
+                          "--outer-steps 2 --crease-angle 0 -q --report df.json",
+                          spot),
+                     0);
+    rep = slurp("df.json");
+    static const char *const nkeys[] = {"\"products\": 6", "\"crease_angle\": 0"};
+    has_keys(rep, nkeys, sizeof nkeys / sizeof *nkeys);
 
     /* smooth and sharpen */
     assert_int_equal(limn("smooth '%s' -o sm.obj --terms 2 -q", spot), 0);

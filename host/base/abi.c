@@ -40,7 +40,8 @@ static const limn_feature_options feature_defaults = {.size = sizeof(limn_featur
                                                     .sigma_s = 0.0,
                                                     .tangential = 0.1,
                                                     .keep_volume = 0,
-                                                    .adaptive = 1};
+                                                    .adaptive = 1,
+                                                    .crease_angle = 30.0};
 static const limn_texture_options texture_defaults = {.size = sizeof(limn_texture_options),
                                                       .series = SERIES_DEFAULTS,
                                                       .levels = 3,

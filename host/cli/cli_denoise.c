@@ -22,16 +22,15 @@ static const char *const help =
     "along the surface). With the same 12 products as Taubin lambda|mu it has\n"
     ">= 10% less distance and normal error in 30 of 40 cases (8 shared meshes,\n"
     "noise 0.2-0.5 x the mean edge; not low-noise triangle meshes or CAD-like\n"
-    "fandisk: docs/series.md). A clean mesh is left nearly as it is.\n"
+    "fandisk: docs/series.md).\n"
     "\n"
     "--m or --steps: eq. 8 of Lai & Cheng (2011), 'Fast Mesh Interpolation and\n"
     "Mesh Decomposition with Applications': T_0 = INPUT,\n"
     "T_{k+1} = sum_{i=0..m} (E - A)^i A T_k, K times ((m + 1) K stencil products).\n"
     "Smaller m smooths more; the paper uses m = 2-3 and K = 3-4. Every band gain\n"
     "is at most 1, so the mesh shrinks a little: the volume change is reported\n"
-    "(closed meshes; for open ones the volume is not defined). The default form\n"
-    "and eq. 8 run under MPI with the single process's result; under MPI\n"
-    "--preserve-features runs too (on a file input, in slices).\n"
+    "(closed meshes). Every form runs under MPI with the single process's\n"
+    "result (--preserve-features on a file input, in slices).\n"
     "\n"
     "  -o, --output FILE      mesh to write (.obj, .ply binary, .off)\n"
     "  --products N           the default's degree, 1 <= N <= 64          [12]\n"
@@ -50,12 +49,14 @@ static const char *const help =
     "    --vertex-steps V     vertex-fit sweeps a round, V >= 1           [10]\n"
     "    --outer-steps K      rounds of filter-then-fit, K >= 1            [3]\n"
     "    --sigma-r R          the first round's range kernel width, R > 0 [0.35]\n"
-    "                         (later rounds: 1.5 x the median neighbour normal\n"
-    "                         difference left, >= 0.05, with T/2 products)\n"
+    "                         (later: 1.5 x the median neighbour normal\n"
+    "                         difference left, >= 0.05; T/2 products)\n"
     "    --fixed-rounds       every round with R and T (plain BNF rounds)\n"
     "    --tangential U       tangential pull in [0, 1]                  [0.1]\n"
-    "                         (not with --m, --steps or --products;\n"
-    "                         --keep-volume works too)\n"
+    "    --crease-angle A     then the rounds again from the input with no\n"
+    "                         product across an edge whose faces' normals\n"
+    "                         differ by over A degrees, A in [0, 180); 0: none [30]\n"
+    "                         (not with --m, --steps, --products)\n"
     SERIES_HELP
     "  --format F / --input-format F / --overwrite-input / -q\n"
     CLI_MPI_HELP
@@ -83,6 +84,7 @@ static void json_extra(json_out *j, void *user)
         json_number(j, "sigma_r", e->fo.sigma_r);
         json_number(j, "tangential", e->fo.tangential);
         json_bool(j, "adaptive", e->fo.adaptive);
+        json_number(j, "crease_angle", e->fo.crease_angle);
     } else if (e->products) {
         json_integer(j, "degree", e->products);
         json_number(j, "sigma_estimate", e->sigma);
@@ -148,6 +150,7 @@ static int own_option(cli_args *a, void *user, int argc, char **argv, int *i)
         {"--sigma-r", CLI_OWN_POSITIVE, &e->fo.sigma_r, 0, 0},
         {"--tangential", CLI_OWN_NUMBER, &e->fo.tangential, 0, 0},
         {"--fixed-rounds", CLI_OWN_FLAG, &e->fo.adaptive, 0, 0},
+        {"--crease-angle", CLI_OWN_NUMBER, &e->fo.crease_angle, 0, 0},
     };
     int volume = strstr(argv[*i], "keep-volume") != NULL;
     int rc = cli_args_own(a, argc, argv, i, own, sizeof own / sizeof *own);
@@ -170,10 +173,13 @@ static int check_mode(const extra *e)
                                "--preserve-features takes neither --m nor --steps nor --products");
     if (!e->preserve && e->feature_given)
         return cli_usage_error("denoise", "--normal-steps, --vertex-steps, --outer-steps, "
-                                          "--sigma-r, --tangential and --fixed-rounds need "
-                                          "--preserve-features");
+                                          "--sigma-r, --tangential, --fixed-rounds and "
+                                          "--crease-angle need --preserve-features");
     if (e->preserve && !(e->fo.tangential >= 0.0 && e->fo.tangential <= 1.0))
         return cli_usage_error("denoise", "--tangential %g must lie in [0, 1]", e->fo.tangential);
+    if (e->preserve && !(e->fo.crease_angle >= 0.0 && e->fo.crease_angle < 180.0))
+        return cli_usage_error("denoise", "--crease-angle %g must lie in [0, 180)",
+                               e->fo.crease_angle);
     return 0;
 }
 
@@ -264,7 +270,8 @@ int cli_denoise(int argc, char **argv)
         CLI_FLAG("no-keep-volume"), CLI_VALUE("m"),             CLI_VALUE("steps"),
         CLI_VALUE("products"),     CLI_FLAG("preserve-features"), CLI_VALUE("normal-steps"),
         CLI_VALUE("vertex-steps"), CLI_VALUE("outer-steps"),    CLI_VALUE("sigma-r"),
-        CLI_VALUE("tangential"),   CLI_FLAG("fixed-rounds"),     CLI_OPTIONS_END};
+        CLI_VALUE("tangential"),   CLI_FLAG("fixed-rounds"),     CLI_VALUE("crease-angle"),
+        CLI_OPTIONS_END};
     int rc = cli_args_parse(&c.a, longopts, argc, argv, own_option, &e);
     if (rc)
         return rc < 0 ? 0 : rc;

@@ -2,7 +2,7 @@
 /*
  * limn_mpi_mesh_denoise_features: limn_denoise_features on a distributed
  * mesh, no rank holding the whole mesh (mpi_features.h for the patch). Each
- * rank runs the single process's rounds (features.h: feature_rounds) on its
+ * rank runs the single process's rounds (features.h: feature_passes) on its
  * patch, the ghosts refreshed between the steps (feature_sync); sigma_s is
  * the single process's sum carried from rank to rank in face order, and
  * keep_volume scales as limn_mpi_mesh_denoise does (mpi_mesh_keep_volume),
@@ -161,7 +161,7 @@ static limn_status features_run(mpi_part *p, const limn_mpi_mesh *mesh,
         feature_sync sync = {sync_normals, sync_positions, sync_counts, begin,
                              begin + mesh->slice.face_count, &f};
         double t1 = MPI_Wtime();
-        st = mpi_agree(p, feature_rounds(p->ctx, &f.fm, &f.run, o, x, f.n, r, &sync));
+        st = mpi_agree(p, feature_passes(p->ctx, &f.fm, &f.run, o, x, f.n, r, &sync));
         r->seconds_compute = MPI_Wtime() - t1;
         p->stats.seconds_solve = r->seconds_compute;
         p->stats.seconds_compute = r->seconds_compute - p->stats.seconds_halo;

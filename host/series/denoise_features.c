@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * limn_denoise_features (limn.h): rounds of "filter the face normals with
- * the rebuilt operator W on the device, then fit the vertices to them"
- * (features.h for the pieces, docs/series.md for why).
+ * the rebuilt operator W on the device, then fit the vertices to them",
+ * then with a crease angle the rounds again on W cut at the result's
+ * creases (features.h for the pieces, docs/series.md for why).
  */
 #include "base/abi.h"
 #include "base/clock.h"
@@ -53,6 +54,10 @@ limn_status feature_check_options(limn_context *ctx, const char *fn,
     if (!st && !(o->tangential >= 0.0 && o->tangential <= 1.0))
         st = ctx_fail(ctx, LIMN_ERR_ARGUMENT, "%s: tangential is %g; it must lie in [0, 1]", fn,
                       o->tangential);
+    if (!st && !(o->crease_angle >= 0.0 && o->crease_angle < 180.0))
+        st = ctx_fail(ctx, LIMN_ERR_ARGUMENT,
+                      "%s: crease_angle is %g; it must lie in [0, 180) degrees (0: no crease "
+                      "pass)", fn, o->crease_angle);
     return st;
 }
 
@@ -115,15 +120,23 @@ static limn_status filter_product(feature_run *r, const feature_mesh *fm, double
     return st;
 }
 
-/* The range width and products of round k: the options' in the first (and
-   in every round without adaptive); later, from the noise left in the
-   current normals fm->normal, summed over the ranks by sync. */
+/* One pass of rounds: its first round's products and range width, and
+   the share of the progress bar it fills. */
+typedef struct feature_pass {
+    int products;
+    double sigma_r, progress_begin, progress_end;
+} feature_pass;
+
+/* The range width and products of round k: the pass's in the first, the
+   options' in every later one without adaptive; with adaptive, from the
+   noise left in the current normals fm->normal, summed over the ranks by
+   sync. */
 static limn_status round_kernel(limn_context *ctx, const feature_mesh *fm,
-                                const limn_feature_options *o, int k, const feature_sync *sync,
-                                double *sigma_r, int *products)
+                                const limn_feature_options *o, const feature_pass *pass, int k,
+                                const feature_sync *sync, double *sigma_r, int *products)
 {
-    *sigma_r = o->sigma_r;
-    *products = o->normal_steps;
+    *sigma_r = k == 0 ? pass->sigma_r : o->sigma_r;
+    *products = k == 0 ? pass->products : o->normal_steps;
     if (k == 0 || !o->adaptive)
         return LIMN_OK;
     uint64_t *bins = calloc(FEATURE_NOISE_BINS, sizeof *bins);
@@ -141,9 +154,10 @@ static limn_status round_kernel(limn_context *ctx, const feature_mesh *fm,
     return st;
 }
 
-limn_status feature_rounds(limn_context *ctx, feature_mesh *fm, feature_run *run,
-                           const limn_feature_options *o, double *x, double *n,
-                           limn_series_report *r, const feature_sync *sync)
+static limn_status feature_rounds(limn_context *ctx, feature_mesh *fm, feature_run *run,
+                                  const limn_feature_options *o, const feature_pass *pass,
+                                  double *x, double *n, limn_series_report *r,
+                                  const feature_sync *sync)
 {
     limn_status st = LIMN_OK;
     for (int k = 0; !st && k < o->outer_steps; k++) {
@@ -151,7 +165,7 @@ limn_status feature_rounds(limn_context *ctx, feature_mesh *fm, feature_run *run
         memcpy(n, fm->normal, 3 * fm->faces * sizeof *n);
         double sigma_r;
         int products;
-        st = round_kernel(ctx, fm, o, k, sync, &sigma_r, &products);
+        st = round_kernel(ctx, fm, o, pass, k, sync, &sigma_r, &products);
         for (int t = 0; !st && t < products; t++) {
             feature_weights(fm, n, sigma_r);
             st = filter_product(run, fm, n);
@@ -161,8 +175,45 @@ limn_status feature_rounds(limn_context *ctx, feature_mesh *fm, feature_run *run
         }
         if (!st)
             st = feature_fit_vertices(ctx, fm, n, x, o->vertex_steps, o->tangential, sync);
-        ctx_progress(ctx, "denoise", (double)(k + 1) / o->outer_steps);
+        ctx_progress(ctx, "denoise",
+                     pass->progress_begin + (pass->progress_end - pass->progress_begin) *
+                                                (double)(k + 1) / o->outer_steps);
     }
+    return st;
+}
+
+limn_status feature_passes(limn_context *ctx, feature_mesh *fm, feature_run *run,
+                           const limn_feature_options *o, double *x, double *n,
+                           limn_series_report *r, const feature_sync *sync)
+{
+    int creases = o->crease_angle > 0.0;
+    feature_pass first = {o->normal_steps, o->sigma_r, 0.0, creases ? 0.5 : 1.0};
+    size_t bytes = 3 * fm->vertices * sizeof *x;
+    double *start = creases ? malloc(bytes ? bytes : 1) : NULL;
+    limn_status st = creases && !start ? ctx_fail(ctx, LIMN_ERR_MEMORY,
+                                                  "out of memory for %zu vertices", fm->vertices)
+                                       : LIMN_OK;
+    if (sync) /* every rank learns of a failed allocation */
+        st = sync->positions(sync->user, st, x);
+    if (!st && creases)
+        memcpy(start, x, bytes);
+    if (!st)
+        st = feature_rounds(ctx, fm, run, o, &first, x, n, r, sync);
+    if (!st && creases) {
+        const double radians = 3.14159265358979323846 / 180.0;
+        feature_faces_update(fm, x);
+        st = feature_cut_creases(ctx, fm, fm->normal, cos(o->crease_angle * radians));
+        if (sync)
+            st = sync->positions(sync->user, st, x);
+    }
+    if (!st && creases) {
+        int products = o->normal_steps < FEATURE_CREASE_PRODUCTS ? o->normal_steps
+                                                                  : FEATURE_CREASE_PRODUCTS;
+        feature_pass again = {products, FEATURE_CREASE_SIGMA_R, 0.5, 1.0};
+        memcpy(x, start, bytes);
+        st = feature_rounds(ctx, fm, run, o, &again, x, n, r, sync);
+    }
+    free(start);
     return st;
 }
 
@@ -192,7 +243,7 @@ static limn_status features_compute(limn_context *ctx, const limn_mesh *mesh,
         feature_faces_update(&fm, m->positions);
         fm.sigma_s = o->sigma_s > 0.0 ? o->sigma_s : feature_mean_spacing(&fm);
         double t1 = clock_seconds();
-        st = feature_rounds(ctx, &fm, &run, o, m->positions, n, r, NULL);
+        st = feature_passes(ctx, &fm, &run, o, m->positions, n, r, NULL);
         r->seconds_compute = clock_seconds() - t1;
     }
     if (!st)

@@ -95,6 +95,7 @@ void feature_mesh_free(feature_mesh *fm)
     free(fm->normal);
     free(fm->area);
     free(fm->centroid);
+    free(fm->keep);
     memset(fm, 0, sizeof *fm);
 }
 
@@ -168,7 +169,7 @@ void feature_weights(feature_mesh *fm, const double *n, double sigma_r)
             size_t j = w->columns[k];
             double s = dist2(fm->centroid + 3 * i, fm->centroid + 3 * j);
             double r = dist2(n + 3 * i, n + 3 * j);
-            w->weights[k] = fm->area[j] * exp(-ks * s - kr * r);
+            w->weights[k] = fm->keep && !fm->keep[k] ? 0.0 : fm->area[j] * exp(-ks * s - kr * r);
             sum += w->weights[k];
         }
         /* a row of zero weights (degenerate faces all round) keeps its face */

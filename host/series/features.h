@@ -25,6 +25,8 @@ typedef struct feature_mesh {
     stencil_csr ring;                  /* W: row f, the faces sharing a vertex with f */
     double *normal, *area, *centroid;  /* 3, 1, 3 per face */
     double sigma_s;                    /* the spatial kernel's width */
+    uint8_t *keep;                     /* per W nonzero, 0 where a crease cuts the pair;
+                                          NULL: every pair kept (feature_cut_creases) */
 } feature_mesh;
 
 limn_status feature_mesh_build(limn_context *ctx, const limn_mesh *mesh, feature_mesh *fm);
@@ -40,8 +42,9 @@ double feature_mean_spacing(const feature_mesh *fm);
 double feature_spacing_add(const feature_mesh *fm, size_t begin, size_t end, double sum,
                            size_t *count);
 /* W's weights from the normals n (3 per face): a_j exp(-|c_i - c_j|^2 /
-   2 sigma_s^2) exp(-|n_i - n_j|^2 / 2 sigma_r^2), each row divided by its
-   sum (a row of zero weights keeps its own face). */
+   2 sigma_s^2) exp(-|n_i - n_j|^2 / 2 sigma_r^2), 0 where fm->keep cuts the
+   pair, each row divided by its sum (a row of zero weights keeps its own
+   face). */
 void feature_weights(feature_mesh *fm, const double *n, double sigma_r);
 /* steps Jacobi sweeps of x_v += (1 / |F_v|) (sum_f n_f (n_f . (c_f - x_v))
    + tangential P_v sum_f (c_f - x_v)), P_v the projection onto the plane
@@ -61,6 +64,15 @@ typedef struct feature_sync {
 } feature_sync;
 limn_status feature_fit_vertices(limn_context *ctx, feature_mesh *fm, const double *n, double *x,
                                  int steps, double tangential, const feature_sync *sync);
+
+/* ---------------------------------------------------- feature_creases.c */
+
+/* fm->keep (allocated on first use) from the normals n (3 per face): pair
+   (f, j) of W kept iff f and j meet around a shared vertex without crossing
+   an edge whose faces' normals have a dot product below cos_limit (f's own
+   entry always kept, so every row keeps a weight). */
+limn_status feature_cut_creases(limn_context *ctx, feature_mesh *fm, const double *n,
+                                double cos_limit);
 
 /* ------------------------------------------------------ feature_noise.c */
 
@@ -94,9 +106,16 @@ typedef struct feature_run {
 } feature_run;
 limn_status feature_run_open(limn_context *ctx, const feature_mesh *fm, feature_run *r);
 void feature_run_close(feature_run *r);
-/* The rounds on positions x (3 per vertex; fm's faces current at x):
-   n (3 per face) ends with the last round's filtered normals. */
-limn_status feature_rounds(limn_context *ctx, feature_mesh *fm, feature_run *run,
+/* The crease pass's first round (the later ones as the first pass's): few
+   products with a wide range kernel, the cut keeping the creases
+   (docs/series.md "The crease pass"). */
+#define FEATURE_CREASE_PRODUCTS 3
+#define FEATURE_CREASE_SIGMA_R 1.0
+/* The whole filter on positions x (3 per vertex; fm's faces current at
+   x): the rounds, then with a crease angle the rounds again from x's
+   starting values with W cut at the creases of the first result. n (3 per
+   face) ends with the last round's filtered normals. */
+limn_status feature_passes(limn_context *ctx, feature_mesh *fm, feature_run *run,
                            const limn_feature_options *o, double *x, double *n,
                            limn_series_report *r, const feature_sync *sync);
 
