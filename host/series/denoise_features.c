@@ -193,7 +193,7 @@ limn_status feature_passes(limn_context *ctx, feature_mesh *fm, feature_run *run
     limn_status st = creases && !start ? ctx_fail(ctx, LIMN_ERR_MEMORY,
                                                   "out of memory for %zu vertices", fm->vertices)
                                        : LIMN_OK;
-    if (sync) /* every rank learns of a failed allocation */
+    if (sync && creases) /* every rank learns of a failed allocation */
         st = sync->positions(sync->user, st, x);
     if (!st && creases)
         memcpy(start, x, bytes);

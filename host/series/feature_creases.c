@@ -93,15 +93,13 @@ static uint32_t column_at(const stencil_csr *w, size_t i, uint32_t j)
     return lo;
 }
 
-/* Marks the faces of v's fan in f's component in row f. */
-static void mark_row(feature_mesh *fm, uint32_t f, uint32_t v, const uint32_t *label)
+/* Marks, in the row of the face at fan position at of v, the faces of v's
+   fan in its component. */
+static void mark_row(feature_mesh *fm, uint32_t v, uint32_t at, const uint32_t *label)
 {
-    uint32_t b = fm->vf_offsets[v], m = fm->vf_offsets[v + 1] - b, mine = 0;
+    uint32_t b = fm->vf_offsets[v], m = fm->vf_offsets[v + 1] - b, f = fm->vf[b + at];
     for (uint32_t i = 0; i < m; i++)
-        if (fm->vf[b + i] == f)
-            mine = label[i];
-    for (uint32_t i = 0; i < m; i++)
-        if (label[i] == mine)
+        if (label[i] == label[at])
             fm->keep[column_at(&fm->ring, f, fm->vf[b + i])] = 1;
 }
 
@@ -126,8 +124,8 @@ limn_status feature_cut_creases(limn_context *ctx, feature_mesh *fm, const doubl
             if (fm->vf_offsets[v + 1] == fm->vf_offsets[v])
                 continue;
             fan_labels(fm, (uint32_t)v, n, cos_limit, edges, label);
-            for (uint32_t k = fm->vf_offsets[v]; k < fm->vf_offsets[v + 1]; k++)
-                mark_row(fm, fm->vf[k], (uint32_t)v, label);
+            for (uint32_t at = 0; at < fm->vf_offsets[v + 1] - fm->vf_offsets[v]; at++)
+                mark_row(fm, (uint32_t)v, at, label);
         }
     }
     free(edges);
