@@ -9,6 +9,7 @@
 #include "base/large_alloc.h"
 
 #include "base/context.h"
+#include "base/sorted_search.h"
 #include "mesh/mesh.h"
 
 #include <limits.h>
@@ -124,15 +125,7 @@ limn_status mpi_local_alltoallv_packed(mpi_part *p, const int *cnt, size_t elem,
 /* The rank whose block holds vertex v. */
 static int block_of(const mpi_part *p, const size_t *vtxdist, uint32_t v)
 {
-    int lo = 0, hi = p->size - 1;
-    while (lo < hi) {
-        int mid = (lo + hi + 1) / 2;
-        if (vtxdist[mid] <= v)
-            lo = mid;
-        else
-            hi = mid - 1;
-    }
-    return lo;
+    return (int)sorted_last_at_most_size(vtxdist, (size_t)p->size, v);
 }
 
 /* dst[i] = src[at[i] - base], elem bytes each: the sizes the callers use

@@ -6,6 +6,7 @@
 #include "base/large_alloc.h"
 
 #include "base/context.h"
+#include "base/sorted_search.h"
 #include "mesh/check.h"
 #include "mesh/io/dispatch.h"
 #include "mpi/mpi_part.h"
@@ -25,34 +26,12 @@ limn_status mpi_writer_agree(mpi_writer *w, limn_status st)
 /* The rank whose block holds vertex id (id < vtxdist[size]; empty blocks skipped). */
 static int block_of(const size_t *vtxdist, int size, size_t id)
 {
-    int lo = 0, hi = size;
-    while (hi - lo > 1) {
-        int mid = lo + (hi - lo) / 2;
-        if (vtxdist[mid] <= id)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return lo;
+    return (int)sorted_last_at_most_size(vtxdist, (size_t)size, id);
 }
 
 static limn_status bad(mpi_writer *w, const char *what)
 {
     return ctx_fail(w->ctx, LIMN_ERR_ARGUMENT, "mpi_write_mesh: rank %d: %s", w->rank, what);
-}
-
-/* The face of off[0 .. count] (increasing) whose corners hold corner k < off[count]. */
-static size_t face_holding(const uint32_t *off, size_t count, size_t k)
-{
-    size_t lo = 0, hi = count;
-    while (hi - lo > 1) {
-        size_t mid = lo + (hi - lo) / 2;
-        if (off[mid] <= k)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return lo;
 }
 
 /* This rank's arguments, on their own. */
@@ -89,7 +68,7 @@ static limn_status check_local(mpi_writer *w)
             return ctx_fail(w->ctx, LIMN_ERR_ARGUMENT,
                             "mpi_write_mesh: rank %d: face %zu uses vertex %u, past the mesh's "
                             "%zu vertices", w->rank,
-                            in->face_begin + face_holding(off, in->face_count, k),
+                            in->face_begin + sorted_last_at_most_u32(off, in->face_count, (uint32_t)k),
                             in->face_indices[k], total);
     return LIMN_OK;
 }

@@ -9,6 +9,7 @@
 #include "base/abi.h"
 #include "mesh/check.h"
 #include "base/context.h"
+#include "base/vec3.h"
 #include "topology/measure.h"
 #include "mesh/mesh.h"
 
@@ -21,7 +22,6 @@ void limn_render_options_default(limn_render_options *o)
     abi_default(&abi_render_options, o);
 }
 
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 static void cross3(const double *a, const double *b, double *c)
 {
     c[0] = a[1] * b[2] - a[2] * b[1];
@@ -30,7 +30,7 @@ static void cross3(const double *a, const double *b, double *c)
 }
 static void normalize3(double *v)
 {
-    double l = sqrt(dot3(v, v));
+    double l = sqrt(vec3_dot(v, v));
     if (l > 0)
         for (int c = 0; c < 3; c++)
             v[c] /= l;
@@ -53,10 +53,10 @@ static double shade(const raster *r, const double *normal)
 {
     double n[3] = {normal[0], normal[1], normal[2]};
     normalize3(n);
-    if (dot3(n, r->eye) < 0) /* two-sided */
+    if (vec3_dot(n, r->eye) < 0) /* two-sided */
         for (int c = 0; c < 3; c++)
             n[c] = -n[c];
-    double d = dot3(n, r->light);
+    double d = vec3_dot(n, r->light);
     return 0.22 + 0.78 * (d > 0 ? d : 0.0);
 }
 
@@ -160,9 +160,9 @@ static void project(const limn_mesh *mesh, const limn_render_options *o, const r
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (size_t i = 0; i < n; i++) {
         const double *p = mesh->positions + 3 * i;
-        v[i].x = dot3(p, right);
-        v[i].y = dot3(p, up);
-        v[i].z = dot3(p, r->eye);
+        v[i].x = vec3_dot(p, right);
+        v[i].y = vec3_dot(p, up);
+        v[i].z = vec3_dot(p, r->eye);
         for (int j = 0; j < 3; j++)
             v[i].c[j] = (mesh->colors ? mesh->colors[3 * i + j] : o->color[j]) / 255.0;
         if (used[i]) {

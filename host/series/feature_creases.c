@@ -10,6 +10,8 @@
 #include "series/features.h"
 
 #include "base/context.h"
+#include "base/sorted_search.h"
+#include "base/vec3.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -46,11 +48,6 @@ static int by_vertex(const void *a, const void *b)
     return x->u != y->u ? (x->u < y->u ? -1 : 1) : (x->at < y->at ? -1 : x->at > y->at);
 }
 
-static double dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 /* Component labels of the faces around v (label[i] for fm->vf[begin + i]):
    faces across an edge (v, u) joined when their normals n differ by at most
    the crease angle (cosine at least cos_limit). */
@@ -70,7 +67,7 @@ static void fan_labels(const feature_mesh *fm, uint32_t v, const double *n, doub
         if (edges[i].u != edges[i - 1].u || edges[i].u == v)
             continue;
         uint32_t a = edges[i - 1].at, c = edges[i].at;
-        if (dot3(n + 3 * (size_t)fm->vf[b + a], n + 3 * (size_t)fm->vf[b + c]) < cos_limit)
+        if (vec3_dot(n + 3 * (size_t)fm->vf[b + a], n + 3 * (size_t)fm->vf[b + c]) < cos_limit)
             continue;
         uint32_t ra = find_root(label, a), rc = find_root(label, c);
         label[ra > rc ? ra : rc] = ra < rc ? ra : rc;
@@ -82,15 +79,8 @@ static void fan_labels(const feature_mesh *fm, uint32_t v, const double *n, doub
 /* The position of column j in row i of W (columns increasing; j present). */
 static uint32_t column_at(const stencil_csr *w, size_t i, uint32_t j)
 {
-    uint32_t lo = w->row_offsets[i], hi = w->row_offsets[i + 1];
-    while (hi - lo > 1) {
-        uint32_t mid = lo + (hi - lo) / 2;
-        if (w->columns[mid] <= j)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return lo;
+    uint32_t b = w->row_offsets[i];
+    return b + (uint32_t)sorted_last_at_most_u32(w->columns + b, w->row_offsets[i + 1] - b, j);
 }
 
 /* Marks, in the row of the face at fan position at of v, the faces of v's

@@ -6,6 +6,7 @@
  */
 #include "topology/topology_build.h"
 #include "topology/topology_fan.h"
+#include "base/sorted_search.h"
 
 #include <string.h>
 
@@ -62,15 +63,7 @@ static uint32_t corner_prev(const topo_build *b, uint32_t slot, uint32_t c)
     /* c starts a face of 256 corners or more: the next face's start, found
        in face_offsets (corner_face comes later) */
     const uint32_t *fo = b->t->face_offsets;
-    size_t lo = 0, hi = b->t->face_count;
-    while (hi - lo > 1) {
-        size_t mid = lo + (hi - lo) / 2;
-        if (fo[mid] <= c)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return fo[lo + 1] - 1;
+    return fo[sorted_last_at_most_u32(fo, b->t->face_count, c) + 1] - 1;
 }
 
 /* Writes owned edge {v, w} (keys: its corners at v as slot << 1, and at w as

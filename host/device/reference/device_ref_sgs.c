@@ -6,6 +6,7 @@
  * reductions, colour by colour, so both backends agree bit for bit.
  */
 #include "device/reference/device_ref.h"
+#include "base/vec3.h"
 
 #include <math.h>
 
@@ -30,11 +31,6 @@ static void part(const sgs_view *s, uint32_t from, uint32_t to, const double *x,
         for (int c = 0; c < 3; c++)
             acc[c] += s->w[k] * xj[c];
     }
-}
-
-static double dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 static limn_status ref_sgs_upper(struct device *dev, const device_sgs *a, double beta,
@@ -84,13 +80,13 @@ static double start_row(const sgs_view *s, size_t i, const sgs_vectors *v, doubl
     for (int k = 0; k < 3; k++)
         r[4 * i + k] = b[4 * i + k] - ((in[0] * x[4 * i + k] + lx[k]) + hx[k]);
     r[4 * i + 3] = 0.0;
-    *len = in[2] * sqrt(dot3(r + 4 * i, r + 4 * i));
+    *len = in[2] * sqrt(vec3_dot(r + 4 * i, r + 4 * i));
     for (int k = 0; k < 3; k++) {
         u[4 * i + k] = (r[4 * i + k] - lu[k]) / in[0];
         rhat[4 * i + k] = in[1] * u[4 * i + k];
     }
     u[4 * i + 3] = rhat[4 * i + 3] = 0.0;
-    return dot3(rhat + 4 * i, rhat + 4 * i);
+    return vec3_dot(rhat + 4 * i, rhat + 4 * i);
 }
 
 /* Row i of a step's sweep: u_i, st_i; returns phat_i . q_i. */
@@ -111,7 +107,7 @@ static double step_row(const sgs_view *s, size_t i, const sgs_vectors *v)
         q[k] = in[1] * (ti[k] + ui[k]);
     }
     st[4 * i + 3] = 0.0;
-    return dot3(p, q);
+    return vec3_dot(p, q);
 }
 
 /* The forward sweep over one chunk of one colour: n[0] = max scale_i |r_i|
@@ -168,9 +164,9 @@ static void update_chunk(void *user, size_t begin, size_t end, double n[3])
             rhat[4 * i + k] = rhat[4 * i + k] - alpha * (in[1] * (ti[k] + u[4 * i + k]));
         }
         x[4 * i + 3] = r[4 * i + 3] = rhat[4 * i + 3] = 0.0;
-        double len = in[2] * sqrt(dot3(r + 4 * i, r + 4 * i));
+        double len = in[2] * sqrt(vec3_dot(r + 4 * i, r + 4 * i));
         n[0] = len > n[0] ? len : n[0];
-        n[1] += dot3(rhat + 4 * i, rhat + 4 * i);
+        n[1] += vec3_dot(rhat + 4 * i, rhat + 4 * i);
     }
 }
 
