@@ -68,7 +68,8 @@ static limn_status check_local(mpi_writer *w)
             return ctx_fail(w->ctx, LIMN_ERR_ARGUMENT,
                             "mpi_write_mesh: rank %d: face %zu uses vertex %u, past the mesh's "
                             "%zu vertices", w->rank,
-                            in->face_begin + sorted_last_at_most_u32(off, in->face_count, (uint32_t)k),
+                            in->face_begin +
+                                sorted_last_at_most_u32(off, in->face_count, (uint32_t)k),
                             in->face_indices[k], total);
     return LIMN_OK;
 }
