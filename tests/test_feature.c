@@ -9,7 +9,8 @@
  *    cube's edges, it keeps exactly the pairs on one side (brute force);
  *  - a noisy cube's dihedral angles at its 12 edges stay near 90 degrees,
  *    where limn denoise's default (a linear low-pass) rounds them;
- *  - the OpenCL and reference backends give the same bytes;
+ *  - the OpenCL and reference backends give the same bytes, and so do 1, 2
+ *    and 4 host threads;
  *  - keep_volume gives the input's volume back, refused on an open mesh;
  *  - bad options and meshes are refused with messages naming them (the
  *    crease angle outside [0, 180) too).
@@ -336,6 +337,40 @@ static void test_backends_same_bytes(void **state)
     limn_context_destroy(ref);
 }
 
+/* The loops over faces, W's rows and vertices split over host threads: the
+   same bytes for 1, 2 and 4 threads, on a mesh large enough that 4 threads
+   make at least 2 ranges (checked on the feature mesh itself). */
+static void test_host_threads_same_bytes(void **state)
+{
+    (void)state;
+    limn_context *ctx = ctx_for("reference");
+    limn_mesh *clean = cad_shape_mesh(ctx, CAD_PART, 40, 1), *noisy = NULL, *out[3] = {NULL};
+    CHECK_OK(ctx, limn_mesh_copy(ctx, clean, &noisy));
+    test_gaussian_noise(noisy, 0.3 * test_mean_edge(clean), 11);
+    limn_feature_options o;
+    limn_feature_options_default(&o);
+    o.normal_steps = 3;
+    o.vertex_steps = 3;
+    const unsigned threads[3] = {1, 2, 4};
+    for (int t = 0; t < 3; t++) {
+        CHECK_OK(ctx, limn_context_set_host_threads(ctx, threads[t]));
+        feature_mesh fm;
+        CHECK_OK(ctx, feature_mesh_build(ctx, noisy, &fm));
+        assert_true(t == 0 ? fm.threads == 1 : fm.threads >= 2);
+        feature_mesh_free(&fm);
+        CHECK_OK(ctx, limn_denoise_features(ctx, noisy, &o, &out[t], NULL));
+    }
+    size_t n = limn_mesh_vertex_count(noisy);
+    for (int t = 1; t < 3; t++)
+        assert_memory_equal(limn_mesh_positions(out[0]), limn_mesh_positions(out[t]),
+                            3 * n * sizeof(double));
+    for (int t = 0; t < 3; t++)
+        limn_mesh_destroy(out[t]);
+    limn_mesh_destroy(clean);
+    limn_mesh_destroy(noisy);
+    limn_context_destroy(ctx);
+}
+
 /* One bad option: refused with LIMN_ERR_ARGUMENT, out NULL, the message
    naming `word`. */
 static void expect_refused(limn_context *ctx, const limn_mesh *m, const limn_feature_options *o,
@@ -428,6 +463,7 @@ int main(void)
         cmocka_unit_test(test_matches_independent_bnf),
         cmocka_unit_test(test_noise_median),
         cmocka_unit_test(test_backends_same_bytes),
+        cmocka_unit_test(test_host_threads_same_bytes),
         cmocka_unit_test(test_bad_options),
         cmocka_unit_test(test_keep_volume),
     };

@@ -1,12 +1,15 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The face operator of the feature-preserving denoiser and its vertex fit
- * (features.h). Every loop runs in a fixed order on one thread, so the
- * weights and positions are a deterministic function of the input.
+ * (features.h). The loops over faces, W's rows and vertices split into
+ * ranges over the host threads, each element computed on its own in a fixed
+ * order, so the weights and positions are the same bytes for any thread
+ * count.
  */
 #include "series/features.h"
 
 #include "base/context.h"
+#include "base/parallel.h"
 #include "mesh/mesh.h"
 
 #include <math.h>
@@ -75,6 +78,11 @@ limn_status feature_mesh_build(limn_context *ctx, const limn_mesh *mesh, feature
     if (!st)
         st = stencil_build(ctx, fm->faces, fm->faces, ring_bound, ring_fill, fm, &fm->ring);
     size_t nf = fm->faces ? fm->faces : 1;
+    /* threads by the ring's pairs: each costs an exp, about the time of
+       streaming 64 bytes, so a mesh of a few thousand faces stays on the
+       calling thread */
+    if (!st)
+        fm->threads = parallel_threads(ctx, (uint64_t)fm->ring.row_offsets[fm->faces] * 64);
     if (!st) {
         fm->normal = malloc(3 * nf * sizeof(double));
         fm->centroid = malloc(3 * nf * sizeof(double));
@@ -115,9 +123,19 @@ static double normalise(double *v)
     return l;
 }
 
-void feature_faces_update(feature_mesh *fm, const double *x)
+/* A range of a parallel loop over fm's faces, rows or vertices. */
+typedef struct feature_range_job {
+    feature_mesh *fm;
+    const double *n, *x;
+    double *y, a, b; /* a, b: the loop's two constants */
+} feature_range_job;
+
+static int faces_range(void *arg, size_t begin, size_t end)
 {
-    for (size_t f = 0; f < fm->faces; f++) {
+    const feature_range_job *job = arg;
+    feature_mesh *fm = job->fm;
+    const double *x = job->x;
+    for (size_t f = begin; f < end; f++) {
         uint32_t b = fm->offsets[f], e = fm->offsets[f + 1];
         double n[3] = {0, 0, 0}, c[3] = {0, 0, 0};
         for (uint32_t k = b; k < e; k++) {
@@ -135,6 +153,13 @@ void feature_faces_update(feature_mesh *fm, const double *x)
             fm->centroid[3 * f + j] = c[j] / (double)(e - b);
         }
     }
+    return 0;
+}
+
+void feature_faces_update(feature_mesh *fm, const double *x)
+{
+    feature_range_job job = {.fm = fm, .x = x};
+    parallel_run(fm->faces, fm->threads, faces_range, &job);
 }
 
 double feature_spacing_add(const feature_mesh *fm, size_t begin, size_t end, double sum,
@@ -157,12 +182,14 @@ double feature_mean_spacing(const feature_mesh *fm)
     return count ? sum / (double)count : 0.0;
 }
 
-void feature_weights(feature_mesh *fm, const double *n, double sigma_r)
+static int weights_range(void *arg, size_t begin, size_t end)
 {
+    const feature_range_job *job = arg;
+    feature_mesh *fm = job->fm;
     stencil_csr *w = &fm->ring;
-    double ks = fm->sigma_s > 0.0 ? 0.5 / (fm->sigma_s * fm->sigma_s) : 0.0;
-    double kr = 0.5 / (sigma_r * sigma_r);
-    for (size_t i = 0; i < w->rows; i++) {
+    const double *n = job->n;
+    double ks = job->a, kr = job->b;
+    for (size_t i = begin; i < end; i++) {
         uint32_t b = w->row_offsets[i], e = w->row_offsets[i + 1];
         double sum = 0.0;
         for (uint32_t k = b; k < e; k++) {
@@ -176,6 +203,15 @@ void feature_weights(feature_mesh *fm, const double *n, double sigma_r)
         for (uint32_t k = b; k < e; k++)
             w->weights[k] = sum > 0.0 ? w->weights[k] / sum : (w->columns[k] == i ? 1.0 : 0.0);
     }
+    return 0;
+}
+
+void feature_weights(feature_mesh *fm, const double *n, double sigma_r)
+{
+    feature_range_job job = {.fm = fm, .n = n};
+    job.a = fm->sigma_s > 0.0 ? 0.5 / (fm->sigma_s * fm->sigma_s) : 0.0;
+    job.b = 0.5 / (sigma_r * sigma_r);
+    parallel_run(fm->ring.rows, fm->threads, weights_range, &job);
 }
 
 /* The move of vertex v (at p) in one sweep: towards the planes of its faces
@@ -208,17 +244,26 @@ static void fit_move(const feature_mesh *fm, const double *n, size_t v, const do
         d[j] = (d[j] + tangential * (t[j] - tm * m[j])) / (double)(e - b);
 }
 
+static int sweep_range(void *arg, size_t begin, size_t end)
+{
+    const feature_range_job *job = arg;
+    const double *x = job->x;
+    for (size_t v = begin; v < end; v++) {
+        double d[3];
+        fit_move(job->fm, job->n, v, x + 3 * v, job->a, d);
+        for (int j = 0; j < 3; j++)
+            job->y[3 * v + j] = x[3 * v + j] + d[j];
+    }
+    return 0;
+}
+
 /* One Jacobi sweep of the vertex fit: y from x (both 3 per vertex). */
 static void fit_sweep(feature_mesh *fm, const double *n, const double *x, double *y,
                       double tangential)
 {
     feature_faces_update(fm, x);
-    for (size_t v = 0; v < fm->vertices; v++) {
-        double d[3];
-        fit_move(fm, n, v, x + 3 * v, tangential, d);
-        for (int j = 0; j < 3; j++)
-            y[3 * v + j] = x[3 * v + j] + d[j];
-    }
+    feature_range_job job = {.fm = fm, .n = n, .x = x, .y = y, .a = tangential};
+    parallel_run(fm->vertices, fm->threads, sweep_range, &job);
 }
 
 limn_status feature_fit_vertices(limn_context *ctx, feature_mesh *fm, const double *n, double *x,

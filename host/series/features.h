@@ -27,6 +27,9 @@ typedef struct feature_mesh {
     double sigma_s;                    /* the spatial kernel's width */
     uint8_t *keep;                     /* per W nonzero, 0 where a crease cuts the pair;
                                           NULL: every pair kept (feature_cut_creases) */
+    unsigned threads;                  /* host threads of the loops over faces, W's rows
+                                          and vertices (each element on its own: the
+                                          same bytes for any count) */
 } feature_mesh;
 
 limn_status feature_mesh_build(limn_context *ctx, const limn_mesh *mesh, feature_mesh *fm);
